@@ -1,0 +1,126 @@
+//! The Delassus operator `W = B K⁻¹ Bᵀ` of a factorised system and the contact correction of
+//! one step.
+
+use super::{default_solver, ContactSolver, ContactStatus};
+use crate::error::SolveError;
+use crate::linalg::SpdSolver;
+use crate::model::ContactSet;
+
+/// `K⁻¹Bᵀ` (one column per constraint) and `W = B K⁻¹ Bᵀ` (row-major).
+#[derive(Debug, Clone)]
+pub struct Delassus {
+    columns: Vec<Vec<f64>>,
+    matrix: Vec<f64>,
+}
+
+impl Delassus {
+    /// Computes `K⁻¹ e_d` for every contact dof `d` (one solve each) and `W`.
+    pub fn new(system: &SpdSolver, n_dofs: usize, contact: &ContactSet) -> Self {
+        let columns: Vec<Vec<f64>> = contact
+            .dofs
+            .iter()
+            .map(|&d| {
+                let mut col = vec![0.0; n_dofs];
+                col[d] = 1.0;
+                system.solve_in_place(&mut col);
+                col
+            })
+            .collect();
+        let nc = columns.len();
+        let mut matrix = vec![0.0; nc * nc];
+        for (i, &di) in contact.dofs.iter().enumerate() {
+            for (j, col) in columns.iter().enumerate() {
+                matrix[i * nc + j] = col[di];
+            }
+        }
+        Self { columns, matrix }
+    }
+
+    /// `W` row-major.
+    pub fn matrix(&self) -> &[f64] {
+        &self.matrix
+    }
+
+    /// `u += K⁻¹Bᵀ μ`.
+    pub fn apply_correction(&self, mu: &[f64], u: &mut [f64]) {
+        for (col, &m) in self.columns.iter().zip(mu) {
+            if m != 0.0 {
+                u.iter_mut().zip(col).for_each(|(ui, ci)| *ui += m * ci);
+            }
+        }
+    }
+}
+
+/// Everything one scheme needs to impose the contact condition at each step.
+#[derive(Debug)]
+pub struct ContactStep {
+    set: ContactSet,
+    delassus: Delassus,
+    solver: Box<dyn ContactSolver>,
+    free_gaps: Vec<f64>,
+    mu: Vec<f64>,
+    solves: usize,
+}
+
+impl ContactStep {
+    /// Prepares the contact correction for the factorised step matrix `system`.
+    pub fn new(set: &ContactSet, system: &SpdSolver, n_dofs: usize) -> Self {
+        let n = set.len();
+        Self {
+            delassus: Delassus::new(system, n_dofs, set),
+            solver: default_solver(n),
+            set: set.clone(),
+            free_gaps: vec![0.0; n],
+            mu: vec![0.0; n],
+            solves: 0,
+        }
+    }
+
+    /// Replaces the complementarity solver.
+    pub fn with_solver(mut self, solver: Box<dyn ContactSolver>) -> Self {
+        self.solver = solver;
+        self
+    }
+
+    /// The number of complementarity problems solved so far (steps where some constraint was
+    /// violated by the free solution).
+    pub fn solves(&self) -> usize {
+        self.solves
+    }
+
+    /// Turns the unconstrained solution `u` into the constrained one, for the constraint
+    /// `u[d_i] + shift_i(gap_i) ≥ 0` where `shift` maps constraint `i` and its gap to the
+    /// offset used this step; writes `λ = −μ ≤ 0` into `lambda`.
+    pub fn enforce(
+        &mut self,
+        step: usize,
+        u: &mut [f64],
+        shift: impl Fn(usize, f64) -> f64,
+        lambda: &mut [f64],
+    ) -> Result<(), SolveError> {
+        let mut violated = false;
+        for (i, (&d, &g)) in self.set.dofs.iter().zip(&self.set.gaps).enumerate() {
+            self.free_gaps[i] = u[d] + shift(i, g);
+            violated |= self.free_gaps[i] < 0.0;
+        }
+        if !violated {
+            lambda.iter_mut().for_each(|l| *l = 0.0);
+            return Ok(());
+        }
+        self.solves += 1;
+        match self
+            .solver
+            .solve(self.delassus.matrix(), &self.free_gaps, &mut self.mu)
+        {
+            ContactStatus::Solved { .. } => {}
+            ContactStatus::NotConverged { iterations } => {
+                return Err(SolveError::ContactNotConverged { step, iterations })
+            }
+        }
+        self.delassus.apply_correction(&self.mu, u);
+        for (l, m) in lambda.iter_mut().zip(&self.mu) {
+            *l = -m;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,95 @@
+//! Typed errors of the library, one enum per layer.
+//!
+//! Every message names the parameter (or the step and the quantity) and the allowed range, so
+//! that a user reading it knows what to change.
+
+use thiserror::Error;
+
+/// A parameter outside its allowed range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid {name} = {value}: allowed {allowed}")]
+pub struct ParameterError {
+    /// The parameter's name as the user writes it (e.g. `nx`, `dt`, `beta`).
+    pub name: &'static str,
+    /// The rejected value, formatted.
+    pub value: String,
+    /// The allowed values or range, in words.
+    pub allowed: &'static str,
+}
+
+impl ParameterError {
+    /// A parameter error for `name` with the offending `value`.
+    pub fn new(name: &'static str, value: impl ToString, allowed: &'static str) -> Self {
+        Self {
+            name,
+            value: value.to_string(),
+            allowed,
+        }
+    }
+}
+
+/// Checks `value` is finite and strictly positive.
+pub fn require_positive(name: &'static str, value: f64) -> Result<f64, ParameterError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ParameterError::new(name, value, "a finite number > 0"))
+    }
+}
+
+/// Checks `value` is finite and lies in the closed interval `[lo, hi]`.
+pub fn require_in(
+    name: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<f64, ParameterError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(ParameterError::new(name, value, allowed))
+    }
+}
+
+/// A failure while time stepping.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolveError {
+    /// The system matrix could not be factorised (not symmetric positive definite).
+    #[error("the {matrix} matrix is not symmetric positive definite ({detail})")]
+    Factorization {
+        /// Which matrix (e.g. `Newmark system`).
+        matrix: &'static str,
+        /// What the factorisation reported.
+        detail: String,
+    },
+    /// The contact complementarity problem was not solved.
+    #[error("contact solver did not converge at step {step} after {iterations} iterations")]
+    ContactNotConverged {
+        /// Time step index.
+        step: usize,
+        /// Iterations spent.
+        iterations: usize,
+    },
+    /// A state value became NaN or infinite.
+    #[error("non-finite {quantity} at step {step} (t = {time})")]
+    NonFinite {
+        /// Time step index.
+        step: usize,
+        /// Time of the step.
+        time: f64,
+        /// Which quantity (`displacement`, `velocity`, `multiplier`, `energy`).
+        quantity: &'static str,
+    },
+}
+
+/// Any error of the library.
+#[derive(Debug, Error)]
+pub enum Error {
+    /// A parameter out of range.
+    #[error(transparent)]
+    Parameter(#[from] ParameterError),
+    /// Time stepping failed.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}

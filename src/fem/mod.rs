@@ -1,0 +1,13 @@
+//! Finite element spaces and the assembly of mass, stiffness and load.
+//!
+//! The 1D bar of the paper (P1 elements on `[0, L]`, Section 3.1) lives in [`bar1d`]; the
+//! global sparse assembly and the symmetric matrix-vector product in [`sparse`]; the mass-matrix
+//! variants (standard, redistributed) in [`mass`].
+
+pub mod bar1d;
+pub mod mass;
+pub mod sparse;
+
+pub use bar1d::{Bar1d, EndCondition};
+pub use mass::MassVariant;
+pub use sparse::{SparseAssembler, SymmetricMatrix};

@@ -1,0 +1,183 @@
+//! Sparse symmetric matrices: assembly from element contributions and allocation-free products.
+
+use faer::sparse::{SparseColMat, Triplet};
+
+/// A symmetric sparse matrix stored with both triangles (faer CSC).
+///
+/// Both triangles are stored because faer's Cholesky silently returns a wrong answer when the
+/// stored triangle does not match the requested side (DEPENDENCIES.md, faer gotchas).
+#[derive(Debug, Clone)]
+pub struct SymmetricMatrix {
+    inner: SparseColMat<usize, f64>,
+}
+
+impl SymmetricMatrix {
+    /// Wraps a faer matrix that the caller guarantees to be symmetric with both triangles stored.
+    pub fn from_faer(inner: SparseColMat<usize, f64>) -> Self {
+        debug_assert_eq!(inner.nrows(), inner.ncols());
+        Self { inner }
+    }
+
+    /// The number of rows (= columns).
+    pub fn dim(&self) -> usize {
+        self.inner.nrows()
+    }
+
+    /// The faer matrix.
+    pub fn as_faer(&self) -> &SparseColMat<usize, f64> {
+        &self.inner
+    }
+
+    /// Entry `(i, j)`, zero when not stored.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.inner.get(i, j).copied().unwrap_or(0.0)
+    }
+
+    /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
+    pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        let sym = self.inner.symbolic();
+        let col_ptr = sym.col_ptr();
+        let row_idx = sym.row_idx();
+        let val = self.inner.val();
+        for (i, yi) in y.iter_mut().enumerate() {
+            let range = col_ptr[i]..col_ptr[i + 1];
+            *yi = row_idx[range.clone()]
+                .iter()
+                .zip(&val[range])
+                .map(|(&r, &v)| v * x[r])
+                .sum();
+        }
+    }
+
+    /// The quadratic form `xᵀ A x`.
+    pub fn quadratic_form(&self, x: &[f64]) -> f64 {
+        self.bilinear_form(x, x)
+    }
+
+    /// The bilinear form `xᵀ A y`.
+    pub fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
+        let sym = self.inner.symbolic();
+        let col_ptr = sym.col_ptr();
+        let row_idx = sym.row_idx();
+        let val = self.inner.val();
+        let mut total = 0.0;
+        for (j, &yj) in y.iter().enumerate() {
+            if yj == 0.0 {
+                continue;
+            }
+            let range = col_ptr[j]..col_ptr[j + 1];
+            let col: f64 = row_idx[range.clone()]
+                .iter()
+                .zip(&val[range])
+                .map(|(&r, &v)| v * x[r])
+                .sum();
+            total += col * yj;
+        }
+        total
+    }
+
+    /// `a·self + b·other`, on the union of both sparsity patterns.
+    pub fn linear_combination(&self, a: f64, other: &SymmetricMatrix, b: f64) -> SymmetricMatrix {
+        let mut assembler = SparseAssembler::new(self.dim());
+        assembler.add_scaled(self, a);
+        assembler.add_scaled(other, b);
+        assembler.finish()
+    }
+
+    /// The largest `|i - j|` over stored entries.
+    pub fn bandwidth(&self) -> usize {
+        let sym = self.inner.symbolic();
+        (0..self.dim())
+            .flat_map(|j| {
+                sym.row_idx()[sym.col_ptr()[j]..sym.col_ptr()[j + 1]]
+                    .iter()
+                    .map(move |&i| i.abs_diff(j))
+            })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Sum of all entries (for a mass matrix with ρ = 1: the measure of the body).
+    pub fn sum_of_entries(&self) -> f64 {
+        self.inner.val().iter().sum()
+    }
+}
+
+/// Accumulates `(i, j, v)` contributions; duplicates are summed (finite element assembly).
+#[derive(Debug, Clone)]
+pub struct SparseAssembler {
+    dim: usize,
+    triplets: Vec<Triplet<usize, usize, f64>>,
+}
+
+impl SparseAssembler {
+    /// An empty `dim × dim` matrix.
+    pub fn new(dim: usize) -> Self {
+        Self {
+            dim,
+            triplets: Vec::new(),
+        }
+    }
+
+    /// Adds `v` at `(i, j)`.
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        self.triplets.push(Triplet::new(i, j, v));
+    }
+
+    /// Adds a dense element matrix at the given global dofs; `None` marks an eliminated
+    /// (Dirichlet) dof whose row and column are dropped.
+    pub fn add_element<const N: usize>(
+        &mut self,
+        dofs: &[Option<usize>; N],
+        element: &nalgebra::SMatrix<f64, N, N>,
+    ) {
+        for (a, da) in dofs.iter().enumerate() {
+            let Some(i) = *da else { continue };
+            for (b, db) in dofs.iter().enumerate() {
+                let Some(j) = *db else { continue };
+                self.add(i, j, element[(a, b)]);
+            }
+        }
+    }
+
+    /// Adds `scale · m`.
+    pub fn add_scaled(&mut self, m: &SymmetricMatrix, scale: f64) {
+        let a = m.as_faer();
+        let sym = a.symbolic();
+        for j in 0..m.dim() {
+            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
+            for (&i, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+                self.add(i, j, scale * v);
+            }
+        }
+    }
+
+    /// The assembled matrix.
+    pub fn finish(self) -> SymmetricMatrix {
+        let inner = SparseColMat::try_new_from_triplets(self.dim, self.dim, &self.triplets)
+            .expect("assembly indices are within the matrix dimension by construction");
+        SymmetricMatrix { inner }
+    }
+}
+
+impl SymmetricMatrix {
+    /// The principal submatrix on `indices` (in that order).
+    pub fn principal_submatrix(&self, indices: &[usize]) -> SymmetricMatrix {
+        let mut local = vec![usize::MAX; self.dim()];
+        for (k, &i) in indices.iter().enumerate() {
+            local[i] = k;
+        }
+        let a = self.as_faer();
+        let sym = a.symbolic();
+        let mut asm = SparseAssembler::new(indices.len());
+        for (kj, &j) in indices.iter().enumerate() {
+            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
+            for (&i, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+                if local[i] != usize::MAX {
+                    asm.add(local[i], kj, v);
+                }
+            }
+        }
+        asm.finish()
+    }
+}

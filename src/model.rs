@@ -1,0 +1,139 @@
+//! The semi-discrete model `M U'' + S U = F − Bᵀλ`, `0 ≤ B U + g ⟂ λ ≤ 0` (1D paper eq. 30,
+//! with `B` selecting the contact dofs): matrices, load and contact set, independent of the
+//! dimension. Schemes are written against this type, never against 1D arrays.
+
+use crate::fem::{Bar1d, MassVariant, SymmetricMatrix};
+
+/// The contact constraints: `u[dofs[i]] + gaps[i] ≥ 0`, each with a multiplier `λ_i ≤ 0`
+/// entering the equation as `−λ_i e_{dofs[i]}` (1D paper sign convention, eq. 30).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSet {
+    /// The constrained dofs (the normal displacement of each contact node).
+    pub dofs: Vec<usize>,
+    /// The initial distance to the obstacle of each constrained dof.
+    pub gaps: Vec<f64>,
+}
+
+impl ContactSet {
+    /// Number of contact constraints.
+    pub fn len(&self) -> usize {
+        self.dofs.len()
+    }
+
+    /// Whether there is no constraint.
+    pub fn is_empty(&self) -> bool {
+        self.dofs.is_empty()
+    }
+
+    /// The constraint values `B u + g` (the gaps of `u`).
+    pub fn gaps_of(&self, u: &[f64], out: &mut [f64]) {
+        for ((o, &d), &g) in out.iter_mut().zip(&self.dofs).zip(&self.gaps) {
+            *o = u[d] + g;
+        }
+    }
+}
+
+/// Matrices, load and constraints of one spatial discretisation.
+#[derive(Debug, Clone)]
+pub struct Model {
+    mass: SymmetricMatrix,
+    stiffness: SymmetricMatrix,
+    load: Option<Vec<f64>>,
+    contact: Option<ContactSet>,
+    massless: Vec<usize>,
+}
+
+impl Model {
+    /// A model from its parts; `load` is constant in time. The massless dofs (zero rows of
+    /// `mass`) are found here, once.
+    pub fn new(
+        mass: SymmetricMatrix,
+        stiffness: SymmetricMatrix,
+        load: Option<Vec<f64>>,
+        contact: Option<ContactSet>,
+    ) -> Self {
+        let massless = (0..mass.dim())
+            .filter(|&i| {
+                let a = mass.as_faer();
+                let range = a.symbolic().col_ptr()[i]..a.symbolic().col_ptr()[i + 1];
+                a.val()[range].iter().all(|&v| v == 0.0)
+            })
+            .collect();
+        Self {
+            mass,
+            stiffness,
+            load,
+            contact,
+            massless,
+        }
+    }
+
+    /// The 1D bar with the obstacle at `x = 0` (gap `obstacle_gap`, `None` for no obstacle)
+    /// and a constant body force density.
+    pub fn bar1d(
+        bar: &Bar1d,
+        mass: MassVariant,
+        obstacle_gap: Option<f64>,
+        body_force: Option<f64>,
+    ) -> Self {
+        let contact = obstacle_gap.map(|g| ContactSet {
+            dofs: vec![bar.contact_dof()],
+            gaps: vec![g],
+        });
+        Self::new(
+            bar.mass(mass),
+            bar.stiffness(),
+            body_force.map(|f| bar.load(f)),
+            contact,
+        )
+    }
+
+    /// Number of unknowns.
+    pub fn n_dofs(&self) -> usize {
+        self.mass.dim()
+    }
+
+    /// Mass matrix (possibly singular).
+    pub fn mass(&self) -> &SymmetricMatrix {
+        &self.mass
+    }
+
+    /// Stiffness matrix.
+    pub fn stiffness(&self) -> &SymmetricMatrix {
+        &self.stiffness
+    }
+
+    /// Constant load vector, if the model declares a body force.
+    pub fn load(&self) -> Option<&[f64]> {
+        self.load.as_deref()
+    }
+
+    /// The contact constraints, if the model declares an obstacle.
+    pub fn contact(&self) -> Option<&ContactSet> {
+        self.contact.as_ref()
+    }
+
+    /// The dofs spanning `ker M` (rows of `M` that are identically zero).
+    pub fn massless_dofs(&self) -> &[usize] {
+        &self.massless
+    }
+
+    /// Whether every contact dof is massless (the redistributed mass).
+    pub fn contact_is_massless(&self) -> bool {
+        self.contact.as_ref().is_some_and(|c| {
+            c.dofs
+                .iter()
+                .all(|d| self.massless.binary_search(d).is_ok())
+        })
+    }
+
+    /// The discrete energy `½ VᵀMV + ½ UᵀSU − FᵀU` (1D paper eq. 31, with the load's
+    /// potential written `−FᵀU`: the printed `−U_tᵀF` is an erratum, see README).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        let load = self
+            .load
+            .as_ref()
+            .map_or(0.0, |f| f.iter().zip(u).map(|(a, b)| a * b).sum::<f64>());
+        0.5 * self.mass.quadratic_form(v) + 0.5 * self.stiffness.quadratic_form(u) - load
+    }
+}

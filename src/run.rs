@@ -1,0 +1,378 @@
+//! One run: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
+//! while observers accumulate only the requested error norms and histories.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::error::{require_positive, Error, ParameterError, SolveError};
+use crate::exact::ExactSolution;
+use crate::fem::{Bar1d, EndCondition, MassVariant};
+use crate::model::Model;
+use crate::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
+use crate::schemes::start::initial_state;
+use crate::schemes::{OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator};
+
+/// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
+/// initial data and the reference, and the horizon.
+#[derive(Debug, Clone)]
+pub struct Problem1d {
+    /// Bar length `L`.
+    pub length: f64,
+    /// Density `ρ`.
+    pub density: f64,
+    /// Wave speed `c`.
+    pub wave_speed: f64,
+    /// Condition at `x = L`.
+    pub far_end: EndCondition,
+    /// Gap to the obstacle at `x = 0`; `None`: no obstacle.
+    pub obstacle_gap: Option<f64>,
+    /// Constant body force density; `None`: no load.
+    pub body_force: Option<f64>,
+    /// The exact solution (initial data and reference).
+    pub exact: Arc<dyn ExactSolution>,
+    /// Horizon `T`.
+    pub horizon: f64,
+}
+
+impl Problem1d {
+    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
+    pub fn signorini_dirichlet(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: Some(0.0),
+            body_force: None,
+            exact: Arc::new(crate::exact::SignoriniDirichlet),
+            horizon,
+        }
+    }
+
+    /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
+    pub fn free_vibration(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: None,
+            body_force: None,
+            exact: Arc::new(crate::exact::ClampedFreeMode),
+            horizon,
+        }
+    }
+}
+
+/// What a run records besides the requested norms.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Observables {
+    /// The error norms to compute; nothing else is evaluated.
+    pub norms: BTreeSet<Norm>,
+    /// Record the contact node's displacement and multiplier with the exact ones.
+    pub contact_history: bool,
+    /// Record the energy with the exact one.
+    pub energy_history: bool,
+}
+
+impl Observables {
+    /// All seven norms, no history.
+    pub fn all_norms() -> Self {
+        Self {
+            norms: Norm::ALL.into_iter().collect(),
+            ..Self::default()
+        }
+    }
+}
+
+/// One level of a study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunConfig {
+    /// Number of elements `NX`.
+    pub nx: usize,
+    /// `Δx / Δt` (the paper: 10 for §5, 1 for §4).
+    pub ratio: f64,
+    /// The time integrator.
+    pub scheme: Scheme,
+    /// The mass matrix.
+    pub mass: MassVariant,
+    /// What to record.
+    pub observables: Observables,
+}
+
+/// The contact node's history.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ContactHistory {
+    /// `t_n` of the displacement samples.
+    pub time: Vec<f64>,
+    /// `u_h(0, t_n)`.
+    pub displacement: Vec<f64>,
+    /// `u(0, t_n)`.
+    pub displacement_exact: Vec<f64>,
+    /// The times of the multiplier samples (they differ from `time` for Paoli–Schatzman).
+    pub multiplier_time: Vec<f64>,
+    /// `λ_h`.
+    pub multiplier: Vec<f64>,
+    /// `λ` at `multiplier_time`.
+    pub multiplier_exact: Vec<f64>,
+}
+
+/// The energy history.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct EnergyHistory {
+    /// Sample times (`t_{n−½}` for Paoli–Schatzman).
+    pub time: Vec<f64>,
+    /// `E_h`.
+    pub energy: Vec<f64>,
+    /// `E`.
+    pub energy_exact: Vec<f64>,
+}
+
+/// Wall-clock time of the phases of a run, in seconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Timings {
+    /// Assembly, factorisation, Delassus operator and initial state.
+    pub setup: f64,
+    /// Time stepping including contact solves.
+    pub stepping: f64,
+    /// Observers (norms and histories).
+    pub observe: f64,
+}
+
+/// Everything one run measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunResult {
+    /// `NX`.
+    pub nx: usize,
+    /// `h = L / NX`.
+    pub h: f64,
+    /// The time step actually used (`T / N`, `N = ⌈T ratio / h⌉`).
+    pub dt: f64,
+    /// Number of time steps `N`.
+    pub steps: usize,
+    /// Number of unknowns.
+    pub dofs: usize,
+    /// The requested error norms.
+    pub errors: BTreeMap<Norm, f64>,
+    /// Steps that needed a complementarity solve.
+    pub contact_solves: usize,
+    /// Wall-clock split.
+    pub timings: Timings,
+    /// Space-norm evaluations (one per step when a displacement norm is requested).
+    pub space_norm_evaluations: usize,
+    /// Contact node history, when requested.
+    pub contact_history: Option<ContactHistory>,
+    /// Energy history, when requested.
+    pub energy_history: Option<EnergyHistory>,
+}
+
+/// Builds the integrator of `scheme` on `model`.
+pub fn integrator<'m>(
+    model: &'m Model,
+    scheme: Scheme,
+    dt: f64,
+    u0: &[f64],
+    v0: &[f64],
+) -> Result<Box<dyn TimeIntegrator + 'm>, SolveError> {
+    let start = initial_state(model, u0, v0)?;
+    Ok(match scheme {
+        Scheme::PaoliSchatzman { beta, restitution } => {
+            Box::new(PaoliSchatzman::new(model, beta, restitution, dt, start)?)
+        }
+        one_step => Box::new(OneStepScheme::new(
+            model,
+            StepCoefficients::of(one_step).expect("not Paoli–Schatzman"),
+            dt,
+            start,
+        )?),
+    })
+}
+
+/// The number of steps and the step that lands exactly on `horizon`.
+pub fn time_grid(horizon: f64, h: f64, ratio: f64) -> (usize, f64) {
+    let nominal = h / ratio;
+    let steps = ((horizon / nominal) - 1e-9).ceil().max(1.0) as usize;
+    (steps, horizon / steps as f64)
+}
+
+struct Observer<'a> {
+    bar: &'a Bar1d,
+    exact: &'a dyn ExactSolution,
+    wants_space: bool,
+    wants_multiplier: bool,
+    wants_energy: bool,
+    space: SpaceErrorIntegrator,
+    u_h: TimeSeriesNorm,
+    u_v: TimeSeriesNorm,
+    lambda: TimeSeriesNorm,
+    energy: TimeSeriesNorm,
+    contact: Option<ContactHistory>,
+    energy_history: Option<EnergyHistory>,
+}
+
+impl<'a> Observer<'a> {
+    fn new(bar: &'a Bar1d, exact: &'a dyn ExactSolution, obs: &Observables) -> Self {
+        let has = |n: &[Norm]| n.iter().any(|x| obs.norms.contains(x));
+        Self {
+            bar,
+            exact,
+            wants_space: has(&[
+                Norm::DisplacementLinfH,
+                Norm::DisplacementL2H,
+                Norm::DisplacementLinfV,
+                Norm::DisplacementL2V,
+            ]),
+            wants_multiplier: has(&[Norm::MultiplierL2]),
+            wants_energy: has(&[Norm::EnergyLinf, Norm::EnergyL2]),
+            space: SpaceErrorIntegrator::new(),
+            u_h: TimeSeriesNorm::default(),
+            u_v: TimeSeriesNorm::default(),
+            lambda: TimeSeriesNorm::default(),
+            energy: TimeSeriesNorm::default(),
+            contact: obs.contact_history.then(ContactHistory::default),
+            energy_history: obs.energy_history.then(EnergyHistory::default),
+        }
+    }
+
+    fn observe(&mut self, scheme: &dyn TimeIntegrator) {
+        let t = scheme.time();
+        if self.wants_space {
+            let e = self
+                .space
+                .errors(self.bar, scheme.displacement(), self.exact, t);
+            self.u_h.push(t, e.l2);
+            self.u_v.push(t, e.h1);
+        }
+        if self.wants_multiplier || self.contact.is_some() {
+            let m = scheme.multiplier();
+            let lambda_h = m.value.first().copied().unwrap_or(0.0);
+            let lambda = self.exact.contact_multiplier(m.time);
+            self.lambda.push(m.time, lambda_h - lambda);
+            if let Some(c) = self.contact.as_mut() {
+                c.time.push(t);
+                c.displacement
+                    .push(self.bar.nodal_value(scheme.displacement(), 0));
+                c.displacement_exact.push(self.exact.eval(0.0, t).u);
+                if c.multiplier_time.last().is_none_or(|&last| m.time > last) {
+                    c.multiplier_time.push(m.time);
+                    c.multiplier.push(lambda_h);
+                    c.multiplier_exact.push(lambda);
+                }
+            }
+        }
+        if self.wants_energy || self.energy_history.is_some() {
+            let e = scheme.energy();
+            let exact = self.exact.energy(e.time);
+            self.energy.push(e.time, e.value - exact);
+            if let Some(h) = self.energy_history.as_mut() {
+                if h.time.last().is_none_or(|&last| e.time > last) {
+                    h.time.push(e.time);
+                    h.energy.push(e.value);
+                    h.energy_exact.push(exact);
+                }
+            }
+        }
+    }
+
+    fn errors(&self, norms: &BTreeSet<Norm>) -> BTreeMap<Norm, f64> {
+        norms
+            .iter()
+            .map(|&n| {
+                let v = match n {
+                    Norm::DisplacementLinfH => self.u_h.linf(),
+                    Norm::DisplacementL2H => self.u_h.l2(),
+                    Norm::DisplacementLinfV => self.u_v.linf(),
+                    Norm::DisplacementL2V => self.u_v.l2(),
+                    Norm::MultiplierL2 => self.lambda.l2(),
+                    Norm::EnergyLinf => self.energy.linf(),
+                    Norm::EnergyL2 => self.energy.l2(),
+                };
+                (n, v)
+            })
+            .collect()
+    }
+}
+
+fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
+    let fields: [(&'static str, &[f64]); 3] = [
+        ("displacement", scheme.displacement()),
+        ("velocity", scheme.velocity()),
+        ("multiplier", scheme.multiplier().value),
+    ];
+    for (quantity, values) in fields {
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite {
+                step: scheme.step_index(),
+                time: scheme.time(),
+                quantity,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs one configuration of a problem to its horizon.
+pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
+    let setup_clock = Instant::now();
+    require_positive("ratio", config.ratio)?;
+    require_positive("horizon", problem.horizon)?;
+    let scheme = config.scheme.validate()?;
+    if problem.obstacle_gap.is_none() && config.observables.norms.contains(&Norm::MultiplierL2) {
+        return Err(ParameterError::new(
+            "norm",
+            Norm::MultiplierL2,
+            "a norm the problem defines (lambda_L2 needs an obstacle)",
+        )
+        .into());
+    }
+    let bar = Bar1d::new(
+        problem.length,
+        config.nx,
+        problem.density,
+        problem.wave_speed,
+        problem.far_end,
+    )?;
+    let (steps, dt) = time_grid(problem.horizon, bar.h(), config.ratio);
+    let model = Model::bar1d(&bar, config.mass, problem.obstacle_gap, problem.body_force);
+    let exact = problem.exact.as_ref();
+    let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
+    let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
+    let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
+    let mut observer = Observer::new(&bar, exact, &config.observables);
+    let setup = setup_clock.elapsed().as_secs_f64();
+
+    let (mut stepping, mut observe) = (0.0, 0.0);
+    let clock = Instant::now();
+    observer.observe(integ.as_ref());
+    observe += clock.elapsed().as_secs_f64();
+    for _ in 0..steps {
+        let clock = Instant::now();
+        integ.advance()?;
+        check_finite(integ.as_ref())?;
+        let mid = Instant::now();
+        observer.observe(integ.as_ref());
+        let end = Instant::now();
+        stepping += (mid - clock).as_secs_f64();
+        observe += (end - mid).as_secs_f64();
+    }
+    Ok(RunResult {
+        nx: config.nx,
+        h: bar.h(),
+        dt,
+        steps,
+        dofs: model.n_dofs(),
+        errors: observer.errors(&config.observables.norms),
+        contact_solves: integ.contact_solves(),
+        timings: Timings {
+            setup,
+            stepping,
+            observe,
+        },
+        space_norm_evaluations: observer.space.evaluations(),
+        contact_history: observer.contact,
+        energy_history: observer.energy_history,
+    })
+}

@@ -1,0 +1,187 @@
+//! One-step schemes with the contact condition at `t_{n+1}`: Newmark (eq. 32) and θ (eq. 34).
+//!
+//! Both are instances of
+//! ```text
+//! U^{n+1} = U^n + Δt V^n + Δt² (a A^n + b A^{n+1})
+//! V^{n+1} = V^n + Δt (c A^n + d A^{n+1})
+//! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1},   0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0
+//! ```
+//! with `(a, b, c, d) = (½ − β, β, 1 − γ, γ)` for Newmark(β, γ) and
+//! `(θ(1 − θ), θ², 1 − θ, θ)` for the θ-method (eliminate `V^{n+1}` from eq. 34a with 34b).
+//! Substituting the first line into the third gives the step system
+//! `(M / (bΔt²) + S) U^{n+1} = M P / (bΔt²) + F − Bᵀλ^{n+1}`, `P = U^n + ΔtV^n + aΔt²A^n`.
+//! `A^{n+1}` and `V^{n+1}` then follow from the first two lines for every dof; only `M A` and
+//! `M V` enter the dynamics, so the values on massless dofs are a consistent difference
+//! quotient that never needs `M⁻¹`.
+
+use super::start::InitialState;
+use super::{Scheme, TimeIntegrator, Timed};
+use crate::contact::ContactStep;
+use crate::error::SolveError;
+use crate::linalg::SpdSolver;
+use crate::model::Model;
+
+/// The coefficients `(a, b, c, d)` of the one-step family.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepCoefficients {
+    /// Weight of `A^n` in the displacement update.
+    pub a: f64,
+    /// Weight of `A^{n+1}` in the displacement update (> 0).
+    pub b: f64,
+    /// Weight of `A^n` in the velocity update.
+    pub c: f64,
+    /// Weight of `A^{n+1}` in the velocity update.
+    pub d: f64,
+}
+
+impl StepCoefficients {
+    /// Newmark(β, γ), eq. (32a–b).
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self {
+            a: 0.5 - beta,
+            b: beta,
+            c: 1.0 - gamma,
+            d: gamma,
+        }
+    }
+
+    /// θ-method, eq. (34a–b).
+    pub fn theta(theta: f64) -> Self {
+        Self {
+            a: theta * (1.0 - theta),
+            b: theta * theta,
+            c: 1.0 - theta,
+            d: theta,
+        }
+    }
+
+    /// The coefficients of a one-step scheme, `None` for Paoli–Schatzman.
+    pub fn of(scheme: Scheme) -> Option<Self> {
+        match scheme {
+            Scheme::Newmark { beta, gamma } => Some(Self::newmark(beta, gamma)),
+            Scheme::Theta { theta } => Some(Self::theta(theta)),
+            Scheme::PaoliSchatzman { .. } => None,
+        }
+    }
+}
+
+/// A Newmark or θ-method integrator with its state and factorised step matrix.
+#[derive(Debug)]
+pub struct OneStepScheme<'m> {
+    model: &'m Model,
+    coef: StepCoefficients,
+    dt: f64,
+    system: SpdSolver,
+    contact: Option<ContactStep>,
+    step: usize,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lambda: Vec<f64>,
+    predictor: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+impl<'m> OneStepScheme<'m> {
+    /// Factorises `M / (bΔt²) + S` and prepares the contact correction.
+    pub fn new(
+        model: &'m Model,
+        coef: StepCoefficients,
+        dt: f64,
+        start: InitialState,
+    ) -> Result<Self, SolveError> {
+        let k = model
+            .mass()
+            .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
+        let system = SpdSolver::factor(&k, "one-step scheme system M/(bΔt²) + S")?;
+        let n = model.n_dofs();
+        let contact = model.contact().map(|c| ContactStep::new(c, &system, n));
+        Ok(Self {
+            model,
+            coef,
+            dt,
+            system,
+            contact,
+            step: 0,
+            u: start.displacement,
+            v: start.velocity,
+            a: start.acceleration,
+            lambda: start.multiplier,
+            predictor: vec![0.0; n],
+            scratch: vec![0.0; n],
+        })
+    }
+
+    /// `A^n`.
+    pub fn acceleration(&self) -> &[f64] {
+        &self.a
+    }
+}
+
+impl TimeIntegrator for OneStepScheme<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        let dt = self.dt;
+        let StepCoefficients { a, b, c, d } = self.coef;
+        let inv_bdt2 = 1.0 / (b * dt * dt);
+        for i in 0..self.u.len() {
+            self.predictor[i] = self.u[i] + dt * self.v[i] + a * dt * dt * self.a[i];
+        }
+        self.model
+            .mass()
+            .mul_into(&self.predictor, &mut self.scratch);
+        self.scratch.iter_mut().for_each(|r| *r *= inv_bdt2);
+        if let Some(f) = self.model.load() {
+            self.scratch.iter_mut().zip(f).for_each(|(r, fi)| *r += fi);
+        }
+        self.system.solve_in_place(&mut self.scratch);
+        if let Some(contact) = self.contact.as_mut() {
+            contact.enforce(self.step + 1, &mut self.scratch, |_, g| g, &mut self.lambda)?;
+        }
+        for i in 0..self.u.len() {
+            let a_new = (self.scratch[i] - self.predictor[i]) * inv_bdt2;
+            self.v[i] += dt * (c * self.a[i] + d * a_new);
+            self.a[i] = a_new;
+        }
+        std::mem::swap(&mut self.u, &mut self.scratch);
+        self.step += 1;
+        Ok(())
+    }
+
+    fn step_index(&self) -> usize {
+        self.step
+    }
+
+    fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.time(),
+            value: &self.lambda,
+        }
+    }
+
+    fn energy(&self) -> Timed<f64> {
+        Timed {
+            time: self.time(),
+            value: self.model.energy(&self.u, &self.v),
+        }
+    }
+
+    fn contact_solves(&self) -> usize {
+        self.contact.as_ref().map_or(0, ContactStep::solves)
+    }
+}
