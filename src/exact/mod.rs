@@ -24,6 +24,13 @@ pub trait ExactSolution: Send + Sync + std::fmt::Debug {
     fn name(&self) -> &'static str;
     /// `(u, u_x, u_t)` at `(x, t)`.
     fn eval(&self, x: f64, t: f64) -> Pointwise;
+    /// `(u, u_x, u_t)` at the points `xs` of one time `t` (the norms' quadrature points of a
+    /// step); implementations hoist the work that depends on `t` only.
+    fn eval_many(&self, t: f64, xs: &[f64], out: &mut [Pointwise]) {
+        for (o, &x) in out.iter_mut().zip(xs) {
+            *o = self.eval(x, t);
+        }
+    }
     /// The contact multiplier `λ(t) = u_x(0, t)` (1D paper §5.1), zero when there is no contact.
     fn contact_multiplier(&self, t: f64) -> f64;
     /// The exact energy `½ ∫ (u_t² + u_x²) dx` (plus the load's potential).

@@ -25,17 +25,17 @@ pub struct SignoriniDirichlet;
 impl SignoriniDirichlet {
     /// The period in time.
     pub const PERIOD: f64 = 3.0;
-}
 
-impl ExactSolution for SignoriniDirichlet {
-    fn name(&self) -> &'static str {
-        "signorini-dirichlet"
-    }
-
-    fn eval(&self, x: f64, t: f64) -> Pointwise {
+    /// The phase `k = ⌊t mod 3⌋ ∈ {0, 1, 2}` and the local time `τ ∈ [0, 1)`.
+    fn phase(t: f64) -> (usize, f64) {
         let tp = t.rem_euclid(Self::PERIOD);
         let phase = (tp.floor() as usize).min(2);
-        let tau = tp - phase as f64;
+        (phase, tp - phase as f64)
+    }
+
+    /// The table above: region from the characteristics through `x`, value from the phase.
+    #[inline]
+    fn eval_in_phase(phase: usize, tau: f64, x: f64) -> Pointwise {
         let left_of_wave = x < tau; // η = x − τ < 0
         let past_reflection = x + tau > 1.0; // ξ = x + τ > 1
         let (u, ux, ut) = match (phase, left_of_wave, past_reflection) {
@@ -49,6 +49,24 @@ impl ExactSolution for SignoriniDirichlet {
             (_, _, true) => (0.5 - 0.5 * x, -0.5, 0.0),
         };
         Pointwise { u, ux, ut }
+    }
+}
+
+impl ExactSolution for SignoriniDirichlet {
+    fn name(&self) -> &'static str {
+        "signorini-dirichlet"
+    }
+
+    fn eval(&self, x: f64, t: f64) -> Pointwise {
+        let (phase, tau) = Self::phase(t);
+        Self::eval_in_phase(phase, tau, x)
+    }
+
+    fn eval_many(&self, t: f64, xs: &[f64], out: &mut [Pointwise]) {
+        let (phase, tau) = Self::phase(t);
+        for (o, &x) in out.iter_mut().zip(xs) {
+            *o = Self::eval_in_phase(phase, tau, x);
+        }
     }
 
     fn contact_multiplier(&self, t: f64) -> f64 {

@@ -5,17 +5,82 @@ use faer::sparse::{SparseColMat, Triplet};
 /// A symmetric sparse matrix stored with both triangles (faer CSC).
 ///
 /// Both triangles are stored because faer's Cholesky silently returns a wrong answer when the
-/// stored triangle does not match the requested side (DEPENDENCIES.md, faer gotchas).
+/// stored triangle does not match the requested side (DEPENDENCIES.md, faer gotchas). A matrix
+/// of bandwidth one (every 1D P1 matrix) also keeps its two diagonals, so that the products of
+/// the time loop run as contiguous loops instead of indexed gathers.
 #[derive(Debug, Clone)]
 pub struct SymmetricMatrix {
     inner: SparseColMat<usize, f64>,
+    tridiagonal: Option<Tridiagonal>,
+}
+
+/// The diagonal `d` and the sub-diagonal `l[i] = A[i+1, i]` of a symmetric tridiagonal matrix.
+#[derive(Debug, Clone)]
+struct Tridiagonal {
+    d: Vec<f64>,
+    l: Vec<f64>,
+}
+
+impl Tridiagonal {
+    fn of(inner: &SparseColMat<usize, f64>) -> Option<Self> {
+        let sym = inner.symbolic();
+        let n = inner.nrows();
+        let mut band = Self {
+            d: vec![0.0; n],
+            l: vec![0.0; n.saturating_sub(1)],
+        };
+        for j in 0..n {
+            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
+            for (&i, &v) in sym.row_idx()[range.clone()].iter().zip(&inner.val()[range]) {
+                match i.abs_diff(j) {
+                    0 => band.d[j] += v,
+                    1 if i > j => band.l[j] += v,
+                    1 => {}
+                    _ => return None,
+                }
+            }
+        }
+        Some(band)
+    }
+
+    fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        let n = x.len();
+        for i in 0..n {
+            let mut acc = self.d[i] * x[i];
+            if i > 0 {
+                acc += self.l[i - 1] * x[i - 1];
+            }
+            if i + 1 < n {
+                acc += self.l[i] * x[i + 1];
+            }
+            y[i] = acc;
+        }
+    }
+
+    fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
+        let diag: f64 = self
+            .d
+            .iter()
+            .zip(x)
+            .zip(y)
+            .map(|((d, a), b)| d * a * b)
+            .sum();
+        let off: f64 = self
+            .l
+            .iter()
+            .enumerate()
+            .map(|(i, l)| l * (x[i] * y[i + 1] + x[i + 1] * y[i]))
+            .sum();
+        diag + off
+    }
 }
 
 impl SymmetricMatrix {
     /// Wraps a faer matrix that the caller guarantees to be symmetric with both triangles stored.
     pub fn from_faer(inner: SparseColMat<usize, f64>) -> Self {
         debug_assert_eq!(inner.nrows(), inner.ncols());
-        Self { inner }
+        let tridiagonal = Tridiagonal::of(&inner);
+        Self { inner, tridiagonal }
     }
 
     /// The number of rows (= columns).
@@ -35,6 +100,9 @@ impl SymmetricMatrix {
 
     /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        if let Some(t) = &self.tridiagonal {
+            return t.mul_into(x, y);
+        }
         let sym = self.inner.symbolic();
         let col_ptr = sym.col_ptr();
         let row_idx = sym.row_idx();
@@ -56,6 +124,9 @@ impl SymmetricMatrix {
 
     /// The bilinear form `xᵀ A y`.
     pub fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
+        if let Some(t) = &self.tridiagonal {
+            return t.bilinear_form(x, y);
+        }
         let sym = self.inner.symbolic();
         let col_ptr = sym.col_ptr();
         let row_idx = sym.row_idx();
@@ -156,7 +227,7 @@ impl SparseAssembler {
     pub fn finish(self) -> SymmetricMatrix {
         let inner = SparseColMat::try_new_from_triplets(self.dim, self.dim, &self.triplets)
             .expect("assembly indices are within the matrix dimension by construction");
-        SymmetricMatrix { inner }
+        SymmetricMatrix::from_faer(inner)
     }
 }
 

@@ -1,10 +1,11 @@
 //! LDLᵀ factorisation of a symmetric positive definite tridiagonal matrix (Thomas algorithm,
 //! factored once, solved many times).
 
-/// `A = L D Lᵀ` with `L` unit lower bidiagonal; `lower[i]` is `L[i, i-1]` (`lower[0]` unused).
+/// `A = L D Lᵀ` with `L` unit lower bidiagonal; `lower[i]` is `L[i, i-1]` (`lower[0]` unused);
+/// `D` is kept as its reciprocal so that a solve has no division.
 #[derive(Debug, Clone)]
 pub struct TridiagonalLdlt {
-    diag: Vec<f64>,
+    inv_diag: Vec<f64>,
     lower: Vec<f64>,
 }
 
@@ -27,18 +28,29 @@ impl TridiagonalLdlt {
             }
             d[i] = di;
         }
-        Ok(Self { diag: d, lower: l })
+        Ok(Self {
+            inv_diag: d.iter().map(|di| 1.0 / di).collect(),
+            lower: l,
+        })
     }
 
-    /// Solves `A x = b` in place (`b` is overwritten by `x`).
+    /// Solves `A x = b` in place (`b` is overwritten by `x`): `L y = b`, then
+    /// `Lᵀ x = D⁻¹ y`, two sweeps.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         let n = b.len();
-        for i in 1..n {
-            b[i] -= self.lower[i] * b[i - 1];
+        if n == 0 {
+            return;
         }
-        b.iter_mut().zip(&self.diag).for_each(|(x, d)| *x /= d);
-        for i in (0..n.saturating_sub(1)).rev() {
-            b[i] -= self.lower[i + 1] * b[i + 1];
+        let mut prev = b[0];
+        for (bi, li) in b.iter_mut().zip(&self.lower).skip(1) {
+            *bi -= li * prev;
+            prev = *bi;
+        }
+        let mut next = b[n - 1] * self.inv_diag[n - 1];
+        b[n - 1] = next;
+        for i in (0..n - 1).rev() {
+            next = b[i] * self.inv_diag[i] - self.lower[i + 1] * next;
+            b[i] = next;
         }
     }
 }

@@ -123,8 +123,14 @@ impl TimeIntegrator for OneStepScheme<'_> {
         let dt = self.dt;
         let StepCoefficients { a, b, c, d } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
-        for i in 0..self.u.len() {
-            self.predictor[i] = self.u[i] + dt * self.v[i] + a * dt * dt * self.a[i];
+        for (((p, u), v), acc) in self
+            .predictor
+            .iter_mut()
+            .zip(&self.u)
+            .zip(&self.v)
+            .zip(&self.a)
+        {
+            *p = u + dt * v + a * dt * dt * acc;
         }
         self.model
             .mass()
@@ -137,10 +143,11 @@ impl TimeIntegrator for OneStepScheme<'_> {
         if let Some(contact) = self.contact.as_mut() {
             contact.enforce(self.step + 1, &mut self.scratch, |_, g| g, &mut self.lambda)?;
         }
-        for i in 0..self.u.len() {
-            let a_new = (self.scratch[i] - self.predictor[i]) * inv_bdt2;
-            self.v[i] += dt * (c * self.a[i] + d * a_new);
-            self.a[i] = a_new;
+        let updates = self.scratch.iter().zip(&self.predictor);
+        for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates) {
+            let a_new = (u_new - p) * inv_bdt2;
+            *v += dt * (c * *acc + d * a_new);
+            *acc = a_new;
         }
         std::mem::swap(&mut self.u, &mut self.scratch);
         self.step += 1;
