@@ -120,6 +120,23 @@ pub struct ContactHistory {
     pub multiplier_exact: Vec<f64>,
 }
 
+/// Total variations `Σ |λ^{k+1} − λ^k|` over the run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct MultiplierVariation {
+    /// Of the computed multiplier `λ_h`.
+    pub discrete: f64,
+    /// Of the exact multiplier sampled at the same times.
+    pub exact: f64,
+}
+
+impl MultiplierVariation {
+    /// `TV(λ_h) / TV(λ)`: 1 for a multiplier that moves as much as the exact one; large for an
+    /// oscillating one. `None` when the exact multiplier does not vary.
+    pub fn ratio(&self) -> Option<f64> {
+        (self.exact > 0.0).then(|| self.discrete / self.exact)
+    }
+}
+
 /// The energy history.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct EnergyHistory {
@@ -163,6 +180,9 @@ pub struct RunResult {
     pub timings: Timings,
     /// Space-norm evaluations (one per step when a displacement norm is requested).
     pub space_norm_evaluations: usize,
+    /// Total variation of the computed and of the exact multiplier, when the multiplier is
+    /// observed (the oscillation indicator's ingredients).
+    pub multiplier_variation: Option<MultiplierVariation>,
     /// Contact node history, when requested.
     pub contact_history: Option<ContactHistory>,
     /// Energy history, when requested.
@@ -209,6 +229,8 @@ struct Observer<'a> {
     u_v: TimeSeriesNorm,
     lambda: TimeSeriesNorm,
     energy: TimeSeriesNorm,
+    variation: MultiplierVariation,
+    last_multiplier: Option<(f64, f64, f64)>,
     contact: Option<ContactHistory>,
     energy_history: Option<EnergyHistory>,
 }
@@ -232,6 +254,8 @@ impl<'a> Observer<'a> {
             u_v: TimeSeriesNorm::default(),
             lambda: TimeSeriesNorm::default(),
             energy: TimeSeriesNorm::default(),
+            variation: MultiplierVariation::default(),
+            last_multiplier: None,
             contact: obs.contact_history.then(ContactHistory::default),
             energy_history: obs.energy_history.then(EnergyHistory::default),
         }
@@ -251,6 +275,15 @@ impl<'a> Observer<'a> {
             let lambda_h = m.value.first().copied().unwrap_or(0.0);
             let lambda = self.exact.contact_multiplier(m.time);
             self.lambda.push(m.time, lambda_h - lambda);
+            match self.last_multiplier {
+                Some((t0, _, _)) if m.time <= t0 => {}
+                Some((_, h0, e0)) => {
+                    self.variation.discrete += (lambda_h - h0).abs();
+                    self.variation.exact += (lambda - e0).abs();
+                    self.last_multiplier = Some((m.time, lambda_h, lambda));
+                }
+                None => self.last_multiplier = Some((m.time, lambda_h, lambda)),
+            }
             if let Some(c) = self.contact.as_mut() {
                 c.time.push(t);
                 c.displacement
@@ -372,6 +405,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
             observe,
         },
         space_norm_evaluations: observer.space.evaluations(),
+        multiplier_variation: observer.last_multiplier.map(|_| observer.variation),
         contact_history: observer.contact,
         energy_history: observer.energy_history,
     })
