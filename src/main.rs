@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
-use signorini::pipeline::{write_golden, write_report, GOLDEN_TABLES};
+use signorini::pipeline::{write_defaults_experiment, write_golden, write_report, GOLDEN_TABLES};
 use signorini::report::convergence_tables;
 use signorini::run::{run, Observables, Problem1d, RunConfig};
 use signorini::schemes::Scheme;
@@ -110,6 +110,13 @@ enum Command {
     },
     /// What `make report` runs: Tables 1–2 beside the paper into reports/.
     Report {
+        /// Output directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+    },
+    /// How the Tables 1–2 rates move with the horizon and the level range (what `make
+    /// experiment` runs): writes defaults-experiment.md.
+    Experiment {
         /// Output directory.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
@@ -252,6 +259,11 @@ fn execute(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 study.cases.len(),
                 study.wall_seconds
             );
+        }
+        Command::Experiment { out } => {
+            let md = write_defaults_experiment(&out)?;
+            let summary: String = md.lines().skip(4).take(7).collect::<Vec<_>>().join("\n");
+            println!("{summary}\nwrote {}/defaults-experiment.md", out.display());
         }
         Command::Golden { path } => {
             let golden = write_golden(&path)?;

@@ -1,0 +1,34 @@
+# signorini: the two commands that do everything are `make report` and `make test`.
+CARGO ?= cargo
+BIN := target/release/signorini
+
+.PHONY: report test golden build lint fmt experiment clean-reports
+
+## Build, run the main studies and write reports/ (tables.md, rates.json, defaults-experiment.md).
+report: build
+	$(BIN) report --out reports
+	$(BIN) experiment --out reports
+
+## Run the test suite with cargo-nextest (installed first if missing).
+test:
+	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
+	$(CARGO) nextest run
+
+## Regenerate the golden rates and the table snapshot (the only way they change).
+golden: build
+	$(BIN) golden --path golden/rates-1d-dirichlet.json
+	INSTA_UPDATE=always $(CARGO) nextest run --test gate
+
+## The experiment behind the default horizon and levels (also part of `make report`).
+experiment: build
+	$(BIN) experiment --out reports
+
+build:
+	$(CARGO) build --release
+
+lint:
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --all-targets -- -D warnings
+
+fmt:
+	$(CARGO) fmt --all

@@ -1,0 +1,143 @@
+//! The regression gate: the Tables 1–2 study against `golden/`, the rendered tables as an insta
+//! snapshot, and proof that the gate fails when a scheme changes.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use signorini::golden::{compare, render_drifts, Golden, Tolerances};
+use signorini::norms::Norm;
+use signorini::paper::PaperTables;
+use signorini::pipeline::{read_golden, tables_study, GOLDEN_TABLES};
+use signorini::report::paper_tables;
+use signorini::run::Problem1d;
+use signorini::schemes::Scheme;
+use signorini::study::{run_study, Case, Study, StudyConfig};
+
+fn golden() -> Golden {
+    read_golden(&Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN_TABLES)).unwrap()
+}
+
+#[test]
+fn tables_study_matches_the_golden_rates_and_errors() {
+    let study = tables_study().unwrap();
+    let drifts = compare(&golden(), &study);
+    assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
+
+    let mut settings = insta::Settings::clone_current();
+    settings.set_snapshot_path(concat!(env!("CARGO_MANIFEST_DIR"), "/golden"));
+    settings.set_prepend_module_to_snapshot(false);
+    settings.bind(|| {
+        insta::assert_snapshot!(
+            "tables_1d_dirichlet",
+            paper_tables(&study, &PaperTables::load())
+        );
+    });
+}
+
+/// Crank–Nicolson with γ moved from ½ to 0.55 (and β to 0.28 ≥ (γ + ½)²/4, which keeps it
+/// unconditionally stable), compared under Crank–Nicolson's name: what a change to the scheme's
+/// code would look like to the gate.
+#[test]
+fn gate_reports_a_deliberately_wrong_scheme() {
+    let config = StudyConfig::paper_default();
+    let wrong = Scheme::Newmark {
+        beta: 0.28,
+        gamma: 0.55,
+    };
+    let cases: Vec<Case> = signorini::fem::MassVariant::ALL
+        .into_iter()
+        .map(|mass| Case {
+            scheme: wrong,
+            mass,
+        })
+        .collect();
+    let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let mut study = run_study(
+        &Problem1d::signorini_dirichlet(config.horizon),
+        &cases,
+        &norms,
+        &config,
+    )
+    .unwrap();
+    for c in &mut study.cases {
+        c.case.scheme = Scheme::CRANK_NICOLSON;
+    }
+    let drifts = compare(&golden(), &study);
+    let rate_drifts = drifts.iter().filter(|d| d.quantity == "rate").count();
+    assert!(
+        rate_drifts >= 4,
+        "the gate missed a perturbed γ: {}",
+        render_drifts(&drifts)
+    );
+    assert!(drifts.iter().all(|d| d.case.starts_with("crank-nicolson/")));
+    let table = render_drifts(&drifts);
+    assert!(table.contains("| crank-nicolson/redistributed | energy_Linf | rate |"));
+}
+
+/// A small real study (two cases, three levels) to exercise the comparator.
+fn small_study() -> Study {
+    let config = StudyConfig {
+        levels: vec![10, 20, 40],
+        ratio: 10.0,
+        horizon: 3.0,
+    };
+    let cases = [Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: signorini::fem::MassVariant::Redistributed,
+    }];
+    let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
+    run_study(
+        &Problem1d::signorini_dirichlet(3.0),
+        &cases,
+        &norms,
+        &config,
+    )
+    .unwrap()
+}
+
+#[test]
+fn comparator_passes_identical_and_catches_each_kind_of_drift() {
+    let study = small_study();
+    let golden = Golden::from_study(&study, Tolerances::default());
+    assert!(compare(&golden, &study).is_empty());
+
+    // An error 0.5 % off passes, 1.5 % off fails, on exactly that entry.
+    let scaled = |factor: f64| {
+        let mut g = golden.clone();
+        g.cases[0].norms.get_mut("u_Linf_H").unwrap().errors[1] *= factor;
+        g
+    };
+    assert!(compare(&scaled(1.005), &study).is_empty());
+    let g = scaled(1.015);
+    let drifts = compare(&g, &study);
+    assert_eq!(drifts.len(), 1, "{}", render_drifts(&drifts));
+    assert_eq!(drifts[0].quantity, "error[NX=20]");
+    assert_eq!(drifts[0].norm, "u_Linf_H");
+
+    // A rate 0.03 off fails at the default 0.02 and passes with a per-norm override of 0.05.
+    let mut g = golden.clone();
+    g.cases[0].norms.get_mut("energy_L2").unwrap().rate += 0.03;
+    assert_eq!(compare(&g, &study).len(), 1);
+    g.tolerances
+        .rate_abs_per_norm
+        .insert("energy_L2".to_string(), 0.05);
+    assert!(compare(&g, &study).is_empty());
+
+    // NaN now or in the golden file is a drift, never a pass.
+    let mut broken = study.clone();
+    broken.cases[0].rates[0].errors[2] = f64::NAN;
+    assert!(!compare(&golden, &broken).is_empty());
+    let mut g = golden.clone();
+    g.cases[0].norms.get_mut("u_Linf_H").unwrap().rate = f64::INFINITY;
+    assert!(!compare(&g, &study).is_empty());
+
+    // Other levels than the golden file's: every case drifts.
+    let mut g = golden.clone();
+    g.levels = vec![10, 20, 80];
+    assert_eq!(compare(&g, &study).len(), 1);
+
+    // A case the golden file lacks.
+    let mut g = golden;
+    g.cases.clear();
+    assert_eq!(compare(&g, &study)[0].quantity, "missing");
+}
