@@ -1,109 +1,92 @@
 //! The `signorini` command line: runs, refinement studies, the report and the golden files.
+//!
+//! Exit codes: 0 success; 2 usage errors (bad arguments, a scene file that is missing,
+//! malformed or out of range); 1 failures (a run that fails, an output that cannot be written).
 
 use std::collections::BTreeSet;
-use std::path::PathBuf;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use signorini::error::{Error as EngineError, ParameterError};
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
 use signorini::pipeline::{write_defaults_experiment, write_golden, write_report, GOLDEN_TABLES};
 use signorini::report::convergence_tables;
-use signorini::run::{run, Observables, Problem1d, RunConfig};
+use signorini::run::{run, RunConfig, RunResult};
+use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
-use signorini::study::{run_study, Case, StudyConfig};
+use signorini::study::{run_study_with_progress, study_size, Case};
 
-/// Verification and regression harness for dynamic contact (Dabaghi, Petrov, Pousin, Renard).
+const AFTER_HELP: &str = "\
+Examples:
+  signorini list
+  signorini run scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass redistributed --nx 80
+  signorini run scenes/bar1d-dirichlet.json --scheme 'newmark(beta=0.3,gamma=0.6)' --mass standard --nx 40 --out out/
+  signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass standard,redistributed --norm u_Linf_H,energy_L2
+  signorini study scenes/bar1d-free.json --scheme crank-nicolson --mass standard --json
+  signorini report
+
+Exit codes: 0 success, 2 usage error (arguments or scene file), 1 failure.";
+
+/// Verification and regression harness for dynamic contact: an elastic bar hits a rigid
+/// obstacle; schemes of Dabaghi, Petrov, Pousin & Renard are run with the standard or the
+/// redistributed mass matrix and compared with exact solutions.
 #[derive(Parser)]
-#[command(name = "signorini", version, about, long_about = None)]
+#[command(name = "signorini", version, about, after_help = AFTER_HELP)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
-/// The built-in 1D benchmarks.
-#[derive(Clone, Copy, ValueEnum)]
-enum Benchmark {
-    /// §5: bar clamped at x = 1, obstacle at x = 0, exact solution of period 3.
-    SignoriniDirichlet,
-    /// No obstacle: the clamped bar's first mode (smooth, for second-order checks).
-    FreeVibration,
-}
-
-impl Benchmark {
-    fn problem(self, horizon: f64) -> Problem1d {
-        match self {
-            Benchmark::SignoriniDirichlet => Problem1d::signorini_dirichlet(horizon),
-            Benchmark::FreeVibration => Problem1d::free_vibration(horizon),
-        }
-    }
-
-    fn norms(self) -> BTreeSet<Norm> {
-        let mut all: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-        if matches!(self, Benchmark::FreeVibration) {
-            all.remove(&Norm::MultiplierL2);
-        }
-        all
-    }
-}
-
 #[derive(Subcommand)]
 enum Command {
-    /// One run: print the error norms; with --out, write the contact and energy histories.
-    ///
-    /// Example: signorini run --scheme crank-nicolson --mass redistributed --nx 80
+    /// One run of a scene: the requested error norms on the terminal; with --out, run.json
+    /// plus the histories the scene asks for (contact.csv, multiplier.csv, energy.csv).
     Run {
-        /// The benchmark.
-        #[arg(long, value_enum, default_value_t = Benchmark::SignoriniDirichlet)]
-        benchmark: Benchmark,
-        /// Scheme name (see `signorini list`) or newmark(beta=B,gamma=G), theta(theta=T),
-        /// paoli-schatzman(beta=B,e=E).
+        /// The scene file (see scenes/).
+        scene: PathBuf,
+        /// Scheme: a preset name (see `signorini list`) or newmark(beta=B,gamma=G),
+        /// theta(theta=T), paoli-schatzman(beta=B,e=E).
         #[arg(long, value_parser = parse_scheme)]
         scheme: Scheme,
         /// Mass matrix: standard or redistributed.
         #[arg(long, value_parser = parse_mass)]
         mass: MassVariant,
-        /// Number of elements.
+        /// Number of elements NX (>= 1).
         #[arg(long)]
         nx: usize,
-        /// Δx/Δt.
-        #[arg(long, default_value_t = 10.0)]
-        ratio: f64,
-        /// Horizon T.
-        #[arg(long, default_value_t = 3.0)]
-        horizon: f64,
-        /// Directory for run.json (errors, histories).
+        /// Δx/Δt (default: the scene's).
+        #[arg(long, allow_hyphen_values = true)]
+        ratio: Option<f64>,
+        /// Output directory for run.json and the CSV histories.
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// A refinement study: the rate table of the selected cases and norms (markdown or JSON).
-    ///
-    /// Example: signorini study --scheme crank-nicolson --mass redistributed --norm u_Linf_H
+    /// A refinement study of a scene: the rate table of the selected cases and norms, as
+    /// markdown or JSON. Nothing outside the selection is computed.
     Study {
-        /// The benchmark.
-        #[arg(long, value_enum, default_value_t = Benchmark::SignoriniDirichlet)]
-        benchmark: Benchmark,
-        /// Schemes to run (repeat or comma-separate); default: the paper's seven.
-        #[arg(long, value_delimiter = ';', value_parser = parse_scheme)]
+        /// The scene file.
+        scene: PathBuf,
+        /// Schemes (repeat the option for several); default: the paper's seven.
+        #[arg(long, value_parser = parse_scheme)]
         scheme: Vec<Scheme>,
-        /// Mass variants; default: both.
+        /// Mass variants, comma-separated; default: both.
         #[arg(long, value_delimiter = ',', value_parser = parse_mass)]
         mass: Vec<MassVariant>,
-        /// Norms (u_Linf_H, u_L2_H, u_Linf_V, u_L2_V, lambda_L2, energy_Linf, energy_L2);
-        /// default: all the benchmark defines.
+        /// Norms, comma-separated; default: the scene's.
         #[arg(long, value_delimiter = ',', value_parser = parse_norm)]
         norm: Vec<Norm>,
-        /// Levels (NX), increasing.
-        #[arg(long, value_delimiter = ',', default_values_t = vec![10usize, 20, 40, 80, 160, 320, 640])]
+        /// Levels NX, comma-separated and increasing; default: the scene's.
+        #[arg(long, value_delimiter = ',')]
         levels: Vec<usize>,
-        /// Δx/Δt.
-        #[arg(long, default_value_t = 10.0)]
-        ratio: f64,
-        /// Horizon T.
-        #[arg(long, default_value_t = 3.0)]
-        horizon: f64,
+        /// Δx/Δt (default: the scene's).
+        #[arg(long, allow_hyphen_values = true)]
+        ratio: Option<f64>,
         /// Print JSON instead of markdown.
         #[arg(long)]
         json: bool,
@@ -114,106 +97,238 @@ enum Command {
         #[arg(long, default_value = "reports")]
         out: PathBuf,
     },
-    /// How the Tables 1–2 rates move with the horizon and the level range (what `make
-    /// experiment` runs): writes defaults-experiment.md.
+    /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
     Experiment {
         /// Output directory.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
     },
-    /// Regenerate the golden rates (what `make golden` runs; nothing else writes them).
+    /// Regenerate the golden rates (`make golden`; nothing else writes them).
     Golden {
         /// The golden file.
         #[arg(long, default_value = GOLDEN_TABLES)]
         path: PathBuf,
     },
-    /// The schemes with their parameters, the mass variants and the norms.
-    List,
+    /// The schemes with their parameters, the mass variants, the norms and the scenes found.
+    List {
+        /// Where to look for scene files.
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+    },
 }
 
 fn parse_scheme(s: &str) -> Result<Scheme, String> {
-    s.parse()
-        .map_err(|e: signorini::error::ParameterError| e.to_string())
+    s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
 fn parse_mass(s: &str) -> Result<MassVariant, String> {
-    s.parse()
-        .map_err(|e: signorini::error::ParameterError| e.to_string())
+    s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
 fn parse_norm(s: &str) -> Result<Norm, String> {
-    s.parse()
-        .map_err(|e: signorini::error::ParameterError| e.to_string())
+    s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
-fn list() {
-    println!("Schemes (name: family and parameters; paper label):");
-    for (name, scheme, label) in Scheme::presets() {
-        println!("  {name:22} {scheme:?}  [{label}]");
+/// A failure with its exit code.
+struct Failure {
+    code: u8,
+    message: String,
+}
+
+impl Failure {
+    fn usage(e: impl std::fmt::Display) -> Self {
+        Self {
+            code: 2,
+            message: e.to_string(),
+        }
     }
-    println!("  newmark(beta=B,gamma=G)  theta(theta=T)  paoli-schatzman(beta=B,e=E)");
-    println!("Mass variants:");
+
+    fn runtime(e: impl std::fmt::Display) -> Self {
+        Self {
+            code: 1,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl From<SceneError> for Failure {
+    fn from(e: SceneError) -> Self {
+        Self::usage(e)
+    }
+}
+
+impl From<EngineError> for Failure {
+    fn from(e: EngineError) -> Self {
+        match e {
+            EngineError::Parameter(p) => Self::usage(p),
+            EngineError::Solve(s) => Self::runtime(s),
+        }
+    }
+}
+
+fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
+    write_atomic(path, contents)
+        .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", path.display())))
+}
+
+fn list(dir: &Path) {
+    println!("Schemes (preset name, parameters, the paper's name):");
+    for (name, scheme, label) in Scheme::presets() {
+        let params = match scheme {
+            Scheme::Newmark { beta, gamma } => format!("Newmark β = {beta}, γ = {gamma}"),
+            Scheme::Theta { theta } => format!("θ-method θ = {theta}"),
+            Scheme::PaoliSchatzman { beta, restitution } => {
+                format!("Paoli–Schatzman β = {beta}, e = {restitution}")
+            }
+        };
+        println!("  {name:22} {params:34} {label}");
+    }
+    println!(
+        "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)"
+    );
+    println!("\nMass variants:");
     println!("  standard       consistent mass matrix M");
-    println!("  redistributed  M^mod: elements touching the contact boundary removed (§3.2)");
-    println!("Norms:");
+    println!(
+        "  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)"
+    );
+    println!("\nNorms:");
     for n in Norm::ALL {
         println!("  {:12} {}", n.key(), n.label());
     }
-    println!("Benchmarks: signorini-dirichlet (§5), free-vibration (no obstacle)");
+    println!("\nScenes in {}:", dir.display());
+    let files = scene_files(dir);
+    if files.is_empty() {
+        println!("  (none)");
+    }
+    for f in files {
+        match Scene::load(&f) {
+            Ok(s) => println!("  {:40} {}", f.display(), s.description),
+            Err(e) => println!("  {:40} INVALID: {e}", f.display()),
+        }
+    }
 }
 
-fn execute(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+/// A CSV table with the given header and columns of equal length.
+fn csv(header: &str, columns: &[&[f64]]) -> String {
+    let mut s = format!("{header}\n");
+    let rows = columns.first().map_or(0, |c| c.len());
+    for k in 0..rows {
+        let row: Vec<String> = columns.iter().map(|c| format!("{:.17e}", c[k])).collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// The histories of a run as (file name, CSV text).
+fn history_csv(result: &RunResult) -> Vec<(&'static str, String)> {
+    let mut files = Vec::new();
+    if let Some(c) = &result.contact_history {
+        files.push((
+            "contact.csv",
+            csv(
+                "time,displacement,displacement_exact",
+                &[&c.time, &c.displacement, &c.displacement_exact],
+            ),
+        ));
+        files.push((
+            "multiplier.csv",
+            csv(
+                "time,multiplier,multiplier_exact",
+                &[&c.multiplier_time, &c.multiplier, &c.multiplier_exact],
+            ),
+        ));
+    }
+    if let Some(e) = &result.energy_history {
+        files.push((
+            "energy.csv",
+            csv(
+                "time,energy,energy_exact",
+                &[&e.time, &e.energy, &e.energy_exact],
+            ),
+        ));
+    }
+    files
+}
+
+fn progress_bar(len: usize) -> ProgressBar {
+    let visible = std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
+    let bar = ProgressBar::with_draw_target(
+        Some(len as u64),
+        if visible {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
+            .expect("valid template"),
+    );
+    bar
+}
+
+fn execute(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Run {
-            benchmark,
+            scene,
             scheme,
             mass,
             nx,
             ratio,
-            horizon,
             out,
         } => {
+            let scene = Scene::load(&scene)?;
+            let mut observables = scene.observables();
+            observables.contact_history &= out.is_some();
+            observables.energy_history &= out.is_some();
             let config = RunConfig {
                 nx,
-                ratio,
+                ratio: ratio.unwrap_or(scene.discretisation.ratio),
                 scheme,
                 mass,
-                observables: Observables {
-                    norms: benchmark.norms(),
-                    contact_history: out.is_some(),
-                    energy_history: out.is_some(),
-                },
+                observables,
             };
-            let result = run(&benchmark.problem(horizon), &config)?;
+            if let Some(dir) = &out {
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    Failure::runtime(format!("cannot create {}: {e}", dir.display()))
+                })?;
+            }
+            let result = run(&scene.problem(), &config)?;
             println!(
-                "{} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {:.3} s",
+                "{} — {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
+                scene.name,
                 scheme,
                 mass,
                 nx,
                 result.dt,
                 result.steps,
                 result.dofs,
+                result.contact_solves,
                 result.timings.setup + result.timings.stepping + result.timings.observe
             );
             for (norm, e) in &result.errors {
-                println!("  {:12} {:.6e}", norm.key(), e);
+                println!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());
             }
             if let Some(dir) = out {
-                let path = dir.join("run.json");
-                write_atomic(&path, serde_json::to_string_pretty(&result)?.as_bytes())?;
-                println!("wrote {}", path.display());
+                let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
+                write_output(&dir.join("run.json"), json.as_bytes())?;
+                for (name, text) in history_csv(&result) {
+                    write_output(&dir.join(name), text.as_bytes())?;
+                }
+                println!("wrote {}", dir.display());
             }
         }
         Command::Study {
-            benchmark,
+            scene,
             scheme,
             mass,
             norm,
             levels,
             ratio,
-            horizon,
             json,
         } => {
+            let scene = Scene::load(&scene)?;
             let schemes = if scheme.is_empty() {
                 Scheme::paper_schemes().to_vec()
             } else {
@@ -225,7 +340,7 @@ fn execute(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 mass
             };
             let norms: BTreeSet<Norm> = if norm.is_empty() {
-                benchmark.norms()
+                scene.norms()
             } else {
                 norm.into_iter().collect()
             };
@@ -233,25 +348,35 @@ fn execute(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 .iter()
                 .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
                 .collect();
-            let config = StudyConfig {
-                levels,
-                ratio,
-                horizon,
-            };
-            let study = run_study(&benchmark.problem(horizon), &cases, &norms, &config)?;
+            let mut config = scene.study_config();
+            if !levels.is_empty() {
+                config.levels = levels;
+            }
+            if let Some(r) = ratio {
+                config.ratio = r;
+            }
+            let bar = progress_bar(study_size(&cases, &config));
+            let study =
+                run_study_with_progress(&scene.problem(), &cases, &norms, &config, &|| bar.inc(1))?;
+            bar.finish_and_clear();
             if json {
-                println!("{}", serde_json::to_string_pretty(&study)?);
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
+                );
             } else {
                 print!("{}", convergence_tables(&study));
                 println!(
-                    "({} cases, {:.2} s wall)",
+                    "{}: {} cases × {} levels, {:.2} s wall",
+                    scene.name,
                     study.cases.len(),
+                    study.config.levels.len(),
                     study.wall_seconds
                 );
             }
         }
         Command::Report { out } => {
-            let study = write_report(&out)?;
+            let study = write_report(&out).map_err(Failure::runtime)?;
             println!(
                 "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
                 out.display(),
@@ -261,15 +386,19 @@ fn execute(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         Command::Experiment { out } => {
-            let md = write_defaults_experiment(&out)?;
-            let summary: String = md.lines().skip(4).take(7).collect::<Vec<_>>().join("\n");
-            println!("{summary}\nwrote {}/defaults-experiment.md", out.display());
+            let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;
+            let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
+            println!(
+                "{}\nwrote {}/defaults-experiment.md",
+                summary.join("\n"),
+                out.display()
+            );
         }
         Command::Golden { path } => {
-            let golden = write_golden(&path)?;
+            let golden = write_golden(&path).map_err(Failure::runtime)?;
             println!("wrote {} ({} cases)", path.display(), golden.cases.len());
         }
-        Command::List => list(),
+        Command::List { scenes } => list(&scenes),
     }
     Ok(())
 }
@@ -278,9 +407,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
         }
     }
 }

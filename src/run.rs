@@ -2,70 +2,18 @@
 //! while observers accumulate only the requested error norms and histories.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
 
 use crate::error::{require_positive, Error, ParameterError, SolveError};
 use crate::exact::ExactSolution;
-use crate::fem::{Bar1d, EndCondition, MassVariant};
+use crate::fem::{Bar1d, MassVariant};
 use crate::model::Model;
 use crate::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
+pub use crate::problem::Problem1d;
 use crate::schemes::start::initial_state;
 use crate::schemes::{OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator};
-
-/// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
-/// initial data and the reference, and the horizon.
-#[derive(Debug, Clone)]
-pub struct Problem1d {
-    /// Bar length `L`.
-    pub length: f64,
-    /// Density `ρ`.
-    pub density: f64,
-    /// Wave speed `c`.
-    pub wave_speed: f64,
-    /// Condition at `x = L`.
-    pub far_end: EndCondition,
-    /// Gap to the obstacle at `x = 0`; `None`: no obstacle.
-    pub obstacle_gap: Option<f64>,
-    /// Constant body force density; `None`: no load.
-    pub body_force: Option<f64>,
-    /// The exact solution (initial data and reference).
-    pub exact: Arc<dyn ExactSolution>,
-    /// Horizon `T`.
-    pub horizon: f64,
-}
-
-impl Problem1d {
-    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
-    pub fn signorini_dirichlet(horizon: f64) -> Self {
-        Self {
-            length: 1.0,
-            density: 1.0,
-            wave_speed: 1.0,
-            far_end: EndCondition::Clamped,
-            obstacle_gap: Some(0.0),
-            body_force: None,
-            exact: Arc::new(crate::exact::SignoriniDirichlet),
-            horizon,
-        }
-    }
-
-    /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
-    pub fn free_vibration(horizon: f64) -> Self {
-        Self {
-            length: 1.0,
-            density: 1.0,
-            wave_speed: 1.0,
-            far_end: EndCondition::Clamped,
-            obstacle_gap: None,
-            body_force: None,
-            exact: Arc::new(crate::exact::ClampedFreeMode),
-            horizon,
-        }
-    }
-}
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -361,18 +309,14 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         )
         .into());
     }
-    let bar = Bar1d::new(
-        problem.length,
-        config.nx,
-        problem.density,
-        problem.wave_speed,
-        problem.far_end,
-    )?;
+    let (bar, model) = problem.model(config.nx, config.mass)?;
     let (steps, dt) = time_grid(problem.horizon, bar.h(), config.ratio);
-    let model = Model::bar1d(&bar, config.mass, problem.obstacle_gap, problem.body_force);
     let exact = problem.exact.as_ref();
-    let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
-    let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
+    let u0 = problem
+        .initial
+        .displacement
+        .interpolate(&bar, exact, |p| p.u);
+    let v0 = problem.initial.velocity.interpolate(&bar, exact, |p| p.ut);
     let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
     let mut observer = Observer::new(&bar, exact, &config.observables);
     let setup = setup_clock.elapsed().as_secs_f64();

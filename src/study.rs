@@ -162,6 +162,22 @@ pub fn run_study(
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
 ) -> Result<Study, Error> {
+    run_study_with_progress(problem, cases, norms, config, &|| {})
+}
+
+/// The number of runs a study makes.
+pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
+    cases.len() * config.levels.len()
+}
+
+/// [`run_study`], calling `done` after each run (from the worker threads).
+pub fn run_study_with_progress(
+    problem: &Problem1d,
+    cases: &[Case],
+    norms: &BTreeSet<Norm>,
+    config: &StudyConfig,
+    done: &(dyn Fn() + Sync),
+) -> Result<Study, Error> {
     config.validate()?;
     let clock = Instant::now();
     let mut jobs: Vec<(usize, usize)> = (0..cases.len())
@@ -182,7 +198,9 @@ pub fn run_study(
                 mass: cases[c].mass,
                 observables: observables.clone(),
             };
-            run(problem, &cfg).map(|r| ((c, l), r))
+            let result = run(problem, &cfg).map(|r| ((c, l), r));
+            done();
+            result
         })
         .collect::<Result<_, _>>()?;
     let mut by_job: BTreeMap<(usize, usize), RunResult> = results.into_iter().collect();

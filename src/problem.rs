@@ -1,0 +1,126 @@
+//! A 1D problem as the engine sees it: the bar, its obstacle and load, the initial data, the
+//! reference solution and the horizon. Scene files (`crate::scene`) are parsed into this.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::ParameterError;
+use crate::exact::{ExactSolution, Pointwise};
+use crate::fem::{Bar1d, EndCondition, MassVariant};
+use crate::model::Model;
+
+/// A spatial profile of initial data.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Profile {
+    /// The reference solution at `t = 0` (its displacement or velocity).
+    #[default]
+    Reference,
+    /// The same value everywhere.
+    Constant(f64),
+    /// Linear from `at_start` (x = 0) to `at_end` (x = L).
+    Affine {
+        /// Value at `x = 0`.
+        at_start: f64,
+        /// Value at `x = L`.
+        at_end: f64,
+    },
+}
+
+impl Profile {
+    /// The nodal interpolant as a dof vector; `pick` selects `u` or `u_t` of the reference.
+    pub fn interpolate(
+        &self,
+        bar: &Bar1d,
+        exact: &dyn ExactSolution,
+        pick: impl Fn(Pointwise) -> f64,
+    ) -> Vec<f64> {
+        match *self {
+            Profile::Reference => bar.interpolate(|x| pick(exact.eval(x, 0.0))),
+            Profile::Constant(c) => bar.interpolate(|_| c),
+            Profile::Affine { at_start, at_end } => {
+                let l = bar.length();
+                bar.interpolate(|x| at_start + (at_end - at_start) * x / l)
+            }
+        }
+    }
+}
+
+/// Initial displacement and velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialData {
+    /// `u(·, 0)`.
+    #[serde(default)]
+    pub displacement: Profile,
+    /// `u_t(·, 0)`.
+    #[serde(default)]
+    pub velocity: Profile,
+}
+
+/// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
+/// initial data and the reference, and the horizon.
+#[derive(Debug, Clone)]
+pub struct Problem1d {
+    /// Bar length `L`.
+    pub length: f64,
+    /// Density `ρ`.
+    pub density: f64,
+    /// Wave speed `c`.
+    pub wave_speed: f64,
+    /// Condition at `x = L`.
+    pub far_end: EndCondition,
+    /// Gap to the obstacle at `x = 0`; `None`: no obstacle.
+    pub obstacle_gap: Option<f64>,
+    /// Constant body force density; `None`: no load.
+    pub body_force: Option<f64>,
+    /// The exact solution (the reference of every error norm).
+    pub exact: Arc<dyn ExactSolution>,
+    /// The initial displacement and velocity.
+    pub initial: InitialData,
+    /// Horizon `T`.
+    pub horizon: f64,
+}
+
+impl Problem1d {
+    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
+    pub fn signorini_dirichlet(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: Some(0.0),
+            body_force: None,
+            exact: Arc::new(crate::exact::SignoriniDirichlet),
+            initial: InitialData::default(),
+            horizon,
+        }
+    }
+
+    /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
+    pub fn free_vibration(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: None,
+            body_force: None,
+            exact: Arc::new(crate::exact::ClampedFreeMode),
+            initial: InitialData::default(),
+            horizon,
+        }
+    }
+}
+
+impl Problem1d {
+    /// The mesh with `nx` elements and the model assembled from what the problem declares:
+    /// a contact set only with an obstacle, a load vector only with a body force.
+    pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
+        let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
+        let model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
+        Ok((bar, model))
+    }
+}

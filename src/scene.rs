@@ -1,0 +1,404 @@
+//! Scene files: a problem described once, in JSON, and parsed into a [`Problem1d`] plus the
+//! study parameters and observables it declares. Only what a scene declares is simulated: no
+//! obstacle, no contact solve; no body force, no load vector; no norm asked for, no quadrature.
+//!
+//! Every error names the file and the field, and says what is allowed.
+
+use std::collections::BTreeSet;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::exact::{ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::fem::EndCondition;
+use crate::norms::Norm;
+use crate::problem::{InitialData, Problem1d};
+use crate::run::Observables;
+use crate::study::StudyConfig;
+
+/// The geometry and mesh family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Geometry {
+    /// A bar `[0, length]` meshed by uniform P1 elements; the obstacle side is `x = 0`.
+    Bar1d {
+        /// Length `L` (> 0).
+        length: f64,
+    },
+}
+
+/// Material constants.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Density `ρ` (> 0).
+    pub density: f64,
+    /// Wave speed `c = sqrt(E/ρ)` (> 0).
+    pub wave_speed: f64,
+}
+
+/// Boundary conditions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Boundary {
+    /// The end `x = L`: `clamped` (u = 0) or `free` (u_x = 0).
+    pub far_end: EndCondition,
+}
+
+/// A rigid obstacle at the end `x = 0`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Obstacle {
+    /// Distance of the bar's end from the obstacle when `u = 0` (≥ 0).
+    pub gap: f64,
+}
+
+/// A constant body force.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyForce {
+    /// Force per unit length (negative: towards the obstacle).
+    pub density: f64,
+}
+
+/// What the errors are measured against.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Reference {
+    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`).
+    Exact(String),
+}
+
+/// Refinement levels and the time step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Discretisation {
+    /// `NX` of each level of a study, increasing.
+    pub levels: Vec<usize>,
+    /// `Δx / Δt`.
+    pub ratio: f64,
+}
+
+/// What to record.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneObservables {
+    /// Error norms by key (`u_Linf_H`, `u_L2_H`, `u_Linf_V`, `u_L2_V`, `lambda_L2`,
+    /// `energy_Linf`, `energy_L2`).
+    #[serde(default)]
+    pub norms: Vec<String>,
+    /// Record the energy history of a run.
+    #[serde(default)]
+    pub energy_history: bool,
+    /// Record the contact node's displacement and multiplier of a run.
+    #[serde(default)]
+    pub contact_history: bool,
+}
+
+/// A scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name.
+    pub name: String,
+    /// One sentence for `signorini list`.
+    pub description: String,
+    /// Geometry and mesh family.
+    pub geometry: Geometry,
+    /// Density and wave speed.
+    pub material: Material,
+    /// Boundary conditions.
+    pub boundary: Boundary,
+    /// The obstacle, if any.
+    #[serde(default)]
+    pub obstacle: Option<Obstacle>,
+    /// The body force, if any.
+    #[serde(default)]
+    pub body_force: Option<BodyForce>,
+    /// Initial displacement and velocity (default: the reference at `t = 0`).
+    #[serde(default)]
+    pub initial: InitialData,
+    /// Horizon `T` (> 0).
+    pub horizon: f64,
+    /// The reference solution.
+    pub reference: Reference,
+    /// Levels and `Δx/Δt` of studies.
+    pub discretisation: Discretisation,
+    /// What runs record.
+    pub observables: SceneObservables,
+}
+
+/// A scene that could not be read or is not valid.
+#[derive(Debug)]
+pub enum SceneError {
+    /// The file cannot be read.
+    Io {
+        /// The scene file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
+    Json {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde's message (names the field and, for unknown fields, the allowed ones).
+        message: String,
+    },
+    /// A value out of range or inconsistent with the rest of the scene.
+    Invalid {
+        /// The scene file.
+        path: PathBuf,
+        /// The field, dotted (`material.density`).
+        field: String,
+        /// The offending value.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Io { path, source } => {
+                write!(f, "cannot read scene file {}: {source}", path.display())
+            }
+            SceneError::Json {
+                path,
+                line,
+                column,
+                message,
+            } => write!(
+                f,
+                "scene file {} is not a valid scene (line {line}, column {column}): {message}",
+                path.display()
+            ),
+            SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed,
+            } => write!(
+                f,
+                "scene file {}: invalid {field} = {value}; allowed: {allowed}",
+                path.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SceneError::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+/// The names of the exact solutions a scene can refer to.
+pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode";
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses and validates scene text; `path` is used in messages.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, SceneError> {
+        let scene: Scene = serde_json::from_str(text).map_err(|e| SceneError::Json {
+            path: path.to_path_buf(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })?;
+        scene.validate(path)?;
+        Ok(scene)
+    }
+
+    fn invalid(path: &Path, field: &str, value: impl fmt::Display, allowed: &str) -> SceneError {
+        SceneError::Invalid {
+            path: path.to_path_buf(),
+            field: field.to_string(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+
+    fn validate(&self, path: &Path) -> Result<(), SceneError> {
+        let positive = |field: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Self::invalid(path, field, v, "a finite number > 0"))
+            }
+        };
+        let Geometry::Bar1d { length } = self.geometry;
+        positive("geometry.length", length)?;
+        positive("material.density", self.material.density)?;
+        positive("material.wave_speed", self.material.wave_speed)?;
+        positive("horizon", self.horizon)?;
+        positive("discretisation.ratio", self.discretisation.ratio)?;
+        if let Some(o) = &self.obstacle {
+            if !(o.gap.is_finite() && o.gap >= 0.0) {
+                return Err(Self::invalid(
+                    path,
+                    "obstacle.gap",
+                    o.gap,
+                    "a finite number >= 0",
+                ));
+            }
+        }
+        if let Some(b) = &self.body_force {
+            if !b.density.is_finite() {
+                return Err(Self::invalid(
+                    path,
+                    "body_force.density",
+                    b.density,
+                    "a finite number",
+                ));
+            }
+        }
+        let levels = &self.discretisation.levels;
+        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(Self::invalid(
+                path,
+                "discretisation.levels",
+                format!("{levels:?}"),
+                "increasing element counts >= 1",
+            ));
+        }
+        for n in &self.observables.norms {
+            let norm: Norm = n.parse().map_err(|_| {
+                Self::invalid(
+                    path,
+                    "observables.norms",
+                    n,
+                    "u_Linf_H, u_L2_H, u_Linf_V, u_L2_V, lambda_L2, energy_Linf, energy_L2",
+                )
+            })?;
+            if norm == Norm::MultiplierL2 && self.obstacle.is_none() {
+                return Err(Self::invalid(
+                    path,
+                    "observables.norms",
+                    n,
+                    "norms the scene defines (lambda_L2 needs an obstacle)",
+                ));
+            }
+        }
+        self.exact_solution(path).map(|_| ())
+    }
+
+    /// The reference solution, checked against the scene's parameters: a closed form is valid
+    /// only for the problem it solves.
+    fn exact_solution(&self, path: &Path) -> Result<Arc<dyn ExactSolution>, SceneError> {
+        let Reference::Exact(name) = &self.reference;
+        let Geometry::Bar1d { length } = self.geometry;
+        let unit = length == 1.0 && self.material.density == 1.0 && self.material.wave_speed == 1.0;
+        let clamped = self.boundary.far_end == EndCondition::Clamped;
+        let requirement = |ok: bool, needs: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(Self::invalid(path, "reference.exact", name, needs))
+            }
+        };
+        match name.as_str() {
+            "signorini-dirichlet" => {
+                requirement(
+                    unit && clamped
+                        && self.obstacle.as_ref().is_some_and(|o| o.gap == 0.0)
+                        && self.body_force.is_none(),
+                    "signorini-dirichlet solves L = 1, density = wave_speed = 1, far_end clamped, \
+                     obstacle gap 0, no body force",
+                )?;
+                Ok(Arc::new(SignoriniDirichlet))
+            }
+            "clamped-free-mode" => {
+                requirement(
+                    unit && clamped && self.obstacle.is_none() && self.body_force.is_none(),
+                    "clamped-free-mode solves L = 1, density = wave_speed = 1, far_end clamped, \
+                     no obstacle, no body force",
+                )?;
+                Ok(Arc::new(ClampedFreeMode))
+            }
+            _ => Err(Self::invalid(
+                path,
+                "reference.exact",
+                name,
+                EXACT_SOLUTIONS,
+            )),
+        }
+    }
+
+    /// The problem the engine runs.
+    pub fn problem(&self) -> Problem1d {
+        let Geometry::Bar1d { length } = self.geometry;
+        Problem1d {
+            length,
+            density: self.material.density,
+            wave_speed: self.material.wave_speed,
+            far_end: self.boundary.far_end,
+            obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
+            body_force: self.body_force.as_ref().map(|b| b.density),
+            exact: self
+                .exact_solution(Path::new(&self.name))
+                .expect("validated when the scene was parsed"),
+            initial: self.initial,
+            horizon: self.horizon,
+        }
+    }
+
+    /// The norms the scene asks for.
+    pub fn norms(&self) -> BTreeSet<Norm> {
+        self.observables
+            .norms
+            .iter()
+            .map(|n| n.parse().expect("validated when the scene was parsed"))
+            .collect()
+    }
+
+    /// The observables of one run.
+    pub fn observables(&self) -> Observables {
+        Observables {
+            norms: self.norms(),
+            contact_history: self.observables.contact_history && self.obstacle.is_some(),
+            energy_history: self.observables.energy_history,
+        }
+    }
+
+    /// The study parameters.
+    pub fn study_config(&self) -> StudyConfig {
+        StudyConfig {
+            levels: self.discretisation.levels.clone(),
+            ratio: self.discretisation.ratio,
+            horizon: self.horizon,
+        }
+    }
+}
+
+/// The scene files (`*.json`) of a directory, sorted by name; unreadable entries are skipped.
+pub fn scene_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "json"))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    files
+}

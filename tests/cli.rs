@@ -1,0 +1,350 @@
+//! The `signorini` binary end to end: good runs write whole files, every bad input gets a
+//! one-paragraph message naming the field, exit code 2 for usage errors and 1 for failures,
+//! never a panic, and no half-written output.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn signorini(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CI", "true")
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("signorini-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";
+
+/// The scene text with `from` replaced by `to`, written to a scratch file.
+fn edited_scene(dir: &Path, from: &str, to: &str) -> String {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(DIRICHLET)).unwrap();
+    assert!(text.contains(from), "the scene no longer contains {from:?}");
+    let path = dir.join("scene.json");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+/// Runs `args`, expects `code`, a message on stderr containing every needle, no panic.
+fn expect_error(args: &[&str], code: i32, needles: &[&str]) {
+    let out = signorini(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{args:?}: stderr {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    assert!(!stderr.contains("RUST_BACKTRACE"), "{args:?}: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "{args:?}: {n:?} not in {stderr}");
+    }
+}
+
+fn run_args<'a>(scene: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "run",
+        scene,
+        "--scheme",
+        "crank-nicolson",
+        "--mass",
+        "standard",
+        "--nx",
+        "10",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
+#[test]
+fn a_run_writes_its_summary_and_whole_files() {
+    let dir = scratch("ok");
+    let out_dir = dir.join("out");
+    let out_str = out_dir.to_string_lossy().into_owned();
+    let out = signorini(&run_args(DIRICHLET, &["--out", &out_str]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("u_Linf_H") && stdout.contains("energy_L2"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["nx"], 10);
+    assert_eq!(json["steps"], 300);
+    for f in ["contact.csv", "multiplier.csv", "energy.csv"] {
+        let text = std::fs::read_to_string(out_dir.join(f)).unwrap();
+        assert_eq!(text.lines().count(), 302, "{f}: header + 301 samples");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left behind");
+}
+
+#[test]
+fn a_study_prints_a_rate_table_and_json() {
+    let out = signorini(&[
+        "study",
+        DIRICHLET,
+        "--scheme",
+        "backward-euler",
+        "--mass",
+        "redistributed",
+        "--norm",
+        "u_Linf_H",
+        "--levels",
+        "10,20,40",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("| 40 |") && stdout.contains("fit, all levels"));
+    assert!(
+        !stdout.contains("energy_L2"),
+        "a norm outside the selection was computed"
+    );
+
+    let out = signorini(&[
+        "study",
+        "scenes/bar1d-free.json",
+        "--scheme",
+        "crank-nicolson",
+        "--mass",
+        "standard",
+        "--levels",
+        "10,20,40",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rate = json["cases"][0]["rates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["norm"] == "u_Linf_H")
+        .unwrap()["fit"]["rate"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        (rate - 2.0).abs() < 0.1,
+        "Crank–Nicolson without obstacle: rate {rate}"
+    );
+}
+
+#[test]
+fn help_and_list_document_the_commands() {
+    let out = signorini(&["--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in ["run", "study", "report", "list", "Examples:", "Exit codes"] {
+        assert!(text.contains(needle), "--help lacks {needle}");
+    }
+    let out = signorini(&["list"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "crank-nicolson",
+        "paoli-schatzman-e0.5",
+        "redistributed",
+        "lambda_L2",
+        "scenes/bar1d-dirichlet.json",
+    ] {
+        assert!(text.contains(needle), "list lacks {needle}");
+    }
+}
+
+#[test]
+fn usage_errors_in_arguments_exit_2() {
+    expect_error(
+        &[
+            "run", DIRICHLET, "--scheme", "leapfrog", "--mass", "standard", "--nx", "10",
+        ],
+        2,
+        &["scheme", "crank-nicolson", "paoli-schatzman-e1"],
+    );
+    expect_error(
+        &[
+            "run",
+            DIRICHLET,
+            "--scheme",
+            "crank-nicolson",
+            "--mass",
+            "heavy",
+            "--nx",
+            "10",
+        ],
+        2,
+        &["mass", "standard, redistributed"],
+    );
+    expect_error(
+        &run_args(DIRICHLET, &["--ratio", "-1"]),
+        2,
+        &["ratio", "> 0"],
+    );
+    expect_error(&run_args(DIRICHLET, &["--ratio", "0"]), 2, &["ratio"]);
+    expect_error(
+        &[
+            "run",
+            DIRICHLET,
+            "--scheme",
+            "crank-nicolson",
+            "--mass",
+            "standard",
+            "--nx",
+            "0",
+        ],
+        2,
+        &["nx", ">= 1"],
+    );
+    expect_error(
+        &[
+            "run",
+            DIRICHLET,
+            "--scheme",
+            "theta(theta=1.5)",
+            "--mass",
+            "standard",
+            "--nx",
+            "5",
+        ],
+        2,
+        &["theta", "(0, 1]"],
+    );
+    expect_error(
+        &[
+            "run",
+            DIRICHLET,
+            "--scheme",
+            "paoli-schatzman(beta=0.25,e=2)",
+            "--mass",
+            "standard",
+            "--nx",
+            "5",
+        ],
+        2,
+        &["e = 2", "[0, 1]"],
+    );
+    expect_error(
+        &["study", DIRICHLET, "--norm", "u_Linf_W"],
+        2,
+        &["norm", "u_Linf_H"],
+    );
+    expect_error(
+        &["study", DIRICHLET, "--levels", "40,20"],
+        2,
+        &["levels", "increasing"],
+    );
+    expect_error(&["frobnicate"], 2, &["frobnicate"]);
+}
+
+#[test]
+fn bad_scene_files_exit_2_naming_the_problem() {
+    let dir = scratch("scenes");
+    let missing = dir.join("nope.json").to_string_lossy().into_owned();
+    expect_error(&run_args(&missing, &[]), 2, &["nope.json", "cannot read"]);
+
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{\n  \"name\": \"x\",\n  \"description\": \n}").unwrap();
+    expect_error(
+        &run_args(&broken.to_string_lossy(), &[]),
+        2,
+        &["broken.json", "line 4", "column"],
+    );
+
+    let s = edited_scene(&dir, "\"horizon\"", "\"horizn\": 1.0, \"horizon\"");
+    expect_error(
+        &run_args(&s, &[]),
+        2,
+        &["unknown field `horizn`", "expected one of"],
+    );
+
+    let s = edited_scene(&dir, "\"horizon\": 3.0,", "");
+    expect_error(&run_args(&s, &[]), 2, &["missing field `horizon`"]);
+
+    let s = edited_scene(&dir, "\"density\": 1.0", "\"density\": -2.0");
+    expect_error(&run_args(&s, &[]), 2, &["material.density", "-2", "> 0"]);
+
+    let s = edited_scene(&dir, "\"horizon\": 3.0", "\"horizon\": 0.0");
+    expect_error(&run_args(&s, &[]), 2, &["horizon", "> 0"]);
+
+    let s = edited_scene(&dir, "\"gap\": 0.0", "\"gap\": -0.5");
+    expect_error(&run_args(&s, &[]), 2, &["obstacle.gap", ">= 0"]);
+
+    let s = edited_scene(&dir, "\"signorini-dirichlet\"", "\"bouncy\"");
+    expect_error(
+        &run_args(&s, &[]),
+        2,
+        &["reference.exact", "signorini-dirichlet, clamped-free-mode"],
+    );
+
+    let s = edited_scene(&dir, "\"length\": 1.0", "\"length\": 2.0");
+    expect_error(&run_args(&s, &[]), 2, &["reference.exact", "L = 1"]);
+
+    let s = edited_scene(&dir, "\"clamped\"", "\"pinned\"");
+    expect_error(
+        &run_args(&s, &[]),
+        2,
+        &["unknown variant `pinned`", "clamped", "free"],
+    );
+
+    let s = edited_scene(&dir, "\"u_Linf_H\",", "\"u_sup\",");
+    expect_error(&run_args(&s, &[]), 2, &["observables.norms", "u_sup"]);
+
+    let s = edited_scene(&dir, "[10, 20, 40, 80, 160, 320, 640]", "[20, 10]");
+    expect_error(
+        &run_args(&s, &[]),
+        2,
+        &["discretisation.levels", "increasing"],
+    );
+
+    let s = edited_scene(&dir, "\"ratio\": 10.0", "\"ratio\": \"ten\"");
+    expect_error(&run_args(&s, &[]), 2, &["invalid type", "line"]);
+}
+
+#[test]
+fn an_unwritable_output_is_a_failure_with_exit_1_and_no_file() {
+    let dir = scratch("unwritable");
+    let blocker = dir.join("file");
+    std::fs::write(&blocker, "not a directory").unwrap();
+    let out_dir = blocker.join("out").to_string_lossy().into_owned();
+    expect_error(
+        &run_args(DIRICHLET, &["--out", &out_dir]),
+        1,
+        &["cannot create", "out"],
+    );
+    assert!(!blocker.join("out").exists());
+}
+
+#[test]
+fn a_diverging_run_is_a_failure_with_exit_1() {
+    // Newmark(β = ¼, γ = 0.55) violates β ≥ (γ + ½)²/4: with the massless contact node the
+    // scheme blows up (by step ~1270 whatever NX), and the run stops with a typed error
+    // naming the step and the quantity.
+    expect_error(
+        &[
+            "run",
+            DIRICHLET,
+            "--scheme",
+            "newmark(beta=0.25,gamma=0.55)",
+            "--mass",
+            "redistributed",
+            "--nx",
+            "80",
+        ],
+        1,
+        &["non-finite", "step"],
+    );
+}
