@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod contact;
+pub mod cost;
 pub mod error;
 pub mod exact;
 pub mod fem;

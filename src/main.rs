@@ -305,7 +305,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 result.steps,
                 result.dofs,
                 result.contact_solves,
-                result.timings.setup + result.timings.stepping + result.timings.observe
+                result.timings.total()
             );
             for (norm, e) in &result.errors {
                 println!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());

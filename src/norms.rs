@@ -150,16 +150,24 @@ pub struct SpaceErrors {
 
 /// Integrates the error of a P1 field against an exact solution, splitting every element at
 /// the exact solution's kinks so that each piece is smooth (exact for piecewise affine
-/// solutions with two Gauss points). The quadrature points of a step are gathered first and the
-/// exact solution evaluated on all of them in one call.
+/// solutions with two Gauss points).
+///
+/// The Gauss points of the unsplit elements do not move from step to step: they are laid out
+/// once per mesh and the exact solution is evaluated on all of them in one call per step; only
+/// the few elements that contain a kink at that time are split and integrated piece by piece.
 #[derive(Debug, Default)]
 pub struct SpaceErrorIntegrator {
     breakpoints: Vec<f64>,
+    /// `(nx, Gauss points per element)` of the current layout.
+    layout: Option<(usize, usize)>,
+    /// The Gauss points of every element, element by element.
     points: Vec<f64>,
+    /// Weight × half-length of each point of an element (the same for every element).
     weights: Vec<f64>,
-    discrete: Vec<f64>,
-    discrete_slope: Vec<f64>,
+    /// Value of the left hat function at each point of an element.
+    left_shape: Vec<f64>,
     exact_values: Vec<Pointwise>,
+    kinked: Vec<usize>,
     /// How many times [`Self::errors`] has run (lets tests prove a run computed no norm).
     evaluations: usize,
 }
@@ -175,6 +183,29 @@ impl SpaceErrorIntegrator {
         self.evaluations
     }
 
+    fn lay_out(&mut self, bar: &Bar1d, gauss: usize) {
+        if self.layout == Some((bar.nx(), gauss)) {
+            return;
+        }
+        let (nodes, weights) = gauss_legendre(gauss);
+        let h = bar.h();
+        self.points.clear();
+        for e in 0..bar.nx() {
+            let (xa, xb) = (bar.node(e), bar.node(e + 1));
+            let (mid, half) = (0.5 * (xa + xb), 0.5 * (xb - xa));
+            self.points.extend(nodes.iter().map(|xi| mid + half * xi));
+        }
+        self.weights = weights.iter().map(|w| w * 0.5 * h).collect();
+        self.left_shape = nodes.iter().map(|xi| 0.5 * (1.0 - xi)).collect();
+        let zero = Pointwise {
+            u: 0.0,
+            ux: 0.0,
+            ut: 0.0,
+        };
+        self.exact_values.resize(self.points.len(), zero);
+        self.layout = Some((bar.nx(), gauss));
+    }
+
     /// The L² and H¹ errors of the dof vector `u` at time `t`.
     pub fn errors(
         &mut self,
@@ -184,20 +215,39 @@ impl SpaceErrorIntegrator {
         t: f64,
     ) -> SpaceErrors {
         self.evaluations += 1;
-        self.gather_points(bar, u, exact, t);
-        let zero = Pointwise {
-            u: 0.0,
-            ux: 0.0,
-            ut: 0.0,
-        };
-        self.exact_values.resize(self.points.len(), zero);
+        let gauss = exact.gauss_points();
+        self.lay_out(bar, gauss);
+        self.breakpoints.clear();
+        exact.breakpoints(t, &mut self.breakpoints);
+        self.kinked.clear();
+        let h = bar.h();
+        for &p in &self.breakpoints {
+            let e = ((p / h) as usize).min(bar.nx() - 1);
+            let inside = p > bar.node(e) && p < bar.node(e + 1);
+            if inside && self.kinked.last() != Some(&e) {
+                self.kinked.push(e);
+            }
+        }
         exact.eval_many(t, &self.points, &mut self.exact_values);
         let (mut l2, mut semi) = (0.0, 0.0);
-        for k in 0..self.points.len() {
-            let err = self.discrete[k] - self.exact_values[k].u;
-            let err_x = self.discrete_slope[k] - self.exact_values[k].ux;
-            l2 += self.weights[k] * err * err;
-            semi += self.weights[k] * err_x * err_x;
+        let mut next_kink = 0;
+        for e in 0..bar.nx() {
+            let (ua, ub) = (bar.nodal_value(u, e), bar.nodal_value(u, e + 1));
+            if self.kinked.get(next_kink) == Some(&e) {
+                next_kink += 1;
+                let (a, b) = self.split_element(bar, e, (ua, ub), exact, t);
+                l2 += a;
+                semi += b;
+                continue;
+            }
+            let slope = (ub - ua) / h;
+            let values = &self.exact_values[e * gauss..(e + 1) * gauss];
+            for ((ex, &w), &phi) in values.iter().zip(&self.weights).zip(&self.left_shape) {
+                let err = ub + (ua - ub) * phi - ex.u;
+                let err_x = slope - ex.ux;
+                l2 += w * err * err;
+                semi += w * err_x * err_x;
+            }
         }
         SpaceErrors {
             l2: l2.sqrt(),
@@ -205,45 +255,39 @@ impl SpaceErrorIntegrator {
         }
     }
 
-    /// The quadrature points of every smooth piece, their weights, and the P1 field's value
-    /// and slope there.
-    fn gather_points(&mut self, bar: &Bar1d, u: &[f64], exact: &dyn ExactSolution, t: f64) {
-        self.breakpoints.clear();
-        exact.breakpoints(t, &mut self.breakpoints);
+    /// `(∫ e², ∫ e_x²)` over element `e`, split at the breakpoints inside it.
+    fn split_element(
+        &self,
+        bar: &Bar1d,
+        e: usize,
+        (ua, ub): (f64, f64),
+        exact: &dyn ExactSolution,
+        t: f64,
+    ) -> (f64, f64) {
         let (nodes, weights) = gauss_legendre(exact.gauss_points());
-        self.points.clear();
-        self.weights.clear();
-        self.discrete.clear();
-        self.discrete_slope.clear();
-        let mut next_break = 0;
-        for e in 0..bar.nx() {
-            let (xa, xb) = (bar.node(e), bar.node(e + 1));
-            let (ua, ub) = (bar.nodal_value(u, e), bar.nodal_value(u, e + 1));
-            let slope = (ub - ua) / (xb - xa);
-            let mut left = xa;
-            loop {
-                while next_break < self.breakpoints.len() && self.breakpoints[next_break] <= left {
-                    next_break += 1;
-                }
-                let right = match self.breakpoints.get(next_break) {
-                    Some(&p) if p < xb => p,
-                    _ => xb,
-                };
-                let half = 0.5 * (right - left);
-                let mid = 0.5 * (right + left);
-                for (&xi, &w) in nodes.iter().zip(weights) {
-                    let x = mid + half * xi;
-                    self.points.push(x);
-                    self.weights.push(w * half);
-                    self.discrete.push(ua + slope * (x - xa));
-                    self.discrete_slope.push(slope);
-                }
-                if right >= xb {
-                    break;
-                }
-                left = right;
+        let (xa, xb) = (bar.node(e), bar.node(e + 1));
+        let slope = (ub - ua) / (xb - xa);
+        let mut cuts: Vec<f64> = vec![xa];
+        cuts.extend(
+            self.breakpoints
+                .iter()
+                .copied()
+                .filter(|&p| p > xa && p < xb),
+        );
+        cuts.push(xb);
+        let (mut l2, mut semi) = (0.0, 0.0);
+        for piece in cuts.windows(2) {
+            let (mid, half) = (0.5 * (piece[0] + piece[1]), 0.5 * (piece[1] - piece[0]));
+            for (&xi, &w) in nodes.iter().zip(weights) {
+                let x = mid + half * xi;
+                let ex = exact.eval(x, t);
+                let err = ua + slope * (x - xa) - ex.u;
+                let err_x = slope - ex.ux;
+                l2 += w * half * err * err;
+                semi += w * half * err_x * err_x;
             }
         }
+        (l2, semi)
     }
 }
 

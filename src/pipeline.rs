@@ -124,6 +124,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
         longer_horizon_rates: longer_rates,
     };
     write_atomic(&out_dir.join("tables.md"), md.as_bytes())?;
+    write_work_precision(&study, out_dir)?;
     write_atomic(
         &out_dir.join("rates.json"),
         serde_json::to_string_pretty(&rates)?.as_bytes(),
@@ -137,6 +138,64 @@ pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
         .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
     serde_json::from_str(&text)
         .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
+}
+
+#[derive(Serialize)]
+struct WorkPrecisionFile<'a> {
+    signorini_version: &'static str,
+    note: &'static str,
+    work_precision: Vec<crate::cost::WorkPrecision>,
+    cost_to_target_norm: Norm,
+    cost_to_target: &'a [crate::cost::CostToTarget],
+}
+
+/// `work-precision.json` and `work-precision.md`: error against wall time for every case and
+/// norm, and the estimated cost of the target errors in `L∞(0,T;H)`.
+fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let norm = Norm::DisplacementLinfH;
+    let (cost_md, costs) = crate::cost::cost_table(study, norm);
+    let note = "seconds are the wall time of each run inside the parallel study (2 runs at a \
+                time on 2 cores), setup + stepping + contact + observers";
+    let file = WorkPrecisionFile {
+        signorini_version: env!("CARGO_PKG_VERSION"),
+        note,
+        work_precision: crate::cost::work_precision(study),
+        cost_to_target_norm: norm,
+        cost_to_target: &costs,
+    };
+    let mut md = format!(
+        "# What accuracy costs\n\nTables 1–2 study (`make report`), {note}. Error in {} \
+         against wall time; the other norms are in `work-precision.json`.\n\n\
+         | case | NX | dof-steps | wall s | ns per dof-step | {} |\n|---|---|---|---|---|---|\n",
+        norm.label(),
+        norm.key()
+    );
+    for c in &study.cases {
+        let Some(r) = c.norm(norm) else { continue };
+        for (l, e) in c.levels.iter().zip(&r.errors) {
+            let dof_steps = l.steps * l.dofs;
+            md.push_str(&format!(
+                "| {} | {} | {} | {:.3e} | {:.1} | {:.3e} |\n",
+                c.case.id(),
+                l.nx,
+                dof_steps,
+                l.timings.total(),
+                l.timings.total() * 1e9 / dof_steps as f64,
+                e
+            ));
+        }
+    }
+    md.push_str(&format!(
+        "\n## Cost to reach a target error\n\nFrom the least-squares fit of ln(error) on \
+         ln(wall time) over the levels; *extrapolated* marks a target outside the measured \
+         errors.\n{cost_md}"
+    ));
+    write_atomic(&out_dir.join("work-precision.md"), md.as_bytes())?;
+    write_atomic(
+        &out_dir.join("work-precision.json"),
+        serde_json::to_string_pretty(&file)?.as_bytes(),
+    )?;
+    Ok(())
 }
 
 /// Runs the study and writes the golden file at `path`, keeping the tolerances (and their

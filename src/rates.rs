@@ -10,6 +10,8 @@ use statrs::distribution::{ContinuousCDF, StudentsT};
 pub struct RateFit {
     /// The slope `p` of `ln e = p ln h + c`.
     pub rate: f64,
+    /// The intercept `c`.
+    pub intercept: f64,
     /// Lower end of the 95 % confidence interval (`−∞`/`NaN`-free: absent with two levels).
     pub ci_low: Option<f64>,
     /// Upper end of the 95 % confidence interval.
@@ -56,6 +58,7 @@ pub fn fit_rate(h: &[f64], e: &[f64]) -> Option<RateFit> {
     };
     Some(RateFit {
         rate,
+        intercept: my - rate * mx,
         ci_low,
         ci_high,
         levels: n,
@@ -88,6 +91,7 @@ mod tests {
         let e: Vec<f64> = h.iter().map(|x: &f64| 3.0 * x.powf(1.5)).collect();
         let fit = fit_rate(&h, &e).unwrap();
         assert_relative_eq!(fit.rate, 1.5, epsilon = 1e-12);
+        assert_relative_eq!(fit.intercept, 3.0_f64.ln(), epsilon = 1e-12);
         assert_relative_eq!(fit.ci_low.unwrap(), 1.5, epsilon = 1e-6);
         for o in observed_orders(&h, &e).into_iter().skip(1) {
             assert_relative_eq!(o.unwrap(), 1.5, epsilon = 1e-12);

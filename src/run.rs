@@ -101,10 +101,19 @@ pub struct EnergyHistory {
 pub struct Timings {
     /// Assembly, factorisation, Delassus operator and initial state.
     pub setup: f64,
-    /// Time stepping including contact solves.
+    /// Time stepping, contact solves excluded.
     pub stepping: f64,
+    /// Complementarity solves and their corrections.
+    pub contact: f64,
     /// Observers (norms and histories).
     pub observe: f64,
+}
+
+impl Timings {
+    /// The whole run.
+    pub fn total(&self) -> f64 {
+        self.setup + self.stepping + self.contact + self.observe
+    }
 }
 
 /// Everything one run measured.
@@ -120,6 +129,8 @@ pub struct RunResult {
     pub steps: usize,
     /// Number of unknowns.
     pub dofs: usize,
+    /// `steps × dofs`, the unit of cost per step.
+    pub dof_steps: usize,
     /// The requested error norms.
     pub errors: BTreeMap<Norm, f64>,
     /// Steps that needed a complementarity solve.
@@ -341,11 +352,13 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         dt,
         steps,
         dofs: model.n_dofs(),
+        dof_steps: steps * model.n_dofs(),
         errors: observer.errors(&config.observables.norms),
         contact_solves: integ.contact_solves(),
         timings: Timings {
             setup,
-            stepping,
+            stepping: stepping - integ.contact_seconds(),
+            contact: integ.contact_seconds(),
             observe,
         },
         space_norm_evaluations: observer.space.evaluations(),

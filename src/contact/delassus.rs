@@ -60,6 +60,7 @@ pub struct ContactStep {
     free_gaps: Vec<f64>,
     mu: Vec<f64>,
     solves: usize,
+    seconds: f64,
 }
 
 impl ContactStep {
@@ -73,6 +74,7 @@ impl ContactStep {
             free_gaps: vec![0.0; n],
             mu: vec![0.0; n],
             solves: 0,
+            seconds: 0.0,
         }
     }
 
@@ -86,6 +88,11 @@ impl ContactStep {
     /// violated by the free solution).
     pub fn solves(&self) -> usize {
         self.solves
+    }
+
+    /// Wall-clock seconds spent in complementarity solves and corrections.
+    pub fn seconds(&self) -> f64 {
+        self.seconds
     }
 
     /// Turns the unconstrained solution `u` into the constrained one, for the constraint
@@ -108,6 +115,7 @@ impl ContactStep {
             return Ok(());
         }
         self.solves += 1;
+        let clock = std::time::Instant::now();
         match self
             .solver
             .solve(self.delassus.matrix(), &self.free_gaps, &mut self.mu)
@@ -121,6 +129,7 @@ impl ContactStep {
         for (l, m) in lambda.iter_mut().zip(&self.mu) {
             *l = -m;
         }
+        self.seconds += clock.elapsed().as_secs_f64();
         Ok(())
     }
 }

@@ -48,4 +48,6 @@ pub trait TimeIntegrator: Send {
     fn energy(&self) -> Timed<f64>;
     /// How many steps needed a complementarity solve.
     fn contact_solves(&self) -> usize;
+    /// Wall-clock seconds spent in those solves.
+    fn contact_seconds(&self) -> f64;
 }

@@ -191,4 +191,8 @@ impl TimeIntegrator for OneStepScheme<'_> {
     fn contact_solves(&self) -> usize {
         self.contact.as_ref().map_or(0, ContactStep::solves)
     }
+
+    fn contact_seconds(&self) -> f64 {
+        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
 }

@@ -32,10 +32,12 @@ pub struct PaoliSchatzman<'m> {
     system: SpdSolver,
     contact: Option<ContactStep>,
     start_contact_solves: usize,
+    start_contact_seconds: f64,
     step: usize,
     u_prev: Vec<f64>,
     u: Vec<f64>,
     v: Vec<f64>,
+    mid: Vec<f64>,
     lambda_scheme: Vec<f64>,
     lambda_reported: Vec<f64>,
     lambda_time: f64,
@@ -70,10 +72,12 @@ impl<'m> PaoliSchatzman<'m> {
             system,
             contact,
             start_contact_solves: 0,
+            start_contact_seconds: 0.0,
             step: 0,
             u_prev: start.displacement.clone(),
             u: start.displacement.clone(),
             v: start.velocity.clone(),
+            mid: start.displacement.clone(),
             lambda_scheme: start.multiplier.clone(),
             lambda_reported: start.multiplier.clone(),
             lambda_time: 0.0,
@@ -110,6 +114,7 @@ impl<'m> PaoliSchatzman<'m> {
         )?;
         first.advance()?;
         self.start_contact_solves = first.contact_solves();
+        self.start_contact_seconds = first.contact_seconds();
         self.u_prev.copy_from_slice(&self.u);
         self.u.copy_from_slice(first.displacement());
         self.lambda_scheme.copy_from_slice(first.multiplier().value);
@@ -125,9 +130,9 @@ impl<'m> PaoliSchatzman<'m> {
 
     fn two_step(&mut self) -> Result<(), SolveError> {
         let (beta, e, dt) = (self.beta, self.restitution, self.dt);
-        let n = self.u.len();
-        for i in 0..n {
-            self.work[i] = (1.0 - 2.0 * beta) * self.u[i] + beta * self.u_prev[i];
+        let levels = || self.u.iter().zip(&self.u_prev);
+        for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
+            *w = (1.0 - 2.0 * beta) * u + beta * up;
         }
         // P [(1 − 2β) R(U^n) + β R(U^{n−1})], R(U) = S U − F, F constant in time.
         residual_force(self.model, &self.work, &mut self.force);
@@ -140,8 +145,8 @@ impl<'m> PaoliSchatzman<'m> {
         for &z in self.model.massless_dofs() {
             self.force[z] = 0.0;
         }
-        for i in 0..n {
-            self.work[i] = (2.0 * self.u[i] - self.u_prev[i]) / (dt * dt);
+        for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
+            *w = (2.0 * u - up) / (dt * dt);
         }
         self.model.mass().mul_into(&self.work, &mut self.next);
         self.next
@@ -185,8 +190,10 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             Some(start) => self.start_step(start)?,
             None => self.two_step()?,
         }
-        for i in 0..self.u.len() {
-            self.v[i] = (self.u[i] - self.u_prev[i]) / self.dt;
+        let levels = self.u.iter().zip(&self.u_prev);
+        for ((v, m), (u, up)) in self.v.iter_mut().zip(self.mid.iter_mut()).zip(levels) {
+            *v = (u - up) / self.dt;
+            *m = 0.5 * (u + up);
         }
         self.step += 1;
         Ok(())
@@ -226,12 +233,6 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
                 value: self.energy_at_start,
             };
         }
-        let mid: Vec<f64> = self
-            .u
-            .iter()
-            .zip(&self.u_prev)
-            .map(|(a, b)| 0.5 * (a + b))
-            .collect();
         let correction = 0.5
             * (self.beta - 0.25)
             * self.dt
@@ -239,11 +240,15 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             * self.model.stiffness().quadratic_form(&self.v);
         Timed {
             time: (self.step as f64 - 0.5) * self.dt,
-            value: self.model.energy(&mid, &self.v) + correction,
+            value: self.model.energy(&self.mid, &self.v) + correction,
         }
     }
 
     fn contact_solves(&self) -> usize {
         self.start_contact_solves + self.contact.as_ref().map_or(0, ContactStep::solves)
+    }
+
+    fn contact_seconds(&self) -> f64 {
+        self.start_contact_seconds + self.contact.as_ref().map_or(0.0, ContactStep::seconds)
     }
 }

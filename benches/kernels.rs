@@ -1,0 +1,147 @@
+//! `make bench`: the speed targets of the harness, measured on this machine.
+//!
+//! * the step kernel of each scheme at NX = 640 (Δx/Δt = 10, T = 3, 19 200 steps) with all
+//!   seven observables, in nanoseconds per degree of freedom per step (target ≤ 25);
+//! * the whole Tables 1–2 study (14 cases, NX 10–640, all norms), wall seconds (target ≤ 15);
+//! * the peak memory of that study run by the binary, from `/usr/bin/time -v` (target ≤ 200 MB).
+//!
+//! Each figure is the median of several repetitions. The process exits with status 1 when a
+//! target is missed, so `make bench` checks them.
+
+use std::collections::BTreeSet;
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+use signorini::fem::MassVariant;
+use signorini::norms::Norm;
+use signorini::pipeline::tables_study;
+use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use signorini::schemes::Scheme;
+
+const NS_PER_DOF_STEP_TARGET: f64 = 25.0;
+const STUDY_SECONDS_TARGET: f64 = 15.0;
+const PEAK_MEMORY_MB_TARGET: f64 = 200.0;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, RunResult) {
+    let problem = Problem1d::signorini_dirichlet(3.0);
+    let config = RunConfig {
+        nx: 640,
+        ratio: 10.0,
+        scheme,
+        mass,
+        observables: Observables {
+            norms: norms.clone(),
+            ..Observables::default()
+        },
+    };
+    let mut samples = Vec::new();
+    let mut last = None;
+    for _ in 0..5 {
+        let clock = Instant::now();
+        let r = run(&problem, &config).expect("benchmark run");
+        samples.push(clock.elapsed().as_secs_f64() * 1e9 / r.dof_steps as f64);
+        last = Some(r);
+    }
+    (median(samples), last.expect("five runs"))
+}
+
+fn peak_memory_mb() -> Option<f64> {
+    let out = Command::new("/usr/bin/time")
+        .arg("-v")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .args(["study", "scenes/bar1d-dirichlet.json"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CI", "true")
+        .output()
+        .ok()?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let kb: f64 = stderr
+        .lines()
+        .find(|l| l.contains("Maximum resident set size"))?
+        .rsplit(':')
+        .next()?
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "ok"
+    } else {
+        "MISSED"
+    }
+}
+
+fn main() -> ExitCode {
+    let all: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let none = BTreeSet::new();
+    let mut all_ok = true;
+    println!("Step kernels, NX = 640, Δx/Δt = 10, T = 3 (19 200 steps), median of 5 runs");
+    println!(
+        "| scheme | mass | ns/dof-step, 7 observables | of which stepping / contact / observe | ns/dof-step, no observable | target |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for scheme in Scheme::paper_schemes() {
+        for mass in MassVariant::ALL {
+            let (with, r) = kernel(scheme, mass, &all);
+            let (without, _) = kernel(scheme, mass, &none);
+            let per = |s: f64| s * 1e9 / r.dof_steps as f64;
+            let ok = with <= NS_PER_DOF_STEP_TARGET;
+            all_ok &= ok;
+            println!(
+                "| {} | {} | {:.1} | {:.1} / {:.1} / {:.1} | {:.1} | ≤ {} {} |",
+                scheme,
+                mass,
+                with,
+                per(r.timings.stepping),
+                per(r.timings.contact),
+                per(r.timings.observe),
+                without,
+                NS_PER_DOF_STEP_TARGET,
+                verdict(ok)
+            );
+        }
+    }
+
+    let walls: Vec<f64> = (0..3)
+        .map(|_| {
+            let clock = Instant::now();
+            tables_study().expect("tables study");
+            clock.elapsed().as_secs_f64()
+        })
+        .collect();
+    let wall = median(walls);
+    let ok = wall <= STUDY_SECONDS_TARGET;
+    all_ok &= ok;
+    println!(
+        "\nTables 1–2 study (14 cases × 7 levels, all norms): {wall:.2} s wall, median of 3 (target ≤ {STUDY_SECONDS_TARGET} s) {}",
+        verdict(ok)
+    );
+
+    match peak_memory_mb() {
+        Some(mb) => {
+            let ok = mb <= PEAK_MEMORY_MB_TARGET;
+            all_ok &= ok;
+            println!(
+                "Peak memory of `signorini study scenes/bar1d-dirichlet.json`: {mb:.1} MB (target ≤ {PEAK_MEMORY_MB_TARGET} MB) {}",
+                verdict(ok)
+            );
+        }
+        None => {
+            all_ok = false;
+            println!("Peak memory: /usr/bin/time -v unavailable (install the `time` package)");
+        }
+    }
+    if all_ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
