@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench
+.PHONY: report test golden build lint fmt experiment bench stability
 
 ## Build, run the main studies and write reports/ (tables.md, rates.json, defaults-experiment.md).
 report: build
@@ -22,6 +22,10 @@ golden: build
 ## The experiment behind the default horizon and levels (also part of `make report`).
 experiment: build
 	$(BIN) experiment --out reports
+
+## The stability suite: every scheme × mass on the hard cases (a few minutes: NX = 5000 is one).
+stability: build
+	$(BIN) stability --out reports
 
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
 ## peak memory (/usr/bin/time -v, from Debian's `time` package). Exits non-zero on a miss.

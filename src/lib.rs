@@ -28,4 +28,5 @@ pub mod report;
 pub mod run;
 pub mod scene;
 pub mod schemes;
+pub mod stability;
 pub mod study;

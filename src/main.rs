@@ -15,7 +15,9 @@ use signorini::error::{Error as EngineError, ParameterError};
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
-use signorini::pipeline::{write_defaults_experiment, write_golden, write_report, GOLDEN_TABLES};
+use signorini::pipeline::{
+    write_defaults_experiment, write_golden, write_report, write_stability, GOLDEN_TABLES,
+};
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
@@ -102,6 +104,16 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
+    },
+    /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
+    /// verdict each; writes stability.md and stability.json.
+    Stability {
+        /// Output directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Only the fast subset that CI guards.
+        #[arg(long)]
+        ci_subset: bool,
     },
     /// Regenerate the golden rates (`make golden`; nothing else writes them).
     Golden {
@@ -392,6 +404,25 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 "{}\nwrote {}/defaults-experiment.md",
                 summary.join("\n"),
                 out.display()
+            );
+        }
+        Command::Stability { out, ci_subset } => {
+            let records = write_stability(&out, ci_subset).map_err(Failure::runtime)?;
+            let flagged = records
+                .iter()
+                .filter(|r| {
+                    !matches!(
+                        r.verdict,
+                        signorini::stability::Verdict::Stable
+                            | signorini::stability::Verdict::Dissipative
+                    )
+                })
+                .count();
+            println!(
+                "wrote {}/stability.md ({} runs, {} flagged)",
+                out.display(),
+                records.len(),
+                flagged
             );
         }
         Command::Golden { path } => {

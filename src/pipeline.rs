@@ -327,3 +327,20 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
     write_atomic(&out_dir.join("defaults-experiment.md"), md.as_bytes())?;
     Ok(md)
 }
+
+/// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
+/// `stability.json` into `out_dir`.
+pub fn write_stability(
+    out_dir: &Path,
+    ci: bool,
+) -> Result<Vec<crate::stability::StabilityRecord>, Box<dyn std::error::Error>> {
+    let hard = crate::stability::hard_cases(ci);
+    let records = crate::stability::run_suite(&hard, &Case::paper_matrix())?;
+    let md = crate::stability::render(&hard, &records);
+    write_atomic(&out_dir.join("stability.md"), md.as_bytes())?;
+    write_atomic(
+        &out_dir.join("stability.json"),
+        serde_json::to_string_pretty(&records)?.as_bytes(),
+    )?;
+    Ok(records)
+}

@@ -47,6 +47,29 @@ impl Profile {
     }
 }
 
+/// A seeded random perturbation of the initial displacement ("rough data").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Perturbation {
+    /// Each dof moves by a uniform amount in `[−amplitude, amplitude]`.
+    pub amplitude: f64,
+    /// The seed: the same seed gives the same data.
+    pub seed: u64,
+}
+
+impl Perturbation {
+    /// Adds the perturbation to every dof except the contact dofs (the data stay admissible).
+    pub fn apply(&self, u: &mut [f64], contact_dofs: &[usize]) {
+        let mut rng = fastrand::Rng::with_seed(self.seed);
+        for (i, ui) in u.iter_mut().enumerate() {
+            let shift = self.amplitude * (2.0 * rng.f64() - 1.0);
+            if !contact_dofs.contains(&i) {
+                *ui += shift;
+            }
+        }
+    }
+}
+
 /// Initial displacement and velocity.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -57,6 +80,9 @@ pub struct InitialData {
     /// `u_t(·, 0)`.
     #[serde(default)]
     pub velocity: Profile,
+    /// An optional seeded perturbation of the displacement.
+    #[serde(default)]
+    pub perturbation: Option<Perturbation>,
 }
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the

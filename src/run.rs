@@ -68,13 +68,15 @@ pub struct ContactHistory {
     pub multiplier_exact: Vec<f64>,
 }
 
-/// Total variations `Σ |λ^{k+1} − λ^k|` over the run.
+/// Total variations `Σ |λ^{k+1} − λ^k|` over the run, and the largest `|λ_h|`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct MultiplierVariation {
     /// Of the computed multiplier `λ_h`.
     pub discrete: f64,
     /// Of the exact multiplier sampled at the same times.
     pub exact: f64,
+    /// `max |λ_h|`.
+    pub max_abs: f64,
 }
 
 impl MultiplierVariation {
@@ -135,6 +137,9 @@ pub struct RunResult {
     pub errors: BTreeMap<Norm, f64>,
     /// Steps that needed a complementarity solve.
     pub contact_solves: usize,
+    /// The largest complementarity violation of any step (see
+    /// [`TimeIntegrator::complementarity_violation`]).
+    pub complementarity_violation: f64,
     /// Wall-clock split.
     pub timings: Timings,
     /// Space-norm evaluations (one per step when a displacement norm is requested).
@@ -243,6 +248,7 @@ impl<'a> Observer<'a> {
                 }
                 None => self.last_multiplier = Some((m.time, lambda_h, lambda)),
             }
+            self.variation.max_abs = self.variation.max_abs.max(lambda_h.abs());
             if let Some(c) = self.contact.as_mut() {
                 c.time.push(t);
                 c.displacement
@@ -355,6 +361,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         dof_steps: steps * model.n_dofs(),
         errors: observer.errors(&config.observables.norms),
         contact_solves: integ.contact_solves(),
+        complementarity_violation: integ.complementarity_violation(),
         timings: Timings {
             setup,
             stepping: stepping - integ.contact_seconds(),

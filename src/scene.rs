@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::exact::{ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::exact::{AtRest, ClampedFreeMode, ExactSolution, SignoriniDirichlet};
 use crate::fem::EndCondition;
 use crate::norms::Norm;
 use crate::problem::{InitialData, Problem1d};
@@ -67,7 +67,7 @@ pub struct BodyForce {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Reference {
-    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`).
+    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`, `at-rest`).
     Exact(String),
 }
 
@@ -204,7 +204,7 @@ impl std::error::Error for SceneError {
 }
 
 /// The names of the exact solutions a scene can refer to.
-pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode";
+pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-rest";
 
 impl Scene {
     /// Reads and validates a scene file.
@@ -333,6 +333,13 @@ impl Scene {
                      no obstacle, no body force",
                 )?;
                 Ok(Arc::new(ClampedFreeMode))
+            }
+            "at-rest" => {
+                requirement(
+                    self.body_force.is_none(),
+                    "at-rest (u ≡ 0) solves any bar without body force",
+                )?;
+                Ok(Arc::new(AtRest))
             }
             _ => Err(Self::invalid(
                 path,

@@ -61,6 +61,7 @@ pub struct ContactStep {
     mu: Vec<f64>,
     solves: usize,
     seconds: f64,
+    max_violation: f64,
 }
 
 impl ContactStep {
@@ -75,6 +76,7 @@ impl ContactStep {
             mu: vec![0.0; n],
             solves: 0,
             seconds: 0.0,
+            max_violation: 0.0,
         }
     }
 
@@ -93,6 +95,12 @@ impl ContactStep {
     /// Wall-clock seconds spent in complementarity solves and corrections.
     pub fn seconds(&self) -> f64 {
         self.seconds
+    }
+
+    /// The largest complementarity violation after a solve so far:
+    /// `max(−(B u + c)_i, μ_i |(B u + c)_i|)` over constraints and steps (0 when exact).
+    pub fn max_violation(&self) -> f64 {
+        self.max_violation
     }
 
     /// Turns the unconstrained solution `u` into the constrained one, for the constraint
@@ -126,6 +134,11 @@ impl ContactStep {
             }
         }
         self.delassus.apply_correction(&self.mu, u);
+        for (i, (&d, &g)) in self.set.dofs.iter().zip(&self.set.gaps).enumerate() {
+            let gap = u[d] + shift(i, g);
+            let violation = (-gap).max(self.mu[i] * gap.abs());
+            self.max_violation = self.max_violation.max(violation);
+        }
         for (l, m) in lambda.iter_mut().zip(&self.mu) {
             *l = -m;
         }

@@ -1,9 +1,13 @@
 //! Closed-form solutions of the 1D benchmarks, with everything the error norms need: the
 //! displacement, its derivatives, the contact multiplier, the energy and the spatial kinks.
 
+mod at_rest;
+mod bouncing_bar;
 mod clamped_mode;
 mod signorini_dirichlet;
 
+pub use at_rest::AtRest;
+pub use bouncing_bar::BouncingBar;
 pub use clamped_mode::ClampedFreeMode;
 pub use signorini_dirichlet::SignoriniDirichlet;
 

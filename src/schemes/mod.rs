@@ -50,4 +50,7 @@ pub trait TimeIntegrator: Send {
     fn contact_solves(&self) -> usize;
     /// Wall-clock seconds spent in those solves.
     fn contact_seconds(&self) -> f64;
+    /// The largest complementarity violation of any step so far (on the constrained quantity
+    /// of the scheme: `u^{n+1}`, or `(u^{n+1} + e u^{n−1})/(1 + e)` for Paoli–Schatzman).
+    fn complementarity_violation(&self) -> f64;
 }

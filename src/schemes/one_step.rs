@@ -195,4 +195,10 @@ impl TimeIntegrator for OneStepScheme<'_> {
     fn contact_seconds(&self) -> f64 {
         self.contact.as_ref().map_or(0.0, ContactStep::seconds)
     }
+
+    fn complementarity_violation(&self) -> f64 {
+        self.contact
+            .as_ref()
+            .map_or(0.0, ContactStep::max_violation)
+    }
 }

@@ -33,6 +33,7 @@ pub struct PaoliSchatzman<'m> {
     contact: Option<ContactStep>,
     start_contact_solves: usize,
     start_contact_seconds: f64,
+    start_violation: f64,
     step: usize,
     u_prev: Vec<f64>,
     u: Vec<f64>,
@@ -73,6 +74,7 @@ impl<'m> PaoliSchatzman<'m> {
             contact,
             start_contact_solves: 0,
             start_contact_seconds: 0.0,
+            start_violation: 0.0,
             step: 0,
             u_prev: start.displacement.clone(),
             u: start.displacement.clone(),
@@ -115,6 +117,7 @@ impl<'m> PaoliSchatzman<'m> {
         first.advance()?;
         self.start_contact_solves = first.contact_solves();
         self.start_contact_seconds = first.contact_seconds();
+        self.start_violation = first.complementarity_violation();
         self.u_prev.copy_from_slice(&self.u);
         self.u.copy_from_slice(first.displacement());
         self.lambda_scheme.copy_from_slice(first.multiplier().value);
@@ -250,5 +253,13 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
 
     fn contact_seconds(&self) -> f64 {
         self.start_contact_seconds + self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
+
+    fn complementarity_violation(&self) -> f64 {
+        let own = self
+            .contact
+            .as_ref()
+            .map_or(0.0, ContactStep::max_violation);
+        self.start_violation.max(own)
     }
 }

@@ -1,0 +1,368 @@
+//! The stability suite: hard cases where time integrators for impact misbehave, every scheme ×
+//! mass pair run on each, measured, and given a verdict by fixed rules.
+//!
+//! Verdict rules, in order (the first that applies):
+//! 1. `diverged`: the run stopped on a non-finite value, or `max E / E_0 > 10⁶`;
+//! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
+//!    than 5 % of `E_0` over the horizon;
+//! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
+//!    (the threshold of "Yes" in the tables), or, when the exact force is constant, above 1e-9;
+//! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
+//!    than `1e-12 E_0`;
+//! 5. `stable`: none of the above.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::exact::AtRest;
+use crate::problem::{InitialData, Perturbation, Problem1d, Profile};
+use crate::run::{run, Observables, RunConfig};
+use crate::study::Case;
+
+/// A hard case: a problem at one mesh and time step.
+#[derive(Debug, Clone)]
+pub struct HardCase {
+    /// Short name.
+    pub name: &'static str,
+    /// What it exercises.
+    pub description: &'static str,
+    /// The problem.
+    pub problem: Problem1d,
+    /// `NX`.
+    pub nx: usize,
+    /// `Δx/Δt`.
+    pub ratio: f64,
+}
+
+/// The hard cases; `ci` selects the fast subset guarded by the test suite.
+pub fn hard_cases(ci: bool) -> Vec<HardCase> {
+    let dirichlet = Problem1d::signorini_dirichlet;
+    let mut cases = vec![HardCase {
+        name: "long-horizon",
+        description: "100 periods (T = 300) of the Dirichlet benchmark",
+        problem: dirichlet(300.0),
+        nx: 80,
+        ratio: 10.0,
+    }];
+    if ci {
+        return cases;
+    }
+    for (name, ratio) in [
+        ("ratio-0.5", 0.5),
+        ("ratio-1", 1.0),
+        ("ratio-10", 10.0),
+        ("ratio-100", 100.0),
+        ("ratio-1000", 1000.0),
+    ] {
+        cases.push(HardCase {
+            name,
+            description: "time-step extreme: Δx/Δt at NX = 40, T = 3 (small steps: Grosu–Harari)",
+            problem: dirichlet(3.0),
+            nx: 40,
+            ratio,
+        });
+    }
+    cases.push(HardCase {
+        name: "coarse-mesh",
+        description: "mesh extreme: NX = 2, T = 3",
+        problem: dirichlet(3.0),
+        nx: 2,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "fine-mesh",
+        description: "mesh extreme: NX = 5000, T = 3",
+        problem: dirichlet(3.0),
+        nx: 5000,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "grazing",
+        description: "the bar at rest touching the obstacle: u ≡ 0, λ ≡ 0 is the solution",
+        problem: Problem1d {
+            exact: Arc::new(AtRest),
+            initial: InitialData {
+                displacement: Profile::Constant(0.0),
+                velocity: Profile::Constant(0.0),
+                perturbation: None,
+            },
+            ..dirichlet(3.0)
+        },
+        nx: 40,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "repeated-impacts",
+        description: "10 periods (10 impacts and releases) at NX = 40",
+        problem: dirichlet(30.0),
+        nx: 40,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "rough-data",
+        description: "initial displacement perturbed at every node by ±0.01 (seed 42)",
+        problem: Problem1d {
+            initial: InitialData {
+                perturbation: Some(Perturbation {
+                    amplitude: 0.01,
+                    seed: 42,
+                }),
+                ..InitialData::default()
+            },
+            ..dirichlet(3.0)
+        },
+        nx: 80,
+        ratio: 10.0,
+    });
+    cases
+}
+
+/// The verdict on one run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// Bounded energy, no spurious oscillation.
+    Stable,
+    /// Energy lost, never gained.
+    Dissipative,
+    /// Energy grows.
+    EnergyGrowth,
+    /// The contact force oscillates.
+    Oscillating,
+    /// Non-finite values or unbounded energy.
+    Diverged,
+}
+
+impl Verdict {
+    /// The word in the report.
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Stable => "stable",
+            Verdict::Dissipative => "dissipative",
+            Verdict::EnergyGrowth => "energy growth",
+            Verdict::Oscillating => "oscillating",
+            Verdict::Diverged => "diverged",
+        }
+    }
+}
+
+/// What one hard case × scheme × mass run measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityRecord {
+    /// The hard case.
+    pub hard_case: String,
+    /// `scheme/mass`.
+    pub case: String,
+    /// `max |E − E_0| / E_0` (absolute when `E_0 = 0`).
+    pub max_energy_drift: f64,
+    /// `(E(T) − E_0) / E_0` from the least-squares line of `E(t)`, i.e. slope × T / E_0.
+    pub energy_trend: f64,
+    /// The largest one-step energy increase, relative to `E_0`.
+    pub max_energy_step_increase: f64,
+    /// `max |λ_h|`.
+    pub max_multiplier: f64,
+    /// The largest complementarity violation.
+    pub complementarity_violation: f64,
+    /// `TV(λ_h) / TV(λ)`, or `TV(λ_h)` when the exact force is constant.
+    pub oscillation_indicator: f64,
+    /// Whether the exact force varies (which form the indicator takes).
+    pub indicator_is_ratio: bool,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The error that stopped the run, if any.
+    pub failure: Option<String>,
+    /// Energy samples `(t, E)` thinned to at most 400 points, for plots.
+    pub energy_samples: Vec<(f64, f64)>,
+}
+
+/// Runs one hard case with one scheme and mass, and judges it.
+pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
+    let config = RunConfig {
+        nx: hard.nx,
+        ratio: hard.ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        observables: Observables {
+            energy_history: true,
+            contact_history: true,
+            ..Observables::default()
+        },
+    };
+    let base = StabilityRecord {
+        hard_case: hard.name.to_string(),
+        case: case.id(),
+        max_energy_drift: f64::NAN,
+        energy_trend: f64::NAN,
+        max_energy_step_increase: f64::NAN,
+        max_multiplier: f64::NAN,
+        complementarity_violation: f64::NAN,
+        oscillation_indicator: f64::NAN,
+        indicator_is_ratio: false,
+        verdict: Verdict::Diverged,
+        failure: None,
+        energy_samples: Vec::new(),
+    };
+    let result = match run(&hard.problem, &config) {
+        Ok(r) => r,
+        Err(Error::Solve(e)) => {
+            return Ok(StabilityRecord {
+                failure: Some(e.to_string()),
+                ..base
+            })
+        }
+        Err(e) => return Err(e),
+    };
+    let energy = result.energy_history.expect("requested");
+    let e0 = energy.energy[0];
+    let scale = if e0.abs() > 0.0 { e0.abs() } else { 1.0 };
+    let max_drift = energy
+        .energy
+        .iter()
+        .map(|e| (e - e0).abs() / scale)
+        .fold(0.0, f64::max);
+    let max_ratio = energy.energy.iter().fold(0.0_f64, |m, e| m.max(e / scale));
+    let step_increase = energy
+        .energy
+        .windows(2)
+        .map(|w| (w[1] - w[0]) / scale)
+        .fold(0.0, f64::max);
+    let horizon = hard.problem.horizon;
+    let trend = linear_trend(&energy.time, &energy.energy) * horizon / scale;
+    let variation = result.multiplier_variation.unwrap_or_default();
+    let (indicator, is_ratio) = match variation.ratio() {
+        Some(r) => (r, true),
+        None => (variation.discrete, false),
+    };
+    let last = *energy.energy.last().expect("at least the initial sample");
+    let verdict = if !max_ratio.is_finite() || max_ratio > 1e6 {
+        Verdict::Diverged
+    } else if max_ratio - 1.0 > 0.05 && trend > 0.05 {
+        Verdict::EnergyGrowth
+    } else if (is_ratio && indicator >= 100.0) || (!is_ratio && indicator > 1e-9) {
+        Verdict::Oscillating
+    } else if (last - e0) / scale < -0.01 && step_increase <= 1e-12 {
+        Verdict::Dissipative
+    } else {
+        Verdict::Stable
+    };
+    let stride = (energy.time.len() / 400).max(1);
+    Ok(StabilityRecord {
+        max_energy_drift: max_drift,
+        energy_trend: trend,
+        max_energy_step_increase: step_increase,
+        max_multiplier: variation.max_abs,
+        complementarity_violation: result.complementarity_violation,
+        oscillation_indicator: indicator,
+        indicator_is_ratio: is_ratio,
+        verdict,
+        energy_samples: energy
+            .time
+            .iter()
+            .zip(&energy.energy)
+            .step_by(stride)
+            .map(|(&t, &e)| (t, e))
+            .collect(),
+        ..base
+    })
+}
+
+/// The slope of the least-squares line through `(t, y)`.
+fn linear_trend(t: &[f64], y: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let mt = t.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let stt: f64 = t.iter().map(|x| (x - mt).powi(2)).sum();
+    let sty: f64 = t.iter().zip(y).map(|(a, b)| (a - mt) * (b - my)).sum();
+    if stt > 0.0 {
+        sty / stt
+    } else {
+        0.0
+    }
+}
+
+/// Every hard case × every case, in parallel.
+pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecord>, Error> {
+    let jobs: Vec<(usize, usize)> = (0..hard.len())
+        .flat_map(|h| (0..cases.len()).map(move |c| (h, c)))
+        .collect();
+    jobs.par_iter()
+        .map(|&(h, c)| judge(&hard[h], cases[c]))
+        .collect()
+}
+
+/// The markdown report: the parameters of each hard case, then one table per hard case.
+pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
+    let mut md = String::from("# Stability of the schemes on hard cases\n\n");
+    md.push_str(
+        "Verdicts, first rule that applies: **diverged** (non-finite value or E/E₀ > 10⁶); \
+         **energy growth** (max E/E₀ − 1 > 5 % and the fitted trend of E gains > 5 % of E₀ over \
+         the horizon); **oscillating** (TV(λ_h)/TV(λ) ≥ 100, or TV(λ_h) > 1e-9 when the exact \
+         force is constant); **dissipative** (E ends > 1 % below E₀ and no step raises it by \
+         more than 1e-12 E₀); **stable** otherwise. Generated by `make stability`.\n\n",
+    );
+    md.push_str("| hard case | NX | Δx/Δt | T | what it exercises |\n|---|---|---|---|---|\n");
+    for h in hard {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            h.name, h.nx, h.ratio, h.problem.horizon, h.description
+        ));
+    }
+    for h in hard {
+        md.push_str(&format!(
+            "\n## {}\n\n| case | verdict | max abs(E − E₀)/E₀ | trend over T | max step gain | max abs(λ) | complementarity | oscillation |\n|---|---|---|---|---|---|---|---|\n",
+            h.name
+        ));
+        for r in records.iter().filter(|r| r.hard_case == h.name) {
+            if let Some(f) = &r.failure {
+                md.push_str(&format!(
+                    "| {} | **{}** | — | — | — | — | — | {} |\n",
+                    r.case,
+                    r.verdict.word(),
+                    f
+                ));
+                continue;
+            }
+            let osc = if r.indicator_is_ratio {
+                format!("{:.3} (ratio)", r.oscillation_indicator)
+            } else {
+                format!("{:.2e} (TV)", r.oscillation_indicator)
+            };
+            md.push_str(&format!(
+                "| {} | {} | {:.2e} | {:+.2e} | {:.1e} | {:.3} | {:.1e} | {} |\n",
+                r.case,
+                r.verdict.word(),
+                r.max_energy_drift,
+                r.energy_trend,
+                r.max_energy_step_increase,
+                r.max_multiplier,
+                r.complementarity_violation,
+                osc
+            ));
+        }
+    }
+    md.push_str("\n## Pairs stable on every hard case\n\n");
+    for case in Case::paper_matrix() {
+        let id = case.id();
+        let mine: Vec<&StabilityRecord> = records.iter().filter(|r| r.case == id).collect();
+        let bad: Vec<String> = mine
+            .iter()
+            .filter(|r| {
+                matches!(
+                    r.verdict,
+                    Verdict::Diverged | Verdict::EnergyGrowth | Verdict::Oscillating
+                )
+            })
+            .map(|r| format!("{} ({})", r.hard_case, r.verdict.word()))
+            .collect();
+        let line = if bad.is_empty() {
+            "bounded energy and no oscillation on every hard case".to_string()
+        } else {
+            bad.join(", ")
+        };
+        md.push_str(&format!("- `{id}`: {line}\n"));
+    }
+    md
+}
