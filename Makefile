@@ -16,7 +16,7 @@ test:
 
 ## Regenerate the golden rates and the table snapshot (the only way they change).
 golden: build
-	$(BIN) golden --path golden/rates-1d-dirichlet.json
+	$(BIN) golden --root .
 	INSTA_UPDATE=always $(CARGO) nextest run --test gate
 
 ## The experiment behind the default horizon and levels (also part of `make report`).

@@ -15,6 +15,7 @@ pub mod cost;
 pub mod error;
 pub mod exact;
 pub mod fem;
+pub mod figures;
 pub mod golden;
 pub mod linalg;
 pub mod model;

@@ -16,7 +16,7 @@ use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
 use signorini::pipeline::{
-    write_defaults_experiment, write_golden, write_report, write_stability, GOLDEN_TABLES,
+    write_defaults_experiment, write_golden, write_gravity_report, write_report, write_stability,
 };
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
@@ -115,11 +115,12 @@ enum Command {
         #[arg(long)]
         ci_subset: bool,
     },
-    /// Regenerate the golden rates (`make golden`; nothing else writes them).
+    /// Regenerate the golden rates of the gated studies (`make golden`; nothing else writes
+    /// them): golden/rates-1d-dirichlet.json and golden/rates-1d-gravity.json.
     Golden {
-        /// The golden file.
-        #[arg(long, default_value = GOLDEN_TABLES)]
-        path: PathBuf,
+        /// The repository root (scenes/ and golden/ are under it).
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
     },
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List {
@@ -233,27 +234,57 @@ fn csv(header: &str, columns: &[&[f64]]) -> String {
 }
 
 /// The histories of a run as (file name, CSV text).
-fn history_csv(result: &RunResult) -> Vec<(&'static str, String)> {
+fn history_csv(result: &RunResult) -> Vec<(String, String)> {
     let mut files = Vec::new();
     if let Some(c) = &result.contact_history {
         files.push((
-            "contact.csv",
+            "contact.csv".to_string(),
             csv(
                 "time,displacement,displacement_exact",
                 &[&c.time, &c.displacement, &c.displacement_exact],
             ),
         ));
         files.push((
-            "multiplier.csv",
+            "multiplier.csv".to_string(),
             csv(
                 "time,multiplier,multiplier_exact",
                 &[&c.multiplier_time, &c.multiplier, &c.multiplier_exact],
             ),
         ));
     }
+    if let Some(p) = &result.point_history {
+        let header: Vec<String> = std::iter::once("time".to_string())
+            .chain(
+                p.x.iter()
+                    .flat_map(|x| [format!("u_h(x={x})"), format!("u(x={x})")]),
+            )
+            .collect();
+        let mut columns: Vec<&[f64]> = vec![&p.time];
+        for (h, e) in p.displacement.iter().zip(&p.displacement_exact) {
+            columns.push(h);
+            columns.push(e);
+        }
+        files.push(("points.csv".to_string(), csv(&header.join(","), &columns)));
+    }
+    for f in &result.fields {
+        files.push((
+            format!("field-t{}.csv", f.requested_time),
+            csv(
+                "x,displacement,displacement_exact",
+                &[&f.x, &f.displacement, &f.displacement_exact],
+            ),
+        ));
+        files.push((
+            format!("strain-t{}.csv", f.requested_time),
+            csv(
+                "x_mid,strain,strain_exact",
+                &[&f.x_mid, &f.strain, &f.strain_exact],
+            ),
+        ));
+    }
     if let Some(e) = &result.energy_history {
         files.push((
-            "energy.csv",
+            "energy.csv".to_string(),
             csv(
                 "time,energy,energy_exact",
                 &[&e.time, &e.energy, &e.energy_exact],
@@ -292,8 +323,12 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         } => {
             let scene = Scene::load(&scene)?;
             let mut observables = scene.observables();
-            observables.contact_history &= out.is_some();
-            observables.energy_history &= out.is_some();
+            if out.is_none() {
+                observables.contact_history = false;
+                observables.energy_history = false;
+                observables.points.clear();
+                observables.fields_at.clear();
+            }
             let config = RunConfig {
                 nx,
                 ratio: ratio.unwrap_or(scene.discretisation.ratio),
@@ -326,7 +361,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
                 write_output(&dir.join("run.json"), json.as_bytes())?;
                 for (name, text) in history_csv(&result) {
-                    write_output(&dir.join(name), text.as_bytes())?;
+                    write_output(&dir.join(&name), text.as_bytes())?;
                 }
                 println!("wrote {}", dir.display());
             }
@@ -342,7 +377,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         } => {
             let scene = Scene::load(&scene)?;
             let schemes = if scheme.is_empty() {
-                Scheme::paper_schemes().to_vec()
+                scene.default_schemes()
             } else {
                 scheme
             };
@@ -388,6 +423,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             }
         }
         Command::Report { out } => {
+            let gravity = write_gravity_report(Path::new("."), &out).map_err(Failure::runtime)?;
+            println!(
+                "wrote {}/gravity.md and {}/gravity/ ({} cases)",
+                out.display(),
+                out.display(),
+                gravity.cases.len()
+            );
             let study = write_report(&out).map_err(Failure::runtime)?;
             println!(
                 "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
@@ -425,9 +467,10 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 flagged
             );
         }
-        Command::Golden { path } => {
-            let golden = write_golden(&path).map_err(Failure::runtime)?;
-            println!("wrote {} ({} cases)", path.display(), golden.cases.len());
+        Command::Golden { root } => {
+            for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
+                println!("wrote {name} ({} cases)", golden.cases.len());
+            }
         }
         Command::List { scenes } => list(&scenes),
     }

@@ -16,7 +16,7 @@ use crate::schemes::start::initial_state;
 use crate::schemes::{OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator};
 
 /// What a run records besides the requested norms.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Observables {
     /// The error norms to compute; nothing else is evaluated.
     pub norms: BTreeSet<Norm>,
@@ -24,6 +24,10 @@ pub struct Observables {
     pub contact_history: bool,
     /// Record the energy with the exact one.
     pub energy_history: bool,
+    /// Record the displacement history at these positions.
+    pub points: Vec<f64>,
+    /// Record the whole field at the steps nearest to these times.
+    pub fields_at: Vec<f64>,
 }
 
 impl Observables {
@@ -66,6 +70,40 @@ pub struct ContactHistory {
     pub multiplier: Vec<f64>,
     /// `λ` at `multiplier_time`.
     pub multiplier_exact: Vec<f64>,
+}
+
+/// The displacement history at fixed positions.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct PointHistory {
+    /// The positions.
+    pub x: Vec<f64>,
+    /// `t_n`.
+    pub time: Vec<f64>,
+    /// `u_h(x_p, t_n)`, one series per position.
+    pub displacement: Vec<Vec<f64>>,
+    /// `u(x_p, t_n)`.
+    pub displacement_exact: Vec<Vec<f64>>,
+}
+
+/// The whole field at one step.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct FieldSnapshot {
+    /// The time asked for.
+    pub requested_time: f64,
+    /// The time of the step recorded (the nearest).
+    pub time: f64,
+    /// Node positions.
+    pub x: Vec<f64>,
+    /// `u_h` at the nodes.
+    pub displacement: Vec<f64>,
+    /// `u` at the nodes.
+    pub displacement_exact: Vec<f64>,
+    /// Element midpoints.
+    pub x_mid: Vec<f64>,
+    /// `∂x u_h` on each element.
+    pub strain: Vec<f64>,
+    /// `∂x u` at the element midpoints.
+    pub strain_exact: Vec<f64>,
 }
 
 /// Total variations `Σ |λ^{k+1} − λ^k|` over the run, and the largest `|λ_h|`.
@@ -151,6 +189,10 @@ pub struct RunResult {
     pub contact_history: Option<ContactHistory>,
     /// Energy history, when requested.
     pub energy_history: Option<EnergyHistory>,
+    /// Displacement histories at the requested positions.
+    pub point_history: Option<PointHistory>,
+    /// Fields at the requested times.
+    pub fields: Vec<FieldSnapshot>,
 }
 
 /// Builds the integrator of `scheme` on `model`.
@@ -197,6 +239,9 @@ struct Observer<'a> {
     last_multiplier: Option<(f64, f64, f64)>,
     contact: Option<ContactHistory>,
     energy_history: Option<EnergyHistory>,
+    points: Option<PointHistory>,
+    pending_fields: Vec<f64>,
+    fields: Vec<FieldSnapshot>,
 }
 
 impl<'a> Observer<'a> {
@@ -222,10 +267,62 @@ impl<'a> Observer<'a> {
             last_multiplier: None,
             contact: obs.contact_history.then(ContactHistory::default),
             energy_history: obs.energy_history.then(EnergyHistory::default),
+            points: (!obs.points.is_empty()).then(|| PointHistory {
+                x: obs.points.clone(),
+                displacement: vec![Vec::new(); obs.points.len()],
+                displacement_exact: vec![Vec::new(); obs.points.len()],
+                ..PointHistory::default()
+            }),
+            pending_fields: {
+                let mut t = obs.fields_at.clone();
+                t.sort_by(|a, b| b.total_cmp(a));
+                t
+            },
+            fields: Vec::new(),
+        }
+    }
+
+    fn record_points(&mut self, scheme: &dyn TimeIntegrator) {
+        let Some(p) = self.points.as_mut() else {
+            return;
+        };
+        let t = scheme.time();
+        p.time.push(t);
+        for (k, &x) in p.x.iter().enumerate() {
+            p.displacement[k].push(self.bar.value_at(scheme.displacement(), x));
+            p.displacement_exact[k].push(self.exact.eval(x, t).u);
+        }
+    }
+
+    fn record_fields(&mut self, scheme: &dyn TimeIntegrator) {
+        let t = scheme.time();
+        while let Some(&wanted) = self.pending_fields.last() {
+            if t + 0.5 * scheme.dt() < wanted {
+                break;
+            }
+            self.pending_fields.pop();
+            let u = scheme.displacement();
+            let bar = self.bar;
+            let nodes: Vec<f64> = (0..=bar.nx()).map(|i| bar.node(i)).collect();
+            let mids: Vec<f64> = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+            self.fields.push(FieldSnapshot {
+                requested_time: wanted,
+                time: t,
+                displacement: (0..=bar.nx()).map(|i| bar.nodal_value(u, i)).collect(),
+                displacement_exact: nodes.iter().map(|&x| self.exact.eval(x, t).u).collect(),
+                strain: (0..bar.nx())
+                    .map(|e| (bar.nodal_value(u, e + 1) - bar.nodal_value(u, e)) / bar.h())
+                    .collect(),
+                strain_exact: mids.iter().map(|&x| self.exact.eval(x, t).ux).collect(),
+                x: nodes,
+                x_mid: mids,
+            });
         }
     }
 
     fn observe(&mut self, scheme: &dyn TimeIntegrator) {
+        self.record_points(scheme);
+        self.record_fields(scheme);
         let t = scheme.time();
         if self.wants_space {
             let e = self
@@ -372,5 +469,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         multiplier_variation: observer.last_multiplier.map(|_| observer.variation),
         contact_history: observer.contact,
         energy_history: observer.energy_history,
+        point_history: observer.points,
+        fields: observer.fields,
     })
 }

@@ -11,11 +11,13 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::exact::{AtRest, ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::exact::{AtRest, BouncingBar, ClampedFreeMode, ExactSolution, SignoriniDirichlet};
 use crate::fem::EndCondition;
 use crate::norms::Norm;
+use crate::problem::Profile;
 use crate::problem::{InitialData, Problem1d};
 use crate::run::Observables;
+use crate::schemes::Scheme;
 use crate::study::StudyConfig;
 
 /// The geometry and mesh family.
@@ -71,7 +73,7 @@ pub enum Reference {
     Exact(String),
 }
 
-/// Refinement levels and the time step.
+/// Refinement levels, the time step and the schemes a study runs by default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Discretisation {
@@ -79,6 +81,9 @@ pub struct Discretisation {
     pub levels: Vec<usize>,
     /// `Δx / Δt`.
     pub ratio: f64,
+    /// Scheme names a study runs when none is given (default: the paper's seven).
+    #[serde(default)]
+    pub schemes: Option<Vec<String>>,
 }
 
 /// What to record.
@@ -95,6 +100,12 @@ pub struct SceneObservables {
     /// Record the contact node's displacement and multiplier of a run.
     #[serde(default)]
     pub contact_history: bool,
+    /// Positions `x` whose displacement history a run records (with the exact one).
+    #[serde(default)]
+    pub points: Vec<f64>,
+    /// Times at which a run records the whole field (`u_h`, `∂x u_h` and the exact ones).
+    #[serde(default)]
+    pub fields_at: Vec<f64>,
 }
 
 /// A scene file.
@@ -194,6 +205,30 @@ impl fmt::Display for SceneError {
     }
 }
 
+impl SceneError {
+    /// Appends `detail` to what an [`SceneError::Invalid`] says is allowed.
+    fn with_detail(self, detail: String) -> Self {
+        match self {
+            SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed,
+            } => SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed: if allowed.is_empty() {
+                    detail
+                } else {
+                    format!("{allowed} ({detail})")
+                },
+            },
+            other => other,
+        }
+    }
+}
+
 impl std::error::Error for SceneError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
@@ -204,7 +239,7 @@ impl std::error::Error for SceneError {
 }
 
 /// The names of the exact solutions a scene can refer to.
-pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-rest";
+pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-rest, bouncing-bar";
 
 impl Scene {
     /// Reads and validates a scene file.
@@ -280,6 +315,37 @@ impl Scene {
                 "increasing element counts >= 1",
             ));
         }
+        for name in self.discretisation.schemes.iter().flatten() {
+            name.parse::<Scheme>().map_err(|e| {
+                Self::invalid(
+                    path,
+                    "discretisation.schemes",
+                    name,
+                    crate::schemes::SCHEME_NAMES,
+                )
+                .with_detail(e.to_string())
+            })?;
+        }
+        for &x in &self.observables.points {
+            if !(x.is_finite() && (0.0..=length).contains(&x)) {
+                return Err(Self::invalid(
+                    path,
+                    "observables.points",
+                    x,
+                    "positions in [0, L]",
+                ));
+            }
+        }
+        for &t in &self.observables.fields_at {
+            if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
+                return Err(Self::invalid(
+                    path,
+                    "observables.fields_at",
+                    t,
+                    "times in [0, horizon]",
+                ));
+            }
+        }
         for n in &self.observables.norms {
             let norm: Norm = n.parse().map_err(|_| {
                 Self::invalid(
@@ -334,6 +400,31 @@ impl Scene {
                 )?;
                 Ok(Arc::new(ClampedFreeMode))
             }
+            "bouncing-bar" => {
+                let height = match (self.initial.displacement, self.initial.velocity) {
+                    (Profile::Constant(h), Profile::Constant(v)) if h > 0.0 && v == 0.0 => Some(h),
+                    _ => None,
+                };
+                let gravity = self.body_force.as_ref().map(|b| -b.density);
+                let ok = self.material.density == 1.0
+                    && self.material.wave_speed == 1.0
+                    && !clamped
+                    && self.obstacle.as_ref().is_some_and(|o| o.gap == 0.0)
+                    && gravity.is_some_and(|g| g > 0.0)
+                    && height.is_some();
+                requirement(
+                    ok,
+                    "bouncing-bar solves density = wave_speed = 1, far_end free, obstacle gap 0, \
+                     body_force density −g < 0, initial displacement {\"constant\": u0 > 0} and \
+                     velocity {\"constant\": 0}",
+                )?;
+                let bar = BouncingBar::new(length, gravity.unwrap_or(1.0), height.unwrap_or(1.0))
+                    .and_then(|b| b.with_horizon(self.horizon))
+                    .map_err(|e| {
+                        Self::invalid(path, "reference.exact", name, "").with_detail(e.to_string())
+                    })?;
+                Ok(Arc::new(bar))
+            }
             "at-rest" => {
                 requirement(
                     self.body_force.is_none(),
@@ -383,6 +474,19 @@ impl Scene {
             norms: self.norms(),
             contact_history: self.observables.contact_history && self.obstacle.is_some(),
             energy_history: self.observables.energy_history,
+            points: self.observables.points.clone(),
+            fields_at: self.observables.fields_at.clone(),
+        }
+    }
+
+    /// The schemes a study runs when none is given on the command line.
+    pub fn default_schemes(&self) -> Vec<Scheme> {
+        match &self.discretisation.schemes {
+            Some(names) => names
+                .iter()
+                .map(|n| n.parse().expect("validated when the scene was parsed"))
+                .collect(),
+            None => Scheme::paper_schemes().to_vec(),
         }
     }
 

@@ -147,6 +147,20 @@ fn a_study_prints_a_rate_table_and_json() {
 }
 
 #[test]
+fn the_gravity_scene_studies_crank_nicolson_with_both_masses() {
+    let out = signorini(&["study", "scenes/bar1d-gravity.json", "--levels", "10,20,40"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("#### Crank–Nicolson — standard"));
+    assert!(stdout.contains("#### Crank–Nicolson — redistributed"));
+    assert!(stdout.contains("2 cases × 3 levels"));
+}
+
+#[test]
 fn help_and_list_document_the_commands() {
     let out = signorini(&["--help"]);
     let text = String::from_utf8_lossy(&out.stdout);

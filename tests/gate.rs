@@ -7,7 +7,9 @@ use std::path::Path;
 use signorini::golden::{compare, render_drifts, Golden, Tolerances};
 use signorini::norms::Norm;
 use signorini::paper::PaperTables;
-use signorini::pipeline::{read_golden, tables_study, GOLDEN_TABLES};
+use signorini::pipeline::{
+    gravity_study, read_golden, tables_study, GOLDEN_GRAVITY, GOLDEN_TABLES,
+};
 use signorini::report::paper_tables;
 use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
@@ -32,6 +34,28 @@ fn tables_study_matches_the_golden_rates_and_errors() {
             paper_tables(&study, &PaperTables::load())
         );
     });
+}
+
+#[test]
+fn gravity_study_matches_the_golden_rates_and_errors() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let study = gravity_study(root).unwrap();
+    let golden = read_golden(&root.join(GOLDEN_GRAVITY)).unwrap();
+    let drifts = compare(&golden, &study);
+    assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
+    // The redistributed mass converges in H (the paper's Figure 3 a–b).
+    let modified = study
+        .cases
+        .iter()
+        .find(|c| c.case.mass == signorini::fem::MassVariant::Redistributed)
+        .unwrap();
+    for norm in [Norm::DisplacementLinfH, Norm::DisplacementL2H] {
+        let errors = &modified.norm(norm).unwrap().errors;
+        assert!(
+            errors.windows(2).all(|w| w[1] < w[0]),
+            "{norm}: errors do not decrease: {errors:?}"
+        );
+    }
 }
 
 /// Crank–Nicolson with γ moved from ½ to 0.55 (and β to 0.28 ≥ (γ + ½)²/4, which keeps it

@@ -164,4 +164,12 @@ impl Bar1d {
     pub fn nodal_value(&self, u: &[f64], i: usize) -> f64 {
         self.dof_of_node(i).map_or(0.0, |d| u[d])
     }
+
+    /// The P1 function with dofs `u` evaluated at `x ∈ [0, L]`.
+    pub fn value_at(&self, u: &[f64], x: f64) -> f64 {
+        let e = ((x / self.h()) as usize).min(self.nx - 1);
+        let (xa, xb) = (self.node(e), self.node(e + 1));
+        let (ua, ub) = (self.nodal_value(u, e), self.nodal_value(u, e + 1));
+        ua + (ub - ua) * (x - xa) / (xb - xa)
+    }
 }

@@ -14,7 +14,7 @@ pub mod start;
 
 pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
-pub use scheme::Scheme;
+pub use scheme::{Scheme, SCHEME_NAMES};
 
 use crate::error::SolveError;
 
