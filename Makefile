@@ -2,12 +2,13 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench stability
+.PHONY: report test golden build lint fmt experiment bench stability figures
 
-## Build, run the main studies and write reports/ (tables.md, rates.json, defaults-experiment.md).
+## Build, run the main studies and write reports/ (tables, data, figures; README.md is the index).
 report: build
 	$(BIN) report --out reports
 	$(BIN) experiment --out reports
+	$(BIN) figures --reports reports
 
 ## Run the test suite with cargo-nextest (installed first if missing).
 test:
@@ -26,6 +27,14 @@ experiment: build
 ## The stability suite: every scheme × mass on the hard cases (a few minutes: NX = 5000 is one).
 stability: build
 	$(BIN) stability --out reports
+	$(BIN) figures --reports reports
+
+## The figures from the data in reports/, and one rendered to PNG for a person to look at
+## (rsvg-convert, from Debian's librsvg2-bin, installed if missing).
+figures: build
+	$(BIN) figures --reports reports
+	@command -v rsvg-convert >/dev/null || (apt-get update -qq && apt-get install -y -qq librsvg2-bin)
+	rsvg-convert -o reports/figures/contact-crank-nicolson.png reports/figures/contact-crank-nicolson.svg
 
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
 ## peak memory (/usr/bin/time -v, from Debian's `time` package). Exits non-zero on a miss.

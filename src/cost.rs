@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::norms::Norm;
 use crate::rates::fit_rate;
@@ -13,7 +13,7 @@ use crate::study::{CaseStudy, Study};
 pub const TARGETS: [f64; 3] = [1e-2, 3e-3, 1e-3];
 
 /// One case's error against wall time for one norm.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WorkPrecision {
     /// `scheme/mass`.
     pub case: String,
@@ -28,7 +28,7 @@ pub struct WorkPrecision {
 }
 
 /// The estimated cost of reaching a target error.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CostToTarget {
     /// `scheme/mass`.
     pub case: String,

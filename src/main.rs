@@ -105,6 +105,13 @@ enum Command {
         #[arg(long, default_value = "reports")]
         out: PathBuf,
     },
+    /// Draw the figures (SVG) from the data under a reports directory into its figures/
+    /// (`make figures`), and write its README.md index.
+    Figures {
+        /// The reports directory.
+        #[arg(long, default_value = "reports")]
+        reports: PathBuf,
+    },
     /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
     /// verdict each; writes stability.md and stability.json.
     Stability {
@@ -447,6 +454,21 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 summary.join("\n"),
                 out.display()
             );
+        }
+        Command::Figures { reports } => {
+            let (names, missing) = signorini::figures::from_reports::write_figures(&reports)
+                .map_err(Failure::runtime)?;
+            let index = signorini::figures::from_reports::reports_index(&names);
+            write_output(&reports.join("README.md"), index.as_bytes())?;
+            println!(
+                "wrote {} figures into {}/figures and {}/README.md",
+                names.len(),
+                reports.display(),
+                reports.display()
+            );
+            for m in missing {
+                println!("skipped (input missing): {m}");
+            }
         }
         Command::Stability { out, ci_subset } => {
             let records = write_stability(&out, ci_subset).map_err(Failure::runtime)?;

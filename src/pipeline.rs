@@ -125,6 +125,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
     };
     write_atomic(&out_dir.join("tables.md"), md.as_bytes())?;
     write_work_precision(&study, out_dir)?;
+    write_histories(out_dir, &HISTORY_LEVELS)?;
     write_atomic(
         &out_dir.join("rates.json"),
         serde_json::to_string_pretty(&rates)?.as_bytes(),
@@ -138,6 +139,55 @@ pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
         .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
     serde_json::from_str(&text)
         .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
+}
+
+/// The levels whose contact and energy histories `make report` keeps for the figures.
+pub const HISTORY_LEVELS: [usize; 3] = [10, 20, 40];
+
+/// For every scheme of the tables, runs both masses at `levels` with the contact and energy
+/// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
+pub fn write_histories(out_dir: &Path, levels: &[usize]) -> Result<(), Box<dyn std::error::Error>> {
+    use rayon::prelude::*;
+    let config = StudyConfig::paper_default();
+    let problem = Problem1d::signorini_dirichlet(config.horizon);
+    let histories: Vec<crate::figures::from_reports::SchemeHistories> =
+        crate::schemes::Scheme::paper_schemes()
+            .par_iter()
+            .map(|&scheme| -> Result<_, crate::error::Error> {
+                let mut runs = Vec::new();
+                for mass in crate::fem::MassVariant::ALL {
+                    for &nx in levels {
+                        let r = crate::run::run(
+                            &problem,
+                            &crate::run::RunConfig {
+                                nx,
+                                ratio: config.ratio,
+                                scheme,
+                                mass,
+                                observables: crate::run::Observables {
+                                    contact_history: true,
+                                    energy_history: true,
+                                    ..crate::run::Observables::default()
+                                },
+                            },
+                        )?;
+                        runs.push((mass, nx, r));
+                    }
+                }
+                Ok(crate::figures::from_reports::SchemeHistories {
+                    scheme: scheme.name(),
+                    label: scheme.label(),
+                    runs,
+                })
+            })
+            .collect::<Result<_, _>>()?;
+    for h in histories {
+        write_atomic(
+            &out_dir.join(format!("data/histories/{}.json", h.scheme)),
+            serde_json::to_string(&h)?.as_bytes(),
+        )?;
+    }
+    Ok(())
 }
 
 #[derive(Serialize)]
@@ -306,6 +356,10 @@ pub fn write_gravity_report(
          `gravity/run-<mass>.json` (histories of the contact node and the energy).\n",
     );
     write_atomic(&out_dir.join("gravity.md"), md.as_bytes())?;
+    write_atomic(
+        &data.join("study.json"),
+        serde_json::to_string_pretty(&study)?.as_bytes(),
+    )?;
     Ok(study)
 }
 

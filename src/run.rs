@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{require_positive, Error, ParameterError, SolveError};
 use crate::exact::ExactSolution;
@@ -56,7 +56,7 @@ pub struct RunConfig {
 }
 
 /// The contact node's history.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactHistory {
     /// `t_n` of the displacement samples.
     pub time: Vec<f64>,
@@ -73,7 +73,7 @@ pub struct ContactHistory {
 }
 
 /// The displacement history at fixed positions.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct PointHistory {
     /// The positions.
     pub x: Vec<f64>,
@@ -86,7 +86,7 @@ pub struct PointHistory {
 }
 
 /// The whole field at one step.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct FieldSnapshot {
     /// The time asked for.
     pub requested_time: f64,
@@ -107,7 +107,7 @@ pub struct FieldSnapshot {
 }
 
 /// Total variations `Σ |λ^{k+1} − λ^k|` over the run, and the largest `|λ_h|`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct MultiplierVariation {
     /// Of the computed multiplier `λ_h`.
     pub discrete: f64,
@@ -126,7 +126,7 @@ impl MultiplierVariation {
 }
 
 /// The energy history.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyHistory {
     /// Sample times (`t_{n−½}` for Paoli–Schatzman).
     pub time: Vec<f64>,
@@ -137,7 +137,7 @@ pub struct EnergyHistory {
 }
 
 /// Wall-clock time of the phases of a run, in seconds.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timings {
     /// Assembly, factorisation, Delassus operator and initial state.
     pub setup: f64,
@@ -157,7 +157,7 @@ impl Timings {
 }
 
 /// Everything one run measured.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunResult {
     /// `NX`.
     pub nx: usize,

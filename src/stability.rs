@@ -14,7 +14,7 @@
 use std::sync::Arc;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
 use crate::exact::AtRest;
@@ -121,7 +121,7 @@ pub fn hard_cases(ci: bool) -> Vec<HardCase> {
 }
 
 /// The verdict on one run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// Bounded energy, no spurious oscillation.
@@ -150,7 +150,7 @@ impl Verdict {
 }
 
 /// What one hard case × scheme × mass run measured.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StabilityRecord {
     /// The hard case.
     pub hard_case: String,
@@ -174,7 +174,7 @@ pub struct StabilityRecord {
     pub verdict: Verdict,
     /// The error that stopped the run, if any.
     pub failure: Option<String>,
-    /// Energy samples `(t, E)` thinned to at most 400 points, for plots.
+    /// Energy samples `(t, E)` thinned to about 200 points, for plots.
     pub energy_samples: Vec<(f64, f64)>,
 }
 
@@ -248,7 +248,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
     } else {
         Verdict::Stable
     };
-    let stride = (energy.time.len() / 400).max(1);
+    let stride = (energy.time.len() / 200).max(1);
     Ok(StabilityRecord {
         max_energy_drift: max_drift,
         energy_trend: trend,

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, ParameterError};
 use crate::fem::MassVariant;
@@ -15,7 +15,7 @@ use crate::run::{run, Observables, Problem1d, RunConfig, RunResult, Timings};
 use crate::schemes::Scheme;
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Case {
     /// The time integrator.
     pub scheme: Scheme,
@@ -39,7 +39,7 @@ impl Case {
 }
 
 /// Levels, time-step ratio and horizon of a study.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StudyConfig {
     /// `NX` of each level, increasing.
     pub levels: Vec<usize>,
@@ -78,7 +78,7 @@ impl StudyConfig {
 }
 
 /// One level of one case.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LevelRecord {
     /// `NX`.
     pub nx: usize,
@@ -97,7 +97,7 @@ pub struct LevelRecord {
 }
 
 /// The errors and rates of one norm for one case.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NormRates {
     /// The norm.
     pub norm: Norm,
@@ -112,7 +112,7 @@ pub struct NormRates {
 }
 
 /// All levels of one case.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CaseStudy {
     /// The case.
     pub case: Case,
@@ -135,7 +135,7 @@ impl CaseStudy {
 }
 
 /// A whole study.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Study {
     /// Levels, ratio and horizon.
     pub config: StudyConfig,

@@ -19,6 +19,7 @@
 
 mod chart;
 mod draw;
+pub mod from_reports;
 mod style;
 
 pub use draw::{
