@@ -278,54 +278,61 @@ fn bad_scene_files_exit_2_naming_the_problem() {
         &["broken.json", "line 4", "column"],
     );
 
-    let s = edited_scene(&dir, "\"horizon\"", "\"horizn\": 1.0, \"horizon\"");
-    expect_error(
-        &run_args(&s, &[]),
-        2,
-        &["unknown field `horizn`", "expected one of"],
-    );
-
-    let s = edited_scene(&dir, "\"horizon\": 3.0,", "");
-    expect_error(&run_args(&s, &[]), 2, &["missing field `horizon`"]);
-
-    let s = edited_scene(&dir, "\"density\": 1.0", "\"density\": -2.0");
-    expect_error(&run_args(&s, &[]), 2, &["material.density", "-2", "> 0"]);
-
-    let s = edited_scene(&dir, "\"horizon\": 3.0", "\"horizon\": 0.0");
-    expect_error(&run_args(&s, &[]), 2, &["horizon", "> 0"]);
-
-    let s = edited_scene(&dir, "\"gap\": 0.0", "\"gap\": -0.5");
-    expect_error(&run_args(&s, &[]), 2, &["obstacle.gap", ">= 0"]);
-
-    let s = edited_scene(&dir, "\"signorini-dirichlet\"", "\"bouncy\"");
-    expect_error(
-        &run_args(&s, &[]),
-        2,
-        &["reference.exact", "signorini-dirichlet, clamped-free-mode"],
-    );
-
-    let s = edited_scene(&dir, "\"length\": 1.0", "\"length\": 2.0");
-    expect_error(&run_args(&s, &[]), 2, &["reference.exact", "L = 1"]);
-
-    let s = edited_scene(&dir, "\"clamped\"", "\"pinned\"");
-    expect_error(
-        &run_args(&s, &[]),
-        2,
-        &["unknown variant `pinned`", "clamped", "free"],
-    );
-
-    let s = edited_scene(&dir, "\"u_Linf_H\",", "\"u_sup\",");
-    expect_error(&run_args(&s, &[]), 2, &["observables.norms", "u_sup"]);
-
-    let s = edited_scene(&dir, "[10, 20, 40, 80, 160, 320, 640]", "[20, 10]");
-    expect_error(
-        &run_args(&s, &[]),
-        2,
-        &["discretisation.levels", "increasing"],
-    );
-
-    let s = edited_scene(&dir, "\"ratio\": 10.0", "\"ratio\": \"ten\"");
-    expect_error(&run_args(&s, &[]), 2, &["invalid type", "line"]);
+    // (text in the scene, replacement, what the message must say)
+    let edits: [(&str, &str, &[&str]); 12] = [
+        (
+            "\"horizon\"",
+            "\"horizn\": 1.0, \"horizon\"",
+            &["unknown field `horizn`", "expected one of"],
+        ),
+        ("\"horizon\": 3.0,", "", &["missing field `horizon`"]),
+        (
+            "\"density\": 1.0",
+            "\"density\": -2.0",
+            &["material.density", "-2", "> 0"],
+        ),
+        ("\"horizon\": 3.0", "\"horizon\": 0.0", &["horizon", "> 0"]),
+        ("\"gap\": 0.0", "\"gap\": -0.5", &["obstacle.gap", ">= 0"]),
+        (
+            "\"signorini-dirichlet\"",
+            "\"bouncy\"",
+            &["reference.exact", "signorini-dirichlet, clamped-free-mode"],
+        ),
+        (
+            "\"length\": 1.0",
+            "\"length\": 2.0",
+            &["reference.exact", "L = 1"],
+        ),
+        (
+            "\"clamped\"",
+            "\"pinned\"",
+            &["unknown variant `pinned`", "clamped", "free"],
+        ),
+        (
+            "\"u_Linf_H\",",
+            "\"u_sup\",",
+            &["observables.norms", "u_sup"],
+        ),
+        (
+            "[10, 20, 40, 80, 160, 320, 640]",
+            "[20, 10]",
+            &["discretisation.levels", "increasing"],
+        ),
+        (
+            "\"ratio\": 10.0",
+            "\"ratio\": \"ten\"",
+            &["invalid type", "line"],
+        ),
+        (
+            "\"observables\": {",
+            "\"observables\": { \"points\": [2.0],",
+            &["observables.points", "[0, L]"],
+        ),
+    ];
+    for (from, to, needles) in edits {
+        let s = edited_scene(&dir, from, to);
+        expect_error(&run_args(&s, &[]), 2, needles);
+    }
 }
 
 #[test]

@@ -43,18 +43,24 @@ fn gravity_study_matches_the_golden_rates_and_errors() {
     let golden = read_golden(&root.join(GOLDEN_GRAVITY)).unwrap();
     let drifts = compare(&golden, &study);
     assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
-    // The redistributed mass converges in H (the paper's Figure 3 a–b).
-    let modified = study
-        .cases
-        .iter()
-        .find(|c| c.case.mass == signorini::fem::MassVariant::Redistributed)
-        .unwrap();
-    for norm in [Norm::DisplacementLinfH, Norm::DisplacementL2H] {
-        let errors = &modified.norm(norm).unwrap().errors;
-        assert!(
-            errors.windows(2).all(|w| w[1] < w[0]),
-            "{norm}: errors do not decrease: {errors:?}"
-        );
+    // Both masses converge in H (the paper's Figure 3 a–b): the redistributed mass at every
+    // level; the standard mass only from NX = 80 on (its coarse levels bounce erratically, see
+    // reports/gravity.md), which is what this checks for it.
+    for c in &study.cases {
+        let first = match c.case.mass {
+            signorini::fem::MassVariant::Redistributed => 0,
+            signorini::fem::MassVariant::Standard => {
+                c.levels.iter().position(|l| l.nx == 80).unwrap()
+            }
+        };
+        for norm in [Norm::DisplacementLinfH, Norm::DisplacementL2H] {
+            let errors = &c.norm(norm).unwrap().errors[first..];
+            assert!(
+                errors.windows(2).all(|w| w[1] < w[0]),
+                "{} {norm}: errors do not decrease: {errors:?}",
+                c.case.id()
+            );
+        }
     }
 }
 

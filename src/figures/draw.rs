@@ -193,12 +193,22 @@ pub fn convergence_figure(
             Curve::new(what, &label, &s.h, &s.errors, Look::Marked(i))
         })
         .collect::<Result<Vec<_>, _>>()?;
+    error_figure(title, what, ("h", Scale::Log(2.0)), curves)
+}
+
+/// One log–log chart of errors (y, base 10) against `x`, with a legend.
+fn error_figure(
+    title: &str,
+    what: &str,
+    x: (&'static str, Scale),
+    curves: Vec<Curve>,
+) -> Result<String, FigureError> {
     render(
         title,
         vec![vec![ChartSpec {
             what: what.into(),
             caption: None,
-            x: ("h", Scale::Log(2.0)),
+            x,
             y: (ERROR, Scale::Log(10.0)),
             curves,
             legend: true,
@@ -222,17 +232,7 @@ pub fn work_precision_figure(
         .enumerate()
         .map(|(i, s)| Curve::new(what, &s.label, &s.seconds, &s.errors, Look::Marked(i)))
         .collect::<Result<Vec<_>, _>>()?;
-    render(
-        title,
-        vec![vec![ChartSpec {
-            what: what.into(),
-            caption: None,
-            x: ("wall time (s)", Scale::Log(10.0)),
-            y: (ERROR, Scale::Log(10.0)),
-            curves,
-            legend: true,
-        }]],
-    )
+    error_figure(title, what, ("wall time (s)", Scale::Log(10.0)), curves)
 }
 
 /// Generic lines against time on linear axes, e.g. the energy histories of a stability
