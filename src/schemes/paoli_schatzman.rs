@@ -236,11 +236,15 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
                 value: self.energy_at_start,
             };
         }
-        let correction = 0.5
-            * (self.beta - 0.25)
-            * self.dt
-            * self.dt
-            * self.model.stiffness().quadratic_form(&self.v);
+        // The (β − ¼)Δt² VᵀSV term vanishes for the paper's β = ¼: skip its product.
+        let correction = if self.beta == 0.25 {
+            0.0
+        } else {
+            0.5 * (self.beta - 0.25)
+                * self.dt
+                * self.dt
+                * self.model.stiffness().quadratic_form(&self.v)
+        };
         Timed {
             time: (self.step as f64 - 0.5) * self.dt,
             value: self.model.energy(&self.mid, &self.v) + correction,
