@@ -5,9 +5,11 @@
 //! variants (standard, redistributed) in [`mass`].
 
 pub mod bar1d;
+pub mod box_mesh;
 pub mod mass;
 pub mod sparse;
 
 pub use bar1d::{Bar1d, EndCondition};
+pub use box_mesh::{BoxMesh, Elasticity};
 pub use mass::MassVariant;
 pub use sparse::{SparseAssembler, SymmetricMatrix};
