@@ -8,10 +8,12 @@
 mod active_set;
 mod closed_form;
 mod delassus;
+mod qp;
 
 pub use active_set::PrimalDualActiveSet;
 pub use closed_form::ClosedFormContact;
 pub use delassus::{ContactStep, Delassus};
+pub use qp::ClarabelContact;
 
 /// Outcome of one complementarity solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -112,6 +112,12 @@ impl<'m> OneStepScheme<'m> {
         })
     }
 
+    /// Replaces the complementarity solver (e.g. by the clarabel cross-check).
+    pub fn with_contact_solver(mut self, solver: Box<dyn crate::contact::ContactSolver>) -> Self {
+        self.contact = self.contact.map(|c| c.with_solver(solver));
+        self
+    }
+
     /// `A^n`.
     pub fn acceleration(&self) -> &[f64] {
         &self.a
