@@ -92,4 +92,7 @@ pub enum Error {
     /// Time stepping failed.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// An output file could not be written.
+    #[error("{0}")]
+    Io(String),
 }

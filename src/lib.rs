@@ -12,6 +12,7 @@
 
 pub mod contact;
 pub mod cost;
+pub mod elastic;
 pub mod error;
 pub mod exact;
 pub mod fem;

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
 use signorini::error::{Error as EngineError, ParameterError};
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
@@ -182,6 +183,7 @@ impl From<EngineError> for Failure {
         match e {
             EngineError::Parameter(p) => Self::usage(p),
             EngineError::Solve(s) => Self::runtime(s),
+            EngineError::Io(m) => Self::runtime(m),
         }
     }
 }
@@ -301,6 +303,79 @@ fn history_csv(result: &RunResult) -> Vec<(String, String)> {
     files
 }
 
+/// `signorini run` on a 2D/3D box scene: a summary, and with `--out` run.json, energy.csv,
+/// contact.csv and the VTK snapshots at the scene's `fields_at` times.
+fn run_box_scene(
+    scene: &Scene,
+    problem: &BoxProblem,
+    scheme: Scheme,
+    mass: MassVariant,
+    n_axis: usize,
+    ratio: Option<f64>,
+    out: Option<PathBuf>,
+) -> Result<(), Failure> {
+    if let Some(dir) = &out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    let config = BoxRunConfig {
+        n_axis,
+        ratio: ratio.unwrap_or(scene.discretisation.ratio),
+        scheme,
+        mass,
+        vtk_at: if out.is_some() {
+            scene.observables.fields_at.clone()
+        } else {
+            Vec::new()
+        },
+        vtk_dir: out.clone(),
+    };
+    let r = run_box(problem, &config)?;
+    let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
+    let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
+    println!(
+        "{} — {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
+        scene.name, scheme, mass, r.elements, r.dofs, r.contact_nodes, r.dt, r.steps
+    );
+    println!(
+        "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
+        r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
+    );
+    println!(
+        "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
+        r.complementarity_violation
+    );
+    if let Some(dir) = out {
+        let json = serde_json::to_string_pretty(&r).map_err(Failure::runtime)?;
+        write_output(&dir.join("run.json"), json.as_bytes())?;
+        let (t, e): (Vec<f64>, Vec<f64>) = r.energy.iter().copied().unzip();
+        write_output(
+            &dir.join("energy.csv"),
+            csv("time,energy", &[&t, &e]).as_bytes(),
+        )?;
+        let c = &r.contact;
+        write_output(
+            &dir.join("contact.csv"),
+            csv(
+                "time,mean_gap,centre_gap,total_force,centre_multiplier",
+                &[
+                    &c.time,
+                    &c.mean_gap,
+                    &c.centre_gap,
+                    &c.total_force,
+                    &c.centre_multiplier,
+                ],
+            )
+            .as_bytes(),
+        )?;
+        for f in &r.vtk_files {
+            println!("wrote {}", f.display());
+        }
+        println!("wrote {}", dir.display());
+    }
+    Ok(())
+}
+
 fn progress_bar(len: usize) -> ProgressBar {
     let visible = std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
     let bar = ProgressBar::with_draw_target(
@@ -329,6 +404,9 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             out,
         } => {
             let scene = Scene::load(&scene)?;
+            if let Some(problem) = scene.box_problem() {
+                return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
+            }
             let mut observables = scene.observables();
             if out.is_none() {
                 observables.contact_history = false;
@@ -383,6 +461,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             json,
         } => {
             let scene = Scene::load(&scene)?;
+            if scene.is_box() {
+                return Err(Failure::usage(format!(
+                    "scene {}: a study of a 2D/3D box needs a fine-mesh reference, which is not \
+                     available yet; use `signorini run` for single runs",
+                    scene.name
+                )));
+            }
             let schemes = if scheme.is_empty() {
                 scene.default_schemes()
             } else {

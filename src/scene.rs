@@ -11,7 +11,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::elastic::BoxProblem;
 use crate::exact::{AtRest, BouncingBar, ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::fem::box_mesh::Elasticity;
 use crate::fem::EndCondition;
 use crate::norms::Norm;
 use crate::problem::Profile;
@@ -29,16 +31,30 @@ pub enum Geometry {
         /// Length `L` (> 0).
         length: f64,
     },
+    /// A 2D or 3D box `[0, L₁] × … × [0, L_d]` of Q1 elements, the last axis along the bar;
+    /// the face `x_d = 0` faces the obstacle, the face `x_d = L_d` is held fixed.
+    Box {
+        /// `[L₁, L₂]` or `[L₁, L₂, L₃]` (> 0).
+        lengths: Vec<f64>,
+    },
 }
 
-/// Material constants.
+/// Material constants: `density` and `wave_speed` for a bar, `density` and the Lamé constants
+/// for a box.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
     /// Density `ρ` (> 0).
     pub density: f64,
-    /// Wave speed `c = sqrt(E/ρ)` (> 0).
-    pub wave_speed: f64,
+    /// Wave speed `c = sqrt(E/ρ)` (> 0), bars only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wave_speed: Option<f64>,
+    /// Lamé `λ` (boxes only; `λ + 2μ/d > 0`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lame_lambda: Option<f64>,
+    /// Lamé `μ` (boxes only; > 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lame_mu: Option<f64>,
 }
 
 /// Boundary conditions.
@@ -69,8 +85,11 @@ pub struct BodyForce {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Reference {
-    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`, `at-rest`).
+    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`, `at-rest`,
+    /// `bouncing-bar`).
     Exact(String),
+    /// No reference: runs record energy, contact and fields, and no error norm.
+    None,
 }
 
 /// Refinement levels, the time step and the schemes a study runs by default.
@@ -280,10 +299,36 @@ impl Scene {
                 Err(Self::invalid(path, field, v, "a finite number > 0"))
             }
         };
-        let Geometry::Bar1d { length } = self.geometry;
-        positive("geometry.length", length)?;
         positive("material.density", self.material.density)?;
-        positive("material.wave_speed", self.material.wave_speed)?;
+        let length = match &self.geometry {
+            Geometry::Bar1d { length } => {
+                positive("geometry.length", *length)?;
+                let c = self.material.wave_speed.ok_or_else(|| {
+                    Self::invalid(
+                        path,
+                        "material.wave_speed",
+                        "missing",
+                        "a finite number > 0 for a bar1d",
+                    )
+                })?;
+                positive("material.wave_speed", c)?;
+                for (field, v) in [
+                    ("material.lame_lambda", self.material.lame_lambda),
+                    ("material.lame_mu", self.material.lame_mu),
+                ] {
+                    if let Some(v) = v {
+                        return Err(Self::invalid(
+                            path,
+                            field,
+                            v,
+                            "absent for a bar1d (use wave_speed)",
+                        ));
+                    }
+                }
+                *length
+            }
+            Geometry::Box { .. } => return self.validate_box(path),
+        };
         positive("horizon", self.horizon)?;
         positive("discretisation.ratio", self.discretisation.ratio)?;
         if let Some(o) = &self.obstacle {
@@ -367,12 +412,169 @@ impl Scene {
         self.exact_solution(path).map(|_| ())
     }
 
+    fn validate_box(&self, path: &Path) -> Result<(), SceneError> {
+        let Geometry::Box { lengths } = &self.geometry else {
+            unreachable!("called for boxes")
+        };
+        if !(2..=3).contains(&lengths.len()) || lengths.iter().any(|l| !(l.is_finite() && *l > 0.0))
+        {
+            return Err(Self::invalid(
+                path,
+                "geometry.lengths",
+                format!("{lengths:?}"),
+                "two or three finite lengths > 0, the last along the bar",
+            ));
+        }
+        if let Some(c) = self.material.wave_speed {
+            return Err(Self::invalid(
+                path,
+                "material.wave_speed",
+                c,
+                "absent for a box (use lame_lambda, lame_mu)",
+            ));
+        }
+        let elasticity = self.elasticity().ok_or_else(|| {
+            Self::invalid(
+                path,
+                "material.lame_lambda, material.lame_mu",
+                "missing",
+                "both given for a box",
+            )
+        })?;
+        elasticity.validate(lengths.len()).map_err(|e| {
+            Self::invalid(path, &format!("material.{}", e.name), e.value, e.allowed)
+        })?;
+        if self.boundary.far_end != EndCondition::Clamped {
+            return Err(Self::invalid(
+                path,
+                "boundary.far_end",
+                "free",
+                "clamped (the box's top face is held)",
+            ));
+        }
+        if self.reference != Reference::None {
+            return Err(Self::invalid(
+                path,
+                "reference",
+                "exact",
+                "\"none\" for a box (no closed form is known)",
+            ));
+        }
+        if !self.observables.norms.is_empty() {
+            return Err(Self::invalid(
+                path,
+                "observables.norms",
+                format!("{:?}", self.observables.norms),
+                "empty: a box scene has no reference to measure errors against",
+            ));
+        }
+        if !self.observables.points.is_empty() {
+            return Err(Self::invalid(
+                path,
+                "observables.points",
+                format!("{:?}", self.observables.points),
+                "empty for a box",
+            ));
+        }
+        if self.body_force.is_some() {
+            return Err(Self::invalid(
+                path,
+                "body_force",
+                "given",
+                "absent for a box",
+            ));
+        }
+        for (field, profile) in [
+            ("initial.displacement", self.initial.displacement),
+            ("initial.velocity", self.initial.velocity),
+        ] {
+            if !matches!(profile, Profile::Constant(c) if c.is_finite()) {
+                return Err(Self::invalid(
+                    path,
+                    field,
+                    format!("{profile:?}"),
+                    "{\"constant\": value} along the bar's axis for a box",
+                ));
+            }
+        }
+        if self.initial.perturbation.is_some() {
+            return Err(Self::invalid(
+                path,
+                "initial.perturbation",
+                "given",
+                "absent for a box",
+            ));
+        }
+        let levels = &self.discretisation.levels;
+        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(Self::invalid(
+                path,
+                "discretisation.levels",
+                format!("{levels:?}"),
+                "increasing element counts along the axis >= 1",
+            ));
+        }
+        for &t in &self.observables.fields_at {
+            if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
+                return Err(Self::invalid(
+                    path,
+                    "observables.fields_at",
+                    t,
+                    "times in [0, horizon]",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn elasticity(&self) -> Option<Elasticity> {
+        Some(Elasticity {
+            density: self.material.density,
+            lame_lambda: self.material.lame_lambda?,
+            lame_mu: self.material.lame_mu?,
+        })
+    }
+
+    /// Whether the scene is a 2D/3D box (run by [`crate::elastic`]).
+    pub fn is_box(&self) -> bool {
+        matches!(self.geometry, Geometry::Box { .. })
+    }
+
+    /// The box problem of a box scene, `None` for a bar.
+    pub fn box_problem(&self) -> Option<BoxProblem> {
+        let Geometry::Box { lengths } = &self.geometry else {
+            return None;
+        };
+        let constant = |p: Profile| match p {
+            Profile::Constant(c) => c,
+            _ => 0.0,
+        };
+        Some(BoxProblem {
+            lengths: lengths.clone(),
+            elasticity: self.elasticity()?,
+            obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
+            initial_displacement: constant(self.initial.displacement),
+            initial_velocity: constant(self.initial.velocity),
+            horizon: self.horizon,
+        })
+    }
+
     /// The reference solution, checked against the scene's parameters: a closed form is valid
     /// only for the problem it solves.
     fn exact_solution(&self, path: &Path) -> Result<Arc<dyn ExactSolution>, SceneError> {
-        let Reference::Exact(name) = &self.reference;
-        let Geometry::Bar1d { length } = self.geometry;
-        let unit = length == 1.0 && self.material.density == 1.0 && self.material.wave_speed == 1.0;
+        let Reference::Exact(name) = &self.reference else {
+            return Err(Self::invalid(
+                path,
+                "reference",
+                "none",
+                "{\"exact\": name} for a bar1d",
+            ));
+        };
+        let Geometry::Bar1d { length } = self.geometry else {
+            return Err(Self::invalid(path, "reference", name, "\"none\" for a box"));
+        };
+        let wave_speed = self.material.wave_speed.unwrap_or(f64::NAN);
+        let unit = length == 1.0 && self.material.density == 1.0 && wave_speed == 1.0;
         let clamped = self.boundary.far_end == EndCondition::Clamped;
         let requirement = |ok: bool, needs: &str| {
             if ok {
@@ -407,7 +609,7 @@ impl Scene {
                 };
                 let gravity = self.body_force.as_ref().map(|b| -b.density);
                 let ok = self.material.density == 1.0
-                    && self.material.wave_speed == 1.0
+                    && wave_speed == 1.0
                     && !clamped
                     && self.obstacle.as_ref().is_some_and(|o| o.gap == 0.0)
                     && gravity.is_some_and(|g| g > 0.0)
@@ -441,13 +643,18 @@ impl Scene {
         }
     }
 
-    /// The problem the engine runs.
+    /// The problem the 1D engine runs (a bar1d scene; see [`Scene::box_problem`] for boxes).
     pub fn problem(&self) -> Problem1d {
-        let Geometry::Bar1d { length } = self.geometry;
+        let Geometry::Bar1d { length } = self.geometry else {
+            panic!("Scene::problem is for bar1d scenes; check Scene::is_box first")
+        };
         Problem1d {
             length,
             density: self.material.density,
-            wave_speed: self.material.wave_speed,
+            wave_speed: self
+                .material
+                .wave_speed
+                .expect("validated when the scene was parsed"),
             far_end: self.boundary.far_end,
             obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
             body_force: self.body_force.as_ref().map(|b| b.density),
