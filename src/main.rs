@@ -60,9 +60,10 @@ enum Command {
         /// Mass matrix: standard or redistributed.
         #[arg(long, value_parser = parse_mass)]
         mass: MassVariant,
-        /// Number of elements NX (>= 1).
+        /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's
+        /// finest level.
         #[arg(long)]
-        nx: usize,
+        nx: Option<usize>,
         /// Δx/Δt (default: the scene's).
         #[arg(long, allow_hyphen_values = true)]
         ratio: Option<f64>,
@@ -330,6 +331,12 @@ fn run_box_scene(
         },
         vtk_dir: out.clone(),
     };
+    if out.is_none() && !scene.observables.fields_at.is_empty() {
+        println!(
+            "(the scene asks for fields at {:?}: pass --out DIR to write them as VTK)",
+            scene.observables.fields_at
+        );
+    }
     let r = run_box(problem, &config)?;
     let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
     let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
@@ -404,6 +411,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             out,
         } => {
             let scene = Scene::load(&scene)?;
+            let nx = nx.unwrap_or_else(|| {
+                *scene
+                    .discretisation
+                    .levels
+                    .last()
+                    .expect("validated: at least one level")
+            });
             if let Some(problem) = scene.box_problem() {
                 return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
             }
