@@ -25,6 +25,14 @@ use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
 use signorini::study::{run_study_with_progress, study_size, Case};
 
+/// `println!` that ignores a closed stdout (`signorini list | head` must not panic).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 const AFTER_HELP: &str = "\
 Examples:
   signorini list
@@ -195,7 +203,7 @@ fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
 }
 
 fn list(dir: &Path) {
-    println!("Schemes (preset name, parameters, the paper's name):");
+    out!("Schemes (preset name, parameters, the paper's name):");
     for (name, scheme, label) in Scheme::presets() {
         let params = match scheme {
             Scheme::Newmark { beta, gamma } => format!("Newmark β = {beta}, γ = {gamma}"),
@@ -204,29 +212,25 @@ fn list(dir: &Path) {
                 format!("Paoli–Schatzman β = {beta}, e = {restitution}")
             }
         };
-        println!("  {name:22} {params:34} {label}");
+        out!("  {name:22} {params:34} {label}");
     }
-    println!(
-        "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)"
-    );
-    println!("\nMass variants:");
-    println!("  standard       consistent mass matrix M");
-    println!(
-        "  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)"
-    );
-    println!("\nNorms:");
+    out!("  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)");
+    out!("\nMass variants:");
+    out!("  standard       consistent mass matrix M");
+    out!("  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)");
+    out!("\nNorms:");
     for n in Norm::ALL {
-        println!("  {:12} {}", n.key(), n.label());
+        out!("  {:12} {}", n.key(), n.label());
     }
-    println!("\nScenes in {}:", dir.display());
+    out!("\nScenes in {}:", dir.display());
     let files = scene_files(dir);
     if files.is_empty() {
-        println!("  (none)");
+        out!("  (none)");
     }
     for f in files {
         match Scene::load(&f) {
-            Ok(s) => println!("  {:40} {}", f.display(), s.description),
-            Err(e) => println!("  {:40} INVALID: {e}", f.display()),
+            Ok(s) => out!("  {:40} {}", f.display(), s.description),
+            Err(e) => out!("  {:40} INVALID: {e}", f.display()),
         }
     }
 }
@@ -332,7 +336,7 @@ fn run_box_scene(
         vtk_dir: out.clone(),
     };
     if out.is_none() && !scene.observables.fields_at.is_empty() {
-        println!(
+        out!(
             "(the scene asks for fields at {:?}: pass --out DIR to write them as VTK)",
             scene.observables.fields_at
         );
@@ -340,15 +344,22 @@ fn run_box_scene(
     let r = run_box(problem, &config)?;
     let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
     let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
-    println!(
+    out!(
         "{} — {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
-        scene.name, scheme, mass, r.elements, r.dofs, r.contact_nodes, r.dt, r.steps
+        scene.name,
+        scheme,
+        mass,
+        r.elements,
+        r.dofs,
+        r.contact_nodes,
+        r.dt,
+        r.steps
     );
-    println!(
+    out!(
         "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
         r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
     );
-    println!(
+    out!(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
         r.complementarity_violation
     );
@@ -376,9 +387,9 @@ fn run_box_scene(
             .as_bytes(),
         )?;
         for f in &r.vtk_files {
-            println!("wrote {}", f.display());
+            out!("wrote {}", f.display());
         }
-        println!("wrote {}", dir.display());
+        out!("wrote {}", dir.display());
     }
     Ok(())
 }
@@ -441,7 +452,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 })?;
             }
             let result = run(&scene.problem(), &config)?;
-            println!(
+            out!(
                 "{} — {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
                 scene.name,
                 scheme,
@@ -454,7 +465,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 result.timings.total()
             );
             for (norm, e) in &result.errors {
-                println!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());
+                out!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());
             }
             if let Some(dir) = out {
                 let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
@@ -462,7 +473,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 for (name, text) in history_csv(&result) {
                     write_output(&dir.join(&name), text.as_bytes())?;
                 }
-                println!("wrote {}", dir.display());
+                out!("wrote {}", dir.display());
             }
         }
         Command::Study {
@@ -513,13 +524,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 run_study_with_progress(&scene.problem(), &cases, &norms, &config, &|| bar.inc(1))?;
             bar.finish_and_clear();
             if json {
-                println!(
+                out!(
                     "{}",
                     serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
                 );
             } else {
-                print!("{}", convergence_tables(&study));
-                println!(
+                out!("{}\n", convergence_tables(&study).trim_end());
+                out!(
                     "{}: {} cases × {} levels, {:.2} s wall",
                     scene.name,
                     study.cases.len(),
@@ -530,14 +541,14 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         }
         Command::Report { out } => {
             let gravity = write_gravity_report(Path::new("."), &out).map_err(Failure::runtime)?;
-            println!(
+            out!(
                 "wrote {}/gravity.md and {}/gravity/ ({} cases)",
                 out.display(),
                 out.display(),
                 gravity.cases.len()
             );
             let study = write_report(&out).map_err(Failure::runtime)?;
-            println!(
+            out!(
                 "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
                 out.display(),
                 out.display(),
@@ -548,7 +559,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         Command::Experiment { out } => {
             let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;
             let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
-            println!(
+            out!(
                 "{}\nwrote {}/defaults-experiment.md",
                 summary.join("\n"),
                 out.display()
@@ -559,14 +570,14 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 .map_err(Failure::runtime)?;
             let index = signorini::figures::from_reports::reports_index(&names);
             write_output(&reports.join("README.md"), index.as_bytes())?;
-            println!(
+            out!(
                 "wrote {} figures into {}/figures and {}/README.md",
                 names.len(),
                 reports.display(),
                 reports.display()
             );
             for m in missing {
-                println!("skipped (input missing): {m}");
+                out!("skipped (input missing): {m}");
             }
         }
         Command::Stability { out, ci_subset } => {
@@ -581,7 +592,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     )
                 })
                 .count();
-            println!(
+            out!(
                 "wrote {}/stability.md ({} runs, {} flagged)",
                 out.display(),
                 records.len(),
@@ -590,7 +601,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         }
         Command::Golden { root } => {
             for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
-                println!("wrote {name} ({} cases)", golden.cases.len());
+                out!("wrote {name} ({} cases)", golden.cases.len());
             }
         }
         Command::List { scenes } => list(&scenes),
