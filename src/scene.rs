@@ -300,6 +300,28 @@ impl Scene {
             }
         };
         positive("material.density", self.material.density)?;
+        positive("horizon", self.horizon)?;
+        positive("discretisation.ratio", self.discretisation.ratio)?;
+        if let Some(o) = &self.obstacle {
+            if !(o.gap.is_finite() && o.gap >= 0.0) {
+                return Err(Self::invalid(
+                    path,
+                    "obstacle.gap",
+                    o.gap,
+                    "a finite number >= 0",
+                ));
+            }
+        }
+        if let Some(b) = &self.body_force {
+            if !b.density.is_finite() {
+                return Err(Self::invalid(
+                    path,
+                    "body_force.density",
+                    b.density,
+                    "a finite number",
+                ));
+            }
+        }
         let length = match &self.geometry {
             Geometry::Bar1d { length } => {
                 positive("geometry.length", *length)?;
@@ -329,37 +351,7 @@ impl Scene {
             }
             Geometry::Box { .. } => return self.validate_box(path),
         };
-        positive("horizon", self.horizon)?;
-        positive("discretisation.ratio", self.discretisation.ratio)?;
-        if let Some(o) = &self.obstacle {
-            if !(o.gap.is_finite() && o.gap >= 0.0) {
-                return Err(Self::invalid(
-                    path,
-                    "obstacle.gap",
-                    o.gap,
-                    "a finite number >= 0",
-                ));
-            }
-        }
-        if let Some(b) = &self.body_force {
-            if !b.density.is_finite() {
-                return Err(Self::invalid(
-                    path,
-                    "body_force.density",
-                    b.density,
-                    "a finite number",
-                ));
-            }
-        }
-        let levels = &self.discretisation.levels;
-        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(Self::invalid(
-                path,
-                "discretisation.levels",
-                format!("{levels:?}"),
-                "increasing element counts >= 1",
-            ));
-        }
+        self.validate_levels_and_times(path)?;
         for name in self.discretisation.schemes.iter().flatten() {
             name.parse::<Scheme>().map_err(|e| {
                 Self::invalid(
@@ -378,16 +370,6 @@ impl Scene {
                     "observables.points",
                     x,
                     "positions in [0, L]",
-                ));
-            }
-        }
-        for &t in &self.observables.fields_at {
-            if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
-                return Err(Self::invalid(
-                    path,
-                    "observables.fields_at",
-                    t,
-                    "times in [0, horizon]",
                 ));
             }
         }
@@ -410,6 +392,31 @@ impl Scene {
             }
         }
         self.exact_solution(path).map(|_| ())
+    }
+
+    /// Levels increasing from 1 (element counts, along the axis for a box), field times in
+    /// `[0, T]`.
+    fn validate_levels_and_times(&self, path: &Path) -> Result<(), SceneError> {
+        let levels = &self.discretisation.levels;
+        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(Self::invalid(
+                path,
+                "discretisation.levels",
+                format!("{levels:?}"),
+                "increasing element counts >= 1",
+            ));
+        }
+        for &t in &self.observables.fields_at {
+            if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
+                return Err(Self::invalid(
+                    path,
+                    "observables.fields_at",
+                    t,
+                    "times in [0, horizon]",
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn validate_box(&self, path: &Path) -> Result<(), SceneError> {
@@ -505,25 +512,7 @@ impl Scene {
                 "absent for a box",
             ));
         }
-        let levels = &self.discretisation.levels;
-        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(Self::invalid(
-                path,
-                "discretisation.levels",
-                format!("{levels:?}"),
-                "increasing element counts along the axis >= 1",
-            ));
-        }
-        for &t in &self.observables.fields_at {
-            if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
-                return Err(Self::invalid(
-                    path,
-                    "observables.fields_at",
-                    t,
-                    "times in [0, horizon]",
-                ));
-            }
-        }
+        self.validate_levels_and_times(path)?;
         Ok(())
     }
 

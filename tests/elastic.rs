@@ -126,7 +126,7 @@ fn edited_box_scene(from: &str, to: &str) -> String {
 
 #[test]
 fn bad_box_input_is_rejected_naming_the_field() {
-    let cases: [(&str, &str, &[&str]); 5] = [
+    let cases: [(&str, &str, &[&str]); 6] = [
         (
             "\"lame_mu\": 0.5",
             "\"lame_mu\": 0.0",
@@ -144,6 +144,7 @@ fn bad_box_input_is_rejected_naming_the_field() {
         ),
         ("\"clamped\"", "\"free\"", &["boundary.far_end", "clamped"]),
         ("[0.1, 0.1, 1.0]", "[0.1, 0.0, 1.0]", &["geometry.lengths"]),
+        ("\"horizon\": 2.0", "\"horizon\": -2.0", &["horizon"]),
     ];
     for (from, to, needles) in cases {
         let scene = edited_box_scene(from, to);
