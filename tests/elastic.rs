@@ -144,7 +144,7 @@ fn bad_box_input_is_rejected_naming_the_field() {
         ),
         ("\"clamped\"", "\"free\"", &["boundary.far_end", "clamped"]),
         ("[0.1, 0.1, 1.0]", "[0.1, 0.0, 1.0]", &["geometry.lengths"]),
-        ("\"horizon\": 2.0", "\"horizon\": -2.0", &["horizon"]),
+        ("\"horizon\": 2.0", "\"horizon\": -2.0", &["horizon", "> 0"]),
     ];
     for (from, to, needles) in cases {
         let scene = edited_box_scene(from, to);
