@@ -168,6 +168,8 @@ pub struct SpaceErrorIntegrator {
     left_shape: Vec<f64>,
     exact_values: Vec<Pointwise>,
     kinked: Vec<usize>,
+    /// The P1 field's nodal values of the current step (the clamped node included).
+    nodal: Vec<f64>,
     /// How many times [`Self::errors`] has run (lets tests prove a run computed no norm).
     evaluations: usize,
 }
@@ -229,10 +231,13 @@ impl SpaceErrorIntegrator {
             }
         }
         exact.eval_many(t, &self.points, &mut self.exact_values);
+        self.nodal.clear();
+        self.nodal
+            .extend((0..=bar.nx()).map(|i| bar.nodal_value(u, i)));
         let (mut l2, mut semi) = (0.0, 0.0);
         let mut next_kink = 0;
-        for e in 0..bar.nx() {
-            let (ua, ub) = (bar.nodal_value(u, e), bar.nodal_value(u, e + 1));
+        for (e, pair) in self.nodal.windows(2).enumerate() {
+            let (ua, ub) = (pair[0], pair[1]);
             if self.kinked.get(next_kink) == Some(&e) {
                 next_kink += 1;
                 let (a, b) = self.split_element(bar, e, (ua, ub), exact, t);

@@ -68,8 +68,8 @@ impl Tridiagonal {
         let off: f64 = self
             .l
             .iter()
-            .enumerate()
-            .map(|(i, l)| l * (x[i] * y[i + 1] + x[i + 1] * y[i]))
+            .zip(x.windows(2).zip(y.windows(2)))
+            .map(|(l, (xw, yw))| l * (xw[0] * yw[1] + xw[1] * yw[0]))
             .sum();
         diag + off
     }
