@@ -2,17 +2,11 @@
 //! one-paragraph message naming the field, exit code 2 for usage errors and 1 for failures,
 //! never a panic, and no half-written output.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn signorini(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("CI", "true")
-        .output()
-        .expect("the binary runs")
-}
+use std::path::{Path, PathBuf};
+
+use common::{signorini, success_stdout};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-cli-{}-{name}", std::process::id()));
@@ -66,12 +60,7 @@ fn a_run_writes_its_summary_and_whole_files() {
     let out_dir = dir.join("out");
     let out_str = out_dir.to_string_lossy().into_owned();
     let out = signorini(&run_args(DIRICHLET, &["--out", &out_str]));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = success_stdout(&out);
     assert!(stdout.contains("u_Linf_H") && stdout.contains("energy_L2"));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("run.json")).unwrap()).unwrap();
@@ -103,12 +92,7 @@ fn a_study_prints_a_rate_table_and_json() {
         "--levels",
         "10,20,40",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = success_stdout(&out);
     assert!(stdout.contains("| 40 |") && stdout.contains("fit, all levels"));
     assert!(
         !stdout.contains("energy_L2"),
@@ -126,11 +110,7 @@ fn a_study_prints_a_rate_table_and_json() {
         "10,20,40",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    success_stdout(&out);
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rate = json["cases"][0]["rates"]
         .as_array()
@@ -149,12 +129,7 @@ fn a_study_prints_a_rate_table_and_json() {
 #[test]
 fn the_gravity_scene_studies_crank_nicolson_with_both_masses() {
     let out = signorini(&["study", "scenes/bar1d-gravity.json", "--levels", "10,20,40"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = success_stdout(&out);
     assert!(stdout.contains("#### Crank–Nicolson — standard"));
     assert!(stdout.contains("#### Crank–Nicolson — redistributed"));
     assert!(stdout.contains("2 cases × 3 levels"));

@@ -2,8 +2,11 @@
 //! contact nodes, box scenes run from the command line and write VTK files, and bad box input
 //! is rejected naming the field.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
+
+use common::{signorini, success_stdout};
 
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::MassVariant;
@@ -65,15 +68,6 @@ fn backward_euler_balance_holds_every_step_in_2d_and_3d() {
     }
 }
 
-fn signorini(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("CI", "true")
-        .output()
-        .expect("the binary runs")
-}
-
 #[test]
 fn a_2d_box_scene_runs_and_writes_vtk_files() {
     let out = std::env::temp_dir().join(format!("signorini-box-{}", std::process::id()));
@@ -91,7 +85,7 @@ fn a_2d_box_scene_runs_and_writes_vtk_files() {
         "--out",
         &out_str,
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    success_stdout(&o);
     for t in ["0.5", "1", "1.5", "2"] {
         let text = std::fs::read_to_string(out.join(format!("field-t{t}.vtu"))).unwrap();
         let doc = roxmltree::Document::parse(&text).unwrap();

@@ -1,0 +1,23 @@
+//! Helpers shared by the tests that drive the `signorini` binary.
+
+use std::process::{Command, Output};
+
+/// Runs the binary from the repository root, as CI would (`CI=true`: no progress bar).
+pub fn signorini(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CI", "true")
+        .output()
+        .expect("the binary runs")
+}
+
+/// The standard output of a run that must have succeeded (its stderr otherwise).
+pub fn success_stdout(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
