@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{signorini, success_stdout};
+use common::{expect_error, signorini, success_stdout};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-cli-{}-{name}", std::process::id()));
@@ -25,18 +25,6 @@ fn edited_scene(dir: &Path, from: &str, to: &str) -> String {
     let path = dir.join("scene.json");
     std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
     path.to_string_lossy().into_owned()
-}
-
-/// Runs `args`, expects `code`, a message on stderr containing every needle, no panic.
-fn expect_error(args: &[&str], code: i32, needles: &[&str]) {
-    let out = signorini(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(code), "{args:?}: stderr {stderr}");
-    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
-    assert!(!stderr.contains("RUST_BACKTRACE"), "{args:?}: {stderr}");
-    for n in needles {
-        assert!(stderr.contains(n), "{args:?}: {n:?} not in {stderr}");
-    }
 }
 
 fn run_args<'a>(scene: &'a str, extra: &[&'a str]) -> Vec<&'a str> {

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{signorini, success_stdout};
+use common::{expect_error, signorini, success_stdout};
 
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::MassVariant;
@@ -142,35 +142,34 @@ fn bad_box_input_is_rejected_naming_the_field() {
     ];
     for (from, to, needles) in cases {
         let scene = edited_box_scene(from, to);
-        let o = signorini(&[
+        expect_error(
+            &[
+                "run",
+                &scene,
+                "--scheme",
+                "crank-nicolson",
+                "--mass",
+                "standard",
+                "--nx",
+                "4",
+            ],
+            2,
+            needles,
+        );
+    }
+    expect_error(
+        &[
             "run",
-            &scene,
+            "scenes/bar3d.json",
             "--scheme",
             "crank-nicolson",
             "--mass",
             "standard",
             "--nx",
-            "4",
-        ]);
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{from} → {to}: {stderr}");
-        for n in needles {
-            assert!(stderr.contains(n), "{from} → {to}: {n:?} not in {stderr}");
-        }
-    }
-    let o = signorini(&[
-        "run",
-        "scenes/bar3d.json",
-        "--scheme",
-        "crank-nicolson",
-        "--mass",
-        "standard",
-        "--nx",
-        "0",
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("elements"));
-    let o = signorini(&["study", "scenes/bar2d.json"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("fine-mesh reference"));
+            "0",
+        ],
+        2,
+        &["elements"],
+    );
+    expect_error(&["study", "scenes/bar2d.json"], 2, &["fine-mesh reference"]);
 }
