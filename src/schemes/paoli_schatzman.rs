@@ -29,6 +29,8 @@ pub struct PaoliSchatzman<'m> {
     beta: f64,
     restitution: f64,
     dt: f64,
+    /// Whether every contact dof is massless (decides which multiplier is reported).
+    massless_contact: bool,
     system: SpdSolver,
     contact: Option<ContactStep>,
     start_contact_solves: usize,
@@ -70,6 +72,7 @@ impl<'m> PaoliSchatzman<'m> {
             beta,
             restitution,
             dt,
+            massless_contact: model.contact_is_massless(),
             system,
             contact,
             start_contact_solves: 0,
@@ -123,7 +126,7 @@ impl<'m> PaoliSchatzman<'m> {
         self.lambda_scheme.copy_from_slice(first.multiplier().value);
         // A massless contact node reports the force at t_1 that the Newmark start step imposed;
         // a node with mass keeps reporting λ^0 at t_0 until eq. (36) yields λ^1.
-        if self.model.contact_is_massless() {
+        if self.massless_contact {
             self.lambda_reported
                 .copy_from_slice(first.multiplier().value);
             self.lambda_time = self.dt;
@@ -174,7 +177,7 @@ impl<'m> PaoliSchatzman<'m> {
         }
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.next);
-        if self.model.contact_is_massless() {
+        if self.massless_contact {
             for (r, l) in self.lambda_reported.iter_mut().zip(&self.lambda_scheme) {
                 *r = l / beta;
             }
