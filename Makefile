@@ -2,13 +2,21 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench stability figures
+.PHONY: report test golden build lint fmt experiment bench stability figures reference
 
-## Build, run the main studies and write reports/ (tables, data, figures; README.md is the index).
+## Build, run the main studies (1D tables, gravity, 2D and 3D convergence) and write reports/
+## (tables, data, figures; README.md is the index).
 report: build
 	$(BIN) report --out reports
 	$(BIN) experiment --out reports
+	$(BIN) study scenes/bar2d.json --out reports
+	$(BIN) study scenes/bar3d.json --out reports
 	$(BIN) figures --reports reports
+
+## The fine-mesh references of the 2D/3D studies (reports/data/references/): the cache is kept
+## when its parameters match the scenes', recomputed otherwise (make report does the same).
+reference: build
+	$(BIN) reference scenes/bar2d.json scenes/bar3d.json
 
 ## Run the test suite with cargo-nextest (installed first if missing).
 test:

@@ -130,6 +130,20 @@ pub fn box_mesh(
 
 /// Runs a box problem.
 pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResult, Error> {
+    run_box_observed(problem, config, &mut |_, _| Ok(()))
+}
+
+/// What [`run_box_observed`] calls at every step `t_n`, `n = 0..=N`, with the mesh and the
+/// integrator's state at `t_n`.
+pub type StepObserver<'o> = dyn FnMut(&BoxMesh, &dyn TimeIntegrator) -> Result<(), Error> + 'o;
+
+/// Runs a box problem and calls `observer` at every step (after the built-in histories); its
+/// time counts as observation.
+pub fn run_box_observed(
+    problem: &BoxProblem,
+    config: &BoxRunConfig,
+    observer: &mut StepObserver<'_>,
+) -> Result<BoxRunResult, Error> {
     let clock = Instant::now();
     let mesh = box_mesh(problem, config.n_axis)?;
     let d = mesh.dim();
@@ -229,6 +243,7 @@ pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResu
                 .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))?;
             result.vtk_files.push(path);
         }
+        observer(&mesh, integ.as_ref())?;
         observe += c.elapsed().as_secs_f64();
     }
     result.contact_solves = integ.contact_solves();

@@ -13,6 +13,7 @@
 pub mod contact;
 pub mod cost;
 pub mod elastic;
+pub mod elastic_study;
 pub mod error;
 pub mod exact;
 pub mod fem;

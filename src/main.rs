@@ -12,12 +12,14 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
+use signorini::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
 use signorini::error::{Error as EngineError, ParameterError};
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
 use signorini::pipeline::{
-    write_defaults_experiment, write_golden, write_gravity_report, write_report, write_stability,
+    write_defaults_experiment, write_elastic_report, write_golden, write_gravity_report,
+    write_report, write_stability,
 };
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
@@ -102,6 +104,27 @@ enum Command {
         /// Print JSON instead of markdown.
         #[arg(long)]
         json: bool,
+        /// Box scenes: elements along the axis of the fine-mesh reference (default: the
+        /// scene's `discretisation.reference_level`).
+        #[arg(long)]
+        reference_level: Option<usize>,
+        /// Box scenes: write elastic-<d>d.md, elastic-<d>d.json and the figure data into this
+        /// reports directory instead of printing.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Box scenes: where the fine-mesh reference is cached.
+        #[arg(long, default_value = "reports/data/references")]
+        cache: PathBuf,
+    },
+    /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
+    /// parameters match the scene's, says which differ otherwise, and recomputes it.
+    Reference {
+        /// Box scene files.
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        /// Where the references are cached.
+        #[arg(long, default_value = "reports/data/references")]
+        cache: PathBuf,
     },
     /// What `make report` runs: Tables 1–2 beside the paper into reports/.
     Report {
@@ -195,6 +218,44 @@ impl From<EngineError> for Failure {
             EngineError::Io(m) => Self::runtime(m),
         }
     }
+}
+
+/// `signorini study` of a box scene: the report printed (markdown or JSON) or written to `out`.
+fn elastic_study(
+    scene: &Scene,
+    config: &ElasticStudyConfig,
+    out: Option<PathBuf>,
+    cache: &Path,
+    json: bool,
+) -> Result<(), Failure> {
+    let problem = scene.box_problem().expect("a box scene");
+    let mut note = |why: String| eprintln!("{why}; computing the reference");
+    if let Some(dir) = out {
+        let study = write_elastic_report(&problem, config, &dir, cache, &mut note)
+            .map_err(Failure::runtime)?;
+        out!(
+            "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
+             {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
+            study.study.cases.len(),
+            study.study.wall_seconds,
+            dir = dir.display(),
+            d = study.dimension
+        );
+        return Ok(());
+    }
+    let (study, _) = run_elastic_study(&problem, config, cache, &mut note)?;
+    if json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
+        );
+    } else {
+        out!(
+            "{}",
+            signorini::elastic_study::report::render(&study).trim_end()
+        );
+    }
+    Ok(())
 }
 
 fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
@@ -484,12 +545,43 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             levels,
             ratio,
             json,
+            reference_level,
+            out,
+            cache,
         } => {
             let scene = Scene::load(&scene)?;
             if scene.is_box() {
+                let mut config = scene
+                    .elastic_study_config_with(reference_level)
+                    .map_err(EngineError::from)?;
+                if !levels.is_empty() {
+                    config.levels = levels;
+                }
+                if let Some(r) = ratio {
+                    config.ratio = r;
+                }
+                if !scheme.is_empty() || !mass.is_empty() {
+                    let schemes = if scheme.is_empty() {
+                        scene.default_schemes()
+                    } else {
+                        scheme
+                    };
+                    let masses = if mass.is_empty() {
+                        vec![MassVariant::Standard, MassVariant::Redistributed]
+                    } else {
+                        mass
+                    };
+                    config.cases = schemes
+                        .iter()
+                        .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
+                        .collect();
+                }
+                return elastic_study(&scene, &config, out, &cache, json);
+            }
+            if reference_level.is_some() || out.is_some() {
                 return Err(Failure::usage(format!(
-                    "scene {}: a study of a 2D/3D box needs a fine-mesh reference, which is not \
-                     available yet; use `signorini run` for single runs",
+                    "scene {}: --reference-level and --out are for box scenes (a bar1d study \
+                     compares with the exact solution and prints its tables)",
                     scene.name
                 )));
             }
@@ -598,6 +690,39 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 records.len(),
                 flagged
             );
+        }
+        Command::Reference { scenes, cache } => {
+            for path in scenes {
+                let scene = Scene::load(&path)?;
+                let problem = scene.box_problem().ok_or_else(|| {
+                    Failure::usage(format!(
+                        "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
+                        scene.name
+                    ))
+                })?;
+                let config = scene
+                    .elastic_study_config_with(None)
+                    .map_err(EngineError::from)?;
+                let mut computed = false;
+                let reference = obtain_reference(&problem, &config, &cache, &mut |why| {
+                    computed = true;
+                    eprintln!("{why}; computing it");
+                })?;
+                out!(
+                    "{}: reference {} on {:?} elements, {} unknowns, {} samples: {} ({:.1} s)",
+                    scene.name,
+                    reference.histories.key.scheme,
+                    reference.mesh.counts(),
+                    reference.histories.dofs,
+                    reference.samples(),
+                    if computed {
+                        "computed and cached"
+                    } else {
+                        "the cache matches the scene's parameters"
+                    },
+                    reference.histories.seconds
+                );
+            }
         }
         Command::Golden { root } => {
             for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {

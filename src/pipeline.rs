@@ -6,6 +6,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::elastic::BoxProblem;
+use crate::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::error::Error;
 use crate::golden::{Golden, Tolerances};
 use crate::norms::Norm;
@@ -277,6 +279,7 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
     let studies = [
         (GOLDEN_TABLES, tables_study()?),
         (GOLDEN_GRAVITY, gravity_study(root)?),
+        (GOLDEN_ELASTIC_2D, elastic_gate_study(root)?.study),
     ];
     let mut written = Vec::new();
     for (name, study) in studies {
@@ -498,4 +501,62 @@ pub fn write_stability(
         serde_json::to_string_pretty(&records)?.as_bytes(),
     )?;
     Ok(records)
+}
+
+/// The golden file of the gated 2D study, relative to the repository root.
+pub const GOLDEN_ELASTIC_2D: &str = "golden/rates-2d.json";
+
+/// The scene of the gated 2D study.
+pub const ELASTIC_2D_SCENE: &str = "scenes/bar2d.json";
+
+/// The reference level of the gated 2D study: the scene's levels and cases against a reference
+/// on 320 elements along the axis (about 10 s in all), where `make report` uses the scene's
+/// finer one.
+pub const ELASTIC_GATE_REFERENCE_LEVEL: usize = 320;
+
+/// The gated 2D study, its reference computed afresh (in a temporary directory, removed after).
+pub fn elastic_gate_study(root: &Path) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+    let scene = crate::scene::Scene::load(&root.join(ELASTIC_2D_SCENE))?;
+    let problem = scene
+        .box_problem()
+        .ok_or("the 2D scene is not a box scene")?;
+    let config = scene.elastic_study_config_with(Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
+    let cache = std::env::temp_dir().join(format!(
+        "signorini-gate-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    let result = run_elastic_study(&problem, &config, &cache, &mut |_| {});
+    let _ = std::fs::remove_dir_all(&cache);
+    Ok(result?.0)
+}
+
+/// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
+pub const REFERENCE_CACHE: &str = "data/references";
+
+/// Runs a 2D/3D study and writes `elastic-<d>d.md`, `elastic-<d>d.json` (the study, the
+/// reference check and the findings) and `data/elastic-<d>d-histories.json` (the figure data)
+/// into `out_dir`; the reference is cached in `cache_dir`.
+pub fn write_elastic_report(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    out_dir: &Path,
+    cache_dir: &Path,
+    note: &mut dyn FnMut(String),
+) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+    let (study, histories) = run_elastic_study(problem, config, cache_dir, note)?;
+    let stem = format!("elastic-{}d", study.dimension);
+    write_atomic(
+        &out_dir.join(format!("{stem}.md")),
+        elastic_study::report::render(&study).as_bytes(),
+    )?;
+    write_atomic(
+        &out_dir.join(format!("{stem}.json")),
+        serde_json::to_string_pretty(&study)?.as_bytes(),
+    )?;
+    write_atomic(
+        &out_dir.join(format!("data/{stem}-histories.json")),
+        serde_json::to_string(&histories)?.as_bytes(),
+    )?;
+    Ok(study)
 }

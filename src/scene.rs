@@ -12,15 +12,17 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::elastic::BoxProblem;
+use crate::elastic_study::ElasticStudyConfig;
+use crate::error::ParameterError;
 use crate::exact::{AtRest, BouncingBar, ClampedFreeMode, ExactSolution, SignoriniDirichlet};
 use crate::fem::box_mesh::Elasticity;
-use crate::fem::EndCondition;
+use crate::fem::{EndCondition, MassVariant};
 use crate::norms::Norm;
 use crate::problem::Profile;
 use crate::problem::{InitialData, Problem1d};
 use crate::run::Observables;
 use crate::schemes::Scheme;
-use crate::study::StudyConfig;
+use crate::study::{Case, StudyConfig};
 
 /// The geometry and mesh family.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -103,6 +105,10 @@ pub struct Discretisation {
     /// Scheme names a study runs when none is given (default: the paper's seven).
     #[serde(default)]
     pub schemes: Option<Vec<String>>,
+    /// Elements along the axis of the fine-mesh reference of a box study (a multiple of twice
+    /// the finest level); bar1d scenes have an exact reference and must not set it.
+    #[serde(default)]
+    pub reference_level: Option<usize>,
 }
 
 /// What to record.
@@ -352,6 +358,14 @@ impl Scene {
             Geometry::Box { .. } => return self.validate_box(path),
         };
         self.validate_levels_and_times(path)?;
+        if let Some(level) = self.discretisation.reference_level {
+            return Err(Self::invalid(
+                path,
+                "discretisation.reference_level",
+                level,
+                "absent for a bar1d (its reference is the exact solution)",
+            ));
+        }
         for name in self.discretisation.schemes.iter().flatten() {
             name.parse::<Scheme>().map_err(|e| {
                 Self::invalid(
@@ -513,7 +527,60 @@ impl Scene {
             ));
         }
         self.validate_levels_and_times(path)?;
+        if let Some(level) = self.discretisation.reference_level {
+            let finest = *self.discretisation.levels.last().expect("levels validated");
+            let nested = self
+                .discretisation
+                .levels
+                .windows(2)
+                .all(|w| w[1] % w[0] == 0);
+            if !nested || level % (2 * finest) != 0 {
+                return Err(Self::invalid(
+                    path,
+                    "discretisation.reference_level",
+                    level,
+                    "a multiple of twice the finest level, with each level dividing the next \
+                     (nested meshes)",
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// The 2D/3D study of a box scene: its levels, ratio and reference level, its schemes with
+    /// both masses of the note. Errors when the scene has no `discretisation.reference_level`.
+    pub fn elastic_study_config(&self) -> Result<ElasticStudyConfig, ParameterError> {
+        self.elastic_study_config_with(None)
+    }
+
+    /// [`Scene::elastic_study_config`] with the reference level overridden when given.
+    pub fn elastic_study_config_with(
+        &self,
+        reference_level: Option<usize>,
+    ) -> Result<ElasticStudyConfig, ParameterError> {
+        let given = reference_level.or(self.discretisation.reference_level);
+        let reference_level = given.ok_or_else(|| {
+            ParameterError::new(
+                "discretisation.reference_level",
+                "absent",
+                "the number of elements along the axis of the fine-mesh reference (a box study \
+                 has no exact solution)",
+            )
+        })?;
+        let cases = self
+            .default_schemes()
+            .into_iter()
+            .flat_map(|scheme| {
+                [MassVariant::Standard, MassVariant::Redistributed]
+                    .map(|mass| Case { scheme, mass })
+            })
+            .collect();
+        Ok(ElasticStudyConfig {
+            levels: self.discretisation.levels.clone(),
+            reference_level,
+            ratio: self.discretisation.ratio,
+            cases,
+        })
     }
 
     fn elasticity(&self) -> Option<Elasticity> {

@@ -123,6 +123,32 @@ pub struct CaseStudy {
 }
 
 impl CaseStudy {
+    /// A case from its level records and the error of each norm at each level: the observed
+    /// orders and the least-squares rates (all levels, last three) are fitted here.
+    pub fn from_levels(
+        case: Case,
+        levels: Vec<LevelRecord>,
+        errors: BTreeMap<Norm, Vec<f64>>,
+    ) -> Self {
+        let h: Vec<f64> = levels.iter().map(|l| l.h).collect();
+        let tail = h.len().saturating_sub(3);
+        let rates = errors
+            .into_iter()
+            .map(|(norm, errors)| NormRates {
+                norm,
+                orders: observed_orders(&h, &errors),
+                fit: fit_rate(&h, &errors),
+                fit_last_three: fit_rate(&h[tail..], &errors[tail..]),
+                errors,
+            })
+            .collect();
+        Self {
+            case,
+            levels,
+            rates,
+        }
+    }
+
     /// The rates of `norm`, if it was requested.
     pub fn norm(&self, norm: Norm) -> Option<&NormRates> {
         self.rates.iter().find(|r| r.norm == norm)
@@ -223,20 +249,9 @@ pub fn run_study_with_progress(
 }
 
 fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStudy {
-    let h: Vec<f64> = runs.iter().map(|r| r.h).collect();
-    let rates = norms
+    let errors = norms
         .iter()
-        .map(|&norm| {
-            let errors: Vec<f64> = runs.iter().map(|r| r.errors[&norm]).collect();
-            let tail = h.len().saturating_sub(3);
-            NormRates {
-                norm,
-                orders: observed_orders(&h, &errors),
-                fit: fit_rate(&h, &errors),
-                fit_last_three: fit_rate(&h[tail..], &errors[tail..]),
-                errors,
-            }
-        })
+        .map(|&norm| (norm, runs.iter().map(|r| r.errors[&norm]).collect()))
         .collect();
     let levels = runs
         .iter()
@@ -250,9 +265,5 @@ fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStu
             multiplier_variation_ratio: r.multiplier_variation.and_then(|v| v.ratio()),
         })
         .collect();
-    CaseStudy {
-        case,
-        levels,
-        rates,
-    }
+    CaseStudy::from_levels(case, levels, errors)
 }

@@ -171,5 +171,56 @@ fn bad_box_input_is_rejected_naming_the_field() {
         2,
         &["elements"],
     );
-    expect_error(&["study", "scenes/bar2d.json"], 2, &["fine-mesh reference"]);
+    let cache = std::env::temp_dir().join(format!("signorini-bad-cache-{}", std::process::id()));
+    let cache = cache.to_string_lossy();
+    expect_error(
+        &[
+            "study",
+            "scenes/bar2d.json",
+            "--reference-level",
+            "100",
+            "--cache",
+            &cache,
+        ],
+        2,
+        &["reference_level", "multiple of 2"],
+    );
+    expect_error(
+        &[
+            "study",
+            "scenes/bar2d.json",
+            "--levels",
+            "10,15",
+            "--cache",
+            &cache,
+        ],
+        2,
+        &["levels", "nested"],
+    );
+    let unnested = edited_box_scene("\"reference_level\": 160", "\"reference_level\": 150");
+    expect_error(
+        &["study", &unnested, "--cache", &cache],
+        2,
+        &["discretisation.reference_level", "multiple of twice"],
+    );
+    let without = edited_box_scene("\"reference_level\": 160, ", "");
+    expect_error(
+        &["study", &without, "--cache", &cache],
+        2,
+        &["discretisation.reference_level", "fine-mesh reference"],
+    );
+    expect_error(
+        &[
+            "study",
+            "scenes/bar1d-dirichlet.json",
+            "--reference-level",
+            "40",
+        ],
+        2,
+        &["box scenes"],
+    );
+    assert!(
+        !Path::new(cache.as_ref()).exists(),
+        "nothing cached on bad input"
+    );
 }

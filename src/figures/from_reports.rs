@@ -14,12 +14,14 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::elastic::elastic_figures;
 use super::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError,
     WorkPrecisionSeries,
 };
 use crate::cost::WorkPrecision;
+use crate::elastic_study::{ElasticHistories, ElasticStudy};
 use crate::fem::MassVariant;
 use crate::norms::Norm;
 use crate::run::RunResult;
@@ -87,6 +89,16 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
 /// One convergence figure per scheme and norm: the standard and the redistributed mass, with
 /// the fitted slopes of the study.
 pub fn convergence_figures(study: &Study) -> Result<Vec<Figure>, FigureError> {
+    convergence_figures_named(study, "convergence", "")
+}
+
+/// [`convergence_figures`] with files named `<prefix>-<scheme>-<norm>.svg` and titles starting
+/// with `title_prefix`.
+pub fn convergence_figures_named(
+    study: &Study,
+    prefix: &str,
+    title_prefix: &str,
+) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
     let mut schemes: Vec<_> = study.cases.iter().map(|c| c.case.scheme).collect();
     schemes.dedup();
@@ -107,8 +119,11 @@ pub fn convergence_figures(study: &Study) -> Result<Vec<Figure>, FigureError> {
                 })
                 .collect();
             out.push((
-                format!("convergence-{}-{}.svg", scheme.name(), norm.key()),
-                convergence_figure(&format!("{}: {}", scheme.label(), norm.label()), &series)?,
+                format!("{prefix}-{}-{}.svg", scheme.name(), norm.key()),
+                convergence_figure(
+                    &format!("{title_prefix}{}: {}", scheme.label(), norm.label()),
+                    &series,
+                )?,
             ));
         }
     }
@@ -329,6 +344,15 @@ pub fn write_figures(
     match read::<WorkPrecisionFile>(&reports.join("work-precision.json")) {
         Ok(w) => figures.extend(work_precision_figures(&w.work_precision)?),
         Err(e) => missing.push(e.to_string()),
+    }
+    for d in [2, 3] {
+        let study = read::<ElasticStudy>(&reports.join(format!("elastic-{d}d.json")));
+        let data =
+            read::<ElasticHistories>(&reports.join(format!("data/elastic-{d}d-histories.json")));
+        match (study, data) {
+            (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
+            (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
+        }
     }
     match read::<Vec<StabilityRecord>>(&reports.join("stability.json")) {
         Ok(s) => figures.extend(stability_figures(&s)?),

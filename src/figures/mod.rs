@@ -19,7 +19,9 @@
 
 mod chart;
 mod draw;
+pub mod elastic;
 pub mod from_reports;
+pub mod heatmap;
 mod style;
 
 pub use draw::{

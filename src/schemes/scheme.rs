@@ -98,6 +98,9 @@ impl Scheme {
     /// Crank–Nicolson, Newmark (¼, ½).
     pub const CRANK_NICOLSON: Scheme = PRESETS[0].1;
 
+    /// Backward Euler, the θ-method with θ = 1.
+    pub const BACKWARD_EULER: Scheme = Scheme::Theta { theta: 1.0 };
+
     /// The seven schemes of the paper's Tables 1–2, in table order.
     pub fn paper_schemes() -> [Scheme; 7] {
         PRESETS.map(|p| p.1)

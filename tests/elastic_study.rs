@@ -1,0 +1,146 @@
+//! The 2D/3D convergence studies against a fine-mesh reference (note §3): the gated 2D study
+//! against `golden/rates-2d.json` with the note's findings tested, and the reference cache and
+//! the `study`/`reference` commands from the command line.
+
+mod common;
+
+use std::path::Path;
+
+use common::{expect_error, signorini, success_stdout};
+
+use signorini::golden::{compare, render_drifts};
+use signorini::pipeline::{elastic_gate_study, read_golden, GOLDEN_ELASTIC_2D};
+
+#[test]
+fn gated_2d_study_matches_the_golden_rates_and_the_notes_findings() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let study = elastic_gate_study(root).unwrap();
+    let golden = read_golden(&root.join(GOLDEN_ELASTIC_2D)).unwrap();
+    let drifts = compare(&golden, &study.study);
+    assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
+    let failed: Vec<String> = study
+        .findings
+        .iter()
+        .filter(|f| !f.holds)
+        .map(|f| format!("{} ({}): {}", f.claim, f.source, f.evidence))
+        .collect();
+    assert_eq!(study.findings.len(), 6);
+    assert!(
+        failed.is_empty(),
+        "findings that do not hold:\n{}",
+        failed.join("\n")
+    );
+    // The reference is closer to the run one level coarser than any fitted level is to it.
+    for (norm, distance) in &study.reference.distance {
+        let smallest = study.reference.smallest_fitted_error[norm];
+        assert!(
+            distance < &smallest,
+            "{norm}: reference distance {distance} ≥ {smallest}"
+        );
+    }
+}
+
+fn temp(name: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("signorini-{name}-{}", std::process::id()))
+}
+
+#[test]
+fn study_writes_its_report_and_reuses_the_cached_reference() {
+    let (cache, out) = (temp("cache"), temp("elastic-out"));
+    let (c, o) = (cache.to_string_lossy(), out.to_string_lossy());
+    let args = [
+        "study",
+        "scenes/bar2d.json",
+        "--levels",
+        "1,2",
+        "--reference-level",
+        "8",
+        "--cache",
+        &c,
+        "--out",
+        &o,
+    ];
+    let first = signorini(&args);
+    let stdout = success_stdout(&first);
+    assert!(stdout.contains("elastic-2d.md"), "{stdout}");
+    assert!(String::from_utf8_lossy(&first.stderr).contains("no cached reference"));
+    for file in [
+        "elastic-2d.md",
+        "elastic-2d.json",
+        "data/elastic-2d-histories.json",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let md = std::fs::read_to_string(out.join("elastic-2d.md")).unwrap();
+    assert!(md.contains("## The note's findings, tested"));
+    assert!(md.contains("Is the reference fine enough?"));
+
+    let second = signorini(&args);
+    success_stdout(&second);
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        !stderr.contains("reference"),
+        "the cache was not reused: {stderr}"
+    );
+
+    let stale = signorini(&[
+        "study",
+        "scenes/bar2d.json",
+        "--levels",
+        "1,2",
+        "--reference-level",
+        "8",
+        "--ratio",
+        "4",
+        "--cache",
+        &c,
+    ]);
+    success_stdout(&stale);
+    let stderr = String::from_utf8_lossy(&stale.stderr);
+    assert!(
+        stderr.contains("stale") && stderr.contains("ratio"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&cache);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn reference_command_says_whether_the_cache_matches() {
+    let cache = temp("reference-cache");
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
+            .unwrap()
+            .replace(
+                "[10, 20, 40, 80], \"reference_level\": 640",
+                "[2], \"reference_level\": 8",
+            );
+    let scene = temp("small-2d.json");
+    std::fs::write(&scene, text).unwrap();
+    let args = [
+        "reference",
+        scene.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    let first = success_stdout(&signorini(&args));
+    assert!(first.contains("computed and cached"), "{first}");
+    let second = success_stdout(&signorini(&args));
+    assert!(second.contains("the cache matches"), "{second}");
+    let _ = std::fs::remove_dir_all(&cache);
+    let _ = std::fs::remove_file(&scene);
+}
+
+#[test]
+fn reference_command_rejects_a_bar_scene() {
+    expect_error(
+        &[
+            "reference",
+            "scenes/bar1d-dirichlet.json",
+            "--cache",
+            "/nonexistent/cache",
+        ],
+        2,
+        &["bar1d-dirichlet", "box scenes"],
+    );
+}
