@@ -228,7 +228,7 @@ fn list(dir: &Path) {
     out!("\nMass variants:");
     out!("  standard       consistent mass matrix M");
     out!("  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)");
-    out!("\nContact treatments (name, parameters; E = ρc², h the mesh size at the contact):");
+    out!("\nContact treatments (E the Young modulus, ρc² for a bar; h the mesh size at the contact):");
     for (name, params, description) in TREATMENT_LIST {
         out!("  {name:27} {params:22} {description}");
     }
