@@ -1,8 +1,10 @@
 //! The semi-discrete model `M U'' + S U = F − Bᵀλ`, `0 ≤ B U + g ⟂ λ ≤ 0` (1D paper eq. 30,
 //! with `B` selecting the contact dofs): matrices, load and contact set, independent of the
-//! dimension. Schemes are written against this type, never against 1D arrays.
+//! dimension. Schemes are written against this type, never against 1D arrays. A penalty or
+//! Nitsche treatment of the contact replaces the multiplier through a
+//! [`ContactLaw`] (see [`crate::contact::law`]).
 
-use crate::contact::ContactLaw;
+use crate::contact::{ContactLaw, ContactTreatment};
 use crate::fem::{Bar1d, MassVariant, SparseAssembler, SymmetricMatrix};
 
 /// The contact constraints: `u[dofs[i]] + gaps[i] ≥ 0`, each with a multiplier `λ_i ≤ 0`
@@ -89,6 +91,7 @@ impl Model {
         self.law = law;
         self
     }
+
     /// The 1D bar with the obstacle at `x = 0` (gap `obstacle_gap`, `None` for no obstacle)
     /// and a constant body force density.
     pub fn bar1d(
@@ -171,7 +174,7 @@ impl Model {
         let elastic =
             0.5 * self.mass.quadratic_form(v) + 0.5 * self.stiffness.quadratic_form(u) - load;
         match self.law.treatment() {
-            crate::contact::ContactTreatment::Multiplier => elastic,
+            ContactTreatment::Multiplier => elastic,
             _ => elastic + self.contact_energy(u),
         }
     }

@@ -446,9 +446,9 @@ fn penalty_errors_decrease_under_refinement() {
 
 #[test]
 fn nitsche_with_the_redistributed_mass_is_the_multiplier() {
-    // With M^mod node 0 is massless: its row reads (1 − θ/γ₀)(σ_h − λ) = 0, so λ = σ_h and
-    // λ = [σ_h + γ d]_− is exactly Signorini's condition; the θ-terms of row 1 then cancel. The
-    // trajectories coincide to round-off for every θ.
+    // With M^mod node 0 is massless; without load its row reads (1 − θ/γ₀)(σ_h − λ) = 0, so
+    // λ = σ_h and λ = [σ_h + γ d]_− is exactly Signorini's condition; the θ-terms of row 1
+    // then cancel. The trajectories coincide to round-off for every θ.
     for theta in [-1.0, 0.0, 1.0] {
         let nitsche = ContactTreatment::Nitsche {
             theta,
