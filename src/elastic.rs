@@ -18,6 +18,7 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
+use crate::contact::{ContactLaw, ContactTreatment};
 use crate::error::{Error, SolveError};
 use crate::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 use crate::fem::MassVariant;
@@ -40,6 +41,8 @@ pub struct BoxProblem {
     pub initial_velocity: f64,
     /// Horizon `T`.
     pub horizon: f64,
+    /// How the contact condition is discretised (multiplier or penalty; Nitsche is 1D only).
+    pub contact: ContactTreatment,
 }
 
 /// One run of a box problem.
@@ -99,6 +102,8 @@ pub struct BoxRunResult {
     pub contact: BoxContactHistory,
     /// VTK files written.
     pub vtk_files: Vec<PathBuf>,
+    /// The contact treatment's name.
+    pub contact_treatment: String,
 }
 
 /// The mesh of a run: `n_axis` elements along the axis, square elements across.
@@ -153,7 +158,10 @@ pub fn run_box_observed(
     let scheme = config.scheme.validate()?;
     let h = mesh.element_sizes()[d - 1];
     let (steps, dt) = time_grid(problem.horizon, h, config.ratio);
-    let model = mesh.model(&problem.elasticity, config.mass, problem.obstacle_gap);
+    let law = ContactLaw::boxed(problem.contact, &mesh, &problem.elasticity)?;
+    let model = mesh
+        .model(&problem.elasticity, config.mass, problem.obstacle_gap)
+        .with_contact_law(law);
     let axis = |value: f64| {
         move |_: &[f64]| {
             let mut v = [0.0; 3];
@@ -193,6 +201,7 @@ pub fn run_box_observed(
         energy: Vec::with_capacity(steps + 1),
         contact: BoxContactHistory::default(),
         vtk_files: Vec::new(),
+        contact_treatment: problem.contact.name(),
     };
     let mut pending: Vec<f64> = config.vtk_at.clone();
     pending.sort_by(|a, b| b.total_cmp(a));

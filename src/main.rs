@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use signorini::contact::{ContactTreatment, TREATMENT_LIST};
 use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
 use signorini::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
 use signorini::error::{Error as EngineError, ParameterError};
@@ -40,6 +41,7 @@ Examples:
   signorini list
   signorini run scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass redistributed --nx 80
   signorini run scenes/bar1d-dirichlet.json --scheme 'newmark(beta=0.3,gamma=0.6)' --mass standard --nx 40 --out out/
+  signorini run scenes/bar1d-dirichlet.json --scheme backward-euler --mass standard --contact 'penalty(gamma0=10)'
   signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass standard,redistributed --norm u_Linf_H,energy_L2
   signorini study scenes/bar1d-free.json --scheme crank-nicolson --mass standard --json
   signorini report
@@ -80,6 +82,10 @@ enum Command {
         /// Output directory for run.json and the CSV histories.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Contact treatment: multiplier, penalty(gamma0=G), nitsche(theta=T,gamma0=G) (1D
+        /// only). Default: the scene's, else multiplier.
+        #[arg(long, value_parser = parse_contact)]
+        contact: Option<ContactTreatment>,
     },
     /// A refinement study of a scene: the rate table of the selected cases and norms, as
     /// markdown or JSON. Nothing outside the selection is computed.
@@ -171,6 +177,10 @@ enum Command {
 }
 
 fn parse_scheme(s: &str) -> Result<Scheme, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+fn parse_contact(s: &str) -> Result<ContactTreatment, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
@@ -279,6 +289,10 @@ fn list(dir: &Path) {
     out!("\nMass variants:");
     out!("  standard       consistent mass matrix M");
     out!("  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)");
+    out!("\nContact treatments (E the Young modulus, ρc² for a bar; h the mesh size at the contact):");
+    for (name, params, description) in TREATMENT_LIST {
+        out!("  {name:27} {params:22} {description}");
+    }
     out!("\nNorms:");
     for n in Norm::ALL {
         out!("  {:12} {}", n.key(), n.label());
@@ -406,10 +420,11 @@ fn run_box_scene(
     let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
     let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
     out!(
-        "{} — {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
+        "{} — {} / {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
         scene.name,
         scheme,
         mass,
+        r.contact_treatment,
         r.elements,
         r.dofs,
         r.contact_nodes,
@@ -481,6 +496,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             nx,
             ratio,
             out,
+            contact,
         } => {
             let scene = Scene::load(&scene)?;
             let nx = nx.unwrap_or_else(|| {
@@ -490,9 +506,12 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     .last()
                     .expect("validated: at least one level")
             });
-            if let Some(problem) = scene.box_problem() {
+            if let Some(mut problem) = scene.box_problem() {
+                problem.contact = contact.unwrap_or(problem.contact);
                 return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
             }
+            let mut problem = scene.problem();
+            problem.contact = contact.unwrap_or(problem.contact);
             let mut observables = scene.observables();
             if out.is_none() {
                 observables.contact_history = false;
@@ -512,12 +531,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     Failure::runtime(format!("cannot create {}: {e}", dir.display()))
                 })?;
             }
-            let result = run(&scene.problem(), &config)?;
+            let result = run(&problem, &config)?;
             out!(
-                "{} — {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
+                "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
                 scene.name,
                 scheme,
                 mass,
+                result.contact_treatment,
                 nx,
                 result.dt,
                 result.steps,

@@ -1,8 +1,11 @@
 //! The semi-discrete model `M U'' + S U = F − Bᵀλ`, `0 ≤ B U + g ⟂ λ ≤ 0` (1D paper eq. 30,
 //! with `B` selecting the contact dofs): matrices, load and contact set, independent of the
-//! dimension. Schemes are written against this type, never against 1D arrays.
+//! dimension. Schemes are written against this type, never against 1D arrays. A penalty or
+//! Nitsche treatment of the contact replaces the multiplier through a
+//! [`ContactLaw`] (see [`crate::contact::law`]).
 
-use crate::fem::{Bar1d, MassVariant, SymmetricMatrix};
+use crate::contact::{ContactLaw, ContactTreatment};
+use crate::fem::{Bar1d, MassVariant, SparseAssembler, SymmetricMatrix};
 
 /// The contact constraints: `u[dofs[i]] + gaps[i] ≥ 0`, each with a multiplier `λ_i ≤ 0`
 /// entering the equation as `−λ_i e_{dofs[i]}` (1D paper sign convention, eq. 30).
@@ -40,6 +43,7 @@ pub struct Model {
     stiffness: SymmetricMatrix,
     load: Option<Vec<f64>>,
     contact: Option<ContactSet>,
+    law: ContactLaw,
     massless: Vec<usize>,
 }
 
@@ -59,13 +63,33 @@ impl Model {
                 a.val()[range].iter().all(|&v| v == 0.0)
             })
             .collect();
+        let law = ContactLaw::multiplier(contact.as_ref().map_or(0, ContactSet::len));
         Self {
             mass,
             stiffness,
             load,
             contact,
+            law,
             massless,
         }
+    }
+
+    /// The model with the contact treated by `law` instead of the multiplier. For Nitsche the
+    /// stiffness becomes `S − (θ/γ) a aᵀ` (`σ_h(U) = aᵀU`, CHR 2015 eq. 2.5; a rank-one
+    /// update on the dofs of the first element, so a 1D matrix stays tridiagonal).
+    pub fn with_contact_law(mut self, law: ContactLaw) -> Self {
+        if let Some((a, scale)) = law.stiffness_update() {
+            let mut asm = SparseAssembler::new(self.n_dofs());
+            asm.add_scaled(&self.stiffness, 1.0);
+            for &(i, ai) in a {
+                for &(j, aj) in a {
+                    asm.add(i, j, scale * ai * aj);
+                }
+            }
+            self.stiffness = asm.finish();
+        }
+        self.law = law;
+        self
     }
 
     /// The 1D bar with the obstacle at `x = 0` (gap `obstacle_gap`, `None` for no obstacle)
@@ -98,7 +122,7 @@ impl Model {
         &self.mass
     }
 
-    /// Stiffness matrix.
+    /// Stiffness matrix (for Nitsche, the modified `S − (θ/γ) a aᵀ` the schemes integrate).
     pub fn stiffness(&self) -> &SymmetricMatrix {
         &self.stiffness
     }
@@ -111,6 +135,17 @@ impl Model {
     /// The contact constraints, if the model declares an obstacle.
     pub fn contact(&self) -> Option<&ContactSet> {
         self.contact.as_ref()
+    }
+
+    /// How the contact condition is treated.
+    pub fn contact_law(&self) -> &ContactLaw {
+        &self.law
+    }
+
+    /// The contact energy of `u` (penalty or Nitsche; 0 for the multiplier), see
+    /// [`ContactLaw::energy`].
+    pub fn contact_energy(&self, u: &[f64]) -> f64 {
+        self.contact.as_ref().map_or(0.0, |c| self.law.energy(c, u))
     }
 
     /// The dofs spanning `ker M` (rows of `M` that are identically zero).
@@ -128,12 +163,19 @@ impl Model {
     }
 
     /// The discrete energy `½ VᵀMV + ½ UᵀSU − FᵀU` (1D paper eq. 31, with the load's
-    /// potential written `−FᵀU`: the printed `−U_tᵀF` is an erratum, see README).
+    /// potential written `−FᵀU`: the printed `−U_tᵀF` is an erratum, see README), plus the
+    /// contact energy of a penalty or Nitsche treatment ([`Model::contact_energy`]; with
+    /// Nitsche's `S` this is CHR's `… − (θ/2γ)σ_h(U)² + (1/2γ)[P_γ(U)]_−²`).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
         let load = self
             .load
             .as_ref()
             .map_or(0.0, |f| f.iter().zip(u).map(|(a, b)| a * b).sum::<f64>());
-        0.5 * self.mass.quadratic_form(v) + 0.5 * self.stiffness.quadratic_form(u) - load
+        let elastic =
+            0.5 * self.mass.quadratic_form(v) + 0.5 * self.stiffness.quadratic_form(u) - load;
+        match self.law.treatment() {
+            ContactTreatment::Multiplier => elastic,
+            _ => elastic + self.contact_energy(u),
+        }
     }
 }

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::contact::{ContactLaw, ContactTreatment};
 use crate::error::ParameterError;
 use crate::exact::{ExactSolution, Pointwise};
 use crate::fem::{Bar1d, EndCondition, MassVariant};
@@ -107,6 +108,8 @@ pub struct Problem1d {
     pub initial: InitialData,
     /// Horizon `T`.
     pub horizon: f64,
+    /// How the contact condition is discretised (default: the multiplier).
+    pub contact: ContactTreatment,
 }
 
 impl Problem1d {
@@ -122,6 +125,7 @@ impl Problem1d {
             exact: Arc::new(crate::exact::SignoriniDirichlet),
             initial: InitialData::default(),
             horizon,
+            contact: ContactTreatment::Multiplier,
         }
     }
 
@@ -137,16 +141,28 @@ impl Problem1d {
             exact: Arc::new(crate::exact::ClampedFreeMode),
             initial: InitialData::default(),
             horizon,
+            contact: ContactTreatment::Multiplier,
         }
     }
 }
 
 impl Problem1d {
     /// The mesh with `nx` elements and the model assembled from what the problem declares:
-    /// a contact set only with an obstacle, a load vector only with a body force.
+    /// a contact set (with the problem's contact treatment) only with an obstacle, a load
+    /// vector only with a body force. A treatment other than the multiplier needs an obstacle.
     pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
         let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
-        let model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
+        let mut model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
+        if self.contact != ContactTreatment::Multiplier {
+            if self.obstacle_gap.is_none() {
+                return Err(ParameterError::new(
+                    "contact",
+                    self.contact,
+                    "multiplier for a problem without obstacle",
+                ));
+            }
+            model = model.with_contact_law(ContactLaw::bar1d(self.contact, &bar)?);
+        }
         Ok((bar, model))
     }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::contact::ContactTreatment;
 use crate::error::{require_positive, Error, ParameterError, SolveError};
 use crate::exact::ExactSolution;
 use crate::fem::{Bar1d, MassVariant};
@@ -193,16 +194,36 @@ pub struct RunResult {
     pub point_history: Option<PointHistory>,
     /// Fields at the requested times.
     pub fields: Vec<FieldSnapshot>,
+    /// The contact treatment's name (`multiplier`, `penalty(gamma0=…)`, `nitsche(…)`).
+    #[serde(default = "multiplier_name")]
+    pub contact_treatment: String,
 }
 
-/// Builds the integrator of `scheme` on `model`.
+fn multiplier_name() -> String {
+    ContactTreatment::Multiplier.name()
+}
+
+/// Builds the integrator of `scheme` on `model`. Paoli–Schatzman runs with the multiplier only
+/// (its energy balance with a penalty or Nitsche force is not derived): other treatments are a
+/// [`ParameterError`] on `contact`.
 pub fn integrator<'m>(
     model: &'m Model,
     scheme: Scheme,
     dt: f64,
     u0: &[f64],
     v0: &[f64],
-) -> Result<Box<dyn TimeIntegrator + 'm>, SolveError> {
+) -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
+    let treatment = model.contact_law().treatment();
+    if matches!(scheme, Scheme::PaoliSchatzman { .. }) && treatment != ContactTreatment::Multiplier
+    {
+        return Err(ParameterError::new(
+            "contact",
+            treatment,
+            "multiplier with Paoli–Schatzman (penalty and Nitsche run with the Newmark and θ \
+             schemes)",
+        )
+        .into());
+    }
     let start = initial_state(model, u0, v0)?;
     Ok(match scheme {
         Scheme::PaoliSchatzman { beta, restitution } => {
@@ -471,5 +492,6 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         energy_history: observer.energy_history,
         point_history: observer.points,
         fields: observer.fields,
+        contact_treatment: problem.contact.name(),
     })
 }

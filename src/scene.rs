@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::contact::{ContactTreatment, TREATMENT_NAMES};
 use crate::elastic::BoxProblem;
 use crate::elastic_study::ElasticStudyConfig;
 use crate::error::ParameterError;
@@ -164,6 +165,10 @@ pub struct Scene {
     pub discretisation: Discretisation,
     /// What runs record.
     pub observables: SceneObservables,
+    /// The contact treatment (`multiplier`, the default, `penalty(gamma0=G)`, or
+    /// `nitsche(theta=T,gamma0=G)` for a bar1d).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<String>,
 }
 
 /// A scene that could not be read or is not valid.
@@ -318,6 +323,7 @@ impl Scene {
                 ));
             }
         }
+        self.validate_contact(path)?;
         if let Some(b) = &self.body_force {
             if !b.density.is_finite() {
                 return Err(Self::invalid(
@@ -431,6 +437,43 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// A known treatment with valid parameters, other than the multiplier only with an
+    /// obstacle, and Nitsche only for a bar1d.
+    fn validate_contact(&self, path: &Path) -> Result<(), SceneError> {
+        let Some(name) = &self.contact else {
+            return Ok(());
+        };
+        let treatment: ContactTreatment = name.parse().map_err(|e: ParameterError| {
+            Self::invalid(path, "contact", name, TREATMENT_NAMES).with_detail(e.to_string())
+        })?;
+        if treatment != ContactTreatment::Multiplier && self.obstacle.is_none() {
+            return Err(Self::invalid(
+                path,
+                "contact",
+                name,
+                "multiplier for a scene without obstacle",
+            ));
+        }
+        if self.is_box() && matches!(treatment, ContactTreatment::Nitsche { .. }) {
+            return Err(Self::invalid(
+                path,
+                "contact",
+                name,
+                "multiplier or penalty(gamma0=G) for a box (Nitsche is 1D only)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The scene's contact treatment (the multiplier when the scene names none).
+    pub fn contact_treatment(&self) -> ContactTreatment {
+        self.contact
+            .as_deref()
+            .map_or(ContactTreatment::Multiplier, |n| {
+                n.parse().expect("validated when the scene was parsed")
+            })
     }
 
     fn validate_box(&self, path: &Path) -> Result<(), SceneError> {
@@ -612,6 +655,7 @@ impl Scene {
             initial_displacement: constant(self.initial.displacement),
             initial_velocity: constant(self.initial.velocity),
             horizon: self.horizon,
+            contact: self.contact_treatment(),
         })
     }
 
@@ -719,6 +763,7 @@ impl Scene {
                 .expect("validated when the scene was parsed"),
             initial: self.initial,
             horizon: self.horizon,
+            contact: self.contact_treatment(),
         }
     }
 

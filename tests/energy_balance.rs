@@ -316,3 +316,57 @@ fn printed_load_term_of_eq_31_is_not_conserved() {
         "printed energy unexpectedly conserved: {theirs:e}"
     );
 }
+
+/// The Newmark identity (Appendix, after eq. 46) with `Bᵀλ` replaced by the penalty or
+/// Nitsche force `Σ λ_i f_i` and `S` by the integrated (for Nitsche, modified) stiffness:
+/// `ΔE = (½ − γ)ΔUᵀSΔU − ΔUᵀfΛ_γ + Δt(β − γ/2)ΔVᵀSΔU + Δt(β − γ/2)ΔVᵀfΔλ`, with
+/// `E = ½VᵀMV + ½UᵀSU − FᵀU` the energy without the contact term.
+#[test]
+fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
+    use signorini::contact::ContactLaw;
+    for contact in [
+        "penalty(gamma0=10)",
+        "nitsche(theta=-1,gamma0=10)",
+        "nitsche(theta=0,gamma0=10)",
+        "nitsche(theta=1,gamma0=10)",
+    ] {
+        for (beta, gamma) in [(0.5, 1.0), (0.5, 0.5), (0.3, 0.6)] {
+            for mass in MassVariant::ALL {
+                let (bar, model, u0, v0) = setup(mass, Some(-0.3));
+                let law = ContactLaw::bar1d(contact.parse().unwrap(), &bar).unwrap();
+                let model = model.with_contact_law(law);
+                let set = model.contact().unwrap().clone();
+                let force = model.contact_law().rows(&set)[0].force.clone();
+                let along = |v: &[f64]| force.iter().map(|&(k, c)| c * v[k]).sum::<f64>();
+                let dt = bar.h() / RATIO;
+                let scheme = Scheme::Newmark { beta, gamma };
+                let mut s = integrator(&model, scheme, dt, &u0, &v0).unwrap();
+                let mechanical = |s: &dyn TimeIntegrator| {
+                    s.energy().value - model.contact_energy(s.displacement())
+                };
+                let mut before = snapshot(&model, s.as_ref());
+                before.energy = mechanical(s.as_ref());
+                let e0 = before.energy;
+                let (mut worst, mut contact_steps): (f64, usize) = (0.0, 0);
+                for _ in 0..steps(dt) {
+                    s.advance().unwrap();
+                    let mut after = snapshot(&model, s.as_ref());
+                    after.energy = mechanical(s.as_ref());
+                    contact_steps += usize::from(after.lambda != 0.0);
+                    let du = diff(&after.u, &before.u);
+                    let dv = diff(&after.v, &before.v);
+                    let st = model.stiffness();
+                    let lam_gamma = (1.0 - gamma) * before.lambda + gamma * after.lambda;
+                    let predicted = (0.5 - gamma) * st.quadratic_form(&du) - along(&du) * lam_gamma
+                        + dt * (beta - 0.5 * gamma) * st.bilinear_form(&dv, &du)
+                        + dt * (beta - 0.5 * gamma) * along(&dv) * (after.lambda - before.lambda);
+                    let observed = after.energy - before.energy;
+                    worst = worst.max((observed - predicted).abs() / e0.abs());
+                    before = after;
+                }
+                assert!(contact_steps > 0, "{contact} {scheme} {mass}");
+                assert!(worst < TOL, "{contact} {scheme} {mass}: residual {worst:e}");
+            }
+        }
+    }
+}

@@ -1,12 +1,15 @@
-//! The Delassus operator `W = B K⁻¹ Bᵀ` of a factorised system and the contact correction of
-//! one step.
+//! The Delassus operator `W = B K⁻¹ Bᵀ` of a factorised system, shifted by the compliance of a
+//! regularised treatment (`W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij`, see [`super::law`]), and the contact
+//! correction of one step.
 
+use super::law::{sparse_dot, ConstraintRow};
 use super::{default_solver, ContactSolver, ContactStatus};
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
 use crate::model::ContactSet;
 
-/// `K⁻¹Bᵀ` (one column per constraint) and `W = B K⁻¹ Bᵀ` (row-major).
+/// `K⁻¹f_j` (one column per constraint) and `W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij` (row-major); for the
+/// multiplier `W = B K⁻¹ Bᵀ`.
 #[derive(Debug, Clone)]
 pub struct Delassus {
     columns: Vec<Vec<f64>>,
@@ -14,23 +17,27 @@ pub struct Delassus {
 }
 
 impl Delassus {
-    /// Computes `K⁻¹ e_d` for every contact dof `d` (one solve each) and `W`.
-    pub fn new(system: &SpdSolver, n_dofs: usize, contact: &ContactSet) -> Self {
-        let columns: Vec<Vec<f64>> = contact
-            .dofs
+    /// Computes `K⁻¹ f_j` for every constraint (one solve each) and `W`.
+    pub fn new(system: &SpdSolver, n_dofs: usize, rows: &[ConstraintRow]) -> Self {
+        let columns: Vec<Vec<f64>> = rows
             .iter()
-            .map(|&d| {
+            .map(|row| {
                 let mut col = vec![0.0; n_dofs];
-                col[d] = 1.0;
+                for &(k, c) in &row.force {
+                    col[k] = c;
+                }
                 system.solve_in_place(&mut col);
                 col
             })
             .collect();
         let nc = columns.len();
         let mut matrix = vec![0.0; nc * nc];
-        for (i, &di) in contact.dofs.iter().enumerate() {
+        for (i, row) in rows.iter().enumerate() {
             for (j, col) in columns.iter().enumerate() {
-                matrix[i * nc + j] = col[di];
+                matrix[i * nc + j] = sparse_dot(&row.measure, col);
+            }
+            if row.compliance != 0.0 {
+                matrix[i * nc + i] += row.compliance;
             }
         }
         Self { columns, matrix }
@@ -55,6 +62,7 @@ impl Delassus {
 #[derive(Debug)]
 pub struct ContactStep {
     set: ContactSet,
+    rows: Vec<ConstraintRow>,
     delassus: Delassus,
     solver: Box<dyn ContactSolver>,
     free_gaps: Vec<f64>,
@@ -65,19 +73,38 @@ pub struct ContactStep {
 }
 
 impl ContactStep {
-    /// Prepares the contact correction for the factorised step matrix `system`.
-    pub fn new(set: &ContactSet, system: &SpdSolver, n_dofs: usize) -> Self {
+    /// Prepares the contact correction of the constraints `rows` of `set` for the factorised
+    /// step matrix `system`. Fails when a diagonal entry of the (shifted) Delassus operator is
+    /// not positive: the step's complementarity problem would not be well posed.
+    pub fn new(
+        set: &ContactSet,
+        rows: &[ConstraintRow],
+        system: &SpdSolver,
+        n_dofs: usize,
+    ) -> Result<Self, SolveError> {
         let n = set.len();
-        Self {
-            delassus: Delassus::new(system, n_dofs, set),
+        let delassus = Delassus::new(system, n_dofs, rows);
+        let not_positive = |w: f64| w.is_nan() || w <= 0.0;
+        if let Some(i) = (0..n).find(|&i| not_positive(delassus.matrix()[i * n + i])) {
+            return Err(SolveError::Factorization {
+                matrix: "contact (Delassus) operator",
+                detail: format!(
+                    "diagonal entry {i} is {:e}, not > 0",
+                    delassus.matrix()[i * n + i]
+                ),
+            });
+        }
+        Ok(Self {
+            delassus,
             solver: default_solver(n),
             set: set.clone(),
+            rows: rows.to_vec(),
             free_gaps: vec![0.0; n],
             mu: vec![0.0; n],
             solves: 0,
             seconds: 0.0,
             max_violation: 0.0,
-        }
+        })
     }
 
     /// Replaces the complementarity solver.
@@ -98,14 +125,16 @@ impl ContactStep {
     }
 
     /// The largest complementarity violation after a solve so far:
-    /// `max(−(B u + c)_i, μ_i |(B u + c)_i|)` over constraints and steps (0 when exact).
+    /// `max(−y_i, μ_i |y_i|)` with `y_i = c_i(u) + ε_i μ_i` over constraints and steps (0 when
+    /// exact).
     pub fn max_violation(&self) -> f64 {
         self.max_violation
     }
 
     /// Turns the unconstrained solution `u` into the constrained one, for the constraint
-    /// `u[d_i] + shift_i(gap_i) ≥ 0` where `shift` maps constraint `i` and its gap to the
-    /// offset used this step; writes `λ = −μ ≤ 0` into `lambda`.
+    /// `m_iᵀu + shift_i(gap_i) ≥ 0` (`u[d_i] + …` for the multiplier) where `shift` maps
+    /// constraint `i` and its gap to the offset used this step; writes `λ = −μ ≤ 0` into
+    /// `lambda`.
     pub fn enforce(
         &mut self,
         step: usize,
@@ -114,8 +143,8 @@ impl ContactStep {
         lambda: &mut [f64],
     ) -> Result<(), SolveError> {
         let mut violated = false;
-        for (i, (&d, &g)) in self.set.dofs.iter().zip(&self.set.gaps).enumerate() {
-            self.free_gaps[i] = u[d] + shift(i, g);
+        for (i, (row, &g)) in self.rows.iter().zip(&self.set.gaps).enumerate() {
+            self.free_gaps[i] = sparse_dot(&row.measure, u) + shift(i, g);
             violated |= self.free_gaps[i] < 0.0;
         }
         if !violated {
@@ -134,8 +163,8 @@ impl ContactStep {
             }
         }
         self.delassus.apply_correction(&self.mu, u);
-        for (i, (&d, &g)) in self.set.dofs.iter().zip(&self.set.gaps).enumerate() {
-            let gap = u[d] + shift(i, g);
+        for (i, (row, &g)) in self.rows.iter().zip(&self.set.gaps).enumerate() {
+            let gap = sparse_dot(&row.measure, u) + shift(i, g) + row.compliance * self.mu[i];
             let violation = (-gap).max(self.mu[i] * gap.abs());
             self.max_violation = self.max_violation.max(violation);
         }

@@ -42,6 +42,8 @@ pub struct ReferenceKey {
     pub initial_velocity: f64,
     /// Horizon `T`.
     pub horizon: f64,
+    /// The contact treatment's name.
+    pub contact: String,
     /// Elements along the axis.
     pub n_axis: usize,
     /// `Δx / Δt`.
@@ -77,6 +79,7 @@ impl ReferenceKey {
             initial_displacement: problem.initial_displacement,
             initial_velocity: problem.initial_velocity,
             horizon: problem.horizon,
+            contact: problem.contact.name(),
             n_axis,
             ratio,
             scheme: scheme.name(),

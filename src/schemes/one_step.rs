@@ -13,6 +13,10 @@
 //! `A^{n+1}` and `V^{n+1}` then follow from the first two lines for every dof; only `M A` and
 //! `M V` enter the dynamics, so the values on massless dofs are a consistent difference
 //! quotient that never needs `M⁻¹`.
+//!
+//! A penalty or Nitsche treatment ([`crate::contact::law`]) replaces `Bᵀλ^{n+1}` by
+//! `Σ λ_i^{n+1} f_i` with `λ^{n+1}` the force at `U^{n+1}` (implicit), solved through the
+//! shifted Delassus operator; for Nitsche `S` is the model's modified stiffness.
 
 use super::start::InitialState;
 use super::{Scheme, TimeIntegrator, Timed};
@@ -95,7 +99,10 @@ impl<'m> OneStepScheme<'m> {
             .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
         let system = SpdSolver::factor(&k, "one-step scheme system M/(bΔt²) + S")?;
         let n = model.n_dofs();
-        let contact = model.contact().map(|c| ContactStep::new(c, &system, n));
+        let contact = model
+            .contact()
+            .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
+            .transpose()?;
         Ok(Self {
             model,
             coef,

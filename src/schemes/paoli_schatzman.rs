@@ -65,7 +65,10 @@ impl<'m> PaoliSchatzman<'m> {
             .linear_combination(1.0 / (dt * dt), model.stiffness(), beta);
         let system = SpdSolver::factor(&k, "Paoli–Schatzman system M/Δt² + βS")?;
         let n = model.n_dofs();
-        let contact = model.contact().map(|c| ContactStep::new(c, &system, n));
+        let contact = model
+            .contact()
+            .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
+            .transpose()?;
         let energy_at_start = model.energy(&start.displacement, &start.velocity);
         Ok(Self {
             model,

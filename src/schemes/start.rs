@@ -9,7 +9,12 @@
 //! `A_Z = 0` (it never enters `M A`).
 //!
 //! For the standard mass `Z` is empty, `U^0` is the given data and `λ^0 = 0`.
+//!
+//! A penalty or Nitsche treatment ([`crate::contact::law`]) makes the force a function of the
+//! displacement: the static problem on `Z` is solved with it, and `λ^0` is that force at `U^0`
+//! (enters eq. 32c with its force vectors `f_i`).
 
+use crate::contact::law::{ConstraintRow, SparseVector};
 use crate::contact::ContactStep;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
@@ -46,13 +51,20 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
     if !massless.is_empty() {
         equilibrate_massless(model, massless, &mut u, &mut lambda)?;
     }
+    if let Some(c) = model.contact() {
+        if let Some(forces) = model.contact_law().forces(c, &u) {
+            lambda = forces;
+        }
+    }
 
     let mut rhs = vec![0.0; n];
     residual_force(model, &u, &mut rhs);
     rhs.iter_mut().for_each(|r| *r = -*r);
     if let Some(c) = model.contact() {
-        for (&d, &l) in c.dofs.iter().zip(&lambda) {
-            rhs[d] -= l;
+        for (row, &l) in model.contact_law().rows(c).iter().zip(&lambda) {
+            for &(k, coef) in &row.force {
+                rhs[k] -= coef * l;
+            }
         }
     }
     let with_mass: Vec<usize> = (0..n)
@@ -76,8 +88,9 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
     })
 }
 
-/// Solves `S_ZZ u_Z = (F − S_ZR u_R)_Z − (Bᵀλ)_Z` with the contact condition on the contact
-/// dofs in `Z`, in place.
+/// Solves `S_ZZ u_Z = (F − S_ZR u_R)_Z − (Σ λ_i f_i)_Z` with the contact condition of every
+/// constraint whose force acts on `Z`, in place. A constraint value `m_iᵀu + g_i` is split
+/// into its `Z` part and the fixed `R` part, which joins the gap.
 fn equilibrate_massless(
     model: &Model,
     massless: &[usize],
@@ -97,21 +110,46 @@ fn equilibrate_massless(
     solver.solve_in_place(&mut u_z);
 
     if let Some(contact) = model.contact() {
-        let local: Vec<(usize, usize)> = contact
-            .dofs
-            .iter()
-            .enumerate()
-            .filter_map(|(k, d)| massless.binary_search(d).ok().map(|z| (k, z)))
-            .collect();
-        if !local.is_empty() {
-            let set = ContactSet {
-                dofs: local.iter().map(|&(_, z)| z).collect(),
-                gaps: local.iter().map(|&(k, _)| contact.gaps[k]).collect(),
+        let local_part = |v: &[(usize, f64)]| -> SparseVector {
+            v.iter()
+                .filter_map(|&(k, c)| massless.binary_search(&k).ok().map(|z| (z, c)))
+                .collect()
+        };
+        let mut local: Vec<usize> = Vec::new();
+        let mut set = ContactSet {
+            dofs: Vec::new(),
+            gaps: Vec::new(),
+        };
+        let mut rows = Vec::new();
+        for (k, row) in model.contact_law().rows(contact).into_iter().enumerate() {
+            let force = local_part(&row.force);
+            let Some(&(z, _)) = force.first() else {
+                continue;
             };
-            let mut step = ContactStep::new(&set, &solver, massless.len());
+            let fixed: f64 = row
+                .measure
+                .iter()
+                .filter(|(d, _)| massless.binary_search(d).is_err())
+                .map(|&(d, c)| c * u[d])
+                .sum();
+            local.push(k);
+            set.dofs.push(z);
+            set.gaps.push(if fixed == 0.0 {
+                contact.gaps[k]
+            } else {
+                contact.gaps[k] + fixed
+            });
+            rows.push(ConstraintRow {
+                measure: local_part(&row.measure),
+                force,
+                compliance: row.compliance,
+            });
+        }
+        if !local.is_empty() {
+            let mut step = ContactStep::new(&set, &rows, &solver, massless.len())?;
             let mut lambda_z = vec![0.0; set.len()];
             step.enforce(0, &mut u_z, |_, g| g, &mut lambda_z)?;
-            for (&(k, _), l) in local.iter().zip(lambda_z) {
+            for (&k, l) in local.iter().zip(lambda_z) {
                 lambda[k] = l;
             }
         }
