@@ -139,6 +139,7 @@ pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResu
     let scheme = config.scheme.validate()?;
     let h = mesh.element_sizes()[d - 1];
     let (steps, dt) = time_grid(problem.horizon, h, config.ratio);
+    mesh.check_mass(config.mass)?;
     let model = mesh.model(&problem.elasticity, config.mass, problem.obstacle_gap);
     let axis = |value: f64| {
         move |_: &[f64]| {

@@ -216,8 +216,14 @@ fn list(dir: &Path) {
     }
     out!("  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)");
     out!("\nMass variants:");
-    out!("  standard       consistent mass matrix M");
-    out!("  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)");
+    for m in MassVariant::ALL {
+        out!(
+            "  {:25} {:5} {}",
+            m.name(),
+            m.paper_label(),
+            m.description()
+        );
+    }
     out!("\nNorms:");
     for n in Norm::ALL {
         out!("  {:12} {}", n.key(), n.label());
@@ -499,7 +505,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 scheme
             };
             let masses = if mass.is_empty() {
-                MassVariant::ALL.to_vec()
+                MassVariant::PAPER.to_vec()
             } else {
                 mass
             };

@@ -146,6 +146,7 @@ impl Problem1d {
     /// a contact set only with an obstacle, a load vector only with a body force.
     pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
         let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
+        bar.check_mass(mass)?;
         let model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
         Ok((bar, model))
     }
