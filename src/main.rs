@@ -191,6 +191,7 @@ impl From<EngineError> for Failure {
     fn from(e: EngineError) -> Self {
         match e {
             EngineError::Parameter(p) => Self::usage(p),
+            EngineError::Solve(s) if s.is_usage() => Self::usage(s),
             EngineError::Solve(s) => Self::runtime(s),
             EngineError::Io(m) => Self::runtime(m),
         }

@@ -10,7 +10,7 @@
 //!
 //! For the standard mass `Z` is empty, `U^0` is the given data and `λ^0 = 0`.
 
-use crate::contact::ContactStep;
+use super::massless::QuasiStatic;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
 use crate::model::{ContactSet, Model};
@@ -42,10 +42,10 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
     let mut u = u0.to_vec();
     let n_contact = model.contact().map_or(0, ContactSet::len);
     let mut lambda = vec![0.0; n_contact];
-    let massless = model.massless_dofs();
-    if !massless.is_empty() {
-        equilibrate_massless(model, massless, &mut u, &mut lambda)?;
+    if let Some(mut statics) = QuasiStatic::new(model)? {
+        statics.solve(model, 0, &mut u, &mut lambda)?;
     }
+    let massless = model.massless_dofs();
 
     let mut rhs = vec![0.0; n];
     residual_force(model, &u, &mut rhs);
@@ -74,50 +74,4 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
         acceleration,
         multiplier: lambda,
     })
-}
-
-/// Solves `S_ZZ u_Z = (F − S_ZR u_R)_Z − (Bᵀλ)_Z` with the contact condition on the contact
-/// dofs in `Z`, in place.
-fn equilibrate_massless(
-    model: &Model,
-    massless: &[usize],
-    u: &mut [f64],
-    lambda: &mut [f64],
-) -> Result<(), SolveError> {
-    let n = model.n_dofs();
-    let s_zz = model.stiffness().principal_submatrix(massless);
-    let solver = SpdSolver::factor(&s_zz, "stiffness on the massless dofs")?;
-    let mut without_z = u.to_vec();
-    for &z in massless {
-        without_z[z] = 0.0;
-    }
-    let mut r = vec![0.0; n];
-    residual_force(model, &without_z, &mut r);
-    let mut u_z: Vec<f64> = massless.iter().map(|&z| -r[z]).collect();
-    solver.solve_in_place(&mut u_z);
-
-    if let Some(contact) = model.contact() {
-        let local: Vec<(usize, usize)> = contact
-            .dofs
-            .iter()
-            .enumerate()
-            .filter_map(|(k, d)| massless.binary_search(d).ok().map(|z| (k, z)))
-            .collect();
-        if !local.is_empty() {
-            let set = ContactSet {
-                dofs: local.iter().map(|&(_, z)| z).collect(),
-                gaps: local.iter().map(|&(k, _)| contact.gaps[k]).collect(),
-            };
-            let mut step = ContactStep::new(&set, &solver, massless.len());
-            let mut lambda_z = vec![0.0; set.len()];
-            step.enforce(0, &mut u_z, |_, g| g, &mut lambda_z)?;
-            for (&(k, _), l) in local.iter().zip(lambda_z) {
-                lambda[k] = l;
-            }
-        }
-    }
-    for (&z, v) in massless.iter().zip(u_z) {
-        u[z] = v;
-    }
-    Ok(())
 }
