@@ -73,10 +73,10 @@ pub enum SolveError {
     },
     /// Explicit Newmark with `Δt` above its stability bound (checked before the first step).
     #[error(
-        "time step too large for explicit Newmark (β = 0, γ = {gamma}): Δt = {dt} but the CFL bound \
-         is Δt ≤ √(2/γ)/ω_max = {bound} (2/ω_max for central differences; ω_max² the largest \
-         eigenvalue of S x = ω² M x on the dofs with mass); use a smaller Δt (a larger ratio \
-         Δx/Δt, at least {} times the current one)",
+        "time step too large for explicit Newmark (β = 0, γ = {gamma}): Δt = {dt:.6e} but the CFL \
+         bound is Δt ≤ √(2/γ)/ω_max = {bound:.6e} (2/ω_max for central differences; ω_max² the \
+         largest eigenvalue of S x = ω² M x on the dofs with mass); use a Δt at least {:.3} times \
+         smaller (a larger ratio Δx/Δt)",
         dt / bound
     )]
     CflViolated {
