@@ -65,7 +65,8 @@ enum Command {
         /// theta(theta=T), paoli-schatzman(beta=B,e=E).
         #[arg(long, value_parser = parse_scheme)]
         scheme: Scheme,
-        /// Mass matrix: standard or redistributed.
+        /// Mass matrix: standard, redistributed, lumped, redistributed-conserving or
+        /// singular-dynamic (see `signorini list`).
         #[arg(long, value_parser = parse_mass)]
         mass: MassVariant,
         /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's
@@ -87,7 +88,7 @@ enum Command {
         /// Schemes (repeat the option for several); default: the paper's seven.
         #[arg(long, value_parser = parse_scheme)]
         scheme: Vec<Scheme>,
-        /// Mass variants, comma-separated; default: both.
+        /// Mass variants, comma-separated; default: the paper's two (standard, redistributed).
         #[arg(long, value_delimiter = ',', value_parser = parse_mass)]
         mass: Vec<MassVariant>,
         /// Norms, comma-separated; default: the scene's.
