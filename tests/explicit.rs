@@ -105,6 +105,9 @@ fn cfl_violation_is_a_typed_error_naming_the_bound() {
         .to_string();
         assert!(message.contains("Δt ≤ √(2/γ)/ω_max"), "{message}");
         assert!(message.contains("2/ω_max"), "{message}");
+        let start = initial_state(&model, &u0, &v0).unwrap();
+        let explicit = ExplicitNewmark::new(&model, 0.5, bound * 0.99, start).unwrap();
+        assert_eq!(explicit.stable_dt(), bound);
         let mut ok = integrator(&model, Scheme::CENTRAL_DIFFERENCE, bound * 0.99, &u0, &v0)
             .unwrap_or_else(|e| panic!("{mass}: {e}"));
         for _ in 0..2000 {

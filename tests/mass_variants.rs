@@ -155,9 +155,20 @@ fn too_thin_meshes_are_refused_naming_mass() {
         assert!(err.allowed.contains("Dirichlet"), "{}", err.allowed);
         assert!(problem.model(thinnest_ok, mass).is_ok(), "{mass}");
     }
-    // A free far end has no fixed node to lose mass to.
-    assert!(bar(1, EndCondition::Free)
+    // A free far end has no fixed node to lose mass to, but the extrapolation needs node 2.
+    let err = bar(1, EndCondition::Free)
         .check_mass(MassVariant::SingularDynamic)
+        .unwrap_err();
+    assert!(err.allowed.contains("two nodes above"), "{}", err.allowed);
+    for mass in EXTENDED {
+        assert!(bar(2, EndCondition::Free).check_mass(mass).is_ok());
+        assert!(close(
+            bar(2, EndCondition::Free).mass(mass).sum_of_entries(),
+            DENSITY
+        ));
+    }
+    assert!(bar(1, EndCondition::Free)
+        .check_mass(MassVariant::RedistributedConserving)
         .is_ok());
     let thin = BoxMesh::note_2d(1, 2).unwrap();
     assert_eq!(

@@ -144,9 +144,9 @@ impl Bar1d {
     }
 
     /// Whether `variant` is defined on this bar ([`MassVariant::check_layers`]: the extended
-    /// variants need free nodes above the contact node).
+    /// variants need nodes above the contact node that exist and are not clamped).
     pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
-        variant.check_layers((self.far_end == EndCondition::Clamped).then_some(self.nx))
+        variant.check_layers(self.nx, self.far_end == EndCondition::Clamped)
     }
 
     /// The stiffness matrix: element matrix `E/h [[1, -1], [-1, 1]]`.

@@ -643,7 +643,7 @@ impl BoxMesh {
     /// Whether `variant` is defined on this mesh ([`MassVariant::check_layers`] with the
     /// `n_d` element layers between `Γ_Sig` and `Γ_Dir`).
     pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
-        variant.check_layers(Some(self.counts[self.dim - 1]))
+        variant.check_layers(self.counts[self.dim - 1], true)
     }
 
     /// The stiffness matrix `S_ij = a(φ_i, φ_j) = ∫_Ω A ε(φ_i) : ε(φ_j)` (eq. 4–5), plane strain

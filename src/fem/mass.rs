@@ -29,9 +29,9 @@
 //!     constraint.) GetFEM's demo sets `M_11 = 7h/12`, which keeps neither the mass nor the
 //!     first moment.
 //!
-//! The extension is defined when the nodes it reads are not on the Dirichlet face (otherwise
-//! the mass would be moved onto a fixed node and lost); [`MassVariant::check_layers`] says so
-//! with a [`ParameterError`] on `mass`.
+//! The extension is defined when the nodes it reads exist and are not on the Dirichlet face
+//! (otherwise the mass would be moved onto a fixed node and lost); [`MassVariant::check_layers`]
+//! says so with a [`ParameterError`] on `mass`.
 
 use std::fmt;
 use std::str::FromStr;
@@ -140,29 +140,35 @@ impl MassVariant {
     }
 
     /// Checks that the variant is defined on a mesh with `layers` element layers between the
-    /// contact boundary and the Dirichlet boundary (`None`: no Dirichlet boundary). The
-    /// extension of `redistributed-conserving` (`singular-dynamic`) reads the nodes 1 (and 2)
-    /// layers above `Γ_Sig`, which must not be fixed.
-    pub fn check_layers(self, layers: Option<usize>) -> Result<(), ParameterError> {
-        let (Some(ext), Some(layers)) = (self.contact_extension(), layers) else {
+    /// contact boundary and the far face, which is fixed (Dirichlet) or free. The extension of
+    /// `redistributed-conserving` (`singular-dynamic`) reads the nodes 1 (and 2) layers above
+    /// `Γ_Sig`: they must exist and must not be fixed, or mass is lost.
+    pub fn check_layers(self, layers: usize, far_face_fixed: bool) -> Result<(), ParameterError> {
+        let Some(ext) = self.contact_extension() else {
             return Ok(());
         };
-        if layers > ext.weights.len() {
+        let needed = ext.weights.len() + usize::from(far_face_fixed);
+        if layers >= needed {
             return Ok(());
         }
         Err(ParameterError::new(
             "mass",
             self.name(),
-            match self {
-                MassVariant::RedistributedConserving => {
+            match (self, far_face_fixed) {
+                (MassVariant::RedistributedConserving, _) => {
                     "a variant other than redistributed-conserving on a mesh with one element \
                      between the contact and the Dirichlet boundary (the contact nodes' mass \
                      would be moved onto fixed nodes and lost); use at least 2 elements"
                 }
-                _ => {
+                (_, true) => {
                     "a variant other than singular-dynamic on a mesh with fewer than 3 elements \
                      between the contact and the Dirichlet boundary (the linear extrapolation \
                      would read fixed nodes, losing mass and moments); use at least 3 elements"
+                }
+                (_, false) => {
+                    "a variant other than singular-dynamic on a single element (the linear \
+                     extrapolation needs the two nodes above the contact node); use at least 2 \
+                     elements"
                 }
             },
         ))

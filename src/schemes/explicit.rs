@@ -120,11 +120,6 @@ impl<'m> ExplicitNewmark<'m> {
     pub fn stable_dt(&self) -> f64 {
         self.stable_dt
     }
-
-    /// `U^{n−1}`.
-    pub fn previous_displacement(&self) -> &[f64] {
-        &self.u_prev
-    }
 }
 
 impl TimeIntegrator for ExplicitNewmark<'_> {
