@@ -158,6 +158,7 @@ pub fn run_box_observed(
     let scheme = config.scheme.validate()?;
     let h = mesh.element_sizes()[d - 1];
     let (steps, dt) = time_grid(problem.horizon, h, config.ratio);
+    mesh.check_mass(config.mass)?;
     let law = ContactLaw::boxed(problem.contact, &mesh, &problem.elasticity)?;
     let model = mesh
         .model(&problem.elasticity, config.mass, problem.obstacle_gap)

@@ -71,6 +71,31 @@ pub enum SolveError {
         /// Iterations spent.
         iterations: usize,
     },
+    /// Explicit Newmark with `Δt` above its stability bound (checked before the first step).
+    #[error(
+        "time step too large for explicit Newmark (β = 0, γ = {gamma}): Δt = {dt:.6e} but the CFL \
+         bound is Δt ≤ √(2/γ)/ω_max = {bound:.6e} (2/ω_max for central differences; ω_max² the \
+         largest eigenvalue of S x = ω² M x on the dofs with mass); use a Δt at least {:.3} times \
+         smaller (a larger ratio Δx/Δt)",
+        dt / bound
+    )]
+    CflViolated {
+        /// The requested time step.
+        dt: f64,
+        /// The largest stable time step `√(2/γ)/ω_max`.
+        bound: f64,
+        /// Newmark's γ.
+        gamma: f64,
+    },
+    /// Explicit Newmark with a contact dof that carries mass.
+    #[error(
+        "explicit contact requires a mass variant whose contact dofs are massless (redistributed, \
+         redistributed-conserving or singular-dynamic): contact dof {dof} has mass"
+    )]
+    ExplicitContactWithMass {
+        /// The first contact dof with mass.
+        dof: usize,
+    },
     /// A state value became NaN or infinite.
     #[error("non-finite {quantity} at step {step} (t = {time})")]
     NonFinite {
@@ -81,6 +106,17 @@ pub enum SolveError {
         /// Which quantity (`displacement`, `velocity`, `multiplier`, `energy`).
         quantity: &'static str,
     },
+}
+
+impl SolveError {
+    /// Whether the error is a choice of parameters the user can change before running (the
+    /// CFL bound, explicit contact with mass) rather than a failure of the computation.
+    pub fn is_usage(&self) -> bool {
+        matches!(
+            self,
+            SolveError::CflViolated { .. } | SolveError::ExplicitContactWithMass { .. }
+        )
+    }
 }
 
 /// Any error of the library.

@@ -69,7 +69,8 @@ enum Command {
         /// theta(theta=T), paoli-schatzman(beta=B,e=E).
         #[arg(long, value_parser = parse_scheme)]
         scheme: Scheme,
-        /// Mass matrix: standard or redistributed.
+        /// Mass matrix: standard, redistributed, lumped, redistributed-conserving or
+        /// singular-dynamic (see `signorini list`).
         #[arg(long, value_parser = parse_mass)]
         mass: MassVariant,
         /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's
@@ -95,7 +96,7 @@ enum Command {
         /// Schemes (repeat the option for several); default: the paper's seven.
         #[arg(long, value_parser = parse_scheme)]
         scheme: Vec<Scheme>,
-        /// Mass variants, comma-separated; default: both.
+        /// Mass variants, comma-separated; default: the paper's two (standard, redistributed).
         #[arg(long, value_delimiter = ',', value_parser = parse_mass)]
         mass: Vec<MassVariant>,
         /// Norms, comma-separated; default: the scene's.
@@ -224,6 +225,7 @@ impl From<EngineError> for Failure {
     fn from(e: EngineError) -> Self {
         match e {
             EngineError::Parameter(p) => Self::usage(p),
+            EngineError::Solve(s) if s.is_usage() => Self::usage(s),
             EngineError::Solve(s) => Self::runtime(s),
             EngineError::Io(m) => Self::runtime(m),
         }
@@ -287,8 +289,14 @@ fn list(dir: &Path) {
     }
     out!("  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)");
     out!("\nMass variants:");
-    out!("  standard       consistent mass matrix M");
-    out!("  redistributed  M^mod: elements touching the contact boundary removed (1D paper §3.2)");
+    for m in MassVariant::ALL {
+        out!(
+            "  {:25} {:5} {}",
+            m.name(),
+            m.paper_label(),
+            m.description()
+        );
+    }
     out!("\nContact treatments (E the Young modulus, ρc² for a bar; h the mesh size at the contact):");
     for (name, params, description) in TREATMENT_LIST {
         out!("  {name:27} {params:22} {description}");
@@ -611,7 +619,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 scheme
             };
             let masses = if mass.is_empty() {
-                MassVariant::ALL.to_vec()
+                MassVariant::PAPER.to_vec()
             } else {
                 mass
             };

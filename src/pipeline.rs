@@ -157,7 +157,7 @@ pub fn write_histories(out_dir: &Path, levels: &[usize]) -> Result<(), Box<dyn s
             .par_iter()
             .map(|&scheme| -> Result<_, crate::error::Error> {
                 let mut runs = Vec::new();
-                for mass in crate::fem::MassVariant::ALL {
+                for mass in crate::fem::MassVariant::PAPER {
                     for &nx in levels {
                         let r = crate::run::run(
                             &problem,
@@ -263,7 +263,7 @@ pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
     let cases: Vec<Case> = scene
         .default_schemes()
         .into_iter()
-        .flat_map(|scheme| crate::fem::MassVariant::ALL.map(|mass| Case { scheme, mass }))
+        .flat_map(|scheme| crate::fem::MassVariant::PAPER.map(|mass| Case { scheme, mass }))
         .collect();
     Ok(run_study(
         &scene.problem(),

@@ -152,6 +152,7 @@ impl Problem1d {
     /// vector only with a body force. A treatment other than the multiplier needs an obstacle.
     pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
         let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
+        bar.check_mass(mass)?;
         let mut model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
         if self.contact != ContactTreatment::Multiplier {
             if self.obstacle_gap.is_none() {

@@ -14,7 +14,9 @@ use crate::model::Model;
 use crate::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 pub use crate::problem::Problem1d;
 use crate::schemes::start::initial_state;
-use crate::schemes::{OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator};
+use crate::schemes::{
+    ExplicitNewmark, OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
+};
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -226,6 +228,9 @@ pub fn integrator<'m>(
     }
     let start = initial_state(model, u0, v0)?;
     Ok(match scheme {
+        Scheme::Newmark { gamma, .. } if scheme.is_explicit() => {
+            Box::new(ExplicitNewmark::new(model, gamma, dt, start)?)
+        }
         Scheme::PaoliSchatzman { beta, restitution } => {
             Box::new(PaoliSchatzman::new(model, beta, restitution, dt, start)?)
         }

@@ -370,3 +370,33 @@ fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
         }
     }
 }
+
+/// The variants beyond the paper (issue 11), named explicitly so that the check does not depend
+/// on what `MassVariant::ALL` lists.
+const NEW_MASSES: [MassVariant; 3] = [
+    MassVariant::Lumped,
+    MassVariant::RedistributedConserving,
+    MassVariant::SingularDynamic,
+];
+
+/// Eq. (33) for Crank–Nicolson with each new mass matrix, with contact, with and without load.
+#[test]
+fn crank_nicolson_balance_holds_for_the_new_mass_variants() {
+    for mass in NEW_MASSES {
+        let worst = one_step_balance(Scheme::CRANK_NICOLSON, mass, |model, _dt, b, a| {
+            -(contact_component(model, &a.u) - contact_component(model, &b.u))
+                * 0.5
+                * (a.lambda + b.lambda)
+        });
+        assert!(worst < TOL, "crank-nicolson {mass}: residual {worst:e}");
+    }
+}
+
+/// Eq. (35) for backward Euler (θ = 1) with each new mass matrix, with contact.
+#[test]
+fn backward_euler_balance_holds_for_the_new_mass_variants() {
+    for mass in NEW_MASSES {
+        let worst = one_step_balance(Scheme::Theta { theta: 1.0 }, mass, theta_prediction(1.0));
+        assert!(worst < TOL, "backward-euler {mass}: residual {worst:e}");
+    }
+}

@@ -120,8 +120,10 @@ impl Bar1d {
         [self.dof_of_node(e), self.dof_of_node(e + 1)]
     }
 
-    /// The mass matrix of the chosen variant: element matrix `ρh/6 [[2, 1], [1, 2]]`; the
-    /// redistributed variant skips element 0, the one touching the contact node (§3.2).
+    /// The mass matrix of the chosen variant (see [`MassVariant`]): element matrix
+    /// `ρh/6 [[2, 1], [1, 2]]`; the redistributed variant skips element 0, the one touching the
+    /// contact node (§3.2); the extended variants take the contact node's velocity from the
+    /// nodes `1, 2` (a clamped node contributes nothing: see [`Bar1d::check_mass`]).
     pub fn mass(&self, variant: MassVariant) -> SymmetricMatrix {
         let me = Matrix2::new(2.0, 1.0, 1.0, 2.0) * (self.density * self.h() / 6.0);
         let mut asm = SparseAssembler::new(self.n_dofs());
@@ -130,7 +132,21 @@ impl Bar1d {
                 asm.add_element(&self.element_dofs(e), &me);
             }
         }
-        asm.finish()
+        let contact = self.contact_dof();
+        variant.from_consistent(asm.finish(), |d| {
+            let ext = variant.contact_extension()?;
+            (d == contact).then(|| {
+                (ext.weights.iter().enumerate())
+                    .filter_map(|(k, &w)| self.dof_of_node(k + 1).map(|dof| (dof, w)))
+                    .collect()
+            })
+        })
+    }
+
+    /// Whether `variant` is defined on this bar ([`MassVariant::check_layers`]: the extended
+    /// variants need nodes above the contact node that exist and are not clamped).
+    pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
+        variant.check_layers(self.nx, self.far_end == EndCondition::Clamped)
     }
 
     /// The stiffness matrix: element matrix `E/h [[1, -1], [-1, 1]]`.

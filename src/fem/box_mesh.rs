@@ -606,12 +606,44 @@ impl BoxMesh {
     /// of it (normal and tangential) has a zero row and column: `ker M^mod` is spanned by the
     /// `d · #(Γ_Sig nodes)` unit vectors of those dofs, not by the normals `ν_i` alone as the
     /// note states. (With one element layer, `n_d = 1`, every element is removed and `M^mod = 0`.)
+    ///
+    /// The lumped and extended variants ([`MassVariant`]) are built from the consistent matrix;
+    /// the extension of a node `(a, 0)` of `Γ_Sig` reads the same component of the nodes
+    /// `(a, 1)`, `(a, 2)` straight above it (node `a + k·#Γ_Sig` in the lexicographic order).
     pub fn mass(&self, variant: MassVariant, density: f64) -> SymmetricMatrix {
         let include = |e| variant.includes_element(self.touches_contact_boundary(e));
-        match self.dim {
+        let consistent = match self.dim {
             2 => self.assemble::<2, 4, 8>(|x| quad_mass(x, density), include),
             _ => self.assemble::<3, 8, 24>(|x| hex_mass(x, density), include),
-        }
+        };
+        let layer = self.contact_nodes().len();
+        let contact_dofs: Vec<Option<(usize, usize)>> = {
+            let mut owner = vec![None; self.n_dofs];
+            for node in 0..layer {
+                for c in 0..self.dim {
+                    if let Some(d) = self.dof_of(node, c) {
+                        owner[d] = Some((node, c));
+                    }
+                }
+            }
+            owner
+        };
+        variant.from_consistent(consistent, |d| {
+            let ext = variant.contact_extension()?;
+            let (node, c) = contact_dofs[d]?;
+            Some(
+                (ext.weights.iter().enumerate())
+                    .filter(|&(k, _)| k < self.counts[self.dim - 1])
+                    .filter_map(|(k, &w)| self.dof_of(node + (k + 1) * layer, c).map(|j| (j, w)))
+                    .collect(),
+            )
+        })
+    }
+
+    /// Whether `variant` is defined on this mesh ([`MassVariant::check_layers`] with the
+    /// `n_d` element layers between `Γ_Sig` and `Γ_Dir`).
+    pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
+        variant.check_layers(self.counts[self.dim - 1], true)
     }
 
     /// The stiffness matrix `S_ij = a(φ_i, φ_j) = ∫_Ω A ε(φ_i) : ε(φ_j)` (eq. 4–5), plane strain

@@ -232,6 +232,39 @@ impl SparseAssembler {
 }
 
 impl SymmetricMatrix {
+    /// The congruence `Pᵀ A P` where row `a` of `P` is
+    /// `Σ_{(i, w) ∈ rows[a]} w e_iᵀ`: `(Pᵀ A P)_ij = Σ_ab A_ab P_ai P_bj`. The upper triangle is
+    /// summed in a fixed order and mirrored, so the result is exactly symmetric.
+    pub fn congruence(&self, rows: &[Vec<(usize, f64)>]) -> SymmetricMatrix {
+        let n = self.dim();
+        let a = self.as_faer();
+        let sym = a.symbolic();
+        let mut upper: Vec<(usize, f64)> = Vec::new();
+        for (b, row_b) in rows.iter().enumerate() {
+            let range = sym.col_ptr()[b]..sym.col_ptr()[b + 1];
+            for (&ra, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+                for &(i, wi) in &rows[ra] {
+                    for &(j, wj) in row_b {
+                        if i <= j {
+                            upper.push((j * n + i, v * wi * wj));
+                        }
+                    }
+                }
+            }
+        }
+        upper.sort_by_key(|&(key, _)| key);
+        let mut asm = SparseAssembler::new(n);
+        for run in upper.chunk_by(|x, y| x.0 == y.0) {
+            let (j, i) = (run[0].0 / n, run[0].0 % n);
+            let v: f64 = run.iter().map(|t| t.1).sum();
+            asm.add(i, j, v);
+            if i != j {
+                asm.add(j, i, v);
+            }
+        }
+        asm.finish()
+    }
+
     /// The principal submatrix on `indices` (in that order).
     pub fn principal_submatrix(&self, indices: &[usize]) -> SymmetricMatrix {
         let mut local = vec![usize::MAX; self.dim()];

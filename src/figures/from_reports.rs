@@ -51,7 +51,7 @@ fn panel_label(mass: MassVariant) -> String {
 pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
     let mut contact = Vec::new();
     let mut energy = Vec::new();
-    for mass in MassVariant::ALL {
+    for mass in MassVariant::PAPER {
         let runs = h.runs.iter().filter(|r| r.0 == mass);
         contact.push(ContactPanel {
             label: panel_label(mass),
@@ -246,7 +246,7 @@ pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, Fig
 /// named in the title).
 pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
-    for mass in MassVariant::ALL {
+    for mass in MassVariant::PAPER {
         let mine: Vec<&StabilityRecord> = records
             .iter()
             .filter(|r| r.hard_case == "long-horizon" && r.case.ends_with(mass.name()))
@@ -327,7 +327,7 @@ pub fn write_figures(
         Ok(r) => figures.extend(convergence_figures(&r.study)?),
         Err(e) => missing.push(e.to_string()),
     }
-    let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::ALL
+    let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
         .iter()
         .map(|&m| {
             read::<RunResult>(&reports.join(format!("gravity/run-{}.json", m.name())))

@@ -3,15 +3,21 @@
 //! * the Newmark family (eq. 32) and the θ-method (eq. 34), both one-step schemes with the
 //!   contact condition at `t_{n+1}` ([`OneStepScheme`]);
 //! * the Paoli–Schatzman scheme (eq. 36), a two-step scheme with the contact condition on
-//!   `(u^{n+1} + e u^{n−1}) / (1 + e)` ([`PaoliSchatzman`]).
+//!   `(u^{n+1} + e u^{n−1}) / (1 + e)` ([`PaoliSchatzman`]);
+//! * explicit Newmark, β = 0 (central differences for γ = ½), with its CFL bound checked
+//!   before the run ([`ExplicitNewmark`], [`cfl`]).
 //!
 //! Every scheme stays well defined with a singular mass matrix (see [`start`]).
 
+pub mod cfl;
+mod explicit;
+pub mod massless;
 mod one_step;
 mod paoli_schatzman;
 mod scheme;
 pub mod start;
 
+pub use explicit::ExplicitNewmark;
 pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};

@@ -11,9 +11,9 @@ use crate::error::{require_in, ParameterError};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "family", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Scheme {
-    /// Newmark(β, γ), eq. (32).
+    /// Newmark(β, γ), eq. (32); explicit for β = 0 ([`super::ExplicitNewmark`]).
     Newmark {
-        /// β > 0.
+        /// β ≥ 0 (β = 0: explicit, then γ ≥ ½).
         beta: f64,
         /// γ ≥ 0.
         gamma: f64,
@@ -32,8 +32,8 @@ pub enum Scheme {
     },
 }
 
-/// The named presets: (name, scheme, the paper's label).
-const PRESETS: [(&str, Scheme, &str); 7] = [
+/// The named presets: (name, scheme, the paper's label); the paper's seven first.
+const PRESETS: [(&str, Scheme, &str); 8] = [
     (
         "crank-nicolson",
         Scheme::Newmark {
@@ -87,11 +87,20 @@ const PRESETS: [(&str, Scheme, &str); 7] = [
         },
         "Paoli–Schatzman III e = 1",
     ),
+    (
+        "central-difference",
+        Scheme::Newmark {
+            beta: 0.0,
+            gamma: 0.5,
+        },
+        "Central differences, Newmark (0, 1/2), explicit: Δt ≤ 2/ω_max",
+    ),
 ];
 
 /// What a scheme name may be, for error messages.
 pub const SCHEME_NAMES: &str = "one of: crank-nicolson, newmark-1, newmark-2, backward-euler, \
-    paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, or a parametrised form \
+    paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, or a \
+    parametrised form \
     newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)";
 
 impl Scheme {
@@ -101,9 +110,17 @@ impl Scheme {
     /// Backward Euler, the θ-method with θ = 1.
     pub const BACKWARD_EULER: Scheme = Scheme::Theta { theta: 1.0 };
 
+    /// Central differences, Newmark (0, ½).
+    pub const CENTRAL_DIFFERENCE: Scheme = PRESETS[7].1;
+
     /// The seven schemes of the paper's Tables 1–2, in table order.
     pub fn paper_schemes() -> [Scheme; 7] {
-        PRESETS.map(|p| p.1)
+        std::array::from_fn(|i| PRESETS[i].1)
+    }
+
+    /// Whether this is the explicit Newmark scheme (β = 0).
+    pub fn is_explicit(self) -> bool {
+        matches!(self, Scheme::Newmark { beta, .. } if beta == 0.0)
     }
 
     /// All preset names with their schemes and the paper's labels.
@@ -115,15 +132,23 @@ impl Scheme {
     pub fn validate(self) -> Result<Self, ParameterError> {
         match self {
             Scheme::Newmark { beta, gamma } => {
-                if !(beta.is_finite() && beta > 0.0) {
+                if !(beta.is_finite() && beta >= 0.0) {
                     return Err(ParameterError::new(
                         "beta",
                         beta,
-                        "a finite number > 0 (the Newmark schemes here are implicit)",
+                        "a finite number >= 0 (0: explicit Newmark)",
                     ));
                 }
                 if !(gamma.is_finite() && gamma >= 0.0) {
                     return Err(ParameterError::new("gamma", gamma, "a finite number >= 0"));
+                }
+                if beta == 0.0 && gamma < 0.5 {
+                    return Err(ParameterError::new(
+                        "gamma",
+                        gamma,
+                        "a number >= 1/2 when beta = 0 (explicit Newmark with γ < ½ is unstable \
+                         for every Δt)",
+                    ));
                 }
             }
             Scheme::Theta { theta } => {

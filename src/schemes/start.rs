@@ -14,8 +14,7 @@
 //! displacement: the static problem on `Z` is solved with it, and `λ^0` is that force at `U^0`
 //! (enters eq. 32c with its force vectors `f_i`).
 
-use crate::contact::law::{ConstraintRow, SparseVector};
-use crate::contact::ContactStep;
+use super::massless::QuasiStatic;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
 use crate::model::{ContactSet, Model};
@@ -47,10 +46,10 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
     let mut u = u0.to_vec();
     let n_contact = model.contact().map_or(0, ContactSet::len);
     let mut lambda = vec![0.0; n_contact];
-    let massless = model.massless_dofs();
-    if !massless.is_empty() {
-        equilibrate_massless(model, massless, &mut u, &mut lambda)?;
+    if let Some(mut statics) = QuasiStatic::new(model)? {
+        statics.solve(model, 0, &mut u, &mut lambda)?;
     }
+    let massless = model.massless_dofs();
     if let Some(c) = model.contact() {
         if let Some(forces) = model.contact_law().forces(c, &u) {
             lambda = forces;
@@ -86,76 +85,4 @@ pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialSta
         acceleration,
         multiplier: lambda,
     })
-}
-
-/// Solves `S_ZZ u_Z = (F − S_ZR u_R)_Z − (Σ λ_i f_i)_Z` with the contact condition of every
-/// constraint whose force acts on `Z`, in place. A constraint value `m_iᵀu + g_i` is split
-/// into its `Z` part and the fixed `R` part, which joins the gap.
-fn equilibrate_massless(
-    model: &Model,
-    massless: &[usize],
-    u: &mut [f64],
-    lambda: &mut [f64],
-) -> Result<(), SolveError> {
-    let n = model.n_dofs();
-    let s_zz = model.stiffness().principal_submatrix(massless);
-    let solver = SpdSolver::factor(&s_zz, "stiffness on the massless dofs")?;
-    let mut without_z = u.to_vec();
-    for &z in massless {
-        without_z[z] = 0.0;
-    }
-    let mut r = vec![0.0; n];
-    residual_force(model, &without_z, &mut r);
-    let mut u_z: Vec<f64> = massless.iter().map(|&z| -r[z]).collect();
-    solver.solve_in_place(&mut u_z);
-
-    if let Some(contact) = model.contact() {
-        let local_part = |v: &[(usize, f64)]| -> SparseVector {
-            v.iter()
-                .filter_map(|&(k, c)| massless.binary_search(&k).ok().map(|z| (z, c)))
-                .collect()
-        };
-        let mut local: Vec<usize> = Vec::new();
-        let mut set = ContactSet {
-            dofs: Vec::new(),
-            gaps: Vec::new(),
-        };
-        let mut rows = Vec::new();
-        for (k, row) in model.contact_law().rows(contact).into_iter().enumerate() {
-            let force = local_part(&row.force);
-            let Some(&(z, _)) = force.first() else {
-                continue;
-            };
-            let fixed: f64 = row
-                .measure
-                .iter()
-                .filter(|(d, _)| massless.binary_search(d).is_err())
-                .map(|&(d, c)| c * u[d])
-                .sum();
-            local.push(k);
-            set.dofs.push(z);
-            set.gaps.push(if fixed == 0.0 {
-                contact.gaps[k]
-            } else {
-                contact.gaps[k] + fixed
-            });
-            rows.push(ConstraintRow {
-                measure: local_part(&row.measure),
-                force,
-                compliance: row.compliance,
-            });
-        }
-        if !local.is_empty() {
-            let mut step = ContactStep::new(&set, &rows, &solver, massless.len())?;
-            let mut lambda_z = vec![0.0; set.len()];
-            step.enforce(0, &mut u_z, |_, g| g, &mut lambda_z)?;
-            for (&k, l) in local.iter().zip(lambda_z) {
-                lambda[k] = l;
-            }
-        }
-    }
-    for (&z, v) in massless.iter().zip(u_z) {
-        u[z] = v;
-    }
-    Ok(())
 }

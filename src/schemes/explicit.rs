@@ -1,0 +1,226 @@
+//! Explicit Newmark, β = 0 (central differences for γ = ½), eq. (32) with β = 0:
+//! ```text
+//! U^{n+1} = U^n + Δt V^n + ½Δt² A^n
+//! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1},   0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0
+//! V^{n+1} = V^n + Δt ((1 − γ) A^n + γ A^{n+1})
+//! ```
+//! Split into the dofs with mass `R` and the massless dofs `Z` (zero rows of `M`):
+//!
+//! * `U_R^{n+1}` is explicit (first line);
+//! * `U_Z^{n+1}` solves the rows `Z` of the second line, which have no inertia:
+//!   `S_ZZ U_Z = (F − S_ZR U_R)_Z − (Bᵀλ)_Z` with the contact condition, a small
+//!   complementarity problem ([`QuasiStatic`]);
+//! * `A_R^{n+1} = M_RR⁻¹ (F − S U^{n+1})_R` (one solve with `M_RR` factorised once: a diagonal
+//!   for the lumped mass, a band or sparse Cholesky for the consistent ones); `A_Z = 0` and
+//!   `V_Z` is the difference quotient, as in the implicit schemes (they never enter `M A`).
+//!
+//! **Contact.** Every contact dof must be massless (`redistributed`, `redistributed-conserving`,
+//! `singular-dynamic`): then the contact force only acts in the static rows and the step stays
+//! explicit on `R`. A contact dof with mass would need the Delassus operator of `M_RR/Δt²`,
+//! i.e. an implicit correction at every impact; this is refused with
+//! [`SolveError::ExplicitContactWithMass`].
+//!
+//! **Stability.** The run is refused before the first step when `Δt > √(2/γ)/ω_max`
+//! ([`super::cfl`]; `2/ω_max` for central differences) with [`SolveError::CflViolated`].
+//!
+//! **Energy.** With γ = ½ the rows `R` and `Z` together read
+//! `M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + S U^n = F − Bᵀλ^n` (eliminate `V` and `A`). Multiplying
+//! by `U^{n+1} − U^{n−1}` gives, exactly,
+//! `E^{n+½} − E^{n−½} = −½ λ^nᵀ B (U^{n+1} − U^{n−1})` for the staggered energy
+//! `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
+//! `V^{n+½} = (U^{n+1} − U^n)/Δt`, reported at `t_{n+½}`: conserved to round-off without contact.
+
+use super::cfl::{largest_eigenvalue, stable_step};
+use super::massless::QuasiStatic;
+use super::start::{residual_force, InitialState};
+use super::{TimeIntegrator, Timed};
+use crate::error::SolveError;
+use crate::linalg::SpdSolver;
+use crate::model::Model;
+
+/// Explicit Newmark(0, γ) with its state.
+#[derive(Debug)]
+pub struct ExplicitNewmark<'m> {
+    model: &'m Model,
+    gamma: f64,
+    dt: f64,
+    with_mass: Vec<usize>,
+    mass_solver: Option<SpdSolver>,
+    statics: Option<QuasiStatic>,
+    stable_dt: f64,
+    step: usize,
+    u_prev: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lambda: Vec<f64>,
+    energy_at_start: f64,
+    next: Vec<f64>,
+    force: Vec<f64>,
+    force_r: Vec<f64>,
+}
+
+impl<'m> ExplicitNewmark<'m> {
+    /// Checks that every contact dof is massless and the CFL bound, then factorises `M_RR`.
+    pub fn new(
+        model: &'m Model,
+        gamma: f64,
+        dt: f64,
+        start: InitialState,
+    ) -> Result<Self, SolveError> {
+        let massless = model.massless_dofs();
+        if let Some(c) = model.contact() {
+            if let Some(&dof) = c.dofs.iter().find(|d| massless.binary_search(d).is_err()) {
+                return Err(SolveError::ExplicitContactWithMass { dof });
+            }
+        }
+        let n = model.n_dofs();
+        let with_mass: Vec<usize> = (0..n)
+            .filter(|i| massless.binary_search(i).is_err())
+            .collect();
+        let (mass_solver, stable_dt) = if with_mass.is_empty() {
+            (None, f64::INFINITY)
+        } else {
+            let m_rr = model.mass().principal_submatrix(&with_mass);
+            let s_rr = model.stiffness().principal_submatrix(&with_mass);
+            let omega2 = largest_eigenvalue(&s_rr, &m_rr)?;
+            let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+            (Some(solver), stable_step(omega2, gamma))
+        };
+        if dt > stable_dt {
+            return Err(SolveError::CflViolated {
+                dt,
+                bound: stable_dt,
+                gamma,
+            });
+        }
+        let energy_at_start = model.energy(&start.displacement, &start.velocity);
+        Ok(Self {
+            model,
+            gamma,
+            dt,
+            mass_solver,
+            statics: QuasiStatic::new(model)?,
+            stable_dt,
+            step: 0,
+            u_prev: start.displacement.clone(),
+            u: start.displacement,
+            v: start.velocity,
+            a: start.acceleration,
+            lambda: start.multiplier,
+            energy_at_start,
+            next: vec![0.0; n],
+            force: vec![0.0; n],
+            force_r: vec![0.0; with_mass.len()],
+            with_mass,
+        })
+    }
+
+    /// The largest stable time step `√(2/γ)/ω_max` (infinite when no dof has mass).
+    pub fn stable_dt(&self) -> f64 {
+        self.stable_dt
+    }
+}
+
+impl TimeIntegrator for ExplicitNewmark<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        let dt = self.dt;
+        for ((next, u), (v, a)) in self
+            .next
+            .iter_mut()
+            .zip(&self.u)
+            .zip(self.v.iter().zip(&self.a))
+        {
+            *next = u + dt * v + 0.5 * dt * dt * a;
+        }
+        if let Some(statics) = self.statics.as_mut() {
+            statics.solve(self.model, self.step + 1, &mut self.next, &mut self.lambda)?;
+        }
+        residual_force(self.model, &self.next, &mut self.force);
+        for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
+            *f = -self.force[i];
+        }
+        if let Some(m) = &self.mass_solver {
+            m.solve_in_place(&mut self.force_r);
+        }
+        let gamma = self.gamma;
+        for (&i, &a_new) in self.with_mass.iter().zip(&self.force_r) {
+            self.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
+            self.a[i] = a_new;
+        }
+        for &z in self.model.massless_dofs() {
+            self.v[z] = (self.next[z] - self.u[z]) / dt;
+        }
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.next);
+        self.step += 1;
+        Ok(())
+    }
+
+    fn step_index(&self) -> usize {
+        self.step
+    }
+
+    fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.time(),
+            value: &self.lambda,
+        }
+    }
+
+    /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
+    /// first step.
+    fn energy(&self) -> Timed<f64> {
+        if self.step == 0 {
+            return Timed {
+                time: 0.0,
+                value: self.energy_at_start,
+            };
+        }
+        let inv_dt = 1.0 / self.dt;
+        let half_step: Vec<f64> = (self.u.iter().zip(&self.u_prev))
+            .map(|(u, up)| (u - up) * inv_dt)
+            .collect();
+        let kinetic = 0.5 * self.model.mass().quadratic_form(&half_step);
+        let strain = 0.5 * self.model.stiffness().bilinear_form(&self.u, &self.u_prev);
+        let load = self.model.load().map_or(0.0, |f| {
+            0.5 * (f.iter().zip(self.u.iter().zip(&self.u_prev)))
+                .map(|(fi, (u, up))| fi * (u + up))
+                .sum::<f64>()
+        });
+        Timed {
+            time: (self.step as f64 - 0.5) * self.dt,
+            value: kinetic + strain - load,
+        }
+    }
+
+    fn contact_solves(&self) -> usize {
+        self.statics.as_ref().map_or(0, |s| s.contact_work().0)
+    }
+
+    fn contact_seconds(&self) -> f64 {
+        self.statics.as_ref().map_or(0.0, |s| s.contact_work().1)
+    }
+
+    fn complementarity_violation(&self) -> f64 {
+        self.statics
+            .as_ref()
+            .map_or(0.0, QuasiStatic::complementarity_violation)
+    }
+}
