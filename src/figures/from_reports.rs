@@ -368,7 +368,7 @@ pub fn write_figures(
 }
 
 /// What a reader of each figure should look for, by file-name prefix.
-const CAPTIONS: [(&str, &str); 8] = [
+const CAPTIONS: &[(&str, &str)] = &[
     ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution: with the standard mass (left) Crank–Nicolson, Newmark II and Paoli–Schatzman e = 1 oscillate after the impact; with the redistributed mass (right) the force follows the exact step"),
     ("energy-", "the discrete energy against the exact 1/8: it grows with the standard mass under Crank–Nicolson and stays almost constant with the redistributed mass; backward Euler and Newmark I dissipate"),
     ("convergence-", "errors against h (log–log) for both masses, fitted slope in the legend (the paper's Figures 9–10 for every scheme)"),
@@ -377,6 +377,14 @@ const CAPTIONS: [(&str, &str); 8] = [
     ("gravity-strain-", "the bouncing bar: ∂x u along the bar at two times, computed and exact (Figure 4)"),
     ("work-precision", "error in L∞(0,T;H) against wall time for the 14 cases: lower-left is better"),
     ("stability-", "E/E₀ over 100 periods: bounded for the redistributed mass; growing or lost for some standard-mass schemes"),
+    ("elastic-2d-contact-", "2D bar: the centre contact node's displacement and force at the finest level beside the fine-mesh reference (the note's Figures 1, 6)"),
+    ("elastic-2d-energy-", "2D bar: the energy, growing with the standard mass under Crank–Nicolson (Figures 2, 7)"),
+    ("elastic-2d-convergence-", "2D bar: errors against h with fitted slopes, both masses (Figures 3, 8)"),
+    ("elastic-2d-von-mises-", "2D bar: the von Mises stress along the axis over time, both masses on one colour scale (Figures 4–5)"),
+    ("elastic-3d-contact-", "3D bar: the centre contact node against the reference (Figures 1, 6)"),
+    ("elastic-3d-energy-", "3D bar: the energy (Figures 2, 7)"),
+    ("elastic-3d-convergence-", "3D bar: errors against h with fitted slopes (Figures 3, 8)"),
+    ("elastic-3d-von-mises-", "3D bar: the von Mises stress along the axis over time (the note's Figures 4–5 are 3D)"),
 ];
 
 /// `reports/README.md`: the tables first, then every figure with one sentence saying what to
@@ -393,9 +401,12 @@ pub fn reports_index(figures: &[String]) -> String {
          target error.\n\
          - [stability.md](stability.md): every scheme × mass on the hard cases, with verdicts.\n\
          - [defaults-experiment.md](defaults-experiment.md): how the rates move with T and the \
-         levels.\n\n## Figures\n\n",
+         levels.\n\
+         - [elastic-2d.md](elastic-2d.md), [elastic-3d.md](elastic-3d.md): the note's 2D/3D bars \
+         against a fine-mesh reference, with the reference check and the note's findings \
+         tested.\n\n## Figures\n\n",
     );
-    for (prefix, caption) in CAPTIONS {
+    for &(prefix, caption) in CAPTIONS {
         let mine: Vec<&String> = figures.iter().filter(|f| f.starts_with(prefix)).collect();
         if mine.is_empty() {
             continue;
