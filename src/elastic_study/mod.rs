@@ -163,6 +163,8 @@ pub struct CaseHistories {
     pub case: String,
     /// Elements along the axis.
     pub level: usize,
+    /// The element size `h`.
+    pub element_size: f64,
     /// The contact face's histories (Figures 1, 6).
     pub contact: BoxContactHistory,
     /// `(t, E_h)` (Figures 2, 7).
@@ -176,6 +178,8 @@ pub struct CaseHistories {
 pub struct ReferenceCurves {
     /// Elements along the axis.
     pub level: usize,
+    /// The element size `h`.
+    pub element_size: f64,
     /// Sample times.
     pub time: Vec<f64>,
     /// Axial displacement of the centre contact node.
@@ -348,6 +352,7 @@ pub fn run_elastic_study(
     let h = &reference.histories;
     let curves = ReferenceCurves {
         level: config.reference_level,
+        element_size: reference.mesh.element_sizes()[reference.mesh.dim() - 1],
         time: h.time.clone(),
         centre_displacement: h.centre_displacement.clone(),
         centre_multiplier: h.centre_multiplier.clone(),
@@ -486,6 +491,7 @@ fn run_level(
         histories: keep_histories.then(|| CaseHistories {
             case: case.id(),
             level: n_axis,
+            element_size: h,
             contact: result.contact,
             energy: result.energy,
             stress,

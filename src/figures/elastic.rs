@@ -12,31 +12,57 @@ use crate::fem::MassVariant;
 use crate::run::{ContactHistory, EnergyHistory};
 use crate::schemes::Scheme;
 
-fn reference_contact(r: &ReferenceCurves) -> ContactHistory {
+/// "No exact value" at each of `n` samples: the figures skip non-finite points, so the exact
+/// curve of a box (which has none) is simply not drawn.
+fn no_exact(n: usize) -> Vec<f64> {
+    vec![f64::NAN; n]
+}
+
+/// The history of the centre contact node, its multiplier divided by the node's share of the
+/// contact face `h^{d−1}` (a pressure, comparable across meshes: the nodal force itself scales
+/// with the element, the "different scaling" the note mentions under its Figure 1).
+fn contact_history(
+    time: &[f64],
+    displacement: Vec<f64>,
+    multiplier: &[f64],
+    share: f64,
+) -> ContactHistory {
     ContactHistory {
-        time: r.time.clone(),
-        displacement: r.centre_displacement.clone(),
-        multiplier_time: r.time.clone(),
-        multiplier: r.centre_multiplier.clone(),
-        ..ContactHistory::default()
+        time: time.to_vec(),
+        displacement,
+        displacement_exact: no_exact(time.len()),
+        multiplier_time: time.to_vec(),
+        multiplier: multiplier.iter().map(|l| l / share).collect(),
+        multiplier_exact: no_exact(time.len()),
     }
 }
 
-fn case_contact(c: &CaseHistories, gap: f64) -> ContactHistory {
-    ContactHistory {
-        time: c.contact.time.clone(),
-        displacement: c.contact.centre_gap.iter().map(|g| g - gap).collect(),
-        multiplier_time: c.contact.time.clone(),
-        multiplier: c.contact.centre_multiplier.clone(),
-        ..ContactHistory::default()
-    }
+fn reference_contact(r: &ReferenceCurves, d: usize) -> ContactHistory {
+    let share = r.element_size.powi(d as i32 - 1);
+    contact_history(
+        &r.time,
+        r.centre_displacement.clone(),
+        &r.centre_multiplier,
+        share,
+    )
+}
+
+fn case_contact(c: &CaseHistories, gap: f64, d: usize) -> ContactHistory {
+    let displacement = c.contact.centre_gap.iter().map(|g| g - gap).collect();
+    let share = c.element_size.powi(d as i32 - 1);
+    contact_history(
+        &c.contact.time,
+        displacement,
+        &c.contact.centre_multiplier,
+        share,
+    )
 }
 
 fn energy_of(time: Vec<f64>, energy: Vec<f64>) -> EnergyHistory {
     EnergyHistory {
+        energy_exact: no_exact(time.len()),
         time,
         energy,
-        energy_exact: Vec::new(),
     }
 }
 
@@ -46,6 +72,7 @@ pub fn elastic_figures(
     histories: &ElasticHistories,
 ) -> Result<Vec<Figure>, FigureError> {
     let gap = histories.obstacle_gap.unwrap_or(0.0);
+    let d = study.dimension;
     let prefix = format!("elastic-{}d", study.dimension);
     let reference = &histories.reference;
     let reference_label = format!("reference, {} elements along the axis", reference.level);
@@ -72,15 +99,22 @@ pub fn elastic_figures(
             .map(|(mass, h)| ContactPanel {
                 label: format!("{} mass", mass.name()),
                 runs: vec![
-                    (reference_label.clone(), reference_contact(reference)),
-                    (level(h), case_contact(h, gap)),
+                    (reference_label.clone(), reference_contact(reference, d)),
+                    (level(h), case_contact(h, gap, d)),
                 ],
             })
             .collect();
         let title = |what: &str| format!("{}D bar, {}: {what}", study.dimension, scheme.label());
         out.push((
             format!("{prefix}-contact-{}.svg", scheme.name()),
-            contact_node_figure(&title("centre contact node"), &contact)?,
+            contact_node_figure(
+                &title(if d == 2 {
+                    "centre contact node, λ as pressure λ/h"
+                } else {
+                    "centre contact node, λ as pressure λ/h²"
+                }),
+                &contact,
+            )?,
         ));
         let energy: Vec<EnergyPanel> = mine
             .iter()
