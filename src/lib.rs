@@ -16,6 +16,7 @@ pub mod elastic;
 pub mod elastic_study;
 pub mod error;
 pub mod exact;
+pub mod extended;
 pub mod fem;
 pub mod figures;
 pub mod golden;

@@ -19,8 +19,8 @@ use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
 use signorini::pipeline::{
-    write_defaults_experiment, write_elastic_report, write_golden, write_gravity_report,
-    write_report, write_stability,
+    write_defaults_experiment, write_elastic_report, write_extended_report, write_golden,
+    write_gravity_report, write_report, write_stability,
 };
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
@@ -675,6 +675,8 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 study.cases.len(),
                 study.wall_seconds
             );
+            write_extended_report(&out).map_err(Failure::runtime)?;
+            out!("wrote {}/extended.md", out.display());
         }
         Command::Experiment { out } => {
             let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;

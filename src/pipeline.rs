@@ -9,6 +9,7 @@ use serde::Serialize;
 use crate::elastic::BoxProblem;
 use crate::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::error::Error;
+use crate::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
 use crate::golden::{Golden, Tolerances};
 use crate::norms::Norm;
 use crate::output::write_atomic;
@@ -133,6 +134,32 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
         serde_json::to_string_pretty(&rates)?.as_bytes(),
     )?;
     Ok(study)
+}
+
+/// The golden file of the extended table (issue 11), relative to the repository root.
+pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
+
+/// Runs the extended studies ([`extended_studies`]), writes `extended.md` and `extended.json`
+/// into `out_dir`, and returns the studies.
+pub fn write_extended_report(
+    out_dir: &Path,
+) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
+    let studies = extended_studies()?;
+    let (md, file) = render(&studies);
+    write_atomic(&out_dir.join("extended.md"), md.as_bytes())?;
+    write_atomic(
+        &out_dir.join("extended.json"),
+        serde_json::to_string_pretty(&file)?.as_bytes(),
+    )?;
+    Ok(studies)
+}
+
+/// Reads the extended table's golden file.
+pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
+    serde_json::from_str(&text)
+        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
 }
 
 /// Reads a golden file.
@@ -282,6 +309,13 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
         (GOLDEN_ELASTIC_2D, elastic_gate_study(root)?.study),
     ];
     let mut written = Vec::new();
+    let path = root.join(GOLDEN_EXTENDED);
+    let previous = read_extended_golden(&path).ok();
+    let extended = ExtendedGolden::from_studies(&extended_studies()?, previous.as_ref());
+    write_atomic(&path, serde_json::to_string_pretty(&extended)?.as_bytes())?;
+    for t in extended.treatments {
+        written.push((format!("{GOLDEN_EXTENDED} [{}]", t.contact), t.golden));
+    }
     for (name, study) in studies {
         let path = root.join(name);
         let tolerances =

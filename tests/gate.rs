@@ -1,14 +1,16 @@
-//! The regression gate: the Tables 1–2 study against `golden/`, the rendered tables as an insta
-//! snapshot, and proof that the gate fails when a scheme changes.
+//! The regression gate: the Tables 1–2 study and the extended table against `golden/`, the
+//! rendered tables as an insta snapshot, and proof that the gate fails when a scheme changes.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use signorini::extended::{extended_studies, TREATMENTS};
 use signorini::golden::{compare, render_drifts, Golden, Tolerances};
 use signorini::norms::Norm;
 use signorini::paper::PaperTables;
 use signorini::pipeline::{
-    gravity_study, read_golden, tables_study, GOLDEN_GRAVITY, GOLDEN_TABLES,
+    gravity_study, read_extended_golden, read_golden, tables_study, GOLDEN_EXTENDED,
+    GOLDEN_GRAVITY, GOLDEN_TABLES,
 };
 use signorini::report::paper_tables;
 use signorini::run::Problem1d;
@@ -169,4 +171,30 @@ fn comparator_passes_identical_and_catches_each_kind_of_drift() {
     let mut g = golden;
     g.cases.clear();
     assert_eq!(compare(&g, &study)[0].quantity, "missing");
+}
+
+/// The extended table (issue 11): every treatment's study matches its golden values, and the
+/// golden file holds exactly the treatments of the table.
+#[test]
+fn extended_studies_match_the_golden_rates_and_errors() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let golden = read_extended_golden(&root.join(GOLDEN_EXTENDED)).unwrap();
+    let names: Vec<&str> = golden
+        .treatments
+        .iter()
+        .map(|t| t.contact.as_str())
+        .collect();
+    assert_eq!(names, TREATMENTS);
+    for s in extended_studies().unwrap() {
+        let g = golden
+            .treatment(&s.contact)
+            .unwrap_or_else(|| panic!("{} is not in {GOLDEN_EXTENDED}", s.contact));
+        let drifts = compare(g, &s.study);
+        assert!(
+            drifts.is_empty(),
+            "contact {}: {}",
+            s.contact,
+            render_drifts(&drifts)
+        );
+    }
 }
