@@ -359,7 +359,13 @@ pub fn run_elastic_study(
         total_force: h.total_force.clone(),
         energy: h.energy.clone(),
     };
-    let findings = note_findings(&study);
+    let findings = note_findings(&study, &|n| {
+        reference_check
+            .rate_bias
+            .get(n.key())
+            .copied()
+            .unwrap_or(f64::INFINITY)
+    });
     Ok((
         ElasticStudy {
             dimension: problem.lengths.len(),

@@ -99,15 +99,19 @@ pub fn render(study: &ElasticStudy) -> String {
          A norm converges when its rate is above {CONVERGENCE_RATE} (its error decreases with h); a case oscillates when \
          its indicator is at least {OSCILLATION_RATIO}; two cases behave alike in a norm when \
          both converge or neither does and their rates differ by at most {ALIKE_RATE_GAP}.\n\n\
-         | finding | note | holds | evidence |\n|---|---|---|---|"
+         A finding is *robust* when it still holds with every rate it uses moved by the \
+         reference's rate-bias bound for that norm (see the last section): an error in the \
+         reference of the measured size could not overturn it.\n\n\
+         | finding | note | holds | robust | evidence |\n|---|---|---|---|---|"
     );
     for f in &study.findings {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} |",
             f.claim,
             f.source,
             if f.holds { "yes" } else { "**no**" },
+            if f.robust { "yes" } else { "no" },
             f.evidence
         );
     }
