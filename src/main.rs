@@ -122,6 +122,10 @@ enum Command {
         /// Box scenes: where the fine-mesh reference is cached.
         #[arg(long, default_value = "reports/data/references")]
         cache: PathBuf,
+        /// Contact treatment of every case: multiplier, penalty(gamma0=G),
+        /// nitsche(theta=T,gamma0=G) (1D only). Default: the scene's, else multiplier.
+        #[arg(long, value_parser = parse_contact)]
+        contact: Option<ContactTreatment>,
     },
     /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
     /// parameters match the scene's, says which differ otherwise, and recomputes it.
@@ -234,16 +238,15 @@ impl From<EngineError> for Failure {
 
 /// `signorini study` of a box scene: the report printed (markdown or JSON) or written to `out`.
 fn elastic_study(
-    scene: &Scene,
+    problem: &BoxProblem,
     config: &ElasticStudyConfig,
     out: Option<PathBuf>,
     cache: &Path,
     json: bool,
 ) -> Result<(), Failure> {
-    let problem = scene.box_problem().expect("a box scene");
     let mut note = |why: String| eprintln!("{why}; computing the reference");
     if let Some(dir) = out {
-        let study = write_elastic_report(&problem, config, &dir, cache, &mut note)
+        let study = write_elastic_report(problem, config, &dir, cache, &mut note)
             .map_err(Failure::runtime)?;
         out!(
             "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
@@ -255,7 +258,7 @@ fn elastic_study(
         );
         return Ok(());
     }
-    let (study, _) = run_elastic_study(&problem, config, cache, &mut note)?;
+    let (study, _) = run_elastic_study(problem, config, cache, &mut note)?;
     if json {
         out!(
             "{}",
@@ -576,9 +579,11 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             reference_level,
             out,
             cache,
+            contact,
         } => {
             let scene = Scene::load(&scene)?;
-            if scene.is_box() {
+            if let Some(mut problem) = scene.box_problem() {
+                problem.contact = contact.unwrap_or(problem.contact);
                 let mut config = scene
                     .elastic_study_config_with(reference_level)
                     .map_err(EngineError::from)?;
@@ -604,7 +609,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                         .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
                         .collect();
                 }
-                return elastic_study(&scene, &config, out, &cache, json);
+                return elastic_study(&problem, &config, out, &cache, json);
             }
             if reference_level.is_some() || out.is_some() {
                 return Err(Failure::usage(format!(
@@ -640,8 +645,9 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 config.ratio = r;
             }
             let bar = progress_bar(study_size(&cases, &config));
-            let study =
-                run_study_with_progress(&scene.problem(), &cases, &norms, &config, &|| bar.inc(1))?;
+            let mut problem = scene.problem();
+            problem.contact = contact.unwrap_or(problem.contact);
+            let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
             bar.finish_and_clear();
             if json {
                 out!(

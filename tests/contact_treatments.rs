@@ -611,3 +611,35 @@ fn list_shows_the_treatments_with_their_parameters() {
         assert!(stdout.contains(needle), "{needle} not in {stdout}");
     }
 }
+
+/// `signorini study --contact` runs every case with the treatment and rejects a bad one
+/// naming the parameter.
+#[test]
+fn study_takes_the_contact_treatment_from_the_command_line() {
+    let base = [
+        "study",
+        "scenes/bar1d-dirichlet.json",
+        "--scheme",
+        "backward-euler",
+        "--mass",
+        "redistributed",
+        "--levels",
+        "10,20,40",
+        "--norm",
+        "u_Linf_H",
+        "--json",
+    ];
+    let with = |contact: &str| {
+        let mut args = base.to_vec();
+        args.extend(["--contact", contact]);
+        let out = success_stdout(&signorini(&args));
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["cases"][0]["rates"][0]["errors"].clone()
+    };
+    let multiplier = with("multiplier");
+    let penalty = with("penalty(gamma0=1)");
+    assert_ne!(multiplier, penalty, "the treatment reached the runs");
+    let mut bad = base.to_vec();
+    bad.extend(["--contact", "nitsche(theta=2,gamma0=10)"]);
+    expect_error(&bad, 2, &["theta"]);
+}

@@ -404,7 +404,9 @@ pub fn reports_index(figures: &[String]) -> String {
          levels.\n\
          - [elastic-2d.md](elastic-2d.md), [elastic-3d.md](elastic-3d.md): the note's 2D/3D bars \
          against a fine-mesh reference, with the reference check and the note's findings \
-         tested.\n\n## Figures\n\n",
+         tested.\n\
+         - [extended.md](extended.md): Crank–Nicolson and backward Euler with every mass \
+         variant and contact treatment: rates, oscillation and energy verdicts.\n\n## Figures\n\n",
     );
     for &(prefix, caption) in CAPTIONS {
         let mine: Vec<&String> = figures.iter().filter(|f| f.starts_with(prefix)).collect();
