@@ -23,7 +23,7 @@
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
-use super::{MassVariant, SparseAssembler, SymmetricMatrix};
+use super::{MassVariant, SymmetricMatrix};
 use crate::error::{require_positive, ParameterError};
 use crate::model::{ContactSet, Model};
 
@@ -581,21 +581,7 @@ impl BoxMesh {
                 }
             }
         }
-        // Duplicates are summed here, in element order (the sort is stable), and each sum is
-        // stored at (i, j) and (j, i). Handing the duplicates of both triangles to faer would
-        // sum them in an unspecified order (its per-column sort is unstable), leaving the
-        // matrix symmetric only to round-off; this way it is exactly symmetric.
-        upper.sort_by_key(|&(key, _)| key);
-        let mut asm = SparseAssembler::new(n);
-        for run in upper.chunk_by(|x, y| x.0 == y.0) {
-            let (j, i) = (run[0].0 / n, run[0].0 % n);
-            let v: f64 = run.iter().map(|t| t.1).sum();
-            asm.add(i, j, v);
-            if i != j {
-                asm.add(j, i, v);
-            }
-        }
-        asm.finish()
+        SymmetricMatrix::from_upper_contributions(n, upper)
     }
 
     /// The mass matrix `M_ij = ρ ∫_Ω φ_i · φ_j` (eq. 5), or for

@@ -252,6 +252,16 @@ impl SymmetricMatrix {
                 }
             }
         }
+        SymmetricMatrix::from_upper_contributions(n, upper)
+    }
+
+    /// The `n × n` symmetric matrix whose upper triangle sums the contributions
+    /// `(column · n + row, value)` (`row ≤ column`). Duplicates are summed in the order given
+    /// (the sort is stable) and each sum is stored at `(i, j)` and `(j, i)`: handing both
+    /// triangles' duplicates to faer would sum them in an unspecified order (its per-column
+    /// sort is unstable), leaving the matrix symmetric only to round-off; this is exactly
+    /// symmetric.
+    pub fn from_upper_contributions(n: usize, mut upper: Vec<(usize, f64)>) -> SymmetricMatrix {
         upper.sort_by_key(|&(key, _)| key);
         let mut asm = SparseAssembler::new(n);
         for run in upper.chunk_by(|x, y| x.0 == y.0) {
