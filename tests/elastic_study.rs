@@ -154,3 +154,28 @@ fn reference_command_rejects_a_bar_scene() {
         &["bar1d-dirichlet", "box scenes"],
     );
 }
+
+#[test]
+fn a_reference_twice_the_finest_level_reuses_that_level_as_its_check() {
+    let cache = temp("cache-twice");
+    let out = signorini(&[
+        "study",
+        "scenes/bar2d.json",
+        "--levels",
+        "1,2",
+        "--reference-level",
+        "4",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&success_stdout(&out)).unwrap();
+    assert_eq!(json["reference"]["next_coarser"], 2);
+    let fitted = &json["study"]["cases"][1]["rates"][0]["errors"][1];
+    assert_eq!(
+        json["study"]["cases"][1]["case"]["mass"], "redistributed",
+        "case order"
+    );
+    assert_eq!(&json["reference"]["distance"]["u_Linf_H"], fitted);
+    let _ = std::fs::remove_dir_all(&cache);
+}

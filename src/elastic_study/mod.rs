@@ -264,7 +264,9 @@ pub fn run_elastic_study(
         .iter()
         .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
         .collect();
-    jobs.push((reference_case, check_level));
+    if !jobs.contains(&(reference_case, check_level)) {
+        jobs.push((reference_case, check_level));
+    }
     jobs.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
     let outcomes: Vec<((String, usize), LevelOutcome)> = jobs
         .par_iter()
@@ -277,9 +279,11 @@ pub fn run_elastic_study(
         .collect::<Result<_, Error>>()?;
     let mut by_job: BTreeMap<(String, usize), LevelOutcome> = outcomes.into_iter().collect();
 
-    let check = by_job
-        .remove(&(reference_case.id(), check_level))
-        .expect("the check ran");
+    let check_errors = by_job
+        .get(&(reference_case.id(), check_level))
+        .expect("the check ran")
+        .errors
+        .clone();
     let mut histories = Vec::new();
     let cases: Vec<CaseStudy> = config
         .cases
@@ -318,8 +322,7 @@ pub fn run_elastic_study(
         seconds: reference.histories.seconds,
         from_cache: reference.from_cache,
         next_coarser: check_level,
-        distance: check
-            .errors
+        distance: check_errors
             .iter()
             .map(|(n, e)| (n.key().to_string(), *e))
             .collect(),
