@@ -161,10 +161,6 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
         self.step
     }
 
-    fn time(&self) -> f64 {
-        self.step as f64 * self.dt
-    }
-
     fn dt(&self) -> f64 {
         self.dt
     }

@@ -39,8 +39,10 @@ pub trait TimeIntegrator: Send {
     fn advance(&mut self) -> Result<(), SolveError>;
     /// The index `n` of the current state.
     fn step_index(&self) -> usize;
-    /// `t_n`.
-    fn time(&self) -> f64;
+    /// `t_n = n Δt`.
+    fn time(&self) -> f64 {
+        self.step_index() as f64 * self.dt()
+    }
     /// The time step `Δt`.
     fn dt(&self) -> f64;
     /// `U^n`.

@@ -171,10 +171,6 @@ impl TimeIntegrator for OneStepScheme<'_> {
         self.step
     }
 
-    fn time(&self) -> f64 {
-        self.step as f64 * self.dt
-    }
-
     fn dt(&self) -> f64 {
         self.dt
     }
