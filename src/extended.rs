@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::fem::MassVariant;
 use crate::golden::{Golden, Tolerances};
 use crate::norms::Norm;
-use crate::report::oscillation_word;
+use crate::report::{oscillation_word, OSCILLATES_FROM};
 use crate::run::Problem1d;
 use crate::schemes::Scheme;
 use crate::study::{run_study, Case, CaseStudy, Study, StudyConfig};
@@ -36,10 +36,6 @@ pub const CONVERGES_ABOVE: f64 = 0.25;
 
 /// An energy-error rate at or below this is [`EnergyVerdict::Grows`].
 pub const GROWS_AT_OR_BELOW: f64 = -0.25;
-
-/// An oscillation indicator at or above this lists the row as oscillating (the `Small` threshold
-/// of [`oscillation_word`]).
-pub const OSCILLATING_FROM: f64 = 5.0;
 
 /// The study of one contact treatment.
 #[derive(Debug, Clone, PartialEq)]
@@ -225,7 +221,7 @@ pub fn fastest(rows: &[ExtendedRow]) -> Vec<Fastest> {
     out
 }
 
-/// The rows whose oscillation indicator is at least [`OSCILLATING_FROM`], scheme by scheme in
+/// The rows whose oscillation indicator is at least [`OSCILLATES_FROM`], scheme by scheme in
 /// the order of [`SCHEMES`].
 pub fn oscillating(rows: &[ExtendedRow]) -> Vec<&ExtendedRow> {
     SCHEMES
@@ -235,7 +231,7 @@ pub fn oscillating(rows: &[ExtendedRow]) -> Vec<&ExtendedRow> {
             rows.iter().filter(move |r| {
                 r.scheme == name
                     && r.oscillation_indicator
-                        .is_some_and(|i| i >= OSCILLATING_FROM)
+                        .is_some_and(|i| i >= OSCILLATES_FROM)
             })
         })
         .collect()
@@ -356,7 +352,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         ));
     }
     md.push_str(&format!(
-        "\n## Oscillating rows\n\nIndicator ≥ {OSCILLATING_FROM}: {} of {} rows.\n\n",
+        "\n## Oscillating rows\n\nIndicator ≥ {OSCILLATES_FROM}: {} of {} rows.\n\n",
         oscillating.len(),
         rows.len()
     ));

@@ -20,12 +20,16 @@ pub const TABLE1: [Norm; 4] = [
 /// the first and the other two).
 pub const TABLE2: [Norm; 3] = [Norm::MultiplierL2, Norm::EnergyLinf, Norm::EnergyL2];
 
+/// The smallest oscillation indicator that counts as oscillating (the boundary between `No`
+/// and `Small` of [`oscillation_word`]).
+pub const OSCILLATES_FROM: f64 = 5.0;
+
 /// The word for the oscillation indicator `r = TV(λ_h) / TV(λ)` on the finest level:
 /// `No` for `r < 5` (the multiplier varies like the exact one up to an overshoot at each
 /// impact), `Small` for `5 ≤ r < 100`, `Yes` for `100 ≤ r < 2000`, `Big` for `r ≥ 2000`.
 /// The thresholds are decades of the variation ratio, chosen once for every case.
 pub fn oscillation_word(ratio: f64) -> &'static str {
-    if ratio < 5.0 {
+    if ratio < OSCILLATES_FROM {
         "No"
     } else if ratio < 100.0 {
         "Small"

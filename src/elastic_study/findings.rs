@@ -6,7 +6,7 @@
 //!   [`CONVERGENCE_RATE`] = 0: the error decreases as `h` does (the note's "converges to 0"
 //!   against "unfortunately not the case", read from curves; how fast is the rate itself);
 //! * a case **oscillates** when its indicator `TV(Σλ_h) / TV(Σλ_ref)` on the finest level is at
-//!   least [`OSCILLATION_RATIO`] (the 1D tables' boundary between "No" and "Small");
+//!   least [`OSCILLATES_FROM`] (the 1D tables' boundary between "No" and "Small");
 //! * two cases **behave alike** in a norm when both converge or both do not, and their rates
 //!   differ by at most [`ALIKE_RATE_GAP`].
 
@@ -14,14 +14,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::fem::MassVariant;
 use crate::norms::Norm;
+use crate::report::OSCILLATES_FROM;
 use crate::schemes::Scheme;
 use crate::study::{Case, CaseStudy, Study};
 
 /// The rate above which a norm counts as converging.
 pub const CONVERGENCE_RATE: f64 = 0.0;
-
-/// Smallest oscillation indicator that counts as oscillating.
-pub const OSCILLATION_RATIO: f64 = 5.0;
 
 /// Largest rate difference of two cases that behave alike.
 pub const ALIKE_RATE_GAP: f64 = 0.25;
@@ -77,7 +75,7 @@ impl Judge<'_> {
 
 fn oscillates(c: &CaseStudy) -> bool {
     c.oscillation_indicator()
-        .is_some_and(|r| r >= OSCILLATION_RATIO)
+        .is_some_and(|r| r >= OSCILLATES_FROM)
 }
 
 fn rates_text(label: &str, c: &CaseStudy, norms: &[Norm]) -> String {

@@ -3,10 +3,10 @@
 
 use std::fmt::Write as _;
 
-use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE, OSCILLATION_RATIO};
+use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
 use crate::norms::Norm;
-use crate::report::{convergence_tables, oscillation_word};
+use crate::report::{convergence_tables, oscillation_word, OSCILLATES_FROM};
 use crate::study::CaseStudy;
 
 /// What the note's convergence figures show for a case (scheme name, mass name) and norm:
@@ -97,7 +97,7 @@ pub fn render(study: &ElasticStudy) -> String {
         md,
         "\n## The note's findings, tested\n\n\
          A norm converges when its rate is above {CONVERGENCE_RATE} (its error decreases with h); a case oscillates when \
-         its indicator is at least {OSCILLATION_RATIO}; two cases behave alike in a norm when \
+         its indicator is at least {OSCILLATES_FROM}; two cases behave alike in a norm when \
          both converge or neither does and their rates differ by at most {ALIKE_RATE_GAP}.\n\n\
          A finding is *robust* when it still holds with every rate it uses moved by the \
          reference's rate-bias bound for that norm (see the last section): an error in the \
