@@ -135,12 +135,13 @@ pub fn box_mesh(
 
 /// Runs a box problem.
 pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResult, Error> {
-    run_box_observed(problem, config, &mut |_, _| Ok(()))
+    run_box_observed(problem, config, &mut |_, _, _| Ok(()))
 }
 
-/// What [`run_box_observed`] calls at every step `t_n`, `n = 0..=N`, with the mesh and the
-/// integrator's state at `t_n`.
-pub type StepObserver<'o> = dyn FnMut(&BoxMesh, &dyn TimeIntegrator) -> Result<(), Error> + 'o;
+/// What [`run_box_observed`] calls at every step `t_n`, `n = 0..=N`, with the mesh, the
+/// integrator's state at `t_n` and its energy `E_h(t_n)` (eq. 6, already computed for the
+/// history).
+pub type StepObserver<'o> = dyn FnMut(&BoxMesh, &dyn TimeIntegrator, f64) -> Result<(), Error> + 'o;
 
 /// Runs a box problem and calls `observer` at every step (after the built-in histories); its
 /// time counts as observation.
@@ -223,7 +224,8 @@ pub fn run_box_observed(
         }
         let c = Instant::now();
         let t = integ.time();
-        result.energy.push((t, integ.energy().value));
+        let energy = integ.energy().value;
+        result.energy.push((t, energy));
         if let (Some(set), Some(centre)) = (&contact_set, centre) {
             let u = integ.displacement();
             let lambda = integ.multiplier().value;
@@ -253,7 +255,7 @@ pub fn run_box_observed(
                 .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))?;
             result.vtk_files.push(path);
         }
-        observer(&mesh, integ.as_ref())?;
+        observer(&mesh, integ.as_ref(), energy)?;
         observe += c.elapsed().as_secs_f64();
     }
     result.contact_solves = integ.contact_solves();

@@ -3,7 +3,7 @@
 //!
 //! Every case (scheme × mass) runs on nested meshes `n = levels[k]` elements along the axis
 //! (square or cubic elements, `Δx/Δt` fixed), and each run is compared at each of its steps with
-//! one reference run on `reference_level` elements (see [`reference`] for the reference and its
+//! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
 //! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
 //! solution is compared with the fine one exactly, by prolongation, at common times.
 //!
@@ -390,13 +390,10 @@ pub fn run_elastic_study(
 /// `delta`: the largest slope change is reached by moving the coarse half of the levels one way
 /// and the fine half the other.
 fn rate_bias(case: &CaseStudy, norm: Norm, delta: f64) -> f64 {
-    let Some(r) = case.norm(norm) else {
+    let Some((r, base)) = case.norm(norm).and_then(|r| Some((r, r.fit?))) else {
         return 0.0;
     };
     let h: Vec<f64> = case.levels.iter().map(|l| l.h).collect();
-    let Some(base) = fit_rate(&h, &r.errors) else {
-        return 0.0;
-    };
     let half = r.errors.len() / 2;
     [1.0, -1.0]
         .into_iter()
@@ -458,34 +455,34 @@ fn run_level(
         vtk_at: Vec::new(),
         vtk_dir: None,
     };
-    let mesh = box_mesh(problem, n_axis)?;
-    let (steps, _) =
-        crate::run::time_grid(problem.horizon, mesh.element_sizes()[mesh.dim() - 1], ratio);
+    // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
+    let h = problem.lengths[problem.lengths.len() - 1] / n_axis as f64;
+    let (steps, _) = crate::run::time_grid(problem.horizon, h, ratio);
     let every = (steps / STRESS_MAP_SAMPLES).max(1);
-    let per_layer = mesh.n_elements() / n_axis;
-    let layer_height = problem.lengths[mesh.dim() - 1] / n_axis as f64;
     let mut stress = AxialStressMap {
-        position: (0..n_axis)
-            .map(|j| (j as f64 + 0.5) * layer_height)
-            .collect(),
+        position: (0..n_axis).map(|j| (j as f64 + 0.5) * h).collect(),
         ..AxialStressMap::default()
     };
     let mut step = 0usize;
-    let result = run_box_observed(problem, &config, &mut |mesh, state: &dyn TimeIntegrator| {
-        comparison.observe(state, state.energy().value);
-        if keep_histories && step % every == 0 {
-            let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
-            stress.time.push(state.time());
-            stress.von_mises.push(
-                vm.chunks(per_layer)
-                    .map(|layer| layer.iter().sum::<f64>() / per_layer as f64)
-                    .collect(),
-            );
-        }
-        step += 1;
-        Ok(())
-    })?;
-    let h = mesh.element_sizes()[mesh.dim() - 1];
+    let result = run_box_observed(
+        problem,
+        &config,
+        &mut |mesh, state: &dyn TimeIntegrator, energy| {
+            comparison.observe(state, energy);
+            if keep_histories && step % every == 0 {
+                let per_layer = mesh.n_elements() / n_axis;
+                let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
+                stress.time.push(state.time());
+                stress.von_mises.push(
+                    vm.chunks(per_layer)
+                        .map(|layer| layer.iter().sum::<f64>() / per_layer as f64)
+                        .collect(),
+                );
+            }
+            step += 1;
+            Ok(())
+        },
+    )?;
     Ok(LevelOutcome {
         record: LevelRecord {
             nx: n_axis,

@@ -160,7 +160,7 @@ impl Reference {
         let every = key.sample_every.max(1);
         let mut displacement = Vec::new();
         let mut step = 0usize;
-        let run = run_box_observed(problem, &config, &mut |_, state: &dyn TimeIntegrator| {
+        let run = run_box_observed(problem, &config, &mut |_, state: &dyn TimeIntegrator, _| {
             if step % every == 0 {
                 displacement.extend_from_slice(state.displacement());
             }
