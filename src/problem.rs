@@ -166,4 +166,18 @@ impl Problem1d {
         }
         Ok((bar, model))
     }
+
+    /// The initial displacement and velocity as dof vectors: the nodal interpolants of the
+    /// declared profiles, then the seeded perturbation (if any) added to every displacement dof
+    /// except the contact dofs of `model`. Every run builds its initial data here.
+    pub fn initial_dofs(&self, bar: &Bar1d, model: &Model) -> (Vec<f64>, Vec<f64>) {
+        let exact = self.exact.as_ref();
+        let mut u0 = self.initial.displacement.interpolate(bar, exact, |p| p.u);
+        let v0 = self.initial.velocity.interpolate(bar, exact, |p| p.ut);
+        if let Some(p) = &self.initial.perturbation {
+            let contact_dofs = model.contact().map_or(&[][..], |c| &c.dofs[..]);
+            p.apply(&mut u0, contact_dofs);
+        }
+        (u0, v0)
+    }
 }

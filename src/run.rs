@@ -452,11 +452,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
     let (bar, model) = problem.model(config.nx, config.mass)?;
     let (steps, dt) = time_grid(problem.horizon, bar.h(), config.ratio);
     let exact = problem.exact.as_ref();
-    let u0 = problem
-        .initial
-        .displacement
-        .interpolate(&bar, exact, |p| p.u);
-    let v0 = problem.initial.velocity.interpolate(&bar, exact, |p| p.ut);
+    let (u0, v0) = problem.initial_dofs(&bar, &model);
     let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
     let mut observer = Observer::new(&bar, exact, &config.observables);
     let setup = setup_clock.elapsed().as_secs_f64();

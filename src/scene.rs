@@ -364,6 +364,16 @@ impl Scene {
             Geometry::Box { .. } => return self.validate_box(path),
         };
         self.validate_levels_and_times(path)?;
+        if let Some(p) = &self.initial.perturbation {
+            if !(p.amplitude.is_finite() && p.amplitude > 0.0 && p.amplitude <= length) {
+                return Err(Self::invalid(
+                    path,
+                    "initial.perturbation.amplitude",
+                    p.amplitude,
+                    "a finite number in (0, L] (an absolute displacement, at most the bar's length)",
+                ));
+            }
+        }
         if let Some(level) = self.discretisation.reference_level {
             return Err(Self::invalid(
                 path,

@@ -242,7 +242,7 @@ fn bad_scene_files_exit_2_naming_the_problem() {
     );
 
     // (text in the scene, replacement, what the message must say)
-    let edits: [(&str, &str, &[&str]); 12] = [
+    let edits: [(&str, &str, &[&str]); 14] = [
         (
             "\"horizon\"",
             "\"horizn\": 1.0, \"horizon\"",
@@ -290,6 +290,16 @@ fn bad_scene_files_exit_2_naming_the_problem() {
             "\"observables\": {",
             "\"observables\": { \"points\": [2.0],",
             &["observables.points", "[0, L]"],
+        ),
+        (
+            "\"velocity\": \"reference\" }",
+            "\"velocity\": \"reference\", \"perturbation\": {\"amplitude\": -1.0, \"seed\": 1} }",
+            &["initial.perturbation.amplitude", "-1", "(0, L]"],
+        ),
+        (
+            "\"velocity\": \"reference\" }",
+            "\"velocity\": \"reference\", \"perturbation\": {\"amplitude\": 1e308, \"seed\": 1} }",
+            &["initial.perturbation.amplitude", "(0, L]"],
         ),
     ];
     for (from, to, needles) in edits {
