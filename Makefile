@@ -4,11 +4,12 @@ BIN := target/release/signorini
 
 .PHONY: report test golden build lint fmt experiment bench stability figures reference
 
-## Build, run the main studies (1D tables, gravity, 2D and 3D convergence) and write reports/
+## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
 report: build
 	$(BIN) report --out reports
 	$(BIN) experiment --out reports
+	$(BIN) sensitivity scenes/bar1d-dirichlet.json --out reports
 	$(BIN) study scenes/bar2d.json --out reports
 	$(BIN) study scenes/bar3d.json --out reports
 	$(BIN) figures --reports reports

@@ -32,5 +32,6 @@ pub mod report;
 pub mod run;
 pub mod scene;
 pub mod schemes;
+pub mod sensitivity;
 pub mod stability;
 pub mod study;

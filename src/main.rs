@@ -26,6 +26,7 @@ use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
+use signorini::sensitivity::{render as render_sensitivity, run_sensitivity, EnsembleConfig};
 use signorini::study::{run_study_with_progress, study_size, Case};
 
 /// `println!` that ignores a closed stdout (`signorini list | head` must not panic).
@@ -127,6 +128,22 @@ enum Command {
         #[arg(long, value_parser = parse_contact)]
         contact: Option<ContactTreatment>,
     },
+    /// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
+    /// as an ensemble of members with seeded noise of relative size A on the initial
+    /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
+    Sensitivity {
+        /// The scene file (a bar1d scene with an obstacle).
+        scene: PathBuf,
+        /// Perturbed members per case and level (2 to 1024).
+        #[arg(long, default_value_t = 16)]
+        members: usize,
+        /// Relative noise amplitude, in (0, 1e-3].
+        #[arg(long, default_value_t = 1e-13, allow_hyphen_values = true)]
+        amplitude: f64,
+        /// Output directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+    },
     /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
     /// parameters match the scene's, says which differ otherwise, and recomputes it.
     Reference {
@@ -196,6 +213,9 @@ fn parse_mass(s: &str) -> Result<MassVariant, String> {
 fn parse_norm(s: &str) -> Result<Norm, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
 }
+
+/// The level whose predictability horizon and separation growth `sensitivity.md` shows.
+const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 
 /// A failure with its exit code.
 struct Failure {
@@ -759,6 +779,51 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     reference.histories.seconds
                 );
             }
+        }
+        Command::Sensitivity {
+            scene,
+            members,
+            amplitude,
+            out,
+        } => {
+            let scene = Scene::load(&scene)?;
+            if scene.is_box() {
+                return Err(Failure::usage(format!(
+                    "scene {}: the sensitivity study is for bar1d scenes",
+                    scene.name
+                )));
+            }
+            let cases: Vec<Case> = scene
+                .default_schemes()
+                .into_iter()
+                .flat_map(|scheme| MassVariant::PAPER.map(|mass| Case { scheme, mass }))
+                .collect();
+            let ensemble = EnsembleConfig { members, amplitude };
+            let s = run_sensitivity(
+                &scene.problem(),
+                &cases,
+                &scene.norms(),
+                &scene.study_config(),
+                ensemble,
+            )?;
+            let json = serde_json::to_string_pretty(&s).map_err(Failure::runtime)?;
+            write_output(&out.join("sensitivity.json"), json.as_bytes())?;
+            write_output(
+                &out.join("sensitivity.md"),
+                render_sensitivity(&s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
+            )?;
+            for c in &s.cases {
+                out!("  {:36} {}", c.case, c.class.name());
+            }
+            out!(
+                "wrote {}/sensitivity.md and {}/sensitivity.json ({} cases × {} levels × {} members, {:.1} s wall)",
+                out.display(),
+                out.display(),
+                s.cases.len(),
+                s.config.levels.len(),
+                members,
+                s.wall_seconds
+            );
         }
         Command::Golden { root } => {
             for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
