@@ -9,7 +9,6 @@ BIN := target/release/signorini
 report: build
 	$(BIN) report --out reports
 	$(BIN) experiment --out reports
-	$(BIN) sensitivity scenes/bar1d-dirichlet.json --out reports
 	$(BIN) study scenes/bar2d.json --out reports
 	$(BIN) study scenes/bar3d.json --out reports
 	$(BIN) figures --reports reports

@@ -20,13 +20,13 @@ use signorini::norms::Norm;
 use signorini::output::write_atomic;
 use signorini::pipeline::{
     write_defaults_experiment, write_elastic_report, write_extended_report, write_golden,
-    write_gravity_report, write_report, write_stability,
+    write_gravity_report, write_report, write_sensitivity_files, write_stability,
 };
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
-use signorini::sensitivity::{render as render_sensitivity, run_sensitivity, EnsembleConfig};
+use signorini::sensitivity::{run_sensitivity, EnsembleConfig};
 use signorini::study::{run_study_with_progress, study_size, Case};
 
 /// `println!` that ignores a closed stdout (`signorini list | head` must not panic).
@@ -213,9 +213,6 @@ fn parse_mass(s: &str) -> Result<MassVariant, String> {
 fn parse_norm(s: &str) -> Result<Norm, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
 }
-
-/// The level whose predictability horizon and separation growth `sensitivity.md` shows.
-const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 
 /// A failure with its exit code.
 struct Failure {
@@ -806,12 +803,9 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 &scene.study_config(),
                 ensemble,
             )?;
-            let json = serde_json::to_string_pretty(&s).map_err(Failure::runtime)?;
-            write_output(&out.join("sensitivity.json"), json.as_bytes())?;
-            write_output(
-                &out.join("sensitivity.md"),
-                render_sensitivity(&s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
-            )?;
+            write_sensitivity_files(&s, &out).map_err(|e| {
+                Failure::runtime(format!("cannot write into {}: {e}", out.display()))
+            })?;
             for c in &s.cases {
                 out!("  {:36} {}", c.case, c.class.name());
             }

@@ -18,6 +18,7 @@ use crate::report::{
     convergence_tables, disagreement_section, disagreements, oscillation_word, paper_tables,
 };
 use crate::run::Problem1d;
+use crate::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::study::{run_study, Case, Study, StudyConfig};
 
 /// The golden file of the Tables 1–2 study, relative to the repository root.
@@ -56,8 +57,9 @@ struct RatesFile<'a> {
 /// Runs the study, writes `tables.md` and `rates.json` into `out_dir`, and returns the study.
 pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
     let study = tables_study()?;
+    let sensitivity = write_sensitivity(&study, out_dir)?;
     let paper = PaperTables::load();
-    let mut list = disagreements(&study, &paper);
+    let mut list = disagreements(&study, &paper, Some(&sensitivity));
 
     let cases: Vec<Case> = {
         let mut ids: Vec<String> = list.iter().map(|d| d.case.clone()).collect();
@@ -99,7 +101,13 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
         env!("CARGO_PKG_VERSION"),
         study.wall_seconds
     ));
-    md.push_str(&paper_tables(&study, &paper));
+    md.push_str(&paper_tables(&study, &paper, Some(&sensitivity)));
+    md.push_str(&format!(
+        "\n† round-off chaotic (`sensitivity.md`): the ensemble median rate of {} members with \
+         relative noise {:e} on the initial displacement, and the ensemble [min, max]; the \
+         unperturbed run's rate is one sample of that range (its per-level errors are below).\n",
+        sensitivity.ensemble.members, sensitivity.ensemble.amplitude
+    ));
     md.push_str(
         "\nOscillations: `TV(λ_h)/TV(λ)` on the finest level, the total variation of the computed \
          multiplier over that of the exact one; No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big.\n\n",
@@ -134,6 +142,43 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
         serde_json::to_string_pretty(&rates)?.as_bytes(),
     )?;
     Ok(study)
+}
+
+/// The level whose predictability horizon and separation growth `sensitivity.md` shows.
+pub const SENSITIVITY_SHOWN_LEVEL: usize = 80;
+
+/// The round-off sensitivity of the cases of `study` (same problem, levels and norms) with the
+/// default ensemble; writes `sensitivity.md` and `sensitivity.json` into `out_dir`.
+fn write_sensitivity(
+    study: &Study,
+    out_dir: &Path,
+) -> Result<Sensitivity, Box<dyn std::error::Error>> {
+    let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
+    let s = run_sensitivity(
+        &Problem1d::signorini_dirichlet(study.config.horizon),
+        &cases,
+        &study.norms.iter().copied().collect(),
+        &study.config,
+        EnsembleConfig::default(),
+    )?;
+    write_sensitivity_files(&s, out_dir)?;
+    Ok(s)
+}
+
+/// Writes `sensitivity.md` and `sensitivity.json` of `s` into `out_dir`.
+pub fn write_sensitivity_files(
+    s: &Sensitivity,
+    out_dir: &Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    write_atomic(
+        &out_dir.join("sensitivity.md"),
+        crate::sensitivity::render(s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
+    )?;
+    write_atomic(
+        &out_dir.join("sensitivity.json"),
+        serde_json::to_string_pretty(s)?.as_bytes(),
+    )?;
+    Ok(())
 }
 
 /// The golden file of the extended table (issue 11), relative to the repository root.

@@ -33,7 +33,7 @@ fn tables_study_matches_the_golden_rates_and_errors() {
     settings.bind(|| {
         insta::assert_snapshot!(
             "tables_1d_dirichlet",
-            paper_tables(&study, &PaperTables::load())
+            paper_tables(&study, &PaperTables::load(), None)
         );
     });
 }

@@ -149,3 +149,59 @@ fn the_command_writes_its_report_and_json() {
     assert!(dir.join("sensitivity.md").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Tables 1–2 show a chaotic case's ensemble median and range, marked †, and the Agreement
+/// section says whether the paper's value is inside that range; reproducible rows are unchanged.
+#[test]
+fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
+    use signorini::paper::PaperTables;
+    use signorini::report::{disagreements, paper_tables};
+    let s = small_sensitivity();
+    let cases: Vec<Case> = MassVariant::PAPER
+        .into_iter()
+        .map(|mass| Case {
+            scheme: Scheme::CRANK_NICOLSON,
+            mass,
+        })
+        .collect();
+    let study = signorini::study::run_study(
+        &Problem1d::signorini_dirichlet(3.0),
+        &cases,
+        &[Norm::DisplacementLinfH, Norm::EnergyL2].into(),
+        &s.config,
+    )
+    .unwrap();
+    let paper = PaperTables::load();
+    let plain = paper_tables(&study, &paper, None);
+    let marked = paper_tables(&study, &paper, Some(&s));
+    assert!(!plain.contains('†'));
+    let chaotic = s.case("crank-nicolson/standard").unwrap().rates["u_Linf_H"];
+    let expected = format!(
+        "{:.2}† [{:.2}, {:.2}]",
+        chaotic.median, chaotic.min, chaotic.max
+    );
+    assert!(marked.contains(&expected), "{expected} not in {marked}");
+    let row = |t: &str, mass: &str| {
+        t.lines()
+            .find(|l| l.starts_with("| Crank–Nicolson") && l.contains(mass))
+            .map(str::to_string)
+    };
+    assert_eq!(row(&plain, "| MOD |"), row(&marked, "| MOD |"));
+    for d in disagreements(&study, &paper, Some(&s)) {
+        let words = d.diagnosis(9.0);
+        if d.case == "crank-nicolson/standard" {
+            let e = d.ensemble.expect("a chaotic case carries its ensemble");
+            let inside = (e.min..=e.max).contains(&d.paper);
+            assert!(
+                words.contains(if inside {
+                    "inside our ensemble"
+                } else {
+                    "outside our ensemble"
+                }),
+                "{words}"
+            );
+        } else {
+            assert!(d.ensemble.is_none());
+        }
+    }
+}

@@ -399,6 +399,9 @@ pub fn reports_index(figures: &[String]) -> String {
          - [gravity.md](gravity.md): the gravity benchmark's rates (§4).\n\
          - [work-precision.md](work-precision.md): what accuracy costs, and the cost to reach a \
          target error.\n\
+         - [sensitivity.md](sensitivity.md), [sensitivity.json](sensitivity.json): every case's \
+         round-off sensitivity (ensembles of perturbed initial data) and its class; the \
+         chaotic cases are marked † in the tables.\n\
          - [stability.md](stability.md): every scheme × mass on the hard cases, with verdicts.\n\
          - [defaults-experiment.md](defaults-experiment.md): how the rates move with T and the \
          levels.\n\
