@@ -3,13 +3,32 @@
 //!
 //! A rate may move by at most an absolute tolerance (default 0.02, settable per norm), an error
 //! by a relative one (default 1 %). NaN or infinity on either side is a drift, never a pass.
+//!
+//! With a sensitivity study (`crate::sensitivity`) each case is held at what its reproducibility
+//! allows ([`Golden::with_sensitivity`]): a reproducible or event-sensitive case's norms carry
+//! their own tolerances, [`SPREAD_SAFETY`] times the measured ensemble spread (at least
+//! [`ERROR_REL_FLOOR`] and [`RATE_ABS_FLOOR`]); a chaotic case carries its ensemble envelope and
+//! is gated by [`compare_ensemble`] on ensemble statistics, never on the bits of one run.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
+use crate::sensitivity::{Sensitivity, SensitivityClass, Spread};
 use crate::study::Study;
+
+/// A case's tolerance is this many times its measured ensemble spread.
+pub const SPREAD_SAFETY: f64 = 10.0;
+
+/// The smallest relative error tolerance derived from a spread.
+pub const ERROR_REL_FLOOR: f64 = 1e-9;
+
+/// The smallest rate tolerance derived from a spread.
+pub const RATE_ABS_FLOOR: f64 = 1e-4;
+
+/// A chaotic case's statistic may leave its golden `[min, max]` by this fraction of the range.
+pub const ENVELOPE_MARGIN: f64 = 0.25;
 
 /// Tolerances of the gate, stored with the golden values.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,6 +73,26 @@ pub struct GoldenNorm {
     pub rate_last_three: f64,
     /// Error per level.
     pub errors: Vec<f64>,
+    /// This norm's relative error tolerance, derived from the measured spread (overrides
+    /// `tolerances.error_rel`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_rel: Option<f64>,
+    /// This norm's rate tolerance, derived from the measured spread (overrides the file's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_abs: Option<f64>,
+    /// A chaotic case's ensemble envelope: what [`compare_ensemble`] holds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<EnsembleEnvelope>,
+}
+
+/// The ensemble statistics of one norm of a chaotic case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnsembleEnvelope {
+    /// The spread of the member-by-member rate.
+    pub rate: Spread,
+    /// The spread of the error at each level.
+    pub errors: Vec<Spread>,
 }
 
 /// The committed values of one case, keyed by norm.
@@ -62,8 +101,18 @@ pub struct GoldenNorm {
 pub struct GoldenCase {
     /// `scheme/mass`.
     pub case: String,
+    /// The case's round-off class, when a sensitivity study was attached.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub class: Option<SensitivityClass>,
     /// Norm key → values.
     pub norms: BTreeMap<String, GoldenNorm>,
+}
+
+impl GoldenCase {
+    /// Whether the case is round-off chaotic (gated by [`compare_ensemble`] only).
+    pub fn is_chaotic(&self) -> bool {
+        self.class == Some(SensitivityClass::Chaotic)
+    }
 }
 
 /// A golden file.
@@ -102,6 +151,7 @@ impl Golden {
                 .iter()
                 .map(|c| GoldenCase {
                     case: c.case.id(),
+                    class: None,
                     norms: c
                         .rates
                         .iter()
@@ -112,6 +162,9 @@ impl Golden {
                                     rate: nan_to_inf(r.fit.map(|f| f.rate)),
                                     rate_last_three: nan_to_inf(r.fit_last_three.map(|f| f.rate)),
                                     errors: r.errors.clone(),
+                                    error_rel: None,
+                                    rate_abs: None,
+                                    ensemble: None,
                                 },
                             )
                         })
@@ -119,6 +172,36 @@ impl Golden {
                 })
                 .collect(),
         }
+    }
+}
+
+impl Golden {
+    /// Holds each case at what its reproducibility allows (see the module): per-norm tolerances
+    /// from the measured spread for reproducible and event-sensitive cases, the ensemble
+    /// envelope for chaotic ones. Cases the study did not measure keep the file's tolerances.
+    pub fn with_sensitivity(mut self, sensitivity: &Sensitivity) -> Self {
+        for g in &mut self.cases {
+            let Some(s) = sensitivity.case(&g.case) else {
+                continue;
+            };
+            g.class = Some(s.class);
+            for (key, gn) in &mut g.norms {
+                let (Some(rate), Some(errors)) = (s.rates.get(key), s.errors.get(key)) else {
+                    continue;
+                };
+                if s.chaotic {
+                    gn.ensemble = Some(EnsembleEnvelope {
+                        rate: *rate,
+                        errors: errors.clone(),
+                    });
+                } else {
+                    let spread = s.relative_error_spread(key).unwrap_or(0.0);
+                    gn.error_rel = Some((SPREAD_SAFETY * spread).max(ERROR_REL_FLOOR));
+                    gn.rate_abs = Some((SPREAD_SAFETY * rate.range()).max(RATE_ABS_FLOOR));
+                }
+            }
+        }
+        self
     }
 }
 
@@ -164,6 +247,10 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
             drifts.push(missing("(case not in golden file)"));
             continue;
         };
+        if g.is_chaotic() {
+            // One run of a chaotic case is one sample: `compare_ensemble` gates it.
+            continue;
+        }
         if !same_setup {
             drifts.push(missing(
                 "(levels, ratio or horizon differ from the golden file)",
@@ -176,7 +263,8 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
                 drifts.push(missing(key));
                 continue;
             };
-            let rate_tol = tol.rate_tolerance(key);
+            let rate_tol = gn.rate_abs.unwrap_or_else(|| tol.rate_tolerance(key));
+            let error_tol = gn.error_rel.unwrap_or(tol.error_rel);
             for (quantity, golden_value, now) in [
                 ("rate", gn.rate, nan_to_inf(r.fit.map(|f| f.rate))),
                 (
@@ -201,7 +289,7 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
             for (k, (&ge, &e)) in gn.errors.iter().zip(&r.errors).enumerate() {
                 let rel = (e - ge) / ge.abs();
                 let both_zero = e == 0.0 && ge == 0.0;
-                if !both_zero && (!rel.is_finite() || rel.abs() > tol.error_rel) {
+                if !both_zero && (!rel.is_finite() || rel.abs() > error_tol) {
                     drifts.push(Drift {
                         case: id.clone(),
                         norm: key.to_string(),
@@ -209,8 +297,63 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
                         golden: ge,
                         now: e,
                         difference: rel,
-                        tolerance: tol.error_rel,
+                        tolerance: error_tol,
                     });
+                }
+            }
+        }
+    }
+    drifts
+}
+
+/// Gates the chaotic cases of `golden` on the ensemble statistics of `sensitivity`: per norm,
+/// the median rate must lie in the golden `[min, max]` widened by [`ENVELOPE_MARGIN`] of its
+/// range, and the median error at every level likewise in its golden envelope. A chaotic case
+/// that `sensitivity` did not measure is a drift.
+pub fn compare_ensemble(golden: &Golden, sensitivity: &Sensitivity) -> Vec<Drift> {
+    let mut drifts = Vec::new();
+    let within = |band: &Spread, x: f64| {
+        let m = ENVELOPE_MARGIN * band.range();
+        x.is_finite() && x >= band.min - m && x <= band.max + m
+    };
+    for g in golden.cases.iter().filter(|g| g.is_chaotic()) {
+        let Some(s) = sensitivity.case(&g.case) else {
+            drifts.push(Drift {
+                case: g.case.clone(),
+                norm: "(chaotic case without ensemble)".to_string(),
+                quantity: "missing".to_string(),
+                golden: f64::NAN,
+                now: f64::NAN,
+                difference: f64::NAN,
+                tolerance: 0.0,
+            });
+            continue;
+        };
+        for (key, gn) in &g.norms {
+            let Some(envelope) = &gn.ensemble else {
+                continue;
+            };
+            let drift = |quantity: String, band: &Spread, now: f64| Drift {
+                case: g.case.clone(),
+                norm: key.clone(),
+                quantity,
+                golden: band.median,
+                now,
+                difference: now - band.median,
+                tolerance: ENVELOPE_MARGIN * band.range(),
+            };
+            let now_rate = s.rates.get(key).map_or(f64::NAN, |r| r.median);
+            if !within(&envelope.rate, now_rate) {
+                drifts.push(drift("median rate".to_string(), &envelope.rate, now_rate));
+            }
+            let now_errors = s.errors.get(key);
+            for (k, band) in envelope.errors.iter().enumerate() {
+                let now = now_errors
+                    .and_then(|e| e.get(k))
+                    .map_or(f64::NAN, |e| e.median);
+                if !within(band, now) {
+                    let nx = golden.levels.get(k).copied().unwrap_or(0);
+                    drifts.push(drift(format!("median error[NX={nx}]"), band, now));
                 }
             }
         }

@@ -18,6 +18,8 @@ mod scheme;
 pub mod start;
 
 pub use explicit::ExplicitNewmark;
+#[doc(hidden)]
+pub use one_step::REASSOCIATED_PREDICTOR;
 pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};

@@ -1,0 +1,69 @@
+//! Test (a) of issue 15: an arithmetically equivalent rewrite of a chaotic case's step (the
+//! predictor `U + ΔtV + aΔt²A` evaluated as `U + Δt(V + aΔtA)`, injected through the test-only
+//! hook) keeps the gate green, while the old 1 % per-level check fails on it. The hook is global
+//! to the process, so this test has its binary to itself.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::sync::atomic::Ordering;
+
+use signorini::fem::MassVariant;
+use signorini::golden::{compare, compare_ensemble, render_drifts};
+use signorini::norms::Norm;
+use signorini::pipeline::{read_golden, tables_sensitivity, GOLDEN_TABLES};
+use signorini::run::Problem1d;
+use signorini::schemes::{Scheme, REASSOCIATED_PREDICTOR};
+use signorini::study::{run_study, Case, StudyConfig};
+
+#[test]
+fn an_equivalent_rewrite_of_a_chaotic_step_passes_the_gate_and_fails_the_old_check() {
+    let golden = read_golden(&Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN_TABLES)).unwrap();
+    let case = Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Standard,
+    };
+    let g = golden.cases.iter().find(|g| g.case == case.id()).unwrap();
+    assert!(
+        g.is_chaotic(),
+        "crank-nicolson/standard is no longer chaotic"
+    );
+
+    REASSOCIATED_PREDICTOR.store(true, Ordering::Relaxed);
+    let config = StudyConfig::paper_default();
+    let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let rewritten = run_study(
+        &Problem1d::signorini_dirichlet(config.horizon),
+        &[case],
+        &norms,
+        &config,
+    )
+    .unwrap();
+    let ensembles = tables_sensitivity(&[case]).unwrap();
+    REASSOCIATED_PREDICTOR.store(false, Ordering::Relaxed);
+
+    // The rewrite changed the run: it is not the golden sample any more.
+    let now = &rewritten.cases[0];
+    let golden_errors = &g.norms["u_Linf_H"].errors;
+    assert_ne!(
+        &now.norm(Norm::DisplacementLinfH).unwrap().errors,
+        golden_errors
+    );
+
+    // The new gate: the case's single run is not held, its ensemble statistics are.
+    assert!(compare(&golden, &rewritten).is_empty());
+    let mut this_case = golden.clone();
+    this_case.cases.retain(|g| g.case == case.id());
+    let drifts = compare_ensemble(&this_case, &ensembles);
+    assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
+
+    // The old gate: the same golden values, 1 % per level, 0.02 per rate, on the one run.
+    let mut old = golden.clone();
+    for g in &mut old.cases {
+        g.class = None;
+    }
+    let drifts = compare(&old, &rewritten);
+    assert!(
+        !drifts.is_empty(),
+        "the old 1 % check passed the rewrite, so this test shows nothing"
+    );
+}
