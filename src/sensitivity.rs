@@ -20,7 +20,6 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{require_positive, Error, ParameterError};
@@ -28,7 +27,7 @@ use crate::norms::Norm;
 use crate::problem::Perturbation;
 use crate::rates::fit_rate;
 use crate::run::{run, Observables, Problem1d, RunConfig, RunResult};
-use crate::study::{Case, StudyConfig};
+use crate::study::{run_case_levels, Case, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
 pub const PARTING: f64 = 1e-8;
@@ -349,25 +348,16 @@ pub fn run_sensitivity(
         .into());
     }
     let clock = Instant::now();
-    let mut jobs: Vec<(usize, usize)> = (0..cases.len())
-        .flat_map(|c| (0..config.levels.len()).map(move |l| (c, l)))
-        .collect();
-    jobs.sort_by_key(|&(c, l)| (std::cmp::Reverse(config.levels[l]), c));
-    let results: Vec<((usize, usize), LevelEnsemble)> = jobs
-        .par_iter()
-        .map(|&(c, l)| {
-            level_ensemble(
-                problem,
-                cases[c],
-                config.levels[l],
-                config.ratio,
-                norms,
-                ensemble,
-            )
-            .map(|e| ((c, l), e))
-        })
-        .collect::<Result<_, _>>()?;
-    let mut by_job: BTreeMap<(usize, usize), LevelEnsemble> = results.into_iter().collect();
+    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
+        level_ensemble(
+            problem,
+            cases[c],
+            config.levels[l],
+            config.ratio,
+            norms,
+            ensemble,
+        )
+    })?;
     let h: Vec<f64> = config
         .levels
         .iter()
@@ -375,13 +365,8 @@ pub fn run_sensitivity(
         .collect();
     let cases = cases
         .iter()
-        .enumerate()
-        .map(|(c, case)| {
-            let levels: Vec<LevelEnsemble> = (0..config.levels.len())
-                .map(|l| by_job.remove(&(c, l)).expect("every job ran"))
-                .collect();
-            classify(*case, config, &h, norms, ensemble, &levels)
-        })
+        .zip(per_case)
+        .map(|(case, levels)| classify(*case, config, &h, norms, ensemble, &levels))
         .collect();
     Ok(Sensitivity {
         ensemble,

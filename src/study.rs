@@ -206,39 +206,26 @@ pub fn run_study_with_progress(
 ) -> Result<Study, Error> {
     config.validate()?;
     let clock = Instant::now();
-    let mut jobs: Vec<(usize, usize)> = (0..cases.len())
-        .flat_map(|c| (0..config.levels.len()).map(move |l| (c, l)))
-        .collect();
-    jobs.sort_by_key(|&(c, l)| (std::cmp::Reverse(config.levels[l]), c));
     let observables = Observables {
         norms: norms.clone(),
         ..Observables::default()
     };
-    let results: Vec<((usize, usize), RunResult)> = jobs
-        .par_iter()
-        .map(|&(c, l)| {
-            let cfg = RunConfig {
-                nx: config.levels[l],
-                ratio: config.ratio,
-                scheme: cases[c].scheme,
-                mass: cases[c].mass,
-                observables: observables.clone(),
-            };
-            let result = run(problem, &cfg).map(|r| ((c, l), r));
-            done();
-            result
-        })
-        .collect::<Result<_, _>>()?;
-    let mut by_job: BTreeMap<(usize, usize), RunResult> = results.into_iter().collect();
+    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
+        let cfg = RunConfig {
+            nx: config.levels[l],
+            ratio: config.ratio,
+            scheme: cases[c].scheme,
+            mass: cases[c].mass,
+            observables: observables.clone(),
+        };
+        let result = run(problem, &cfg);
+        done();
+        result
+    })?;
     let cases = cases
         .iter()
-        .enumerate()
-        .map(|(c, case)| {
-            let runs: Vec<RunResult> = (0..config.levels.len())
-                .map(|l| by_job.remove(&(c, l)).expect("every job ran"))
-                .collect();
-            case_study(*case, &runs, norms)
-        })
+        .zip(per_case)
+        .map(|(case, runs)| case_study(*case, &runs, norms))
         .collect();
     Ok(Study {
         config: config.clone(),
@@ -246,6 +233,32 @@ pub fn run_study_with_progress(
         cases,
         wall_seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// Runs `job(case, level)` for every case index below `n_cases` and every level index of
+/// `levels`, in parallel over case × level with the largest levels first (they take longest),
+/// and returns each case's results in level order. The first error stops the study.
+pub fn run_case_levels<T: Send>(
+    n_cases: usize,
+    levels: &[usize],
+    job: impl Fn(usize, usize) -> Result<T, Error> + Sync,
+) -> Result<Vec<Vec<T>>, Error> {
+    let mut jobs: Vec<(usize, usize)> = (0..n_cases)
+        .flat_map(|c| (0..levels.len()).map(move |l| (c, l)))
+        .collect();
+    jobs.sort_by_key(|&(c, l)| (std::cmp::Reverse(levels[l]), c));
+    let results: Vec<((usize, usize), T)> = jobs
+        .par_iter()
+        .map(|&(c, l)| job(c, l).map(|r| ((c, l), r)))
+        .collect::<Result<_, _>>()?;
+    let mut by_job: BTreeMap<(usize, usize), T> = results.into_iter().collect();
+    Ok((0..n_cases)
+        .map(|c| {
+            (0..levels.len())
+                .map(|l| by_job.remove(&(c, l)).expect("every job ran"))
+                .collect()
+        })
+        .collect())
 }
 
 fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStudy {

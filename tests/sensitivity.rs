@@ -13,19 +13,24 @@ use signorini::schemes::Scheme;
 use signorini::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
 use signorini::study::{Case, StudyConfig};
 
+/// Crank–Nicolson with the paper's two masses.
+fn crank_nicolson_cases() -> Vec<Case> {
+    MassVariant::PAPER
+        .into_iter()
+        .map(|mass| Case {
+            scheme: Scheme::CRANK_NICOLSON,
+            mass,
+        })
+        .collect()
+}
+
 fn small_sensitivity() -> signorini::sensitivity::Sensitivity {
     let config = StudyConfig {
         levels: vec![20, 40, 80],
         ratio: 10.0,
         horizon: 3.0,
     };
-    let cases: Vec<Case> = MassVariant::PAPER
-        .into_iter()
-        .map(|mass| Case {
-            scheme: Scheme::CRANK_NICOLSON,
-            mass,
-        })
-        .collect();
+    let cases = crank_nicolson_cases();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
     run_sensitivity(
         &Problem1d::signorini_dirichlet(3.0),
@@ -157,13 +162,7 @@ fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
     use signorini::paper::PaperTables;
     use signorini::report::{disagreements, paper_tables};
     let s = small_sensitivity();
-    let cases: Vec<Case> = MassVariant::PAPER
-        .into_iter()
-        .map(|mass| Case {
-            scheme: Scheme::CRANK_NICOLSON,
-            mass,
-        })
-        .collect();
+    let cases = crank_nicolson_cases();
     let study = signorini::study::run_study(
         &Problem1d::signorini_dirichlet(3.0),
         &cases,
