@@ -3,7 +3,9 @@
 //! * the step kernel of each scheme at NX = 640 (Δx/Δt = 10, T = 3, 19 200 steps) with all
 //!   seven observables, in nanoseconds per degree of freedom per step (target ≤ 25);
 //! * the whole Tables 1–2 study (14 cases, NX 10–640, all norms), wall seconds (target ≤ 15);
-//! * the peak memory of that study run by the binary, from `/usr/bin/time -v` (target ≤ 200 MB).
+//! * the peak memory of that study run by the binary, from `/usr/bin/time -v` (target ≤ 200 MB);
+//! * the 1D round-off sensitivity study (14 cases × 7 levels × 16 members), wall seconds, one
+//!   run (target ≤ 60, issue 15).
 //!
 //! Each figure is the median of several repetitions (9 for the kernels). The process exits with status 1 when a
 //! target is missed, so `make bench` checks them.
@@ -14,13 +16,15 @@ use std::time::Instant;
 
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::pipeline::tables_study;
+use signorini::pipeline::{tables_sensitivity, tables_study};
 use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use signorini::schemes::Scheme;
+use signorini::study::Case;
 
 const NS_PER_DOF_STEP_TARGET: f64 = 25.0;
 const STUDY_SECONDS_TARGET: f64 = 15.0;
 const PEAK_MEMORY_MB_TARGET: f64 = 200.0;
+const SENSITIVITY_SECONDS_TARGET: f64 = 60.0;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -122,6 +126,16 @@ fn main() -> ExitCode {
     all_ok &= ok;
     println!(
         "\nTables 1–2 study (14 cases × 7 levels, all norms): {wall:.2} s wall, median of 3 (target ≤ {STUDY_SECONDS_TARGET} s) {}",
+        verdict(ok)
+    );
+
+    let clock = Instant::now();
+    tables_sensitivity(&Case::paper_matrix()).expect("sensitivity study");
+    let wall = clock.elapsed().as_secs_f64();
+    let ok = wall <= SENSITIVITY_SECONDS_TARGET;
+    all_ok &= ok;
+    println!(
+        "1D sensitivity study (14 cases × 7 levels × 16 members): {wall:.1} s wall (target ≤ {SENSITIVITY_SECONDS_TARGET} s) {}",
         verdict(ok)
     );
 
