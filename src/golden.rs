@@ -173,9 +173,7 @@ impl Golden {
                 .collect(),
         }
     }
-}
 
-impl Golden {
     /// Holds each case at what its reproducibility allows (see the module): per-norm tolerances
     /// from the measured spread for reproducible and event-sensitive cases, the ensemble
     /// envelope for chaotic ones. Cases the study did not measure keep the file's tolerances.
@@ -224,6 +222,22 @@ pub struct Drift {
     pub tolerance: f64,
 }
 
+impl Drift {
+    /// An entry the comparison could not make (`quantity` = `missing`); `norm` says what is
+    /// missing.
+    fn missing(case: &str, norm: &str) -> Self {
+        Self {
+            case: case.to_string(),
+            norm: norm.to_string(),
+            quantity: "missing".to_string(),
+            golden: f64::NAN,
+            now: f64::NAN,
+            difference: f64::NAN,
+            tolerance: 0.0,
+        }
+    }
+}
+
 /// Compares a study with the golden values; returns every drifted entry (empty: the gate passes).
 /// A study with other levels, ratio or horizon than the golden file is one drift per case.
 pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
@@ -234,15 +248,7 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
         && golden.horizon == study.config.horizon;
     for c in &study.cases {
         let id = c.case.id();
-        let missing = |norm: &str| Drift {
-            case: id.clone(),
-            norm: norm.to_string(),
-            quantity: "missing".to_string(),
-            golden: f64::NAN,
-            now: f64::NAN,
-            difference: f64::NAN,
-            tolerance: 0.0,
-        };
+        let missing = |norm: &str| Drift::missing(&id, norm);
         let Some(g) = golden.cases.iter().find(|g| g.case == id) else {
             drifts.push(missing("(case not in golden file)"));
             continue;
@@ -318,15 +324,7 @@ pub fn compare_ensemble(golden: &Golden, sensitivity: &Sensitivity) -> Vec<Drift
     };
     for g in golden.cases.iter().filter(|g| g.is_chaotic()) {
         let Some(s) = sensitivity.case(&g.case) else {
-            drifts.push(Drift {
-                case: g.case.clone(),
-                norm: "(chaotic case without ensemble)".to_string(),
-                quantity: "missing".to_string(),
-                golden: f64::NAN,
-                now: f64::NAN,
-                difference: f64::NAN,
-                tolerance: 0.0,
-            });
+            drifts.push(Drift::missing(&g.case, "(chaotic case without ensemble)"));
             continue;
         };
         for (key, gn) in &g.norms {

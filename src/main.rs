@@ -621,10 +621,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     } else {
                         mass
                     };
-                    config.cases = schemes
-                        .iter()
-                        .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
-                        .collect();
+                    config.cases = Case::matrix(&schemes, &masses);
                 }
                 return elastic_study(&problem, &config, out, &cache, json);
             }
@@ -650,10 +647,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             } else {
                 norm.into_iter().collect()
             };
-            let cases: Vec<Case> = schemes
-                .iter()
-                .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
-                .collect();
+            let cases = Case::matrix(&schemes, &masses);
             let mut config = scene.study_config();
             if !levels.is_empty() {
                 config.levels = levels;
@@ -790,11 +784,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     scene.name
                 )));
             }
-            let cases: Vec<Case> = scene
-                .default_schemes()
-                .into_iter()
-                .flat_map(|scheme| MassVariant::PAPER.map(|mass| Case { scheme, mass }))
-                .collect();
+            let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
             let ensemble = EnsembleConfig { members, amplitude };
             let s = run_sensitivity(
                 &scene.problem(),

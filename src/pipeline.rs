@@ -145,7 +145,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
 }
 
 /// The level whose predictability horizon and separation growth `sensitivity.md` shows.
-pub const SENSITIVITY_SHOWN_LEVEL: usize = 80;
+const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 
 /// The round-off sensitivity of the cases of `study` (same problem, levels and norms) with the
 /// default ensemble; writes `sensitivity.md` and `sensitivity.json` into `out_dir`.
@@ -340,11 +340,7 @@ pub const GRAVITY_SCENE: &str = "scenes/bar1d-gravity.json";
 /// its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
     let scene = crate::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
-    let cases: Vec<Case> = scene
-        .default_schemes()
-        .into_iter()
-        .flat_map(|scheme| crate::fem::MassVariant::PAPER.map(|mass| Case { scheme, mass }))
-        .collect();
+    let cases = Case::matrix(&scene.default_schemes(), &crate::fem::MassVariant::PAPER);
     Ok(run_study(
         &scene.problem(),
         &cases,

@@ -65,6 +65,17 @@ pub fn fit_rate(h: &[f64], e: &[f64]) -> Option<RateFit> {
     })
 }
 
+/// The slope of the least-squares line through `(x, y)`; `None` when all `x` coincide (or there
+/// is no point).
+pub fn least_squares_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
 /// The observed order between consecutive levels; `None` on the first level and wherever an
 /// error is zero or not finite.
 pub fn observed_orders(h: &[f64], e: &[f64]) -> Vec<Option<f64>> {

@@ -227,17 +227,16 @@ impl Disagreement {
         let near = |x: Option<f64>| x.is_some_and(|v| (v - self.paper).abs() <= PAPER_AGREEMENT);
         let mut reasons = Vec::new();
         if let Some(e) = self.ensemble {
-            reasons.push(if (e.min..=e.max).contains(&self.paper) {
-                format!(
-                    "round-off noise: the paper's value is inside our ensemble range [{:.2}, {:.2}] (chaotic case)",
-                    e.min, e.max
-                )
+            let (verdict, place) = if (e.min..=e.max).contains(&self.paper) {
+                ("round-off noise", "inside")
             } else {
-                format!(
-                    "not round-off noise: the paper's value is outside our ensemble range [{:.2}, {:.2}] (chaotic case)",
-                    e.min, e.max
-                )
-            });
+                ("not round-off noise", "outside")
+            };
+            reasons.push(format!(
+                "{verdict}: the paper's value is {place} our ensemble range [{:.2}, {:.2}] \
+                 (chaotic case)",
+                e.min, e.max
+            ));
         }
         if let (Some(lo), Some(hi)) = (self.ours.ci_low, self.ours.ci_high) {
             if (lo..=hi).contains(&self.paper) {

@@ -25,8 +25,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{require_positive, Error, ParameterError};
 use crate::norms::Norm;
 use crate::problem::Perturbation;
-use crate::rates::fit_rate;
-use crate::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use crate::rates::{fit_rate, least_squares_slope};
+use crate::run::{run, ContactHistory, Observables, Problem1d, RunConfig, RunResult};
 use crate::study::{run_case_levels, Case, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
@@ -162,7 +162,7 @@ impl Separation {
     fn between(time: &[f64], base: &[f64], member: &[f64]) -> Self {
         let mut largest = 0.0_f64;
         let mut parting_step = None;
-        let mut crossings: Vec<(f64, f64)> = Vec::new();
+        let (mut crossing_times, mut crossing_levels) = (Vec::new(), Vec::new());
         let start = (base[0] - member[0]).abs();
         for (n, ((&t, &a), &b)) in time.iter().zip(base).zip(member).enumerate() {
             let d = (a - b).abs();
@@ -172,26 +172,17 @@ impl Separation {
             if d > largest {
                 for &threshold in DECADES.iter().filter(|&&x| x > start.max(largest)) {
                     if d >= threshold {
-                        crossings.push((t, threshold.ln()));
+                        crossing_times.push(t);
+                        crossing_levels.push(threshold.ln());
                     }
                 }
                 largest = d;
             }
         }
         let parted = parting_step.is_some();
-        let growth = (parted && crossings.len() >= MIN_GROWTH_DECADES).then(|| {
-            let n = crossings.len() as f64;
-            let (mt, my) = crossings
-                .iter()
-                .fold((0.0, 0.0), |(a, b), &(t, y)| (a + t / n, b + y / n));
-            let (sxy, sxx) = crossings.iter().fold((0.0, 0.0), |(a, b), &(t, y)| {
-                (a + (t - mt) * (y - my), b + (t - mt) * (t - mt))
-            });
-            if sxx > 0.0 {
-                sxy / sxx
-            } else {
-                f64::INFINITY
-            }
+        // Thresholds all crossed within one step: an instantaneous jump, infinitely fast.
+        let growth = (parted && crossing_times.len() >= MIN_GROWTH_DECADES).then(|| {
+            least_squares_slope(&crossing_times, &crossing_levels).unwrap_or(f64::INFINITY)
         });
         Self {
             parting_step,
@@ -269,9 +260,9 @@ struct LevelEnsemble {
     separations: Vec<Separation>,
 }
 
-fn contact_displacement(r: &RunResult) -> (Vec<f64>, Vec<f64>) {
-    let c = r.contact_history.as_ref().expect("recorded");
-    (c.time.clone(), c.displacement.clone())
+/// The contact history that [`level_ensemble`]'s runs record.
+fn contact_history(r: &RunResult) -> &ContactHistory {
+    r.contact_history.as_ref().expect("recorded")
 }
 
 fn level_ensemble(
@@ -299,7 +290,8 @@ fn level_ensemble(
         .iter()
         .fold(0.0_f64, |m, x| m.max(x.abs()))
         .max(f64::MIN_POSITIVE);
-    let (time, base) = contact_displacement(&run(problem, &config)?);
+    let base = run(problem, &config)?;
+    let base = contact_history(&base);
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
     for member in 1..=ensemble.members {
@@ -309,8 +301,11 @@ fn level_ensemble(
             seed: member as u64,
         });
         let r = run(&perturbed, &config)?;
-        let (_, u) = contact_displacement(&r);
-        separations.push(Separation::between(&time, &base, &u));
+        separations.push(Separation::between(
+            &base.time,
+            &base.displacement,
+            &contact_history(&r).displacement,
+        ));
         errors.push(r.errors);
     }
     Ok(LevelEnsemble {

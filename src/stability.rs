@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::Error;
 use crate::exact::AtRest;
 use crate::problem::{InitialData, Perturbation, Problem1d, Profile};
+use crate::rates::least_squares_slope;
 use crate::run::{run, Observables, RunConfig};
 use crate::study::Case;
 
@@ -230,7 +231,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         .map(|w| (w[1] - w[0]) / scale)
         .fold(0.0, f64::max);
     let horizon = hard.problem.horizon;
-    let trend = linear_trend(&energy.time, &energy.energy) * horizon / scale;
+    let trend = least_squares_slope(&energy.time, &energy.energy).unwrap_or(0.0) * horizon / scale;
     let variation = result.multiplier_variation.unwrap_or_default();
     let (indicator, is_ratio) = match variation.ratio() {
         Some(r) => (r, true),
@@ -267,20 +268,6 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
             .collect(),
         ..base
     })
-}
-
-/// The slope of the least-squares line through `(t, y)`.
-fn linear_trend(t: &[f64], y: &[f64]) -> f64 {
-    let n = t.len() as f64;
-    let mt = t.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let stt: f64 = t.iter().map(|x| (x - mt).powi(2)).sum();
-    let sty: f64 = t.iter().zip(y).map(|(a, b)| (a - mt) * (b - my)).sum();
-    if stt > 0.0 {
-        sty / stt
-    } else {
-        0.0
-    }
 }
 
 /// Every hard case × every case, in parallel.

@@ -24,12 +24,17 @@ pub struct Case {
 }
 
 impl Case {
+    /// Every scheme with every mass, scheme by scheme.
+    pub fn matrix(schemes: &[Scheme], masses: &[MassVariant]) -> Vec<Case> {
+        schemes
+            .iter()
+            .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
+            .collect()
+    }
+
     /// The 14 rows of the paper's Tables 1–2, in order.
     pub fn paper_matrix() -> Vec<Case> {
-        Scheme::paper_schemes()
-            .into_iter()
-            .flat_map(|scheme| MassVariant::PAPER.map(|mass| Case { scheme, mass }))
-            .collect()
+        Self::matrix(&Scheme::paper_schemes(), &MassVariant::PAPER)
     }
 
     /// `scheme/mass`, e.g. `crank-nicolson/redistributed`.
