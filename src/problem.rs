@@ -84,6 +84,10 @@ pub struct InitialData {
     /// An optional seeded perturbation of the displacement.
     #[serde(default)]
     pub perturbation: Option<Perturbation>,
+    /// A sensitivity ensemble member's round-off-size perturbation of the displacement, added
+    /// after `perturbation` (set by `crate::sensitivity`, never read from a scene).
+    #[serde(skip)]
+    pub round_off: Option<Perturbation>,
 }
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
@@ -168,14 +172,18 @@ impl Problem1d {
     }
 
     /// The initial displacement and velocity as dof vectors: the nodal interpolants of the
-    /// declared profiles, then the seeded perturbation (if any) added to every displacement dof
-    /// except the contact dofs of `model`. Every run builds its initial data here.
+    /// declared profiles, then the seeded perturbations (the declared one, then an ensemble
+    /// member's round-off one; each if any) added to every displacement dof except the contact
+    /// dofs of `model`. Every run builds its initial data here.
     pub fn initial_dofs(&self, bar: &Bar1d, model: &Model) -> (Vec<f64>, Vec<f64>) {
         let exact = self.exact.as_ref();
         let mut u0 = self.initial.displacement.interpolate(bar, exact, |p| p.u);
         let v0 = self.initial.velocity.interpolate(bar, exact, |p| p.ut);
-        if let Some(p) = &self.initial.perturbation {
-            let contact_dofs = model.contact().map_or(&[][..], |c| &c.dofs[..]);
+        let contact_dofs = model.contact().map_or(&[][..], |c| &c.dofs[..]);
+        for p in [&self.initial.perturbation, &self.initial.round_off]
+            .into_iter()
+            .flatten()
+        {
             p.apply(&mut u0, contact_dofs);
         }
         (u0, v0)

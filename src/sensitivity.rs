@@ -147,9 +147,9 @@ impl Spread {
 
 /// How one member's contact-node displacement parts from the unperturbed run's.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Separation {
+pub struct Separation {
     /// The first step at which `|u_m(0, t_n) − u(0, t_n)| > PARTING`.
-    parting_step: Option<usize>,
+    pub parting_step: Option<usize>,
     /// The least-squares slope of `ln(threshold)` against the first time the running maximum of
     /// the separation crosses each decade threshold (a finite-time Lyapunov exponent), when at
     /// least [`MIN_GROWTH_DECADES`] thresholds are crossed after the start and the member parts.
@@ -159,7 +159,9 @@ struct Separation {
 }
 
 impl Separation {
-    fn between(time: &[f64], base: &[f64], member: &[f64]) -> Self {
+    /// The separation of the contact-node displacement histories `member` and `base`, sampled
+    /// at `time`.
+    pub fn between(time: &[f64], base: &[f64], member: &[f64]) -> Self {
         let mut largest = 0.0_f64;
         let mut parting_step = None;
         let (mut crossing_times, mut crossing_levels) = (Vec::new(), Vec::new());
@@ -254,15 +256,122 @@ impl Sensitivity {
     }
 }
 
+/// The contact history that [`run_ensemble`]'s runs record.
+fn contact_history(r: &RunResult) -> &ContactHistory {
+    r.contact_history.as_ref().expect("recorded")
+}
+
+/// Runs `problem` with `config` as an ensemble: the unperturbed run, then member `m = 1..=K`
+/// with the round-off perturbation `initial.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
+/// unperturbed initial displacement, the contact dofs untouched) and seed `m`. Each member's
+/// result (or the error that stopped it) is handed to `observe` with its [`Separation`] from
+/// the unperturbed run and dropped, so memory holds the unperturbed contact history and one
+/// member's; an error `observe` returns stops the ensemble. Returns the unperturbed result. The
+/// contact history is recorded whatever `config` asks.
+pub fn run_ensemble(
+    problem: &Problem1d,
+    config: &RunConfig,
+    ensemble: EnsembleConfig,
+    observe: &mut dyn FnMut(Result<(RunResult, Separation), Error>) -> Result<(), Error>,
+) -> Result<RunResult, Error> {
+    ensemble.validate()?;
+    let mut config = config.clone();
+    config.observables.contact_history = true;
+    let (bar, model) = problem.model(config.nx, config.mass)?;
+    let (u0, _) = problem.initial_dofs(&bar, &model);
+    let scale = u0
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let base = run(problem, &config)?;
+    let base_history = contact_history(&base);
+    for member in 1..=ensemble.members {
+        let mut perturbed = problem.clone();
+        perturbed.initial.round_off = Some(Perturbation {
+            amplitude: ensemble.amplitude * scale,
+            seed: member as u64,
+        });
+        let member = run(&perturbed, &config).map(|r| {
+            let separation = Separation::between(
+                &base_history.time,
+                &base_history.displacement,
+                &contact_history(&r).displacement,
+            );
+            (r, separation)
+        });
+        observe(member)?;
+    }
+    Ok(base)
+}
+
+/// Whether some member's separation grows exponentially (a positive fitted growth) to
+/// [`RUNAWAY`].
+fn runs_away(separations: &[Separation]) -> bool {
+    separations
+        .iter()
+        .any(|s| s.largest >= RUNAWAY && s.growth.is_some_and(|g| g > 0.0))
+}
+
+/// The round-off sensitivity of one run (one mesh, one time step), as the stability suite
+/// reports it. With no rate to fit at one mesh, a run is *chaotic* on the separation rule
+/// alone: some member's separation grows exponentially to [`RUNAWAY`]; *reproducible* when no
+/// member parts by more than [`PARTING`]; *event-sensitive* otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RunSensitivity {
+    /// The class by the rule above.
+    pub class: SensitivityClass,
+    /// Perturbed members.
+    pub members: usize,
+    /// The relative amplitude `A`.
+    pub amplitude: f64,
+    /// The first step at which some member parts; `null` where none does.
+    pub predictability_step: Option<usize>,
+    /// `predictability_step × Δt`: the predictability horizon in time.
+    pub predictability_time: Option<f64>,
+    /// The median fitted growth rate of the separation (per unit time); `null` where none.
+    pub separation_growth: Option<f64>,
+    /// The largest separation of any member.
+    pub largest_separation: f64,
+}
+
+impl RunSensitivity {
+    /// The sensitivity of a run with time step `dt` from its members' separations.
+    pub fn of(separations: &[Separation], dt: f64, ensemble: EnsembleConfig) -> Self {
+        let predictability_step = separations.iter().filter_map(|s| s.parting_step).min();
+        let class = if predictability_step.is_none() {
+            SensitivityClass::Reproducible
+        } else if runs_away(separations) {
+            SensitivityClass::Chaotic
+        } else {
+            SensitivityClass::EventSensitive
+        };
+        Self {
+            class,
+            members: ensemble.members,
+            amplitude: ensemble.amplitude,
+            predictability_step,
+            predictability_time: predictability_step.map(|n| n as f64 * dt),
+            separation_growth: median_growth(separations),
+            largest_separation: largest_separation(separations),
+        }
+    }
+}
+
+/// The median fitted growth rate over the members whose growth could be fitted.
+fn median_growth(separations: &[Separation]) -> Option<f64> {
+    let g: Vec<f64> = separations.iter().filter_map(|s| s.growth).collect();
+    (!g.is_empty()).then(|| Spread::of(&g).median)
+}
+
+/// The largest separation of any member.
+fn largest_separation(separations: &[Separation]) -> f64 {
+    separations.iter().fold(0.0_f64, |m, s| m.max(s.largest))
+}
+
 /// What one (case, level) job measured: every member's errors and separation.
 struct LevelEnsemble {
     errors: Vec<BTreeMap<Norm, f64>>,
     separations: Vec<Separation>,
-}
-
-/// The contact history that [`level_ensemble`]'s runs record.
-fn contact_history(r: &RunResult) -> &ContactHistory {
-    r.contact_history.as_ref().expect("recorded")
 }
 
 fn level_ensemble(
@@ -280,43 +389,26 @@ fn level_ensemble(
         mass: case.mass,
         observables: Observables {
             norms: norms.clone(),
-            contact_history: true,
             ..Observables::default()
         },
     };
-    let (bar, model) = problem.model(nx, case.mass)?;
-    let (u0, _) = problem.initial_dofs(&bar, &model);
-    let scale = u0
-        .iter()
-        .fold(0.0_f64, |m, x| m.max(x.abs()))
-        .max(f64::MIN_POSITIVE);
-    let base = run(problem, &config)?;
-    let base = contact_history(&base);
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
-    for member in 1..=ensemble.members {
-        let mut perturbed = problem.clone();
-        perturbed.initial.perturbation = Some(Perturbation {
-            amplitude: ensemble.amplitude * scale,
-            seed: member as u64,
-        });
-        let r = run(&perturbed, &config)?;
-        separations.push(Separation::between(
-            &base.time,
-            &base.displacement,
-            &contact_history(&r).displacement,
-        ));
+    run_ensemble(problem, &config, ensemble, &mut |member| {
+        let (r, separation) = member?;
         errors.push(r.errors);
-    }
+        separations.push(separation);
+        Ok(())
+    })?;
     Ok(LevelEnsemble {
         errors,
         separations,
     })
 }
 
-/// Runs every case at every level as an ensemble (in parallel over case × level) and classifies
-/// each case. A problem that already declares a perturbation is refused: the ensemble's members
-/// are the perturbations.
+/// Runs every case at every level as an ensemble ([`run_ensemble`], in parallel over case ×
+/// level) and classifies each case. A problem that declares its own perturbation keeps it: the
+/// members' round-off perturbations come on top.
 pub fn run_sensitivity(
     problem: &Problem1d,
     cases: &[Case],
@@ -331,14 +423,6 @@ pub fn run_sensitivity(
             "obstacle",
             "none",
             "an obstacle (the separation is measured at the contact node)",
-        )
-        .into());
-    }
-    if problem.initial.perturbation.is_some() {
-        return Err(ParameterError::new(
-            "initial.perturbation",
-            "given",
-            "absent for a sensitivity study (its members are the perturbations)",
         )
         .into());
     }
@@ -403,20 +487,13 @@ fn classify(
         .collect();
     let separation_growth: Vec<Option<f64>> = levels
         .iter()
-        .map(|l| {
-            let g: Vec<f64> = l.separations.iter().filter_map(|s| s.growth).collect();
-            (!g.is_empty()).then(|| Spread::of(&g).median)
-        })
+        .map(|l| median_growth(&l.separations))
         .collect();
     let largest_separation: Vec<f64> = levels
         .iter()
-        .map(|l| l.separations.iter().fold(0.0_f64, |m, s| m.max(s.largest)))
+        .map(|l| largest_separation(&l.separations))
         .collect();
-    let runs_away = levels.iter().any(|l| {
-        l.separations
-            .iter()
-            .any(|s| s.largest >= RUNAWAY && s.growth.is_some_and(|g| g > 0.0))
-    });
+    let runs_away = levels.iter().any(|l| runs_away(&l.separations));
     let rate_range_large = rates.values().any(|s| s.range() > CHAOTIC_RATE_RANGE);
     let class = if predictability_steps.iter().all(Option::is_none) {
         SensitivityClass::Reproducible
@@ -459,6 +536,14 @@ pub fn render(s: &Sensitivity, nx_shown: usize) -> String {
         s.ensemble.amplitude,
         s.wall_seconds
     );
+    md.push_str(&render_cases(s, nx_shown));
+    md
+}
+
+/// The tables of [`render`] without its heading: one row per case with its class and, at
+/// `nx_shown`, the predictability horizon and growth rate; then the rate ranges of every case.
+pub fn render_cases(s: &Sensitivity, nx_shown: usize) -> String {
+    let mut md = String::new();
     let shown = s.config.levels.iter().position(|&nx| nx == nx_shown);
     md.push_str(&format!(
         "| case | class | parting step at NX = {nx_shown} | separation growth at NX = {nx_shown} (1/time) | largest rate range (norm) | largest relative error spread |\n|---|---|---|---|---|---|\n"

@@ -5,7 +5,8 @@
 use signorini::fem::MassVariant;
 use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
-use signorini::stability::{hard_cases, judge, HardCase, Verdict};
+use signorini::sensitivity::SensitivityClass;
+use signorini::stability::{hard_cases, judge, HardCase, Verdict, STABILITY_ENSEMBLE};
 use signorini::study::Case;
 
 fn long_horizon() -> HardCase {
@@ -130,4 +131,57 @@ fn a_non_finite_state_is_a_diverged_verdict_naming_the_step() {
         failure.contains("non-finite") && failure.contains("step"),
         "{failure}"
     );
+}
+
+/// Issue 15, item 5: every run reports its round-off sensitivity, and "stays numerically stable"
+/// needs it. Over 100 periods Crank–Nicolson with the redistributed mass is reproducible; with
+/// the standard mass the members follow the unperturbed run until the first impact (t = 1) and
+/// part exponentially after it.
+#[test]
+fn every_run_reports_its_round_off_sensitivity() {
+    let hard = long_horizon();
+    let calm = judge(&hard, case("crank-nicolson", MassVariant::Redistributed)).unwrap();
+    let s = calm.sensitivity.expect("measured");
+    assert_eq!(s.class, SensitivityClass::Reproducible);
+    assert_eq!(s.members, STABILITY_ENSEMBLE.members);
+    assert_eq!(s.predictability_step, None);
+    assert!(s.largest_separation <= 1e-8, "{:e}", s.largest_separation);
+    assert_eq!(calm.member_verdicts, vec![Verdict::Stable; s.members]);
+    assert!(calm.stays_stable() && calm.instabilities().is_empty());
+
+    let chaotic = judge(&hard, case("newmark-2", MassVariant::Standard)).unwrap();
+    let s = chaotic.sensitivity.expect("measured");
+    assert_eq!(s.class, SensitivityClass::Chaotic);
+    let t = s.predictability_time.expect("the members part");
+    assert!(t > 1.0 && t < 3.0, "parts at t = {t}");
+    assert!(s.separation_growth.is_some_and(|g| g > 0.0));
+    assert!(!chaotic.stays_stable());
+    assert!(
+        chaotic
+            .instabilities()
+            .iter()
+            .any(|i| i.starts_with("round-off chaotic")),
+        "{:?}",
+        chaotic.instabilities()
+    );
+}
+
+/// A stable verdict with a chaotic ensemble does not stay numerically stable, and neither does
+/// one whose perturbed members are judged otherwise.
+#[test]
+fn stays_stable_needs_every_member_and_no_chaos() {
+    let hard = long_horizon();
+    let calm = judge(&hard, case("crank-nicolson", MassVariant::Redistributed)).unwrap();
+    let mut chaotic = calm.clone();
+    if let Some(s) = chaotic.sensitivity.as_mut() {
+        s.class = SensitivityClass::Chaotic;
+    }
+    assert!(!chaotic.stays_stable());
+    let mut split = calm.clone();
+    split.member_verdicts[1] = Verdict::Oscillating;
+    assert!(!split.stays_stable());
+    assert_eq!(split.other_member_verdicts(), vec!["oscillating"]);
+    let mut unmeasured = calm;
+    unmeasured.sensitivity = None;
+    assert!(!unmeasured.stays_stable());
 }
