@@ -17,6 +17,7 @@ use crate::norms::Norm;
 use crate::report::{oscillation_word, OSCILLATES_FROM};
 use crate::run::Problem1d;
 use crate::schemes::Scheme;
+use crate::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread};
 use crate::study::{run_study, Case, CaseStudy, Study, StudyConfig};
 
 /// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
@@ -44,6 +45,21 @@ pub struct ExtendedStudy {
     pub contact: String,
     /// Its study: [`SCHEMES`] × [`MassVariant::ALL`], all seven norms.
     pub study: Study,
+    /// The round-off sensitivity of its cases, when measured ([`ExtendedStudy::with_sensitivity`]).
+    pub sensitivity: Option<Sensitivity>,
+}
+
+impl ExtendedStudy {
+    /// The study with the round-off sensitivity of all its cases measured
+    /// ([`extended_sensitivity`]).
+    pub fn with_sensitivity(self) -> Result<Self, Error> {
+        let cases: Vec<Case> = self.study.cases.iter().map(|c| c.case).collect();
+        let sensitivity = extended_sensitivity(&self.contact, &cases)?;
+        Ok(Self {
+            sensitivity: Some(sensitivity),
+            ..self
+        })
+    }
 }
 
 /// The levels, ratio and horizon of the extended studies: those of Tables 1–2
@@ -60,6 +76,14 @@ pub fn extended_cases() -> Vec<Case> {
         .collect()
 }
 
+/// The Signorini–Dirichlet benchmark on the horizon of [`extended_config`] with the contact
+/// treatment named `contact` (one of [`TREATMENTS`]).
+pub fn extended_problem(contact: &str) -> Result<Problem1d, Error> {
+    let mut problem = Problem1d::signorini_dirichlet(extended_config().horizon);
+    problem.contact = ContactTreatment::from_str(contact)?;
+    Ok(problem)
+}
+
 /// Runs one study per treatment of [`TREATMENTS`] on the Signorini–Dirichlet benchmark with
 /// [`extended_config`] and [`extended_cases`], all seven norms.
 pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
@@ -69,14 +93,26 @@ pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
     TREATMENTS
         .into_iter()
         .map(|name| {
-            let mut problem = Problem1d::signorini_dirichlet(config.horizon);
-            problem.contact = ContactTreatment::from_str(name)?;
             Ok(ExtendedStudy {
                 contact: name.to_string(),
-                study: run_study(&problem, &cases, &norms, &config)?,
+                study: run_study(&extended_problem(name)?, &cases, &norms, &config)?,
+                sensitivity: None,
             })
         })
         .collect()
+}
+
+/// The round-off sensitivity (`crate::sensitivity`, default ensemble) of `cases` under the
+/// treatment `contact`, on the extended studies' levels with all seven norms: what `make report`
+/// classifies the rows by and what the gate holds the chaotic ones to.
+pub fn extended_sensitivity(contact: &str, cases: &[Case]) -> Result<Sensitivity, Error> {
+    run_sensitivity(
+        &extended_problem(contact)?,
+        cases,
+        &Norm::ALL.into_iter().collect(),
+        &extended_config(),
+        EnsembleConfig::default(),
+    )
 }
 
 /// What the energy error does under refinement, from the least-squares rate `r` of
@@ -124,39 +160,71 @@ pub struct ExtendedRow {
     pub scheme: String,
     /// The mass variant's name.
     pub mass: &'static str,
-    /// Norm key → least-squares rate over all levels (`None` when the fit is undefined).
+    /// The round-off class of the case, when its sensitivity was measured.
+    pub class: Option<SensitivityClass>,
+    /// Norm key → least-squares rate over all levels (`None` when the fit is undefined); for a
+    /// round-off chaotic case, the ensemble median rate.
     pub rates: BTreeMap<&'static str, Option<f64>>,
+    /// A round-off chaotic case's norm key → ensemble spread of the rate (empty otherwise).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub rate_ranges: BTreeMap<&'static str, Spread>,
     /// `TV(λ_h)/TV(λ)` on the finest level.
     pub oscillation_indicator: Option<f64>,
     /// [`oscillation_word`] of the indicator.
     pub oscillation_word: Option<&'static str>,
-    /// `‖E_h − E‖_{L∞(0,T)}` on the finest level.
+    /// `‖E_h − E‖_{L∞(0,T)}` on the finest level (for a chaotic case, the ensemble median).
     pub energy_error_finest: f64,
     /// [`EnergyVerdict::of`] the `energy_Linf` rate and `energy_error_finest`.
     pub energy_verdict: EnergyVerdict,
 }
 
 impl ExtendedRow {
-    /// The row of one case of a treatment's study.
-    pub fn of(contact: &str, case: &CaseStudy) -> Self {
-        let energy = case.norm(Norm::EnergyLinf);
-        let energy_rate = energy.and_then(|r| r.fit).map(|f| f.rate);
-        let energy_error_finest = energy
-            .and_then(|r| r.errors.last().copied())
-            .unwrap_or(f64::NAN);
+    /// The row of one case of a treatment's study; with its sensitivity, a round-off chaotic
+    /// case's rates and finest energy error are the ensemble medians (one run is one sample).
+    pub fn of(contact: &str, case: &CaseStudy, sensitivity: Option<&Sensitivity>) -> Self {
+        let measured = sensitivity.and_then(|s| s.case(&case.case.id()));
+        let chaotic = measured.filter(|s| s.chaotic);
+        let rate_ranges: BTreeMap<&'static str, Spread> = Norm::ALL
+            .into_iter()
+            .filter_map(|n| Some((n.key(), *chaotic?.rates.get(n.key())?)))
+            .collect();
+        let rates: BTreeMap<&'static str, Option<f64>> = Norm::ALL
+            .into_iter()
+            .map(|n| {
+                let rate = match chaotic {
+                    Some(_) => rate_ranges.get(n.key()).map(|s| s.median),
+                    None => case.norm(n).and_then(|r| r.fit).map(|f| f.rate),
+                };
+                (n.key(), rate)
+            })
+            .collect();
+        let energy_key = Norm::EnergyLinf.key();
+        let energy_error_finest = match chaotic {
+            Some(s) => s
+                .errors
+                .get(energy_key)
+                .and_then(|levels| levels.last())
+                .map_or(f64::NAN, |e| e.median),
+            None => case
+                .norm(Norm::EnergyLinf)
+                .and_then(|r| r.errors.last().copied())
+                .unwrap_or(f64::NAN),
+        };
         let indicator = case.oscillation_indicator();
         Self {
             contact: contact.to_string(),
             scheme: case.case.scheme.name(),
             mass: case.case.mass.name(),
-            rates: Norm::ALL
-                .into_iter()
-                .map(|n| (n.key(), case.norm(n).and_then(|r| r.fit).map(|f| f.rate)))
-                .collect(),
+            class: measured.map(|s| s.class),
+            energy_verdict: EnergyVerdict::of(
+                rates.get(energy_key).copied().flatten(),
+                energy_error_finest,
+            ),
+            rates,
+            rate_ranges,
             oscillation_indicator: indicator,
             oscillation_word: indicator.map(oscillation_word),
             energy_error_finest,
-            energy_verdict: EnergyVerdict::of(energy_rate, energy_error_finest),
         }
     }
 
@@ -164,13 +232,23 @@ impl ExtendedRow {
     pub fn rate(&self, norm: Norm) -> Option<f64> {
         self.rates.get(norm.key()).copied().flatten()
     }
+
+    /// Whether the case is round-off chaotic.
+    pub fn is_chaotic(&self) -> bool {
+        self.class == Some(SensitivityClass::Chaotic)
+    }
 }
 
 /// The rows of all studies: per treatment, per case in study order.
 pub fn extended_rows(studies: &[ExtendedStudy]) -> Vec<ExtendedRow> {
     studies
         .iter()
-        .flat_map(|s| s.study.cases.iter().map(|c| ExtendedRow::of(&s.contact, c)))
+        .flat_map(|s| {
+            s.study
+                .cases
+                .iter()
+                .map(|c| ExtendedRow::of(&s.contact, c, s.sensitivity.as_ref()))
+        })
         .collect()
 }
 
@@ -252,6 +330,8 @@ pub struct ExtendedFile {
     pub horizon: f64,
     /// Wall time of all studies together, seconds.
     pub wall_seconds: f64,
+    /// The ensemble that classified the rows (`null` when no sensitivity was measured).
+    pub ensemble: Option<EnsembleConfig>,
     /// [`CONVERGES_ABOVE`].
     pub verdict_converges_above: f64,
     /// [`GROWS_AT_OR_BELOW`].
@@ -277,8 +357,58 @@ pub struct OscillatingRow {
     pub indicator: f64,
 }
 
-fn cell(rate: Option<f64>) -> String {
-    rate.map_or_else(|| "–".to_string(), |r| format!("{r:.2}"))
+/// A rate cell: `–` when undefined, `†` after a round-off chaotic case's median.
+fn cell(rate: Option<f64>, chaotic: bool) -> String {
+    let mark = if chaotic { "†" } else { "" };
+    rate.map_or_else(|| "–".to_string(), |r| format!("{r:.2}{mark}"))
+}
+
+/// The classification paragraph and the rate ranges of the round-off chaotic rows.
+fn sensitivity_section(
+    rows: &[ExtendedRow],
+    ensemble: Option<EnsembleConfig>,
+    wall_seconds: f64,
+) -> String {
+    let Some(ensemble) = ensemble else {
+        return "\n## Round-off sensitivity\n\nNot measured: every rate is one run's.\n"
+            .to_string();
+    };
+    let count = |class: SensitivityClass| rows.iter().filter(|r| r.class == Some(class)).count();
+    let mut md = format!(
+        "\n## Round-off sensitivity\n\nEvery row run as {} members with relative noise {:e} on \
+         the initial displacement (`crate::sensitivity`, the rules of `sensitivity.md`): {} \
+         reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
+         whose [min, max] follows; the energy verdict of such a row is the medians'). The \
+         ensembles took {wall_seconds:.1} s wall.\n",
+        ensemble.members,
+        ensemble.amplitude,
+        count(SensitivityClass::Reproducible),
+        count(SensitivityClass::EventSensitive),
+        count(SensitivityClass::Chaotic),
+    );
+    let chaotic: Vec<&ExtendedRow> = rows.iter().filter(|r| r.is_chaotic()).collect();
+    if chaotic.is_empty() {
+        return md;
+    }
+    md.push_str("\n| scheme | mass | contact |");
+    for norm in Norm::ALL {
+        md.push_str(&format!(" {} |", norm.key()));
+    }
+    md.push_str("\n|---|---|---|");
+    md.push_str(&"---|".repeat(Norm::ALL.len()));
+    md.push('\n');
+    for r in chaotic {
+        md.push_str(&format!("| {} | {} | {} |", r.scheme, r.mass, r.contact));
+        for norm in Norm::ALL {
+            let range = r.rate_ranges.get(norm.key()).map_or_else(
+                || "–".to_string(),
+                |s| format!("[{:.3}, {:.3}]", s.min, s.max),
+            );
+            md.push_str(&format!(" {range} |"));
+        }
+        md.push('\n');
+    }
+    md
 }
 
 /// The markdown and the JSON file of the studies.
@@ -298,6 +428,9 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         .first()
         .map_or_else(extended_config, |s| s.study.config.clone());
     let wall_seconds: f64 = studies.iter().map(|s| s.study.wall_seconds).sum();
+    let ensemble = studies
+        .iter()
+        .find_map(|s| s.sensitivity.as_ref().map(|s| s.ensemble));
 
     let mut md = format!(
         "# Extended table (issue 11)\n\nSignorini–Dirichlet benchmark (1D paper §5), levels NX = \
@@ -329,7 +462,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
             {
                 md.push_str(&format!("| {} | {} |", r.mass, r.contact));
                 for norm in Norm::ALL {
-                    md.push_str(&format!(" {} |", cell(r.rate(norm))));
+                    md.push_str(&format!(" {} |", cell(r.rate(norm), r.is_chaotic())));
                 }
                 let osc = match (r.oscillation_indicator, r.oscillation_word) {
                     (Some(i), Some(w)) => format!("{i:.3} ({w})"),
@@ -343,6 +476,12 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
             }
         }
     }
+    let sensitivity_seconds = studies
+        .iter()
+        .filter_map(|s| s.sensitivity.as_ref())
+        .map(|s| s.wall_seconds)
+        .sum();
+    md.push_str(&sensitivity_section(&rows, ensemble, sensitivity_seconds));
     md.push_str("\n## Fastest per norm\n\nThe row with the highest rate, per scheme and norm.\n\n");
     md.push_str("| scheme | norm | mass | contact | rate |\n|---|---|---|---|---|\n");
     for f in &fastest {
@@ -372,6 +511,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         ratio: config.ratio,
         horizon: config.horizon,
         wall_seconds,
+        ensemble,
         verdict_converges_above: CONVERGES_ABOVE,
         verdict_grows_at_or_below: GROWS_AT_OR_BELOW,
         rows,
@@ -403,7 +543,8 @@ pub struct ExtendedGolden {
 
 impl ExtendedGolden {
     /// The golden values of the studies; each treatment keeps the tolerances it has in
-    /// `previous` (the file being replaced), the default tolerances otherwise.
+    /// `previous` (the file being replaced), the default tolerances otherwise, and is held at
+    /// what its measured sensitivity allows ([`Golden::with_sensitivity`]) when it has one.
     pub fn from_studies(studies: &[ExtendedStudy], previous: Option<&ExtendedGolden>) -> Self {
         Self {
             generated_by: "make golden".to_string(),
@@ -413,9 +554,13 @@ impl ExtendedGolden {
                     let tolerances = previous
                         .and_then(|p| p.treatment(&s.contact))
                         .map_or_else(Tolerances::default, |g| g.tolerances.clone());
+                    let golden = Golden::from_study(&s.study, tolerances);
                     TreatmentGolden {
                         contact: s.contact.clone(),
-                        golden: Golden::from_study(&s.study, tolerances),
+                        golden: match &s.sensitivity {
+                            Some(sensitivity) => golden.with_sensitivity(sensitivity),
+                            None => golden,
+                        },
                     }
                 })
                 .collect(),

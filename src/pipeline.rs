@@ -153,8 +153,7 @@ fn write_sensitivity(
     study: &Study,
     out_dir: &Path,
 ) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
-    let s = tables_sensitivity(&cases)?;
+    let s = tables_sensitivity(&study_cases(study))?;
     write_sensitivity_files(&s, out_dir)?;
     Ok(s)
 }
@@ -192,12 +191,21 @@ pub fn write_sensitivity_files(
 /// The golden file of the extended table (issue 11), relative to the repository root.
 pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
 
-/// Runs the extended studies ([`extended_studies`]), writes `extended.md` and `extended.json`
-/// into `out_dir`, and returns the studies.
+/// The extended studies ([`extended_studies`]), each with its round-off sensitivity measured.
+pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> {
+    extended_studies()?
+        .into_iter()
+        .map(ExtendedStudy::with_sensitivity)
+        .collect()
+}
+
+/// Runs the extended studies with their sensitivity
+/// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
+/// `out_dir`, and returns the studies.
 pub fn write_extended_report(
     out_dir: &Path,
 ) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
-    let studies = extended_studies()?;
+    let studies = extended_studies_with_sensitivity()?;
     let (md, file) = render(&studies);
     write_atomic(&out_dir.join("extended.md"), md.as_bytes())?;
     write_atomic(
@@ -349,6 +357,31 @@ pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
     )?)
 }
 
+/// The level whose predictability horizon and separation growth `gravity.md` shows.
+const GRAVITY_SENSITIVITY_SHOWN_LEVEL: usize = 160;
+
+/// The round-off sensitivity (default ensemble) of `cases` on the gravity benchmark's study
+/// (its scene's problem, levels, ratio and norms): what `gravity.md` reports and what the gate
+/// holds its chaotic cases to. `root` is the repository root.
+pub fn gravity_sensitivity(
+    root: &Path,
+    cases: &[Case],
+) -> Result<Sensitivity, Box<dyn std::error::Error>> {
+    let scene = crate::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    Ok(run_sensitivity(
+        &scene.problem(),
+        cases,
+        &scene.norms(),
+        &scene.study_config(),
+        EnsembleConfig::default(),
+    )?)
+}
+
+/// The cases of a study, in its order.
+fn study_cases(study: &Study) -> Vec<Case> {
+    study.cases.iter().map(|c| c.case).collect()
+}
+
 /// Runs the studies under the gate and writes their golden files under `root`, keeping the
 /// tolerances (and their per-norm overrides) of the files they replace.
 pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::error::Error>> {
@@ -358,13 +391,18 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
             tables_study()?,
             Some(tables_sensitivity(&Case::paper_matrix())?),
         ),
-        (GOLDEN_GRAVITY, gravity_study(root)?, None),
+        {
+            let study = gravity_study(root)?;
+            let sensitivity = gravity_sensitivity(root, &study_cases(&study))?;
+            (GOLDEN_GRAVITY, study, Some(sensitivity))
+        },
         (GOLDEN_ELASTIC_2D, elastic_gate_study(root)?.study, None),
     ];
     let mut written = Vec::new();
     let path = root.join(GOLDEN_EXTENDED);
     let previous = read_extended_golden(&path).ok();
-    let extended = ExtendedGolden::from_studies(&extended_studies()?, previous.as_ref());
+    let extended =
+        ExtendedGolden::from_studies(&extended_studies_with_sensitivity()?, previous.as_ref());
     write_atomic(&path, serde_json::to_string_pretty(&extended)?.as_bytes())?;
     for t in extended.treatments {
         written.push((format!("{GOLDEN_EXTENDED} [{}]", t.contact), t.golden));
@@ -399,7 +437,23 @@ pub fn write_gravity_report(
         scene.description, study.config.levels, study.config.ratio, study.config.horizon
     );
     md.push_str(&convergence_tables(&study));
+    let sensitivity = gravity_sensitivity(root, &study_cases(&study))?;
+    md.push_str(&format!(
+        "\n## Round-off sensitivity\n\nEvery case at every level run as {} members with \
+         relative noise {:e} on the initial displacement (the rules of `sensitivity.md`); a \
+         chaotic case's rates above are one sample of the ranges below. The ensembles took \
+         {:.1} s wall (`gravity/sensitivity.json`).\n\n",
+        sensitivity.ensemble.members, sensitivity.ensemble.amplitude, sensitivity.wall_seconds
+    ));
+    md.push_str(&crate::sensitivity::render_cases(
+        &sensitivity,
+        GRAVITY_SENSITIVITY_SHOWN_LEVEL,
+    ));
     let data = out_dir.join("gravity");
+    write_atomic(
+        &data.join("sensitivity.json"),
+        serde_json::to_string_pretty(&sensitivity)?.as_bytes(),
+    )?;
     for case in &study.cases {
         let config = crate::run::RunConfig {
             nx: 160,
