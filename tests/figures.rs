@@ -5,16 +5,18 @@
 //! the series' stroke width (2 for runs, 4 for the exact curve); every legend entry adds one
 //! two-point, 20 px long horizontal `<polyline>` of the same style; axes and ticks are
 //! `<polyline>`s of width 1 and grid lines are `<line>`s; markers are `<circle>`s; the legend
-//! box is two `<rect>`s (background, then border). Set `FIGURES_DEMO_DIR` to also write the
-//! demo figures there.
+//! box is two `<rect>`s (background, then border); an ensemble's band is one `<polygon>` with
+//! the series' fill and an opacity below 1, and its legend swatch a four-point one. Set
+//! `FIGURES_DEMO_DIR` to also write the demo figures there.
 
 use signorini::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError,
+    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,
 };
 use signorini::rates::RateFit;
 use signorini::run::{ContactHistory, EnergyHistory};
+use signorini::sensitivity::Spread;
 
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG back.
@@ -35,10 +37,20 @@ impl Polyline {
     }
 }
 
+/// A filled `<polygon>`: a band (or a band's legend swatch).
+#[derive(Debug, Clone)]
+struct Shade {
+    fill: String,
+    opacity: f64,
+    points: Vec<(f64, f64)>,
+}
+
 struct Svg {
     width: f64,
     height: f64,
     polylines: Vec<Polyline>,
+    /// The `<polygon>`s, and how many `<polyline>`s came before each.
+    polygons: Vec<(Shade, usize)>,
     circles: usize,
     texts: Vec<String>,
     /// `(x, y, w, h)` of every `<rect>` after the background.
@@ -57,7 +69,18 @@ impl Svg {
                 .parse()
                 .unwrap()
         };
+        let points = |n: roxmltree::Node| -> Vec<(f64, f64)> {
+            n.attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        };
         let mut polylines = Vec::new();
+        let mut polygons = Vec::new();
         let mut circles = 0;
         let mut texts = Vec::new();
         let mut rects = Vec::new();
@@ -66,16 +89,16 @@ impl Svg {
                 "polyline" => polylines.push(Polyline {
                     stroke: n.attribute("stroke").unwrap().to_owned(),
                     width: n.attribute("stroke-width").unwrap().parse().unwrap(),
-                    points: n
-                        .attribute("points")
-                        .unwrap()
-                        .split_whitespace()
-                        .map(|p| {
-                            let (x, y) = p.split_once(',').unwrap();
-                            (x.parse().unwrap(), y.parse().unwrap())
-                        })
-                        .collect(),
+                    points: points(n),
                 }),
+                "polygon" => polygons.push((
+                    Shade {
+                        fill: n.attribute("fill").unwrap().to_owned(),
+                        opacity: num(n, "opacity"),
+                        points: points(n),
+                    },
+                    polylines.len(),
+                )),
                 "circle" => circles += 1,
                 "text" => texts.push(n.text().unwrap_or("").trim().to_owned()),
                 "rect" => rects.push((num(n, "x"), num(n, "y"), num(n, "width"), num(n, "height"))),
@@ -87,6 +110,7 @@ impl Svg {
             width: num(root, "width"),
             height: num(root, "height"),
             polylines,
+            polygons,
             circles,
             texts,
             rects,
@@ -110,6 +134,15 @@ impl Svg {
 
     fn data_of(&self, stroke: &str) -> usize {
         self.data().iter().filter(|p| p.stroke == stroke).count()
+    }
+
+    /// The shaded bands (more than the four corners of a legend swatch) with the `<polyline>`s
+    /// drawn before each.
+    fn bands(&self) -> Vec<&(Shade, usize)> {
+        self.polygons
+            .iter()
+            .filter(|(p, _)| p.points.len() > 4)
+            .collect()
     }
 
     fn has_text(&self, needle: &str) -> bool {
@@ -249,18 +282,21 @@ fn convergence_series() -> Vec<ConvergenceSeries> {
             h: h.clone(),
             errors: power(0.3, 0.5),
             fit: fit(0.4951),
+            band: None,
         },
         ConvergenceSeries {
             label: "u L∞(H), redistributed".into(),
             h: h.clone(),
             errors: power(0.5, 1.0),
             fit: fit(0.996),
+            band: None,
         },
         ConvergenceSeries {
             label: "energy L2, redistributed".into(),
             h: h.clone(),
             errors: power(0.05, 1.0),
             fit: None,
+            band: None,
         },
     ]
 }
@@ -373,6 +409,116 @@ fn convergence_skips_non_positive_and_non_finite_errors() {
     assert_eq!(svg.circles, 5 + 5 + 7 + 3);
 }
 
+/// [`convergence_series`] with a band around the first series: a factor 3 either side of its
+/// errors, and the ensemble's rates.
+fn banded_series() -> Vec<ConvergenceSeries> {
+    let mut series = convergence_series();
+    let median = series[0].errors.clone();
+    series[0].band = Some(ErrorBand {
+        lower: median.iter().map(|e| e / 3.0).collect(),
+        upper: median.iter().map(|e| e * 3.0).collect(),
+        rate: Some(Spread {
+            min: 0.41,
+            median: 0.52,
+            max: 0.63,
+        }),
+    });
+    series
+}
+
+/// `(top, bottom)` pixel rows of the y axis: the longest vertical axis line.
+fn y_axis(svg: &Svg) -> (f64, f64) {
+    let axis = svg
+        .polylines
+        .iter()
+        .filter(|p| p.width == 1 && p.points.len() == 2 && p.points[0].0 == p.points[1].0)
+        .max_by(|a, b| {
+            let len = |p: &Polyline| (p.points[1].1 - p.points[0].1).abs();
+            len(a).total_cmp(&len(b))
+        })
+        .unwrap();
+    (axis.points[0].1, axis.points[1].1)
+}
+
+#[test]
+fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
+    let svg = Svg::parse(&convergence_figure("Convergence", &banded_series()).unwrap());
+    let bands = svg.bands();
+    assert_eq!(bands.len(), 1, "{:?}", svg.polygons);
+    let (band, lines_before) = bands[0];
+    assert_eq!(band.fill, FIRST);
+    assert!(band.opacity > 0.0 && band.opacity < 0.5, "{}", band.opacity);
+    // The upper edge left to right, then the lower edge back: two vertices per level.
+    assert_eq!(band.points.len(), 2 * 7);
+    // Beneath every line: drawn before the first data line.
+    let first_line = svg
+        .polylines
+        .iter()
+        .position(|p| p.width > 1 && !p.is_legend())
+        .unwrap();
+    assert!(*lines_before <= first_line);
+    // The series runs through the band, halfway between its edges on the log axis.
+    let line = svg.data()[0];
+    assert_eq!(line.stroke, FIRST);
+    for (k, &(x, y)) in line.points.iter().enumerate() {
+        let (upper, lower) = (band.points[k], band.points[2 * 7 - 1 - k]);
+        assert_eq!((upper.0, lower.0), (x, x));
+        assert!(upper.1 < y && y < lower.1, "level {k}: {y} not in the band");
+        assert!((y - 0.5 * (upper.1 + lower.1)).abs() <= 1.0, "level {k}");
+    }
+    // The y axis spans the band, not just the lines.
+    let (top, bottom) = y_axis(&svg);
+    assert!(band.points.iter().all(|p| p.1 >= top && p.1 <= bottom));
+    // The legend: one shaded swatch, and the ensemble's slope with its range instead of the fit.
+    let swatches: Vec<&Shade> = svg
+        .polygons
+        .iter()
+        .map(|(p, _)| p)
+        .filter(|p| p.points.len() == 4)
+        .collect();
+    assert_eq!(swatches.len(), 1);
+    assert_eq!(swatches[0].fill, FIRST);
+    assert!(svg.has_text("u L∞(H), standard (slope 0.52 [0.41, 0.63])"));
+    assert!(!svg.has_text("slope 0.50"));
+    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00)"));
+}
+
+#[test]
+fn series_without_a_band_draw_no_polygon() {
+    let svg = Svg::parse(&convergence_figure("Convergence", &convergence_series()).unwrap());
+    assert!(svg.polygons.is_empty(), "{:?}", svg.polygons);
+    let svg = Svg::parse(&work_precision_figure("W", &work_series()).unwrap());
+    assert!(svg.polygons.is_empty());
+}
+
+#[test]
+fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
+    let mut series = banded_series();
+    let band = series[0].band.as_mut().unwrap();
+    band.lower[2] = 0.0;
+    band.upper[4] = f64::NAN;
+    // Without the ensemble's rates the legend falls back to the fit.
+    band.rate = None;
+    let text = convergence_figure("Convergence", &series).unwrap();
+    assert!(!text.contains("NaN"));
+    let svg = Svg::parse(&text);
+    assert_eq!(svg.bands()[0].0.points.len(), 2 * 5);
+    assert!(svg.has_text("u L∞(H), standard (slope 0.50)"));
+
+    let mut series = banded_series();
+    series[0].band.as_mut().unwrap().upper.pop();
+    match convergence_figure("Convergence", &series) {
+        Err(FigureError::LengthMismatch { what, left, right }) => {
+            assert!(
+                what.contains("standard") && what.contains("band upper"),
+                "{what}"
+            );
+            assert_eq!((left, right), (7, 6));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn work_precision_has_one_marked_curve_per_case() {
     let svg = Svg::parse(&work_precision_figure("Work–precision", &work_series()).unwrap());
@@ -463,6 +609,7 @@ fn empty_input_gives_empty_data() {
             h: vec![0.1, 0.05],
             errors: vec![0.0, 0.0],
             fit: None,
+            band: None,
         }]
     )));
     assert!(empty(work_precision_figure("W", &[])));
@@ -525,17 +672,7 @@ fn constant_series_get_a_padded_axis() {
     };
     let svg = Svg::parse(&energy_figure("E", &[panel]).unwrap());
     assert_eq!(svg.data().len(), 2);
-    // The y axis: the longest vertical axis line.
-    let axis = svg
-        .polylines
-        .iter()
-        .filter(|p| p.width == 1 && p.points.len() == 2 && p.points[0].0 == p.points[1].0)
-        .max_by(|a, b| {
-            let len = |p: &Polyline| (p.points[1].1 - p.points[0].1).abs();
-            len(a).total_cmp(&len(b))
-        })
-        .unwrap();
-    let (top, bottom) = (axis.points[0].1, axis.points[1].1);
+    let (top, bottom) = y_axis(&svg);
     for line in svg.data() {
         let y = line.points[0].1;
         assert!(line.points.iter().all(|p| p.1 == y));
@@ -550,6 +687,7 @@ fn constant_series_get_a_padded_axis() {
         h: vec![0.1],
         errors: vec![0.01],
         fit: None,
+        band: None,
     };
     let svg = Svg::parse(&convergence_figure("C", &[single]).unwrap());
     assert_eq!(svg.circles, 2);
@@ -601,6 +739,10 @@ fn demo_figures_when_asked() {
         convergence_figure("Convergence", &convergence_series()).unwrap(),
     );
     write(
+        "convergence-band.svg",
+        convergence_figure("Convergence with a band", &banded_series()).unwrap(),
+    );
+    write(
         "work.svg",
         work_precision_figure("Work–precision", &work_series()).unwrap(),
     );
@@ -609,6 +751,7 @@ fn demo_figures_when_asked() {
         h: vec![0.1, 0.05, 0.025],
         errors: vec![0.8, 0.04, 0.02],
         fit: fit(1.0),
+        band: None,
     };
     write(
         "narrow.svg",

@@ -1,17 +1,23 @@
 //! The figures drawn from run data: every SVG is well-formed XML with the expected number of
-//! data series, and the index links every figure.
+//! data series, a round-off chaotic case is drawn as its ensemble, and the index links every
+//! figure.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use signorini::fem::MassVariant;
 use signorini::figures::from_reports::{
-    convergence_figures, reports_index, scheme_figures, stability_figures, SchemeHistories,
+    convergence_figures, reports_index, scheme_figures, stability_figures, write_figures,
+    SchemeHistories,
 };
+use signorini::figures::FigureError;
 use signorini::norms::Norm;
 use signorini::run::{run, Observables, Problem1d, RunConfig};
 use signorini::schemes::Scheme;
+use signorini::sensitivity::{
+    CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
+};
 use signorini::stability::{hard_cases, judge};
-use signorini::study::{run_study, Case, StudyConfig};
+use signorini::study::{run_study, Case, Study, StudyConfig};
 
 /// Data polylines: plotters draws each line series as one `<polyline>` with a stroke width of
 /// at least 2 and more than two points (legend swatches have exactly two).
@@ -72,8 +78,8 @@ fn contact_and_energy_figures_have_one_curve_per_run_and_the_exact_one() {
     assert_eq!(data_lines(&figures[1].1), 6);
 }
 
-#[test]
-fn convergence_figures_show_both_masses_with_slopes() {
+/// Crank–Nicolson with both masses at NX = 10, 20, 40 to T = 3, in two norms.
+fn small_study() -> Study {
     let config = StudyConfig {
         levels: vec![10, 20, 40],
         ratio: 10.0,
@@ -86,14 +92,119 @@ fn convergence_figures_show_both_masses_with_slopes() {
         })
         .to_vec();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
-    let study = run_study(
+    run_study(
         &Problem1d::signorini_dirichlet(3.0),
         &cases,
         &norms,
         &config,
     )
-    .unwrap();
-    let figures = convergence_figures(&study).unwrap();
+    .unwrap()
+}
+
+/// A sensitivity study of `study`'s cases, by hand: every case reproducible (its members
+/// equal to the study's run) except `chaotic`, whose members' errors at each level have the
+/// median 4 times the study's, the minimum half the median and the maximum twice it. Every
+/// case's rates spread over [0.11, 0.33] with median 0.22.
+fn sensitivity_of(study: &Study, chaotic: Case) -> Sensitivity {
+    let cases = study
+        .cases
+        .iter()
+        .map(|c| {
+            let is_chaotic = c.case == chaotic;
+            let factor = if is_chaotic { 4.0 } else { 1.0 };
+            let (below, above) = if is_chaotic { (0.5, 2.0) } else { (1.0, 1.0) };
+            let errors: BTreeMap<String, Vec<Spread>> = c
+                .rates
+                .iter()
+                .map(|r| {
+                    let spreads = r
+                        .errors
+                        .iter()
+                        .map(|&e| Spread {
+                            min: below * factor * e,
+                            median: factor * e,
+                            max: above * factor * e,
+                        })
+                        .collect();
+                    (r.norm.key().to_string(), spreads)
+                })
+                .collect();
+            let rate = Spread {
+                min: 0.11,
+                median: 0.22,
+                max: 0.33,
+            };
+            let rates = c
+                .rates
+                .iter()
+                .map(|r| (r.norm.key().to_string(), rate))
+                .collect();
+            let class = if is_chaotic {
+                SensitivityClass::Chaotic
+            } else {
+                SensitivityClass::Reproducible
+            };
+            let levels = study.config.levels.len();
+            CaseSensitivity {
+                case: c.case.id(),
+                class,
+                chaotic: is_chaotic,
+                members: 16,
+                amplitude: 1e-13,
+                levels: study.config.levels.clone(),
+                rates,
+                errors,
+                predictability_steps: vec![None; levels],
+                separation_growth: vec![None; levels],
+                largest_separation: vec![0.0; levels],
+            }
+        })
+        .collect();
+    Sensitivity {
+        ensemble: EnsembleConfig::default(),
+        config: study.config.clone(),
+        cases,
+        wall_seconds: 0.0,
+    }
+}
+
+/// The `points` attribute of an SVG element as pixel coordinates.
+fn vertices(node: roxmltree::Node) -> Vec<(f64, f64)> {
+    node.attribute("points")
+        .unwrap()
+        .split_whitespace()
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
+
+/// The `<polygon>`s of `svg` with more than the four corners of a legend swatch, as
+/// `(fill, vertices)`.
+fn bands(svg: &str) -> Vec<(String, Vec<(f64, f64)>)> {
+    let doc = roxmltree::Document::parse(svg).expect("well-formed SVG");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polygon"))
+        .map(|n| (n.attribute("fill").unwrap().to_owned(), vertices(n)))
+        .filter(|band| band.1.len() > 4)
+        .collect()
+}
+
+/// The vertices of the data polyline in `colour` (legend symbols have two).
+fn data_line(svg: &str, colour: &str) -> Vec<(f64, f64)> {
+    let doc = roxmltree::Document::parse(svg).expect("well-formed SVG");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some(colour))
+        .map(vertices)
+        .find(|points| points.len() > 2)
+        .unwrap()
+}
+
+#[test]
+fn convergence_figures_show_both_masses_with_slopes() {
+    let study = small_study();
+    let figures = convergence_figures(&study, None).unwrap();
     assert_eq!(figures.len(), 2);
     for (name, svg) in &figures {
         assert!(name.starts_with("convergence-crank-nicolson-"));
@@ -108,6 +219,130 @@ fn convergence_figures_show_both_masses_with_slopes() {
             assert!(svg.contains(&format!("slope {slope:.2}")), "{name}");
         }
     }
+}
+
+#[test]
+fn a_chaotic_case_is_drawn_as_its_ensemble_median_with_a_band_and_the_others_as_run() {
+    let study = small_study();
+    let standard = Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Standard,
+    };
+    let sensitivity = sensitivity_of(&study, standard);
+    let figures = convergence_figures(&study, Some(&sensitivity)).unwrap();
+    let unbanded = convergence_figures(&study, None).unwrap();
+    assert_eq!(figures.len(), 2);
+    let redistributed_fit = study.cases[1]
+        .norm(Norm::DisplacementLinfH)
+        .unwrap()
+        .fit
+        .unwrap()
+        .rate;
+    let standard_fit = study.cases[0]
+        .norm(Norm::DisplacementLinfH)
+        .unwrap()
+        .fit
+        .unwrap()
+        .rate;
+    for ((name, svg), (_, plain)) in figures.iter().zip(&unbanded) {
+        // The standard mass (first colour) only: one band, in its colour.
+        let shaded = bands(svg);
+        assert_eq!(shaded.len(), 1, "{name}");
+        assert_eq!(shaded[0].0, "#1F77B4", "{name}");
+        assert!(bands(plain).is_empty(), "{name}");
+        // The line is the ensemble median: halfway between the band's edges (min = median/2,
+        // max = 2 median on the log axis), where the unperturbed run (median/4) is not.
+        let band = &shaded[0].1;
+        let line = data_line(svg, "#1F77B4");
+        assert_eq!(band.len(), 2 * line.len(), "{name}");
+        for (k, &(x, y)) in line.iter().enumerate() {
+            let (upper, lower) = (band[k], band[band.len() - 1 - k]);
+            assert_eq!((upper.0, lower.0), (x, x), "{name}");
+            assert!(
+                (y - 0.5 * (upper.1 + lower.1)).abs() <= 1.0,
+                "{name}, level {k}: line at {y}, band {upper:?}..{lower:?}"
+            );
+        }
+        // The legend: the ensemble and its median rate with the range, not the unperturbed fit;
+        // the redistributed mass keeps its fitted slope.
+        assert!(
+            svg.contains(
+                "standard mass, chaotic: median and min–max of 16 (slope 0.22 [0.11, 0.33])"
+            ),
+            "{name}"
+        );
+        if name.ends_with("u_Linf_H.svg") {
+            assert!(!svg.contains(&format!("standard mass (slope {standard_fit:.2})")));
+            assert!(svg.contains(&format!(
+                "redistributed mass (slope {redistributed_fit:.2})"
+            )));
+        }
+    }
+}
+
+#[test]
+fn a_sensitivity_study_of_other_levels_or_without_a_norm_is_refused() {
+    let study = small_study();
+    let standard = Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Standard,
+    };
+    let mut other_levels = sensitivity_of(&study, standard);
+    other_levels.config.levels = vec![10, 20, 40, 80];
+    match convergence_figures(&study, Some(&other_levels)) {
+        Err(FigureError::Inconsistent { what }) => assert!(what.contains("80"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    let mut without_norm = sensitivity_of(&study, standard);
+    without_norm.cases[0].errors.remove("energy_L2");
+    match convergence_figures(&study, Some(&without_norm)) {
+        Err(FigureError::Inconsistent { what }) => {
+            assert!(what.contains("crank-nicolson/standard") && what.contains("energy_L2"))
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn write_figures_reads_the_sensitivity_study_and_refuses_a_malformed_one() {
+    let dir = std::env::temp_dir().join(format!("signorini-figures-band-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = small_study();
+    let rates = serde_json::json!({ "study": study });
+    std::fs::write(dir.join("rates.json"), rates.to_string()).unwrap();
+    let convergence = dir.join("figures/convergence-crank-nicolson-u_Linf_H.svg");
+
+    // Absent: the figures as before, the input listed as missing.
+    let (names, missing) = write_figures(&dir).unwrap();
+    assert!(names.contains(&"convergence-crank-nicolson-u_Linf_H.svg".to_string()));
+    assert!(
+        missing.iter().any(|m| m.contains("sensitivity.json")),
+        "{missing:?}"
+    );
+    assert!(bands(&std::fs::read_to_string(&convergence).unwrap()).is_empty());
+
+    // Present: the chaotic case gets its band.
+    let standard = Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Standard,
+    };
+    let sensitivity = serde_json::to_string(&sensitivity_of(&study, standard)).unwrap();
+    std::fs::write(dir.join("sensitivity.json"), sensitivity).unwrap();
+    let (_, missing) = write_figures(&dir).unwrap();
+    assert!(
+        !missing.iter().any(|m| m.contains("sensitivity.json")),
+        "{missing:?}"
+    );
+    assert_eq!(
+        bands(&std::fs::read_to_string(&convergence).unwrap()).len(),
+        1
+    );
+
+    // Malformed: an error naming the file, not a panic.
+    std::fs::write(dir.join("sensitivity.json"), "{\"cases\": 3}").unwrap();
+    let err = write_figures(&dir).unwrap_err().to_string();
+    assert!(err.contains("sensitivity.json"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

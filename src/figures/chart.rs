@@ -57,11 +57,14 @@ impl Look {
     }
 }
 
-/// One curve: legend text, its points as given, and how it is drawn.
+/// One curve: legend text, its points as given, the band shaded around it, and how it is drawn.
 #[derive(Debug, Clone)]
 pub(super) struct Curve {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// `(x, lower, upper)` of a band shaded in the curve's colour beneath every line; empty for
+    /// none.
+    pub band: Vec<(f64, f64, f64)>,
     pub look: Look,
 }
 
@@ -84,8 +87,40 @@ impl Curve {
         Ok(Self {
             label: label.to_owned(),
             points: x.iter().copied().zip(y.iter().copied()).collect(),
+            band: Vec::new(),
             look,
         })
+    }
+
+    /// Adds a band between `lower` and `upper` at the curve's abscissae; both must have as
+    /// many values as the curve has points.
+    pub fn with_band(
+        mut self,
+        what: &str,
+        lower: &[f64],
+        upper: &[f64],
+    ) -> Result<Self, FigureError> {
+        for (side, values) in [("band lower", lower), ("band upper", upper)] {
+            if values.len() != self.points.len() {
+                return Err(FigureError::LengthMismatch {
+                    what: format!("{what} '{}' ({side})", self.label),
+                    left: self.points.len(),
+                    right: values.len(),
+                });
+            }
+        }
+        self.band = self
+            .points
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .map(|(&(x, _), (&lo, &hi))| (x, lo, hi))
+            .collect();
+        Ok(self)
+    }
+
+    /// Whether the band encloses an area (it needs two levels).
+    fn has_band(&self) -> bool {
+        self.band.len() > 1
     }
 }
 
@@ -106,12 +141,14 @@ pub(super) struct ChartSpec<'s> {
 }
 
 impl ChartSpec<'_> {
-    /// Keeps only the points the axes can show (finite; positive on a log axis) and drops the
-    /// curves left empty. `EmptyData` when no curve is left.
+    /// Keeps only the points (and band levels) the axes can show (finite; positive on a log
+    /// axis) and drops the curves left without a point. `EmptyData` when no curve is left.
     pub fn into_drawable(mut self) -> Result<Self, FigureError> {
         let (sx, sy) = (self.x.1, self.y.1);
         for c in &mut self.curves {
             c.points.retain(|&(x, y)| sx.accepts(x) && sy.accepts(y));
+            c.band
+                .retain(|&(x, lo, hi)| sx.accepts(x) && sy.accepts(lo) && sy.accepts(hi));
         }
         self.curves.retain(|c| !c.points.is_empty());
         if self.curves.is_empty() {
@@ -127,10 +164,12 @@ impl ChartSpec<'_> {
             .curves
             .iter()
             .flat_map(|c| c.points.iter().map(|p| p.0));
-        let ys = spec
-            .curves
-            .iter()
-            .flat_map(|c| c.points.iter().map(|p| p.1));
+        let ys = spec.curves.iter().flat_map(|c| {
+            c.points
+                .iter()
+                .map(|p| p.1)
+                .chain(c.band.iter().flat_map(|b| [b.1, b.2]))
+        });
         let (x0, x1) = axis_range(xs, spec.x.1, false);
         let (y0, y1) = axis_range(ys, spec.y.1, true);
         match (spec.x.1, spec.y.1) {
@@ -289,6 +328,22 @@ where
         .draw()
         .map_err(drawing)?;
 
+    // Every band beneath every line, so that a band never hides another curve.
+    for curve in spec.curves.iter().filter(|c| c.has_band()) {
+        let outline: Vec<(f64, f64)> = curve
+            .band
+            .iter()
+            .map(|b| (b.0, b.2))
+            .chain(curve.band.iter().rev().map(|b| (b.0, b.1)))
+            .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                outline,
+                curve.look.colour().mix(style::BAND_OPACITY).filled(),
+            )))
+            .map_err(drawing)?;
+    }
+
     for curve in &spec.curves {
         let colour = curve.look.colour();
         let line = colour.stroke_width(curve.look.width());
@@ -298,11 +353,22 @@ where
         anno.label(curve.label.as_str());
         match curve.look {
             Look::Marked(_) => {
-                anno.legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new(vec![(0, 0), (20, 0)], line)
-                        + Circle::new((10, 0), style::MARKER_RADIUS, colour.filled())
-                });
+                if curve.has_band() {
+                    // The band's swatch, a shaded square, behind the line and marker.
+                    let shade = colour.mix(style::BAND_OPACITY).filled();
+                    anno.legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + Polygon::new(vec![(2, -7), (18, -7), (18, 7), (2, 7)], shade)
+                            + PathElement::new(vec![(0, 0), (20, 0)], line)
+                            + Circle::new((10, 0), style::MARKER_RADIUS, colour.filled())
+                    });
+                } else {
+                    anno.legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (20, 0)], line)
+                            + Circle::new((10, 0), style::MARKER_RADIUS, colour.filled())
+                    });
+                }
                 chart
                     .draw_series(
                         curve
@@ -333,7 +399,8 @@ where
 }
 
 /// The legend position, among the corners and edge middles of the plotting area, whose box
-/// covers the fewest samples of the curves (the first such in the order tried).
+/// covers the fewest samples of the curves and of their bands' edges (the first such in the
+/// order tried).
 fn legend_position<X, Y>(
     chart: &ChartContext<'_, SVGBackend<'_>, Cartesian2d<X, Y>>,
     spec: &ChartSpec<'_>,
@@ -355,9 +422,16 @@ where
     let (xr, yr) = chart.plotting_area().get_pixel_range();
     let (aw, ah) = (xr.end - xr.start, yr.end - yr.start);
     let mut samples: Vec<(i32, i32)> = Vec::new();
-    for c in &spec.curves {
-        let px: Vec<(i32, i32)> = c
-            .points
+    // Each curve, and the upper and lower edges of its band.
+    let lines = spec.curves.iter().flat_map(|c| {
+        [
+            c.points.clone(),
+            c.band.iter().map(|b| (b.0, b.2)).collect(),
+            c.band.iter().map(|b| (b.0, b.1)).collect(),
+        ]
+    });
+    for line in lines {
+        let px: Vec<(i32, i32)> = line
             .iter()
             .map(|p| {
                 let (x, y) = chart.backend_coord(p);

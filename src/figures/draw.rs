@@ -172,11 +172,15 @@ pub fn energy_figure(title: &str, panels: &[EnergyPanel]) -> Result<String, Figu
 
 /// Errors against the mesh size on log–log axes (the paper's Figures 9–10): one line with a
 /// marker at each level per series, `h` on a base-2 axis, the legend `"label (slope 0.95)"`
-/// with the caller's fitted rate to two decimals (just `"label"` without a fit). Levels with a
-/// non-positive or non-finite `h` or error are skipped.
+/// with the caller's fitted rate to two decimals (just `"label"` without a fit). A series with
+/// a band also gets the band shaded in its colour (beneath every line) and a shaded swatch in
+/// the legend; the band's rate, when given, replaces the fit in the legend as
+/// `"label (slope 0.52 [0.41, 0.63])"`: median, then minimum and maximum. Levels with a
+/// non-positive or non-finite `h` or error are skipped, and so are band levels with a
+/// non-positive or non-finite bound.
 ///
 /// Errors: `EmptyData` without series or when no series has a drawable level;
-/// `LengthMismatch` when a series' `h` and `errors` differ in length.
+/// `LengthMismatch` when a series' `h`, `errors` or band bounds differ in length.
 pub fn convergence_figure(
     title: &str,
     series: &[ConvergenceSeries],
@@ -186,11 +190,20 @@ pub fn convergence_figure(
         .iter()
         .enumerate()
         .map(|(i, s)| {
-            let label = match &s.fit {
-                Some(fit) => format!("{} (slope {:.2})", s.label, fit.rate),
-                None => s.label.clone(),
+            let band_rate = s.band.as_ref().and_then(|b| b.rate);
+            let label = match (band_rate, &s.fit) {
+                (Some(r), _) => format!(
+                    "{} (slope {:.2} [{:.2}, {:.2}])",
+                    s.label, r.median, r.min, r.max
+                ),
+                (None, Some(fit)) => format!("{} (slope {:.2})", s.label, fit.rate),
+                (None, None) => s.label.clone(),
             };
-            Curve::new(what, &label, &s.h, &s.errors, Look::Marked(i))
+            let curve = Curve::new(what, &label, &s.h, &s.errors, Look::Marked(i))?;
+            match &s.band {
+                Some(band) => curve.with_band(what, &band.lower, &band.upper),
+                None => Ok(curve),
+            }
         })
         .collect::<Result<Vec<_>, _>>()?;
     error_figure(title, what, ("h", Scale::Log(2.0)), curves)

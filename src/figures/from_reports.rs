@@ -5,7 +5,7 @@
 //! |---|---|---|
 //! | `contact-<scheme>.svg` | `data/histories/<scheme>.json` | 1D paper Figures 7, 11, 13, 15, 17, 19, 21 |
 //! | `energy-<scheme>.svg` | same | Figures 8, 12, 14, 16, 18, 20, 22 |
-//! | `convergence-<scheme>-<norm>.svg` | `rates.json` | Figures 9–10 (every scheme) |
+//! | `convergence-<scheme>-<norm>.svg` | `rates.json`, `sensitivity.json` | Figures 9–10 (every scheme; chaotic cases as ensemble median and min–max band) |
 //! | `gravity-points-<mass>.svg`, `gravity-convergence-<mass>.svg`, `gravity-strain-<mass>.svg` | `gravity/` | Figures 2, 3, 4 |
 //! | `work-precision.svg` | `work-precision.json` | error against wall time |
 //! | `stability-<mass>.svg` | `stability.json` | energy histories of the long horizon |
@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use super::elastic::elastic_figures;
 use super::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError,
+    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,
 };
 use crate::cost::WorkPrecision;
@@ -25,8 +25,9 @@ use crate::elastic_study::{ElasticHistories, ElasticStudy};
 use crate::fem::MassVariant;
 use crate::norms::Norm;
 use crate::run::RunResult;
+use crate::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::stability::{StabilityRecord, Verdict};
-use crate::study::Study;
+use crate::study::{CaseStudy, Study};
 
 /// The runs of one scheme with both masses at a few levels (what `contact-` and `energy-`
 /// figures draw).
@@ -88,14 +89,45 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
 
 /// One convergence figure per scheme and norm: the standard and the redistributed mass, with
 /// the fitted slopes of the study.
-pub fn convergence_figures(study: &Study) -> Result<Vec<Figure>, FigureError> {
-    convergence_figures_named(study, "convergence", "")
+///
+/// A case that `sensitivity` classes as chaotic is drawn as its ensemble (its one unperturbed
+/// run is just one sample of a distribution): the median error at each level, a band shaded
+/// between the smallest and the largest, and the median of the members' rates with their
+/// range. The other cases are drawn from the study as they are.
+///
+/// Errors: `Inconsistent` when `sensitivity` was run at other levels, ratio or horizon than
+/// `study`, or lacks the errors of a norm of `study` for a chaotic case; the errors of
+/// [`convergence_figure`].
+pub fn convergence_figures(
+    study: &Study,
+    sensitivity: Option<&Sensitivity>,
+) -> Result<Vec<Figure>, FigureError> {
+    if let Some(s) = sensitivity {
+        if s.config != study.config {
+            return Err(FigureError::Inconsistent {
+                what: format!(
+                    "the sensitivity study ran with {:?}, the convergence study with {:?}",
+                    s.config, study.config
+                ),
+            });
+        }
+    }
+    convergence_figures_of(study, sensitivity, "convergence", "")
 }
 
-/// [`convergence_figures`] with files named `<prefix>-<scheme>-<norm>.svg` and titles starting
-/// with `title_prefix`.
+/// [`convergence_figures`] without a sensitivity study, with files named
+/// `<prefix>-<scheme>-<norm>.svg` and titles starting with `title_prefix`.
 pub fn convergence_figures_named(
     study: &Study,
+    prefix: &str,
+    title_prefix: &str,
+) -> Result<Vec<Figure>, FigureError> {
+    convergence_figures_of(study, None, prefix, title_prefix)
+}
+
+fn convergence_figures_of(
+    study: &Study,
+    sensitivity: Option<&Sensitivity>,
     prefix: &str,
     title_prefix: &str,
 ) -> Result<Vec<Figure>, FigureError> {
@@ -104,20 +136,13 @@ pub fn convergence_figures_named(
     schemes.dedup();
     for scheme in schemes {
         for &norm in &study.norms {
-            let series: Vec<ConvergenceSeries> = study
-                .cases
-                .iter()
-                .filter(|c| c.case.scheme == scheme)
-                .filter_map(|c| {
-                    let r = c.norm(norm)?;
-                    Some(ConvergenceSeries {
-                        label: panel_label(c.case.mass),
-                        h: c.levels.iter().map(|l| l.h).collect(),
-                        errors: r.errors.clone(),
-                        fit: r.fit,
-                    })
-                })
-                .collect();
+            let mut series = Vec::new();
+            for c in study.cases.iter().filter(|c| c.case.scheme == scheme) {
+                let chaotic = sensitivity
+                    .and_then(|s| s.case(&c.case.id()))
+                    .filter(|e| e.chaotic);
+                series.extend(convergence_series(c, norm, chaotic)?);
+            }
             out.push((
                 format!("{prefix}-{}-{}.svg", scheme.name(), norm.key()),
                 convergence_figure(
@@ -128,6 +153,56 @@ pub fn convergence_figures_named(
         }
     }
     Ok(out)
+}
+
+/// The series of `case`'s errors in `norm` (`None` when the study did not compute it): from
+/// `chaotic`, the case's ensemble, when given; from the study's one run otherwise.
+fn convergence_series(
+    case: &CaseStudy,
+    norm: Norm,
+    chaotic: Option<&CaseSensitivity>,
+) -> Result<Option<ConvergenceSeries>, FigureError> {
+    let Some(rates) = case.norm(norm) else {
+        return Ok(None);
+    };
+    let h: Vec<f64> = case.levels.iter().map(|l| l.h).collect();
+    let Some(ensemble) = chaotic else {
+        return Ok(Some(ConvergenceSeries {
+            label: panel_label(case.case.mass),
+            h,
+            errors: rates.errors.clone(),
+            fit: rates.fit,
+            band: None,
+        }));
+    };
+    let spreads = ensemble
+        .errors
+        .get(norm.key())
+        .filter(|levels| levels.len() == h.len())
+        .ok_or_else(|| FigureError::Inconsistent {
+            what: format!(
+                "the sensitivity study of {} has no errors in {} at the {} levels of the \
+                 convergence study",
+                ensemble.case,
+                norm.key(),
+                h.len()
+            ),
+        })?;
+    Ok(Some(ConvergenceSeries {
+        label: format!(
+            "{}, chaotic: median and min–max of {}",
+            panel_label(case.case.mass),
+            ensemble.members
+        ),
+        h,
+        errors: spreads.iter().map(|s| s.median).collect(),
+        fit: None,
+        band: Some(ErrorBand {
+            lower: spreads.iter().map(|s| s.min).collect(),
+            upper: spreads.iter().map(|s| s.max).collect(),
+            rate: ensemble.rates.get(norm.key()).copied(),
+        }),
+    }))
 }
 
 /// The gravity benchmark's Figures 2–4 from its study and its NX = 160 runs (one per mass).
@@ -205,6 +280,7 @@ pub fn gravity_figures(
                 h: c.levels.iter().map(|l| l.h).collect(),
                 errors: r.errors.clone(),
                 fit: r.fit,
+                band: None,
             })
         })
         .collect();
@@ -323,8 +399,18 @@ pub fn write_figures(
     for f in files {
         figures.extend(scheme_figures(&read::<SchemeHistories>(&f)?)?);
     }
+    let sensitivity_path = reports.join("sensitivity.json");
+    let sensitivity = if sensitivity_path.exists() {
+        Some(read::<Sensitivity>(&sensitivity_path)?)
+    } else {
+        missing.push(format!(
+            "{} (run `make report` first; chaotic cases are drawn from their one unperturbed run)",
+            sensitivity_path.display()
+        ));
+        None
+    };
     match read::<RatesFile>(&reports.join("rates.json")) {
-        Ok(r) => figures.extend(convergence_figures(&r.study)?),
+        Ok(r) => figures.extend(convergence_figures(&r.study, sensitivity.as_ref())?),
         Err(e) => missing.push(e.to_string()),
     }
     let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
@@ -371,7 +457,7 @@ pub fn write_figures(
 const CAPTIONS: &[(&str, &str)] = &[
     ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution: with the standard mass (left) Crank–Nicolson, Newmark II and Paoli–Schatzman e = 1 oscillate after the impact; with the redistributed mass (right) the force follows the exact step"),
     ("energy-", "the discrete energy against the exact 1/8: it grows with the standard mass under Crank–Nicolson and stays almost constant with the redistributed mass; backward Euler and Newmark I dissipate"),
-    ("convergence-", "errors against h (log–log) for both masses, fitted slope in the legend (the paper's Figures 9–10 for every scheme)"),
+    ("convergence-", "errors against h (log–log) for both masses, fitted slope in the legend (the paper's Figures 9–10 for every scheme); a round-off chaotic case (sensitivity.md) is drawn as its ensemble's median error with the min–max band shaded, and its members' median slope with their range"),
     ("gravity-points-", "the bouncing bar (§4): u at x = 0, ½, 1 computed and exact (Figure 2)"),
     ("gravity-convergence-", "the bouncing bar: the four displacement errors against h with fitted slopes (Figure 3)"),
     ("gravity-strain-", "the bouncing bar: ∂x u along the bar at two times, computed and exact (Figure 4)"),

@@ -2,8 +2,9 @@
 //! convergence and work–precision plots, and generic time series.
 //!
 //! Every function takes the numbers as they are and only draws them: nothing is recomputed,
-//! resampled or fitted here (a fitted slope is read from the caller's [`RateFit`]). The result
-//! is the SVG document as a string; callers write it where they want.
+//! resampled or fitted here (a fitted slope is read from the caller's [`RateFit`], an
+//! ensemble's spread from its [`ErrorBand`]). The result is the SVG document as a string;
+//! callers write it where they want.
 //!
 //! The style is the same everywhere: white background, 800×500 px for one panel and 600 px of
 //! width per panel when there are several side by side (1200×500 for two), labelled axes, a
@@ -31,6 +32,7 @@ pub use draw::{
 
 use crate::rates::RateFit;
 use crate::run::{ContactHistory, EnergyHistory};
+use crate::sensitivity::Spread;
 
 /// Why a figure could not be drawn.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -42,6 +44,13 @@ pub enum FigureError {
     #[error("nothing to plot: {what}")]
     EmptyData {
         /// What was empty (the figure, panel or series).
+        what: String,
+    },
+    /// Two inputs that describe the same runs disagree (e.g. an ensemble run at other levels
+    /// than the study it is drawn with).
+    #[error("inconsistent inputs: {what}")]
+    Inconsistent {
+        /// What disagrees with what.
         what: String,
     },
     /// Two sequences that pair up point by point have different lengths.
@@ -78,14 +87,32 @@ pub struct EnergyPanel {
 /// One curve of [`convergence_figure`]: the error of one norm (or case) against `h`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ConvergenceSeries {
-    /// The legend text; the fitted slope is appended as `" (slope 0.95)"`.
+    /// The legend text; the slope is appended as `" (slope 0.95)"`, or as
+    /// `" (slope 0.52 [0.41, 0.63])"` for a band's rate.
     pub label: String,
     /// Mesh size of each level.
     pub h: Vec<f64>,
-    /// The error at each level (same length as `h`).
+    /// The error at each level (same length as `h`); the ensemble median when there is a band.
     pub errors: Vec<f64>,
-    /// The fitted rate shown in the legend, if any (not drawn as a line).
+    /// The fitted rate shown in the legend, if any (not drawn as a line). A band's rate, when
+    /// it has one, is shown instead.
     pub fit: Option<RateFit>,
+    /// The spread of an ensemble around `errors`, drawn as a shaded band; `None` for a single
+    /// run.
+    pub band: Option<ErrorBand>,
+}
+
+/// The spread of an ensemble of runs (e.g. round-off perturbed members) at each level of a
+/// [`ConvergenceSeries`]: shaded, in the series' colour, between `lower` and `upper`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ErrorBand {
+    /// The smallest error of the ensemble at each level (same length as the series' `h`).
+    pub lower: Vec<f64>,
+    /// The largest error of the ensemble at each level (same length as the series' `h`).
+    pub upper: Vec<f64>,
+    /// The ensemble's rates (one fitted per member over all levels): the legend shows their
+    /// median and range in place of the series' `fit`.
+    pub rate: Option<Spread>,
 }
 
 /// One curve of [`work_precision_figure`]: the error of one case against its wall time.

@@ -28,6 +28,8 @@ pub(super) const RUN_WIDTH: u32 = 2;
 pub(super) const EXACT_WIDTH: u32 = 4;
 /// Radius of the markers of convergence and work–precision curves.
 pub(super) const MARKER_RADIUS: u32 = 4;
+/// Opacity of an ensemble's shaded band (and of its legend swatch) in its curve's colour.
+pub(super) const BAND_OPACITY: f64 = 0.2;
 
 /// The exact solution's colour.
 pub(super) const EXACT: RGBColor = RGBColor(0, 0, 0);
