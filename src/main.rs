@@ -273,6 +273,16 @@ fn elastic_study(
             dir = dir.display(),
             d = study.dimension
         );
+        if let Some(s) = &study.sensitivity {
+            for c in &s.cases {
+                out!("  {:36} {}", c.case, c.class.name());
+            }
+            out!(
+                "round-off ensemble: {} members per case and level, {:.1} s wall",
+                s.ensemble.members,
+                s.wall_seconds
+            );
+        }
         return Ok(());
     }
     let (study, _) = run_elastic_study(problem, config, cache, &mut note)?;
@@ -780,7 +790,8 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             let scene = Scene::load(&scene)?;
             if scene.is_box() {
                 return Err(Failure::usage(format!(
-                    "scene {}: the sensitivity study is for bar1d scenes",
+                    "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
+                     ensemble is its discretisation.sensitivity, run by `signorini study`)",
                     scene.name
                 )));
             }
