@@ -23,6 +23,7 @@ use crate::error::{Error, SolveError};
 use crate::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 use crate::fem::MassVariant;
 use crate::output::write_atomic;
+use crate::problem::Perturbation;
 use crate::run::{integrator, time_grid, Timings};
 use crate::schemes::{Scheme, TimeIntegrator};
 
@@ -43,6 +44,10 @@ pub struct BoxProblem {
     pub horizon: f64,
     /// How the contact condition is discretised (multiplier or penalty; Nitsche is 1D only).
     pub contact: ContactTreatment,
+    /// A seeded perturbation added to every velocity dof (the contact face's included): a
+    /// member of a round-off ensemble (`crate::elastic_study::sensitivity`); `None` for the
+    /// problem as stated.
+    pub velocity_perturbation: Option<Perturbation>,
 }
 
 /// One run of a box problem.
@@ -133,6 +138,26 @@ pub fn box_mesh(
     BoxMesh::new(&problem.lengths, &counts)
 }
 
+/// The initial displacement and velocity dofs of a run on `mesh`: the nodal interpolants of the
+/// uniform axial values `u⁰ = initial_displacement · e_d`, `v⁰ = initial_velocity · e_d`, then
+/// the velocity perturbation (if any) added to every velocity dof. Every box run starts here.
+pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>) {
+    let d = mesh.dim();
+    let axis = |value: f64| {
+        move |_: &[f64]| {
+            let mut v = [0.0; 3];
+            v[d - 1] = value;
+            v
+        }
+    };
+    let u0 = mesh.interpolate(axis(problem.initial_displacement));
+    let mut v0 = mesh.interpolate(axis(problem.initial_velocity));
+    if let Some(p) = &problem.velocity_perturbation {
+        p.apply(&mut v0, &[]);
+    }
+    (u0, v0)
+}
+
 /// Runs a box problem.
 pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResult, Error> {
     run_box_observed(problem, config, &mut |_, _, _| Ok(()))
@@ -164,15 +189,7 @@ pub fn run_box_observed(
     let model = mesh
         .model(&problem.elasticity, config.mass, problem.obstacle_gap)
         .with_contact_law(law);
-    let axis = |value: f64| {
-        move |_: &[f64]| {
-            let mut v = [0.0; 3];
-            v[d - 1] = value;
-            v
-        }
-    };
-    let u0 = mesh.interpolate(axis(problem.initial_displacement));
-    let v0 = mesh.interpolate(axis(problem.initial_velocity));
+    let (u0, v0) = initial_dofs(problem, &mesh);
     let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
     let setup = clock.elapsed().as_secs_f64();
 

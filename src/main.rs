@@ -183,8 +183,9 @@ enum Command {
         #[arg(long)]
         ci_subset: bool,
     },
-    /// Regenerate the golden rates of the gated studies (`make golden`; nothing else writes
-    /// them): golden/rates-1d-dirichlet.json and golden/rates-1d-gravity.json.
+    /// Regenerate the golden rates of the gated studies with their round-off sensitivity (`make
+    /// golden`; nothing else writes them): golden/rates-1d-dirichlet.json,
+    /// rates-1d-gravity.json, rates-1d-extended.json and rates-2d.json.
     Golden {
         /// The repository root (scenes/ and golden/ are under it).
         #[arg(long, default_value = ".")]
@@ -273,6 +274,16 @@ fn elastic_study(
             dir = dir.display(),
             d = study.dimension
         );
+        if let Some(s) = &study.sensitivity {
+            for c in &s.cases {
+                out!("  {:36} {}", c.case, c.class.name());
+            }
+            out!(
+                "round-off ensemble: {} members per case and level, {:.1} s wall",
+                s.ensemble.members,
+                s.wall_seconds
+            );
+        }
         return Ok(());
     }
     let (study, _) = run_elastic_study(problem, config, cache, &mut note)?;
@@ -780,7 +791,8 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             let scene = Scene::load(&scene)?;
             if scene.is_box() {
                 return Err(Failure::usage(format!(
-                    "scene {}: the sensitivity study is for bar1d scenes",
+                    "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
+                     ensemble is its discretisation.sensitivity, run by `signorini study`)",
                     scene.name
                 )));
             }

@@ -396,7 +396,11 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
             let sensitivity = gravity_sensitivity(root, &study_cases(&study))?;
             (GOLDEN_GRAVITY, study, Some(sensitivity))
         },
-        (GOLDEN_ELASTIC_2D, elastic_gate_study(root)?.study, None),
+        (
+            GOLDEN_ELASTIC_2D,
+            elastic_gate_study(root)?.study,
+            Some(elastic_gate_sensitivity(root, None)?),
+        ),
     ];
     let mut written = Vec::new();
     let path = root.join(GOLDEN_EXTENDED);
@@ -445,10 +449,12 @@ pub fn write_gravity_report(
          {:.1} s wall (`gravity/sensitivity.json`).\n\n",
         sensitivity.ensemble.members, sensitivity.ensemble.amplitude, sensitivity.wall_seconds
     ));
-    md.push_str(&crate::sensitivity::render_cases(
+    md.push_str(&crate::sensitivity::class_table(
         &sensitivity,
         GRAVITY_SENSITIVITY_SHOWN_LEVEL,
     ));
+    md.push('\n');
+    md.push_str(&crate::sensitivity::rate_ranges(&sensitivity.cases));
     let data = out_dir.join("gravity");
     write_atomic(
         &data.join("sensitivity.json"),
@@ -658,13 +664,42 @@ pub const ELASTIC_2D_SCENE: &str = "scenes/bar2d.json";
 /// finer one.
 pub const ELASTIC_GATE_REFERENCE_LEVEL: usize = 320;
 
-/// The gated 2D study, its reference computed afresh (in a temporary directory, removed after).
+/// The gated 2D study (the scene's cases, no ensemble), its reference computed afresh (in a
+/// temporary directory, removed after).
 pub fn elastic_gate_study(root: &Path) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+    elastic_gate(root, None, false)
+}
+
+/// The round-off sensitivity of `cases` (`None`: the scene's) on the gated 2D study (its levels
+/// and reference) with the ensemble the scene declares: what `make golden` attaches to the 2D
+/// golden file and what the gate holds the chaotic cases to.
+pub fn elastic_gate_sensitivity(
+    root: &Path,
+    cases: Option<&[Case]>,
+) -> Result<Sensitivity, Box<dyn std::error::Error>> {
+    elastic_gate(root, cases, true)?
+        .sensitivity
+        .ok_or_else(|| format!("{ELASTIC_2D_SCENE} declares no discretisation.sensitivity").into())
+}
+
+/// The gated 2D study of `cases` (`None`: the scene's), with the scene's ensemble when
+/// `with_ensemble`, its reference computed afresh (in a temporary directory, removed after).
+fn elastic_gate(
+    root: &Path,
+    cases: Option<&[Case]>,
+    with_ensemble: bool,
+) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
     let scene = crate::scene::Scene::load(&root.join(ELASTIC_2D_SCENE))?;
     let problem = scene
         .box_problem()
         .ok_or("the 2D scene is not a box scene")?;
-    let config = scene.elastic_study_config_with(Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
+    let mut config = scene.elastic_study_config_with(Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
+    if let Some(cases) = cases {
+        config.cases = cases.to_vec();
+    }
+    if !with_ensemble {
+        config.sensitivity = None;
+    }
     let cache = std::env::temp_dir().join(format!(
         "signorini-gate-{}-{:?}",
         std::process::id(),

@@ -48,7 +48,8 @@ impl Profile {
     }
 }
 
-/// A seeded random perturbation of the initial displacement ("rough data").
+/// A seeded random perturbation of initial data: of a bar's displacement ("rough data"), of a
+/// box's velocity (the members of a round-off ensemble).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Perturbation {
@@ -59,7 +60,8 @@ pub struct Perturbation {
 }
 
 impl Perturbation {
-    /// Adds the perturbation to every dof except the contact dofs (the data stay admissible).
+    /// Adds the perturbation to every dof of `u` except `contact_dofs` (displacement data stay
+    /// admissible when they are the contact dofs).
     pub fn apply(&self, u: &mut [f64], contact_dofs: &[usize]) {
         let mut rng = fastrand::Rng::with_seed(self.seed);
         for (i, ui) in u.iter_mut().enumerate() {

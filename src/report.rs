@@ -49,12 +49,21 @@ fn rate_of(c: &CaseStudy, norm: Norm) -> Option<RateFit> {
 }
 
 /// The ensemble spread of the rate of `norm` when `c` is round-off chaotic in `sensitivity`.
-fn chaotic_spread(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> Option<Spread> {
+pub(crate) fn chaotic_spread(
+    c: &CaseStudy,
+    norm: Norm,
+    sensitivity: Option<&Sensitivity>,
+) -> Option<Spread> {
     let s = sensitivity?.case(&c.case.id())?;
     if !s.chaotic {
         return None;
     }
     s.rates.get(norm.key()).copied()
+}
+
+/// A round-off chaotic case's rate: the ensemble median marked `†`, then `[min, max]`.
+pub(crate) fn chaotic_rate(s: &Spread) -> String {
+    format!("{:.2}† [{:.2}, {:.2}]", s.median, s.min, s.max)
 }
 
 fn cell(
@@ -64,7 +73,7 @@ fn cell(
     sensitivity: Option<&Sensitivity>,
 ) -> String {
     if let Some(s) = chaotic_spread(c, norm, sensitivity) {
-        let ours = format!("{:.2}† [{:.2}, {:.2}]", s.median, s.min, s.max);
+        let ours = chaotic_rate(&s);
         return match paper {
             Some(p) => format!("{ours} ({p:.2}, {:+.2})", s.median - p),
             None => ours,

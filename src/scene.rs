@@ -23,6 +23,7 @@ use crate::problem::Profile;
 use crate::problem::{InitialData, Problem1d};
 use crate::run::Observables;
 use crate::schemes::Scheme;
+use crate::sensitivity::EnsembleConfig;
 use crate::study::{Case, StudyConfig};
 
 /// The geometry and mesh family.
@@ -110,6 +111,11 @@ pub struct Discretisation {
     /// the finest level); bar1d scenes have an exact reference and must not set it.
     #[serde(default)]
     pub reference_level: Option<usize>,
+    /// The round-off ensemble a box study also runs (`{"members": K, "amplitude": A}`: `K`
+    /// members whose initial velocity carries seeded noise of relative size `A`); bar1d scenes
+    /// must not set it (`signorini sensitivity` takes `--members` and `--amplitude`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<EnsembleConfig>,
 }
 
 /// What to record.
@@ -382,6 +388,14 @@ impl Scene {
                 "absent for a bar1d (its reference is the exact solution)",
             ));
         }
+        if self.discretisation.sensitivity.is_some() {
+            return Err(Self::invalid(
+                path,
+                "discretisation.sensitivity",
+                "given",
+                "absent for a bar1d (`signorini sensitivity` takes --members and --amplitude)",
+            ));
+        }
         for name in self.discretisation.schemes.iter().flatten() {
             name.parse::<Scheme>().map_err(|e| {
                 Self::invalid(
@@ -597,6 +611,16 @@ impl Scene {
                 ));
             }
         }
+        if let Some(ensemble) = &self.discretisation.sensitivity {
+            ensemble.validate().map_err(|e| {
+                Self::invalid(
+                    path,
+                    &format!("discretisation.sensitivity.{}", e.name),
+                    e.value,
+                    e.allowed,
+                )
+            })?;
+        }
         Ok(())
     }
 
@@ -633,6 +657,7 @@ impl Scene {
             reference_level,
             ratio: self.discretisation.ratio,
             cases,
+            sensitivity: self.discretisation.sensitivity,
         })
     }
 
@@ -666,6 +691,7 @@ impl Scene {
             initial_velocity: constant(self.initial.velocity),
             horizon: self.horizon,
             contact: self.contact_treatment(),
+            velocity_perturbation: None,
         })
     }
 

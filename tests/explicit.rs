@@ -359,6 +359,7 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         initial_velocity: -0.5,
         horizon: 1.0,
         contact: ContactTreatment::Multiplier,
+        velocity_perturbation: None,
     };
     let config = |ratio: f64, mass| BoxRunConfig {
         n_axis: 10,

@@ -14,12 +14,14 @@
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
 //! convergence figures apply unchanged), the reference check, the note's findings as tested
-//! verdicts ([`findings`]), and the histories behind Figures 1, 2, 4–7.
+//! verdicts ([`findings`]), the round-off sensitivity of every case when the config asks for an
+//! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
 pub mod comparison;
 pub mod findings;
 pub mod reference;
 pub mod report;
+pub mod sensitivity;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -28,12 +30,16 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::elastic::{box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunConfig};
+use crate::elastic::{
+    box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunConfig, BoxRunResult,
+    StepObserver,
+};
 use crate::error::{Error, ParameterError};
 use crate::fem::{MassVariant, Prolongation};
 use crate::norms::Norm;
 use crate::rates::fit_rate;
 use crate::schemes::{Scheme, TimeIntegrator};
+use crate::sensitivity::{EnsembleConfig, Sensitivity};
 use crate::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
 use comparison::{FineNorms, ReferenceComparison};
 use findings::{note_findings, Finding};
@@ -53,6 +59,10 @@ pub struct ElasticStudyConfig {
     pub ratio: f64,
     /// The cases.
     pub cases: Vec<Case>,
+    /// The round-off ensemble every case × level also runs as ([`mod@sensitivity`]; a box scene's
+    /// `discretisation.sensitivity`); `None`: no ensemble.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<EnsembleConfig>,
 }
 
 impl ElasticStudyConfig {
@@ -75,7 +85,8 @@ impl ElasticStudyConfig {
         }
     }
 
-    /// Checks the nesting: errors name `levels` or `reference_level` and say what is allowed.
+    /// Checks the nesting and the ensemble: errors name `levels`, `reference_level`, `ratio`,
+    /// `members` or `amplitude` and say what is allowed.
     pub fn validate(&self) -> Result<(), ParameterError> {
         let nested = !self.levels.is_empty()
             && self.levels[0] > 0
@@ -99,7 +110,10 @@ impl ElasticStudyConfig {
                  level coarser are both nested with every level",
             ));
         }
-        crate::error::require_positive("ratio", self.ratio).map(|_| ())
+        crate::error::require_positive("ratio", self.ratio)?;
+        self.sensitivity
+            .as_ref()
+            .map_or(Ok(()), EnsembleConfig::validate)
     }
 }
 
@@ -206,6 +220,9 @@ pub struct ElasticStudy {
     pub reference: ReferenceCheck,
     /// The note's statements, tested.
     pub findings: Vec<Finding>,
+    /// The round-off sensitivity of every case, when `config.sensitivity` asks for an ensemble.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<Sensitivity>,
 }
 
 /// The figure data of a study.
@@ -225,11 +242,69 @@ pub struct ElasticHistories {
 struct LevelOutcome {
     record: LevelRecord,
     errors: BTreeMap<Norm, f64>,
+    contact: BoxContactHistory,
     histories: Option<CaseHistories>,
 }
 
-/// Runs the study. The reference is read from `cache_dir` when its key matches, computed (and
-/// cached) otherwise; `note` hears why a cache was not used.
+/// The reference of a study with what comparing a run with it takes: the fine-mesh norms and
+/// the prolongation from every level that is compared.
+struct Comparator {
+    reference: Reference,
+    fine_norms: FineNorms,
+    prolongations: BTreeMap<usize, Prolongation>,
+    finest: usize,
+}
+
+impl Comparator {
+    /// The comparator of `reference` for runs on each of `levels` elements along the axis,
+    /// sampled at the time step of the level `finest`.
+    fn new(
+        problem: &BoxProblem,
+        reference: Reference,
+        levels: &[usize],
+        finest: usize,
+    ) -> Result<Self, ParameterError> {
+        let fine_norms = FineNorms {
+            mass: reference
+                .mesh
+                .mass(MassVariant::Standard, problem.elasticity.density),
+            stiffness: reference.mesh.stiffness(&problem.elasticity),
+        };
+        let prolongations = levels
+            .iter()
+            .map(|&n| {
+                let coarse = box_mesh(problem, n)?;
+                Ok((n, Prolongation::new(&coarse, &reference.mesh)?))
+            })
+            .collect::<Result<_, ParameterError>>()?;
+        Ok(Self {
+            reference,
+            fine_norms,
+            prolongations,
+            finest,
+        })
+    }
+
+    /// A fresh comparison for a run on `level` elements along the axis.
+    fn comparison(&self, level: usize) -> ReferenceComparison<'_> {
+        ReferenceComparison::new(
+            &self.reference,
+            &self.fine_norms,
+            &self.prolongations[&level],
+            level,
+            self.finest,
+        )
+    }
+}
+
+/// The element size along the axis of a run on `n_axis` elements, as [`box_mesh`] makes it.
+fn axial_element_size(problem: &BoxProblem, n_axis: usize) -> f64 {
+    problem.lengths[problem.lengths.len() - 1] / n_axis as f64
+}
+
+/// Runs the study, then (when `config.sensitivity` asks for it) its round-off ensemble. The
+/// reference is read from `cache_dir` when its key matches, computed (and cached) otherwise;
+/// `note` hears why a cache was not used.
 pub fn run_elastic_study(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
@@ -237,26 +312,18 @@ pub fn run_elastic_study(
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
     config.validate()?;
+    // An ensemble the problem cannot carry is refused before anything runs.
+    let ensemble = config
+        .sensitivity
+        .map(|e| sensitivity::noise_scale(problem).map(|scale| (e, scale)))
+        .transpose()?;
     let clock = Instant::now();
     let reference = obtain_reference(problem, config, cache_dir, note)?;
-    let fine_norms = {
-        let mesh = &reference.mesh;
-        FineNorms {
-            mass: mesh.mass(MassVariant::Standard, problem.elasticity.density),
-            stiffness: mesh.stiffness(&problem.elasticity),
-        }
-    };
     let finest = *config.levels.last().expect("validated");
     let check_level = config.reference_level / 2;
     let mut all_levels = config.levels.clone();
     all_levels.push(check_level);
-    let prolongations: BTreeMap<usize, Prolongation> = all_levels
-        .iter()
-        .map(|&n| {
-            let coarse = box_mesh(problem, n)?;
-            Ok((n, Prolongation::new(&coarse, &reference.mesh)?))
-        })
-        .collect::<Result<_, ParameterError>>()?;
+    let comparator = Comparator::new(problem, reference, &all_levels, finest)?;
 
     let reference_case = ElasticStudyConfig::reference_case();
     let mut jobs: Vec<(Case, usize)> = config
@@ -271,10 +338,15 @@ pub fn run_elastic_study(
     let outcomes: Vec<((String, usize), LevelOutcome)> = jobs
         .par_iter()
         .map(|&(case, n)| {
-            let comparison =
-                ReferenceComparison::new(&reference, &fine_norms, &prolongations[&n], n, finest);
-            run_level(problem, config.ratio, case, n, n == finest, comparison)
-                .map(|o| ((case.id(), n), o))
+            run_level(
+                problem,
+                config.ratio,
+                case,
+                n,
+                n == finest,
+                comparator.comparison(n),
+            )
+            .map(|o| ((case.id(), n), o))
         })
         .collect::<Result<_, Error>>()?;
     let mut by_job: BTreeMap<(String, usize), LevelOutcome> = outcomes.into_iter().collect();
@@ -285,12 +357,14 @@ pub fn run_elastic_study(
         .errors
         .clone();
     let mut histories = Vec::new();
+    let mut contacts: Vec<Vec<BoxContactHistory>> = Vec::new();
     let cases: Vec<CaseStudy> = config
         .cases
         .iter()
         .map(|case| {
             let mut records = Vec::new();
             let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
+            let mut case_contacts = Vec::new();
             for &n in &config.levels {
                 let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
                 for (norm, e) in outcome.errors {
@@ -298,7 +372,9 @@ pub fn run_elastic_study(
                 }
                 records.push(outcome.record);
                 histories.extend(outcome.histories);
+                case_contacts.push(outcome.contact);
             }
+            contacts.push(case_contacts);
             CaseStudy::from_levels(*case, records, errors)
         })
         .collect();
@@ -312,6 +388,7 @@ pub fn run_elastic_study(
         cases,
         wall_seconds: clock.elapsed().as_secs_f64(),
     };
+    let reference = &comparator.reference;
     let mut reference_check = ReferenceCheck {
         case: reference_case.id(),
         level: config.reference_level,
@@ -369,6 +446,11 @@ pub fn run_elastic_study(
             .copied()
             .unwrap_or(f64::INFINITY)
     });
+    let sensitivity = ensemble
+        .map(|(ensemble, scale)| {
+            sensitivity::run_ensembles(problem, config, &comparator, &contacts, ensemble, scale)
+        })
+        .transpose()?;
     Ok((
         ElasticStudy {
             dimension: problem.lengths.len(),
@@ -376,6 +458,7 @@ pub fn run_elastic_study(
             study,
             reference: reference_check,
             findings,
+            sensitivity,
         },
         ElasticHistories {
             dimension: problem.lengths.len(),
@@ -438,6 +521,34 @@ pub fn obtain_reference(
     Reference::obtain(problem, cache_dir, &reference_stem(problem), key, note)
 }
 
+/// One run of `case` on `n_axis` elements, compared with the reference at every step;
+/// `observer` sees every step after the comparison.
+fn run_compared(
+    problem: &BoxProblem,
+    ratio: f64,
+    case: Case,
+    n_axis: usize,
+    comparison: &mut ReferenceComparison<'_>,
+    observer: &mut StepObserver<'_>,
+) -> Result<BoxRunResult, Error> {
+    let config = BoxRunConfig {
+        n_axis,
+        ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        vtk_at: Vec::new(),
+        vtk_dir: None,
+    };
+    run_box_observed(
+        problem,
+        &config,
+        &mut |mesh, state: &dyn TimeIntegrator, energy| {
+            comparison.observe(state, energy);
+            observer(mesh, state, energy)
+        },
+    )
+}
+
 /// One case at one level, compared with the reference at every step.
 fn run_level(
     problem: &BoxProblem,
@@ -447,16 +558,8 @@ fn run_level(
     keep_histories: bool,
     mut comparison: ReferenceComparison<'_>,
 ) -> Result<LevelOutcome, Error> {
-    let config = BoxRunConfig {
-        n_axis,
-        ratio,
-        scheme: case.scheme,
-        mass: case.mass,
-        vtk_at: Vec::new(),
-        vtk_dir: None,
-    };
     // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
-    let h = problem.lengths[problem.lengths.len() - 1] / n_axis as f64;
+    let h = axial_element_size(problem, n_axis);
     let (steps, _) = crate::run::time_grid(problem.horizon, h, ratio);
     let every = (steps / STRESS_MAP_SAMPLES).max(1);
     let mut stress = AxialStressMap {
@@ -464,11 +567,13 @@ fn run_level(
         ..AxialStressMap::default()
     };
     let mut step = 0usize;
-    let result = run_box_observed(
+    let result = run_compared(
         problem,
-        &config,
-        &mut |mesh, state: &dyn TimeIntegrator, energy| {
-            comparison.observe(state, energy);
+        ratio,
+        case,
+        n_axis,
+        &mut comparison,
+        &mut |mesh, state: &dyn TimeIntegrator, _| {
             if keep_histories && step % every == 0 {
                 let per_layer = mesh.n_elements() / n_axis;
                 let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
@@ -498,9 +603,10 @@ fn run_level(
             case: case.id(),
             level: n_axis,
             element_size: h,
-            contact: result.contact,
+            contact: result.contact.clone(),
             energy: result.energy,
             stress,
         }),
+        contact: result.contact,
     })
 }

@@ -14,7 +14,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::elastic::{box_mesh, run_box_observed, BoxProblem, BoxRunConfig};
-use crate::error::Error;
+use crate::error::{Error, ParameterError};
 use crate::fem::{BoxMesh, MassVariant};
 use crate::output::write_atomic;
 use crate::schemes::{Scheme, TimeIntegrator};
@@ -270,7 +270,8 @@ impl Reference {
     }
 
     /// The cached reference when its key matches, otherwise a new run, cached. `note` is told
-    /// why a cache was not used.
+    /// why a cache was not used. A problem with a velocity perturbation is refused: the key
+    /// cannot tell it from the problem as stated.
     pub fn obtain(
         problem: &BoxProblem,
         dir: &Path,
@@ -278,6 +279,14 @@ impl Reference {
         key: ReferenceKey,
         note: &mut dyn FnMut(String),
     ) -> Result<Self, Error> {
+        if problem.velocity_perturbation.is_some() {
+            return Err(ParameterError::new(
+                "velocity_perturbation",
+                "given",
+                "absent for a reference (its key and cache describe the problem as stated)",
+            )
+            .into());
+        }
         match Self::load(problem, dir, stem, &key)? {
             CacheLookup::Hit(reference) => return Ok(*reference),
             CacheLookup::Missing => {

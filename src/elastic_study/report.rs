@@ -1,12 +1,16 @@
 //! The markdown report of a 2D/3D study: the rate table beside what the note's Figures 3 and 8
-//! show, the reference check, the findings and the per-level errors.
+//! show (a round-off chaotic case's rate as its ensemble median and range), the findings, the
+//! round-off sensitivity of every case, the reference check and the per-level errors.
 
 use std::fmt::Write as _;
 
 use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
 use crate::norms::Norm;
-use crate::report::{convergence_tables, oscillation_word, OSCILLATES_FROM};
+use crate::report::{
+    chaotic_rate, chaotic_spread, convergence_tables, oscillation_word, OSCILLATES_FROM,
+};
+use crate::sensitivity::{class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass};
 use crate::study::CaseStudy;
 
 /// What the note's convergence figures show for a case (scheme name, mass name) and norm:
@@ -32,15 +36,78 @@ pub fn note_expectation(scheme: &str, mass: &str, norm: Norm) -> Option<&'static
     })
 }
 
-fn rate_cell(c: &CaseStudy, norm: Norm) -> String {
-    let Some(fit) = c.norm(norm).and_then(|r| r.fit) else {
-        return "—".to_string();
+/// The rate of `norm` in case `c` (a chaotic case's ensemble median and range), with what the
+/// note shows for it.
+fn rate_cell(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> String {
+    let rate = match chaotic_spread(c, norm, sensitivity) {
+        Some(spread) => chaotic_rate(&spread),
+        None => match c.norm(norm).and_then(|r| r.fit) {
+            Some(fit) => format!("{:.2}", fit.rate),
+            None => return "—".to_string(),
+        },
     };
-    let expected = note_expectation(&c.case.scheme.name(), c.case.mass.name(), norm);
-    match expected {
-        Some(word) => format!("{:.2} ({word})", fit.rate),
-        None => format!("{:.2}", fit.rate),
+    match note_expectation(&c.case.scheme.name(), c.case.mass.name(), norm) {
+        Some(word) => format!("{rate} ({word})"),
+        None => rate,
     }
+}
+
+/// The round-off sensitivity section: how the ensemble was made, each case's class with its
+/// predictability step and separation growth at the finest level, and the rate ranges of the
+/// chaotic cases.
+fn sensitivity_section(s: &Sensitivity) -> String {
+    let finest = s.config.levels.last().copied().unwrap_or(0);
+    let mut md = format!(
+        "## Round-off sensitivity\n\n\
+         Every case at every level also ran as {} members whose initial velocity carries seeded \
+         noise of relative size {:e}: every velocity dof (the contact face's included) moves by \
+         a uniform amount in ±A·max|v⁰|, the displacement is untouched. Each member is compared \
+         with the same (unperturbed) reference; its separation from the unperturbed run is taken \
+         on the centre contact node's normal displacement. {} Ensemble wall time {:.1} s on \
+         this machine ({} runs).\n\n",
+        s.ensemble.members,
+        s.ensemble.amplitude,
+        class_rules(),
+        s.wall_seconds,
+        s.cases.len() * s.config.levels.len() * s.ensemble.members
+    );
+    md.push_str(&class_table(s, finest));
+    md.push('\n');
+    for class in [
+        SensitivityClass::Reproducible,
+        SensitivityClass::EventSensitive,
+        SensitivityClass::Chaotic,
+    ] {
+        let cases: Vec<String> = s
+            .cases
+            .iter()
+            .filter(|c| c.class == class)
+            .map(|c| {
+                let largest = c.largest_separation.last().copied().unwrap_or(f64::NAN);
+                format!(
+                    "{} (largest separation {largest:.1e} at NX = {finest})",
+                    c.case
+                )
+            })
+            .collect();
+        let list = if cases.is_empty() {
+            "none".to_string()
+        } else {
+            cases.join(", ")
+        };
+        let _ = writeln!(md, "- *{}*: {list}.", class.name());
+    }
+    let chaotic: Vec<_> = s.cases.iter().filter(|c| c.chaotic).collect();
+    if !chaotic.is_empty() {
+        let _ = writeln!(
+            md,
+            "\n### Rate ranges of the chaotic cases\n\n\
+             Ensemble minimum, median and maximum of the rate fitted over all levels, member by \
+             member (the rate table shows the median and the range, marked †).\n\n{}",
+            rate_ranges(chaotic).trim_end()
+        );
+    }
+    md
 }
 
 /// The whole report.
@@ -84,13 +151,24 @@ pub fn render(study: &ElasticStudy) -> String {
         " oscillation |\n|---|{}---|",
         "---|".repeat(Norm::ALL.len())
     );
+    let sensitivity = study.sensitivity.as_ref();
     for c in &s.cases {
         let _ = write!(md, "| {} |", c.case.id());
         for n in Norm::ALL {
-            let _ = write!(md, " {} |", rate_cell(c, n));
+            let _ = write!(md, " {} |", rate_cell(c, n, sensitivity));
         }
         let ind = c.oscillation_indicator().unwrap_or(f64::NAN);
         let _ = writeln!(md, " {ind:.1} ({}) |", oscillation_word(ind));
+    }
+    if let Some(sens) = sensitivity.filter(|s| s.cases.iter().any(|c| c.chaotic)) {
+        let _ = writeln!(
+            md,
+            "\n† round-off chaotic (see *Round-off sensitivity*): the ensemble median rate of {} \
+             members with relative noise {:e} on the initial velocity, and the ensemble [min, \
+             max]; the unperturbed run's rate is one sample of that range (its per-level errors \
+             are below).",
+            sens.ensemble.members, sens.ensemble.amplitude
+        );
     }
 
     let _ = writeln!(
@@ -116,6 +194,9 @@ pub fn render(study: &ElasticStudy) -> String {
         );
     }
 
+    if let Some(sens) = sensitivity {
+        let _ = write!(md, "\n{}", sensitivity_section(sens));
+    }
     let _ = writeln!(
         md,
         "\n## Is the reference fine enough?\n\n\
