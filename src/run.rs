@@ -10,13 +10,9 @@ use crate::contact::ContactTreatment;
 use crate::error::{require_positive, Error, ParameterError, SolveError};
 use crate::exact::ExactSolution;
 use crate::fem::{Bar1d, MassVariant};
-use crate::model::Model;
 use crate::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 pub use crate::problem::Problem1d;
-use crate::schemes::start::initial_state;
-use crate::schemes::{
-    ExplicitNewmark, OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
-};
+use crate::schemes::{integrator, Scheme, TimeIntegrator};
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -203,44 +199,6 @@ pub struct RunResult {
 
 fn multiplier_name() -> String {
     ContactTreatment::Multiplier.name()
-}
-
-/// Builds the integrator of `scheme` on `model`. Paoli–Schatzman runs with the multiplier only
-/// (its energy balance with a penalty or Nitsche force is not derived): other treatments are a
-/// [`ParameterError`] on `contact`.
-pub fn integrator<'m>(
-    model: &'m Model,
-    scheme: Scheme,
-    dt: f64,
-    u0: &[f64],
-    v0: &[f64],
-) -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
-    let treatment = model.contact_law().treatment();
-    if matches!(scheme, Scheme::PaoliSchatzman { .. }) && treatment != ContactTreatment::Multiplier
-    {
-        return Err(ParameterError::new(
-            "contact",
-            treatment,
-            "multiplier with Paoli–Schatzman (penalty and Nitsche run with the Newmark and θ \
-             schemes)",
-        )
-        .into());
-    }
-    let start = initial_state(model, u0, v0)?;
-    Ok(match scheme {
-        Scheme::Newmark { gamma, .. } if scheme.is_explicit() => {
-            Box::new(ExplicitNewmark::new(model, gamma, dt, start)?)
-        }
-        Scheme::PaoliSchatzman { beta, restitution } => {
-            Box::new(PaoliSchatzman::new(model, beta, restitution, dt, start)?)
-        }
-        one_step => Box::new(OneStepScheme::new(
-            model,
-            StepCoefficients::of(one_step).expect("not Paoli–Schatzman"),
-            dt,
-            start,
-        )?),
-    })
 }
 
 /// The number of steps and the step that lands exactly on `horizon`.

@@ -15,8 +15,7 @@ use signorini::fem::box_mesh::{
     VTK_QUAD,
 };
 use signorini::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
-use signorini::run::integrator;
-use signorini::schemes::Scheme;
+use signorini::schemes::{integrator, Scheme};
 
 /// A material with `λ ≠ μ` and `ρ ≠ 1`, so that a swapped parameter shows.
 const STEEL_LIKE: Elasticity = Elasticity {

@@ -16,8 +16,8 @@ use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::model::Model;
 use signorini::norms::Norm;
 use signorini::rates::fit_rate;
-use signorini::run::{integrator, run, Observables, Problem1d, RunConfig};
-use signorini::schemes::{Scheme, TimeIntegrator};
+use signorini::run::{run, Observables, Problem1d, RunConfig};
+use signorini::schemes::{integrator, Scheme, TimeIntegrator};
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;

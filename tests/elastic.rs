@@ -10,8 +10,7 @@ use common::{expect_error, signorini, success_stdout};
 
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::MassVariant;
-use signorini::run::integrator;
-use signorini::schemes::Scheme;
+use signorini::schemes::{integrator, Scheme};
 
 #[test]
 fn backward_euler_balance_holds_every_step_in_2d_and_3d() {

@@ -5,9 +5,9 @@
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::model::Model;
-use signorini::run::integrator;
-use signorini::schemes::start::{initial_state, residual_force};
-use signorini::schemes::{PaoliSchatzman, Scheme, TimeIntegrator};
+use signorini::schemes::{
+    initial_state, integrator, residual_force, PaoliSchatzman, Scheme, TimeIntegrator,
+};
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;

@@ -13,10 +13,9 @@ use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
 use signorini::norms::Norm;
-use signorini::run::{self, integrator, time_grid, Observables, Problem1d, RunConfig};
+use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
-use signorini::schemes::start::initial_state;
-use signorini::schemes::{ExplicitNewmark, Scheme};
+use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [
     MassVariant::Redistributed,

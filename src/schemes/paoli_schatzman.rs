@@ -1,4 +1,4 @@
-//! The Paoli–Schatzman scheme (1D paper eq. 36), γ = ½, two steps:
+//! The Paoli–Schatzman scheme, 1D paper eq. (36), γ = ½, two steps:
 //! ```text
 //! M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + β R(U^{n+1}) + P [(1 − 2β) R(U^n) + β R(U^{n−1})] = −Bᵀλ^n
 //! 0 ≤ (B U^{n+1} + e B U^{n−1}) / (1 + e) + g ⟂ λ^n ≤ 0,          R(U) = S U − F
@@ -15,8 +15,7 @@
 //! `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, `Ū = (U^n + U^{n−1})/2`,
 //! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's.
 
-use super::start::{residual_force, InitialState};
-use super::{OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
+use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
 use crate::contact::ContactStep;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
