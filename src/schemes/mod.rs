@@ -7,6 +7,7 @@
 //! | [`theta`] | the θ-method's coefficients | eq. (34) |
 //! | [`one_step`] | the common form of (32) with β > 0 and (34), contact at `t_{n+1}` ([`OneStepScheme`]) | eqs. (32), (34) |
 //! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
+//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37) |
 //! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
@@ -15,6 +16,7 @@
 //! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
 
 pub mod cfl;
+pub mod energy_balance;
 pub mod factory;
 pub mod massless;
 pub mod newmark;
@@ -84,6 +86,13 @@ pub trait TimeIntegrator: Send {
     fn velocity(&self) -> &[f64];
     /// The contact multipliers (`λ ≤ 0`, one per contact dof) with the time they approximate.
     fn multiplier(&self) -> Timed<&[f64]>;
+    /// The multipliers as the scheme's equations carry them, the ones its energy balance
+    /// ([`energy_balance`]) uses: `λ^{n−1}` of eq. (36), which produced `U^n`, for
+    /// Paoli–Schatzman (before the rescaling by `1/β` of a massless contact node); the
+    /// reported [`multiplier`](Self::multiplier) `λ^n` for the other schemes.
+    fn scheme_multiplier(&self) -> &[f64] {
+        self.multiplier().value
+    }
     /// The scheme's discrete energy with the time it approximates (computed on demand).
     fn energy(&self) -> Timed<f64>;
     /// How many steps needed a complementarity solve.

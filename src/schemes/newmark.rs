@@ -15,6 +15,8 @@
 //!   `t = 0` ("`U_{h,tt}^0` is evaluated by using (32c)"; the same for the θ-method's 34c); it is
 //!   the initial state of every scheme.
 //!
+//! The energy balance of (32) is eq. (33) ([`super::energy_balance::newmark`]).
+//!
 //! # The start with a singular mass
 //!
 //! With the redistributed mass the contact node carries no inertia: its equation is the static
@@ -56,7 +58,8 @@
 //! **Energy.** The scheme reports the staggered energy [`staggered_energy`]
 //! `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
 //! `V^{n+½} = (U^{n+1} − U^n)/Δt`, at `t_{n+½}`. With γ = ½ it changes by the contact work alone
-//! and is conserved to round-off without contact.
+//! and is conserved to round-off without contact
+//! ([`super::energy_balance::central_difference`]).
 
 use super::cfl::{largest_eigenvalue, stable_step};
 use super::massless::QuasiStatic;

@@ -12,6 +12,8 @@
 //! ([`StepCoefficients::theta`]); `A^0` comes from (34c) at `t = 0` ([`super::initial_state`]).
 //! Unlike Newmark's, these coefficients have `a + b = θ ≠ ½` unless θ = ½: the θ-method is not
 //! a member of the Newmark family.
+//!
+//! The energy balance of (34) is eq. (35) ([`super::energy_balance::theta`]).
 
 use super::StepCoefficients;
 
