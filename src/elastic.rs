@@ -24,8 +24,8 @@ use crate::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 use crate::fem::MassVariant;
 use crate::output::write_atomic;
 use crate::problem::Perturbation;
-use crate::run::{integrator, time_grid, Timings};
-use crate::schemes::{Scheme, TimeIntegrator};
+use crate::run::{time_grid, Timings};
+use crate::schemes::{integrator, Scheme, TimeIntegrator};
 
 /// A 2D/3D bar problem.
 #[derive(Debug, Clone, PartialEq)]

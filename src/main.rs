@@ -1,7 +1,8 @@
 //! The `signorini` command line: runs, refinement studies, the report and the golden files.
 //!
 //! Exit codes: 0 success; 2 usage errors (bad arguments, a scene file that is missing,
-//! malformed or out of range); 1 failures (a run that fails, an output that cannot be written).
+//! malformed or out of range); 1 failures (a run that fails, an energy balance that
+//! `--check-balance` finds violated, an output that cannot be written).
 
 use std::collections::BTreeSet;
 use std::io::IsTerminal;
@@ -23,8 +24,9 @@ use signorini::pipeline::{
     write_gravity_report, write_report, write_sensitivity_files, write_stability,
 };
 use signorini::report::convergence_tables;
-use signorini::run::{run, RunConfig, RunResult};
+use signorini::run::{run, run_checking_balance, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
+use signorini::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{run_sensitivity, EnsembleConfig};
 use signorini::study::{run_study_with_progress, study_size, Case};
@@ -43,6 +45,7 @@ Examples:
   signorini run scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass redistributed --nx 80
   signorini run scenes/bar1d-dirichlet.json --scheme 'newmark(beta=0.3,gamma=0.6)' --mass standard --nx 40 --out out/
   signorini run scenes/bar1d-dirichlet.json --scheme backward-euler --mass standard --contact 'penalty(gamma0=10)'
+  signorini run scenes/bar1d-dirichlet.json --scheme paoli-schatzman-e0.5 --mass redistributed --check-balance
   signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass standard,redistributed --norm u_Linf_H,energy_L2
   signorini study scenes/bar1d-free.json --scheme crank-nicolson --mass standard --json
   signorini report
@@ -88,6 +91,11 @@ enum Command {
         /// only). Default: the scene's, else multiplier.
         #[arg(long, value_parser = parse_contact)]
         contact: Option<ContactTreatment>,
+        /// Evaluate the scheme's discrete energy balance (1D paper eqs. 33, 35, 37) after every
+        /// step: print the largest per-step residual relative to the energy (also in run.json
+        /// with --out) and fail with exit code 1 when it exceeds 1e-9. 1D scenes only.
+        #[arg(long)]
+        check_balance: bool,
     },
     /// A refinement study of a scene: the rate table of the selected cases and norms, as
     /// markdown or JSON. Nothing outside the selection is computed.
@@ -536,6 +544,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             ratio,
             out,
             contact,
+            check_balance,
         } => {
             let scene = Scene::load(&scene)?;
             let nx = nx.unwrap_or_else(|| {
@@ -546,6 +555,12 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     .expect("validated: at least one level")
             });
             if let Some(mut problem) = scene.box_problem() {
+                if check_balance {
+                    return Err(Failure::usage(
+                        "--check-balance: 1D scenes only (the 2D/3D run does not evaluate the \
+                         energy balance)",
+                    ));
+                }
                 problem.contact = contact.unwrap_or(problem.contact);
                 return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
             }
@@ -570,7 +585,11 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     Failure::runtime(format!("cannot create {}: {e}", dir.display()))
                 })?;
             }
-            let result = run(&problem, &config)?;
+            let result = if check_balance {
+                run_checking_balance(&problem, &config)?
+            } else {
+                run(&problem, &config)?
+            };
             out!(
                 "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
                 scene.name,
@@ -587,6 +606,13 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             for (norm, e) in &result.errors {
                 out!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());
             }
+            let equation = energy_balance::equation(scheme);
+            if let Some(residual) = result.max_balance_residual {
+                out!(
+                    "  energy balance eq. {equation}: largest per-step residual {residual:.3e} \
+                     of the energy (tolerance {BALANCE_TOLERANCE:e})"
+                );
+            }
             if let Some(dir) = out {
                 let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
                 write_output(&dir.join("run.json"), json.as_bytes())?;
@@ -594,6 +620,15 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     write_output(&dir.join(&name), text.as_bytes())?;
                 }
                 out!("wrote {}", dir.display());
+            }
+            if let Some(residual) = result
+                .max_balance_residual
+                .filter(|r| r.is_nan() || *r > BALANCE_TOLERANCE)
+            {
+                return Err(Failure::runtime(format!(
+                    "energy balance eq. {equation} violated: largest per-step residual \
+                     {residual:.3e} of the energy exceeds {BALANCE_TOLERANCE:e}"
+                )));
             }
         }
         Command::Study {

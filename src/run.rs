@@ -10,13 +10,10 @@ use crate::contact::ContactTreatment;
 use crate::error::{require_positive, Error, ParameterError, SolveError};
 use crate::exact::ExactSolution;
 use crate::fem::{Bar1d, MassVariant};
-use crate::model::Model;
 use crate::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 pub use crate::problem::Problem1d;
-use crate::schemes::start::initial_state;
-use crate::schemes::{
-    ExplicitNewmark, OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
-};
+use crate::schemes::energy_balance::BalanceMonitor;
+use crate::schemes::{integrator, Scheme, TimeIntegrator};
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -199,48 +196,15 @@ pub struct RunResult {
     /// The contact treatment's name (`multiplier`, `penalty(gamma0=…)`, `nitsche(…)`).
     #[serde(default = "multiplier_name")]
     pub contact_treatment: String,
+    /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35,
+    /// 37), relative to the energy scale ([`BalanceMonitor`]), when the run evaluated it
+    /// ([`run_checking_balance`]); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_balance_residual: Option<f64>,
 }
 
 fn multiplier_name() -> String {
     ContactTreatment::Multiplier.name()
-}
-
-/// Builds the integrator of `scheme` on `model`. Paoli–Schatzman runs with the multiplier only
-/// (its energy balance with a penalty or Nitsche force is not derived): other treatments are a
-/// [`ParameterError`] on `contact`.
-pub fn integrator<'m>(
-    model: &'m Model,
-    scheme: Scheme,
-    dt: f64,
-    u0: &[f64],
-    v0: &[f64],
-) -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
-    let treatment = model.contact_law().treatment();
-    if matches!(scheme, Scheme::PaoliSchatzman { .. }) && treatment != ContactTreatment::Multiplier
-    {
-        return Err(ParameterError::new(
-            "contact",
-            treatment,
-            "multiplier with Paoli–Schatzman (penalty and Nitsche run with the Newmark and θ \
-             schemes)",
-        )
-        .into());
-    }
-    let start = initial_state(model, u0, v0)?;
-    Ok(match scheme {
-        Scheme::Newmark { gamma, .. } if scheme.is_explicit() => {
-            Box::new(ExplicitNewmark::new(model, gamma, dt, start)?)
-        }
-        Scheme::PaoliSchatzman { beta, restitution } => {
-            Box::new(PaoliSchatzman::new(model, beta, restitution, dt, start)?)
-        }
-        one_step => Box::new(OneStepScheme::new(
-            model,
-            StepCoefficients::of(one_step).expect("not Paoli–Schatzman"),
-            dt,
-            start,
-        )?),
-    })
 }
 
 /// The number of steps and the step that lands exactly on `horizon`.
@@ -437,6 +401,21 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 
 /// Runs one configuration of a problem to its horizon.
 pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
+    run_observed(problem, config, false)
+}
+
+/// [`run`], evaluating the scheme's energy balance ([`crate::schemes::energy_balance`]) after
+/// every step: the result's [`RunResult::max_balance_residual`] is set (`signorini run
+/// --check-balance`, the stability suite).
+pub fn run_checking_balance(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
+    run_observed(problem, config, true)
+}
+
+fn run_observed(
+    problem: &Problem1d,
+    config: &RunConfig,
+    check_balance: bool,
+) -> Result<RunResult, Error> {
     let setup_clock = Instant::now();
     require_positive("ratio", config.ratio)?;
     require_positive("horizon", problem.horizon)?;
@@ -455,11 +434,15 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
     let (u0, v0) = problem.initial_dofs(&bar, &model);
     let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
     let mut observer = Observer::new(&bar, exact, &config.observables);
+    let mut balance = check_balance.then(|| BalanceMonitor::new(&model, scheme, dt));
     let setup = setup_clock.elapsed().as_secs_f64();
 
     let (mut stepping, mut observe) = (0.0, 0.0);
     let clock = Instant::now();
     observer.observe(integ.as_ref());
+    if let Some(b) = balance.as_mut() {
+        b.observe(integ.as_ref());
+    }
     observe += clock.elapsed().as_secs_f64();
     for _ in 0..steps {
         let clock = Instant::now();
@@ -467,6 +450,9 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         check_finite(integ.as_ref())?;
         let mid = Instant::now();
         observer.observe(integ.as_ref());
+        if let Some(b) = balance.as_mut() {
+            b.observe(integ.as_ref());
+        }
         let end = Instant::now();
         stepping += (mid - clock).as_secs_f64();
         observe += (end - mid).as_secs_f64();
@@ -494,5 +480,6 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         point_history: observer.points,
         fields: observer.fields,
         contact_treatment: problem.contact.name(),
+        max_balance_residual: balance.map(|b| b.largest_residual()),
     })
 }

@@ -27,7 +27,7 @@ use crate::error::Error;
 use crate::exact::AtRest;
 use crate::problem::{InitialData, Perturbation, Problem1d, Profile};
 use crate::rates::least_squares_slope;
-use crate::run::{Observables, RunConfig, RunResult};
+use crate::run::{run_checking_balance, Observables, RunConfig, RunResult};
 use crate::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::study::Case;
 
@@ -200,6 +200,11 @@ pub struct StabilityRecord {
     /// The run's round-off sensitivity; `null` when the unperturbed run stopped.
     #[serde(default)]
     pub sensitivity: Option<RunSensitivity>,
+    /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35, 37;
+    /// relative to the energy, see `schemes::energy_balance::BalanceMonitor`) over the
+    /// unperturbed run; `null` when that run stopped.
+    #[serde(default)]
+    pub max_balance_residual: Option<f64>,
 }
 
 impl StabilityRecord {
@@ -281,6 +286,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         Ok(r) => Ok(StabilityRecord {
             member_verdicts,
             sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
+            max_balance_residual: balance_residual(hard, &config)?,
             ..assess(hard, case, &r)
         }),
         Err(Error::Solve(e)) => Ok(StabilityRecord {
@@ -289,6 +295,16 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         }),
         Err(e) => Err(e),
     }
+}
+
+/// The largest energy-balance residual of the unperturbed run, from a run of its own without
+/// observers (the ensemble's runs do not evaluate the balance).
+fn balance_residual(hard: &HardCase, config: &RunConfig) -> Result<Option<f64>, Error> {
+    let config = RunConfig {
+        observables: Observables::default(),
+        ..config.clone()
+    };
+    Ok(run_checking_balance(&hard.problem, &config)?.max_balance_residual)
 }
 
 /// The record of a run that measured nothing (verdict `diverged`).
@@ -308,6 +324,7 @@ fn unmeasured(hard: &HardCase, case: Case) -> StabilityRecord {
         energy_samples: Vec::new(),
         member_verdicts: Vec::new(),
         sensitivity: None,
+        max_balance_residual: None,
     }
 }
 

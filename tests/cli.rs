@@ -54,6 +54,8 @@ fn a_run_writes_its_summary_and_whole_files() {
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("run.json")).unwrap()).unwrap();
     assert_eq!(json["nx"], 10);
     assert_eq!(json["steps"], 300);
+    assert!(json.get("max_balance_residual").is_none());
+    assert!(!stdout.contains("energy balance"));
     for f in ["contact.csv", "multiplier.csv", "energy.csv"] {
         let text = std::fs::read_to_string(out_dir.join(f)).unwrap();
         assert_eq!(text.lines().count(), 302, "{f}: header + 301 samples");
@@ -225,6 +227,53 @@ fn usage_errors_in_arguments_exit_2() {
         &["levels", "increasing"],
     );
     expect_error(&["frobnicate"], 2, &["frobnicate"]);
+    expect_error(
+        &[
+            "run",
+            "scenes/bar2d.json",
+            "--scheme",
+            "crank-nicolson",
+            "--mass",
+            "standard",
+            "--check-balance",
+        ],
+        2,
+        &["--check-balance", "1D scenes only"],
+    );
+}
+
+/// `run --check-balance` prints the largest per-step residual of the scheme's balance (eq. 37
+/// for Paoli–Schatzman) and writes it to run.json; it holds to round-off.
+#[test]
+fn check_balance_reports_the_largest_residual_in_text_and_json() {
+    let dir = scratch("balance");
+    let out_dir = dir.join("out");
+    let out_str = out_dir.to_string_lossy().into_owned();
+    let out = signorini(&[
+        "run",
+        DIRICHLET,
+        "--scheme",
+        "paoli-schatzman-e0.5",
+        "--mass",
+        "redistributed",
+        "--nx",
+        "20",
+        "--check-balance",
+        "--out",
+        &out_str,
+    ]);
+    let stdout = success_stdout(&out);
+    assert!(
+        stdout.contains("energy balance eq. (37): largest per-step residual"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("run.json")).unwrap()).unwrap();
+    let residual = json["max_balance_residual"].as_f64().expect("a number");
+    assert!(
+        residual > 0.0 && residual <= signorini::schemes::energy_balance::BALANCE_TOLERANCE,
+        "{residual:e}"
+    );
 }
 
 #[test]

@@ -6,8 +6,7 @@ use signorini::contact::ClarabelContact;
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::MassVariant;
 use signorini::model::Model;
-use signorini::schemes::start::initial_state;
-use signorini::schemes::{OneStepScheme, StepCoefficients, TimeIntegrator};
+use signorini::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
 
 fn setup(mesh: &BoxMesh, mass: MassVariant) -> (Model, Vec<f64>, Vec<f64>) {
     let model = mesh.model(&Elasticity::NOTE, mass, Some(0.2));

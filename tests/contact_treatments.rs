@@ -16,8 +16,9 @@ use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::model::Model;
 use signorini::norms::Norm;
 use signorini::rates::fit_rate;
-use signorini::run::{integrator, run, Observables, Problem1d, RunConfig};
-use signorini::schemes::{Scheme, TimeIntegrator};
+use signorini::run::{run, Observables, Problem1d, RunConfig};
+use signorini::schemes::energy_balance::BalanceMonitor;
+use signorini::schemes::{integrator, Scheme, TimeIntegrator};
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;
@@ -140,7 +141,6 @@ fn constraint_rows_are_the_penalty_and_nitsche_vectors() {
 
 struct State {
     u: Vec<f64>,
-    v: Vec<f64>,
     lambda: Vec<f64>,
     energy: f64,
 }
@@ -148,7 +148,6 @@ struct State {
 fn state(s: &dyn TimeIntegrator) -> State {
     State {
         u: s.displacement().to_vec(),
-        v: s.velocity().to_vec(),
         lambda: s.multiplier().value.to_vec(),
         energy: s.energy().value,
     }
@@ -177,13 +176,14 @@ struct Balance {
 }
 
 /// Runs `scheme` (Crank–Nicolson or backward Euler) on `model` and checks, per step:
-/// * the scheme's identity (1D paper eqs. 33 and 35) for the mechanical energy
-///   `E = ½VᵀMV + ½UᵀSU − FᵀU` (`S` the integrated matrix) with `Bᵀλ` replaced by `Σ λ_i f_i`:
-///   CN `ΔE = −Σ_i ΔUᵀf_i (λ_iⁿ + λ_iⁿ⁺¹)/2`, BE `ΔE = −½ΔVᵀMΔV − ½ΔUᵀSΔU − Σ_i ΔUᵀf_i λ_iⁿ⁺¹`;
+/// * the scheme's identity (1D paper eqs. 33 and 35, `schemes::energy_balance`) for the
+///   mechanical energy `E = ½VᵀMV + ½UᵀSU − FᵀU` (`S` the integrated matrix) with `Bᵀλ`
+///   replaced by `Σ λ_i f_i`: CN `ΔE = −Σ_i ΔUᵀf_i (λ_iⁿ + λ_iⁿ⁺¹)/2`,
+///   BE `ΔE = −½ΔVᵀMΔV − ½ΔUᵀSΔU − Σ_i ΔUᵀf_i λ_iⁿ⁺¹`;
 /// * the total energy `E + Φ`, `Φ = Σ_i min(c_i, 0)²/(2ε_i)`, `c_i = m_iᵀU + g_i`: for CN
-///   `ΔE_tot = Σ_i [ΔUᵀ(m_i − f_i)(λ_iⁿ + λ_iⁿ⁺¹)/2 + ½(c_iⁿλ_iⁿ⁺¹ − c_iⁿ⁺¹λ_iⁿ)]` (the
+///   `ΔE_tot = ΔE + Σ_i [ΔUᵀm_i (λ_iⁿ + λ_iⁿ⁺¹)/2 + ½(c_iⁿλ_iⁿ⁺¹ − c_iⁿ⁺¹λ_iⁿ)]` (the
 ///   trapezoidal rule is exact for `Φ` except on a step that crosses `c = 0`); for BE
-///   `ΔE_tot = ΔE + ΔΦ`.
+///   `ΔE_tot = ΔE + ΔΦ`, `ΔE` the scheme identity's right-hand side.
 fn balance(
     model: &Model,
     scheme: Scheme,
@@ -195,22 +195,18 @@ fn balance(
     let set = model.contact().unwrap().clone();
     let rows = model.contact_law().rows(&set);
     let mut s = integrator(model, scheme, dt, u0, v0).unwrap();
+    let mut monitor = BalanceMonitor::new(model, scheme, dt);
+    monitor.observe(s.as_ref());
     let mut before = state(s.as_ref());
     let e0 = before.energy;
     let mut out = Balance::default();
     let crank_nicolson = scheme == Scheme::CRANK_NICOLSON;
     for _ in 0..steps {
         s.advance().unwrap();
+        let identity = monitor.observe(s.as_ref()).expect("one step further");
         let after = state(s.as_ref());
         let du = diff(&after.u, &before.u);
-        let dv = diff(&after.v, &before.v);
-        let mechanical = |st: &State| st.energy - model.contact_energy(&st.u);
-        let mut scheme_rhs = if crank_nicolson {
-            0.0
-        } else {
-            -0.5 * model.mass().quadratic_form(&dv) - 0.5 * model.stiffness().quadratic_form(&du)
-        };
-        let mut total_rhs = 0.0;
+        let mut total_rhs = identity.predicted_change;
         let mut crossing = false;
         for (i, row) in rows.iter().enumerate() {
             let (l0, l1) = (before.lambda[i], after.lambda[i]);
@@ -219,12 +215,7 @@ fn balance(
                 dot(&row.measure, &after.u) + set.gaps[i],
             );
             if crank_nicolson {
-                let work = dot(&row.force, &du) * 0.5 * (l0 + l1);
-                scheme_rhs -= work;
-                total_rhs +=
-                    (dot(&row.measure, &du) * 0.5 * (l0 + l1) - work) + 0.5 * (c0 * l1 - c1 * l0);
-            } else {
-                scheme_rhs -= dot(&row.force, &du) * l1;
+                total_rhs += dot(&row.measure, &du) * 0.5 * (l0 + l1) + 0.5 * (c0 * l1 - c1 * l0);
             }
             if l1 != 0.0 {
                 out.contact_steps += 1;
@@ -232,14 +223,10 @@ fn balance(
             crossing |= (c0 < 0.0) != (c1 < 0.0);
         }
         if !crank_nicolson {
-            total_rhs =
-                scheme_rhs + model.contact_energy(&after.u) - model.contact_energy(&before.u);
+            total_rhs += model.contact_energy(&after.u) - model.contact_energy(&before.u);
         }
-        let observed_mech = mechanical(&after) - mechanical(&before);
         let observed_total = after.energy - before.energy;
-        out.scheme_identity = out
-            .scheme_identity
-            .max((observed_mech - scheme_rhs).abs() / e0);
+        out.scheme_identity = out.scheme_identity.max(identity.residual().abs() / e0);
         out.total = out.total.max((observed_total - total_rhs).abs() / e0);
         out.max_total_gain = out.max_total_gain.max(observed_total / e0);
         if crossing {

@@ -15,9 +15,8 @@ use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
 use signorini::norms::Norm;
-use signorini::run::{self, integrator, time_grid, Observables, Problem1d, RunConfig};
-use signorini::schemes::start::initial_state;
-use signorini::schemes::{PaoliSchatzman, Scheme, TimeIntegrator};
+use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
+use signorini::schemes::{initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator};
 
 const END_CONDITIONS: [EndCondition; 2] = [EndCondition::Clamped, EndCondition::Free];
 const MESHES: [usize; 4] = [1, 2, 7, 64];

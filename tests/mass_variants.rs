@@ -6,7 +6,7 @@ use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, BoxMesh, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
 use signorini::run::Problem1d;
-use signorini::schemes::start::{initial_state, residual_force};
+use signorini::schemes::{initial_state, residual_force};
 
 const DENSITY: f64 = 2.5;
 const EXTENDED: [MassVariant; 2] = [

@@ -4,6 +4,7 @@
 
 use signorini::fem::MassVariant;
 use signorini::run::Problem1d;
+use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::SensitivityClass;
 use signorini::stability::{hard_cases, judge, HardCase, Verdict, STABILITY_ENSEMBLE};
@@ -83,6 +84,8 @@ fn no_redistributed_case_diverges_or_grows() {
             r.case,
             r.verdict.word()
         );
+        let balance = r.max_balance_residual.expect("measured");
+        assert!(balance <= BALANCE_TOLERANCE, "{}: {balance:e}", r.case);
     }
 }
 
@@ -115,6 +118,9 @@ fn the_detector_flags_crank_nicolson_with_the_standard_mass() {
         "drift {:e}",
         r.max_energy_drift
     );
+    // The scheme still solves its equations: the growth is the contact work of eq. (33).
+    let balance = r.max_balance_residual.expect("measured");
+    assert!(balance <= BALANCE_TOLERANCE, "{balance:e}");
 }
 
 #[test]

@@ -8,10 +8,10 @@
 //! operator of `S_ZZ`, solved with the crate's contact solvers. With a penalty or Nitsche
 //! treatment ([`crate::contact::law`]) each constraint `m_iᵀU + g_i`, force `f_i`, is split
 //! into its `Z` part and the fixed `R` part `Σ_{d∈R} m_{i,d} U_d`, which joins the gap. It is used for consistent
-//! initial data ([`super::start`]) and at every step of the explicit scheme
+//! initial data ([`super::initial_state`]) and at every step of the explicit scheme
 //! ([`super::ExplicitNewmark`]).
 
-use super::start::residual_force;
+use super::residual_force;
 use crate::contact::law::{ConstraintRow, SparseVector};
 use crate::contact::ContactStep;
 use crate::error::SolveError;

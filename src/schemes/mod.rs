@@ -1,23 +1,32 @@
-//! Time integrators of the 1D paper (§3.2), written against [`Model`](crate::model::Model):
+//! Time integrators of the 1D paper (§3.2), written against [`Model`], each equation in the
+//! file named after it:
 //!
-//! * the Newmark family (eq. 32) and the θ-method (eq. 34), both one-step schemes with the
-//!   contact condition at `t_{n+1}` ([`OneStepScheme`]);
-//! * the Paoli–Schatzman scheme (eq. 36), a two-step scheme with the contact condition on
-//!   `(u^{n+1} + e u^{n−1}) / (1 + e)` ([`PaoliSchatzman`]);
-//! * explicit Newmark, β = 0 (central differences for γ = ½), with its CFL bound checked
-//!   before the run ([`ExplicitNewmark`], [`cfl`]).
+//! | file | what | paper |
+//! |---|---|---|
+//! | [`newmark`] | Newmark(β, γ): its coefficients, the explicit member β = 0 ([`ExplicitNewmark`]) and the start ([`initial_state`], `A^0` from eq. 32c) | eq. (32) |
+//! | [`theta`] | the θ-method's coefficients | eq. (34) |
+//! | [`one_step`] | the common form of (32) with β > 0 and (34), contact at `t_{n+1}` ([`OneStepScheme`]) | eqs. (32), (34) |
+//! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
+//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37) |
+//! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
+//! | [`cfl`] | the stability bound of explicit Newmark | — |
+//! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
+//! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
 //!
-//! Every scheme stays well defined with a singular mass matrix (see [`start`]).
+//! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
 
 pub mod cfl;
-mod explicit;
+pub mod energy_balance;
+pub mod factory;
 pub mod massless;
-mod one_step;
-mod paoli_schatzman;
-mod scheme;
-pub mod start;
+pub mod newmark;
+pub mod one_step;
+pub mod paoli_schatzman;
+pub mod scheme;
+pub mod theta;
 
-pub use explicit::ExplicitNewmark;
+pub use factory::integrator;
+pub use newmark::{initial_state, ExplicitNewmark};
 #[doc(hidden)]
 pub use one_step::REASSOCIATED_PREDICTOR;
 pub use one_step::{OneStepScheme, StepCoefficients};
@@ -25,6 +34,7 @@ pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
 
 use crate::error::SolveError;
+use crate::model::Model;
 
 /// A value with the time it approximates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,6 +43,28 @@ pub struct Timed<T> {
     pub time: f64,
     /// The value.
     pub value: T,
+}
+
+/// `(U^0, V^0, A^0, λ^0)` consistent with the model's equations at `t = 0`, the state every
+/// integrator starts from ([`initial_state`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InitialState {
+    /// Displacement (massless dofs in static equilibrium).
+    pub displacement: Vec<f64>,
+    /// Velocity as given.
+    pub velocity: Vec<f64>,
+    /// Acceleration from eq. (32c) at `t = 0`.
+    pub acceleration: Vec<f64>,
+    /// Contact multipliers `λ^0 ≤ 0`.
+    pub multiplier: Vec<f64>,
+}
+
+/// `R(U) = S U − F` (the internal minus the external force), written into `out`.
+pub fn residual_force(model: &Model, u: &[f64], out: &mut [f64]) {
+    model.stiffness().mul_into(u, out);
+    if let Some(f) = model.load() {
+        out.iter_mut().zip(f).for_each(|(o, fi)| *o -= fi);
+    }
 }
 
 /// A time integrator holding its state `(U^n, V^n, λ^n)`.
@@ -54,6 +86,13 @@ pub trait TimeIntegrator: Send {
     fn velocity(&self) -> &[f64];
     /// The contact multipliers (`λ ≤ 0`, one per contact dof) with the time they approximate.
     fn multiplier(&self) -> Timed<&[f64]>;
+    /// The multipliers as the scheme's equations carry them, the ones its energy balance
+    /// ([`energy_balance`]) uses: `λ^{n−1}` of eq. (36), which produced `U^n`, for
+    /// Paoli–Schatzman (before the rescaling by `1/β` of a massless contact node); the
+    /// reported [`multiplier`](Self::multiplier) `λ^n` for the other schemes.
+    fn scheme_multiplier(&self) -> &[f64] {
+        self.multiplier().value
+    }
     /// The scheme's discrete energy with the time it approximates (computed on demand).
     fn energy(&self) -> Timed<f64>;
     /// How many steps needed a complementarity solve.

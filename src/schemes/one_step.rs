@@ -1,4 +1,6 @@
-//! One-step schemes with the contact condition at `t_{n+1}`: Newmark (eq. 32) and θ (eq. 34).
+//! The common form of the implicit one-step schemes, with the contact condition at `t_{n+1}`:
+//! Newmark with β > 0 (1D paper eq. 32, [`super::newmark`]) and the θ-method (eq. 34,
+//! [`super::theta`]).
 //!
 //! Both are instances of
 //! ```text
@@ -6,8 +8,8 @@
 //! V^{n+1} = V^n + Δt (c A^n + d A^{n+1})
 //! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1},   0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0
 //! ```
-//! with `(a, b, c, d) = (½ − β, β, 1 − γ, γ)` for Newmark(β, γ) and
-//! `(θ(1 − θ), θ², 1 − θ, θ)` for the θ-method (eliminate `V^{n+1}` from eq. 34a with 34b).
+//! with `(a, b, c, d) = (½ − β, β, 1 − γ, γ)` for Newmark(β, γ) ([`StepCoefficients::newmark`])
+//! and `(θ(1 − θ), θ², 1 − θ, θ)` for the θ-method ([`StepCoefficients::theta`]).
 //! Substituting the first line into the third gives the step system
 //! `(M / (bΔt²) + S) U^{n+1} = M P / (bΔt²) + F − Bᵀλ^{n+1}`, `P = U^n + ΔtV^n + aΔt²A^n`.
 //! `A^{n+1}` and `V^{n+1}` then follow from the first two lines for every dof; only `M A` and
@@ -20,14 +22,14 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::start::InitialState;
-use super::{Scheme, TimeIntegrator, Timed};
+use super::{InitialState, TimeIntegrator, Timed};
 use crate::contact::ContactStep;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
 use crate::model::Model;
 
-/// The coefficients `(a, b, c, d)` of the one-step family.
+/// The coefficients `(a, b, c, d)` of the one-step form; Newmark's (eq. 32) are built in
+/// [`super::newmark`], the θ-method's (eq. 34) in [`super::theta`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepCoefficients {
     /// Weight of `A^n` in the displacement update.
@@ -38,37 +40,6 @@ pub struct StepCoefficients {
     pub c: f64,
     /// Weight of `A^{n+1}` in the velocity update.
     pub d: f64,
-}
-
-impl StepCoefficients {
-    /// Newmark(β, γ), eq. (32a–b).
-    pub fn newmark(beta: f64, gamma: f64) -> Self {
-        Self {
-            a: 0.5 - beta,
-            b: beta,
-            c: 1.0 - gamma,
-            d: gamma,
-        }
-    }
-
-    /// θ-method, eq. (34a–b).
-    pub fn theta(theta: f64) -> Self {
-        Self {
-            a: theta * (1.0 - theta),
-            b: theta * theta,
-            c: 1.0 - theta,
-            d: theta,
-        }
-    }
-
-    /// The coefficients of a one-step scheme, `None` for Paoli–Schatzman.
-    pub fn of(scheme: Scheme) -> Option<Self> {
-        match scheme {
-            Scheme::Newmark { beta, gamma } => Some(Self::newmark(beta, gamma)),
-            Scheme::Theta { theta } => Some(Self::theta(theta)),
-            Scheme::PaoliSchatzman { .. } => None,
-        }
-    }
 }
 
 /// A Newmark or θ-method integrator with its state and factorised step matrix.

@@ -1,4 +1,4 @@
-//! The Paoli–Schatzman scheme (1D paper eq. 36), γ = ½, two steps:
+//! The Paoli–Schatzman scheme, 1D paper eq. (36), γ = ½, two steps:
 //! ```text
 //! M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + β R(U^{n+1}) + P [(1 − 2β) R(U^n) + β R(U^{n−1})] = −Bᵀλ^n
 //! 0 ≤ (B U^{n+1} + e B U^{n−1}) / (1 + e) + g ⟂ λ^n ≤ 0,          R(U) = S U − F
@@ -11,16 +11,63 @@
 //! the projection, §3.2). With the standard mass the reported multiplier is `λ^n` at `t_n`.
 //!
 //! `U^1` comes from one Newmark(β, ½) step with the contact at `t_1` (the one-step scheme whose
-//! two-step form this is). The energy is the half-step quantity
+//! two-step form this is). The energy is the half-step quantity ([`HalfStep::energy`])
 //! `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, `Ū = (U^n + U^{n−1})/2`,
-//! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's.
+//! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's. Its balance is
+//! eq. (37) ([`super::energy_balance::paoli_schatzman`]).
 
-use super::start::{residual_force, InitialState};
-use super::{OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
+use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
 use crate::contact::ContactStep;
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
 use crate::model::Model;
+
+/// `V^{n−½} = (U^n − U^{n−1})/Δt` into `velocity` and `Ū = (U^n + U^{n−1})/2` into `mean`, from
+/// `U^{n−1}` (`earlier`) and `U^n` (`later`).
+fn half_step(dt: f64, earlier: &[f64], later: &[f64], velocity: &mut [f64], mean: &mut [f64]) {
+    let levels = later.iter().zip(earlier);
+    for ((v, m), (u, up)) in velocity.iter_mut().zip(mean.iter_mut()).zip(levels) {
+        *v = (u - up) / dt;
+        *m = 0.5 * (u + up);
+    }
+}
+
+/// `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū` from `Ū` and `V^{n−½}`.
+fn energy_of_half_step(model: &Model, beta: f64, dt: f64, mean: &[f64], velocity: &[f64]) -> f64 {
+    // The (β − ¼)Δt² VᵀSV term vanishes for the paper's β = ¼: skip its product.
+    let correction = if beta == 0.25 {
+        0.0
+    } else {
+        0.5 * (beta - 0.25) * dt * dt * model.stiffness().quadratic_form(velocity)
+    };
+    model.energy(mean, velocity) + correction
+}
+
+/// The half-step state of Paoli–Schatzman at `t_{n−½}`: `V^{n−½} = (U^n − U^{n−1})/Δt` and
+/// `Ū = (U^n + U^{n−1})/2`, with the energy its balance (eq. 37) is written for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HalfStep {
+    /// `V^{n−½}`.
+    pub velocity: Vec<f64>,
+    /// `Ū`.
+    pub mean: Vec<f64>,
+}
+
+impl HalfStep {
+    /// The half step between `U^{n−1}` (`earlier`) and `U^n` (`later`).
+    pub fn between(dt: f64, earlier: &[f64], later: &[f64]) -> Self {
+        let mut velocity = vec![0.0; later.len()];
+        let mut mean = vec![0.0; later.len()];
+        half_step(dt, earlier, later, &mut velocity, &mut mean);
+        Self { velocity, mean }
+    }
+
+    /// `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, the energy the
+    /// integrator reports (see the module documentation).
+    pub fn energy(&self, model: &Model, beta: f64, dt: f64) -> f64 {
+        energy_of_half_step(model, beta, dt, &self.mean, &self.velocity)
+    }
+}
 
 /// A Paoli–Schatzman integrator.
 #[derive(Debug)]
@@ -100,12 +147,6 @@ impl<'m> PaoliSchatzman<'m> {
     /// `U^{n−1}`.
     pub fn previous_displacement(&self) -> &[f64] {
         &self.u_prev
-    }
-
-    /// The multiplier `λ^{n−1}` of eq. (36) that produced the current `U^n` (before the
-    /// rescaling by `1/β` for a massless contact node).
-    pub fn scheme_multiplier(&self) -> &[f64] {
-        &self.lambda_scheme
     }
 
     /// β.
@@ -199,11 +240,7 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             Some(start) => self.start_step(start)?,
             None => self.two_step()?,
         }
-        let levels = self.u.iter().zip(&self.u_prev);
-        for ((v, m), (u, up)) in self.v.iter_mut().zip(self.mid.iter_mut()).zip(levels) {
-            *v = (u - up) / self.dt;
-            *m = 0.5 * (u + up);
-        }
+        half_step(self.dt, &self.u_prev, &self.u, &mut self.v, &mut self.mid);
         self.step += 1;
         Ok(())
     }
@@ -231,6 +268,10 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
         }
     }
 
+    fn scheme_multiplier(&self) -> &[f64] {
+        &self.lambda_scheme
+    }
+
     fn energy(&self) -> Timed<f64> {
         if self.step == 0 {
             return Timed {
@@ -238,18 +279,9 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
                 value: self.energy_at_start,
             };
         }
-        // The (β − ¼)Δt² VᵀSV term vanishes for the paper's β = ¼: skip its product.
-        let correction = if self.beta == 0.25 {
-            0.0
-        } else {
-            0.5 * (self.beta - 0.25)
-                * self.dt
-                * self.dt
-                * self.model.stiffness().quadratic_form(&self.v)
-        };
         Timed {
             time: (self.step as f64 - 0.5) * self.dt,
-            value: self.model.energy(&self.mid, &self.v) + correction,
+            value: energy_of_half_step(self.model, self.beta, self.dt, &self.mid, &self.v),
         }
     }
 

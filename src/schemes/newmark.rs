@@ -1,13 +1,45 @@
-//! Explicit Newmark, β = 0 (central differences for γ = ½), eq. (32) with β = 0:
+//! The Newmark family, 1D paper eq. (32), with its start and its explicit member β = 0:
 //! ```text
-//! U^{n+1} = U^n + Δt V^n + ½Δt² A^n
-//! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1},   0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0
-//! V^{n+1} = V^n + Δt ((1 − γ) A^n + γ A^{n+1})
+//! U^{n+1} = U^n + Δt V^n + Δt² ((½ − β) A^n + β A^{n+1})            (32a)
+//! V^{n+1} = V^n + Δt ((1 − γ) A^n + γ A^{n+1})                       (32b)
+//! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1}                              (32c)
+//! 0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0                                     (32d)
 //! ```
-//! Split into the dofs with mass `R` and the massless dofs `Z` (zero rows of `M`):
 //!
-//! * `U_R^{n+1}` is explicit (first line);
-//! * `U_Z^{n+1}` solves the rows `Z` of the second line, which have no inertia:
+//! * **β > 0** is implicit: the coefficients `(a, b, c, d) = (½ − β, β, 1 − γ, γ)` of the common
+//!   one-step form ([`StepCoefficients::newmark`]) drive [`super::OneStepScheme`], shared with the
+//!   θ-method ([`super::theta`], eq. 34).
+//! * **β = 0** is explicit ([`ExplicitNewmark`], central differences for γ = ½), with its CFL
+//!   bound ([`super::cfl`]) checked before the run.
+//! * **The start** ([`initial_state`]): `U^0`, `V^0` are given and `A^0` follows from (32c) at
+//!   `t = 0` ("`U_{h,tt}^0` is evaluated by using (32c)"; the same for the θ-method's 34c); it is
+//!   the initial state of every scheme.
+//!
+//! The energy balance of (32) is eq. (33) ([`super::energy_balance::newmark`]).
+//!
+//! # The start with a singular mass
+//!
+//! With the redistributed mass the contact node carries no inertia: its equation is the static
+//! one, `(S U − F + Bᵀλ)_Z = 0` on the massless dofs `Z`, with the contact condition. Given
+//! data need not satisfy it (the Dirichlet benchmark starts with `u_0 = ½` but a strained first
+//! element), so the massless dofs of `U^0` are replaced by the solution of that static contact
+//! problem with the other dofs fixed ([`QuasiStatic`]), which also yields `λ^0`. The initial
+//! acceleration solves `M_RR A_R = (F − S U^0 − Bᵀλ^0)_R` on the dofs `R` that carry mass
+//! (eq. 32c at `t = 0`); `A_Z = 0` (it never enters `M A`).
+//!
+//! For the standard mass `Z` is empty, `U^0` is the given data and `λ^0 = 0`.
+//!
+//! A penalty or Nitsche treatment ([`crate::contact::law`]) makes the force a function of the
+//! displacement: the static problem on `Z` is solved with it, and `λ^0` is that force at `U^0`
+//! (enters eq. 32c with its force vectors `f_i`).
+//!
+//! # Explicit Newmark, β = 0
+//!
+//! Eq. (32) with β = 0, split into the dofs with mass `R` and the massless dofs `Z` (zero rows
+//! of `M`):
+//!
+//! * `U_R^{n+1}` is explicit (32a);
+//! * `U_Z^{n+1}` solves the rows `Z` of (32c), which have no inertia:
 //!   `S_ZZ U_Z = (F − S_ZR U_R)_Z − (Bᵀλ)_Z` with the contact condition, a small
 //!   complementarity problem ([`QuasiStatic`]);
 //! * `A_R^{n+1} = M_RR⁻¹ (F − S U^{n+1})_R` (one solve with `M_RR` factorised once: a diagonal
@@ -23,20 +55,97 @@
 //! **Stability.** The run is refused before the first step when `Δt > √(2/γ)/ω_max`
 //! ([`super::cfl`]; `2/ω_max` for central differences) with [`SolveError::CflViolated`].
 //!
-//! **Energy.** With γ = ½ the rows `R` and `Z` together read
-//! `M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + S U^n = F − Bᵀλ^n` (eliminate `V` and `A`). Multiplying
-//! by `U^{n+1} − U^{n−1}` gives, exactly,
-//! `E^{n+½} − E^{n−½} = −½ λ^nᵀ B (U^{n+1} − U^{n−1})` for the staggered energy
+//! **Energy.** The scheme reports the staggered energy [`staggered_energy`]
 //! `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
-//! `V^{n+½} = (U^{n+1} − U^n)/Δt`, reported at `t_{n+½}`: conserved to round-off without contact.
+//! `V^{n+½} = (U^{n+1} − U^n)/Δt`, at `t_{n+½}`. With γ = ½ it changes by the contact work alone
+//! and is conserved to round-off without contact
+//! ([`super::energy_balance::central_difference`]).
 
 use super::cfl::{largest_eigenvalue, stable_step};
 use super::massless::QuasiStatic;
-use super::start::{residual_force, InitialState};
-use super::{TimeIntegrator, Timed};
+use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
 use crate::error::SolveError;
 use crate::linalg::SpdSolver;
-use crate::model::Model;
+use crate::model::{ContactSet, Model};
+
+impl StepCoefficients {
+    /// Newmark(β, γ), eq. (32a–b): `(a, b, c, d) = (½ − β, β, 1 − γ, γ)`.
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self {
+            a: 0.5 - beta,
+            b: beta,
+            c: 1.0 - gamma,
+            d: gamma,
+        }
+    }
+}
+
+/// Builds the consistent initial state from the given displacement and velocity dofs: the
+/// massless dofs of `U^0` in static equilibrium, and `A^0` from eq. (32c) at `t = 0` (see the
+/// module documentation).
+pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialState, SolveError> {
+    let n = model.n_dofs();
+    let mut u = u0.to_vec();
+    let n_contact = model.contact().map_or(0, ContactSet::len);
+    let mut lambda = vec![0.0; n_contact];
+    if let Some(mut statics) = QuasiStatic::new(model)? {
+        statics.solve(model, 0, &mut u, &mut lambda)?;
+    }
+    let massless = model.massless_dofs();
+    if let Some(c) = model.contact() {
+        if let Some(forces) = model.contact_law().forces(c, &u) {
+            lambda = forces;
+        }
+    }
+
+    let mut rhs = vec![0.0; n];
+    residual_force(model, &u, &mut rhs);
+    rhs.iter_mut().for_each(|r| *r = -*r);
+    if let Some(c) = model.contact() {
+        for (row, &l) in model.contact_law().rows(c).iter().zip(&lambda) {
+            for &(k, coef) in &row.force {
+                rhs[k] -= coef * l;
+            }
+        }
+    }
+    let with_mass: Vec<usize> = (0..n)
+        .filter(|i| massless.binary_search(i).is_err())
+        .collect();
+    let mut acceleration = vec![0.0; n];
+    if !with_mass.is_empty() {
+        let m_rr = model.mass().principal_submatrix(&with_mass);
+        let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+        let mut a_r: Vec<f64> = with_mass.iter().map(|&i| rhs[i]).collect();
+        solver.solve_in_place(&mut a_r);
+        for (&i, a) in with_mass.iter().zip(a_r) {
+            acceleration[i] = a;
+        }
+    }
+    Ok(InitialState {
+        displacement: u,
+        velocity: v0.to_vec(),
+        acceleration,
+        multiplier: lambda,
+    })
+}
+
+/// The staggered energy of explicit Newmark at `t_{n+½}`, from `U^n` (`earlier`) and `U^{n+1}`
+/// (`later`): `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
+/// `V^{n+½} = (U^{n+1} − U^n)/Δt` (see the module documentation).
+pub fn staggered_energy(model: &Model, dt: f64, earlier: &[f64], later: &[f64]) -> f64 {
+    let inv_dt = 1.0 / dt;
+    let half_step: Vec<f64> = (later.iter().zip(earlier))
+        .map(|(u, up)| (u - up) * inv_dt)
+        .collect();
+    let kinetic = 0.5 * model.mass().quadratic_form(&half_step);
+    let strain = 0.5 * model.stiffness().bilinear_form(later, earlier);
+    let load = model.load().map_or(0.0, |f| {
+        0.5 * (f.iter().zip(later.iter().zip(earlier)))
+            .map(|(fi, (u, up))| fi * (u + up))
+            .sum::<f64>()
+    });
+    kinetic + strain - load
+}
 
 /// Explicit Newmark(0, γ) with its state.
 #[derive(Debug)]
@@ -189,20 +298,9 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
                 value: self.energy_at_start,
             };
         }
-        let inv_dt = 1.0 / self.dt;
-        let half_step: Vec<f64> = (self.u.iter().zip(&self.u_prev))
-            .map(|(u, up)| (u - up) * inv_dt)
-            .collect();
-        let kinetic = 0.5 * self.model.mass().quadratic_form(&half_step);
-        let strain = 0.5 * self.model.stiffness().bilinear_form(&self.u, &self.u_prev);
-        let load = self.model.load().map_or(0.0, |f| {
-            0.5 * (f.iter().zip(self.u.iter().zip(&self.u_prev)))
-                .map(|(fi, (u, up))| fi * (u + up))
-                .sum::<f64>()
-        });
         Timed {
             time: (self.step as f64 - 0.5) * self.dt,
-            value: kinetic + strain - load,
+            value: staggered_energy(self.model, self.dt, &self.u_prev, &self.u),
         }
     }
 
