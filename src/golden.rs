@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 use serde::{Deserialize, Serialize};
 
 use crate::sensitivity::{Sensitivity, SensitivityClass, Spread};
-use crate::study::Study;
+use crate::study::{Case, Study};
 
 /// A case's tolerance is this many times its measured ensemble spread.
 pub const SPREAD_SAFETY: f64 = 10.0;
@@ -172,6 +172,19 @@ impl Golden {
                 })
                 .collect(),
         }
+    }
+
+    /// The cases of `study` that this file marks chaotic, in the study's order.
+    pub fn chaotic_cases(&self, study: &Study) -> Vec<Case> {
+        study
+            .cases
+            .iter()
+            .map(|c| c.case)
+            .filter(|c| {
+                let id = c.id();
+                self.cases.iter().any(|g| g.case == id && g.is_chaotic())
+            })
+            .collect()
     }
 
     /// Holds each case at what its reproducibility allows (see the module): per-norm tolerances
@@ -357,6 +370,22 @@ pub fn compare_ensemble(golden: &Golden, sensitivity: &Sensitivity) -> Vec<Drift
         }
     }
     drifts
+}
+
+/// The whole gate on `study`: [`compare`] for every case, then [`compare_ensemble`] on the
+/// ensembles that `ensembles` measures for the chaotic cases ([`Golden::chaotic_cases`]; not
+/// called when there are none).
+pub fn gate<E>(
+    golden: &Golden,
+    study: &Study,
+    ensembles: impl FnOnce(&[Case]) -> Result<Sensitivity, E>,
+) -> Result<Vec<Drift>, E> {
+    let mut drifts = compare(golden, study);
+    let chaotic = golden.chaotic_cases(study);
+    if !chaotic.is_empty() {
+        drifts.extend(compare_ensemble(golden, &ensembles(&chaotic)?));
+    }
+    Ok(drifts)
 }
 
 /// One row per drifted entry: case, norm, quantity, golden, now, difference, tolerance.

@@ -9,11 +9,10 @@ use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
-use signorini::golden::{compare, compare_ensemble, render_drifts};
+use signorini::golden::{compare, gate, render_drifts};
 use signorini::pipeline::{
     elastic_gate_sensitivity, elastic_gate_study, read_golden, GOLDEN_ELASTIC_2D,
 };
-use signorini::study::Case;
 
 /// Every case is held at what its reproducibility allows (`make golden` measured it with the
 /// scene's ensemble on the gated study): non-chaotic cases entry by entry at tolerances from
@@ -28,25 +27,11 @@ fn gated_2d_study_matches_the_golden_rates_and_the_notes_findings() {
         golden.cases.iter().all(|g| g.class.is_some()),
         "make golden attaches every case's round-off class"
     );
-    let drifts = compare(&golden, &study.study);
+    let drifts = gate(&golden, &study.study, |chaotic| {
+        elastic_gate_sensitivity(root, Some(chaotic))
+    })
+    .unwrap();
     assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
-    let chaotic: Vec<Case> = study
-        .study
-        .cases
-        .iter()
-        .map(|c| c.case)
-        .filter(|c| {
-            golden
-                .cases
-                .iter()
-                .any(|g| g.case == c.id() && g.is_chaotic())
-        })
-        .collect();
-    if !chaotic.is_empty() {
-        let ensembles = elastic_gate_sensitivity(root, Some(&chaotic)).unwrap();
-        let drifts = compare_ensemble(&golden, &ensembles);
-        assert!(drifts.is_empty(), "{}", render_drifts(&drifts));
-    }
     let reproducible = golden.cases.iter().find(|g| !g.is_chaotic()).unwrap();
     let mut moved = study.study.clone();
     let case = moved
