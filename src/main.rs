@@ -24,7 +24,7 @@ use signorini::pipeline::{
     write_gravity_report, write_report, write_sensitivity_files, write_stability,
 };
 use signorini::report::convergence_tables;
-use signorini::run::{run, run_checking_balance, RunConfig, RunResult};
+use signorini::run::{run, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use signorini::schemes::Scheme;
@@ -567,6 +567,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             let mut problem = scene.problem();
             problem.contact = contact.unwrap_or(problem.contact);
             let mut observables = scene.observables();
+            observables.energy_balance = check_balance;
             if out.is_none() {
                 observables.contact_history = false;
                 observables.energy_history = false;
@@ -585,11 +586,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     Failure::runtime(format!("cannot create {}: {e}", dir.display()))
                 })?;
             }
-            let result = if check_balance {
-                run_checking_balance(&problem, &config)?
-            } else {
-                run(&problem, &config)?
-            };
+            let result = run(&problem, &config)?;
             out!(
                 "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
                 scene.name,

@@ -28,6 +28,10 @@ pub struct Observables {
     pub points: Vec<f64>,
     /// Record the whole field at the steps nearest to these times.
     pub fields_at: Vec<f64>,
+    /// Evaluate the scheme's energy balance ([`crate::schemes::energy_balance`]) after every
+    /// step and report its largest residual (`signorini run --check-balance`, the stability
+    /// suite).
+    pub energy_balance: bool,
 }
 
 impl Observables {
@@ -198,7 +202,7 @@ pub struct RunResult {
     pub contact_treatment: String,
     /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35,
     /// 37), relative to the energy scale ([`BalanceMonitor`]), when the run evaluated it
-    /// ([`run_checking_balance`]); absent otherwise.
+    /// ([`Observables::energy_balance`]); absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_balance_residual: Option<f64>,
 }
@@ -401,21 +405,6 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 
 /// Runs one configuration of a problem to its horizon.
 pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
-    run_observed(problem, config, false)
-}
-
-/// [`run`], evaluating the scheme's energy balance ([`crate::schemes::energy_balance`]) after
-/// every step: the result's [`RunResult::max_balance_residual`] is set (`signorini run
-/// --check-balance`, the stability suite).
-pub fn run_checking_balance(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
-    run_observed(problem, config, true)
-}
-
-fn run_observed(
-    problem: &Problem1d,
-    config: &RunConfig,
-    check_balance: bool,
-) -> Result<RunResult, Error> {
     let setup_clock = Instant::now();
     require_positive("ratio", config.ratio)?;
     require_positive("horizon", problem.horizon)?;
@@ -434,7 +423,10 @@ fn run_observed(
     let (u0, v0) = problem.initial_dofs(&bar, &model);
     let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
     let mut observer = Observer::new(&bar, exact, &config.observables);
-    let mut balance = check_balance.then(|| BalanceMonitor::new(&model, scheme, dt));
+    let mut balance = config
+        .observables
+        .energy_balance
+        .then(|| BalanceMonitor::new(&model, scheme, dt));
     let setup = setup_clock.elapsed().as_secs_f64();
 
     let (mut stepping, mut observe) = (0.0, 0.0);

@@ -820,6 +820,7 @@ impl Scene {
             energy_history: self.observables.energy_history,
             points: self.observables.points.clone(),
             fields_at: self.observables.fields_at.clone(),
+            energy_balance: false,
         }
     }
 

@@ -269,7 +269,8 @@ fn contact_history(r: &RunResult) -> &ContactHistory {
 /// result (or the error that stopped it) is handed to `observe` with its [`Separation`] from
 /// the unperturbed run and dropped, so memory holds the unperturbed contact history and one
 /// member's; an error `observe` returns stops the ensemble. Returns the unperturbed result. The
-/// contact history is recorded whatever `config` asks.
+/// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
+/// for it, is evaluated on the unperturbed run only.
 pub fn run_ensemble(
     problem: &Problem1d,
     config: &RunConfig,
@@ -287,6 +288,7 @@ pub fn run_ensemble(
         .max(f64::MIN_POSITIVE);
     let base = run(problem, &config)?;
     let base_history = contact_history(&base);
+    config.observables.energy_balance = false;
     for member in 1..=ensemble.members {
         let mut perturbed = problem.clone();
         perturbed.initial.round_off = Some(Perturbation {

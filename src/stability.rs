@@ -27,7 +27,7 @@ use crate::error::Error;
 use crate::exact::AtRest;
 use crate::problem::{InitialData, Perturbation, Problem1d, Profile};
 use crate::rates::least_squares_slope;
-use crate::run::{run_checking_balance, Observables, RunConfig, RunResult};
+use crate::run::{Observables, RunConfig, RunResult};
 use crate::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::study::Case;
 
@@ -266,6 +266,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         observables: Observables {
             energy_history: true,
             contact_history: true,
+            energy_balance: true,
             ..Observables::default()
         },
     };
@@ -286,7 +287,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         Ok(r) => Ok(StabilityRecord {
             member_verdicts,
             sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
-            max_balance_residual: balance_residual(hard, &config)?,
+            max_balance_residual: r.max_balance_residual,
             ..assess(hard, case, &r)
         }),
         Err(Error::Solve(e)) => Ok(StabilityRecord {
@@ -295,16 +296,6 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
         }),
         Err(e) => Err(e),
     }
-}
-
-/// The largest energy-balance residual of the unperturbed run, from a run of its own without
-/// observers (the ensemble's runs do not evaluate the balance).
-fn balance_residual(hard: &HardCase, config: &RunConfig) -> Result<Option<f64>, Error> {
-    let config = RunConfig {
-        observables: Observables::default(),
-        ..config.clone()
-    };
-    Ok(run_checking_balance(&hard.problem, &config)?.max_balance_residual)
 }
 
 /// The record of a run that measured nothing (verdict `diverged`).
