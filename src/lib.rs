@@ -10,28 +10,27 @@
 //! redistribution method* (hal-00917450, 2013), "the 1D paper".
 #![warn(missing_docs)]
 
-pub mod contact;
-pub mod cost;
-pub mod elastic;
-pub mod elastic_study;
-pub mod error;
-pub mod exact;
-pub mod extended;
-pub mod fem;
-pub mod figures;
-pub mod golden;
-pub mod linalg;
-pub mod model;
-pub mod norms;
-pub mod output;
-pub mod paper;
-pub mod pipeline;
-pub mod problem;
-pub mod rates;
-pub mod report;
-pub mod run;
-pub mod scene;
-pub mod schemes;
-pub mod sensitivity;
-pub mod stability;
-pub mod study;
+pub mod engine;
+pub mod harness;
+pub mod studies;
+
+pub use engine::{contact, exact, fem, linalg, model, problem, schemes};
+pub use harness::{
+    elastic, golden, norms, output, paper, rates, report, run, scene, sensitivity, study,
+};
+pub use studies::{cost, elastic_study, extended, pipeline, stability};
+
+/// The errors of every layer (`engine::error` and `harness::error`) under their old path.
+pub mod error {
+    pub use crate::engine::error::{
+        require_in, require_positive, Error as EngineError, ParameterError, SolveError,
+    };
+    pub use crate::harness::error::Error;
+}
+
+/// The figures: the drawing primitives (`harness::figures`) and the report's figures
+/// (`studies::figures`) under their old path.
+pub mod figures {
+    pub use crate::harness::figures::*;
+    pub use crate::studies::figures::{convergence, elastic, from_reports};
+}

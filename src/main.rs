@@ -644,8 +644,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             let scene = Scene::load(&scene)?;
             if let Some(mut problem) = scene.box_problem() {
                 problem.contact = contact.unwrap_or(problem.contact);
-                let mut config = scene
-                    .elastic_study_config_with(reference_level)
+                let mut config = ElasticStudyConfig::from_scene(&scene, reference_level)
                     .map_err(EngineError::from)?;
                 if !levels.is_empty() {
                     config.levels = levels;
@@ -790,9 +789,8 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                         scene.name
                     ))
                 })?;
-                let config = scene
-                    .elastic_study_config_with(None)
-                    .map_err(EngineError::from)?;
+                let config =
+                    ElasticStudyConfig::from_scene(&scene, None).map_err(EngineError::from)?;
                 let mut computed = false;
                 let reference = obtain_reference(&problem, &config, &cache, &mut |why| {
                     computed = true;

@@ -10,11 +10,13 @@
 use std::time::Instant;
 
 use nalgebra::{DMatrix, SMatrix, SymmetricEigen};
+use signorini::contact::ContactSet;
 use signorini::fem::box_mesh::{
     hex_mass, hex_stiffness, quad_mass, quad_stiffness, HEX_CORNERS, QUAD_CORNERS, VTK_HEXAHEDRON,
     VTK_QUAD,
 };
 use signorini::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::model::Model;
 use signorini::schemes::energy_balance::BalanceMonitor;
 use signorini::schemes::{integrator, Scheme};
 
@@ -592,8 +594,8 @@ fn redistributed_mass_frees_every_component_of_the_contact_nodes() {
     for mesh in meshes() {
         let d = mesh.dim();
         let e = STEEL_LIKE;
-        let standard = mesh.model(&e, MassVariant::Standard, Some(0.1));
-        let redistributed = mesh.model(&e, MassVariant::Redistributed, Some(0.1));
+        let standard = Model::of_box(&mesh, &e, MassVariant::Standard, Some(0.1));
+        let redistributed = Model::of_box(&mesh, &e, MassVariant::Redistributed, Some(0.1));
         assert!(standard.massless_dofs().is_empty());
         assert!(!standard.contact_is_massless());
         let mut expected: Vec<usize> = mesh
@@ -646,7 +648,7 @@ fn contact_set_constrains_the_normal_displacement_of_the_bottom_nodes() {
     for mesh in meshes() {
         let d = mesh.dim();
         let gap = 0.2;
-        let set = mesh.contact_set(gap);
+        let set = ContactSet::on_box_face(&mesh, gap);
         let expected_len: usize = mesh.counts()[..d - 1].iter().map(|n| n + 1).product();
         assert_eq!(set.len(), expected_len);
         assert!(set.gaps.iter().all(|&g| g == gap));
@@ -669,11 +671,10 @@ fn contact_set_constrains_the_normal_displacement_of_the_bottom_nodes() {
         let mut values = vec![0.0; set.len()];
         set.gaps_of(&u, &mut values);
         assert!(values.iter().all(|&v| (v - (gap - 0.3)).abs() < 1e-15));
-        let model = mesh.model(&STEEL_LIKE, MassVariant::Standard, None);
+        let model = Model::of_box(&mesh, &STEEL_LIKE, MassVariant::Standard, None);
         assert_eq!(model.contact(), None);
         assert_eq!(
-            mesh.model(&STEEL_LIKE, MassVariant::Standard, Some(gap))
-                .contact(),
+            Model::of_box(&mesh, &STEEL_LIKE, MassVariant::Standard, Some(gap)).contact(),
             Some(&set)
         );
     }
@@ -748,7 +749,7 @@ fn dynamic_smoke(mesh: &BoxMesh) {
         v
     });
     for variant in MassVariant::ALL {
-        let model = mesh.model(&Elasticity::NOTE, variant, Some(gap));
+        let model = Model::of_box(mesh, &Elasticity::NOTE, variant, Some(gap));
         let contact = model.contact().unwrap().clone();
         let mut integ = integrator(&model, Scheme::CRANK_NICOLSON, dt, &u0, &v0).unwrap();
         let e0 = model.energy(integ.displacement(), integ.velocity());
@@ -812,7 +813,7 @@ fn assembly_timing_of_the_8x8x80_hex_mesh() {
         let m = mesh.mass(MassVariant::Standard, e.density);
         let t_m = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let model = mesh.model(&e, MassVariant::Redistributed, Some(0.2));
+        let model = Model::of_box(&mesh, &e, MassVariant::Redistributed, Some(0.2));
         let t_model = t.elapsed().as_secs_f64();
         println!(
             "8x8x80 hex: {} dofs, {} stiffness nonzeros; stiffness {:.3} s, mass {:.3} s, model (M^mod + S + contact) {:.3} s",

@@ -242,8 +242,7 @@ fn a_scene_declares_its_ensemble_and_bad_values_name_the_field() {
     };
     let mut box_scene = read("scenes/bar2d.json");
     let declared = Scene::parse(&box_scene.to_string(), Path::new("bar2d.json")).unwrap();
-    assert!(declared
-        .elastic_study_config()
+    assert!(ElasticStudyConfig::from_scene(&declared, None)
         .unwrap()
         .sensitivity
         .is_some());

@@ -9,7 +9,7 @@ use signorini::model::Model;
 use signorini::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
 
 fn setup(mesh: &BoxMesh, mass: MassVariant) -> (Model, Vec<f64>, Vec<f64>) {
-    let model = mesh.model(&Elasticity::NOTE, mass, Some(0.2));
+    let model = signorini::model::Model::of_box(mesh, &Elasticity::NOTE, mass, Some(0.2));
     let u0 = vec![0.0; model.n_dofs()];
     let d = mesh.dim();
     let v0 = mesh.interpolate(|_| {

@@ -323,9 +323,7 @@ fn penalty_crank_nicolson_balance_holds_with_many_contact_nodes_in_2d() {
     for mass in MassVariant::ALL {
         let law =
             ContactLaw::boxed(treatment("penalty(gamma0=10)"), &mesh, &Elasticity::NOTE).unwrap();
-        let model = mesh
-            .model(&Elasticity::NOTE, mass, Some(0.2))
-            .with_contact_law(law);
+        let model = Model::of_box(&mesh, &Elasticity::NOTE, mass, Some(0.2)).with_contact_law(law);
         let u0 = vec![0.0; model.n_dofs()];
         let v0 = mesh.interpolate(|_| [0.0, -0.5, 0.0]);
         let dt = mesh.element_sizes()[1] / 2.0;

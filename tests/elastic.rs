@@ -10,6 +10,7 @@ use common::{expect_error, signorini, success_stdout};
 
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::MassVariant;
+use signorini::model::Model;
 use signorini::schemes::energy_balance::BalanceMonitor;
 use signorini::schemes::{integrator, Scheme};
 
@@ -22,7 +23,7 @@ fn backward_euler_balance_holds_every_step_in_2d_and_3d() {
         BoxMesh::note_3d(2, 2, 8).unwrap(),
     ] {
         for mass in MassVariant::ALL {
-            let model = mesh.model(&Elasticity::NOTE, mass, Some(0.2));
+            let model = Model::of_box(&mesh, &Elasticity::NOTE, mass, Some(0.2));
             let d = mesh.dim();
             let u0 = vec![0.0; model.n_dofs()];
             let v0 = mesh.interpolate(|_| {

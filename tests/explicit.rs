@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 use nalgebra::DMatrix;
 use signorini::contact::ContactTreatment;
 use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
-use signorini::error::{Error, SolveError};
+use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
@@ -87,7 +87,7 @@ fn cfl_violation_is_a_typed_error_naming_the_bound() {
         let v0 = vec![0.0; u0.len()];
         let too_large = integrator(&model, Scheme::CENTRAL_DIFFERENCE, bound * 1.01, &u0, &v0);
         match too_large {
-            Err(Error::Solve(SolveError::CflViolated {
+            Err(EngineError::Solve(SolveError::CflViolated {
                 dt,
                 bound: b,
                 gamma,

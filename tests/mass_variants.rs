@@ -215,7 +215,12 @@ fn box_variants_keep_the_mass_per_component() {
                     assert!(close(a, b), "{d}D {mass} first moment {c}: {a} vs {b}");
                 }
             }
-            let model = mesh.model(&signorini::fem::Elasticity::NOTE, mass, Some(0.2));
+            let model = signorini::model::Model::of_box(
+                &mesh,
+                &signorini::fem::Elasticity::NOTE,
+                mass,
+                Some(0.2),
+            );
             let contact_dofs: Vec<usize> = mesh
                 .contact_nodes()
                 .into_iter()

@@ -5,9 +5,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use signorini::fem::MassVariant;
+use signorini::figures::convergence::convergence_figures;
 use signorini::figures::from_reports::{
-    convergence_figures, reports_index, scheme_figures, stability_figures, write_figures,
-    SchemeHistories,
+    reports_index, scheme_figures, stability_figures, write_figures, SchemeHistories,
 };
 use signorini::figures::FigureError;
 use signorini::norms::Norm;

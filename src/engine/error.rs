@@ -1,0 +1,131 @@
+//! Typed errors of the engine: parameters out of range and failed solves.
+//!
+//! Every message names the parameter (or the step and the quantity) and the allowed range, so
+//! that a user reading it knows what to change.
+
+use thiserror::Error;
+
+/// A parameter outside its allowed range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid {name} = {value}: allowed {allowed}")]
+pub struct ParameterError {
+    /// The parameter's name as the user writes it (e.g. `nx`, `dt`, `beta`).
+    pub name: &'static str,
+    /// The rejected value, formatted.
+    pub value: String,
+    /// The allowed values or range, in words.
+    pub allowed: &'static str,
+}
+
+impl ParameterError {
+    /// A parameter error for `name` with the offending `value`.
+    pub fn new(name: &'static str, value: impl ToString, allowed: &'static str) -> Self {
+        Self {
+            name,
+            value: value.to_string(),
+            allowed,
+        }
+    }
+}
+
+/// Checks `value` is finite and strictly positive.
+pub fn require_positive(name: &'static str, value: f64) -> Result<f64, ParameterError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ParameterError::new(name, value, "a finite number > 0"))
+    }
+}
+
+/// Checks `value` is finite and lies in the closed interval `[lo, hi]`.
+pub fn require_in(
+    name: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<f64, ParameterError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(ParameterError::new(name, value, allowed))
+    }
+}
+
+/// A failure while time stepping.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolveError {
+    /// The system matrix could not be factorised (not symmetric positive definite).
+    #[error("the {matrix} matrix is not symmetric positive definite ({detail})")]
+    Factorization {
+        /// Which matrix (e.g. `Newmark system`).
+        matrix: &'static str,
+        /// What the factorisation reported.
+        detail: String,
+    },
+    /// The contact complementarity problem was not solved.
+    #[error("contact solver did not converge at step {step} after {iterations} iterations")]
+    ContactNotConverged {
+        /// Time step index.
+        step: usize,
+        /// Iterations spent.
+        iterations: usize,
+    },
+    /// Explicit Newmark with `Δt` above its stability bound (checked before the first step).
+    #[error(
+        "time step too large for explicit Newmark (β = 0, γ = {gamma}): Δt = {dt:.6e} but the CFL \
+         bound is Δt ≤ √(2/γ)/ω_max = {bound:.6e} (2/ω_max for central differences; ω_max² the \
+         largest eigenvalue of S x = ω² M x on the dofs with mass); use a Δt at least {:.3} times \
+         smaller (a larger ratio Δx/Δt)",
+        dt / bound
+    )]
+    CflViolated {
+        /// The requested time step.
+        dt: f64,
+        /// The largest stable time step `√(2/γ)/ω_max`.
+        bound: f64,
+        /// Newmark's γ.
+        gamma: f64,
+    },
+    /// Explicit Newmark with a contact dof that carries mass.
+    #[error(
+        "explicit contact requires a mass variant whose contact dofs are massless (redistributed, \
+         redistributed-conserving or singular-dynamic): contact dof {dof} has mass"
+    )]
+    ExplicitContactWithMass {
+        /// The first contact dof with mass.
+        dof: usize,
+    },
+    /// A state value became NaN or infinite.
+    #[error("non-finite {quantity} at step {step} (t = {time})")]
+    NonFinite {
+        /// Time step index.
+        step: usize,
+        /// Time of the step.
+        time: f64,
+        /// Which quantity (`displacement`, `velocity`, `multiplier`, `energy`).
+        quantity: &'static str,
+    },
+}
+
+impl SolveError {
+    /// Whether the error is a choice of parameters the user can change before running (the
+    /// CFL bound, explicit contact with mass) rather than a failure of the computation.
+    pub fn is_usage(&self) -> bool {
+        matches!(
+            self,
+            SolveError::CflViolated { .. } | SolveError::ExplicitContactWithMass { .. }
+        )
+    }
+}
+
+/// Any error of the engine: a parameter out of range or a failed solve.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Error {
+    /// A parameter out of range.
+    #[error(transparent)]
+    Parameter(#[from] ParameterError),
+    /// Time stepping failed.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}

@@ -1,0 +1,193 @@
+//! A 1D problem as the engine sees it: the bar, its obstacle and load, the initial data, the
+//! reference solution and the horizon. Scene files (`crate::harness::scene`) are parsed into this.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::error::ParameterError;
+use crate::engine::exact::{ExactSolution, Pointwise};
+use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
+use crate::engine::model::Model;
+
+/// A spatial profile of initial data.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Profile {
+    /// The reference solution at `t = 0` (its displacement or velocity).
+    #[default]
+    Reference,
+    /// The same value everywhere.
+    Constant(f64),
+    /// Linear from `at_start` (x = 0) to `at_end` (x = L).
+    Affine {
+        /// Value at `x = 0`.
+        at_start: f64,
+        /// Value at `x = L`.
+        at_end: f64,
+    },
+}
+
+impl Profile {
+    /// The nodal interpolant as a dof vector; `pick` selects `u` or `u_t` of the reference.
+    pub fn interpolate(
+        &self,
+        bar: &Bar1d,
+        exact: &dyn ExactSolution,
+        pick: impl Fn(Pointwise) -> f64,
+    ) -> Vec<f64> {
+        match *self {
+            Profile::Reference => bar.interpolate(|x| pick(exact.eval(x, 0.0))),
+            Profile::Constant(c) => bar.interpolate(|_| c),
+            Profile::Affine { at_start, at_end } => {
+                let l = bar.length();
+                bar.interpolate(|x| at_start + (at_end - at_start) * x / l)
+            }
+        }
+    }
+}
+
+/// A seeded random perturbation of initial data: of a bar's displacement ("rough data"), of a
+/// box's velocity (the members of a round-off ensemble).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Perturbation {
+    /// Each dof moves by a uniform amount in `[−amplitude, amplitude]`.
+    pub amplitude: f64,
+    /// The seed: the same seed gives the same data.
+    pub seed: u64,
+}
+
+impl Perturbation {
+    /// Adds the perturbation to every dof of `u` except `contact_dofs` (displacement data stay
+    /// admissible when they are the contact dofs).
+    pub fn apply(&self, u: &mut [f64], contact_dofs: &[usize]) {
+        let mut rng = fastrand::Rng::with_seed(self.seed);
+        for (i, ui) in u.iter_mut().enumerate() {
+            let shift = self.amplitude * (2.0 * rng.f64() - 1.0);
+            if !contact_dofs.contains(&i) {
+                *ui += shift;
+            }
+        }
+    }
+}
+
+/// Initial displacement and velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialData {
+    /// `u(·, 0)`.
+    #[serde(default)]
+    pub displacement: Profile,
+    /// `u_t(·, 0)`.
+    #[serde(default)]
+    pub velocity: Profile,
+    /// An optional seeded perturbation of the displacement.
+    #[serde(default)]
+    pub perturbation: Option<Perturbation>,
+    /// A sensitivity ensemble member's round-off-size perturbation of the displacement, added
+    /// after `perturbation` (set by `crate::harness::sensitivity`, never read from a scene).
+    #[serde(skip)]
+    pub round_off: Option<Perturbation>,
+}
+
+/// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
+/// initial data and the reference, and the horizon.
+#[derive(Debug, Clone)]
+pub struct Problem1d {
+    /// Bar length `L`.
+    pub length: f64,
+    /// Density `ρ`.
+    pub density: f64,
+    /// Wave speed `c`.
+    pub wave_speed: f64,
+    /// Condition at `x = L`.
+    pub far_end: EndCondition,
+    /// Gap to the obstacle at `x = 0`; `None`: no obstacle.
+    pub obstacle_gap: Option<f64>,
+    /// Constant body force density; `None`: no load.
+    pub body_force: Option<f64>,
+    /// The exact solution (the reference of every error norm).
+    pub exact: Arc<dyn ExactSolution>,
+    /// The initial displacement and velocity.
+    pub initial: InitialData,
+    /// Horizon `T`.
+    pub horizon: f64,
+    /// How the contact condition is discretised (default: the multiplier).
+    pub contact: ContactTreatment,
+}
+
+impl Problem1d {
+    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
+    pub fn signorini_dirichlet(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: Some(0.0),
+            body_force: None,
+            exact: Arc::new(crate::engine::exact::SignoriniDirichlet),
+            initial: InitialData::default(),
+            horizon,
+            contact: ContactTreatment::Multiplier,
+        }
+    }
+
+    /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
+    pub fn free_vibration(horizon: f64) -> Self {
+        Self {
+            length: 1.0,
+            density: 1.0,
+            wave_speed: 1.0,
+            far_end: EndCondition::Clamped,
+            obstacle_gap: None,
+            body_force: None,
+            exact: Arc::new(crate::engine::exact::ClampedFreeMode),
+            initial: InitialData::default(),
+            horizon,
+            contact: ContactTreatment::Multiplier,
+        }
+    }
+}
+
+impl Problem1d {
+    /// The mesh with `nx` elements and the model assembled from what the problem declares:
+    /// a contact set (with the problem's contact treatment) only with an obstacle, a load
+    /// vector only with a body force. A treatment other than the multiplier needs an obstacle.
+    pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
+        let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
+        bar.check_mass(mass)?;
+        let mut model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
+        if self.contact != ContactTreatment::Multiplier {
+            if self.obstacle_gap.is_none() {
+                return Err(ParameterError::new(
+                    "contact",
+                    self.contact,
+                    "multiplier for a problem without obstacle",
+                ));
+            }
+            model = model.with_contact_law(ContactLaw::bar1d(self.contact, &bar)?);
+        }
+        Ok((bar, model))
+    }
+
+    /// The initial displacement and velocity as dof vectors: the nodal interpolants of the
+    /// declared profiles, then the seeded perturbations (the declared one, then an ensemble
+    /// member's round-off one; each if any) added to every displacement dof except the contact
+    /// dofs of `model`. Every run builds its initial data here.
+    pub fn initial_dofs(&self, bar: &Bar1d, model: &Model) -> (Vec<f64>, Vec<f64>) {
+        let exact = self.exact.as_ref();
+        let mut u0 = self.initial.displacement.interpolate(bar, exact, |p| p.u);
+        let v0 = self.initial.velocity.interpolate(bar, exact, |p| p.ut);
+        let contact_dofs = model.contact().map_or(&[][..], |c| &c.dofs[..]);
+        for p in [&self.initial.perturbation, &self.initial.round_off]
+            .into_iter()
+            .flatten()
+        {
+            p.apply(&mut u0, contact_dofs);
+        }
+        (u0, v0)
+    }
+}

@@ -1,0 +1,424 @@
+//! The discrete energy balances of the 1D paper, eqs. (33), (35) and (37) (§3.2, derived in its
+//! Appendix): how each scheme's energy changes over one step. Each function takes the states
+//! of a step and returns its [`StepBalance`]: the energy at both ends, its change, and the
+//! change the balance predicts; the [residual](StepBalance::residual) is zero up to round-off
+//! when the scheme solved its equations.
+//!
+//! The change is evaluated in the difference form the Appendix starts from, eq. (43):
+//! `ΔE = ½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU` (and its analogue for the
+//! two-level energies), equal to `E^{n+1} − E^n` in exact arithmetic. Subtracting the two
+//! energies instead loses the digits of `½UᵀSU`, a sum of terms of size `|S| |U|² ∝ 1/h²`: on
+//! the Dirichlet benchmark that round-off grows six- to eightfold per mesh halving, to 10⁻⁸ of
+//! the energy at NX = 1280, where the difference form leaves the scheme's own round-off
+//! (10⁻¹² there, see [`BALANCE_TOLERANCE`]).
+//!
+//! | scheme | energy | balance |
+//! |---|---|---|
+//! | Newmark(β, γ), eq. (32), β = 0 included | `E^n = E_h(U^n, V^n)` | eq. (33) for every (β, γ): [`newmark`] |
+//! | θ-method, eq. (34) | `E^n = E_h(U^n, V^n)` | eq. (35): [`theta`] |
+//! | Paoli–Schatzman, eq. (36) | half-step `E^{n+½}` ([`HalfStep::energy`]) | eq. (37) before the complementarity substitution: [`paoli_schatzman`] |
+//! | explicit Newmark(0, ½) | staggered `E^{n+½}` ([`staggered_energy`]) | the same identity for the energy it reports: [`central_difference`] |
+//!
+//! `E_h(U, V) = ½ VᵀMV + ½ UᵀSU − FᵀU` is eq. (31) with the load's potential written `−FᵀU`
+//! (the printed `−U_tᵀF` is an erratum, see README), without the contact energy of a penalty
+//! or Nitsche treatment: with those treatments the same identities hold with `Bᵀλ` replaced by
+//! `Σ_i λ_i f_i`, `f_i` the force vectors of the law's constraints ([`ConstraintRow::force`];
+//! `f_i = e_{c_i}` for the multiplier) and `S` the integrated (for Nitsche, modified)
+//! stiffness. Below `ΔU = U^{n+1} − U^n`, `ΔV = V^{n+1} − V^n`, `Δλ = λ^{n+1} − λ^n`.
+//!
+//! **Newmark, eq. (33).** The Appendix's identity for every (β, γ), from (32a–c) at both
+//! levels:
+//! `ΔE = (½ − γ) ΔUᵀSΔU − ΔUᵀBᵀΛ_γ + Δt(β − γ/2) ΔVᵀSΔU + Δt(β − γ/2) ΔVᵀBᵀΔλ`,
+//! `Λ_γ = (1 − γ)λ^n + γλ^{n+1}`. The third term's sign follows from (46); the Appendix's last
+//! display prints it negative, an erratum (`tests/energy_balance.rs` shows the printed sign
+//! leaves a residual far above round-off). For Crank–Nicolson, (β, γ) = (¼, ½), only the
+//! second term is left: eq. (33), `ΔE = −ΔUᵀBᵀΛ_½` (the paper's `V_h^n` is `ΔU`). With β = 0
+//! the identity holds for the explicit scheme too: its massless rows satisfy (32c) statically,
+//! and `M` has zero rows and columns there.
+//!
+//! **θ-method, eq. (35)** as printed: `ΔE = (½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀΛ_θ`,
+//! `Λ_θ = (1 − θ)λ^n + θλ^{n+1}` (the paper's `V_{h,t}^n` is `ΔV`, its `V_h^n` is `ΔU`).
+//!
+//! **Paoli–Schatzman, eq. (37).** Multiplying eq. (36) by `½(U^{n+1} − U^{n−1})` gives, for every
+//! β > 0 and with the projection `P` off `ker M`,
+//! `E^{n+½} − E^{n−½} = ½ (U^{n+1} − U^{n−1})ᵀ [−Bᵀλ^n + Q((1 − 2β) R(U^n) + β R(U^{n−1}))]`,
+//! `Q = I − P`, `R(U) = SU − F`. For the standard mass `Q = 0`; with the complementarity
+//! `λ^n ((u^{n+1} + e u^{n−1})/(1 + e) + g) = 0` this is eq. (37),
+//! `ΔE = ½ (1 + e) λ^n (u_0^{n−1} + g)` (gap `g = 0` in the paper). The function returns the
+//! identity before that substitution, which holds to round-off whatever the contact solver's
+//! tolerance.
+//!
+//! **Explicit Newmark(0, ½).** With γ = ½ the rows with and without mass together read
+//! `M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + S U^n = F − Bᵀλ^n`; multiplied by `U^{n+1} − U^{n−1}`,
+//! `E^{n+½} − E^{n−½} = −½ λ^nᵀ B (U^{n+1} − U^{n−1})` for the staggered energy it reports.
+//!
+//! [`BalanceMonitor`] evaluates the balance of a running integrator after every step (used by
+//! `signorini run --check-balance` and the stability suite).
+
+use super::newmark::staggered_energy;
+use super::paoli_schatzman::HalfStep;
+use super::{residual_force, Scheme, TimeIntegrator};
+use crate::engine::contact::law::{sparse_dot, ConstraintRow};
+use crate::engine::model::Model;
+
+/// The largest relative per-step residual ([`BalanceMonitor::largest_residual`]) that
+/// `signorini run --check-balance` accepts. Round-off leaves about 10⁻¹⁴ on the Dirichlet
+/// benchmark at NX = 20 and grows with `1/Δt²` (the schemes recover `A^{n+1}` from `U^{n+1}`
+/// by dividing by `bΔt²`): 10⁻¹² at NX = 1280 and 2·10⁻¹¹ at the stability suite's extremes
+/// (NX = 5000; Δx/Δt = 1000 at NX = 40). A step that misses one term of its equations leaves
+/// 10⁻⁶ of the energy or more (`tests/energy_balance.rs`).
+pub const BALANCE_TOLERANCE: f64 = 1e-9;
+
+/// One step of a balance: the discrete energy at both ends, its change, and the change the
+/// balance law predicts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepBalance {
+    /// The energy at the start of the step (`E^n`, or `E^{n−½}` for the two-level energies).
+    pub energy_before: f64,
+    /// The energy at the end of the step (`E^{n+1}`, or `E^{n+½}`).
+    pub energy_after: f64,
+    /// `E_after − E_before` in the difference form of eq. (43) (see the module documentation).
+    pub change: f64,
+    /// The right-hand side of the balance law.
+    pub predicted_change: f64,
+}
+
+impl StepBalance {
+    /// The change minus the predicted one.
+    pub fn residual(&self) -> f64 {
+        self.change - self.predicted_change
+    }
+}
+
+/// One time level `(U^n, V^n, λ^n)` of a one-step scheme.
+#[derive(Debug, Clone, Copy)]
+pub struct Level<'a> {
+    /// `U^n`.
+    pub displacement: &'a [f64],
+    /// `V^n`.
+    pub velocity: &'a [f64],
+    /// `λ^n`, one per contact constraint.
+    pub multiplier: &'a [f64],
+}
+
+impl<'a> Level<'a> {
+    /// The current level of an integrator (its [`TimeIntegrator::scheme_multiplier`]).
+    pub fn of(integrator: &'a dyn TimeIntegrator) -> Self {
+        Self {
+            displacement: integrator.displacement(),
+            velocity: integrator.velocity(),
+            multiplier: integrator.scheme_multiplier(),
+        }
+    }
+}
+
+/// The displacements `U^{n−1}`, `U^n`, `U^{n+1}` of a step of a two-step form, with the multiplier
+/// `λ^n` of the middle level.
+#[derive(Debug, Clone, Copy)]
+pub struct ThreeLevels<'a> {
+    /// `U^{n−1}`.
+    pub earlier: &'a [f64],
+    /// `U^n`.
+    pub current: &'a [f64],
+    /// `U^{n+1}`.
+    pub later: &'a [f64],
+    /// `λ^n`, one per contact constraint.
+    pub multiplier: &'a [f64],
+}
+
+/// `E_h(U, V) = ½VᵀMV + ½UᵀSU − FᵀU`, the model's energy without its contact energy.
+fn mechanical_energy(model: &Model, level: &Level) -> f64 {
+    model.energy(level.displacement, level.velocity) - model.contact_energy(level.displacement)
+}
+
+/// The contact constraints of `model` (none without an obstacle).
+fn constraints(model: &Model) -> Vec<ConstraintRow> {
+    model
+        .contact()
+        .map_or_else(Vec::new, |c| model.contact_law().rows(c))
+}
+
+/// `Σ_i w_i f_iᵀ x` over the constraints, `f_i` their force vectors.
+fn contact_work(rows: &[ConstraintRow], x: &[f64], weights: impl Fn(usize) -> f64) -> f64 {
+    rows.iter()
+        .enumerate()
+        .map(|(i, row)| sparse_dot(&row.force, x) * weights(i))
+        .sum()
+}
+
+fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+fn sum(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
+}
+
+/// `Fᵀx` (0 without a load).
+fn load_work(model: &Model, x: &[f64]) -> f64 {
+    model
+        .load()
+        .map_or(0.0, |f| f.iter().zip(x).map(|(a, b)| a * b).sum())
+}
+
+/// `E_h(after) − E_h(before)` in the form of eq. (43) with the load:
+/// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`.
+fn mechanical_energy_change(
+    model: &Model,
+    before: &Level,
+    after: &Level,
+    du: &[f64],
+    dv: &[f64],
+) -> f64 {
+    let u_sum = sum(after.displacement, before.displacement);
+    let v_sum = sum(after.velocity, before.velocity);
+    0.5 * model.mass().bilinear_form(dv, &v_sum) + 0.5 * model.stiffness().bilinear_form(du, &u_sum)
+        - load_work(model, du)
+}
+
+/// The Newmark(β, γ) balance over one step (eq. 33 for every (β, γ), see the module
+/// documentation): `ΔE` against
+/// `(½ − γ) ΔUᵀSΔU − ΔUᵀBᵀΛ_γ + Δt(β − γ/2) ΔVᵀSΔU + Δt(β − γ/2) ΔVᵀBᵀΔλ`.
+pub fn newmark(
+    model: &Model,
+    beta: f64,
+    gamma: f64,
+    dt: f64,
+    before: &Level,
+    after: &Level,
+) -> StepBalance {
+    let du = difference(after.displacement, before.displacement);
+    let dv = difference(after.velocity, before.velocity);
+    let s = model.stiffness();
+    let rows = constraints(model);
+    let (l0, l1) = (before.multiplier, after.multiplier);
+    let work = contact_work(&rows, &du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
+    let impulse_change = contact_work(&rows, &dv, |i| l1[i] - l0[i]);
+    StepBalance {
+        energy_before: mechanical_energy(model, before),
+        energy_after: mechanical_energy(model, after),
+        change: mechanical_energy_change(model, before, after, &du, &dv),
+        predicted_change: (0.5 - gamma) * s.quadratic_form(&du) - work
+            + dt * (beta - 0.5 * gamma) * s.bilinear_form(&dv, &du)
+            + dt * (beta - 0.5 * gamma) * impulse_change,
+    }
+}
+
+/// The θ-method balance over one step, eq. (35): `ΔE` against
+/// `(½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀΛ_θ`.
+pub fn theta(model: &Model, theta: f64, before: &Level, after: &Level) -> StepBalance {
+    let du = difference(after.displacement, before.displacement);
+    let dv = difference(after.velocity, before.velocity);
+    let rows = constraints(model);
+    let (l0, l1) = (before.multiplier, after.multiplier);
+    let work = contact_work(&rows, &du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
+    StepBalance {
+        energy_before: mechanical_energy(model, before),
+        energy_after: mechanical_energy(model, after),
+        change: mechanical_energy_change(model, before, after, &du, &dv),
+        predicted_change: (0.5 - theta) * model.mass().quadratic_form(&dv)
+            + (0.5 - theta) * model.stiffness().quadratic_form(&du)
+            - work,
+    }
+}
+
+/// The Paoli–Schatzman(β) balance over the step from `U^n` to `U^{n+1}`, `λ^n` the multiplier
+/// of eq. (36) (eq. 37 before the complementarity substitution, see the module
+/// documentation): `E^{n+½} − E^{n−½}` against
+/// `½ (U^{n+1} − U^{n−1})ᵀ [−Bᵀλ^n + Q((1 − 2β) R(U^n) + β R(U^{n−1}))]`.
+pub fn paoli_schatzman(model: &Model, beta: f64, dt: f64, levels: &ThreeLevels) -> StepBalance {
+    let n = levels.current.len();
+    let mut bracket = vec![0.0; n];
+    let massless = model.massless_dofs();
+    if !massless.is_empty() {
+        let (mut r_now, mut r_prev) = (vec![0.0; n], vec![0.0; n]);
+        residual_force(model, levels.current, &mut r_now);
+        residual_force(model, levels.earlier, &mut r_prev);
+        for &z in massless {
+            bracket[z] = (1.0 - 2.0 * beta) * r_now[z] + beta * r_prev[z];
+        }
+    }
+    for (row, l) in constraints(model).iter().zip(levels.multiplier) {
+        for &(k, c) in &row.force {
+            bracket[k] -= c * l;
+        }
+    }
+    let span = difference(levels.later, levels.earlier);
+    let (past, next) = (
+        HalfStep::between(dt, levels.earlier, levels.current),
+        HalfStep::between(dt, levels.current, levels.later),
+    );
+    let (dv, v_sum) = (
+        difference(&next.velocity, &past.velocity),
+        sum(&next.velocity, &past.velocity),
+    );
+    let (dm, m_sum) = (
+        difference(&next.mean, &past.mean),
+        sum(&next.mean, &past.mean),
+    );
+    let (m, s) = (model.mass(), model.stiffness());
+    StepBalance {
+        energy_before: past.energy(model, beta, dt),
+        energy_after: next.energy(model, beta, dt),
+        change: 0.5 * m.bilinear_form(&dv, &v_sum)
+            + 0.5 * (beta - 0.25) * dt * dt * s.bilinear_form(&dv, &v_sum)
+            + 0.5 * s.bilinear_form(&dm, &m_sum)
+            - load_work(model, &dm),
+        predicted_change: 0.5 * span.iter().zip(&bracket).map(|(a, b)| a * b).sum::<f64>(),
+    }
+}
+
+/// The balance of explicit Newmark(0, ½) for the staggered energy it reports, over the step
+/// from `U^n` to `U^{n+1}`: `E^{n+½} − E^{n−½}` against `−½ λ^nᵀ B (U^{n+1} − U^{n−1})` (see the
+/// module documentation).
+pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepBalance {
+    let span = difference(levels.later, levels.earlier);
+    let work = contact_work(&constraints(model), &span, |i| levels.multiplier[i]);
+    let velocity =
+        |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| (x - y) / dt).collect() };
+    let (past, next) = (
+        velocity(levels.current, levels.earlier),
+        velocity(levels.later, levels.current),
+    );
+    StepBalance {
+        energy_before: staggered_energy(model, dt, levels.earlier, levels.current),
+        energy_after: staggered_energy(model, dt, levels.current, levels.later),
+        change: 0.5
+            * model
+                .mass()
+                .bilinear_form(&difference(&next, &past), &sum(&next, &past))
+            + 0.5 * model.stiffness().bilinear_form(levels.current, &span)
+            - 0.5 * load_work(model, &span),
+        predicted_change: -0.5 * work,
+    }
+}
+
+/// The paper's equation of `scheme`'s balance: `(33)` for Newmark (β = 0 included), `(35)` for
+/// the θ-method, `(37)` for Paoli–Schatzman.
+pub fn equation(scheme: Scheme) -> &'static str {
+    match scheme {
+        Scheme::Newmark { .. } => "(33)",
+        Scheme::Theta { .. } => "(35)",
+        Scheme::PaoliSchatzman { .. } => "(37)",
+    }
+}
+
+/// Evaluates the balance of a scheme after every step of its integrator: [`newmark`] for every
+/// Newmark scheme (explicit ones included, with `E_h(U^n, V^n)`), [`theta`] for the θ-method,
+/// [`paoli_schatzman`] for Paoli–Schatzman from its second step on (the first is its Newmark
+/// start). Each step's residual is taken relative to the energy scale
+/// `max(|E^0|, |E_before|, |E_after|)` (absolute where all three vanish).
+#[derive(Debug)]
+pub struct BalanceMonitor<'m> {
+    model: &'m Model,
+    scheme: Scheme,
+    dt: f64,
+    /// The step index of the last observed state, `None` before the first observation.
+    step: Option<usize>,
+    /// `|E(U^0, V^0)|`.
+    initial_energy: f64,
+    /// `U^{n−1}` (Paoli–Schatzman); empty until two consecutive states were observed.
+    earlier: Vec<f64>,
+    displacement: Vec<f64>,
+    velocity: Vec<f64>,
+    multiplier: Vec<f64>,
+    balanced_steps: usize,
+    largest: f64,
+}
+
+impl<'m> BalanceMonitor<'m> {
+    /// A monitor for `scheme` run on `model` with step `dt`.
+    pub fn new(model: &'m Model, scheme: Scheme, dt: f64) -> Self {
+        Self {
+            model,
+            scheme,
+            dt,
+            step: None,
+            initial_energy: 0.0,
+            earlier: Vec::new(),
+            displacement: Vec::new(),
+            velocity: Vec::new(),
+            multiplier: Vec::new(),
+            balanced_steps: 0,
+            largest: 0.0,
+        }
+    }
+
+    /// Records the integrator's state; when it is one step past the last recorded state,
+    /// first evaluates the balance of that step, keeps its relative residual and returns it.
+    /// Call it before the first step and after every step.
+    pub fn observe(&mut self, integrator: &dyn TimeIntegrator) -> Option<StepBalance> {
+        let step = integrator.step_index();
+        let follows = self.step.is_some_and(|last| step == last + 1);
+        let balance = if follows {
+            self.balance(integrator, step)
+        } else {
+            if self.step.is_none() {
+                self.initial_energy = integrator.energy().value.abs();
+            }
+            None
+        };
+        if follows {
+            std::mem::swap(&mut self.earlier, &mut self.displacement);
+        } else {
+            self.earlier.clear();
+        }
+        copy_into(&mut self.displacement, integrator.displacement());
+        copy_into(&mut self.velocity, integrator.velocity());
+        copy_into(&mut self.multiplier, integrator.scheme_multiplier());
+        self.step = Some(step);
+        let b = balance?;
+        let scale = self
+            .initial_energy
+            .max(b.energy_before.abs())
+            .max(b.energy_after.abs());
+        let relative = b.residual().abs() / if scale > 0.0 { scale } else { 1.0 };
+        self.balanced_steps += 1;
+        if relative > self.largest || relative.is_nan() {
+            self.largest = relative;
+        }
+        Some(b)
+    }
+
+    fn balance(&self, integrator: &dyn TimeIntegrator, step: usize) -> Option<StepBalance> {
+        let before = Level {
+            displacement: &self.displacement,
+            velocity: &self.velocity,
+            multiplier: &self.multiplier,
+        };
+        let after = Level::of(integrator);
+        match self.scheme {
+            Scheme::Newmark { beta, gamma } => {
+                Some(newmark(self.model, beta, gamma, self.dt, &before, &after))
+            }
+            Scheme::Theta { theta: t } => Some(theta(self.model, t, &before, &after)),
+            Scheme::PaoliSchatzman { beta, .. } => {
+                (step >= 2 && !self.earlier.is_empty()).then(|| {
+                    let levels = ThreeLevels {
+                        earlier: &self.earlier,
+                        current: &self.displacement,
+                        later: integrator.displacement(),
+                        multiplier: integrator.scheme_multiplier(),
+                    };
+                    paoli_schatzman(self.model, beta, self.dt, &levels)
+                })
+            }
+        }
+    }
+
+    /// The largest relative residual of the steps balanced so far (0 before any; NaN once a
+    /// residual was NaN).
+    pub fn largest_residual(&self) -> f64 {
+        self.largest
+    }
+
+    /// How many steps were balanced.
+    pub fn balanced_steps(&self) -> usize {
+        self.balanced_steps
+    }
+}
+
+fn copy_into(target: &mut Vec<f64>, source: &[f64]) {
+    target.clear();
+    target.extend_from_slice(source);
+}

@@ -1,0 +1,105 @@
+//! Time integrators of the 1D paper (§3.2), written against [`Model`], each equation in the
+//! file named after it:
+//!
+//! | file | what | paper |
+//! |---|---|---|
+//! | [`newmark`] | Newmark(β, γ): its coefficients, the explicit member β = 0 ([`ExplicitNewmark`]) and the start ([`initial_state`], `A^0` from eq. 32c) | eq. (32) |
+//! | [`theta`] | the θ-method's coefficients | eq. (34) |
+//! | [`one_step`] | the common form of (32) with β > 0 and (34), contact at `t_{n+1}` ([`OneStepScheme`]) | eqs. (32), (34) |
+//! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
+//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37) |
+//! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
+//! | [`cfl`] | the stability bound of explicit Newmark | — |
+//! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
+//! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
+//!
+//! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
+
+pub mod cfl;
+pub mod energy_balance;
+pub mod factory;
+pub mod massless;
+pub mod newmark;
+pub mod one_step;
+pub mod paoli_schatzman;
+pub mod scheme;
+pub mod theta;
+
+pub use factory::integrator;
+pub use newmark::{initial_state, ExplicitNewmark};
+#[doc(hidden)]
+pub use one_step::REASSOCIATED_PREDICTOR;
+pub use one_step::{OneStepScheme, StepCoefficients};
+pub use paoli_schatzman::PaoliSchatzman;
+pub use scheme::{Scheme, SCHEME_NAMES};
+
+use crate::engine::error::SolveError;
+use crate::engine::model::Model;
+
+/// A value with the time it approximates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timed<T> {
+    /// The time.
+    pub time: f64,
+    /// The value.
+    pub value: T,
+}
+
+/// `(U^0, V^0, A^0, λ^0)` consistent with the model's equations at `t = 0`, the state every
+/// integrator starts from ([`initial_state`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InitialState {
+    /// Displacement (massless dofs in static equilibrium).
+    pub displacement: Vec<f64>,
+    /// Velocity as given.
+    pub velocity: Vec<f64>,
+    /// Acceleration from eq. (32c) at `t = 0`.
+    pub acceleration: Vec<f64>,
+    /// Contact multipliers `λ^0 ≤ 0`.
+    pub multiplier: Vec<f64>,
+}
+
+/// `R(U) = S U − F` (the internal minus the external force), written into `out`.
+pub fn residual_force(model: &Model, u: &[f64], out: &mut [f64]) {
+    model.stiffness().mul_into(u, out);
+    if let Some(f) = model.load() {
+        out.iter_mut().zip(f).for_each(|(o, fi)| *o -= fi);
+    }
+}
+
+/// A time integrator holding its state `(U^n, V^n, λ^n)`.
+pub trait TimeIntegrator: Send {
+    /// Advances from `t_n` to `t_{n+1}`.
+    fn advance(&mut self) -> Result<(), SolveError>;
+    /// The index `n` of the current state.
+    fn step_index(&self) -> usize;
+    /// `t_n = n Δt`.
+    fn time(&self) -> f64 {
+        self.step_index() as f64 * self.dt()
+    }
+    /// The time step `Δt`.
+    fn dt(&self) -> f64;
+    /// `U^n`.
+    fn displacement(&self) -> &[f64];
+    /// The velocity the scheme carries (`V^n`; `(U^n − U^{n−1})/Δt` at `t_{n−½}` for
+    /// Paoli–Schatzman).
+    fn velocity(&self) -> &[f64];
+    /// The contact multipliers (`λ ≤ 0`, one per contact dof) with the time they approximate.
+    fn multiplier(&self) -> Timed<&[f64]>;
+    /// The multipliers as the scheme's equations carry them, the ones its energy balance
+    /// ([`energy_balance`]) uses: `λ^{n−1}` of eq. (36), which produced `U^n`, for
+    /// Paoli–Schatzman (before the rescaling by `1/β` of a massless contact node); the
+    /// reported [`multiplier`](Self::multiplier) `λ^n` for the other schemes.
+    fn scheme_multiplier(&self) -> &[f64] {
+        self.multiplier().value
+    }
+    /// The scheme's discrete energy with the time it approximates (computed on demand).
+    fn energy(&self) -> Timed<f64>;
+    /// How many steps needed a complementarity solve.
+    fn contact_solves(&self) -> usize;
+    /// Wall-clock seconds spent in those solves.
+    fn contact_seconds(&self) -> f64;
+    /// The largest complementarity violation of any step so far (on the constrained quantity
+    /// of the scheme: `u^{n+1}`, or `(u^{n+1} + e u^{n−1})/(1 + e)` for Paoli–Schatzman).
+    fn complementarity_violation(&self) -> f64;
+}

@@ -1,0 +1,320 @@
+//! The Newmark family, 1D paper eq. (32), with its start and its explicit member β = 0:
+//! ```text
+//! U^{n+1} = U^n + Δt V^n + Δt² ((½ − β) A^n + β A^{n+1})            (32a)
+//! V^{n+1} = V^n + Δt ((1 − γ) A^n + γ A^{n+1})                       (32b)
+//! M A^{n+1} + S U^{n+1} = F − Bᵀλ^{n+1}                              (32c)
+//! 0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0                                     (32d)
+//! ```
+//!
+//! * **β > 0** is implicit: the coefficients `(a, b, c, d) = (½ − β, β, 1 − γ, γ)` of the common
+//!   one-step form ([`StepCoefficients::newmark`]) drive [`super::OneStepScheme`], shared with the
+//!   θ-method ([`super::theta`], eq. 34).
+//! * **β = 0** is explicit ([`ExplicitNewmark`], central differences for γ = ½), with its CFL
+//!   bound ([`super::cfl`]) checked before the run.
+//! * **The start** ([`initial_state`]): `U^0`, `V^0` are given and `A^0` follows from (32c) at
+//!   `t = 0` ("`U_{h,tt}^0` is evaluated by using (32c)"; the same for the θ-method's 34c); it is
+//!   the initial state of every scheme.
+//!
+//! The energy balance of (32) is eq. (33) ([`super::energy_balance::newmark`]).
+//!
+//! # The start with a singular mass
+//!
+//! With the redistributed mass the contact node carries no inertia: its equation is the static
+//! one, `(S U − F + Bᵀλ)_Z = 0` on the massless dofs `Z`, with the contact condition. Given
+//! data need not satisfy it (the Dirichlet benchmark starts with `u_0 = ½` but a strained first
+//! element), so the massless dofs of `U^0` are replaced by the solution of that static contact
+//! problem with the other dofs fixed ([`QuasiStatic`]), which also yields `λ^0`. The initial
+//! acceleration solves `M_RR A_R = (F − S U^0 − Bᵀλ^0)_R` on the dofs `R` that carry mass
+//! (eq. 32c at `t = 0`); `A_Z = 0` (it never enters `M A`).
+//!
+//! For the standard mass `Z` is empty, `U^0` is the given data and `λ^0 = 0`.
+//!
+//! A penalty or Nitsche treatment ([`crate::engine::contact::law`]) makes the force a function of the
+//! displacement: the static problem on `Z` is solved with it, and `λ^0` is that force at `U^0`
+//! (enters eq. 32c with its force vectors `f_i`).
+//!
+//! # Explicit Newmark, β = 0
+//!
+//! Eq. (32) with β = 0, split into the dofs with mass `R` and the massless dofs `Z` (zero rows
+//! of `M`):
+//!
+//! * `U_R^{n+1}` is explicit (32a);
+//! * `U_Z^{n+1}` solves the rows `Z` of (32c), which have no inertia:
+//!   `S_ZZ U_Z = (F − S_ZR U_R)_Z − (Bᵀλ)_Z` with the contact condition, a small
+//!   complementarity problem ([`QuasiStatic`]);
+//! * `A_R^{n+1} = M_RR⁻¹ (F − S U^{n+1})_R` (one solve with `M_RR` factorised once: a diagonal
+//!   for the lumped mass, a band or sparse Cholesky for the consistent ones); `A_Z = 0` and
+//!   `V_Z` is the difference quotient, as in the implicit schemes (they never enter `M A`).
+//!
+//! **Contact.** Every contact dof must be massless (`redistributed`, `redistributed-conserving`,
+//! `singular-dynamic`): then the contact force only acts in the static rows and the step stays
+//! explicit on `R`. A contact dof with mass would need the Delassus operator of `M_RR/Δt²`,
+//! i.e. an implicit correction at every impact; this is refused with
+//! [`SolveError::ExplicitContactWithMass`].
+//!
+//! **Stability.** The run is refused before the first step when `Δt > √(2/γ)/ω_max`
+//! ([`super::cfl`]; `2/ω_max` for central differences) with [`SolveError::CflViolated`].
+//!
+//! **Energy.** The scheme reports the staggered energy [`staggered_energy`]
+//! `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
+//! `V^{n+½} = (U^{n+1} − U^n)/Δt`, at `t_{n+½}`. With γ = ½ it changes by the contact work alone
+//! and is conserved to round-off without contact
+//! ([`super::energy_balance::central_difference`]).
+
+use super::cfl::{largest_eigenvalue, stable_step};
+use super::massless::QuasiStatic;
+use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
+use crate::engine::error::SolveError;
+use crate::engine::linalg::SpdSolver;
+use crate::engine::model::{ContactSet, Model};
+
+impl StepCoefficients {
+    /// Newmark(β, γ), eq. (32a–b): `(a, b, c, d) = (½ − β, β, 1 − γ, γ)`.
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self {
+            a: 0.5 - beta,
+            b: beta,
+            c: 1.0 - gamma,
+            d: gamma,
+        }
+    }
+}
+
+/// Builds the consistent initial state from the given displacement and velocity dofs: the
+/// massless dofs of `U^0` in static equilibrium, and `A^0` from eq. (32c) at `t = 0` (see the
+/// module documentation).
+pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialState, SolveError> {
+    let n = model.n_dofs();
+    let mut u = u0.to_vec();
+    let n_contact = model.contact().map_or(0, ContactSet::len);
+    let mut lambda = vec![0.0; n_contact];
+    if let Some(mut statics) = QuasiStatic::new(model)? {
+        statics.solve(model, 0, &mut u, &mut lambda)?;
+    }
+    let massless = model.massless_dofs();
+    if let Some(c) = model.contact() {
+        if let Some(forces) = model.contact_law().forces(c, &u) {
+            lambda = forces;
+        }
+    }
+
+    let mut rhs = vec![0.0; n];
+    residual_force(model, &u, &mut rhs);
+    rhs.iter_mut().for_each(|r| *r = -*r);
+    if let Some(c) = model.contact() {
+        for (row, &l) in model.contact_law().rows(c).iter().zip(&lambda) {
+            for &(k, coef) in &row.force {
+                rhs[k] -= coef * l;
+            }
+        }
+    }
+    let with_mass: Vec<usize> = (0..n)
+        .filter(|i| massless.binary_search(i).is_err())
+        .collect();
+    let mut acceleration = vec![0.0; n];
+    if !with_mass.is_empty() {
+        let m_rr = model.mass().principal_submatrix(&with_mass);
+        let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+        let mut a_r: Vec<f64> = with_mass.iter().map(|&i| rhs[i]).collect();
+        solver.solve_in_place(&mut a_r);
+        for (&i, a) in with_mass.iter().zip(a_r) {
+            acceleration[i] = a;
+        }
+    }
+    Ok(InitialState {
+        displacement: u,
+        velocity: v0.to_vec(),
+        acceleration,
+        multiplier: lambda,
+    })
+}
+
+/// The staggered energy of explicit Newmark at `t_{n+½}`, from `U^n` (`earlier`) and `U^{n+1}`
+/// (`later`): `E^{n+½} = ½ V^{n+½}ᵀ M V^{n+½} + ½ U^{n+1}ᵀ S U^n − ½ Fᵀ(U^{n+1} + U^n)`,
+/// `V^{n+½} = (U^{n+1} − U^n)/Δt` (see the module documentation).
+pub fn staggered_energy(model: &Model, dt: f64, earlier: &[f64], later: &[f64]) -> f64 {
+    let inv_dt = 1.0 / dt;
+    let half_step: Vec<f64> = (later.iter().zip(earlier))
+        .map(|(u, up)| (u - up) * inv_dt)
+        .collect();
+    let kinetic = 0.5 * model.mass().quadratic_form(&half_step);
+    let strain = 0.5 * model.stiffness().bilinear_form(later, earlier);
+    let load = model.load().map_or(0.0, |f| {
+        0.5 * (f.iter().zip(later.iter().zip(earlier)))
+            .map(|(fi, (u, up))| fi * (u + up))
+            .sum::<f64>()
+    });
+    kinetic + strain - load
+}
+
+/// Explicit Newmark(0, γ) with its state.
+#[derive(Debug)]
+pub struct ExplicitNewmark<'m> {
+    model: &'m Model,
+    gamma: f64,
+    dt: f64,
+    with_mass: Vec<usize>,
+    mass_solver: Option<SpdSolver>,
+    statics: Option<QuasiStatic>,
+    stable_dt: f64,
+    step: usize,
+    u_prev: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lambda: Vec<f64>,
+    energy_at_start: f64,
+    next: Vec<f64>,
+    force: Vec<f64>,
+    force_r: Vec<f64>,
+}
+
+impl<'m> ExplicitNewmark<'m> {
+    /// Checks that every contact dof is massless and the CFL bound, then factorises `M_RR`.
+    pub fn new(
+        model: &'m Model,
+        gamma: f64,
+        dt: f64,
+        start: InitialState,
+    ) -> Result<Self, SolveError> {
+        let massless = model.massless_dofs();
+        if let Some(c) = model.contact() {
+            if let Some(&dof) = c.dofs.iter().find(|d| massless.binary_search(d).is_err()) {
+                return Err(SolveError::ExplicitContactWithMass { dof });
+            }
+        }
+        let n = model.n_dofs();
+        let with_mass: Vec<usize> = (0..n)
+            .filter(|i| massless.binary_search(i).is_err())
+            .collect();
+        let (mass_solver, stable_dt) = if with_mass.is_empty() {
+            (None, f64::INFINITY)
+        } else {
+            let m_rr = model.mass().principal_submatrix(&with_mass);
+            let s_rr = model.stiffness().principal_submatrix(&with_mass);
+            let omega2 = largest_eigenvalue(&s_rr, &m_rr)?;
+            let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+            (Some(solver), stable_step(omega2, gamma))
+        };
+        if dt > stable_dt {
+            return Err(SolveError::CflViolated {
+                dt,
+                bound: stable_dt,
+                gamma,
+            });
+        }
+        let energy_at_start = model.energy(&start.displacement, &start.velocity);
+        Ok(Self {
+            model,
+            gamma,
+            dt,
+            mass_solver,
+            statics: QuasiStatic::new(model)?,
+            stable_dt,
+            step: 0,
+            u_prev: start.displacement.clone(),
+            u: start.displacement,
+            v: start.velocity,
+            a: start.acceleration,
+            lambda: start.multiplier,
+            energy_at_start,
+            next: vec![0.0; n],
+            force: vec![0.0; n],
+            force_r: vec![0.0; with_mass.len()],
+            with_mass,
+        })
+    }
+
+    /// The largest stable time step `√(2/γ)/ω_max` (infinite when no dof has mass).
+    pub fn stable_dt(&self) -> f64 {
+        self.stable_dt
+    }
+}
+
+impl TimeIntegrator for ExplicitNewmark<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        let dt = self.dt;
+        for ((next, u), (v, a)) in self
+            .next
+            .iter_mut()
+            .zip(&self.u)
+            .zip(self.v.iter().zip(&self.a))
+        {
+            *next = u + dt * v + 0.5 * dt * dt * a;
+        }
+        if let Some(statics) = self.statics.as_mut() {
+            statics.solve(self.model, self.step + 1, &mut self.next, &mut self.lambda)?;
+        }
+        residual_force(self.model, &self.next, &mut self.force);
+        for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
+            *f = -self.force[i];
+        }
+        if let Some(m) = &self.mass_solver {
+            m.solve_in_place(&mut self.force_r);
+        }
+        let gamma = self.gamma;
+        for (&i, &a_new) in self.with_mass.iter().zip(&self.force_r) {
+            self.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
+            self.a[i] = a_new;
+        }
+        for &z in self.model.massless_dofs() {
+            self.v[z] = (self.next[z] - self.u[z]) / dt;
+        }
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.next);
+        self.step += 1;
+        Ok(())
+    }
+
+    fn step_index(&self) -> usize {
+        self.step
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.time(),
+            value: &self.lambda,
+        }
+    }
+
+    /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
+    /// first step.
+    fn energy(&self) -> Timed<f64> {
+        if self.step == 0 {
+            return Timed {
+                time: 0.0,
+                value: self.energy_at_start,
+            };
+        }
+        Timed {
+            time: (self.step as f64 - 0.5) * self.dt,
+            value: staggered_energy(self.model, self.dt, &self.u_prev, &self.u),
+        }
+    }
+
+    fn contact_solves(&self) -> usize {
+        self.statics.as_ref().map_or(0, |s| s.contact_work().0)
+    }
+
+    fn contact_seconds(&self) -> f64 {
+        self.statics.as_ref().map_or(0.0, |s| s.contact_work().1)
+    }
+
+    fn complementarity_violation(&self) -> f64 {
+        self.statics
+            .as_ref()
+            .map_or(0.0, QuasiStatic::complementarity_violation)
+    }
+}

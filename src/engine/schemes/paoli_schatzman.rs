@@ -1,0 +1,303 @@
+//! The Paoli–Schatzman scheme, 1D paper eq. (36), γ = ½, two steps:
+//! ```text
+//! M (U^{n+1} − 2U^n + U^{n−1}) / Δt² + β R(U^{n+1}) + P [(1 − 2β) R(U^n) + β R(U^{n−1})] = −Bᵀλ^n
+//! 0 ≤ (B U^{n+1} + e B U^{n−1}) / (1 + e) + g ⟂ λ^n ≤ 0,          R(U) = S U − F
+//! ```
+//! `P` is the orthogonal projection onto `(ker M)^⊥` — the identity for the standard mass. With
+//! the redistributed mass, the rows of `ker M` then read `R(U^{n+1}) = −Bᵀλ^n / β`: the massless
+//! contact node is in static equilibrium at `t_{n+1}` with the contact force `λ^n / β`, which is
+//! the multiplier this scheme reports (at `t_{n+1}`). Without `P` those rows would impose the
+//! equilibrium on a three-level average, whose `(−1)^n` mode is undamped (the paper's reason for
+//! the projection, §3.2). With the standard mass the reported multiplier is `λ^n` at `t_n`.
+//!
+//! `U^1` comes from one Newmark(β, ½) step with the contact at `t_1` (the one-step scheme whose
+//! two-step form this is). The energy is the half-step quantity ([`HalfStep::energy`])
+//! `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, `Ū = (U^n + U^{n−1})/2`,
+//! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's. Its balance is
+//! eq. (37) ([`super::energy_balance::paoli_schatzman`]).
+
+use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
+use crate::engine::contact::ContactStep;
+use crate::engine::error::SolveError;
+use crate::engine::linalg::SpdSolver;
+use crate::engine::model::Model;
+
+/// `V^{n−½} = (U^n − U^{n−1})/Δt` into `velocity` and `Ū = (U^n + U^{n−1})/2` into `mean`, from
+/// `U^{n−1}` (`earlier`) and `U^n` (`later`).
+fn half_step(dt: f64, earlier: &[f64], later: &[f64], velocity: &mut [f64], mean: &mut [f64]) {
+    let levels = later.iter().zip(earlier);
+    for ((v, m), (u, up)) in velocity.iter_mut().zip(mean.iter_mut()).zip(levels) {
+        *v = (u - up) / dt;
+        *m = 0.5 * (u + up);
+    }
+}
+
+/// `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū` from `Ū` and `V^{n−½}`.
+fn energy_of_half_step(model: &Model, beta: f64, dt: f64, mean: &[f64], velocity: &[f64]) -> f64 {
+    // The (β − ¼)Δt² VᵀSV term vanishes for the paper's β = ¼: skip its product.
+    let correction = if beta == 0.25 {
+        0.0
+    } else {
+        0.5 * (beta - 0.25) * dt * dt * model.stiffness().quadratic_form(velocity)
+    };
+    model.energy(mean, velocity) + correction
+}
+
+/// The half-step state of Paoli–Schatzman at `t_{n−½}`: `V^{n−½} = (U^n − U^{n−1})/Δt` and
+/// `Ū = (U^n + U^{n−1})/2`, with the energy its balance (eq. 37) is written for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HalfStep {
+    /// `V^{n−½}`.
+    pub velocity: Vec<f64>,
+    /// `Ū`.
+    pub mean: Vec<f64>,
+}
+
+impl HalfStep {
+    /// The half step between `U^{n−1}` (`earlier`) and `U^n` (`later`).
+    pub fn between(dt: f64, earlier: &[f64], later: &[f64]) -> Self {
+        let mut velocity = vec![0.0; later.len()];
+        let mut mean = vec![0.0; later.len()];
+        half_step(dt, earlier, later, &mut velocity, &mut mean);
+        Self { velocity, mean }
+    }
+
+    /// `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, the energy the
+    /// integrator reports (see the module documentation).
+    pub fn energy(&self, model: &Model, beta: f64, dt: f64) -> f64 {
+        energy_of_half_step(model, beta, dt, &self.mean, &self.velocity)
+    }
+}
+
+/// A Paoli–Schatzman integrator.
+#[derive(Debug)]
+pub struct PaoliSchatzman<'m> {
+    model: &'m Model,
+    beta: f64,
+    restitution: f64,
+    dt: f64,
+    /// Whether every contact dof is massless (decides which multiplier is reported).
+    massless_contact: bool,
+    system: SpdSolver,
+    contact: Option<ContactStep>,
+    start_contact_solves: usize,
+    start_contact_seconds: f64,
+    start_violation: f64,
+    step: usize,
+    u_prev: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    mid: Vec<f64>,
+    lambda_scheme: Vec<f64>,
+    lambda_reported: Vec<f64>,
+    lambda_time: f64,
+    energy_at_start: f64,
+    work: Vec<f64>,
+    force: Vec<f64>,
+    next: Vec<f64>,
+    pending_start: Option<InitialState>,
+}
+
+impl<'m> PaoliSchatzman<'m> {
+    /// Factorises `M/Δt² + βS` and prepares the contact correction.
+    pub fn new(
+        model: &'m Model,
+        beta: f64,
+        restitution: f64,
+        dt: f64,
+        start: InitialState,
+    ) -> Result<Self, SolveError> {
+        let k = model
+            .mass()
+            .linear_combination(1.0 / (dt * dt), model.stiffness(), beta);
+        let system = SpdSolver::factor(&k, "Paoli–Schatzman system M/Δt² + βS")?;
+        let n = model.n_dofs();
+        let contact = model
+            .contact()
+            .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
+            .transpose()?;
+        let energy_at_start = model.energy(&start.displacement, &start.velocity);
+        Ok(Self {
+            model,
+            beta,
+            restitution,
+            dt,
+            massless_contact: model.contact_is_massless(),
+            system,
+            contact,
+            start_contact_solves: 0,
+            start_contact_seconds: 0.0,
+            start_violation: 0.0,
+            step: 0,
+            u_prev: start.displacement.clone(),
+            u: start.displacement.clone(),
+            v: start.velocity.clone(),
+            mid: start.displacement.clone(),
+            lambda_scheme: start.multiplier.clone(),
+            lambda_reported: start.multiplier.clone(),
+            lambda_time: 0.0,
+            energy_at_start,
+            work: vec![0.0; n],
+            force: vec![0.0; n],
+            next: vec![0.0; n],
+            pending_start: Some(start),
+        })
+    }
+
+    /// `U^{n−1}`.
+    pub fn previous_displacement(&self) -> &[f64] {
+        &self.u_prev
+    }
+
+    /// β.
+    pub fn beta(&self) -> f64 {
+        self.beta
+    }
+
+    fn start_step(&mut self, start: InitialState) -> Result<(), SolveError> {
+        let mut first = OneStepScheme::new(
+            self.model,
+            StepCoefficients::newmark(self.beta, 0.5),
+            self.dt,
+            start,
+        )?;
+        first.advance()?;
+        self.start_contact_solves = first.contact_solves();
+        self.start_contact_seconds = first.contact_seconds();
+        self.start_violation = first.complementarity_violation();
+        self.u_prev.copy_from_slice(&self.u);
+        self.u.copy_from_slice(first.displacement());
+        self.lambda_scheme.copy_from_slice(first.multiplier().value);
+        // A massless contact node reports the force at t_1 that the Newmark start step imposed;
+        // a node with mass keeps reporting λ^0 at t_0 until eq. (36) yields λ^1.
+        if self.massless_contact {
+            self.lambda_reported
+                .copy_from_slice(first.multiplier().value);
+            self.lambda_time = self.dt;
+        }
+        Ok(())
+    }
+
+    fn two_step(&mut self) -> Result<(), SolveError> {
+        let (beta, e, dt) = (self.beta, self.restitution, self.dt);
+        let levels = || self.u.iter().zip(&self.u_prev);
+        for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
+            *w = (1.0 - 2.0 * beta) * u + beta * up;
+        }
+        // P [(1 − 2β) R(U^n) + β R(U^{n−1})], R(U) = S U − F, F constant in time.
+        residual_force(self.model, &self.work, &mut self.force);
+        if let Some(f) = self.model.load() {
+            self.force
+                .iter_mut()
+                .zip(f)
+                .for_each(|(r, fi)| *r += beta * fi);
+        }
+        for &z in self.model.massless_dofs() {
+            self.force[z] = 0.0;
+        }
+        for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
+            *w = (2.0 * u - up) / (dt * dt);
+        }
+        self.model.mass().mul_into(&self.work, &mut self.next);
+        self.next
+            .iter_mut()
+            .zip(&self.force)
+            .for_each(|(r, f)| *r -= f);
+        if let Some(f) = self.model.load() {
+            self.next
+                .iter_mut()
+                .zip(f)
+                .for_each(|(r, fi)| *r += beta * fi);
+        }
+        self.system.solve_in_place(&mut self.next);
+        if let (Some(contact), Some(set)) = (self.contact.as_mut(), self.model.contact()) {
+            let u_prev = &self.u_prev;
+            contact.enforce(
+                self.step + 1,
+                &mut self.next,
+                |i, g| e * u_prev[set.dofs[i]] + (1.0 + e) * g,
+                &mut self.lambda_scheme,
+            )?;
+        }
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.next);
+        if self.massless_contact {
+            for (r, l) in self.lambda_reported.iter_mut().zip(&self.lambda_scheme) {
+                *r = l / beta;
+            }
+            self.lambda_time = (self.step + 1) as f64 * dt;
+        } else {
+            self.lambda_reported.copy_from_slice(&self.lambda_scheme);
+            self.lambda_time = self.step as f64 * dt;
+        }
+        Ok(())
+    }
+}
+
+impl TimeIntegrator for PaoliSchatzman<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        match self.pending_start.take() {
+            Some(start) => self.start_step(start)?,
+            None => self.two_step()?,
+        }
+        half_step(self.dt, &self.u_prev, &self.u, &mut self.v, &mut self.mid);
+        self.step += 1;
+        Ok(())
+    }
+
+    fn step_index(&self) -> usize {
+        self.step
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.lambda_time,
+            value: &self.lambda_reported,
+        }
+    }
+
+    fn scheme_multiplier(&self) -> &[f64] {
+        &self.lambda_scheme
+    }
+
+    fn energy(&self) -> Timed<f64> {
+        if self.step == 0 {
+            return Timed {
+                time: 0.0,
+                value: self.energy_at_start,
+            };
+        }
+        Timed {
+            time: (self.step as f64 - 0.5) * self.dt,
+            value: energy_of_half_step(self.model, self.beta, self.dt, &self.mid, &self.v),
+        }
+    }
+
+    fn contact_solves(&self) -> usize {
+        self.start_contact_solves + self.contact.as_ref().map_or(0, ContactStep::solves)
+    }
+
+    fn contact_seconds(&self) -> f64 {
+        self.start_contact_seconds + self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
+
+    fn complementarity_violation(&self) -> f64 {
+        let own = self
+            .contact
+            .as_ref()
+            .map_or(0.0, ContactStep::max_violation);
+        self.start_violation.max(own)
+    }
+}

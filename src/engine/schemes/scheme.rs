@@ -1,0 +1,263 @@
+//! The scheme names and parameters of the paper, with validation.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::error::{require_in, ParameterError};
+
+/// A time-stepping scheme and its parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "family", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Scheme {
+    /// Newmark(β, γ), eq. (32); explicit for β = 0 ([`super::ExplicitNewmark`]).
+    Newmark {
+        /// β ≥ 0 (β = 0: explicit, then γ ≥ ½).
+        beta: f64,
+        /// γ ≥ 0.
+        gamma: f64,
+    },
+    /// θ-method, eq. (34).
+    Theta {
+        /// θ ∈ (0, 1].
+        theta: f64,
+    },
+    /// Paoli–Schatzman, eq. (36), with γ = ½.
+    PaoliSchatzman {
+        /// β > 0.
+        beta: f64,
+        /// Restitution coefficient e ∈ [0, 1].
+        restitution: f64,
+    },
+}
+
+/// The named presets: (name, scheme, the paper's label); the paper's seven first.
+const PRESETS: [(&str, Scheme, &str); 8] = [
+    (
+        "crank-nicolson",
+        Scheme::Newmark {
+            beta: 0.25,
+            gamma: 0.5,
+        },
+        "Crank–Nicolson",
+    ),
+    (
+        "newmark-1",
+        Scheme::Newmark {
+            beta: 0.5,
+            gamma: 1.0,
+        },
+        "Newmark I (β, γ) = (1/2, 1)",
+    ),
+    (
+        "newmark-2",
+        Scheme::Newmark {
+            beta: 0.5,
+            gamma: 0.5,
+        },
+        "Newmark II (β, γ) = (1/2, 1/2)",
+    ),
+    (
+        "backward-euler",
+        Scheme::Theta { theta: 1.0 },
+        "Backward Euler",
+    ),
+    (
+        "paoli-schatzman-e0",
+        Scheme::PaoliSchatzman {
+            beta: 0.25,
+            restitution: 0.0,
+        },
+        "Paoli–Schatzman I e = 0",
+    ),
+    (
+        "paoli-schatzman-e0.5",
+        Scheme::PaoliSchatzman {
+            beta: 0.25,
+            restitution: 0.5,
+        },
+        "Paoli–Schatzman II e = 1/2",
+    ),
+    (
+        "paoli-schatzman-e1",
+        Scheme::PaoliSchatzman {
+            beta: 0.25,
+            restitution: 1.0,
+        },
+        "Paoli–Schatzman III e = 1",
+    ),
+    (
+        "central-difference",
+        Scheme::Newmark {
+            beta: 0.0,
+            gamma: 0.5,
+        },
+        "Central differences, Newmark (0, 1/2), explicit: Δt ≤ 2/ω_max",
+    ),
+];
+
+/// What a scheme name may be, for error messages.
+pub const SCHEME_NAMES: &str = "one of: crank-nicolson, newmark-1, newmark-2, backward-euler, \
+    paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, or a \
+    parametrised form \
+    newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)";
+
+impl Scheme {
+    /// Crank–Nicolson, Newmark (¼, ½).
+    pub const CRANK_NICOLSON: Scheme = PRESETS[0].1;
+
+    /// Backward Euler, the θ-method with θ = 1.
+    pub const BACKWARD_EULER: Scheme = Scheme::Theta { theta: 1.0 };
+
+    /// Central differences, Newmark (0, ½).
+    pub const CENTRAL_DIFFERENCE: Scheme = PRESETS[7].1;
+
+    /// The seven schemes of the paper's Tables 1–2, in table order.
+    pub fn paper_schemes() -> [Scheme; 7] {
+        std::array::from_fn(|i| PRESETS[i].1)
+    }
+
+    /// Whether this is the explicit Newmark scheme (β = 0).
+    pub fn is_explicit(self) -> bool {
+        matches!(self, Scheme::Newmark { beta, .. } if beta == 0.0)
+    }
+
+    /// All preset names with their schemes and the paper's labels.
+    pub fn presets() -> impl Iterator<Item = (&'static str, Scheme, &'static str)> {
+        PRESETS.into_iter()
+    }
+
+    /// Checks the parameter ranges; errors name the parameter.
+    pub fn validate(self) -> Result<Self, ParameterError> {
+        match self {
+            Scheme::Newmark { beta, gamma } => {
+                if !(beta.is_finite() && beta >= 0.0) {
+                    return Err(ParameterError::new(
+                        "beta",
+                        beta,
+                        "a finite number >= 0 (0: explicit Newmark)",
+                    ));
+                }
+                if !(gamma.is_finite() && gamma >= 0.0) {
+                    return Err(ParameterError::new("gamma", gamma, "a finite number >= 0"));
+                }
+                if beta == 0.0 && gamma < 0.5 {
+                    return Err(ParameterError::new(
+                        "gamma",
+                        gamma,
+                        "a number >= 1/2 when beta = 0 (explicit Newmark with γ < ½ is unstable \
+                         for every Δt)",
+                    ));
+                }
+            }
+            Scheme::Theta { theta } => {
+                require_in("theta", theta, 0.0, 1.0, "a number in (0, 1]")?;
+                if theta == 0.0 {
+                    return Err(ParameterError::new(
+                        "theta",
+                        theta,
+                        "a number in (0, 1] (θ = 0, forward Euler, cannot impose the contact \
+                         condition at t_{n+1})",
+                    ));
+                }
+            }
+            Scheme::PaoliSchatzman { beta, restitution } => {
+                if !(beta.is_finite() && beta > 0.0) {
+                    return Err(ParameterError::new("beta", beta, "a finite number > 0"));
+                }
+                require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
+            }
+        }
+        Ok(self)
+    }
+
+    /// The preset name if this is a preset, else the parametrised form.
+    pub fn name(self) -> String {
+        PRESETS
+            .iter()
+            .find(|p| p.1 == self)
+            .map(|p| p.0.to_string())
+            .unwrap_or_else(|| match self {
+                Scheme::Newmark { beta, gamma } => format!("newmark(beta={beta},gamma={gamma})"),
+                Scheme::Theta { theta } => format!("theta(theta={theta})"),
+                Scheme::PaoliSchatzman { beta, restitution } => {
+                    format!("paoli-schatzman(beta={beta},e={restitution})")
+                }
+            })
+    }
+
+    /// The paper's label for a preset, else the name.
+    pub fn label(self) -> String {
+        PRESETS
+            .iter()
+            .find(|p| p.1 == self)
+            .map(|p| p.2.to_string())
+            .unwrap_or_else(|| self.name())
+    }
+}
+
+impl fmt::Display for Scheme {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+fn parse_params(name: &str, body: &str, keys: &[&str]) -> Result<Vec<f64>, ParameterError> {
+    let mut values = vec![f64::NAN; keys.len()];
+    for part in body.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (k, v) = part
+            .split_once('=')
+            .ok_or_else(|| ParameterError::new("scheme", name, SCHEME_NAMES))?;
+        let slot = keys
+            .iter()
+            .position(|&key| key == k.trim())
+            .ok_or_else(|| ParameterError::new("scheme", name, SCHEME_NAMES))?;
+        values[slot] = v
+            .trim()
+            .parse()
+            .map_err(|_| ParameterError::new("scheme", name, SCHEME_NAMES))?;
+    }
+    if values.iter().any(|v| v.is_nan()) {
+        return Err(ParameterError::new("scheme", name, SCHEME_NAMES));
+    }
+    Ok(values)
+}
+
+impl FromStr for Scheme {
+    type Err = ParameterError;
+
+    /// A preset name or `newmark(beta=…,gamma=…)`, `theta(theta=…)`,
+    /// `paoli-schatzman(beta=…,e=…)`; the parameters are validated.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let s = s.trim();
+        if let Some(p) = PRESETS.iter().find(|p| p.0 == s) {
+            return Ok(p.1);
+        }
+        let (family, body) = s
+            .strip_suffix(')')
+            .and_then(|rest| rest.split_once('('))
+            .ok_or_else(|| ParameterError::new("scheme", s, SCHEME_NAMES))?;
+        let scheme = match family.trim() {
+            "newmark" => {
+                let v = parse_params(s, body, &["beta", "gamma"])?;
+                Scheme::Newmark {
+                    beta: v[0],
+                    gamma: v[1],
+                }
+            }
+            "theta" => Scheme::Theta {
+                theta: parse_params(s, body, &["theta"])?[0],
+            },
+            "paoli-schatzman" => {
+                let v = parse_params(s, body, &["beta", "e"])?;
+                Scheme::PaoliSchatzman {
+                    beta: v[0],
+                    restitution: v[1],
+                }
+            }
+            _ => return Err(ParameterError::new("scheme", s, SCHEME_NAMES)),
+        };
+        scheme.validate()
+    }
+}

@@ -1,0 +1,624 @@
+//! Round-off sensitivity of a study: every case and level is run as an ensemble of members whose
+//! initial displacement carries seeded noise of relative size `A` (about 1e-13, far below
+//! anything physical). The spread of the members' errors and rates, and how fast their
+//! contact-node displacements part from the unperturbed run, tell reproducible cases from
+//! round-off chaotic ones.
+//!
+//! The classification rules were fixed before any result was looked at:
+//! - **reproducible**: no member's contact-node displacement ever differs from the unperturbed
+//!   run's by more than [`PARTING`] (1e-8), at any level;
+//! - **chaotic**: at some level a member's separation grows through at least
+//!   [`MIN_GROWTH_DECADES`] decade thresholds with a positive exponential rate and reaches
+//!   [`RUNAWAY`] (1e-4, the size of the solution's own features), **and** some norm's fitted rate
+//!   varies over the ensemble by more than [`CHAOTIC_RATE_RANGE`] (0.005);
+//! - **event-sensitive**: members part, but not in that way (isolated contact-set flips that
+//!   cause a bounded jump).
+//!
+//! Members stream their observers; a (case, level) job holds the unperturbed contact history and
+//! one member's at a time, so memory does not grow with members × steps.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::error::{require_positive, ParameterError};
+use crate::engine::problem::Perturbation;
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::rates::{fit_rate, least_squares_slope};
+use crate::harness::run::{run, ContactHistory, Observables, Problem1d, RunConfig, RunResult};
+use crate::harness::study::{run_case_levels, Case, StudyConfig};
+
+/// A separation above this is a member that has parted from the unperturbed run.
+pub const PARTING: f64 = 1e-8;
+
+/// A separation that reaches this has run away: it is of the size of the solution's features.
+pub const RUNAWAY: f64 = 1e-4;
+
+/// The fewest decade thresholds a separation must cross for its growth rate to be fitted.
+pub const MIN_GROWTH_DECADES: usize = 3;
+
+/// A case whose fitted rate of some norm varies over the ensemble by more than this (and whose
+/// members run away) is round-off chaotic.
+pub const CHAOTIC_RATE_RANGE: f64 = 0.005;
+
+/// The decade thresholds whose first-crossing times give the separation growth rate.
+const DECADES: [f64; 8] = [1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4];
+
+/// The ensemble: how many perturbed members, and the noise's size relative to `max |u⁰|`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnsembleConfig {
+    /// Perturbed members per case and level (the unperturbed run comes on top).
+    pub members: usize,
+    /// Relative amplitude `A`: each displacement dof but the contact dof moves by a uniform
+    /// amount in `±A·max|u⁰|`.
+    pub amplitude: f64,
+}
+
+impl Default for EnsembleConfig {
+    fn default() -> Self {
+        Self {
+            members: 16,
+            amplitude: 1e-13,
+        }
+    }
+}
+
+impl EnsembleConfig {
+    /// At least two members, an amplitude in (0, 1e-3].
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        if !(2..=1024).contains(&self.members) {
+            return Err(ParameterError::new(
+                "members",
+                self.members,
+                "an integer in [2, 1024]",
+            ));
+        }
+        require_positive("amplitude", self.amplitude)?;
+        if self.amplitude > 1e-3 {
+            return Err(ParameterError::new(
+                "amplitude",
+                self.amplitude,
+                "a relative size in (0, 1e-3] (round-off scale: 1e-13 by default)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The class of a case.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SensitivityClass {
+    /// Members stay within [`PARTING`] of the unperturbed run.
+    Reproducible,
+    /// Members part through bounded jumps that do not grow.
+    EventSensitive,
+    /// The separation grows exponentially and some rate's ensemble range exceeds
+    /// [`CHAOTIC_RATE_RANGE`].
+    Chaotic,
+}
+
+impl SensitivityClass {
+    /// `reproducible`, `event-sensitive` or `chaotic`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Reproducible => "reproducible",
+            Self::EventSensitive => "event-sensitive",
+            Self::Chaotic => "chaotic",
+        }
+    }
+}
+
+/// The ensemble minimum, median and maximum of one quantity.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Spread {
+    /// Smallest member value.
+    pub min: f64,
+    /// Median (the mean of the two middle values for an even count).
+    pub median: f64,
+    /// Largest member value.
+    pub max: f64,
+}
+
+impl Spread {
+    /// The spread of `values` (at least one, all finite).
+    pub fn of(values: &[f64]) -> Self {
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        Self {
+            min: v[0],
+            median,
+            max: v[n - 1],
+        }
+    }
+
+    /// `max − min`.
+    pub fn range(&self) -> f64 {
+        self.max - self.min
+    }
+}
+
+/// How one member's contact-node displacement parts from the unperturbed run's (the box
+/// ensembles of `crate::studies::elastic_study::sensitivity` measure it on the centre contact node).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Separation {
+    /// The first step at which `|u_m(0, t_n) − u(0, t_n)| > PARTING`.
+    pub parting_step: Option<usize>,
+    /// The least-squares slope of `ln(threshold)` against the first time the running maximum of
+    /// the separation crosses each decade threshold (a finite-time Lyapunov exponent), when at
+    /// least [`MIN_GROWTH_DECADES`] thresholds are crossed after the start and the member parts.
+    growth: Option<f64>,
+    /// The largest separation.
+    largest: f64,
+}
+
+impl Separation {
+    /// The separation of `member` from `base`, two histories of the contact node's displacement
+    /// (or of its gap: the same up to the constant gap) at the times `time`.
+    pub fn between(time: &[f64], base: &[f64], member: &[f64]) -> Self {
+        let mut largest = 0.0_f64;
+        let mut parting_step = None;
+        let (mut crossing_times, mut crossing_levels) = (Vec::new(), Vec::new());
+        let start = (base[0] - member[0]).abs();
+        for (n, ((&t, &a), &b)) in time.iter().zip(base).zip(member).enumerate() {
+            let d = (a - b).abs();
+            if d > PARTING && parting_step.is_none() {
+                parting_step = Some(n);
+            }
+            if d > largest {
+                for &threshold in DECADES.iter().filter(|&&x| x > start.max(largest)) {
+                    if d >= threshold {
+                        crossing_times.push(t);
+                        crossing_levels.push(threshold.ln());
+                    }
+                }
+                largest = d;
+            }
+        }
+        let parted = parting_step.is_some();
+        // Thresholds all crossed within one step: an instantaneous jump, infinitely fast.
+        let growth = (parted && crossing_times.len() >= MIN_GROWTH_DECADES).then(|| {
+            least_squares_slope(&crossing_times, &crossing_levels).unwrap_or(f64::INFINITY)
+        });
+        Self {
+            parting_step,
+            growth,
+            largest,
+        }
+    }
+}
+
+/// One case of the sensitivity study (the field names are the documented JSON fields of
+/// `reports/sensitivity.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseSensitivity {
+    /// The golden case name, e.g. `crank-nicolson/standard`.
+    pub case: String,
+    /// The class by the module's rules.
+    pub class: SensitivityClass,
+    /// `class == chaotic`.
+    pub chaotic: bool,
+    /// Perturbed members per level.
+    pub members: usize,
+    /// The relative amplitude `A`.
+    pub amplitude: f64,
+    /// `NX` of each level.
+    pub levels: Vec<usize>,
+    /// Norm key → the ensemble spread of the rate fitted over all levels, member by member.
+    pub rates: BTreeMap<String, Spread>,
+    /// Norm key → the ensemble spread of the error at each level.
+    pub errors: BTreeMap<String, Vec<Spread>>,
+    /// Per level: the first step at which some member parts (separation > 1e-8); `null` where
+    /// no member parts.
+    pub predictability_steps: Vec<Option<usize>>,
+    /// Per level: the median growth rate of the separation over the members whose growth could
+    /// be fitted (per unit time); `null` where none.
+    pub separation_growth: Vec<Option<f64>>,
+    /// Per level: the largest separation of any member.
+    pub largest_separation: Vec<f64>,
+}
+
+impl CaseSensitivity {
+    /// The largest relative spread `(max − min)/|median|` of any error of `norm` over the levels.
+    pub fn relative_error_spread(&self, norm: &str) -> Option<f64> {
+        self.errors.get(norm).map(|levels| {
+            levels
+                .iter()
+                .map(|s| s.range() / s.median.abs())
+                .fold(0.0, f64::max)
+        })
+    }
+}
+
+/// The sensitivity study of a scene's cases.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sensitivity {
+    /// The ensemble.
+    pub ensemble: EnsembleConfig,
+    /// Levels, ratio and horizon.
+    pub config: StudyConfig,
+    /// One entry per case.
+    pub cases: Vec<CaseSensitivity>,
+    /// Wall-clock time of the whole study, seconds.
+    pub wall_seconds: f64,
+}
+
+impl Sensitivity {
+    /// The entry of the case named `id` (`scheme/mass`).
+    pub fn case(&self, id: &str) -> Option<&CaseSensitivity> {
+        self.cases.iter().find(|c| c.case == id)
+    }
+}
+
+/// The contact history that [`run_ensemble`]'s runs record.
+fn contact_history(r: &RunResult) -> &ContactHistory {
+    r.contact_history.as_ref().expect("recorded")
+}
+
+/// Runs `problem` with `config` as an ensemble: the unperturbed run, then member `m = 1..=K`
+/// with the round-off perturbation `initial.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
+/// unperturbed initial displacement, the contact dofs untouched) and seed `m`. Each member's
+/// result (or the error that stopped it) is handed to `observe` with its [`Separation`] from
+/// the unperturbed run and dropped, so memory holds the unperturbed contact history and one
+/// member's; an error `observe` returns stops the ensemble. Returns the unperturbed result. The
+/// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
+/// for it, is evaluated on the unperturbed run only.
+pub fn run_ensemble(
+    problem: &Problem1d,
+    config: &RunConfig,
+    ensemble: EnsembleConfig,
+    observe: &mut dyn FnMut(Result<(RunResult, Separation), Error>) -> Result<(), Error>,
+) -> Result<RunResult, Error> {
+    ensemble.validate()?;
+    let mut config = config.clone();
+    config.observables.contact_history = true;
+    let (bar, model) = problem.model(config.nx, config.mass)?;
+    let (u0, _) = problem.initial_dofs(&bar, &model);
+    let scale = u0
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let base = run(problem, &config)?;
+    let base_history = contact_history(&base);
+    config.observables.energy_balance = false;
+    for member in 1..=ensemble.members {
+        let mut perturbed = problem.clone();
+        perturbed.initial.round_off = Some(Perturbation {
+            amplitude: ensemble.amplitude * scale,
+            seed: member as u64,
+        });
+        let member = run(&perturbed, &config).map(|r| {
+            let separation = Separation::between(
+                &base_history.time,
+                &base_history.displacement,
+                &contact_history(&r).displacement,
+            );
+            (r, separation)
+        });
+        observe(member)?;
+    }
+    Ok(base)
+}
+
+/// Whether some member's separation grows exponentially (a positive fitted growth) to
+/// [`RUNAWAY`].
+fn runs_away(separations: &[Separation]) -> bool {
+    separations
+        .iter()
+        .any(|s| s.largest >= RUNAWAY && s.growth.is_some_and(|g| g > 0.0))
+}
+
+/// The round-off sensitivity of one run (one mesh, one time step), as the stability suite
+/// reports it. With no rate to fit at one mesh, a run is *chaotic* on the separation rule
+/// alone: some member's separation grows exponentially to [`RUNAWAY`]; *reproducible* when no
+/// member parts by more than [`PARTING`]; *event-sensitive* otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RunSensitivity {
+    /// The class by the rule above.
+    pub class: SensitivityClass,
+    /// Perturbed members.
+    pub members: usize,
+    /// The relative amplitude `A`.
+    pub amplitude: f64,
+    /// The first step at which some member parts; `null` where none does.
+    pub predictability_step: Option<usize>,
+    /// `predictability_step × Δt`: the predictability horizon in time.
+    pub predictability_time: Option<f64>,
+    /// The median fitted growth rate of the separation (per unit time); `null` where none.
+    pub separation_growth: Option<f64>,
+    /// The largest separation of any member.
+    pub largest_separation: f64,
+}
+
+impl RunSensitivity {
+    /// The sensitivity of a run with time step `dt` from its members' separations.
+    pub fn of(separations: &[Separation], dt: f64, ensemble: EnsembleConfig) -> Self {
+        let predictability_step = separations.iter().filter_map(|s| s.parting_step).min();
+        let class = if predictability_step.is_none() {
+            SensitivityClass::Reproducible
+        } else if runs_away(separations) {
+            SensitivityClass::Chaotic
+        } else {
+            SensitivityClass::EventSensitive
+        };
+        Self {
+            class,
+            members: ensemble.members,
+            amplitude: ensemble.amplitude,
+            predictability_step,
+            predictability_time: predictability_step.map(|n| n as f64 * dt),
+            separation_growth: median_growth(separations),
+            largest_separation: largest_separation(separations),
+        }
+    }
+}
+
+/// The median fitted growth rate over the members whose growth could be fitted.
+fn median_growth(separations: &[Separation]) -> Option<f64> {
+    let g: Vec<f64> = separations.iter().filter_map(|s| s.growth).collect();
+    (!g.is_empty()).then(|| Spread::of(&g).median)
+}
+
+/// The largest separation of any member.
+fn largest_separation(separations: &[Separation]) -> f64 {
+    separations.iter().fold(0.0_f64, |m, s| m.max(s.largest))
+}
+
+/// What one (case, level) job measured: every member's errors and separation.
+pub(crate) struct LevelEnsemble {
+    /// Member by member, the error of every norm.
+    pub(crate) errors: Vec<BTreeMap<Norm, f64>>,
+    /// Member by member, its separation from the unperturbed run.
+    pub(crate) separations: Vec<Separation>,
+}
+
+fn level_ensemble(
+    problem: &Problem1d,
+    case: Case,
+    nx: usize,
+    ratio: f64,
+    norms: &BTreeSet<Norm>,
+    ensemble: EnsembleConfig,
+) -> Result<LevelEnsemble, Error> {
+    let config = RunConfig {
+        nx,
+        ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        observables: Observables {
+            norms: norms.clone(),
+            ..Observables::default()
+        },
+    };
+    let mut errors = Vec::with_capacity(ensemble.members);
+    let mut separations = Vec::with_capacity(ensemble.members);
+    run_ensemble(problem, &config, ensemble, &mut |member| {
+        let (r, separation) = member?;
+        errors.push(r.errors);
+        separations.push(separation);
+        Ok(())
+    })?;
+    Ok(LevelEnsemble {
+        errors,
+        separations,
+    })
+}
+
+/// Runs every case at every level as an ensemble ([`run_ensemble`], in parallel over case ×
+/// level) and classifies each case. A problem that declares its own perturbation keeps it: the
+/// members' round-off perturbations come on top.
+pub fn run_sensitivity(
+    problem: &Problem1d,
+    cases: &[Case],
+    norms: &BTreeSet<Norm>,
+    config: &StudyConfig,
+    ensemble: EnsembleConfig,
+) -> Result<Sensitivity, Error> {
+    config.validate()?;
+    ensemble.validate()?;
+    if problem.obstacle_gap.is_none() {
+        return Err(ParameterError::new(
+            "obstacle",
+            "none",
+            "an obstacle (the separation is measured at the contact node)",
+        )
+        .into());
+    }
+    let clock = Instant::now();
+    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
+        level_ensemble(
+            problem,
+            cases[c],
+            config.levels[l],
+            config.ratio,
+            norms,
+            ensemble,
+        )
+    })?;
+    let h: Vec<f64> = config
+        .levels
+        .iter()
+        .map(|&nx| problem.length / nx as f64)
+        .collect();
+    Ok(classify_cases(
+        cases, config, &h, norms, ensemble, per_case, clock,
+    ))
+}
+
+/// The sensitivity study from the level ensembles of every case (`per_case[c][l]`: case `c` at
+/// level `l`, element sizes `h`), each case classified by the module's rules; the wall time is
+/// read from `clock` when done.
+pub(crate) fn classify_cases(
+    cases: &[Case],
+    config: &StudyConfig,
+    h: &[f64],
+    norms: &BTreeSet<Norm>,
+    ensemble: EnsembleConfig,
+    per_case: Vec<Vec<LevelEnsemble>>,
+    clock: Instant,
+) -> Sensitivity {
+    let cases = cases
+        .iter()
+        .zip(per_case)
+        .map(|(case, levels)| classify(*case, config, h, norms, ensemble, &levels))
+        .collect();
+    Sensitivity {
+        ensemble,
+        config: config.clone(),
+        cases,
+        wall_seconds: clock.elapsed().as_secs_f64(),
+    }
+}
+
+fn classify(
+    case: Case,
+    config: &StudyConfig,
+    h: &[f64],
+    norms: &BTreeSet<Norm>,
+    ensemble: EnsembleConfig,
+    levels: &[LevelEnsemble],
+) -> CaseSensitivity {
+    let mut rates = BTreeMap::new();
+    let mut errors = BTreeMap::new();
+    for &norm in norms {
+        let per_member: Vec<Vec<f64>> = (0..ensemble.members)
+            .map(|m| levels.iter().map(|l| l.errors[m][&norm]).collect())
+            .collect();
+        let member_rates: Vec<f64> = per_member
+            .iter()
+            .filter_map(|e| fit_rate(h, e).map(|f| f.rate))
+            .collect();
+        if !member_rates.is_empty() {
+            rates.insert(norm.key().to_string(), Spread::of(&member_rates));
+        }
+        let spreads = (0..levels.len())
+            .map(|l| Spread::of(&per_member.iter().map(|e| e[l]).collect::<Vec<_>>()))
+            .collect();
+        errors.insert(norm.key().to_string(), spreads);
+    }
+    let predictability_steps: Vec<Option<usize>> = levels
+        .iter()
+        .map(|l| l.separations.iter().filter_map(|s| s.parting_step).min())
+        .collect();
+    let separation_growth: Vec<Option<f64>> = levels
+        .iter()
+        .map(|l| median_growth(&l.separations))
+        .collect();
+    let largest_separation: Vec<f64> = levels
+        .iter()
+        .map(|l| largest_separation(&l.separations))
+        .collect();
+    let runs_away = levels.iter().any(|l| runs_away(&l.separations));
+    let rate_range_large = rates.values().any(|s| s.range() > CHAOTIC_RATE_RANGE);
+    let class = if predictability_steps.iter().all(Option::is_none) {
+        SensitivityClass::Reproducible
+    } else if runs_away && rate_range_large {
+        SensitivityClass::Chaotic
+    } else {
+        SensitivityClass::EventSensitive
+    };
+    CaseSensitivity {
+        case: case.id(),
+        class,
+        chaotic: class == SensitivityClass::Chaotic,
+        members: ensemble.members,
+        amplitude: ensemble.amplitude,
+        levels: config.levels.clone(),
+        rates,
+        errors,
+        predictability_steps,
+        separation_growth,
+        largest_separation,
+    }
+}
+
+/// `reports/sensitivity.md`: one row per case with its class, and at `nx_shown` the
+/// predictability horizon and growth rate; then the rate ranges of every case.
+pub fn render(s: &Sensitivity, nx_shown: usize) -> String {
+    let mut md = format!(
+        "# Round-off sensitivity\n\nEvery case at every level NX = {:?} (Δx/Δt = {}, T = {}) run \
+         as {} members whose initial displacement carries seeded noise of relative size {:e} \
+         (contact dof untouched), beside the unperturbed run. {} Generated by `make report` in \
+         {:.1} s wall.\n\n",
+        s.config.levels,
+        s.config.ratio,
+        s.config.horizon,
+        s.ensemble.members,
+        s.ensemble.amplitude,
+        class_rules(),
+        s.wall_seconds
+    );
+    md.push_str(&class_table(s, nx_shown));
+    md.push_str(
+        "\n## Rate ranges\n\nEnsemble minimum, median and maximum of the rate fitted over all \
+         levels.\n\n",
+    );
+    md.push_str(&rate_ranges(&s.cases));
+    md
+}
+
+/// The classification rules in one sentence, with their thresholds.
+pub(crate) fn class_rules() -> String {
+    format!(
+        "Classes (rules fixed before the results, see the README): *reproducible*: no member's \
+         contact-node displacement parts from the unperturbed run by more than {PARTING:e}; \
+         *chaotic*: the separation grows exponentially to {RUNAWAY:e} and some rate's ensemble \
+         range exceeds {CHAOTIC_RATE_RANGE}; *event-sensitive*: members part, but not so."
+    )
+}
+
+/// One row per case: its class, and at `nx_shown` the predictability step and the separation
+/// growth; then the largest ensemble range of a rate and the largest relative error spread.
+pub(crate) fn class_table(s: &Sensitivity, nx_shown: usize) -> String {
+    let shown = s.config.levels.iter().position(|&nx| nx == nx_shown);
+    let mut md = format!(
+        "| case | class | parting step at NX = {nx_shown} | separation growth at NX = {nx_shown} (1/time) | largest rate range (norm) | largest relative error spread |\n|---|---|---|---|---|---|\n"
+    );
+    for c in &s.cases {
+        let step = shown
+            .and_then(|k| c.predictability_steps[k])
+            .map_or("never".to_string(), |n| n.to_string());
+        let growth = shown
+            .and_then(|k| c.separation_growth[k])
+            .map_or("—".to_string(), |g| format!("{g:.1}"));
+        let (norm, range) = c
+            .rates
+            .iter()
+            .map(|(n, r)| (n.as_str(), r.range()))
+            .fold(("—", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        let spread = c
+            .errors
+            .keys()
+            .filter_map(|n| c.relative_error_spread(n))
+            .fold(0.0, f64::max);
+        md.push_str(&format!(
+            "| {} | {} | {step} | {growth} | {range:.2e} ({norm}) | {spread:.2e} |\n",
+            c.case,
+            c.class.name()
+        ));
+    }
+    md
+}
+
+/// The ensemble minimum, median and maximum of every norm's rate of `cases`, one row each.
+pub(crate) fn rate_ranges<'c>(cases: impl IntoIterator<Item = &'c CaseSensitivity>) -> String {
+    let mut md = String::from("| case | norm | min | median | max |\n|---|---|---|---|---|\n");
+    for c in cases {
+        for (norm, r) in &c.rates {
+            md.push_str(&format!(
+                "| {} | {norm} | {:.4} | {:.4} | {:.4} |\n",
+                c.case, r.min, r.median, r.max
+            ));
+        }
+    }
+    md
+}

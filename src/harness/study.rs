@@ -1,0 +1,288 @@
+//! Refinement studies: a set of cases (scheme × mass variant) run at every level, in parallel,
+//! with the rates of every requested norm.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::engine::error::ParameterError;
+use crate::engine::fem::MassVariant;
+use crate::engine::schemes::Scheme;
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::rates::{fit_rate, observed_orders, RateFit};
+use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, Timings};
+
+/// A row of the tables: a scheme with its parameters and a mass variant.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Case {
+    /// The time integrator.
+    pub scheme: Scheme,
+    /// The mass matrix.
+    pub mass: MassVariant,
+}
+
+impl Case {
+    /// Every scheme with every mass, scheme by scheme.
+    pub fn matrix(schemes: &[Scheme], masses: &[MassVariant]) -> Vec<Case> {
+        schemes
+            .iter()
+            .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
+            .collect()
+    }
+
+    /// The 14 rows of the paper's Tables 1–2, in order.
+    pub fn paper_matrix() -> Vec<Case> {
+        Self::matrix(&Scheme::paper_schemes(), &MassVariant::PAPER)
+    }
+
+    /// `scheme/mass`, e.g. `crank-nicolson/redistributed`.
+    pub fn id(&self) -> String {
+        format!("{}/{}", self.scheme.name(), self.mass.name())
+    }
+}
+
+/// Levels, time-step ratio and horizon of a study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StudyConfig {
+    /// `NX` of each level, increasing.
+    pub levels: Vec<usize>,
+    /// `Δx / Δt`.
+    pub ratio: f64,
+    /// Horizon `T`.
+    pub horizon: f64,
+}
+
+impl StudyConfig {
+    /// The defaults for the Signorini–Dirichlet tables: `NX = 10 · 2^k`, `k = 0..6`, the paper's
+    /// ratio 10, one period `T = 3` (the README's "Choosing T and the levels" gives the
+    /// experiment behind these values).
+    pub fn paper_default() -> Self {
+        Self {
+            levels: vec![10, 20, 40, 80, 160, 320, 640],
+            ratio: 10.0,
+            horizon: 3.0,
+        }
+    }
+
+    /// Checks the levels are increasing and positive.
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        if self.levels.len() < 2
+            || self.levels[0] == 0
+            || self.levels.windows(2).any(|w| w[0] >= w[1])
+        {
+            return Err(ParameterError::new(
+                "levels",
+                format!("{:?}", self.levels),
+                "at least two increasing element counts >= 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One level of one case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LevelRecord {
+    /// `NX`.
+    pub nx: usize,
+    /// `h`.
+    pub h: f64,
+    /// `Δt`.
+    pub dt: f64,
+    /// Number of steps.
+    pub steps: usize,
+    /// Unknowns.
+    pub dofs: usize,
+    /// Wall-clock split of the run.
+    pub timings: Timings,
+    /// `TV(λ_h) / TV(λ)` of this level, when the multiplier is observed.
+    pub multiplier_variation_ratio: Option<f64>,
+}
+
+/// The errors and rates of one norm for one case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NormRates {
+    /// The norm.
+    pub norm: Norm,
+    /// The error at each level.
+    pub errors: Vec<f64>,
+    /// The observed order between consecutive levels (`None` on the first).
+    pub orders: Vec<Option<f64>>,
+    /// The least-squares rate over all levels.
+    pub fit: Option<RateFit>,
+    /// The least-squares rate over the last three levels.
+    pub fit_last_three: Option<RateFit>,
+}
+
+/// All levels of one case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseStudy {
+    /// The case.
+    pub case: Case,
+    /// Per-level records.
+    pub levels: Vec<LevelRecord>,
+    /// Per-norm errors and rates, in the order of [`Norm::ALL`].
+    pub rates: Vec<NormRates>,
+}
+
+impl CaseStudy {
+    /// A case from its level records and the error of each norm at each level: the observed
+    /// orders and the least-squares rates (all levels, last three) are fitted here.
+    pub fn from_levels(
+        case: Case,
+        levels: Vec<LevelRecord>,
+        errors: BTreeMap<Norm, Vec<f64>>,
+    ) -> Self {
+        let h: Vec<f64> = levels.iter().map(|l| l.h).collect();
+        let tail = h.len().saturating_sub(3);
+        let rates = errors
+            .into_iter()
+            .map(|(norm, errors)| NormRates {
+                norm,
+                orders: observed_orders(&h, &errors),
+                fit: fit_rate(&h, &errors),
+                fit_last_three: fit_rate(&h[tail..], &errors[tail..]),
+                errors,
+            })
+            .collect();
+        Self {
+            case,
+            levels,
+            rates,
+        }
+    }
+
+    /// The rates of `norm`, if it was requested.
+    pub fn norm(&self, norm: Norm) -> Option<&NormRates> {
+        self.rates.iter().find(|r| r.norm == norm)
+    }
+
+    /// The oscillation indicator: `TV(λ_h) / TV(λ)` on the finest level.
+    pub fn oscillation_indicator(&self) -> Option<f64> {
+        self.levels.last()?.multiplier_variation_ratio
+    }
+}
+
+/// A whole study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Study {
+    /// Levels, ratio and horizon.
+    pub config: StudyConfig,
+    /// The norms computed.
+    pub norms: Vec<Norm>,
+    /// One entry per case, in the order given.
+    pub cases: Vec<CaseStudy>,
+    /// Wall-clock time of the whole study (parallel), seconds.
+    pub wall_seconds: f64,
+}
+
+impl Study {
+    /// The study of `case`, if it was run.
+    pub fn case(&self, case: &Case) -> Option<&CaseStudy> {
+        self.cases.iter().find(|c| c.case == *case)
+    }
+}
+
+/// Runs every case at every level (in parallel over case × level, largest levels first) and
+/// fits the rates of every norm in `norms`. Only those norms are evaluated.
+pub fn run_study(
+    problem: &Problem1d,
+    cases: &[Case],
+    norms: &BTreeSet<Norm>,
+    config: &StudyConfig,
+) -> Result<Study, Error> {
+    run_study_with_progress(problem, cases, norms, config, &|| {})
+}
+
+/// The number of runs a study makes.
+pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
+    cases.len() * config.levels.len()
+}
+
+/// [`run_study`], calling `done` after each run (from the worker threads).
+pub fn run_study_with_progress(
+    problem: &Problem1d,
+    cases: &[Case],
+    norms: &BTreeSet<Norm>,
+    config: &StudyConfig,
+    done: &(dyn Fn() + Sync),
+) -> Result<Study, Error> {
+    config.validate()?;
+    let clock = Instant::now();
+    let observables = Observables {
+        norms: norms.clone(),
+        ..Observables::default()
+    };
+    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
+        let cfg = RunConfig {
+            nx: config.levels[l],
+            ratio: config.ratio,
+            scheme: cases[c].scheme,
+            mass: cases[c].mass,
+            observables: observables.clone(),
+        };
+        let result = run(problem, &cfg);
+        done();
+        result
+    })?;
+    let cases = cases
+        .iter()
+        .zip(per_case)
+        .map(|(case, runs)| case_study(*case, &runs, norms))
+        .collect();
+    Ok(Study {
+        config: config.clone(),
+        norms: norms.iter().copied().collect(),
+        cases,
+        wall_seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Runs `job(case, level)` for every case index below `n_cases` and every level index of
+/// `levels`, in parallel over case × level with the largest levels first (they take longest),
+/// and returns each case's results in level order. The first error stops the study.
+pub fn run_case_levels<T: Send>(
+    n_cases: usize,
+    levels: &[usize],
+    job: impl Fn(usize, usize) -> Result<T, Error> + Sync,
+) -> Result<Vec<Vec<T>>, Error> {
+    let mut jobs: Vec<(usize, usize)> = (0..n_cases)
+        .flat_map(|c| (0..levels.len()).map(move |l| (c, l)))
+        .collect();
+    jobs.sort_by_key(|&(c, l)| (std::cmp::Reverse(levels[l]), c));
+    let results: Vec<((usize, usize), T)> = jobs
+        .par_iter()
+        .map(|&(c, l)| job(c, l).map(|r| ((c, l), r)))
+        .collect::<Result<_, _>>()?;
+    let mut by_job: BTreeMap<(usize, usize), T> = results.into_iter().collect();
+    Ok((0..n_cases)
+        .map(|c| {
+            (0..levels.len())
+                .map(|l| by_job.remove(&(c, l)).expect("every job ran"))
+                .collect()
+        })
+        .collect())
+}
+
+fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStudy {
+    let errors = norms
+        .iter()
+        .map(|&norm| (norm, runs.iter().map(|r| r.errors[&norm]).collect()))
+        .collect();
+    let levels = runs
+        .iter()
+        .map(|r| LevelRecord {
+            nx: r.nx,
+            h: r.h,
+            dt: r.dt,
+            steps: r.steps,
+            dofs: r.dofs,
+            timings: r.timings,
+            multiplier_variation_ratio: r.multiplier_variation.and_then(|v| v.ratio()),
+        })
+        .collect();
+    CaseStudy::from_levels(case, levels, errors)
+}

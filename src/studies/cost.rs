@@ -1,0 +1,111 @@
+//! What accuracy costs: error against wall time per case (work–precision), and the estimated
+//! time to reach a target error from the log–log fit `ln e = a + b ln s` over the levels.
+
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+use crate::harness::norms::Norm;
+use crate::harness::rates::fit_rate;
+use crate::harness::study::{CaseStudy, Study};
+
+/// The targets of the cost table, in `L∞(0,T;H)`.
+pub const TARGETS: [f64; 3] = [1e-2, 3e-3, 1e-3];
+
+/// One case's error against wall time for one norm.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorkPrecision {
+    /// `scheme/mass`.
+    pub case: String,
+    /// Norm key.
+    pub norm: Norm,
+    /// Wall seconds of each level's run.
+    pub seconds: Vec<f64>,
+    /// `steps × dofs` of each level.
+    pub dof_steps: Vec<usize>,
+    /// The error of each level.
+    pub errors: Vec<f64>,
+}
+
+/// The estimated cost of reaching a target error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CostToTarget {
+    /// `scheme/mass`.
+    pub case: String,
+    /// The target error.
+    pub target: f64,
+    /// Estimated wall seconds; `None` when the error does not decrease with cost.
+    pub seconds: Option<f64>,
+    /// Whether the target lies outside the measured error range.
+    pub extrapolated: bool,
+}
+
+/// Work–precision data of every case and norm of a study.
+pub fn work_precision(study: &Study) -> Vec<WorkPrecision> {
+    study
+        .cases
+        .iter()
+        .flat_map(|c| {
+            c.rates.iter().map(move |r| WorkPrecision {
+                case: c.case.id(),
+                norm: r.norm,
+                seconds: c.levels.iter().map(|l| l.timings.total()).collect(),
+                dof_steps: c.levels.iter().map(|l| l.steps * l.dofs).collect(),
+                errors: r.errors.clone(),
+            })
+        })
+        .collect()
+}
+
+/// The cost of reaching `target` in `norm` for one case: with `ln e = b ln s + a` fitted over
+/// the levels, `s* = exp((ln target − a) / b)`; no estimate when `b ≥ 0`.
+pub fn cost_to_target(case: &CaseStudy, norm: Norm, target: f64) -> Option<CostToTarget> {
+    let r = case.norm(norm)?;
+    let seconds: Vec<f64> = case.levels.iter().map(|l| l.timings.total()).collect();
+    let fit = fit_rate(&seconds, &r.errors)?;
+    let (lo, hi) = r
+        .errors
+        .iter()
+        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &e| {
+            (lo.min(e), hi.max(e))
+        });
+    let seconds = (fit.rate < 0.0).then(|| ((target.ln() - fit.intercept) / fit.rate).exp());
+    Some(CostToTarget {
+        case: case.case.id(),
+        target,
+        seconds,
+        extrapolated: !(lo..=hi).contains(&target),
+    })
+}
+
+/// The cost-to-target table for `norm`: one block per target, cases ranked by estimated time.
+pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
+    let mut md = String::new();
+    let mut all = Vec::new();
+    for target in TARGETS {
+        let mut rows: Vec<CostToTarget> = study
+            .cases
+            .iter()
+            .filter_map(|c| cost_to_target(c, norm, target))
+            .collect();
+        rows.sort_by(|a, b| {
+            let key = |c: &CostToTarget| c.seconds.unwrap_or(f64::INFINITY);
+            key(a).total_cmp(&key(b))
+        });
+        let _ = writeln!(
+            md,
+            "\n#### Target {} = {target:.0e}\n\n| rank | case | estimated wall time | |\n|---|---|---|---|",
+            norm.key()
+        );
+        for (k, r) in rows.iter().enumerate() {
+            let time = r.seconds.map_or(
+                "not reached (error does not fall with cost)".to_string(),
+                |s| format!("{s:.3e} s"),
+            );
+            let mark = if r.extrapolated { "extrapolated" } else { "" };
+            let _ = writeln!(md, "| {} | {} | {} | {} |", k + 1, r.case, time, mark);
+        }
+        all.extend(rows);
+    }
+    (md, all)
+}

@@ -1,0 +1,647 @@
+//! Convergence studies of the 2D/3D bars of the note (§3) against a fine-mesh reference: the
+//! note's Figures 1–8 recomputed.
+//!
+//! Every case (scheme × mass) runs on nested meshes `n = levels[k]` elements along the axis
+//! (square or cubic elements, `Δx/Δt` fixed), and each run is compared at each of its steps with
+//! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
+//! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
+//! solution is compared with the fine one exactly, by prolongation, at common times.
+//!
+//! The reference is Crank–Nicolson with the redistributed mass (the combination the note finds
+//! convergent and energy-conserving). Whether it is fine enough is measured, not assumed: the
+//! same case one level coarser than the reference is compared with it, and that distance is
+//! reported next to the smallest error that enters a fit ([`ReferenceCheck`]).
+//!
+//! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
+//! convergence figures apply unchanged), the reference check, the note's findings as tested
+//! verdicts ([`findings`]), the round-off sensitivity of every case when the config asks for an
+//! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
+
+pub mod comparison;
+pub mod findings;
+pub mod reference;
+pub mod report;
+pub mod sensitivity;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::engine::error::ParameterError;
+use crate::engine::fem::{MassVariant, Prolongation};
+use crate::engine::schemes::{Scheme, TimeIntegrator};
+use crate::harness::elastic::{
+    box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunConfig, BoxRunResult,
+    StepObserver,
+};
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::rates::fit_rate;
+use crate::harness::scene::Scene;
+use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
+use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
+use comparison::{FineNorms, ReferenceComparison};
+use findings::{note_findings, Finding};
+use reference::{Reference, ReferenceKey};
+
+/// Number of time samples of the von Mises space–time map (Figures 4–5).
+const STRESS_MAP_SAMPLES: usize = 200;
+
+/// Levels, reference and cases of a 2D/3D study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ElasticStudyConfig {
+    /// Elements along the axis of each fitted level, increasing, each a divisor of the next.
+    pub levels: Vec<usize>,
+    /// Elements along the axis of the reference (a multiple of `2 · levels.last()`).
+    pub reference_level: usize,
+    /// `Δx / Δt` (2 in the note).
+    pub ratio: f64,
+    /// The cases.
+    pub cases: Vec<Case>,
+    /// The round-off ensemble every case × level also runs as ([`mod@sensitivity`]; a box scene's
+    /// `discretisation.sensitivity`); `None`: no ensemble.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<EnsembleConfig>,
+}
+
+impl ElasticStudyConfig {
+    /// The 2D/3D study of a box scene: its levels, ratio and reference level (`reference_level`
+    /// when given, the scene's `discretisation.reference_level` otherwise), its schemes with
+    /// both masses of the note. Errors when neither gives a reference level.
+    pub fn from_scene(
+        scene: &Scene,
+        reference_level: Option<usize>,
+    ) -> Result<Self, ParameterError> {
+        let given = reference_level.or(scene.discretisation.reference_level);
+        let reference_level = given.ok_or_else(|| {
+            ParameterError::new(
+                "discretisation.reference_level",
+                "absent",
+                "the number of elements along the axis of the fine-mesh reference (a box study \
+                 has no exact solution)",
+            )
+        })?;
+        let cases = scene
+            .default_schemes()
+            .into_iter()
+            .flat_map(|scheme| {
+                [MassVariant::Standard, MassVariant::Redistributed]
+                    .map(|mass| Case { scheme, mass })
+            })
+            .collect();
+        Ok(Self {
+            levels: scene.discretisation.levels.clone(),
+            reference_level,
+            ratio: scene.discretisation.ratio,
+            cases,
+            sensitivity: scene.discretisation.sensitivity,
+        })
+    }
+
+    /// The note's cases: Crank–Nicolson and backward Euler, standard and redistributed mass.
+    pub fn note_cases() -> Vec<Case> {
+        [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER]
+            .into_iter()
+            .flat_map(|scheme| {
+                [MassVariant::Standard, MassVariant::Redistributed]
+                    .map(|mass| Case { scheme, mass })
+            })
+            .collect()
+    }
+
+    /// The case of the reference run.
+    pub fn reference_case() -> Case {
+        Case {
+            scheme: Scheme::CRANK_NICOLSON,
+            mass: MassVariant::Redistributed,
+        }
+    }
+
+    /// Checks the nesting and the ensemble: errors name `levels`, `reference_level`, `ratio`,
+    /// `members` or `amplitude` and say what is allowed.
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        let nested = !self.levels.is_empty()
+            && self.levels[0] > 0
+            && self
+                .levels
+                .windows(2)
+                .all(|w| w[1] > w[0] && w[1] % w[0] == 0);
+        if !nested {
+            return Err(ParameterError::new(
+                "levels",
+                format!("{:?}", self.levels),
+                "increasing element counts > 0, each dividing the next (nested meshes)",
+            ));
+        }
+        let finest = *self.levels.last().expect("not empty");
+        if self.reference_level < 2 * finest || self.reference_level % (2 * finest) != 0 {
+            return Err(ParameterError::new(
+                "reference_level",
+                self.reference_level,
+                "a multiple of 2 × the finest level, so that the reference and the run one \
+                 level coarser are both nested with every level",
+            ));
+        }
+        crate::engine::error::require_positive("ratio", self.ratio)?;
+        self.sensitivity
+            .as_ref()
+            .map_or(Ok(()), EnsembleConfig::validate)
+    }
+}
+
+/// Is the reference fine enough? The distance of the reference case one level coarser
+/// (`reference_level / 2`) to the reference, next to the smallest error of any fitted level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceCheck {
+    /// `scheme/mass` of the reference.
+    pub case: String,
+    /// Elements along the axis.
+    pub level: usize,
+    /// Elements per direction.
+    pub elements: Vec<usize>,
+    /// Unknowns.
+    pub dofs: usize,
+    /// Steps.
+    pub steps: usize,
+    /// `Δt`.
+    pub dt: f64,
+    /// Wall-clock time of the reference run (when it was computed), seconds.
+    pub seconds: f64,
+    /// Whether it came from the cache.
+    pub from_cache: bool,
+    /// The level of the check run.
+    pub next_coarser: usize,
+    /// Norm key → distance of the check run to the reference.
+    pub distance: BTreeMap<String, f64>,
+    /// Norm key → smallest error of any case at any fitted level.
+    pub smallest_fitted_error: BTreeMap<String, f64>,
+    /// Norm key → the largest change of any case's fitted rate when each of its errors moves
+    /// by the distance (up on the coarse half of the levels, down on the fine half, and the
+    /// reverse): what a reference error of that size could do to the rates. Infinite when an
+    /// error is not larger than the distance.
+    pub rate_bias: BTreeMap<String, f64>,
+}
+
+impl ReferenceCheck {
+    /// `smallest fitted error / distance` of a norm: how many times the reference's own
+    /// error (bounded by the distance, for a converging reference) fits under the errors.
+    pub fn margin(&self, norm: &str) -> Option<f64> {
+        Some(self.smallest_fitted_error.get(norm)? / self.distance.get(norm)?)
+    }
+}
+
+/// The von Mises stress along the bar's axis over time (Figures 4–5): at each sampled step,
+/// the mean over each layer of elements across the section.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct AxialStressMap {
+    /// Sample times.
+    pub time: Vec<f64>,
+    /// Height of each layer's centre above the contact face.
+    pub position: Vec<f64>,
+    /// `von_mises[k][j]`: layer `j` at `time[k]`.
+    pub von_mises: Vec<Vec<f64>>,
+}
+
+/// The histories of one case at the finest level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseHistories {
+    /// `scheme/mass`.
+    pub case: String,
+    /// Elements along the axis.
+    pub level: usize,
+    /// The element size `h`.
+    pub element_size: f64,
+    /// The contact face's histories (Figures 1, 6).
+    pub contact: BoxContactHistory,
+    /// `(t, E_h)` (Figures 2, 7).
+    pub energy: Vec<(f64, f64)>,
+    /// Figures 4–5.
+    pub stress: AxialStressMap,
+}
+
+/// The reference's histories, for the figures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceCurves {
+    /// Elements along the axis.
+    pub level: usize,
+    /// The element size `h`.
+    pub element_size: f64,
+    /// Sample times.
+    pub time: Vec<f64>,
+    /// Axial displacement of the centre contact node.
+    pub centre_displacement: Vec<f64>,
+    /// Its multiplier.
+    pub centre_multiplier: Vec<f64>,
+    /// `Σ λ_i`.
+    pub total_force: Vec<f64>,
+    /// `E_h`.
+    pub energy: Vec<f64>,
+}
+
+/// A 2D or 3D study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ElasticStudy {
+    /// `d`.
+    pub dimension: usize,
+    /// The levels, reference and cases.
+    pub config: ElasticStudyConfig,
+    /// Errors, rates and per-level records of every case (norm keys as the 1D tables; see
+    /// [`comparison`] for what each measures here).
+    pub study: Study,
+    /// Whether the reference is fine enough.
+    pub reference: ReferenceCheck,
+    /// The note's statements, tested.
+    pub findings: Vec<Finding>,
+    /// The round-off sensitivity of every case, when `config.sensitivity` asks for an ensemble.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<Sensitivity>,
+}
+
+/// The figure data of a study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ElasticHistories {
+    /// `d`.
+    pub dimension: usize,
+    /// Distance from the contact face to the obstacle (the contact histories store gaps).
+    pub obstacle_gap: Option<f64>,
+    /// The reference.
+    pub reference: ReferenceCurves,
+    /// One entry per case, at the finest level.
+    pub cases: Vec<CaseHistories>,
+}
+
+/// What one run measured.
+struct LevelOutcome {
+    record: LevelRecord,
+    errors: BTreeMap<Norm, f64>,
+    contact: BoxContactHistory,
+    histories: Option<CaseHistories>,
+}
+
+/// The reference of a study with what comparing a run with it takes: the fine-mesh norms and
+/// the prolongation from every level that is compared.
+struct Comparator {
+    reference: Reference,
+    fine_norms: FineNorms,
+    prolongations: BTreeMap<usize, Prolongation>,
+    finest: usize,
+}
+
+impl Comparator {
+    /// The comparator of `reference` for runs on each of `levels` elements along the axis,
+    /// sampled at the time step of the level `finest`.
+    fn new(
+        problem: &BoxProblem,
+        reference: Reference,
+        levels: &[usize],
+        finest: usize,
+    ) -> Result<Self, ParameterError> {
+        let fine_norms = FineNorms {
+            mass: reference
+                .mesh
+                .mass(MassVariant::Standard, problem.elasticity.density),
+            stiffness: reference.mesh.stiffness(&problem.elasticity),
+        };
+        let prolongations = levels
+            .iter()
+            .map(|&n| {
+                let coarse = box_mesh(problem, n)?;
+                Ok((n, Prolongation::new(&coarse, &reference.mesh)?))
+            })
+            .collect::<Result<_, ParameterError>>()?;
+        Ok(Self {
+            reference,
+            fine_norms,
+            prolongations,
+            finest,
+        })
+    }
+
+    /// A fresh comparison for a run on `level` elements along the axis.
+    fn comparison(&self, level: usize) -> ReferenceComparison<'_> {
+        ReferenceComparison::new(
+            &self.reference,
+            &self.fine_norms,
+            &self.prolongations[&level],
+            level,
+            self.finest,
+        )
+    }
+}
+
+/// The element size along the axis of a run on `n_axis` elements, as [`box_mesh`] makes it.
+fn axial_element_size(problem: &BoxProblem, n_axis: usize) -> f64 {
+    problem.lengths[problem.lengths.len() - 1] / n_axis as f64
+}
+
+/// Runs the study, then (when `config.sensitivity` asks for it) its round-off ensemble. The
+/// reference is read from `cache_dir` when its key matches, computed (and cached) otherwise;
+/// `note` hears why a cache was not used.
+pub fn run_elastic_study(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    cache_dir: &Path,
+    note: &mut dyn FnMut(String),
+) -> Result<(ElasticStudy, ElasticHistories), Error> {
+    config.validate()?;
+    // An ensemble the problem cannot carry is refused before anything runs.
+    let ensemble = config
+        .sensitivity
+        .map(|e| sensitivity::noise_scale(problem).map(|scale| (e, scale)))
+        .transpose()?;
+    let clock = Instant::now();
+    let reference = obtain_reference(problem, config, cache_dir, note)?;
+    let finest = *config.levels.last().expect("validated");
+    let check_level = config.reference_level / 2;
+    let mut all_levels = config.levels.clone();
+    all_levels.push(check_level);
+    let comparator = Comparator::new(problem, reference, &all_levels, finest)?;
+
+    let reference_case = ElasticStudyConfig::reference_case();
+    let mut jobs: Vec<(Case, usize)> = config
+        .cases
+        .iter()
+        .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
+        .collect();
+    if !jobs.contains(&(reference_case, check_level)) {
+        jobs.push((reference_case, check_level));
+    }
+    jobs.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+    let outcomes: Vec<((String, usize), LevelOutcome)> = jobs
+        .par_iter()
+        .map(|&(case, n)| {
+            run_level(
+                problem,
+                config.ratio,
+                case,
+                n,
+                n == finest,
+                comparator.comparison(n),
+            )
+            .map(|o| ((case.id(), n), o))
+        })
+        .collect::<Result<_, Error>>()?;
+    let mut by_job: BTreeMap<(String, usize), LevelOutcome> = outcomes.into_iter().collect();
+
+    let check_errors = by_job
+        .get(&(reference_case.id(), check_level))
+        .expect("the check ran")
+        .errors
+        .clone();
+    let mut histories = Vec::new();
+    let mut contacts: Vec<Vec<BoxContactHistory>> = Vec::new();
+    let cases: Vec<CaseStudy> = config
+        .cases
+        .iter()
+        .map(|case| {
+            let mut records = Vec::new();
+            let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
+            let mut case_contacts = Vec::new();
+            for &n in &config.levels {
+                let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
+                for (norm, e) in outcome.errors {
+                    errors.entry(norm).or_default().push(e);
+                }
+                records.push(outcome.record);
+                histories.extend(outcome.histories);
+                case_contacts.push(outcome.contact);
+            }
+            contacts.push(case_contacts);
+            CaseStudy::from_levels(*case, records, errors)
+        })
+        .collect();
+    let study = Study {
+        config: StudyConfig {
+            levels: config.levels.clone(),
+            ratio: config.ratio,
+            horizon: problem.horizon,
+        },
+        norms: Norm::ALL.to_vec(),
+        cases,
+        wall_seconds: clock.elapsed().as_secs_f64(),
+    };
+    let reference = &comparator.reference;
+    let mut reference_check = ReferenceCheck {
+        case: reference_case.id(),
+        level: config.reference_level,
+        elements: reference.mesh.counts().to_vec(),
+        dofs: reference.histories.dofs,
+        steps: reference.histories.steps,
+        dt: reference.histories.dt,
+        seconds: reference.histories.seconds,
+        from_cache: reference.from_cache,
+        next_coarser: check_level,
+        distance: check_errors
+            .iter()
+            .map(|(n, e)| (n.key().to_string(), *e))
+            .collect(),
+        smallest_fitted_error: Norm::ALL
+            .iter()
+            .map(|n| {
+                let smallest = study
+                    .cases
+                    .iter()
+                    .filter_map(|c| c.norm(*n))
+                    .flat_map(|r| r.errors.iter().copied())
+                    .fold(f64::INFINITY, f64::min);
+                (n.key().to_string(), smallest)
+            })
+            .collect(),
+        rate_bias: BTreeMap::new(),
+    };
+    reference_check.rate_bias = Norm::ALL
+        .iter()
+        .map(|&n| {
+            let delta = reference_check.distance[n.key()];
+            let worst = study
+                .cases
+                .iter()
+                .map(|c| rate_bias(c, n, delta))
+                .fold(0.0, f64::max);
+            (n.key().to_string(), worst)
+        })
+        .collect();
+    let h = &reference.histories;
+    let curves = ReferenceCurves {
+        level: config.reference_level,
+        element_size: reference.mesh.element_sizes()[reference.mesh.dim() - 1],
+        time: h.time.clone(),
+        centre_displacement: h.centre_displacement.clone(),
+        centre_multiplier: h.centre_multiplier.clone(),
+        total_force: h.total_force.clone(),
+        energy: h.energy.clone(),
+    };
+    let findings = note_findings(&study, &|n| {
+        reference_check
+            .rate_bias
+            .get(n.key())
+            .copied()
+            .unwrap_or(f64::INFINITY)
+    });
+    let sensitivity = ensemble
+        .map(|(ensemble, scale)| {
+            sensitivity::run_ensembles(problem, config, &comparator, &contacts, ensemble, scale)
+        })
+        .transpose()?;
+    Ok((
+        ElasticStudy {
+            dimension: problem.lengths.len(),
+            config: config.clone(),
+            study,
+            reference: reference_check,
+            findings,
+            sensitivity,
+        },
+        ElasticHistories {
+            dimension: problem.lengths.len(),
+            obstacle_gap: problem.obstacle_gap,
+            reference: curves,
+            cases: histories,
+        },
+    ))
+}
+
+/// How far the least-squares rate of `norm` in `case` can move when each error is off by at most
+/// `delta`: the largest slope change is reached by moving the coarse half of the levels one way
+/// and the fine half the other.
+fn rate_bias(case: &CaseStudy, norm: Norm, delta: f64) -> f64 {
+    let Some((r, base)) = case.norm(norm).and_then(|r| Some((r, r.fit?))) else {
+        return 0.0;
+    };
+    let h: Vec<f64> = case.levels.iter().map(|l| l.h).collect();
+    let half = r.errors.len() / 2;
+    [1.0, -1.0]
+        .into_iter()
+        .map(|sign| {
+            let moved: Vec<f64> = r
+                .errors
+                .iter()
+                .enumerate()
+                .map(|(k, e)| e + if k < half { sign } else { -sign } * delta)
+                .collect();
+            if moved.iter().any(|&e| e <= 0.0) {
+                return f64::INFINITY;
+            }
+            fit_rate(&h, &moved).map_or(f64::INFINITY, |f| (f.rate - base.rate).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The cache file stem of a study's reference, e.g. `reference-2d`.
+pub fn reference_stem(problem: &BoxProblem) -> String {
+    format!("reference-{}d", problem.lengths.len())
+}
+
+/// The reference of a study: cached when the key matches, computed otherwise.
+pub fn obtain_reference(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    cache_dir: &Path,
+    note: &mut dyn FnMut(String),
+) -> Result<Reference, Error> {
+    config.validate()?;
+    let case = ElasticStudyConfig::reference_case();
+    let finest = *config.levels.last().expect("validated");
+    let key = ReferenceKey::new(
+        problem,
+        config.reference_level,
+        config.ratio,
+        case.scheme,
+        case.mass,
+        config.reference_level / finest,
+    );
+    Reference::obtain(problem, cache_dir, &reference_stem(problem), key, note)
+}
+
+/// One run of `case` on `n_axis` elements, compared with the reference at every step;
+/// `observer` sees every step after the comparison.
+fn run_compared(
+    problem: &BoxProblem,
+    ratio: f64,
+    case: Case,
+    n_axis: usize,
+    comparison: &mut ReferenceComparison<'_>,
+    observer: &mut StepObserver<'_>,
+) -> Result<BoxRunResult, Error> {
+    let config = BoxRunConfig {
+        n_axis,
+        ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        vtk_at: Vec::new(),
+        vtk_dir: None,
+    };
+    run_box_observed(
+        problem,
+        &config,
+        &mut |mesh, state: &dyn TimeIntegrator, energy| {
+            comparison.observe(state, energy);
+            observer(mesh, state, energy)
+        },
+    )
+}
+
+/// One case at one level, compared with the reference at every step.
+fn run_level(
+    problem: &BoxProblem,
+    ratio: f64,
+    case: Case,
+    n_axis: usize,
+    keep_histories: bool,
+    mut comparison: ReferenceComparison<'_>,
+) -> Result<LevelOutcome, Error> {
+    // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
+    let h = axial_element_size(problem, n_axis);
+    let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, ratio);
+    let every = (steps / STRESS_MAP_SAMPLES).max(1);
+    let mut stress = AxialStressMap {
+        position: (0..n_axis).map(|j| (j as f64 + 0.5) * h).collect(),
+        ..AxialStressMap::default()
+    };
+    let mut step = 0usize;
+    let result = run_compared(
+        problem,
+        ratio,
+        case,
+        n_axis,
+        &mut comparison,
+        &mut |mesh, state: &dyn TimeIntegrator, _| {
+            if keep_histories && step % every == 0 {
+                let per_layer = mesh.n_elements() / n_axis;
+                let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
+                stress.time.push(state.time());
+                stress.von_mises.push(
+                    vm.chunks(per_layer)
+                        .map(|layer| layer.iter().sum::<f64>() / per_layer as f64)
+                        .collect(),
+                );
+            }
+            step += 1;
+            Ok(())
+        },
+    )?;
+    Ok(LevelOutcome {
+        record: LevelRecord {
+            nx: n_axis,
+            h,
+            dt: result.dt,
+            steps: result.steps,
+            dofs: result.dofs,
+            timings: result.timings,
+            multiplier_variation_ratio: Some(comparison.variation_ratio()),
+        },
+        errors: comparison.errors(),
+        histories: keep_histories.then(|| CaseHistories {
+            case: case.id(),
+            level: n_axis,
+            element_size: h,
+            contact: result.contact.clone(),
+            energy: result.energy,
+            stress,
+        }),
+        contact: result.contact,
+    })
+}

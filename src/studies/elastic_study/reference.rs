@@ -1,0 +1,316 @@
+//! The fine-mesh reference of a 2D/3D study (the note §3 has no exact solution: "(U, λ) can be
+//! approximated by (U_h^n, λ^n) by taking Δt and Δx very small"), and its cache.
+//!
+//! A reference is one run on the finest nested mesh, sampled every `sample_every` fine steps:
+//! the displacement dofs, the energy (eq. 6), the total normal contact force `Σ λ_i` and the
+//! contact-face centre node's displacement and multiplier. The cache is two files under a
+//! directory: `<stem>.json` (the [`ReferenceKey`], the scalar histories) and `<stem>.bin` (the
+//! displacement samples, little-endian `f64`, sample after sample). A cache is used only when its
+//! key equals the key of the reference asked for, field by field; otherwise it is recomputed.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::error::ParameterError;
+use crate::engine::fem::{BoxMesh, MassVariant};
+use crate::engine::schemes::{Scheme, TimeIntegrator};
+use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem, BoxRunConfig};
+use crate::harness::error::Error;
+use crate::harness::output::write_atomic;
+
+/// Layout version of the cache files; bump it when their content changes meaning.
+const CACHE_FORMAT: u32 = 1;
+
+/// Everything that determines a reference run: the cache is valid only for an equal key.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceKey {
+    /// Box lengths.
+    pub lengths: Vec<f64>,
+    /// `ρ`.
+    pub density: f64,
+    /// Lamé `λ`.
+    pub lame_lambda: f64,
+    /// Lamé `μ`.
+    pub lame_mu: f64,
+    /// Distance to the obstacle.
+    pub obstacle_gap: Option<f64>,
+    /// Uniform initial axial displacement.
+    pub initial_displacement: f64,
+    /// Uniform initial axial velocity.
+    pub initial_velocity: f64,
+    /// Horizon `T`.
+    pub horizon: f64,
+    /// The contact treatment's name.
+    pub contact: String,
+    /// Elements along the axis.
+    pub n_axis: usize,
+    /// `Δx / Δt`.
+    pub ratio: f64,
+    /// Scheme name.
+    pub scheme: String,
+    /// Mass variant name.
+    pub mass: String,
+    /// Fine steps per stored sample.
+    pub sample_every: usize,
+    /// Cache layout version.
+    pub format: u32,
+    /// The crate version that computed it.
+    pub signorini_version: String,
+}
+
+impl ReferenceKey {
+    /// The key of a reference run of `problem`.
+    pub fn new(
+        problem: &BoxProblem,
+        n_axis: usize,
+        ratio: f64,
+        scheme: Scheme,
+        mass: MassVariant,
+        sample_every: usize,
+    ) -> Self {
+        Self {
+            lengths: problem.lengths.clone(),
+            density: problem.elasticity.density,
+            lame_lambda: problem.elasticity.lame_lambda,
+            lame_mu: problem.elasticity.lame_mu,
+            obstacle_gap: problem.obstacle_gap,
+            initial_displacement: problem.initial_displacement,
+            initial_velocity: problem.initial_velocity,
+            horizon: problem.horizon,
+            contact: problem.contact.name(),
+            n_axis,
+            ratio,
+            scheme: scheme.name(),
+            mass: mass.name().to_string(),
+            sample_every,
+            format: CACHE_FORMAT,
+            signorini_version: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+
+    /// The fields whose values differ from `other`'s (empty: the keys are equal).
+    pub fn differences(&self, other: &ReferenceKey) -> Vec<String> {
+        let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+            (serde_json::to_value(self), serde_json::to_value(other))
+        else {
+            return vec!["(key not serialisable)".to_string()];
+        };
+        a.iter()
+            .filter(|(k, v)| b.get(*k) != Some(*v))
+            .map(|(k, v)| format!("{k}: cached {}, wanted {v}", b.get(k).unwrap_or(v)))
+            .collect()
+    }
+}
+
+/// The scalar part of a reference (the `.json` cache file).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceHistories {
+    /// The parameters.
+    pub key: ReferenceKey,
+    /// Unknowns per sample.
+    pub dofs: usize,
+    /// Fine steps of the run.
+    pub steps: usize,
+    /// Fine `Δt`.
+    pub dt: f64,
+    /// Wall-clock time of the run, seconds.
+    pub seconds: f64,
+    /// Sample times `t_k`.
+    pub time: Vec<f64>,
+    /// `E_h(t_k)` (eq. 6).
+    pub energy: Vec<f64>,
+    /// `Σ_i λ_i(t_k)`.
+    pub total_force: Vec<f64>,
+    /// Axial displacement of the contact-face node nearest the centre.
+    pub centre_displacement: Vec<f64>,
+    /// Multiplier of that node.
+    pub centre_multiplier: Vec<f64>,
+}
+
+/// A reference: the histories and the displacement samples, with its mesh.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    /// The scalar histories and the key.
+    pub histories: ReferenceHistories,
+    /// `displacement[k·dofs..(k+1)·dofs]` is `U_h(t_k)`.
+    pub displacement: Vec<f64>,
+    /// The fine mesh.
+    pub mesh: BoxMesh,
+    /// Whether it was read from the cache.
+    pub from_cache: bool,
+}
+
+impl Reference {
+    /// Runs the reference and keeps every `key.sample_every`-th step.
+    pub fn compute(problem: &BoxProblem, key: ReferenceKey) -> Result<Self, Error> {
+        let clock = Instant::now();
+        let scheme: Scheme = key.scheme.parse()?;
+        let mass: MassVariant = key.mass.parse()?;
+        let config = BoxRunConfig {
+            n_axis: key.n_axis,
+            ratio: key.ratio,
+            scheme,
+            mass,
+            vtk_at: Vec::new(),
+            vtk_dir: None,
+        };
+        let every = key.sample_every.max(1);
+        let mut displacement = Vec::new();
+        let mut step = 0usize;
+        let run = run_box_observed(problem, &config, &mut |_, state: &dyn TimeIntegrator, _| {
+            if step % every == 0 {
+                displacement.extend_from_slice(state.displacement());
+            }
+            step += 1;
+            Ok(())
+        })?;
+        let gap = problem.obstacle_gap.unwrap_or(0.0);
+        let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
+        let centre_displacement: Vec<f64> =
+            run.contact.centre_gap.iter().map(|g| g - gap).collect();
+        let energy: Vec<f64> = run.energy.iter().map(|&(_, e)| e).collect();
+        let histories = ReferenceHistories {
+            dofs: run.dofs,
+            steps: run.steps,
+            dt: run.dt,
+            seconds: clock.elapsed().as_secs_f64(),
+            time: run.energy.iter().step_by(every).map(|&(t, _)| t).collect(),
+            energy: pick(&energy),
+            total_force: pick(&run.contact.total_force),
+            centre_displacement: pick(&centre_displacement),
+            centre_multiplier: pick(&run.contact.centre_multiplier),
+            key,
+        };
+        Ok(Self {
+            mesh: box_mesh(problem, histories.key.n_axis)?,
+            histories,
+            displacement,
+            from_cache: false,
+        })
+    }
+
+    /// Number of samples.
+    pub fn samples(&self) -> usize {
+        self.histories.time.len()
+    }
+
+    /// `U_h(t_k)`.
+    pub fn displacement_at(&self, k: usize) -> &[f64] {
+        let n = self.histories.dofs;
+        &self.displacement[k * n..(k + 1) * n]
+    }
+
+    /// The cache file paths `<dir>/<stem>.json` and `<dir>/<stem>.bin`.
+    pub fn cache_paths(dir: &Path, stem: &str) -> (PathBuf, PathBuf) {
+        (
+            dir.join(format!("{stem}.json")),
+            dir.join(format!("{stem}.bin")),
+        )
+    }
+
+    /// Writes the cache (each file atomically; the binary first, so a `.json` never describes
+    /// a missing or partial `.bin`).
+    pub fn save(&self, dir: &Path, stem: &str) -> Result<(), Error> {
+        let (json, bin) = Self::cache_paths(dir, stem);
+        let io =
+            |p: &Path, e: std::io::Error| Error::Io(format!("cannot write {}: {e}", p.display()));
+        let bytes: Vec<u8> = self
+            .displacement
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        write_atomic(&bin, &bytes).map_err(|e| io(&bin, e))?;
+        let text = serde_json::to_string(&self.histories)
+            .map_err(|e| Error::Io(format!("cannot serialise the reference: {e}")))?;
+        write_atomic(&json, text.as_bytes()).map_err(|e| io(&json, e))
+    }
+
+    /// Reads the cache if it exists and its key equals `key`.
+    pub fn load(
+        problem: &BoxProblem,
+        dir: &Path,
+        stem: &str,
+        key: &ReferenceKey,
+    ) -> Result<CacheLookup, Error> {
+        let (json, bin) = Self::cache_paths(dir, stem);
+        let Ok(text) = std::fs::read_to_string(&json) else {
+            return Ok(CacheLookup::Missing);
+        };
+        let histories: ReferenceHistories = match serde_json::from_str(&text) {
+            Ok(h) => h,
+            Err(e) => return Ok(CacheLookup::Stale(vec![format!("unreadable: {e}")])),
+        };
+        let differences = key.differences(&histories.key);
+        if !differences.is_empty() {
+            return Ok(CacheLookup::Stale(differences));
+        }
+        let bytes = std::fs::read(&bin)
+            .map_err(|e| Error::Io(format!("cannot read {}: {e}", bin.display())))?;
+        let expected = histories.dofs * histories.time.len() * 8;
+        if bytes.len() != expected {
+            return Ok(CacheLookup::Stale(vec![format!(
+                "{} has {} bytes, expected {expected}",
+                bin.display(),
+                bytes.len()
+            )]));
+        }
+        let displacement = bytes
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+            .collect();
+        Ok(CacheLookup::Hit(Box::new(Self {
+            mesh: box_mesh(problem, histories.key.n_axis)?,
+            histories,
+            displacement,
+            from_cache: true,
+        })))
+    }
+
+    /// The cached reference when its key matches, otherwise a new run, cached. `note` is told
+    /// why a cache was not used. A problem with a velocity perturbation is refused: the key
+    /// cannot tell it from the problem as stated.
+    pub fn obtain(
+        problem: &BoxProblem,
+        dir: &Path,
+        stem: &str,
+        key: ReferenceKey,
+        note: &mut dyn FnMut(String),
+    ) -> Result<Self, Error> {
+        if problem.velocity_perturbation.is_some() {
+            return Err(ParameterError::new(
+                "velocity_perturbation",
+                "given",
+                "absent for a reference (its key and cache describe the problem as stated)",
+            )
+            .into());
+        }
+        match Self::load(problem, dir, stem, &key)? {
+            CacheLookup::Hit(reference) => return Ok(*reference),
+            CacheLookup::Missing => {
+                note(format!("no cached reference {stem} in {}", dir.display()))
+            }
+            CacheLookup::Stale(why) => note(format!(
+                "cached reference {stem} is stale ({})",
+                why.join("; ")
+            )),
+        }
+        let reference = Self::compute(problem, key)?;
+        reference.save(dir, stem)?;
+        Ok(reference)
+    }
+}
+
+/// The outcome of looking for a cached reference.
+#[derive(Debug)]
+pub enum CacheLookup {
+    /// Found, with an equal key.
+    Hit(Box<Reference>),
+    /// No cache file.
+    Missing,
+    /// A cache for other parameters (the differing fields).
+    Stale(Vec<String>),
+}

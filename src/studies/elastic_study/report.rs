@@ -1,0 +1,242 @@
+//! The markdown report of a 2D/3D study: the rate table beside what the note's Figures 3 and 8
+//! show (a round-off chaotic case's rate as its ensemble median and range), the findings, the
+//! round-off sensitivity of every case, the reference check and the per-level errors.
+
+use std::fmt::Write as _;
+
+use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
+use super::ElasticStudy;
+use crate::harness::norms::Norm;
+use crate::harness::report::{
+    chaotic_rate, chaotic_spread, convergence_tables, oscillation_word, OSCILLATES_FROM,
+};
+use crate::harness::sensitivity::{
+    class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,
+};
+use crate::harness::study::CaseStudy;
+
+/// What the note's convergence figures show for a case (scheme name, mass name) and norm:
+/// "converges" or "does not converge" (§3.1 for Crank–Nicolson, Figure 3; §3.1.1 for backward
+/// Euler, Figure 8: "the error curves converge for both methods"). The note prints curves, not
+/// rates, so this is the only comparison it allows.
+pub fn note_expectation(scheme: &str, mass: &str, norm: Norm) -> Option<&'static str> {
+    let converges = match (scheme, mass) {
+        ("crank-nicolson", "redistributed") => true,
+        ("crank-nicolson", "standard") => {
+            matches!(norm, Norm::DisplacementLinfH | Norm::DisplacementL2H)
+        }
+        ("backward-euler", _) => true,
+        _ => return None,
+    };
+    if norm == Norm::DisplacementLinfV {
+        return None;
+    }
+    Some(if converges {
+        "converges"
+    } else {
+        "does not converge"
+    })
+}
+
+/// The rate of `norm` in case `c` (a chaotic case's ensemble median and range), with what the
+/// note shows for it.
+fn rate_cell(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> String {
+    let rate = match chaotic_spread(c, norm, sensitivity) {
+        Some(spread) => chaotic_rate(&spread),
+        None => match c.norm(norm).and_then(|r| r.fit) {
+            Some(fit) => format!("{:.2}", fit.rate),
+            None => return "—".to_string(),
+        },
+    };
+    match note_expectation(&c.case.scheme.name(), c.case.mass.name(), norm) {
+        Some(word) => format!("{rate} ({word})"),
+        None => rate,
+    }
+}
+
+/// The round-off sensitivity section: how the ensemble was made, each case's class with its
+/// predictability step and separation growth at the finest level, and the rate ranges of the
+/// chaotic cases.
+fn sensitivity_section(s: &Sensitivity) -> String {
+    let finest = s.config.levels.last().copied().unwrap_or(0);
+    let mut md = format!(
+        "## Round-off sensitivity\n\n\
+         Every case at every level also ran as {} members whose initial velocity carries seeded \
+         noise of relative size {:e}: every velocity dof (the contact face's included) moves by \
+         a uniform amount in ±A·max|v⁰|, the displacement is untouched. Each member is compared \
+         with the same (unperturbed) reference; its separation from the unperturbed run is taken \
+         on the centre contact node's normal displacement. {} Ensemble wall time {:.1} s on \
+         this machine ({} runs).\n\n",
+        s.ensemble.members,
+        s.ensemble.amplitude,
+        class_rules(),
+        s.wall_seconds,
+        s.cases.len() * s.config.levels.len() * s.ensemble.members
+    );
+    md.push_str(&class_table(s, finest));
+    md.push('\n');
+    for class in [
+        SensitivityClass::Reproducible,
+        SensitivityClass::EventSensitive,
+        SensitivityClass::Chaotic,
+    ] {
+        let cases: Vec<String> = s
+            .cases
+            .iter()
+            .filter(|c| c.class == class)
+            .map(|c| {
+                let largest = c.largest_separation.last().copied().unwrap_or(f64::NAN);
+                format!(
+                    "{} (largest separation {largest:.1e} at NX = {finest})",
+                    c.case
+                )
+            })
+            .collect();
+        let list = if cases.is_empty() {
+            "none".to_string()
+        } else {
+            cases.join(", ")
+        };
+        let _ = writeln!(md, "- *{}*: {list}.", class.name());
+    }
+    let chaotic: Vec<_> = s.cases.iter().filter(|c| c.chaotic).collect();
+    if !chaotic.is_empty() {
+        let _ = writeln!(
+            md,
+            "\n### Rate ranges of the chaotic cases\n\n\
+             Ensemble minimum, median and maximum of the rate fitted over all levels, member by \
+             member (the rate table shows the median and the range, marked †).\n\n{}",
+            rate_ranges(chaotic).trim_end()
+        );
+    }
+    md
+}
+
+/// The whole report.
+pub fn render(study: &ElasticStudy) -> String {
+    let s = &study.study;
+    let r = &study.reference;
+    let d = study.dimension;
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# {d}D bar (note §3): convergence against a fine-mesh reference\n\n\
+         Levels (elements along the axis): {:?}; Δx/Δt = {}; T = {}. Generated by `make report` \
+         (`signorini study scenes/bar{d}d.json --out reports`); study wall time {:.1} s on this \
+         machine, reference run {:.1} s ({}).\n",
+        s.config.levels,
+        s.config.ratio,
+        s.config.horizon,
+        s.wall_seconds,
+        r.seconds,
+        if r.from_cache {
+            "read from the cache"
+        } else {
+            "computed for this study"
+        }
+    );
+    let _ = writeln!(
+        md,
+        "## Rates (least squares over all levels)\n\n\
+         Each cell: our rate (what the note's Figure 3 for Crank–Nicolson, Figure 8 for backward \
+         Euler, shows for that curve; the note prints curves, not numbers). The contact force is \
+         the total normal force Σλᵢ on Γ_Sig; V is the energy norm (‖e‖²_H + a(e, e))^½; the \
+         energy error is |E_h − E_ref|. The last column is the oscillation indicator \
+         TV(Σλ_h)/TV(Σλ_ref) on the finest level.\n"
+    );
+    let _ = write!(md, "| case |");
+    for n in Norm::ALL {
+        let _ = write!(md, " {} |", n.key());
+    }
+    let _ = writeln!(
+        md,
+        " oscillation |\n|---|{}---|",
+        "---|".repeat(Norm::ALL.len())
+    );
+    let sensitivity = study.sensitivity.as_ref();
+    for c in &s.cases {
+        let _ = write!(md, "| {} |", c.case.id());
+        for n in Norm::ALL {
+            let _ = write!(md, " {} |", rate_cell(c, n, sensitivity));
+        }
+        let ind = c.oscillation_indicator().unwrap_or(f64::NAN);
+        let _ = writeln!(md, " {ind:.1} ({}) |", oscillation_word(ind));
+    }
+    if let Some(sens) = sensitivity.filter(|s| s.cases.iter().any(|c| c.chaotic)) {
+        let _ = writeln!(
+            md,
+            "\n† round-off chaotic (see *Round-off sensitivity*): the ensemble median rate of {} \
+             members with relative noise {:e} on the initial velocity, and the ensemble [min, \
+             max]; the unperturbed run's rate is one sample of that range (its per-level errors \
+             are below).",
+            sens.ensemble.members, sens.ensemble.amplitude
+        );
+    }
+
+    let _ = writeln!(
+        md,
+        "\n## The note's findings, tested\n\n\
+         A norm converges when its rate is above {CONVERGENCE_RATE} (its error decreases with h); a case oscillates when \
+         its indicator is at least {OSCILLATES_FROM}; two cases behave alike in a norm when \
+         both converge or neither does and their rates differ by at most {ALIKE_RATE_GAP}.\n\n\
+         A finding is *robust* when it still holds with every rate it uses moved by the \
+         reference's rate-bias bound for that norm (see the last section): an error in the \
+         reference of the measured size could not overturn it.\n\n\
+         | finding | note | holds | robust | evidence |\n|---|---|---|---|---|"
+    );
+    for f in &study.findings {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} |",
+            f.claim,
+            f.source,
+            if f.holds { "yes" } else { "**no**" },
+            if f.robust { "yes" } else { "no" },
+            f.evidence
+        );
+    }
+
+    if let Some(sens) = sensitivity {
+        let _ = write!(md, "\n{}", sensitivity_section(sens));
+    }
+    let _ = writeln!(
+        md,
+        "\n## Is the reference fine enough?\n\n\
+         Reference: {} on {} elements along the axis ({:?} elements, {} unknowns, {} steps of \
+         Δt = {:.3e}). The same case on {} elements is compared with it: that distance bounds \
+         the reference's own error if the case converges, and it should sit well below the \
+         smallest error that enters a fit. The last column is what an error of that size in the \
+         reference could do to the fitted rates (the largest change over the cases when every \
+         error moves by the distance, the coarse levels one way and the fine ones the other).\n\n\
+         | norm | distance of level {} to the reference | smallest fitted error | ratio | rate bias bound |\n\
+         |---|---|---|---|---|",
+        r.case,
+        r.level,
+        r.elements,
+        r.dofs,
+        r.steps,
+        r.dt,
+        r.next_coarser,
+        r.next_coarser
+    );
+    for n in Norm::ALL {
+        let key = n.key();
+        let _ = writeln!(
+            md,
+            "| {key} | {:.3e} | {:.3e} | {:.1} | {:.2} |",
+            r.distance.get(key).copied().unwrap_or(f64::NAN),
+            r.smallest_fitted_error
+                .get(key)
+                .copied()
+                .unwrap_or(f64::NAN),
+            r.margin(key).unwrap_or(f64::NAN),
+            r.rate_bias.get(key).copied().unwrap_or(f64::NAN)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n## Errors per level\n\n{}",
+        convergence_tables(s).trim_end()
+    );
+    md
+}

@@ -1,0 +1,130 @@
+//! The round-off sensitivity of a 2D/3D study: every case × level rerun as an ensemble of `K`
+//! members whose initial velocity carries seeded noise, beside the study's unperturbed run and
+//! compared with the same fine-mesh reference (the reference is not perturbed). It measures
+//! what the 1D study measures ([`crate::harness::sensitivity`]: each member's errors, their ensemble
+//! spread and that of each member's fitted rate, the predictability step and the separation
+//! growth) and classifies each case by the same rules, into the same [`Sensitivity`], so the
+//! golden gate (`Golden::with_sensitivity`, `compare_ensemble`) applies unchanged.
+//!
+//! - **The noise.** Member `m` (seed `m = 1..K`) adds to every velocity dof a uniform amount in
+//!   `±A·max|v⁰|`. A box starts with the uniform axial velocity `v⁰ = initial_velocity · e_d`
+//!   (the note's −0.5), so `max|v⁰| = |initial_velocity|`; a problem at rest has no velocity
+//!   scale and is refused. The displacement is not touched.
+//! - **The contact face is perturbed too.** The Signorini condition constrains displacements,
+//!   not velocities, and at `t = 0` the face is the gap away from the obstacle, so every initial
+//!   velocity is admissible (the 1D study leaves the contact dof's displacement alone only to
+//!   keep `u⁰` admissible). Leaving those dofs out would make the noise less like round-off,
+//!   which touches every dof.
+//! - **The separation** is taken on the centre contact node's gap (its normal displacement plus
+//!   the constant gap) that every box run records (`BoxContactHistory::centre_gap`), with the 1D
+//!   thresholds ([`crate::harness::sensitivity::PARTING`], [`crate::harness::sensitivity::RUNAWAY`]): the box
+//!   falls 0.2 at speed 0.5, displacements of the size of the 1D benchmark's.
+//! - **Members stream.** A (case, level) job holds the study's unperturbed contact history and
+//!   one member's run at a time, so memory does not grow with members × steps.
+
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
+use crate::engine::error::ParameterError;
+use crate::engine::problem::Perturbation;
+use crate::harness::elastic::{BoxContactHistory, BoxProblem};
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::sensitivity::{
+    classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
+};
+use crate::harness::study::{run_case_levels, StudyConfig};
+
+/// The velocity scale of the noise, `max|v⁰| = |initial_velocity|`. Refuses a problem that
+/// cannot carry an ensemble: one at rest (no velocity scale), one without obstacle (no contact
+/// node to measure the separation at).
+pub fn noise_scale(problem: &BoxProblem) -> Result<f64, ParameterError> {
+    if problem.obstacle_gap.is_none() {
+        return Err(ParameterError::new(
+            "obstacle_gap",
+            "none",
+            "an obstacle for a round-off ensemble (the separation is measured at the centre \
+             contact node)",
+        ));
+    }
+    let scale = problem.initial_velocity.abs();
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(ParameterError::new(
+            "initial_velocity",
+            problem.initial_velocity,
+            "a finite nonzero velocity for a round-off ensemble (its noise is relative to \
+             max|v⁰|)",
+        ));
+    }
+    Ok(scale)
+}
+
+/// The ensembles of every case × level of `config` (in parallel over case × level, largest
+/// levels first), `base[c][l]` being the study's unperturbed contact history of case `c` at
+/// level `l`, with noise of size `ensemble.amplitude · scale`; each case classified. A job runs
+/// its members one after the other: each one's errors against the reference and its separation
+/// from `base[c][l]`.
+pub(super) fn run_ensembles(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    comparator: &Comparator,
+    base: &[Vec<BoxContactHistory>],
+    ensemble: EnsembleConfig,
+    scale: f64,
+) -> Result<Sensitivity, Error> {
+    let clock = Instant::now();
+    let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let per_case = run_case_levels(config.cases.len(), &config.levels, |c, l| {
+        let (case, n_axis) = (config.cases[c], config.levels[l]);
+        let mut errors = Vec::with_capacity(ensemble.members);
+        let mut separations = Vec::with_capacity(ensemble.members);
+        for member in 1..=ensemble.members {
+            let perturbed = BoxProblem {
+                velocity_perturbation: Some(Perturbation {
+                    amplitude: ensemble.amplitude * scale,
+                    seed: member as u64,
+                }),
+                ..problem.clone()
+            };
+            let mut comparison = comparator.comparison(n_axis);
+            let run = run_compared(
+                &perturbed,
+                config.ratio,
+                case,
+                n_axis,
+                &mut comparison,
+                &mut |_, _, _| Ok(()),
+            )?;
+            separations.push(Separation::between(
+                &base[c][l].time,
+                &base[c][l].centre_gap,
+                &run.contact.centre_gap,
+            ));
+            errors.push(comparison.errors());
+        }
+        Ok(LevelEnsemble {
+            errors,
+            separations,
+        })
+    })?;
+    let h: Vec<f64> = config
+        .levels
+        .iter()
+        .map(|&n| axial_element_size(problem, n))
+        .collect();
+    let study_config = StudyConfig {
+        levels: config.levels.clone(),
+        ratio: config.ratio,
+        horizon: problem.horizon,
+    };
+    Ok(classify_cases(
+        &config.cases,
+        &study_config,
+        &h,
+        &norms,
+        ensemble,
+        per_case,
+        clock,
+    ))
+}

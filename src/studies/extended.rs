@@ -1,0 +1,606 @@
+//! Issue 11's extended table: the Signorini–Dirichlet benchmark (1D paper §5) with
+//! Crank–Nicolson and backward Euler, every mass variant ([`MassVariant::ALL`]) and every contact
+//! treatment of [`TREATMENTS`], one refinement study per treatment. Per row (treatment, scheme,
+//! mass) it reports the seven least-squares rates, the oscillation indicator and an
+//! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::contact::ContactTreatment;
+use crate::engine::fem::MassVariant;
+use crate::engine::schemes::Scheme;
+use crate::harness::error::Error;
+use crate::harness::golden::{Golden, Tolerances};
+use crate::harness::norms::Norm;
+use crate::harness::report::{oscillation_word, OSCILLATES_FROM};
+use crate::harness::run::Problem1d;
+use crate::harness::sensitivity::{
+    run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
+};
+use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+
+/// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
+pub const TREATMENTS: [&str; 5] = [
+    "multiplier",
+    "penalty(gamma0=10)",
+    "nitsche(theta=-1,gamma0=10)",
+    "nitsche(theta=0,gamma0=10)",
+    "nitsche(theta=1,gamma0=10)",
+];
+
+/// The schemes of the table.
+pub const SCHEMES: [Scheme; 2] = [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER];
+
+/// An energy-error rate above this is [`EnergyVerdict::Converges`].
+pub const CONVERGES_ABOVE: f64 = 0.25;
+
+/// An energy-error rate at or below this is [`EnergyVerdict::Grows`].
+pub const GROWS_AT_OR_BELOW: f64 = -0.25;
+
+/// The study of one contact treatment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtendedStudy {
+    /// The treatment's name (one of [`TREATMENTS`]).
+    pub contact: String,
+    /// Its study: [`SCHEMES`] × [`MassVariant::ALL`], all seven norms.
+    pub study: Study,
+    /// The round-off sensitivity of its cases, when measured ([`ExtendedStudy::with_sensitivity`]).
+    pub sensitivity: Option<Sensitivity>,
+}
+
+impl ExtendedStudy {
+    /// The study with the round-off sensitivity of all its cases measured
+    /// ([`extended_sensitivity`]).
+    pub fn with_sensitivity(self) -> Result<Self, Error> {
+        let cases: Vec<Case> = self.study.cases.iter().map(|c| c.case).collect();
+        let sensitivity = extended_sensitivity(&self.contact, &cases)?;
+        Ok(Self {
+            sensitivity: Some(sensitivity),
+            ..self
+        })
+    }
+}
+
+/// The levels, ratio and horizon of the extended studies: those of Tables 1–2
+/// ([`StudyConfig::paper_default`]).
+pub fn extended_config() -> StudyConfig {
+    StudyConfig::paper_default()
+}
+
+/// The cases of one treatment's study: every scheme of [`SCHEMES`] with every mass variant.
+pub fn extended_cases() -> Vec<Case> {
+    SCHEMES
+        .into_iter()
+        .flat_map(|scheme| MassVariant::ALL.map(|mass| Case { scheme, mass }))
+        .collect()
+}
+
+/// The Signorini–Dirichlet benchmark on the horizon of [`extended_config`] with the contact
+/// treatment named `contact` (one of [`TREATMENTS`]).
+pub fn extended_problem(contact: &str) -> Result<Problem1d, Error> {
+    let mut problem = Problem1d::signorini_dirichlet(extended_config().horizon);
+    problem.contact = ContactTreatment::from_str(contact)?;
+    Ok(problem)
+}
+
+/// Runs one study per treatment of [`TREATMENTS`] on the Signorini–Dirichlet benchmark with
+/// [`extended_config`] and [`extended_cases`], all seven norms.
+pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
+    let config = extended_config();
+    let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let cases = extended_cases();
+    TREATMENTS
+        .into_iter()
+        .map(|name| {
+            Ok(ExtendedStudy {
+                contact: name.to_string(),
+                study: run_study(&extended_problem(name)?, &cases, &norms, &config)?,
+                sensitivity: None,
+            })
+        })
+        .collect()
+}
+
+/// The round-off sensitivity (`crate::harness::sensitivity`, default ensemble) of `cases` under the
+/// treatment `contact`, on the extended studies' levels with all seven norms: what `make report`
+/// classifies the rows by and what the gate holds the chaotic ones to.
+pub fn extended_sensitivity(contact: &str, cases: &[Case]) -> Result<Sensitivity, Error> {
+    run_sensitivity(
+        &extended_problem(contact)?,
+        cases,
+        &Norm::ALL.into_iter().collect(),
+        &extended_config(),
+        EnsembleConfig::default(),
+    )
+}
+
+/// What the energy error does under refinement, from the least-squares rate `r` of
+/// `‖E_h − E‖_{L∞(0,T)}` over all levels and its value `e` on the finest level:
+/// * `converges`: `r > 0.25` ([`CONVERGES_ABOVE`]) and `e` finite;
+/// * `bounded error`: `−0.25 < r ≤ 0.25` and `e` finite;
+/// * `grows`: `r ≤ −0.25` ([`GROWS_AT_OR_BELOW`]), or `r` undefined, or `e` not finite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnergyVerdict {
+    /// The energy error decreases with the mesh size.
+    Converges,
+    /// The energy error neither decreases nor increases markedly.
+    BoundedError,
+    /// The energy error increases with refinement (or is not finite).
+    Grows,
+}
+
+impl EnergyVerdict {
+    /// The verdict of an energy-error rate and finest-level energy error (see the type).
+    pub fn of(rate: Option<f64>, finest_error: f64) -> Self {
+        match rate {
+            Some(r) if finest_error.is_finite() && r > CONVERGES_ABOVE => Self::Converges,
+            Some(r) if finest_error.is_finite() && r > GROWS_AT_OR_BELOW => Self::BoundedError,
+            _ => Self::Grows,
+        }
+    }
+
+    /// The word in the markdown table.
+    pub fn word(self) -> &'static str {
+        match self {
+            Self::Converges => "converges",
+            Self::BoundedError => "bounded error",
+            Self::Grows => "grows",
+        }
+    }
+}
+
+/// One row of the extended table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ExtendedRow {
+    /// The contact treatment's name.
+    pub contact: String,
+    /// The scheme's name.
+    pub scheme: String,
+    /// The mass variant's name.
+    pub mass: &'static str,
+    /// The round-off class of the case, when its sensitivity was measured.
+    pub class: Option<SensitivityClass>,
+    /// Norm key → least-squares rate over all levels (`None` when the fit is undefined); for a
+    /// round-off chaotic case, the ensemble median rate.
+    pub rates: BTreeMap<&'static str, Option<f64>>,
+    /// A round-off chaotic case's norm key → ensemble spread of the rate (empty otherwise).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub rate_ranges: BTreeMap<&'static str, Spread>,
+    /// `TV(λ_h)/TV(λ)` on the finest level.
+    pub oscillation_indicator: Option<f64>,
+    /// [`oscillation_word`] of the indicator.
+    pub oscillation_word: Option<&'static str>,
+    /// `‖E_h − E‖_{L∞(0,T)}` on the finest level (for a chaotic case, the ensemble median).
+    pub energy_error_finest: f64,
+    /// [`EnergyVerdict::of`] the `energy_Linf` rate and `energy_error_finest`.
+    pub energy_verdict: EnergyVerdict,
+}
+
+impl ExtendedRow {
+    /// The row of one case of a treatment's study; with its sensitivity, a round-off chaotic
+    /// case's rates and finest energy error are the ensemble medians (one run is one sample).
+    pub fn of(contact: &str, case: &CaseStudy, sensitivity: Option<&Sensitivity>) -> Self {
+        let measured = sensitivity.and_then(|s| s.case(&case.case.id()));
+        let chaotic = measured.filter(|s| s.chaotic);
+        let rate_ranges: BTreeMap<&'static str, Spread> = Norm::ALL
+            .into_iter()
+            .filter_map(|n| Some((n.key(), *chaotic?.rates.get(n.key())?)))
+            .collect();
+        let rates: BTreeMap<&'static str, Option<f64>> = Norm::ALL
+            .into_iter()
+            .map(|n| {
+                let rate = match chaotic {
+                    Some(_) => rate_ranges.get(n.key()).map(|s| s.median),
+                    None => case.norm(n).and_then(|r| r.fit).map(|f| f.rate),
+                };
+                (n.key(), rate)
+            })
+            .collect();
+        let energy_key = Norm::EnergyLinf.key();
+        let energy_error_finest = match chaotic {
+            Some(s) => s
+                .errors
+                .get(energy_key)
+                .and_then(|levels| levels.last())
+                .map_or(f64::NAN, |e| e.median),
+            None => case
+                .norm(Norm::EnergyLinf)
+                .and_then(|r| r.errors.last().copied())
+                .unwrap_or(f64::NAN),
+        };
+        let indicator = case.oscillation_indicator();
+        Self {
+            contact: contact.to_string(),
+            scheme: case.case.scheme.name(),
+            mass: case.case.mass.name(),
+            class: measured.map(|s| s.class),
+            energy_verdict: EnergyVerdict::of(
+                rates.get(energy_key).copied().flatten(),
+                energy_error_finest,
+            ),
+            rates,
+            rate_ranges,
+            oscillation_indicator: indicator,
+            oscillation_word: indicator.map(oscillation_word),
+            energy_error_finest,
+        }
+    }
+
+    /// The rate of `norm`.
+    pub fn rate(&self, norm: Norm) -> Option<f64> {
+        self.rates.get(norm.key()).copied().flatten()
+    }
+
+    /// Whether the case is round-off chaotic.
+    pub fn is_chaotic(&self) -> bool {
+        self.class == Some(SensitivityClass::Chaotic)
+    }
+}
+
+/// The rows of all studies: per treatment, per case in study order.
+pub fn extended_rows(studies: &[ExtendedStudy]) -> Vec<ExtendedRow> {
+    studies
+        .iter()
+        .flat_map(|s| {
+            s.study
+                .cases
+                .iter()
+                .map(|c| ExtendedRow::of(&s.contact, c, s.sensitivity.as_ref()))
+        })
+        .collect()
+}
+
+/// For one scheme and norm, the row with the highest rate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fastest {
+    /// The scheme's name.
+    pub scheme: String,
+    /// The norm key.
+    pub norm: &'static str,
+    /// The contact treatment of the fastest row.
+    pub contact: String,
+    /// The mass variant of the fastest row.
+    pub mass: &'static str,
+    /// Its rate.
+    pub rate: f64,
+}
+
+/// For every scheme of [`SCHEMES`] and every norm, the row of `rows` with the highest defined
+/// rate (the first one on ties).
+pub fn fastest(rows: &[ExtendedRow]) -> Vec<Fastest> {
+    let mut out = Vec::new();
+    for scheme in SCHEMES {
+        let name = scheme.name();
+        for norm in Norm::ALL {
+            let best = rows
+                .iter()
+                .filter(|r| r.scheme == name)
+                .filter_map(|r| r.rate(norm).map(|rate| (r, rate)))
+                .fold(
+                    None,
+                    |best: Option<(&ExtendedRow, f64)>, (r, rate)| match best {
+                        Some((_, b)) if b >= rate => best,
+                        _ => Some((r, rate)),
+                    },
+                );
+            if let Some((r, rate)) = best {
+                out.push(Fastest {
+                    scheme: name.clone(),
+                    norm: norm.key(),
+                    contact: r.contact.clone(),
+                    mass: r.mass,
+                    rate,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The rows whose oscillation indicator is at least [`OSCILLATES_FROM`], scheme by scheme in
+/// the order of [`SCHEMES`].
+pub fn oscillating(rows: &[ExtendedRow]) -> Vec<&ExtendedRow> {
+    SCHEMES
+        .into_iter()
+        .flat_map(|scheme| {
+            let name = scheme.name();
+            rows.iter().filter(move |r| {
+                r.scheme == name
+                    && r.oscillation_indicator
+                        .is_some_and(|i| i >= OSCILLATES_FROM)
+            })
+        })
+        .collect()
+}
+
+/// `reports/extended.json`.
+#[derive(Debug, Serialize)]
+pub struct ExtendedFile {
+    /// The crate version that wrote it.
+    pub signorini_version: &'static str,
+    /// `signorini-dirichlet`.
+    pub problem: &'static str,
+    /// The studies' levels.
+    pub levels: Vec<usize>,
+    /// The studies' `Δx/Δt`.
+    pub ratio: f64,
+    /// The studies' horizon.
+    pub horizon: f64,
+    /// Wall time of all studies together, seconds.
+    pub wall_seconds: f64,
+    /// The ensemble that classified the rows (`null` when no sensitivity was measured).
+    pub ensemble: Option<EnsembleConfig>,
+    /// [`CONVERGES_ABOVE`].
+    pub verdict_converges_above: f64,
+    /// [`GROWS_AT_OR_BELOW`].
+    pub verdict_grows_at_or_below: f64,
+    /// Every row.
+    pub rows: Vec<ExtendedRow>,
+    /// [`fastest`] of the rows.
+    pub fastest: Vec<Fastest>,
+    /// [`oscillating`] rows as `{contact, scheme, mass, indicator}`.
+    pub oscillating: Vec<OscillatingRow>,
+}
+
+/// One oscillating row in `extended.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OscillatingRow {
+    /// The contact treatment.
+    pub contact: String,
+    /// The scheme's name.
+    pub scheme: String,
+    /// The mass variant.
+    pub mass: &'static str,
+    /// The oscillation indicator.
+    pub indicator: f64,
+}
+
+/// A rate cell: `–` when undefined, `†` after a round-off chaotic case's median.
+fn cell(rate: Option<f64>, chaotic: bool) -> String {
+    let mark = if chaotic { "†" } else { "" };
+    rate.map_or_else(|| "–".to_string(), |r| format!("{r:.2}{mark}"))
+}
+
+/// The classification paragraph and the rate ranges of the round-off chaotic rows.
+fn sensitivity_section(
+    rows: &[ExtendedRow],
+    ensemble: Option<EnsembleConfig>,
+    wall_seconds: f64,
+) -> String {
+    let Some(ensemble) = ensemble else {
+        return "\n## Round-off sensitivity\n\nNot measured: every rate is one run's.\n"
+            .to_string();
+    };
+    let count = |class: SensitivityClass| rows.iter().filter(|r| r.class == Some(class)).count();
+    let mut md = format!(
+        "\n## Round-off sensitivity\n\nEvery row run as {} members with relative noise {:e} on \
+         the initial displacement (`crate::harness::sensitivity`, the rules of `sensitivity.md`): {} \
+         reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
+         whose [min, max] follows; the energy verdict of such a row is the medians'). The \
+         ensembles took {wall_seconds:.1} s wall.\n",
+        ensemble.members,
+        ensemble.amplitude,
+        count(SensitivityClass::Reproducible),
+        count(SensitivityClass::EventSensitive),
+        count(SensitivityClass::Chaotic),
+    );
+    let chaotic: Vec<&ExtendedRow> = rows.iter().filter(|r| r.is_chaotic()).collect();
+    if chaotic.is_empty() {
+        return md;
+    }
+    md.push_str("\n| scheme | mass | contact |");
+    for norm in Norm::ALL {
+        md.push_str(&format!(" {} |", norm.key()));
+    }
+    md.push_str("\n|---|---|---|");
+    md.push_str(&"---|".repeat(Norm::ALL.len()));
+    md.push('\n');
+    for r in chaotic {
+        md.push_str(&format!("| {} | {} | {} |", r.scheme, r.mass, r.contact));
+        for norm in Norm::ALL {
+            let range = r.rate_ranges.get(norm.key()).map_or_else(
+                || "–".to_string(),
+                |s| format!("[{:.3}, {:.3}]", s.min, s.max),
+            );
+            md.push_str(&format!(" {range} |"));
+        }
+        md.push('\n');
+    }
+    md
+}
+
+/// The markdown and the JSON file of the studies.
+pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
+    let rows = extended_rows(studies);
+    let fastest = fastest(&rows);
+    let oscillating: Vec<OscillatingRow> = oscillating(&rows)
+        .into_iter()
+        .map(|r| OscillatingRow {
+            contact: r.contact.clone(),
+            scheme: r.scheme.clone(),
+            mass: r.mass,
+            indicator: r.oscillation_indicator.unwrap_or(f64::NAN),
+        })
+        .collect();
+    let config = studies
+        .first()
+        .map_or_else(extended_config, |s| s.study.config.clone());
+    let wall_seconds: f64 = studies.iter().map(|s| s.study.wall_seconds).sum();
+    let ensemble = studies
+        .iter()
+        .find_map(|s| s.sensitivity.as_ref().map(|s| s.ensemble));
+
+    let mut md = format!(
+        "# Extended table (issue 11)\n\nSignorini–Dirichlet benchmark (1D paper §5), levels NX = \
+         {:?}, Δx/Δt = {}, T = {}; every mass variant × contact treatment. Each rate: the \
+         least-squares rate over all levels. Oscillation: `TV(λ_h)/TV(λ)` on the finest level \
+         (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the `energy_Linf` rate r \
+         and the finest-level energy error e: *converges* r > {CONVERGES_ABOVE}, *bounded error* \
+         {GROWS_AT_OR_BELOW} < r ≤ {CONVERGES_ABOVE}, *grows* r ≤ {GROWS_AT_OR_BELOW} (or e not \
+         finite). Generated by `make report` (signorini {}); the studies took {:.1} s wall.\n",
+        config.levels,
+        config.ratio,
+        config.horizon,
+        env!("CARGO_PKG_VERSION"),
+        wall_seconds
+    );
+    for scheme in SCHEMES {
+        let name = scheme.name();
+        md.push_str(&format!("\n## {}\n\n| mass | contact |", scheme.label()));
+        for norm in Norm::ALL {
+            md.push_str(&format!(" {} |", norm.key()));
+        }
+        md.push_str(" oscillation | energy error (finest) | energy verdict |\n|---|---|");
+        md.push_str(&"---|".repeat(Norm::ALL.len() + 3));
+        md.push('\n');
+        for mass in MassVariant::ALL {
+            for r in rows
+                .iter()
+                .filter(|r| r.scheme == name && r.mass == mass.name())
+            {
+                md.push_str(&format!("| {} | {} |", r.mass, r.contact));
+                for norm in Norm::ALL {
+                    md.push_str(&format!(" {} |", cell(r.rate(norm), r.is_chaotic())));
+                }
+                let osc = match (r.oscillation_indicator, r.oscillation_word) {
+                    (Some(i), Some(w)) => format!("{i:.3} ({w})"),
+                    _ => "–".to_string(),
+                };
+                md.push_str(&format!(
+                    " {osc} | {:.3e} | {} |\n",
+                    r.energy_error_finest,
+                    r.energy_verdict.word()
+                ));
+            }
+        }
+    }
+    let sensitivity_seconds = studies
+        .iter()
+        .filter_map(|s| s.sensitivity.as_ref())
+        .map(|s| s.wall_seconds)
+        .sum();
+    md.push_str(&sensitivity_section(&rows, ensemble, sensitivity_seconds));
+    md.push_str("\n## Fastest per norm\n\nThe row with the highest rate, per scheme and norm.\n\n");
+    md.push_str("| scheme | norm | mass | contact | rate |\n|---|---|---|---|---|\n");
+    for f in &fastest {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {:.2} |\n",
+            f.scheme, f.norm, f.mass, f.contact, f.rate
+        ));
+    }
+    md.push_str(&format!(
+        "\n## Oscillating rows\n\nIndicator ≥ {OSCILLATES_FROM}: {} of {} rows.\n\n",
+        oscillating.len(),
+        rows.len()
+    ));
+    if !oscillating.is_empty() {
+        md.push_str("| scheme | mass | contact | indicator |\n|---|---|---|---|\n");
+        for o in &oscillating {
+            md.push_str(&format!(
+                "| {} | {} | {} | {:.3} |\n",
+                o.scheme, o.mass, o.contact, o.indicator
+            ));
+        }
+    }
+    let file = ExtendedFile {
+        signorini_version: env!("CARGO_PKG_VERSION"),
+        problem: "signorini-dirichlet",
+        levels: config.levels,
+        ratio: config.ratio,
+        horizon: config.horizon,
+        wall_seconds,
+        ensemble,
+        verdict_converges_above: CONVERGES_ABOVE,
+        verdict_grows_at_or_below: GROWS_AT_OR_BELOW,
+        rows,
+        fastest,
+        oscillating,
+    };
+    (md, file)
+}
+
+/// The golden values of one treatment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TreatmentGolden {
+    /// The treatment's name (one of [`TREATMENTS`]).
+    pub contact: String,
+    /// Its study's golden values.
+    pub golden: Golden,
+}
+
+/// `golden/rates-1d-extended.json`: one [`Golden`] per treatment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExtendedGolden {
+    /// What produced it (`make golden`).
+    pub generated_by: String,
+    /// One entry per treatment, in the order of [`TREATMENTS`].
+    pub treatments: Vec<TreatmentGolden>,
+}
+
+impl ExtendedGolden {
+    /// The golden values of the studies; each treatment keeps the tolerances it has in
+    /// `previous` (the file being replaced), the default tolerances otherwise, and is held at
+    /// what its measured sensitivity allows ([`Golden::with_sensitivity`]) when it has one.
+    pub fn from_studies(studies: &[ExtendedStudy], previous: Option<&ExtendedGolden>) -> Self {
+        Self {
+            generated_by: "make golden".to_string(),
+            treatments: studies
+                .iter()
+                .map(|s| {
+                    let tolerances = previous
+                        .and_then(|p| p.treatment(&s.contact))
+                        .map_or_else(Tolerances::default, |g| g.tolerances.clone());
+                    let golden = Golden::from_study(&s.study, tolerances);
+                    TreatmentGolden {
+                        contact: s.contact.clone(),
+                        golden: match &s.sensitivity {
+                            Some(sensitivity) => golden.with_sensitivity(sensitivity),
+                            None => golden,
+                        },
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// The golden values of the treatment named `contact`.
+    pub fn treatment(&self, contact: &str) -> Option<&Golden> {
+        self.treatments
+            .iter()
+            .find(|t| t.contact == contact)
+            .map(|t| &t.golden)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn energy_verdict_thresholds() {
+        assert_eq!(
+            EnergyVerdict::of(Some(0.26), 1e-3),
+            EnergyVerdict::Converges
+        );
+        assert_eq!(
+            EnergyVerdict::of(Some(0.25), 1e-3),
+            EnergyVerdict::BoundedError
+        );
+        assert_eq!(
+            EnergyVerdict::of(Some(-0.24), 1e-3),
+            EnergyVerdict::BoundedError
+        );
+        assert_eq!(EnergyVerdict::of(Some(-0.25), 1e-3), EnergyVerdict::Grows);
+        assert_eq!(
+            EnergyVerdict::of(Some(1.0), f64::INFINITY),
+            EnergyVerdict::Grows
+        );
+        assert_eq!(EnergyVerdict::of(None, 1e-3), EnergyVerdict::Grows);
+    }
+}

@@ -1,0 +1,133 @@
+//! The convergence figures (1D paper Figures 9–10, the note's Figures 3 and 8): error
+//! against `Δx` per scheme and norm, one series per mass, with the fitted slopes.
+
+use crate::engine::fem::MassVariant;
+use crate::harness::figures::{
+    convergence_figure, ConvergenceSeries, ErrorBand, Figure, FigureError,
+};
+use crate::harness::norms::Norm;
+use crate::harness::sensitivity::{CaseSensitivity, Sensitivity};
+use crate::harness::study::{CaseStudy, Study};
+
+/// The legend of a mass variant's series or panel.
+pub(super) fn panel_label(mass: MassVariant) -> String {
+    format!("{} mass", mass.name())
+}
+
+/// One convergence figure per scheme and norm: the standard and the redistributed mass, with
+/// the fitted slopes of the study.
+///
+/// A case that `sensitivity` classes as chaotic is drawn as its ensemble (its one unperturbed
+/// run is just one sample of a distribution): the median error at each level, a band shaded
+/// between the smallest and the largest, and the median of the members' rates with their
+/// range. The other cases are drawn from the study as they are.
+///
+/// Errors: `Inconsistent` when `sensitivity` was run at other levels, ratio or horizon than
+/// `study`, or lacks the errors of a norm of `study` for a chaotic case; the errors of
+/// [`convergence_figure`].
+pub fn convergence_figures(
+    study: &Study,
+    sensitivity: Option<&Sensitivity>,
+) -> Result<Vec<Figure>, FigureError> {
+    if let Some(s) = sensitivity {
+        if s.config != study.config {
+            return Err(FigureError::Inconsistent {
+                what: format!(
+                    "the sensitivity study ran with {:?}, the convergence study with {:?}",
+                    s.config, study.config
+                ),
+            });
+        }
+    }
+    convergence_figures_of(study, sensitivity, "convergence", "")
+}
+
+/// [`convergence_figures`] without a sensitivity study, with files named
+/// `<prefix>-<scheme>-<norm>.svg` and titles starting with `title_prefix`.
+pub fn convergence_figures_named(
+    study: &Study,
+    prefix: &str,
+    title_prefix: &str,
+) -> Result<Vec<Figure>, FigureError> {
+    convergence_figures_of(study, None, prefix, title_prefix)
+}
+
+fn convergence_figures_of(
+    study: &Study,
+    sensitivity: Option<&Sensitivity>,
+    prefix: &str,
+    title_prefix: &str,
+) -> Result<Vec<Figure>, FigureError> {
+    let mut out = Vec::new();
+    let mut schemes: Vec<_> = study.cases.iter().map(|c| c.case.scheme).collect();
+    schemes.dedup();
+    for scheme in schemes {
+        for &norm in &study.norms {
+            let mut series = Vec::new();
+            for c in study.cases.iter().filter(|c| c.case.scheme == scheme) {
+                let chaotic = sensitivity
+                    .and_then(|s| s.case(&c.case.id()))
+                    .filter(|e| e.chaotic);
+                series.extend(convergence_series(c, norm, chaotic)?);
+            }
+            out.push((
+                format!("{prefix}-{}-{}.svg", scheme.name(), norm.key()),
+                convergence_figure(
+                    &format!("{title_prefix}{}: {}", scheme.label(), norm.label()),
+                    &series,
+                )?,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The series of `case`'s errors in `norm` (`None` when the study did not compute it): from
+/// `chaotic`, the case's ensemble, when given; from the study's one run otherwise.
+fn convergence_series(
+    case: &CaseStudy,
+    norm: Norm,
+    chaotic: Option<&CaseSensitivity>,
+) -> Result<Option<ConvergenceSeries>, FigureError> {
+    let Some(rates) = case.norm(norm) else {
+        return Ok(None);
+    };
+    let h: Vec<f64> = case.levels.iter().map(|l| l.h).collect();
+    let Some(ensemble) = chaotic else {
+        return Ok(Some(ConvergenceSeries {
+            label: panel_label(case.case.mass),
+            h,
+            errors: rates.errors.clone(),
+            fit: rates.fit,
+            band: None,
+        }));
+    };
+    let spreads = ensemble
+        .errors
+        .get(norm.key())
+        .filter(|levels| levels.len() == h.len())
+        .ok_or_else(|| FigureError::Inconsistent {
+            what: format!(
+                "the sensitivity study of {} has no errors in {} at the {} levels of the \
+                 convergence study",
+                ensemble.case,
+                norm.key(),
+                h.len()
+            ),
+        })?;
+    Ok(Some(ConvergenceSeries {
+        label: format!(
+            "{}, chaotic: median and min–max of {}",
+            panel_label(case.case.mass),
+            ensemble.members
+        ),
+        h,
+        errors: spreads.iter().map(|s| s.median).collect(),
+        fit: None,
+        band: Some(ErrorBand {
+            lower: spreads.iter().map(|s| s.min).collect(),
+            upper: spreads.iter().map(|s| s.max).collect(),
+            rate: ensemble.rates.get(norm.key()).copied(),
+        }),
+    }))
+}

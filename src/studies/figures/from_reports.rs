@@ -1,0 +1,388 @@
+//! The figures of the papers and of the harness, drawn from the data `make report` and
+//! `make stability` write under `reports/` (never recomputed here).
+//!
+//! | file | from | what |
+//! |---|---|---|
+//! | `contact-<scheme>.svg` | `data/histories/<scheme>.json` | 1D paper Figures 7, 11, 13, 15, 17, 19, 21 |
+//! | `energy-<scheme>.svg` | same | Figures 8, 12, 14, 16, 18, 20, 22 |
+//! | `convergence-<scheme>-<norm>.svg` | `rates.json`, `sensitivity.json` | Figures 9–10 (every scheme; chaotic cases as ensemble median and min–max band) |
+//! | `gravity-points-<mass>.svg`, `gravity-convergence-<mass>.svg`, `gravity-strain-<mass>.svg` | `gravity/` | Figures 2, 3, 4 |
+//! | `work-precision.svg` | `work-precision.json` | error against wall time |
+//! | `stability-<mass>.svg` | `stability.json` | energy histories of the long horizon |
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::convergence::{convergence_figures, panel_label};
+use super::elastic::elastic_figures;
+use crate::engine::fem::MassVariant;
+use crate::harness::figures::{
+    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
+    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
+    WorkPrecisionSeries,
+};
+use crate::harness::norms::Norm;
+use crate::harness::run::RunResult;
+use crate::harness::sensitivity::Sensitivity;
+use crate::harness::study::Study;
+use crate::studies::cost::WorkPrecision;
+use crate::studies::elastic_study::{ElasticHistories, ElasticStudy};
+use crate::studies::stability::{StabilityRecord, Verdict};
+
+/// The runs of one scheme with both masses at a few levels (what `contact-` and `energy-`
+/// figures draw).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SchemeHistories {
+    /// Preset name of the scheme.
+    pub scheme: String,
+    /// The paper's label.
+    pub label: String,
+    /// `(mass, NX, run)` with contact and energy histories.
+    pub runs: Vec<(MassVariant, usize, RunResult)>,
+}
+
+/// The contact-node and energy figures of one scheme (standard mass left, redistributed right).
+pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
+    let mut contact = Vec::new();
+    let mut energy = Vec::new();
+    for mass in MassVariant::PAPER {
+        let runs = h.runs.iter().filter(|r| r.0 == mass);
+        contact.push(ContactPanel {
+            label: panel_label(mass),
+            runs: runs
+                .clone()
+                .filter_map(|(_, nx, r)| {
+                    r.contact_history.clone().map(|c| (format!("NX = {nx}"), c))
+                })
+                .collect(),
+        });
+        energy.push(EnergyPanel {
+            label: panel_label(mass),
+            runs: runs
+                .filter_map(|(_, nx, r)| {
+                    r.energy_history.clone().map(|e| (format!("NX = {nx}"), e))
+                })
+                .collect(),
+        });
+    }
+    Ok(vec![
+        (
+            format!("contact-{}.svg", h.scheme),
+            contact_node_figure(
+                &format!("{}: contact node u(0, t) and λ(t)", h.label),
+                &contact,
+            )?,
+        ),
+        (
+            format!("energy-{}.svg", h.scheme),
+            energy_figure(&format!("{}: energy", h.label), &energy)?,
+        ),
+    ])
+}
+
+/// The gravity benchmark's Figures 2–4 from its study and its NX = 160 runs (one per mass).
+pub fn gravity_figures(
+    study: &Study,
+    runs: &[(MassVariant, RunResult)],
+) -> Result<Vec<Figure>, FigureError> {
+    let mut out = Vec::new();
+    for (mass, r) in runs {
+        if let Some(p) = &r.point_history {
+            let mut series = Vec::new();
+            for (k, x) in p.x.iter().enumerate() {
+                series.push((
+                    format!("u_h(x = {x})"),
+                    p.time.clone(),
+                    p.displacement[k].clone(),
+                ));
+                series.push((
+                    format!("u(x = {x})"),
+                    p.time.clone(),
+                    p.displacement_exact[k].clone(),
+                ));
+            }
+            out.push((
+                format!("gravity-points-{}.svg", mass.name()),
+                time_series_figure(
+                    &format!(
+                        "Gravity benchmark, {}: displacement at points of the bar (Figure 2)",
+                        panel_label(*mass)
+                    ),
+                    "u",
+                    &series,
+                )?,
+            ));
+        }
+        let mut strain = Vec::new();
+        for f in &r.fields {
+            strain.push((
+                format!("∂x u_h, t = {:.2}", f.time),
+                f.x_mid.clone(),
+                f.strain.clone(),
+            ));
+            strain.push((
+                format!("∂x u, t = {:.2}", f.time),
+                f.x_mid.clone(),
+                f.strain_exact.clone(),
+            ));
+        }
+        if !strain.is_empty() {
+            out.push((
+                format!("gravity-strain-{}.svg", mass.name()),
+                time_series_figure(
+                    &format!(
+                        "Gravity benchmark, {}: ∂x u along the bar (Figure 4; abscissa x)",
+                        panel_label(*mass)
+                    ),
+                    "∂x u",
+                    &strain,
+                )?,
+            ));
+        }
+    }
+    for c in &study.cases {
+        let series: Vec<ConvergenceSeries> = [
+            Norm::DisplacementLinfH,
+            Norm::DisplacementL2H,
+            Norm::DisplacementLinfV,
+            Norm::DisplacementL2V,
+        ]
+        .iter()
+        .filter_map(|&n| {
+            let r = c.norm(n)?;
+            Some(ConvergenceSeries {
+                label: n.key().to_string(),
+                h: c.levels.iter().map(|l| l.h).collect(),
+                errors: r.errors.clone(),
+                fit: r.fit,
+                band: None,
+            })
+        })
+        .collect();
+        out.push((
+            format!("gravity-convergence-{}.svg", c.case.mass.name()),
+            convergence_figure(
+                &format!(
+                    "Gravity benchmark, {}: errors in H and V (Figure 3)",
+                    panel_label(c.case.mass)
+                ),
+                &series,
+            )?,
+        ));
+    }
+    Ok(out)
+}
+
+/// Error in `L∞(0,T;H)` against wall time, one curve per case.
+pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, FigureError> {
+    let series: Vec<WorkPrecisionSeries> = data
+        .iter()
+        .filter(|w| w.norm == Norm::DisplacementLinfH)
+        .map(|w| WorkPrecisionSeries {
+            label: w.case.clone(),
+            seconds: w.seconds.clone(),
+            errors: w.errors.clone(),
+        })
+        .collect();
+    Ok(vec![(
+        "work-precision.svg".to_string(),
+        work_precision_figure(
+            "Work–precision: ‖u_h − u‖ L∞(0,T;H) against wall time",
+            &series,
+        )?,
+    )])
+}
+
+/// The long-horizon energy histories, `E/E_0`, one figure per mass (diverged runs left out and
+/// named in the title).
+pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, FigureError> {
+    let mut out = Vec::new();
+    for mass in MassVariant::PAPER {
+        let mine: Vec<&StabilityRecord> = records
+            .iter()
+            .filter(|r| r.hard_case == "long-horizon" && r.case.ends_with(mass.name()))
+            .collect();
+        let left_out: Vec<&str> = mine
+            .iter()
+            .filter(|r| r.verdict == Verdict::Diverged)
+            .map(|r| r.case.split('/').next().unwrap_or(&r.case))
+            .collect();
+        let series: Vec<(String, Vec<f64>, Vec<f64>)> = mine
+            .iter()
+            .filter(|r| r.verdict != Verdict::Diverged && !r.energy_samples.is_empty())
+            .map(|r| {
+                let e0 = r.energy_samples[0].1;
+                (
+                    format!("{} ({})", r.case, r.verdict.word()),
+                    r.energy_samples.iter().map(|s| s.0).collect(),
+                    r.energy_samples.iter().map(|s| s.1 / e0).collect(),
+                )
+            })
+            .collect();
+        let title = if left_out.is_empty() {
+            format!("E/E₀ (T = 300, {} mass)", mass.name())
+        } else {
+            format!(
+                "E/E₀ (T = 300, {} mass); diverged, not drawn: {}",
+                mass.name(),
+                left_out.join(", ")
+            )
+        };
+        out.push((
+            format!("stability-{}.svg", mass.name()),
+            time_series_figure(&title, "E/E₀", &series)?,
+        ));
+    }
+    Ok(out)
+}
+
+fn read<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!(
+            "cannot read {}: {e} (run `make report` first)",
+            path.display()
+        )
+    })?;
+    Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+}
+
+#[derive(Deserialize)]
+struct RatesFile {
+    study: Study,
+}
+
+#[derive(Deserialize)]
+struct WorkPrecisionFile {
+    work_precision: Vec<WorkPrecision>,
+}
+
+/// Draws every figure whose data exist under `reports` and writes them to `reports/figures/`;
+/// returns the names written and the inputs that were missing.
+pub fn write_figures(
+    reports: &Path,
+) -> Result<(Vec<String>, Vec<String>), Box<dyn std::error::Error>> {
+    let mut figures: Vec<Figure> = Vec::new();
+    let mut missing = Vec::new();
+    let histories = reports.join("data/histories");
+    let mut files: Vec<_> = std::fs::read_dir(&histories)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.sort();
+    if files.is_empty() {
+        missing.push(histories.display().to_string());
+    }
+    for f in files {
+        figures.extend(scheme_figures(&read::<SchemeHistories>(&f)?)?);
+    }
+    let sensitivity_path = reports.join("sensitivity.json");
+    let sensitivity = if sensitivity_path.exists() {
+        Some(read::<Sensitivity>(&sensitivity_path)?)
+    } else {
+        missing.push(format!(
+            "{} (run `make report` first; chaotic cases are drawn from their one unperturbed run)",
+            sensitivity_path.display()
+        ));
+        None
+    };
+    match read::<RatesFile>(&reports.join("rates.json")) {
+        Ok(r) => figures.extend(convergence_figures(&r.study, sensitivity.as_ref())?),
+        Err(e) => missing.push(e.to_string()),
+    }
+    let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
+        .iter()
+        .map(|&m| {
+            read::<RunResult>(&reports.join(format!("gravity/run-{}.json", m.name())))
+                .map(|r| (m, r))
+        })
+        .collect();
+    match (
+        read::<Study>(&reports.join("gravity/study.json")),
+        gravity_runs,
+    ) {
+        (Ok(study), Ok(runs)) => figures.extend(gravity_figures(&study, &runs)?),
+        (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
+    }
+    match read::<WorkPrecisionFile>(&reports.join("work-precision.json")) {
+        Ok(w) => figures.extend(work_precision_figures(&w.work_precision)?),
+        Err(e) => missing.push(e.to_string()),
+    }
+    for d in [2, 3] {
+        let study = read::<ElasticStudy>(&reports.join(format!("elastic-{d}d.json")));
+        let data =
+            read::<ElasticHistories>(&reports.join(format!("data/elastic-{d}d-histories.json")));
+        match (study, data) {
+            (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
+            (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
+        }
+    }
+    match read::<Vec<StabilityRecord>>(&reports.join("stability.json")) {
+        Ok(s) => figures.extend(stability_figures(&s)?),
+        Err(e) => missing.push(e.to_string()),
+    }
+    let dir = reports.join("figures");
+    let mut names = Vec::new();
+    for (name, svg) in figures {
+        crate::harness::output::write_atomic(&dir.join(&name), svg.as_bytes())?;
+        names.push(name);
+    }
+    Ok((names, missing))
+}
+
+/// What a reader of each figure should look for, by file-name prefix.
+const CAPTIONS: &[(&str, &str)] = &[
+    ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution: with the standard mass (left) Crank–Nicolson, Newmark II and Paoli–Schatzman e = 1 oscillate after the impact; with the redistributed mass (right) the force follows the exact step"),
+    ("energy-", "the discrete energy against the exact 1/8: it grows with the standard mass under Crank–Nicolson and stays almost constant with the redistributed mass; backward Euler and Newmark I dissipate"),
+    ("convergence-", "errors against h (log–log) for both masses, fitted slope in the legend (the paper's Figures 9–10 for every scheme); a round-off chaotic case (sensitivity.md) is drawn as its ensemble's median error with the min–max band shaded, and its members' median slope with their range"),
+    ("gravity-points-", "the bouncing bar (§4): u at x = 0, ½, 1 computed and exact (Figure 2)"),
+    ("gravity-convergence-", "the bouncing bar: the four displacement errors against h with fitted slopes (Figure 3)"),
+    ("gravity-strain-", "the bouncing bar: ∂x u along the bar at two times, computed and exact (Figure 4)"),
+    ("work-precision", "error in L∞(0,T;H) against wall time for the 14 cases: lower-left is better"),
+    ("stability-", "E/E₀ over 100 periods: bounded for the redistributed mass; growing or lost for some standard-mass schemes"),
+    ("elastic-2d-contact-", "2D bar: the centre contact node's displacement and force at the finest level beside the fine-mesh reference (the note's Figures 1, 6)"),
+    ("elastic-2d-energy-", "2D bar: the energy, growing with the standard mass under Crank–Nicolson (Figures 2, 7)"),
+    ("elastic-2d-convergence-", "2D bar: errors against h with fitted slopes, both masses (Figures 3, 8)"),
+    ("elastic-2d-von-mises-", "2D bar: the von Mises stress along the axis over time, both masses on one colour scale (Figures 4–5)"),
+    ("elastic-3d-contact-", "3D bar: the centre contact node against the reference (Figures 1, 6)"),
+    ("elastic-3d-energy-", "3D bar: the energy (Figures 2, 7)"),
+    ("elastic-3d-convergence-", "3D bar: errors against h with fitted slopes (Figures 3, 8)"),
+    ("elastic-3d-von-mises-", "3D bar: the von Mises stress along the axis over time (the note's Figures 4–5 are 3D)"),
+];
+
+/// `reports/README.md`: the tables first, then every figure with one sentence saying what to
+/// look for.
+pub fn reports_index(figures: &[String]) -> String {
+    let mut md = String::from(
+        "# Reports\n\nRegenerated by `make report` (tables, figures) and `make stability`.\n\n\
+         ## Tables\n\n\
+         - [tables.md](tables.md): the 1D paper's Tables 1–2 recomputed beside the paper, the \
+         disagreements and what explains them, per-level errors and observed orders.\n\
+         - [rates.json](rates.json): the same as data.\n\
+         - [gravity.md](gravity.md): the gravity benchmark's rates (§4).\n\
+         - [work-precision.md](work-precision.md): what accuracy costs, and the cost to reach a \
+         target error.\n\
+         - [sensitivity.md](sensitivity.md), [sensitivity.json](sensitivity.json): every case's \
+         round-off sensitivity (ensembles of perturbed initial data) and its class; the \
+         chaotic cases are marked † in the tables.\n\
+         - [stability.md](stability.md): every scheme × mass on the hard cases, with verdicts.\n\
+         - [defaults-experiment.md](defaults-experiment.md): how the rates move with T and the \
+         levels.\n\
+         - [elastic-2d.md](elastic-2d.md), [elastic-3d.md](elastic-3d.md): the note's 2D/3D bars \
+         against a fine-mesh reference, with the reference check and the note's findings \
+         tested.\n\
+         - [extended.md](extended.md): Crank–Nicolson and backward Euler with every mass \
+         variant and contact treatment: rates, oscillation and energy verdicts.\n\n## Figures\n\n",
+    );
+    for &(prefix, caption) in CAPTIONS {
+        let mine: Vec<&String> = figures.iter().filter(|f| f.starts_with(prefix)).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        md.push_str(&format!("- {caption}:"));
+        for f in mine {
+            md.push_str(&format!(" [{}](figures/{f})", f.trim_end_matches(".svg")));
+        }
+        md.push('\n');
+    }
+    md
+}

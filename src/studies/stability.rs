@@ -1,0 +1,499 @@
+//! The stability suite: hard cases where time integrators for impact misbehave, every scheme ×
+//! mass pair run on each, measured, and given a verdict by fixed rules.
+//!
+//! Verdict rules, in order (the first that applies):
+//! 1. `diverged`: the run stopped on a non-finite value, or `max E / E_0 > 10⁶`;
+//! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
+//!    than 5 % of `E_0` over the horizon;
+//! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
+//!    (the threshold of "Yes" in the tables), or, when the exact force is constant, above 1e-9;
+//! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
+//!    than `1e-12 E_0`;
+//! 5. `stable`: none of the above.
+//!
+//! Every run is also an ensemble ([`STABILITY_ENSEMBLE`], `crate::harness::sensitivity::run_ensemble`):
+//! its members carry round-off-size noise on the initial displacement, each gets its own
+//! verdict, and the run its [`RunSensitivity`] (reproducible, event-sensitive, or chaotic with
+//! its predictability horizon). A pair *stays numerically stable* on a hard case only when its
+//! verdict is `stable` or `dissipative` for the unperturbed run and every member, and the run
+//! is not round-off chaotic.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::engine::exact::AtRest;
+use crate::engine::problem::{InitialData, Perturbation, Problem1d, Profile};
+use crate::harness::error::Error;
+use crate::harness::rates::least_squares_slope;
+use crate::harness::run::{Observables, RunConfig, RunResult};
+use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
+use crate::harness::study::Case;
+
+/// The round-off ensemble of every stability run: 4 members with relative noise 1e-13. Fewer
+/// than the refinement study's 16: at one mesh the ensemble only has to witness whether the
+/// members part and how fast, and each member costs a whole run of the hard case.
+pub const STABILITY_ENSEMBLE: EnsembleConfig = EnsembleConfig {
+    members: 4,
+    amplitude: 1e-13,
+};
+
+/// A hard case: a problem at one mesh and time step.
+#[derive(Debug, Clone)]
+pub struct HardCase {
+    /// Short name.
+    pub name: &'static str,
+    /// What it exercises.
+    pub description: &'static str,
+    /// The problem.
+    pub problem: Problem1d,
+    /// `NX`.
+    pub nx: usize,
+    /// `Δx/Δt`.
+    pub ratio: f64,
+}
+
+/// The hard cases; `ci` selects the fast subset guarded by the test suite.
+pub fn hard_cases(ci: bool) -> Vec<HardCase> {
+    let dirichlet = Problem1d::signorini_dirichlet;
+    let mut cases = vec![HardCase {
+        name: "long-horizon",
+        description: "100 periods (T = 300) of the Dirichlet benchmark",
+        problem: dirichlet(300.0),
+        nx: 80,
+        ratio: 10.0,
+    }];
+    if ci {
+        return cases;
+    }
+    for (name, ratio) in [
+        ("ratio-0.5", 0.5),
+        ("ratio-1", 1.0),
+        ("ratio-10", 10.0),
+        ("ratio-100", 100.0),
+        ("ratio-1000", 1000.0),
+    ] {
+        cases.push(HardCase {
+            name,
+            description: "time-step extreme: Δx/Δt at NX = 40, T = 3 (small steps: Grosu–Harari)",
+            problem: dirichlet(3.0),
+            nx: 40,
+            ratio,
+        });
+    }
+    cases.push(HardCase {
+        name: "coarse-mesh",
+        description: "mesh extreme: NX = 2, T = 3",
+        problem: dirichlet(3.0),
+        nx: 2,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "fine-mesh",
+        description: "mesh extreme: NX = 5000, T = 3",
+        problem: dirichlet(3.0),
+        nx: 5000,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "grazing",
+        description: "the bar at rest touching the obstacle: u ≡ 0, λ ≡ 0 is the solution",
+        problem: Problem1d {
+            exact: Arc::new(AtRest),
+            initial: InitialData {
+                displacement: Profile::Constant(0.0),
+                velocity: Profile::Constant(0.0),
+                ..InitialData::default()
+            },
+            ..dirichlet(3.0)
+        },
+        nx: 40,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "repeated-impacts",
+        description: "10 periods (10 impacts and releases) at NX = 40",
+        problem: dirichlet(30.0),
+        nx: 40,
+        ratio: 10.0,
+    });
+    cases.push(HardCase {
+        name: "rough-data",
+        description: "initial displacement perturbed at every node by ±0.01 (seed 42)",
+        problem: Problem1d {
+            initial: InitialData {
+                perturbation: Some(Perturbation {
+                    amplitude: 0.01,
+                    seed: 42,
+                }),
+                ..InitialData::default()
+            },
+            ..dirichlet(3.0)
+        },
+        nx: 80,
+        ratio: 10.0,
+    });
+    cases
+}
+
+/// The verdict on one run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// Bounded energy, no spurious oscillation.
+    Stable,
+    /// Energy lost, never gained.
+    Dissipative,
+    /// Energy grows.
+    EnergyGrowth,
+    /// The contact force oscillates.
+    Oscillating,
+    /// Non-finite values or unbounded energy.
+    Diverged,
+}
+
+impl Verdict {
+    /// The word in the report.
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Stable => "stable",
+            Verdict::Dissipative => "dissipative",
+            Verdict::EnergyGrowth => "energy growth",
+            Verdict::Oscillating => "oscillating",
+            Verdict::Diverged => "diverged",
+        }
+    }
+}
+
+/// What one hard case × scheme × mass run measured.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StabilityRecord {
+    /// The hard case.
+    pub hard_case: String,
+    /// `scheme/mass`.
+    pub case: String,
+    /// `max |E − E_0| / E_0` (absolute when `E_0 = 0`).
+    pub max_energy_drift: f64,
+    /// `(E(T) − E_0) / E_0` from the least-squares line of `E(t)`, i.e. slope × T / E_0.
+    pub energy_trend: f64,
+    /// The largest one-step energy increase, relative to `E_0`.
+    pub max_energy_step_increase: f64,
+    /// `max |λ_h|`.
+    pub max_multiplier: f64,
+    /// The largest complementarity violation.
+    pub complementarity_violation: f64,
+    /// `TV(λ_h) / TV(λ)`, or `TV(λ_h)` when the exact force is constant.
+    pub oscillation_indicator: f64,
+    /// Whether the exact force varies (which form the indicator takes).
+    pub indicator_is_ratio: bool,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The error that stopped the run, if any.
+    pub failure: Option<String>,
+    /// Energy samples `(t, E)` thinned to about 200 points, for plots.
+    pub energy_samples: Vec<(f64, f64)>,
+    /// The verdict of each member of the round-off ensemble (`diverged` for a member whose run
+    /// stopped); empty when the unperturbed run stopped.
+    #[serde(default)]
+    pub member_verdicts: Vec<Verdict>,
+    /// The run's round-off sensitivity; `null` when the unperturbed run stopped.
+    #[serde(default)]
+    pub sensitivity: Option<RunSensitivity>,
+    /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35, 37;
+    /// relative to the energy, see `schemes::energy_balance::BalanceMonitor`) over the
+    /// unperturbed run; `null` when that run stopped.
+    #[serde(default)]
+    pub max_balance_residual: Option<f64>,
+}
+
+impl StabilityRecord {
+    /// Whether the pair stays numerically stable on this hard case: `stable` or `dissipative`
+    /// for the unperturbed run and every member, and not round-off chaotic.
+    pub fn stays_stable(&self) -> bool {
+        let fine = |v: &Verdict| matches!(v, Verdict::Stable | Verdict::Dissipative);
+        fine(&self.verdict)
+            && self.member_verdicts.iter().all(fine)
+            && self
+                .sensitivity
+                .is_some_and(|s| s.class != SensitivityClass::Chaotic)
+    }
+
+    /// The distinct verdicts of the members that differ from the unperturbed run's.
+    pub fn other_member_verdicts(&self) -> Vec<&'static str> {
+        let mut others: Vec<&'static str> = Vec::new();
+        for v in self.member_verdicts.iter().filter(|&&v| v != self.verdict) {
+            if !others.contains(&v.word()) {
+                others.push(v.word());
+            }
+        }
+        others
+    }
+
+    /// What keeps the pair from staying stable on this hard case (empty when it does): the
+    /// verdict, the members' other verdicts, round-off chaos with its predictability horizon.
+    pub fn instabilities(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if !matches!(self.verdict, Verdict::Stable | Verdict::Dissipative) {
+            out.push(self.verdict.word().to_string());
+        }
+        let others = self.other_member_verdicts();
+        if !others.is_empty() {
+            out.push(format!("perturbed members: {}", others.join(", ")));
+        }
+        if let Some(s) = self
+            .sensitivity
+            .filter(|s| s.class == SensitivityClass::Chaotic)
+        {
+            out.push(format!(
+                "round-off chaotic (predictable to t = {})",
+                s.predictability_time
+                    .map_or("—".to_string(), |t| format!("{t:.3}"))
+            ));
+        }
+        out
+    }
+}
+
+/// Runs one hard case with one scheme and mass as an ensemble ([`STABILITY_ENSEMBLE`]), and
+/// judges the unperturbed run and every member.
+pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
+    let config = RunConfig {
+        nx: hard.nx,
+        ratio: hard.ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        observables: Observables {
+            energy_history: true,
+            contact_history: true,
+            energy_balance: true,
+            ..Observables::default()
+        },
+    };
+    let mut member_verdicts = Vec::new();
+    let mut separations = Vec::new();
+    let base = run_ensemble(&hard.problem, &config, STABILITY_ENSEMBLE, &mut |member| {
+        match member {
+            Ok((r, separation)) => {
+                member_verdicts.push(assess(hard, case, &r).verdict);
+                separations.push(separation);
+            }
+            Err(Error::Solve(_)) => member_verdicts.push(Verdict::Diverged),
+            Err(e) => return Err(e),
+        }
+        Ok(())
+    });
+    match base {
+        Ok(r) => Ok(StabilityRecord {
+            member_verdicts,
+            sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
+            max_balance_residual: r.max_balance_residual,
+            ..assess(hard, case, &r)
+        }),
+        Err(Error::Solve(e)) => Ok(StabilityRecord {
+            failure: Some(e.to_string()),
+            ..unmeasured(hard, case)
+        }),
+        Err(e) => Err(e),
+    }
+}
+
+/// The record of a run that measured nothing (verdict `diverged`).
+fn unmeasured(hard: &HardCase, case: Case) -> StabilityRecord {
+    StabilityRecord {
+        hard_case: hard.name.to_string(),
+        case: case.id(),
+        max_energy_drift: f64::NAN,
+        energy_trend: f64::NAN,
+        max_energy_step_increase: f64::NAN,
+        max_multiplier: f64::NAN,
+        complementarity_violation: f64::NAN,
+        oscillation_indicator: f64::NAN,
+        indicator_is_ratio: false,
+        verdict: Verdict::Diverged,
+        failure: None,
+        energy_samples: Vec::new(),
+        member_verdicts: Vec::new(),
+        sensitivity: None,
+        max_balance_residual: None,
+    }
+}
+
+/// The measures and the verdict of one run of `hard` (the module's rules).
+fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
+    let energy = result.energy_history.as_ref().expect("requested");
+    let e0 = energy.energy[0];
+    let scale = if e0.abs() > 0.0 { e0.abs() } else { 1.0 };
+    let max_drift = energy
+        .energy
+        .iter()
+        .map(|e| (e - e0).abs() / scale)
+        .fold(0.0, f64::max);
+    let max_ratio = energy.energy.iter().fold(0.0_f64, |m, e| m.max(e / scale));
+    let step_increase = energy
+        .energy
+        .windows(2)
+        .map(|w| (w[1] - w[0]) / scale)
+        .fold(0.0, f64::max);
+    let horizon = hard.problem.horizon;
+    let trend = least_squares_slope(&energy.time, &energy.energy).unwrap_or(0.0) * horizon / scale;
+    let variation = result.multiplier_variation.unwrap_or_default();
+    let (indicator, is_ratio) = match variation.ratio() {
+        Some(r) => (r, true),
+        None => (variation.discrete, false),
+    };
+    let last = *energy.energy.last().expect("at least the initial sample");
+    let verdict = if !max_ratio.is_finite() || max_ratio > 1e6 {
+        Verdict::Diverged
+    } else if max_ratio - 1.0 > 0.05 && trend > 0.05 {
+        Verdict::EnergyGrowth
+    } else if (is_ratio && indicator >= 100.0) || (!is_ratio && indicator > 1e-9) {
+        Verdict::Oscillating
+    } else if (last - e0) / scale < -0.01 && step_increase <= 1e-12 {
+        Verdict::Dissipative
+    } else {
+        Verdict::Stable
+    };
+    let stride = (energy.time.len() / 200).max(1);
+    StabilityRecord {
+        max_energy_drift: max_drift,
+        energy_trend: trend,
+        max_energy_step_increase: step_increase,
+        max_multiplier: variation.max_abs,
+        complementarity_violation: result.complementarity_violation,
+        oscillation_indicator: indicator,
+        indicator_is_ratio: is_ratio,
+        verdict,
+        energy_samples: energy
+            .time
+            .iter()
+            .zip(&energy.energy)
+            .step_by(stride)
+            .map(|(&t, &e)| (t, e))
+            .collect(),
+        ..unmeasured(hard, case)
+    }
+}
+
+/// Every hard case × every case, in parallel.
+pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecord>, Error> {
+    let jobs: Vec<(usize, usize)> = (0..hard.len())
+        .flat_map(|h| (0..cases.len()).map(move |c| (h, c)))
+        .collect();
+    jobs.par_iter()
+        .map(|&(h, c)| judge(&hard[h], cases[c]))
+        .collect()
+}
+
+/// The round-off column of a record: the class, a chaotic run's predictability horizon, and
+/// the members' verdicts that differ from the unperturbed run's.
+fn round_off_cell(r: &StabilityRecord) -> String {
+    let Some(s) = r.sensitivity else {
+        return "—".to_string();
+    };
+    let mut cell = s.class.name().to_string();
+    if let Some(t) = s.predictability_time {
+        cell.push_str(&format!(", parts at t = {t:.3}"));
+    }
+    let differ = r
+        .member_verdicts
+        .iter()
+        .filter(|&&v| v != r.verdict)
+        .count();
+    if differ > 0 {
+        cell.push_str(&format!(
+            "; {differ} of {} members: {}",
+            r.member_verdicts.len(),
+            r.other_member_verdicts().join(", ")
+        ));
+    }
+    cell
+}
+
+/// The markdown report: the parameters of each hard case, then one table per hard case.
+pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
+    let mut md = String::from("# Stability of the schemes on hard cases\n\n");
+    md.push_str(
+        "Verdicts, first rule that applies: **diverged** (non-finite value or E/E₀ > 10⁶); \
+         **energy growth** (max E/E₀ − 1 > 5 % and the fitted trend of E gains > 5 % of E₀ over \
+         the horizon); **oscillating** (TV(λ_h)/TV(λ) ≥ 100, or TV(λ_h) > 1e-9 when the exact \
+         force is constant); **dissipative** (E ends > 1 % below E₀ and no step raises it by \
+         more than 1e-12 E₀); **stable** otherwise. Generated by `make stability`.\n\n",
+    );
+    md.push_str(&format!(
+        "Round-off: every run is also an ensemble of {} members with relative noise {:e} on the \
+         initial displacement (contact dof untouched). *reproducible*: no member's contact-node \
+         displacement parts from the unperturbed run by more than {:e}; *chaotic*: a \
+         separation grows exponentially to {:e} (at one mesh there is no rate to compare, so \
+         the separation alone decides), shown with the predictability horizon t at which the \
+         first member parts; *event-sensitive*: members part, but not so. Members whose \
+         verdict differs from the unperturbed run's are listed. A pair *stays numerically \
+         stable* on a hard case when every run's verdict is stable or dissipative and it is \
+         not chaotic.\n\n",
+        STABILITY_ENSEMBLE.members,
+        STABILITY_ENSEMBLE.amplitude,
+        crate::harness::sensitivity::PARTING,
+        crate::harness::sensitivity::RUNAWAY,
+    ));
+    md.push_str("| hard case | NX | Δx/Δt | T | what it exercises |\n|---|---|---|---|---|\n");
+    for h in hard {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            h.name, h.nx, h.ratio, h.problem.horizon, h.description
+        ));
+    }
+    for h in hard {
+        md.push_str(&format!(
+            "\n## {}\n\n| case | verdict | round-off | max abs(E − E₀)/E₀ | trend over T | max step gain | max abs(λ) | complementarity | oscillation |\n|---|---|---|---|---|---|---|---|---|\n",
+            h.name
+        ));
+        for r in records.iter().filter(|r| r.hard_case == h.name) {
+            if let Some(f) = &r.failure {
+                md.push_str(&format!(
+                    "| {} | **{}** | — | — | — | — | — | — | {} |\n",
+                    r.case,
+                    r.verdict.word(),
+                    f
+                ));
+                continue;
+            }
+            let osc = if r.indicator_is_ratio {
+                format!("{:.3} (ratio)", r.oscillation_indicator)
+            } else {
+                format!("{:.2e} (TV)", r.oscillation_indicator)
+            };
+            md.push_str(&format!(
+                "| {} | {} | {} | {:.2e} | {:+.2e} | {:.1e} | {:.3} | {:.1e} | {} |\n",
+                r.case,
+                r.verdict.word(),
+                round_off_cell(r),
+                r.max_energy_drift,
+                r.energy_trend,
+                r.max_energy_step_increase,
+                r.max_multiplier,
+                r.complementarity_violation,
+                osc
+            ));
+        }
+    }
+    md.push_str(
+        "\n## Pairs that stay numerically stable on every hard case\n\nStable or dissipative \
+         for the unperturbed run and every member, and not round-off chaotic; otherwise what \
+         fails, hard case by hard case.\n\n",
+    );
+    for case in Case::paper_matrix() {
+        let id = case.id();
+        let bad: Vec<String> = records
+            .iter()
+            .filter(|r| r.case == id && !r.stays_stable())
+            .map(|r| format!("{} ({})", r.hard_case, r.instabilities().join("; ")))
+            .collect();
+        let line = if bad.is_empty() {
+            "stays numerically stable on every hard case".to_string()
+        } else {
+            bad.join(", ")
+        };
+        md.push_str(&format!("- `{id}`: {line}\n"));
+    }
+    md
+}

@@ -1,0 +1,336 @@
+//! The layering of `src/`, checked on the import graph the source states.
+//!
+//! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
+//! defines it. Three rules hold:
+//! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
+//!   `harness` does not import `studies`;
+//! - the components (a layer's direct children: `engine::fem`, `harness::run`, …) form no cycle;
+//! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
+//!   children, is a component's root and is left to the rule above).
+//!
+//! Inside the library every path names its layer: the old root paths (`crate::fem`, …) are
+//! re-exports for users and are not used internally.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+const LAYERS: [&str; 3] = ["engine", "harness", "studies"];
+
+/// A module path such as `["engine", "fem", "bar1d"]`.
+type ModPath = Vec<String>;
+
+fn module_files(dir: &Path, prefix: &ModPath, out: &mut BTreeMap<ModPath, String>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .expect("src/ is readable")
+        .map(|e| e.expect("a directory entry").path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        if path.is_dir() {
+            let mut p = prefix.clone();
+            p.push(name);
+            module_files(&path, &p, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            let mut p = prefix.clone();
+            if name != "mod" {
+                p.push(name);
+            }
+            if p.len() == 1 && (p[0] == "lib" || p[0] == "main") {
+                continue;
+            }
+            out.insert(p, std::fs::read_to_string(&path).expect("a source file"));
+        }
+    }
+}
+
+/// The source without comments (line comments, doc comments and block comments).
+fn code_of(source: &str) -> String {
+    let mut code = String::with_capacity(source.len());
+    let mut depth = 0usize;
+    for line in source.lines() {
+        let mut rest = line;
+        loop {
+            if depth > 0 {
+                match rest.find("*/") {
+                    Some(i) => {
+                        depth -= 1;
+                        rest = &rest[i + 2..];
+                    }
+                    None => break,
+                }
+            } else {
+                let line_comment = rest.find("//");
+                let block = rest.find("/*");
+                match (line_comment, block) {
+                    (Some(l), b) if b.is_none_or(|b| l < b) => {
+                        code.push_str(&rest[..l]);
+                        break;
+                    }
+                    (_, Some(b)) => {
+                        code.push_str(&rest[..b]);
+                        depth += 1;
+                        rest = &rest[b + 2..];
+                    }
+                    _ => {
+                        code.push_str(rest);
+                        break;
+                    }
+                }
+            }
+        }
+        code.push('\n');
+    }
+    code
+}
+
+/// Expands the use tree starting at `text` (after `crate::` or `super::`) into full paths.
+fn use_tree(text: &str, prefix: &ModPath, out: &mut Vec<ModPath>) -> usize {
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    let mut path = prefix.clone();
+    loop {
+        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if i < bytes.len() && bytes[i] == b'{' {
+            i += 1;
+            loop {
+                while i < bytes.len() && (bytes[i].is_ascii_whitespace() || bytes[i] == b',') {
+                    i += 1;
+                }
+                if i >= bytes.len() || bytes[i] == b'}' {
+                    return i + 1;
+                }
+                i += use_tree(&text[i..], &path, out);
+            }
+        }
+        let start = i;
+        while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
+            i += 1;
+        }
+        if start == i {
+            out.push(path);
+            return i;
+        }
+        path.push(text[start..i].to_string());
+        if text[i..].starts_with("::") {
+            i += 2;
+        } else {
+            out.push(path);
+            return i;
+        }
+    }
+}
+
+/// The longest module of `modules` that is a prefix of `path`.
+fn resolve(path: &ModPath, modules: &BTreeMap<ModPath, String>) -> Option<ModPath> {
+    (1..=path.len())
+        .rev()
+        .map(|n| path[..n].to_vec())
+        .find(|p| modules.contains_key(p))
+}
+
+/// The modules each module refers to, by `crate::` and `super::` paths.
+fn import_graph(modules: &BTreeMap<ModPath, String>) -> BTreeMap<ModPath, BTreeSet<ModPath>> {
+    let mut graph = BTreeMap::new();
+    for (module, source) in modules {
+        let code = code_of(source);
+        let mut paths = Vec::new();
+        for (at, _) in code.match_indices("crate::") {
+            use_tree(&code[at + "crate::".len()..], &Vec::new(), &mut paths);
+        }
+        let parent = module[..module.len() - 1].to_vec();
+        for (at, _) in code.match_indices("super::") {
+            if at > 0 && code.as_bytes()[at - 1] == b':' {
+                continue;
+            }
+            use_tree(&code[at + "super::".len()..], &parent, &mut paths);
+        }
+        let targets: BTreeSet<ModPath> = paths
+            .iter()
+            .filter_map(|p| resolve(p, modules))
+            .filter(|t| t != module)
+            .collect();
+        graph.insert(module.clone(), targets);
+    }
+    graph
+}
+
+/// A cycle of `graph`, if it has one.
+fn find_cycle<N: Ord + Clone>(graph: &BTreeMap<N, BTreeSet<N>>) -> Option<Vec<N>> {
+    fn visit<N: Ord + Clone>(
+        node: &N,
+        graph: &BTreeMap<N, BTreeSet<N>>,
+        state: &mut BTreeMap<N, bool>,
+        stack: &mut Vec<N>,
+    ) -> Option<Vec<N>> {
+        match state.get(node) {
+            Some(true) => return None,
+            Some(false) => {
+                let start = stack.iter().position(|n| n == node).unwrap();
+                let mut cycle = stack[start..].to_vec();
+                cycle.push(node.clone());
+                return Some(cycle);
+            }
+            None => {}
+        }
+        state.insert(node.clone(), false);
+        stack.push(node.clone());
+        for next in graph.get(node).into_iter().flatten() {
+            if let Some(c) = visit(next, graph, state, stack) {
+                return Some(c);
+            }
+        }
+        stack.pop();
+        state.insert(node.clone(), true);
+        None
+    }
+    let mut state = BTreeMap::new();
+    graph
+        .keys()
+        .find_map(|n| visit(n, graph, &mut state, &mut Vec::new()))
+}
+
+fn modules() -> BTreeMap<ModPath, String> {
+    let mut modules = BTreeMap::new();
+    module_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &Vec::new(),
+        &mut modules,
+    );
+    modules
+}
+
+fn show(path: &[String]) -> String {
+    path.join("::")
+}
+
+#[test]
+fn every_library_module_lives_in_a_layer() {
+    for module in modules().keys() {
+        assert!(
+            LAYERS.contains(&module[0].as_str()),
+            "src/{} is outside engine/, harness/ and studies/",
+            module.join("/")
+        );
+    }
+}
+
+#[test]
+fn every_crate_path_names_its_layer() {
+    let modules = modules();
+    let mut unresolved = Vec::new();
+    for (module, source) in &modules {
+        let code = code_of(source);
+        let mut paths = Vec::new();
+        for (at, _) in code.match_indices("crate::") {
+            use_tree(&code[at + "crate::".len()..], &Vec::new(), &mut paths);
+        }
+        unresolved.extend(
+            paths
+                .iter()
+                .filter(|p| resolve(p, &modules).is_none())
+                .map(|p| format!("{}: crate::{}", show(module), show(p))),
+        );
+    }
+    assert!(
+        unresolved.is_empty(),
+        "paths through the root re-exports instead of a layer:\n{}",
+        unresolved.join("\n")
+    );
+}
+
+#[test]
+fn layers_import_downward_only() {
+    let modules = modules();
+    let rank = |m: &ModPath| LAYERS.iter().position(|l| *l == m[0]).unwrap();
+    let upward: Vec<String> = import_graph(&modules)
+        .into_iter()
+        .flat_map(|(from, targets)| {
+            let above: Vec<ModPath> = targets
+                .into_iter()
+                .filter(|to| rank(to) > rank(&from))
+                .collect();
+            above
+                .into_iter()
+                .map(move |to| format!("{} imports {}", show(&from), show(&to)))
+        })
+        .collect();
+    assert!(
+        upward.is_empty(),
+        "imports of a layer above:\n{}",
+        upward.join("\n")
+    );
+}
+
+#[test]
+fn components_form_no_cycle() {
+    let modules = modules();
+    let component = |m: &ModPath| m[..m.len().min(2)].to_vec();
+    let mut graph: BTreeMap<ModPath, BTreeSet<ModPath>> = BTreeMap::new();
+    for (from, targets) in import_graph(&modules) {
+        let c = component(&from);
+        let entry = graph.entry(c.clone()).or_default();
+        entry.extend(targets.iter().map(component).filter(|t| *t != c));
+    }
+    if let Some(cycle) = find_cycle(&graph) {
+        let names: Vec<String> = cycle.iter().map(|c| show(c)).collect();
+        panic!("module cycle: {}", names.join(" -> "));
+    }
+}
+
+#[test]
+fn sibling_files_form_no_cycle() {
+    let modules = modules();
+    let roots: BTreeSet<ModPath> = modules
+        .keys()
+        .filter(|m| {
+            modules
+                .keys()
+                .any(|c| c.len() > m.len() && c.starts_with(m))
+        })
+        .cloned()
+        .collect();
+    let graph: BTreeMap<ModPath, BTreeSet<ModPath>> = import_graph(&modules)
+        .into_iter()
+        .filter(|(from, _)| !roots.contains(from))
+        .map(|(from, targets)| {
+            let siblings = targets
+                .into_iter()
+                .filter(|t| !roots.contains(t) && t[..t.len() - 1] == from[..from.len() - 1])
+                .collect();
+            (from, siblings)
+        })
+        .collect();
+    if let Some(cycle) = find_cycle(&graph) {
+        let names: Vec<String> = cycle.iter().map(|c| show(c)).collect();
+        panic!("file cycle: {}", names.join(" -> "));
+    }
+}
+
+#[test]
+fn the_checker_sees_imports_through_groups_and_super() {
+    let mut paths = Vec::new();
+    let prefix = vec!["engine".to_string()];
+    use_tree(
+        "{fem::{Bar1d, box_mesh::BoxMesh}, model};",
+        &prefix,
+        &mut paths,
+    );
+    let shown: Vec<String> = paths.iter().map(|p| show(p)).collect();
+    assert_eq!(
+        shown,
+        [
+            "engine::fem::Bar1d",
+            "engine::fem::box_mesh::BoxMesh",
+            "engine::model"
+        ]
+    );
+    let code = code_of("use a; // crate::harness\n/* crate::studies */ use b;");
+    assert!(!code.contains("crate::"), "{code}");
+    let mut graph = BTreeMap::new();
+    graph.insert(1, BTreeSet::from([2]));
+    graph.insert(2, BTreeSet::from([1]));
+    assert_eq!(find_cycle(&graph), Some(vec![1, 2, 1]));
+}
