@@ -18,39 +18,16 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
-use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::contact::ContactLaw;
 use crate::engine::error::SolveError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 use crate::engine::fem::MassVariant;
 use crate::engine::model::Model;
-use crate::engine::problem::Perturbation;
+pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
 use crate::harness::output::write_atomic;
 use crate::harness::run::{time_grid, Timings};
-
-/// A 2D/3D bar problem.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BoxProblem {
-    /// Box lengths, the last along the bar's axis.
-    pub lengths: Vec<f64>,
-    /// Density and Lamé constants.
-    pub elasticity: Elasticity,
-    /// Distance from the bottom face to the obstacle; `None`: no obstacle.
-    pub obstacle_gap: Option<f64>,
-    /// Uniform initial displacement along the axis (measured from the initial configuration).
-    pub initial_displacement: f64,
-    /// Uniform initial velocity along the axis.
-    pub initial_velocity: f64,
-    /// Horizon `T`.
-    pub horizon: f64,
-    /// How the contact condition is discretised (multiplier or penalty; Nitsche is 1D only).
-    pub contact: ContactTreatment,
-    /// A seeded perturbation added to every velocity dof (the contact face's included): a
-    /// member of a round-off ensemble (`crate::studies::elastic_study::sensitivity`); `None` for the
-    /// problem as stated.
-    pub velocity_perturbation: Option<Perturbation>,
-}
 
 /// One run of a box problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,53 +88,6 @@ pub struct BoxRunResult {
     pub vtk_files: Vec<PathBuf>,
     /// The contact treatment's name.
     pub contact_treatment: String,
-}
-
-/// The mesh of a run: `n_axis` elements along the axis, square elements across.
-pub fn box_mesh(
-    problem: &BoxProblem,
-    n_axis: usize,
-) -> Result<BoxMesh, crate::engine::error::ParameterError> {
-    let d = problem.lengths.len();
-    let h = problem
-        .lengths
-        .get(d.wrapping_sub(1))
-        .copied()
-        .unwrap_or(f64::NAN)
-        / n_axis as f64;
-    let counts: Vec<usize> = problem
-        .lengths
-        .iter()
-        .enumerate()
-        .map(|(i, l)| {
-            if i + 1 == d {
-                n_axis
-            } else {
-                ((l / h).round() as usize).max(1)
-            }
-        })
-        .collect();
-    BoxMesh::new(&problem.lengths, &counts)
-}
-
-/// The initial displacement and velocity dofs of a run on `mesh`: the nodal interpolants of the
-/// uniform axial values `u⁰ = initial_displacement · e_d`, `v⁰ = initial_velocity · e_d`, then
-/// the velocity perturbation (if any) added to every velocity dof. Every box run starts here.
-pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>) {
-    let d = mesh.dim();
-    let axis = |value: f64| {
-        move |_: &[f64]| {
-            let mut v = [0.0; 3];
-            v[d - 1] = value;
-            v
-        }
-    };
-    let u0 = mesh.interpolate(axis(problem.initial_displacement));
-    let mut v0 = mesh.interpolate(axis(problem.initial_velocity));
-    if let Some(p) = &problem.velocity_perturbation {
-        p.apply(&mut v0, &[]);
-    }
-    (u0, v0)
 }
 
 /// Runs a box problem.

@@ -1,96 +1,14 @@
-//! A 1D problem as the engine sees it: the bar, its obstacle and load, the initial data, the
-//! reference solution and the horizon. Scene files (`crate::harness::scene`) are parsed into this.
+//! The 1D bar of the paper: its obstacle and load, the exact solution that supplies the initial
+//! data and the reference, and the horizon.
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
+use super::InitialData;
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
-use crate::engine::exact::{ExactSolution, Pointwise};
+use crate::engine::exact::{ClampedFreeMode, ExactSolution, SignoriniDirichlet};
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
 use crate::engine::model::Model;
-
-/// A spatial profile of initial data.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", deny_unknown_fields)]
-pub enum Profile {
-    /// The reference solution at `t = 0` (its displacement or velocity).
-    #[default]
-    Reference,
-    /// The same value everywhere.
-    Constant(f64),
-    /// Linear from `at_start` (x = 0) to `at_end` (x = L).
-    Affine {
-        /// Value at `x = 0`.
-        at_start: f64,
-        /// Value at `x = L`.
-        at_end: f64,
-    },
-}
-
-impl Profile {
-    /// The nodal interpolant as a dof vector; `pick` selects `u` or `u_t` of the reference.
-    pub fn interpolate(
-        &self,
-        bar: &Bar1d,
-        exact: &dyn ExactSolution,
-        pick: impl Fn(Pointwise) -> f64,
-    ) -> Vec<f64> {
-        match *self {
-            Profile::Reference => bar.interpolate(|x| pick(exact.eval(x, 0.0))),
-            Profile::Constant(c) => bar.interpolate(|_| c),
-            Profile::Affine { at_start, at_end } => {
-                let l = bar.length();
-                bar.interpolate(|x| at_start + (at_end - at_start) * x / l)
-            }
-        }
-    }
-}
-
-/// A seeded random perturbation of initial data: of a bar's displacement ("rough data"), of a
-/// box's velocity (the members of a round-off ensemble).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Perturbation {
-    /// Each dof moves by a uniform amount in `[−amplitude, amplitude]`.
-    pub amplitude: f64,
-    /// The seed: the same seed gives the same data.
-    pub seed: u64,
-}
-
-impl Perturbation {
-    /// Adds the perturbation to every dof of `u` except `contact_dofs` (displacement data stay
-    /// admissible when they are the contact dofs).
-    pub fn apply(&self, u: &mut [f64], contact_dofs: &[usize]) {
-        let mut rng = fastrand::Rng::with_seed(self.seed);
-        for (i, ui) in u.iter_mut().enumerate() {
-            let shift = self.amplitude * (2.0 * rng.f64() - 1.0);
-            if !contact_dofs.contains(&i) {
-                *ui += shift;
-            }
-        }
-    }
-}
-
-/// Initial displacement and velocity.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct InitialData {
-    /// `u(·, 0)`.
-    #[serde(default)]
-    pub displacement: Profile,
-    /// `u_t(·, 0)`.
-    #[serde(default)]
-    pub velocity: Profile,
-    /// An optional seeded perturbation of the displacement.
-    #[serde(default)]
-    pub perturbation: Option<Perturbation>,
-    /// A sensitivity ensemble member's round-off-size perturbation of the displacement, added
-    /// after `perturbation` (set by `crate::harness::sensitivity`, never read from a scene).
-    #[serde(skip)]
-    pub round_off: Option<Perturbation>,
-}
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
 /// initial data and the reference, and the horizon.
@@ -128,7 +46,7 @@ impl Problem1d {
             far_end: EndCondition::Clamped,
             obstacle_gap: Some(0.0),
             body_force: None,
-            exact: Arc::new(crate::engine::exact::SignoriniDirichlet),
+            exact: Arc::new(SignoriniDirichlet),
             initial: InitialData::default(),
             horizon,
             contact: ContactTreatment::Multiplier,
@@ -144,7 +62,7 @@ impl Problem1d {
             far_end: EndCondition::Clamped,
             obstacle_gap: None,
             body_force: None,
-            exact: Arc::new(crate::engine::exact::ClampedFreeMode),
+            exact: Arc::new(ClampedFreeMode),
             initial: InitialData::default(),
             horizon,
             contact: ContactTreatment::Multiplier,

@@ -1,0 +1,207 @@
+//! A problem as the engine sees it: a 1D bar ([`Problem1d`]) or a 2D/3D box ([`BoxProblem`]),
+//! and its discretisation at a level: the mesh, the model and the initial dofs every run
+//! starts from. Scene files (`crate::harness::scene`) are parsed into this.
+
+mod bar;
+mod elastic_box;
+
+pub use bar::Problem1d;
+pub use elastic_box::{box_mesh, initial_dofs, BoxProblem};
+
+use serde::{Deserialize, Serialize};
+
+use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::error::ParameterError;
+use crate::engine::exact::{ExactSolution, Pointwise};
+use crate::engine::fem::box_mesh::BoxMesh;
+use crate::engine::fem::{Bar1d, MassVariant};
+use crate::engine::model::Model;
+
+/// A problem: the 1D bar of the paper or the 2D/3D box of the note. Runs, studies and
+/// ensembles take this; the geometry is data, not a code path.
+#[derive(Debug, Clone)]
+pub enum Problem {
+    /// A 1D bar with an exact solution.
+    Bar(Problem1d),
+    /// A 2D/3D box (no exact solution: compared with a fine-mesh reference).
+    Box(BoxProblem),
+}
+
+impl From<Problem1d> for Problem {
+    fn from(p: Problem1d) -> Self {
+        Problem::Bar(p)
+    }
+}
+
+impl From<BoxProblem> for Problem {
+    fn from(p: BoxProblem) -> Self {
+        Problem::Box(p)
+    }
+}
+
+/// A problem's mesh at one level.
+#[derive(Debug, Clone)]
+pub enum Mesh {
+    /// P1 elements on `[0, L]`.
+    Bar(Bar1d),
+    /// Q1 elements on a box.
+    Box(BoxMesh),
+}
+
+impl Mesh {
+    /// The element size along the axis, `Δx` of the ratio `Δx/Δt`.
+    pub fn axial_element_size(&self) -> f64 {
+        match self {
+            Mesh::Bar(bar) => bar.h(),
+            Mesh::Box(mesh) => mesh.element_sizes()[mesh.dim() - 1],
+        }
+    }
+}
+
+/// A problem discretised at one level: what every run starts from.
+#[derive(Debug, Clone)]
+pub struct Discretisation {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The semi-discrete model (eq. 30 in 1D, the note's (5) on a box).
+    pub model: Model,
+    /// `U⁰`.
+    pub displacement: Vec<f64>,
+    /// `V⁰`.
+    pub velocity: Vec<f64>,
+}
+
+impl Problem {
+    /// The horizon `T`.
+    pub fn horizon(&self) -> f64 {
+        match self {
+            Problem::Bar(p) => p.horizon,
+            Problem::Box(p) => p.horizon,
+        }
+    }
+
+    /// How the contact condition is discretised.
+    pub fn contact(&self) -> ContactTreatment {
+        match self {
+            Problem::Bar(p) => p.contact,
+            Problem::Box(p) => p.contact,
+        }
+    }
+
+    /// The discretisation with `level` elements along the axis and the mass matrix `mass`:
+    /// the mesh, the model with the problem's contact treatment, the initial dofs.
+    pub fn discretise(
+        &self,
+        level: usize,
+        mass: MassVariant,
+    ) -> Result<Discretisation, ParameterError> {
+        match self {
+            Problem::Bar(p) => {
+                let (bar, model) = p.model(level, mass)?;
+                let (displacement, velocity) = p.initial_dofs(&bar, &model);
+                Ok(Discretisation {
+                    mesh: Mesh::Bar(bar),
+                    model,
+                    displacement,
+                    velocity,
+                })
+            }
+            Problem::Box(p) => {
+                let mesh = box_mesh(p, level)?;
+                p.elasticity.validate(mesh.dim())?;
+                mesh.check_mass(mass)?;
+                let law = ContactLaw::boxed(p.contact, &mesh, &p.elasticity)?;
+                let model =
+                    Model::of_box(&mesh, &p.elasticity, mass, p.obstacle_gap).with_contact_law(law);
+                let (displacement, velocity) = initial_dofs(p, &mesh);
+                Ok(Discretisation {
+                    mesh: Mesh::Box(mesh),
+                    model,
+                    displacement,
+                    velocity,
+                })
+            }
+        }
+    }
+}
+
+/// A spatial profile of initial data.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Profile {
+    /// The reference solution at `t = 0` (its displacement or velocity).
+    #[default]
+    Reference,
+    /// The same value everywhere.
+    Constant(f64),
+    /// Linear from `at_start` (x = 0) to `at_end` (x = L).
+    Affine {
+        /// Value at `x = 0`.
+        at_start: f64,
+        /// Value at `x = L`.
+        at_end: f64,
+    },
+}
+
+impl Profile {
+    /// The nodal interpolant as a dof vector; `pick` selects `u` or `u_t` of the reference.
+    pub fn interpolate(
+        &self,
+        bar: &Bar1d,
+        exact: &dyn ExactSolution,
+        pick: impl Fn(Pointwise) -> f64,
+    ) -> Vec<f64> {
+        match *self {
+            Profile::Reference => bar.interpolate(|x| pick(exact.eval(x, 0.0))),
+            Profile::Constant(c) => bar.interpolate(|_| c),
+            Profile::Affine { at_start, at_end } => {
+                let l = bar.length();
+                bar.interpolate(|x| at_start + (at_end - at_start) * x / l)
+            }
+        }
+    }
+}
+
+/// A seeded random perturbation of initial data: of a bar's displacement ("rough data"), of a
+/// box's velocity (the members of a round-off ensemble).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Perturbation {
+    /// Each dof moves by a uniform amount in `[−amplitude, amplitude]`.
+    pub amplitude: f64,
+    /// The seed: the same seed gives the same data.
+    pub seed: u64,
+}
+
+impl Perturbation {
+    /// Adds the perturbation to every dof of `u` except `contact_dofs` (displacement data stay
+    /// admissible when they are the contact dofs).
+    pub fn apply(&self, u: &mut [f64], contact_dofs: &[usize]) {
+        let mut rng = fastrand::Rng::with_seed(self.seed);
+        for (i, ui) in u.iter_mut().enumerate() {
+            let shift = self.amplitude * (2.0 * rng.f64() - 1.0);
+            if !contact_dofs.contains(&i) {
+                *ui += shift;
+            }
+        }
+    }
+}
+
+/// Initial displacement and velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialData {
+    /// `u(·, 0)`.
+    #[serde(default)]
+    pub displacement: Profile,
+    /// `u_t(·, 0)`.
+    #[serde(default)]
+    pub velocity: Profile,
+    /// An optional seeded perturbation of the displacement.
+    #[serde(default)]
+    pub perturbation: Option<Perturbation>,
+    /// A sensitivity ensemble member's round-off-size perturbation of the displacement, added
+    /// after `perturbation` (set by `crate::harness::sensitivity`, never read from a scene).
+    #[serde(skip)]
+    pub round_off: Option<Perturbation>,
+}
