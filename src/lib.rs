@@ -10,6 +10,7 @@
 //! redistribution method* (hal-00917450, 2013), "the 1D paper".
 #![warn(missing_docs)]
 
+pub mod commands;
 pub mod engine;
 pub mod harness;
 pub mod studies;

@@ -14,7 +14,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-const LAYERS: [&str; 3] = ["engine", "harness", "studies"];
+const LAYERS: [&str; 4] = ["engine", "harness", "studies", "commands"];
 
 /// A module path such as `["engine", "fem", "bar1d"]`.
 type ModPath = Vec<String>;

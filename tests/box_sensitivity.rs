@@ -5,15 +5,17 @@
 
 use std::path::{Path, PathBuf};
 
-use signorini::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem, BoxRunConfig};
+use signorini::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
 use signorini::elastic_study::report::render;
 use signorini::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use signorini::error::Error;
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
 use signorini::problem::Perturbation;
+use signorini::run::{Observables, RunConfig};
 use signorini::scene::{Scene, SceneError};
 use signorini::schemes::Scheme;
+use signorini::schemes::TimeIntegrator;
 use signorini::sensitivity::{EnsembleConfig, SensitivityClass};
 use signorini::study::Case;
 
@@ -157,23 +159,22 @@ fn the_perturbation_touches_the_initial_velocity_only() {
     // What the integrator starts from, both masses (the redistributed one sets its massless
     // dofs in static equilibrium from the same displacement).
     for mass in [MassVariant::Standard, MassVariant::Redistributed] {
-        let config = BoxRunConfig {
-            n_axis: 4,
+        let config = RunConfig {
+            nx: 4,
             ratio: 2.0,
             scheme: Scheme::CRANK_NICOLSON,
             mass,
-            vtk_at: Vec::new(),
-            vtk_dir: None,
+            observables: Observables::default(),
         };
         let start = |problem: &BoxProblem| {
             let mut state = None;
-            run_box_observed(problem, &config, &mut |_, integ, _| {
+            let mut first = |integ: &dyn TimeIntegrator| -> Result<(), Error> {
                 if state.is_none() {
                     state = Some((integ.displacement().to_vec(), integ.velocity().to_vec()));
                 }
                 Ok(())
-            })
-            .unwrap();
+            };
+            run_box_observed(problem, &config, &mut [&mut first]).unwrap();
             state.unwrap()
         };
         let ((u0, v0), (u0_p, v0_p)) = (start(&unperturbed), start(&perturbed));

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 
 use nalgebra::DMatrix;
 use signorini::contact::ContactTreatment;
-use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
+use signorini::elastic::{run_box, BoxProblem};
 use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
@@ -369,13 +369,12 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         contact: ContactTreatment::Multiplier,
         velocity_perturbation: None,
     };
-    let config = |ratio: f64, mass| BoxRunConfig {
-        n_axis: 10,
+    let config = |ratio: f64, mass| RunConfig {
+        nx: 10,
         ratio,
         scheme: Scheme::CENTRAL_DIFFERENCE,
         mass,
-        vtk_at: Vec::new(),
-        vtk_dir: None,
+        observables: Observables::default(),
     };
     for mass in MASSLESS_CONTACT {
         let r = run_box(&problem, &config(8.0, mass)).unwrap();

@@ -18,33 +18,14 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
-use crate::engine::contact::ContactLaw;
-use crate::engine::error::SolveError;
+use crate::engine::contact::ContactSet;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
-use crate::engine::fem::MassVariant;
-use crate::engine::model::Model;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
-use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
+use crate::engine::problem::{Mesh, Problem};
+use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::output::write_atomic;
-use crate::harness::run::{time_grid, Timings};
-
-/// One run of a box problem.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BoxRunConfig {
-    /// Elements along the axis; the cross-section gets `round(L_i / h)` elements.
-    pub n_axis: usize,
-    /// `Δx / Δt`.
-    pub ratio: f64,
-    /// The scheme.
-    pub scheme: Scheme,
-    /// The mass matrix.
-    pub mass: MassVariant,
-    /// Times of the VTK snapshots (the nearest steps).
-    pub vtk_at: Vec<f64>,
-    /// Where the VTK files go (required when `vtk_at` is not empty).
-    pub vtk_dir: Option<PathBuf>,
-}
+use crate::harness::run::{descending, drive, Observer, RunConfig, Timings};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -90,50 +71,42 @@ pub struct BoxRunResult {
     pub contact_treatment: String,
 }
 
-/// Runs a box problem.
-pub fn run_box(problem: &BoxProblem, config: &BoxRunConfig) -> Result<BoxRunResult, Error> {
-    run_box_observed(problem, config, &mut |_, _, _| Ok(()))
+/// Runs a box problem with the built-in observers: the energy, the contact face's history
+/// and, when `config.observables.fields_at` asks, VTK snapshots in
+/// `config.observables.fields_dir`.
+pub fn run_box(problem: &BoxProblem, config: &RunConfig) -> Result<BoxRunResult, Error> {
+    run_box_observed(problem, config, &mut [])
 }
 
-/// What [`run_box_observed`] calls at every step `t_n`, `n = 0..=N`, with the mesh, the
-/// integrator's state at `t_n` and its energy `E_h(t_n)` (eq. 6, already computed for the
-/// history).
-pub type StepObserver<'o> = dyn FnMut(&BoxMesh, &dyn TimeIntegrator, f64) -> Result<(), Error> + 'o;
+/// The energy `E_h(t_n)` (note eq. 6) at every step.
+#[derive(Default)]
+struct EnergyTrace {
+    energy: Vec<(f64, f64)>,
+}
 
-/// Runs a box problem and calls `observer` at every step (after the built-in histories); its
-/// time counts as observation.
-pub fn run_box_observed(
-    problem: &BoxProblem,
-    config: &BoxRunConfig,
-    observer: &mut StepObserver<'_>,
-) -> Result<BoxRunResult, Error> {
-    let clock = Instant::now();
-    let mesh = box_mesh(problem, config.n_axis)?;
-    let d = mesh.dim();
-    problem.elasticity.validate(d)?;
-    crate::engine::error::require_positive("ratio", config.ratio)?;
-    crate::engine::error::require_positive("horizon", problem.horizon)?;
-    let scheme = config.scheme.validate()?;
-    let h = mesh.element_sizes()[d - 1];
-    let (steps, dt) = time_grid(problem.horizon, h, config.ratio);
-    mesh.check_mass(config.mass)?;
-    let law = ContactLaw::boxed(problem.contact, &mesh, &problem.elasticity)?;
-    let model = Model::of_box(
-        &mesh,
-        &problem.elasticity,
-        config.mass,
-        problem.obstacle_gap,
-    )
-    .with_contact_law(law);
-    let (u0, v0) = initial_dofs(problem, &mesh);
-    let mut integ = integrator(&model, scheme, dt, &u0, &v0)?;
-    let setup = clock.elapsed().as_secs_f64();
+impl Observer for EnergyTrace {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        self.energy.push((state.time(), state.energy().value));
+        Ok(())
+    }
+}
 
-    let contact_set = model.contact().cloned();
-    let centre = contact_set.as_ref().and_then(|c| {
+/// The contact face's gaps and forces at every step.
+struct FaceRecorder {
+    set: ContactSet,
+    centre: usize,
+    history: BoxContactHistory,
+}
+
+impl FaceRecorder {
+    /// The recorder of `set` on `mesh`, `centre` the constraint of the node nearest the
+    /// face's centre; `None` without an obstacle.
+    fn new(problem: &BoxProblem, mesh: &BoxMesh, set: Option<&ContactSet>) -> Option<Self> {
+        let set = set?.clone();
+        let d = mesh.dim();
         let nodes = mesh.contact_nodes();
         let mid: Vec<f64> = problem.lengths[..d - 1].iter().map(|l| 0.5 * l).collect();
-        (0..c.len()).min_by(|&a, &b| {
+        let centre = (0..set.len()).min_by(|&a, &b| {
             let dist = |k: usize| {
                 let x = mesh.nodes()[nodes[k]];
                 mid.iter()
@@ -142,84 +115,119 @@ pub fn run_box_observed(
                     .sum::<f64>()
             };
             dist(a).total_cmp(&dist(b))
+        })?;
+        Some(Self {
+            set,
+            centre,
+            history: BoxContactHistory::default(),
         })
-    });
-    let mut result = BoxRunResult {
-        elements: mesh.counts().to_vec(),
-        dofs: model.n_dofs(),
-        contact_nodes: contact_set.as_ref().map_or(0, |c| c.len()),
-        steps,
-        dt,
-        timings: Timings::default(),
-        contact_solves: 0,
-        complementarity_violation: 0.0,
-        energy: Vec::with_capacity(steps + 1),
-        contact: BoxContactHistory::default(),
-        vtk_files: Vec::new(),
-        contact_treatment: problem.contact.name(),
-    };
-    let mut pending: Vec<f64> = config.vtk_at.clone();
-    pending.sort_by(|a, b| b.total_cmp(a));
-    let (mut stepping, mut observe) = (0.0, 0.0);
-    for step in 0..=steps {
-        if step > 0 {
-            let c = Instant::now();
-            integ.advance()?;
-            if integ.displacement().iter().any(|x| !x.is_finite()) {
-                return Err(SolveError::NonFinite {
-                    step,
-                    time: integ.time(),
-                    quantity: "displacement",
-                }
-                .into());
-            }
-            stepping += c.elapsed().as_secs_f64();
-        }
-        let c = Instant::now();
-        let t = integ.time();
-        let energy = integ.energy().value;
-        result.energy.push((t, energy));
-        if let (Some(set), Some(centre)) = (&contact_set, centre) {
-            let u = integ.displacement();
-            let lambda = integ.multiplier().value;
-            let gaps: Vec<f64> = set
-                .dofs
-                .iter()
-                .zip(&set.gaps)
-                .map(|(&dof, g)| u[dof] + g)
-                .collect();
-            result.contact.time.push(t);
-            result
-                .contact
-                .mean_gap
-                .push(gaps.iter().sum::<f64>() / gaps.len() as f64);
-            result.contact.centre_gap.push(gaps[centre]);
-            result.contact.total_force.push(lambda.iter().sum());
-            result.contact.centre_multiplier.push(lambda[centre]);
-        }
-        while let Some(&wanted) = pending.last() {
-            if t + 0.5 * dt < wanted {
+    }
+}
+
+impl Observer for FaceRecorder {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let u = state.displacement();
+        let lambda = state.multiplier().value;
+        let gaps: Vec<f64> = self
+            .set
+            .dofs
+            .iter()
+            .zip(&self.set.gaps)
+            .map(|(&dof, g)| u[dof] + g)
+            .collect();
+        let h = &mut self.history;
+        h.time.push(state.time());
+        h.mean_gap
+            .push(gaps.iter().sum::<f64>() / gaps.len() as f64);
+        h.centre_gap.push(gaps[self.centre]);
+        h.total_force.push(lambda.iter().sum());
+        h.centre_multiplier.push(lambda[self.centre]);
+        Ok(())
+    }
+}
+
+/// VTK snapshots ([`write_vtu`]) at the steps nearest to requested times.
+struct VtkSnapshots<'a> {
+    mesh: &'a BoxMesh,
+    elasticity: &'a Elasticity,
+    dir: &'a Path,
+    pending: Vec<f64>,
+    files: Vec<PathBuf>,
+}
+
+impl Observer for VtkSnapshots<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let t = state.time();
+        while let Some(&wanted) = self.pending.last() {
+            if t + 0.5 * state.dt() < wanted {
                 break;
             }
-            pending.pop();
-            let dir = config.vtk_dir.as_deref().unwrap_or(Path::new("."));
-            let path = dir.join(format!("field-t{wanted}.vtu"));
-            write_vtu(&mesh, &problem.elasticity, integ.as_ref(), &path)
+            self.pending.pop();
+            let path = self.dir.join(format!("field-t{wanted}.vtu"));
+            write_vtu(self.mesh, self.elasticity, state, &path)
                 .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))?;
-            result.vtk_files.push(path);
+            self.files.push(path);
         }
-        observer(&mesh, integ.as_ref(), energy)?;
-        observe += c.elapsed().as_secs_f64();
+        Ok(())
     }
-    result.contact_solves = integ.contact_solves();
-    result.complementarity_violation = integ.complementarity_violation();
-    result.timings = Timings {
-        setup,
-        stepping: stepping - integ.contact_seconds(),
-        contact: integ.contact_seconds(),
-        observe,
+}
+
+/// Runs a box problem through the one time loop ([`drive`]) with the built-in observers of
+/// [`run_box`] followed by `observers`; their time counts as observation.
+pub fn run_box_observed(
+    problem: &BoxProblem,
+    config: &RunConfig,
+    observers: &mut [&mut dyn Observer],
+) -> Result<BoxRunResult, Error> {
+    let started = Instant::now();
+    let discretisation = Problem::Box(problem.clone()).discretise(config.nx, config.mass)?;
+    let Mesh::Box(mesh) = &discretisation.mesh else {
+        unreachable!("a box discretises on a box mesh")
     };
-    Ok(result)
+    let model = &discretisation.model;
+    let mut energy = EnergyTrace::default();
+    let mut face = FaceRecorder::new(problem, mesh, model.contact());
+    let mut vtk = VtkSnapshots {
+        mesh,
+        elasticity: &problem.elasticity,
+        dir: config
+            .observables
+            .fields_dir
+            .as_deref()
+            .unwrap_or(Path::new(".")),
+        pending: descending(&config.observables.fields_at),
+        files: Vec::new(),
+    };
+    let stepped = {
+        let mut all: Vec<&mut dyn Observer> = vec![&mut energy];
+        all.extend(face.as_mut().map(|o| o as &mut dyn Observer));
+        all.push(&mut vtk);
+        for o in observers.iter_mut() {
+            all.push(&mut **o);
+        }
+        drive(
+            &discretisation,
+            problem.horizon,
+            config.ratio,
+            config.scheme,
+            &mut all,
+            started,
+        )?
+    };
+    Ok(BoxRunResult {
+        elements: mesh.counts().to_vec(),
+        dofs: model.n_dofs(),
+        contact_nodes: model.contact().map_or(0, |c| c.len()),
+        steps: stepped.steps,
+        dt: stepped.dt,
+        timings: stepped.timings,
+        contact_solves: stepped.contact_solves,
+        complementarity_violation: stepped.complementarity_violation,
+        energy: energy.energy,
+        contact: face.map(|f| f.history).unwrap_or_default(),
+        vtk_files: vtk.files,
+        contact_treatment: problem.contact.name(),
+    })
 }
 
 /// Writes the displacement, the velocity and the von Mises stress (per cell, and averaged to

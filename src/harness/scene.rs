@@ -785,6 +785,7 @@ impl Scene {
             points: self.observables.points.clone(),
             fields_at: self.observables.fields_at.clone(),
             energy_balance: false,
+            fields_dir: None,
         }
     }
 

@@ -20,7 +20,9 @@ use std::collections::BTreeMap;
 use super::reference::Reference;
 use crate::engine::fem::{Prolongation, SymmetricMatrix};
 use crate::engine::schemes::TimeIntegrator;
+use crate::harness::error::Error;
 use crate::harness::norms::{Norm, TimeSeriesNorm};
+use crate::harness::run::Observer;
 
 /// The fine-mesh matrices of the norms, assembled once per study.
 #[derive(Debug, Clone)]
@@ -83,39 +85,6 @@ impl<'r> ReferenceComparison<'r> {
         }
     }
 
-    /// Compares the state at the next coarse step `t_n` (call once per step, `n = 0, 1, …`).
-    pub fn observe(&mut self, state: &dyn TimeIntegrator, energy: f64) {
-        let scaled = self.step * self.sample_level;
-        self.step += 1;
-        if scaled % self.level != 0 {
-            return;
-        }
-        let k = scaled / self.level;
-        let Some(&t) = self.reference.histories.time.get(k) else {
-            return;
-        };
-        self.prolongation
-            .apply_into(state.displacement(), &mut self.fine);
-        for (e, r) in self.fine.iter_mut().zip(self.reference.displacement_at(k)) {
-            *e -= r;
-        }
-        self.norms.mass.mul_into(&self.fine, &mut self.scratch);
-        let h2 = dot(&self.fine, &self.scratch);
-        self.norms.stiffness.mul_into(&self.fine, &mut self.scratch);
-        let a2 = dot(&self.fine, &self.scratch);
-        self.u_h.push(t, h2.max(0.0).sqrt());
-        self.u_v.push(t, (h2 + a2).max(0.0).sqrt());
-        let h = &self.reference.histories;
-        let force: f64 = state.multiplier().value.iter().sum();
-        self.force.push(t, force - h.total_force[k]);
-        self.energy.push(t, energy - h.energy[k]);
-        if let Some((previous, previous_reference)) = self.last_force {
-            self.force_variation += (force - previous).abs();
-            self.reference_variation += (h.total_force[k] - previous_reference).abs();
-        }
-        self.last_force = Some((force, h.total_force[k]));
-    }
-
     /// The error in every norm, by norm.
     pub fn errors(&self) -> BTreeMap<Norm, f64> {
         BTreeMap::from([
@@ -138,4 +107,41 @@ impl<'r> ReferenceComparison<'r> {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl Observer for ReferenceComparison<'_> {
+    /// Compares the state at the next coarse step `t_n` (called once per step,
+    /// `n = 0, 1, …`).
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let scaled = self.step * self.sample_level;
+        self.step += 1;
+        if scaled % self.level != 0 {
+            return Ok(());
+        }
+        let k = scaled / self.level;
+        let Some(&t) = self.reference.histories.time.get(k) else {
+            return Ok(());
+        };
+        self.prolongation
+            .apply_into(state.displacement(), &mut self.fine);
+        for (e, r) in self.fine.iter_mut().zip(self.reference.displacement_at(k)) {
+            *e -= r;
+        }
+        self.norms.mass.mul_into(&self.fine, &mut self.scratch);
+        let h2 = dot(&self.fine, &self.scratch);
+        self.norms.stiffness.mul_into(&self.fine, &mut self.scratch);
+        let a2 = dot(&self.fine, &self.scratch);
+        self.u_h.push(t, h2.max(0.0).sqrt());
+        self.u_v.push(t, (h2 + a2).max(0.0).sqrt());
+        let h = &self.reference.histories;
+        let force: f64 = state.multiplier().value.iter().sum();
+        self.force.push(t, force - h.total_force[k]);
+        self.energy.push(t, state.energy().value - h.energy[k]);
+        if let Some((previous, previous_reference)) = self.last_force {
+            self.force_variation += (force - previous).abs();
+            self.reference_variation += (h.total_force[k] - previous_reference).abs();
+        }
+        self.last_force = Some((force, h.total_force[k]));
+        Ok(())
+    }
 }

@@ -34,12 +34,12 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::{MassVariant, Prolongation};
 use crate::engine::schemes::{Scheme, TimeIntegrator};
 use crate::harness::elastic::{
-    box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunConfig, BoxRunResult,
-    StepObserver,
+    box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
+use crate::harness::run::{Observables, Observer, RunConfig};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
 use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
@@ -557,31 +557,27 @@ pub fn obtain_reference(
 }
 
 /// One run of `case` on `n_axis` elements, compared with the reference at every step;
-/// `observer` sees every step after the comparison.
+/// `observers` see every step after the comparison.
 fn run_compared(
     problem: &BoxProblem,
     ratio: f64,
     case: Case,
     n_axis: usize,
     comparison: &mut ReferenceComparison<'_>,
-    observer: &mut StepObserver<'_>,
+    observers: &mut [&mut dyn Observer],
 ) -> Result<BoxRunResult, Error> {
-    let config = BoxRunConfig {
-        n_axis,
+    let config = RunConfig {
+        nx: n_axis,
         ratio,
         scheme: case.scheme,
         mass: case.mass,
-        vtk_at: Vec::new(),
-        vtk_dir: None,
+        observables: Observables::default(),
     };
-    run_box_observed(
-        problem,
-        &config,
-        &mut |mesh, state: &dyn TimeIntegrator, energy| {
-            comparison.observe(state, energy);
-            observer(mesh, state, energy)
-        },
-    )
+    let mut all: Vec<&mut dyn Observer> = vec![comparison];
+    for o in observers.iter_mut() {
+        all.push(&mut **o);
+    }
+    run_box_observed(problem, &config, &mut all)
 }
 
 /// One case at one level, compared with the reference at every step.
@@ -601,27 +597,29 @@ fn run_level(
         position: (0..n_axis).map(|j| (j as f64 + 0.5) * h).collect(),
         ..AxialStressMap::default()
     };
+    let mesh = box_mesh(problem, n_axis)?;
+    let per_layer = mesh.n_elements() / n_axis;
     let mut step = 0usize;
+    let mut sample_stress = |state: &dyn TimeIntegrator| -> Result<(), Error> {
+        if keep_histories && step % every == 0 {
+            let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
+            stress.time.push(state.time());
+            stress.von_mises.push(
+                vm.chunks(per_layer)
+                    .map(|layer| layer.iter().sum::<f64>() / per_layer as f64)
+                    .collect(),
+            );
+        }
+        step += 1;
+        Ok(())
+    };
     let result = run_compared(
         problem,
         ratio,
         case,
         n_axis,
         &mut comparison,
-        &mut |mesh, state: &dyn TimeIntegrator, _| {
-            if keep_histories && step % every == 0 {
-                let per_layer = mesh.n_elements() / n_axis;
-                let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
-                stress.time.push(state.time());
-                stress.von_mises.push(
-                    vm.chunks(per_layer)
-                        .map(|layer| layer.iter().sum::<f64>() / per_layer as f64)
-                        .collect(),
-                );
-            }
-            step += 1;
-            Ok(())
-        },
+        &mut [&mut sample_stress],
     )?;
     Ok(LevelOutcome {
         record: LevelRecord {

@@ -16,9 +16,10 @@ use serde::{Deserialize, Serialize};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{BoxMesh, MassVariant};
 use crate::engine::schemes::{Scheme, TimeIntegrator};
-use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem, BoxRunConfig};
+use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
 use crate::harness::error::Error;
 use crate::harness::output::write_atomic;
+use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning.
 const CACHE_FORMAT: u32 = 1;
@@ -150,24 +151,24 @@ impl Reference {
         let clock = Instant::now();
         let scheme: Scheme = key.scheme.parse()?;
         let mass: MassVariant = key.mass.parse()?;
-        let config = BoxRunConfig {
-            n_axis: key.n_axis,
+        let config = RunConfig {
+            nx: key.n_axis,
             ratio: key.ratio,
             scheme,
             mass,
-            vtk_at: Vec::new(),
-            vtk_dir: None,
+            observables: Observables::default(),
         };
         let every = key.sample_every.max(1);
         let mut displacement = Vec::new();
         let mut step = 0usize;
-        let run = run_box_observed(problem, &config, &mut |_, state: &dyn TimeIntegrator, _| {
+        let mut keep = |state: &dyn TimeIntegrator| -> Result<(), Error> {
             if step % every == 0 {
                 displacement.extend_from_slice(state.displacement());
             }
             step += 1;
             Ok(())
-        })?;
+        };
+        let run = run_box_observed(problem, &config, &mut [&mut keep])?;
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
         let centre_displacement: Vec<f64> =

@@ -94,7 +94,7 @@ pub(super) fn run_ensembles(
                 case,
                 n_axis,
                 &mut comparison,
-                &mut |_, _, _| Ok(()),
+                &mut [],
             )?;
             separations.push(Separation::between(
                 &base[c][l].time,

@@ -1,0 +1,121 @@
+//! What each subcommand of the `signorini` binary does; `main.rs` parses the arguments and
+//! dispatches here. Every command prints its summary on stdout (a closed stdout is ignored:
+//! `signorini list | head` must not panic) and returns a [`Failure`] with its exit code.
+//!
+//! Exit codes: 0 success; 2 usage errors (bad arguments, a scene file that is missing,
+//! malformed or out of range); 1 failures (a run that fails, an energy balance that
+//! `--check-balance` finds violated, an output that cannot be written).
+
+/// `println!` that ignores a closed stdout.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+mod list;
+mod reports;
+mod run;
+mod study;
+
+pub use list::{list, ListArgs};
+pub use reports::{
+    experiment, figures, golden, report, stability, ExperimentArgs, FiguresArgs, GoldenArgs,
+    ReportArgs, StabilityArgs,
+};
+pub use run::{run_scene, RunArgs};
+pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
+
+use std::io::IsTerminal;
+use std::path::Path;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::engine::contact::ContactTreatment;
+use crate::engine::error::ParameterError;
+use crate::engine::fem::MassVariant;
+use crate::engine::schemes::Scheme;
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::output::write_atomic;
+use crate::harness::scene::SceneError;
+
+pub(crate) fn parse_scheme(s: &str) -> Result<Scheme, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+pub(crate) fn parse_contact(s: &str) -> Result<ContactTreatment, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+pub(crate) fn parse_mass(s: &str) -> Result<MassVariant, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+pub(crate) fn parse_norm(s: &str) -> Result<Norm, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+/// A failure with its exit code.
+pub struct Failure {
+    /// The exit code: 2 for a usage error, 1 for a failure.
+    pub code: u8,
+    /// What went wrong, for the user.
+    pub message: String,
+}
+
+impl Failure {
+    fn usage(e: impl std::fmt::Display) -> Self {
+        Self {
+            code: 2,
+            message: e.to_string(),
+        }
+    }
+
+    fn runtime(e: impl std::fmt::Display) -> Self {
+        Self {
+            code: 1,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl From<SceneError> for Failure {
+    fn from(e: SceneError) -> Self {
+        Self::usage(e)
+    }
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        match e {
+            Error::Parameter(p) => Self::usage(p),
+            Error::Solve(s) if s.is_usage() => Self::usage(s),
+            Error::Solve(s) => Self::runtime(s),
+            Error::Io(m) => Self::runtime(m),
+        }
+    }
+}
+
+fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
+    write_atomic(path, contents)
+        .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", path.display())))
+}
+
+fn progress_bar(len: usize) -> ProgressBar {
+    let visible = std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
+    let bar = ProgressBar::with_draw_target(
+        Some(len as u64),
+        if visible {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
+            .expect("valid template"),
+    );
+    bar
+}

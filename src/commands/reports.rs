@@ -1,0 +1,146 @@
+//! The commands behind the make targets that write `reports/` and `golden/`: `report`,
+//! `experiment`, `figures`, `stability` and `golden`.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::{write_output, Failure};
+use crate::studies::pipeline::{
+    write_defaults_experiment, write_extended_report, write_golden, write_gravity_report,
+    write_report, write_stability,
+};
+
+/// The arguments of `signorini report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Output directory.
+    #[arg(long, default_value = "reports")]
+    pub out: PathBuf,
+}
+
+/// What `make report` runs: Tables 1–2 beside the paper into reports/.
+pub fn report(args: ReportArgs) -> Result<(), Failure> {
+    let ReportArgs { out } = args;
+    let gravity = write_gravity_report(Path::new("."), &out).map_err(Failure::runtime)?;
+    out!(
+        "wrote {}/gravity.md and {}/gravity/ ({} cases)",
+        out.display(),
+        out.display(),
+        gravity.cases.len()
+    );
+    let study = write_report(&out).map_err(Failure::runtime)?;
+    out!(
+        "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
+        out.display(),
+        out.display(),
+        study.cases.len(),
+        study.wall_seconds
+    );
+    write_extended_report(&out).map_err(Failure::runtime)?;
+    out!("wrote {}/extended.md", out.display());
+    Ok(())
+}
+
+/// The arguments of `signorini experiment`.
+#[derive(Debug, Args)]
+pub struct ExperimentArgs {
+    /// Output directory.
+    #[arg(long, default_value = "reports")]
+    pub out: PathBuf,
+}
+
+/// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
+pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
+    let ExperimentArgs { out } = args;
+    let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;
+    let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
+    out!(
+        "{}\nwrote {}/defaults-experiment.md",
+        summary.join("\n"),
+        out.display()
+    );
+    Ok(())
+}
+
+/// The arguments of `signorini figures`.
+#[derive(Debug, Args)]
+pub struct FiguresArgs {
+    /// The reports directory.
+    #[arg(long, default_value = "reports")]
+    pub reports: PathBuf,
+}
+
+/// Draw the figures (SVG) from the data under a reports directory into its figures/
+/// (`make figures`), and write its README.md index.
+pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
+    let FiguresArgs { reports } = args;
+    let (names, missing) =
+        crate::studies::figures::from_reports::write_figures(&reports).map_err(Failure::runtime)?;
+    let index = crate::studies::figures::from_reports::reports_index(&names);
+    write_output(&reports.join("README.md"), index.as_bytes())?;
+    out!(
+        "wrote {} figures into {}/figures and {}/README.md",
+        names.len(),
+        reports.display(),
+        reports.display()
+    );
+    for m in missing {
+        out!("skipped (input missing): {m}");
+    }
+    Ok(())
+}
+
+/// The arguments of `signorini stability`.
+#[derive(Debug, Args)]
+pub struct StabilityArgs {
+    /// Output directory.
+    #[arg(long, default_value = "reports")]
+    pub out: PathBuf,
+    /// Only the fast subset that CI guards.
+    #[arg(long)]
+    pub ci_subset: bool,
+}
+
+/// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
+/// verdict each; writes stability.md and stability.json.
+pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
+    let StabilityArgs { out, ci_subset } = args;
+    let records = write_stability(&out, ci_subset).map_err(Failure::runtime)?;
+    let flagged = records
+        .iter()
+        .filter(|r| {
+            !matches!(
+                r.verdict,
+                crate::studies::stability::Verdict::Stable
+                    | crate::studies::stability::Verdict::Dissipative
+            )
+        })
+        .count();
+    out!(
+        "wrote {}/stability.md ({} runs, {} flagged)",
+        out.display(),
+        records.len(),
+        flagged
+    );
+    Ok(())
+}
+
+/// The arguments of `signorini golden`.
+#[derive(Debug, Args)]
+pub struct GoldenArgs {
+    /// The repository root (scenes/ and golden/ are under it).
+    #[arg(long, default_value = ".")]
+    pub root: PathBuf,
+}
+
+/// Regenerate the golden rates of the gated studies with their round-off sensitivity (`make
+/// golden`; nothing else writes them): golden/rates-1d-dirichlet.json,
+/// rates-1d-gravity.json, rates-1d-extended.json and rates-2d.json.
+pub fn golden(args: GoldenArgs) -> Result<(), Failure> {
+    let GoldenArgs { root } = args;
+    for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
+        out!("wrote {name} ({} cases)", golden.cases.len());
+    }
+    Ok(())
+}

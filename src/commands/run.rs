@@ -1,0 +1,309 @@
+//! `signorini run`: one run of a scene, bar or box, with its summary on the terminal and,
+//! with `--out`, its result and histories as files.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{parse_contact, parse_mass, parse_scheme, write_output, Failure};
+use crate::engine::contact::ContactTreatment;
+use crate::engine::fem::MassVariant;
+use crate::engine::problem::BoxProblem;
+use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
+use crate::engine::schemes::Scheme;
+use crate::harness::elastic::run_box;
+use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::scene::Scene;
+
+/// The arguments of `signorini run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The scene file (see scenes/).
+    pub scene: PathBuf,
+    /// Scheme: a preset name (see `signorini list`) or newmark(beta=B,gamma=G),
+    /// theta(theta=T), paoli-schatzman(beta=B,e=E).
+    #[arg(long, value_parser = parse_scheme)]
+    pub scheme: Scheme,
+    /// Mass matrix: standard, redistributed, lumped, redistributed-conserving or
+    /// singular-dynamic (see `signorini list`).
+    #[arg(long, value_parser = parse_mass)]
+    pub mass: MassVariant,
+    /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's
+    /// finest level.
+    #[arg(long)]
+    pub nx: Option<usize>,
+    /// Δx/Δt (default: the scene's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub ratio: Option<f64>,
+    /// Output directory for run.json and the CSV histories.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Contact treatment: multiplier, penalty(gamma0=G), nitsche(theta=T,gamma0=G) (1D
+    /// only). Default: the scene's, else multiplier.
+    #[arg(long, value_parser = parse_contact)]
+    pub contact: Option<ContactTreatment>,
+    /// Evaluate the scheme's discrete energy balance (1D paper eqs. 33, 35, 37) after every
+    /// step: print the largest per-step residual relative to the energy (also in run.json
+    /// with --out) and fail with exit code 1 when it exceeds 1e-9. 1D scenes only.
+    #[arg(long)]
+    pub check_balance: bool,
+}
+
+/// One run of a scene: the requested error norms on the terminal; with --out, run.json
+/// plus the histories the scene asks for (contact.csv, multiplier.csv, energy.csv).
+pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
+    let RunArgs {
+        scene,
+        scheme,
+        mass,
+        nx,
+        ratio,
+        out,
+        contact,
+        check_balance,
+    } = args;
+    let scene = Scene::load(&scene)?;
+    let nx = nx.unwrap_or_else(|| {
+        *scene
+            .discretisation
+            .levels
+            .last()
+            .expect("validated: at least one level")
+    });
+    if let Some(mut problem) = scene.box_problem() {
+        if check_balance {
+            return Err(Failure::usage(
+                "--check-balance: 1D scenes only (the 2D/3D run does not evaluate the \
+                 energy balance)",
+            ));
+        }
+        problem.contact = contact.unwrap_or(problem.contact);
+        return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
+    }
+    let mut problem = scene.problem();
+    problem.contact = contact.unwrap_or(problem.contact);
+    let mut observables = scene.observables();
+    observables.energy_balance = check_balance;
+    if out.is_none() {
+        observables.contact_history = false;
+        observables.energy_history = false;
+        observables.points.clear();
+        observables.fields_at.clear();
+    }
+    let config = RunConfig {
+        nx,
+        ratio: ratio.unwrap_or(scene.discretisation.ratio),
+        scheme,
+        mass,
+        observables,
+    };
+    if let Some(dir) = &out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    let result = run(&problem, &config)?;
+    out!(
+        "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
+        scene.name,
+        scheme,
+        mass,
+        result.contact_treatment,
+        nx,
+        result.dt,
+        result.steps,
+        result.dofs,
+        result.contact_solves,
+        result.timings.total()
+    );
+    for (norm, e) in &result.errors {
+        out!("  {:12} {:.6e}   {}", norm.key(), e, norm.label());
+    }
+    let equation = energy_balance::equation(scheme);
+    if let Some(residual) = result.max_balance_residual {
+        out!(
+            "  energy balance eq. {equation}: largest per-step residual {residual:.3e} \
+             of the energy (tolerance {BALANCE_TOLERANCE:e})"
+        );
+    }
+    if let Some(dir) = out {
+        let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
+        write_output(&dir.join("run.json"), json.as_bytes())?;
+        for (name, text) in history_csv(&result) {
+            write_output(&dir.join(&name), text.as_bytes())?;
+        }
+        out!("wrote {}", dir.display());
+    }
+    if let Some(residual) = result
+        .max_balance_residual
+        .filter(|r| r.is_nan() || *r > BALANCE_TOLERANCE)
+    {
+        return Err(Failure::runtime(format!(
+            "energy balance eq. {equation} violated: largest per-step residual \
+             {residual:.3e} of the energy exceeds {BALANCE_TOLERANCE:e}"
+        )));
+    }
+    Ok(())
+}
+
+/// A CSV table with the given header and columns of equal length.
+fn csv(header: &str, columns: &[&[f64]]) -> String {
+    let mut s = format!("{header}\n");
+    let rows = columns.first().map_or(0, |c| c.len());
+    for k in 0..rows {
+        let row: Vec<String> = columns.iter().map(|c| format!("{:.17e}", c[k])).collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// The histories of a run as (file name, CSV text).
+fn history_csv(result: &RunResult) -> Vec<(String, String)> {
+    let mut files = Vec::new();
+    if let Some(c) = &result.contact_history {
+        files.push((
+            "contact.csv".to_string(),
+            csv(
+                "time,displacement,displacement_exact",
+                &[&c.time, &c.displacement, &c.displacement_exact],
+            ),
+        ));
+        files.push((
+            "multiplier.csv".to_string(),
+            csv(
+                "time,multiplier,multiplier_exact",
+                &[&c.multiplier_time, &c.multiplier, &c.multiplier_exact],
+            ),
+        ));
+    }
+    if let Some(p) = &result.point_history {
+        let header: Vec<String> = std::iter::once("time".to_string())
+            .chain(
+                p.x.iter()
+                    .flat_map(|x| [format!("u_h(x={x})"), format!("u(x={x})")]),
+            )
+            .collect();
+        let mut columns: Vec<&[f64]> = vec![&p.time];
+        for (h, e) in p.displacement.iter().zip(&p.displacement_exact) {
+            columns.push(h);
+            columns.push(e);
+        }
+        files.push(("points.csv".to_string(), csv(&header.join(","), &columns)));
+    }
+    for f in &result.fields {
+        files.push((
+            format!("field-t{}.csv", f.requested_time),
+            csv(
+                "x,displacement,displacement_exact",
+                &[&f.x, &f.displacement, &f.displacement_exact],
+            ),
+        ));
+        files.push((
+            format!("strain-t{}.csv", f.requested_time),
+            csv(
+                "x_mid,strain,strain_exact",
+                &[&f.x_mid, &f.strain, &f.strain_exact],
+            ),
+        ));
+    }
+    if let Some(e) = &result.energy_history {
+        files.push((
+            "energy.csv".to_string(),
+            csv(
+                "time,energy,energy_exact",
+                &[&e.time, &e.energy, &e.energy_exact],
+            ),
+        ));
+    }
+    files
+}
+
+/// `signorini run` on a 2D/3D box scene: a summary, and with `--out` run.json, energy.csv,
+/// contact.csv and the VTK snapshots at the scene's `fields_at` times.
+fn run_box_scene(
+    scene: &Scene,
+    problem: &BoxProblem,
+    scheme: Scheme,
+    mass: MassVariant,
+    n_axis: usize,
+    ratio: Option<f64>,
+    out: Option<PathBuf>,
+) -> Result<(), Failure> {
+    if let Some(dir) = &out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    let config = RunConfig {
+        nx: n_axis,
+        ratio: ratio.unwrap_or(scene.discretisation.ratio),
+        scheme,
+        mass,
+        observables: Observables {
+            fields_at: if out.is_some() {
+                scene.observables.fields_at.clone()
+            } else {
+                Vec::new()
+            },
+            fields_dir: out.clone(),
+            ..Observables::default()
+        },
+    };
+    if out.is_none() && !scene.observables.fields_at.is_empty() {
+        out!(
+            "(the scene asks for fields at {:?}: pass --out DIR to write them as VTK)",
+            scene.observables.fields_at
+        );
+    }
+    let r = run_box(problem, &config)?;
+    let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
+    let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
+    out!(
+        "{} — {} / {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
+        scene.name,
+        scheme,
+        mass,
+        r.contact_treatment,
+        r.elements,
+        r.dofs,
+        r.contact_nodes,
+        r.dt,
+        r.steps
+    );
+    out!(
+        "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
+        r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
+    );
+    out!(
+        "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
+        r.complementarity_violation
+    );
+    if let Some(dir) = out {
+        let json = serde_json::to_string_pretty(&r).map_err(Failure::runtime)?;
+        write_output(&dir.join("run.json"), json.as_bytes())?;
+        let (t, e): (Vec<f64>, Vec<f64>) = r.energy.iter().copied().unzip();
+        write_output(
+            &dir.join("energy.csv"),
+            csv("time,energy", &[&t, &e]).as_bytes(),
+        )?;
+        let c = &r.contact;
+        write_output(
+            &dir.join("contact.csv"),
+            csv(
+                "time,mean_gap,centre_gap,total_force,centre_multiplier",
+                &[
+                    &c.time,
+                    &c.mean_gap,
+                    &c.centre_gap,
+                    &c.total_force,
+                    &c.centre_multiplier,
+                ],
+            )
+            .as_bytes(),
+        )?;
+        for f in &r.vtk_files {
+            out!("wrote {}", f.display());
+        }
+        out!("wrote {}", dir.display());
+    }
+    Ok(())
+}

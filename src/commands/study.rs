@@ -1,0 +1,310 @@
+//! `signorini study`, `sensitivity` and `reference`: refinement studies of a scene, their
+//! round-off ensembles and the fine-mesh references of box scenes.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::{parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, Failure};
+use crate::engine::contact::ContactTreatment;
+use crate::engine::fem::MassVariant;
+use crate::engine::problem::BoxProblem;
+use crate::engine::schemes::Scheme;
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::report::convergence_tables;
+use crate::harness::scene::Scene;
+use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
+use crate::harness::study::{run_study_with_progress, study_size, Case};
+use crate::studies::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
+use crate::studies::pipeline::{write_elastic_report, write_sensitivity_files};
+
+/// The arguments of `signorini study`.
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Schemes (repeat the option for several); default: the paper's seven.
+    #[arg(long, value_parser = parse_scheme)]
+    pub scheme: Vec<Scheme>,
+    /// Mass variants, comma-separated; default: the paper's two (standard, redistributed).
+    #[arg(long, value_delimiter = ',', value_parser = parse_mass)]
+    pub mass: Vec<MassVariant>,
+    /// Norms, comma-separated; default: the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = parse_norm)]
+    pub norm: Vec<Norm>,
+    /// Levels NX, comma-separated and increasing; default: the scene's.
+    #[arg(long, value_delimiter = ',')]
+    pub levels: Vec<usize>,
+    /// Δx/Δt (default: the scene's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub ratio: Option<f64>,
+    /// Print JSON instead of markdown.
+    #[arg(long)]
+    pub json: bool,
+    /// Box scenes: elements along the axis of the fine-mesh reference (default: the
+    /// scene's `discretisation.reference_level`).
+    #[arg(long)]
+    pub reference_level: Option<usize>,
+    /// Box scenes: write elastic-<d>d.md, elastic-<d>d.json and the figure data into this
+    /// reports directory instead of printing.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Box scenes: where the fine-mesh reference is cached.
+    #[arg(long, default_value = "reports/data/references")]
+    pub cache: PathBuf,
+    /// Contact treatment of every case: multiplier, penalty(gamma0=G),
+    /// nitsche(theta=T,gamma0=G) (1D only). Default: the scene's, else multiplier.
+    #[arg(long, value_parser = parse_contact)]
+    pub contact: Option<ContactTreatment>,
+}
+
+/// A refinement study of a scene: the rate table of the selected cases and norms, as
+/// markdown or JSON. Nothing outside the selection is computed.
+pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
+    let StudyArgs {
+        scene,
+        scheme,
+        mass,
+        norm,
+        levels,
+        ratio,
+        json,
+        reference_level,
+        out,
+        cache,
+        contact,
+    } = args;
+    let scene = Scene::load(&scene)?;
+    if let Some(mut problem) = scene.box_problem() {
+        problem.contact = contact.unwrap_or(problem.contact);
+        let mut config =
+            ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
+        if !levels.is_empty() {
+            config.levels = levels;
+        }
+        if let Some(r) = ratio {
+            config.ratio = r;
+        }
+        if !scheme.is_empty() || !mass.is_empty() {
+            let schemes = if scheme.is_empty() {
+                scene.default_schemes()
+            } else {
+                scheme
+            };
+            let masses = if mass.is_empty() {
+                vec![MassVariant::Standard, MassVariant::Redistributed]
+            } else {
+                mass
+            };
+            config.cases = Case::matrix(&schemes, &masses);
+        }
+        return elastic_study(&problem, &config, out, &cache, json);
+    }
+    if reference_level.is_some() || out.is_some() {
+        return Err(Failure::usage(format!(
+            "scene {}: --reference-level and --out are for box scenes (a bar1d study \
+             compares with the exact solution and prints its tables)",
+            scene.name
+        )));
+    }
+    let schemes = if scheme.is_empty() {
+        scene.default_schemes()
+    } else {
+        scheme
+    };
+    let masses = if mass.is_empty() {
+        MassVariant::PAPER.to_vec()
+    } else {
+        mass
+    };
+    let norms: BTreeSet<Norm> = if norm.is_empty() {
+        scene.norms()
+    } else {
+        norm.into_iter().collect()
+    };
+    let cases = Case::matrix(&schemes, &masses);
+    let mut config = scene.study_config();
+    if !levels.is_empty() {
+        config.levels = levels;
+    }
+    if let Some(r) = ratio {
+        config.ratio = r;
+    }
+    let bar = progress_bar(study_size(&cases, &config));
+    let mut problem = scene.problem();
+    problem.contact = contact.unwrap_or(problem.contact);
+    let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    if json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
+        );
+    } else {
+        out!("{}\n", convergence_tables(&study).trim_end());
+        out!(
+            "{}: {} cases × {} levels, {:.2} s wall",
+            scene.name,
+            study.cases.len(),
+            study.config.levels.len(),
+            study.wall_seconds
+        );
+    }
+    Ok(())
+}
+
+/// The arguments of `signorini sensitivity`.
+#[derive(Debug, Args)]
+pub struct SensitivityArgs {
+    /// The scene file (a bar1d scene with an obstacle).
+    pub scene: PathBuf,
+    /// Perturbed members per case and level (2 to 1024).
+    #[arg(long, default_value_t = 16)]
+    pub members: usize,
+    /// Relative noise amplitude, in (0, 1e-3].
+    #[arg(long, default_value_t = 1e-13, allow_hyphen_values = true)]
+    pub amplitude: f64,
+    /// Output directory.
+    #[arg(long, default_value = "reports")]
+    pub out: PathBuf,
+}
+
+/// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
+/// as an ensemble of members with seeded noise of relative size A on the initial
+/// displacement; writes sensitivity.md and sensitivity.json with each case's class.
+pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
+    let SensitivityArgs {
+        scene,
+        members,
+        amplitude,
+        out,
+    } = args;
+    let scene = Scene::load(&scene)?;
+    if scene.is_box() {
+        return Err(Failure::usage(format!(
+            "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
+             ensemble is its discretisation.sensitivity, run by `signorini study`)",
+            scene.name
+        )));
+    }
+    let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
+    let ensemble = EnsembleConfig { members, amplitude };
+    let s = run_sensitivity(
+        &scene.problem(),
+        &cases,
+        &scene.norms(),
+        &scene.study_config(),
+        ensemble,
+    )?;
+    write_sensitivity_files(&s, &out)
+        .map_err(|e| Failure::runtime(format!("cannot write into {}: {e}", out.display())))?;
+    for c in &s.cases {
+        out!("  {:36} {}", c.case, c.class.name());
+    }
+    out!(
+        "wrote {}/sensitivity.md and {}/sensitivity.json ({} cases × {} levels × {} members, {:.1} s wall)",
+        out.display(),
+        out.display(),
+        s.cases.len(),
+        s.config.levels.len(),
+        members,
+        s.wall_seconds
+    );
+    Ok(())
+}
+
+/// The arguments of `signorini reference`.
+#[derive(Debug, Args)]
+pub struct ReferenceArgs {
+    /// Box scene files.
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Where the references are cached.
+    #[arg(long, default_value = "reports/data/references")]
+    pub cache: PathBuf,
+}
+
+/// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
+/// parameters match the scene's, says which differ otherwise, and recomputes it.
+pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
+    let ReferenceArgs { scenes, cache } = args;
+    for path in scenes {
+        let scene = Scene::load(&path)?;
+        let problem = scene.box_problem().ok_or_else(|| {
+            Failure::usage(format!(
+                "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
+                scene.name
+            ))
+        })?;
+        let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
+        let mut computed = false;
+        let reference = obtain_reference(&problem, &config, &cache, &mut |why| {
+            computed = true;
+            eprintln!("{why}; computing it");
+        })?;
+        out!(
+            "{}: reference {} on {:?} elements, {} unknowns, {} samples: {} ({:.1} s)",
+            scene.name,
+            reference.histories.key.scheme,
+            reference.mesh.counts(),
+            reference.histories.dofs,
+            reference.samples(),
+            if computed {
+                "computed and cached"
+            } else {
+                "the cache matches the scene's parameters"
+            },
+            reference.histories.seconds
+        );
+    }
+    Ok(())
+}
+
+/// `signorini study` of a box scene: the report printed (markdown or JSON) or written to `out`.
+fn elastic_study(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    out: Option<PathBuf>,
+    cache: &Path,
+    json: bool,
+) -> Result<(), Failure> {
+    let mut note = |why: String| eprintln!("{why}; computing the reference");
+    if let Some(dir) = out {
+        let study = write_elastic_report(problem, config, &dir, cache, &mut note)
+            .map_err(Failure::runtime)?;
+        out!(
+            "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
+             {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
+            study.study.cases.len(),
+            study.study.wall_seconds,
+            dir = dir.display(),
+            d = study.dimension
+        );
+        if let Some(s) = &study.sensitivity {
+            for c in &s.cases {
+                out!("  {:36} {}", c.case, c.class.name());
+            }
+            out!(
+                "round-off ensemble: {} members per case and level, {:.1} s wall",
+                s.ensemble.members,
+                s.wall_seconds
+            );
+        }
+        return Ok(());
+    }
+    let (study, _) = run_elastic_study(problem, config, cache, &mut note)?;
+    if json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
+        );
+    } else {
+        out!(
+            "{}",
+            crate::studies::elastic_study::report::render(&study).trim_end()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,316 @@
+//! The observers of a run against an exact solution (the 1D bars): the error norms of the
+//! paper (§5), the multiplier's total variation, and the histories and snapshots the figures
+//! draw. Each does one thing and is built only when a run asks for it.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::{ContactHistory, EnergyHistory, FieldSnapshot, MultiplierVariation, PointHistory};
+use crate::engine::exact::ExactSolution;
+use crate::engine::fem::Bar1d;
+use crate::engine::schemes::energy_balance::BalanceMonitor;
+use crate::engine::schemes::TimeIntegrator;
+use crate::harness::error::Error;
+use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
+use crate::harness::run::driver::{descending, Observer};
+
+/// The space norms of the displacement error `u_h(t_n) − u(t_n)` (L² and H¹ in space),
+/// accumulated in time as the `u_*_H` and `u_*_V` norms.
+pub struct DisplacementErrors<'a> {
+    bar: &'a Bar1d,
+    exact: &'a dyn ExactSolution,
+    space: SpaceErrorIntegrator,
+    l2: TimeSeriesNorm,
+    h1: TimeSeriesNorm,
+}
+
+impl<'a> DisplacementErrors<'a> {
+    /// The observer of `bar`'s displacement against `exact`.
+    pub fn new(bar: &'a Bar1d, exact: &'a dyn ExactSolution) -> Self {
+        Self {
+            bar,
+            exact,
+            space: SpaceErrorIntegrator::new(),
+            l2: TimeSeriesNorm::default(),
+            h1: TimeSeriesNorm::default(),
+        }
+    }
+
+    /// Space-norm evaluations so far.
+    pub fn evaluations(&self) -> usize {
+        self.space.evaluations()
+    }
+}
+
+impl Observer for DisplacementErrors<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let t = state.time();
+        let e = self
+            .space
+            .errors(self.bar, state.displacement(), self.exact, t);
+        self.l2.push(t, e.l2);
+        self.h1.push(t, e.h1);
+        Ok(())
+    }
+}
+
+/// The contact multiplier's error `λ_h − λ` in time and the total variations of `λ_h` and `λ`
+/// (the oscillation indicator of the tables).
+pub struct MultiplierErrors<'a> {
+    exact: &'a dyn ExactSolution,
+    error: TimeSeriesNorm,
+    variation: MultiplierVariation,
+    last: Option<(f64, f64, f64)>,
+}
+
+impl<'a> MultiplierErrors<'a> {
+    /// The observer of the first multiplier against `exact`'s.
+    pub fn new(exact: &'a dyn ExactSolution) -> Self {
+        Self {
+            exact,
+            error: TimeSeriesNorm::default(),
+            variation: MultiplierVariation::default(),
+            last: None,
+        }
+    }
+
+    /// The total variations, once a state was observed.
+    pub fn variation(&self) -> Option<MultiplierVariation> {
+        self.last.map(|_| self.variation)
+    }
+}
+
+impl Observer for MultiplierErrors<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let m = state.multiplier();
+        let lambda_h = m.value.first().copied().unwrap_or(0.0);
+        let lambda = self.exact.contact_multiplier(m.time);
+        self.error.push(m.time, lambda_h - lambda);
+        match self.last {
+            Some((t0, _, _)) if m.time <= t0 => {}
+            Some((_, h0, e0)) => {
+                self.variation.discrete += (lambda_h - h0).abs();
+                self.variation.exact += (lambda - e0).abs();
+                self.last = Some((m.time, lambda_h, lambda));
+            }
+            None => self.last = Some((m.time, lambda_h, lambda)),
+        }
+        self.variation.max_abs = self.variation.max_abs.max(lambda_h.abs());
+        Ok(())
+    }
+}
+
+/// The energy error `E_h − E` in time.
+pub struct EnergyErrors<'a> {
+    exact: &'a dyn ExactSolution,
+    error: TimeSeriesNorm,
+}
+
+impl<'a> EnergyErrors<'a> {
+    /// The observer of the discrete energy against `exact`'s.
+    pub fn new(exact: &'a dyn ExactSolution) -> Self {
+        Self {
+            exact,
+            error: TimeSeriesNorm::default(),
+        }
+    }
+}
+
+impl Observer for EnergyErrors<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let e = state.energy();
+        self.error.push(e.time, e.value - self.exact.energy(e.time));
+        Ok(())
+    }
+}
+
+/// The seven norms of a run from the observers that accumulated them; a norm whose observer
+/// was not built is absent from `norms` by construction.
+pub fn error_norms(
+    norms: &BTreeSet<Norm>,
+    displacement: Option<&DisplacementErrors<'_>>,
+    multiplier: Option<&MultiplierErrors<'_>>,
+    energy: Option<&EnergyErrors<'_>>,
+) -> BTreeMap<Norm, f64> {
+    let zero = TimeSeriesNorm::default();
+    let (l2, h1) = displacement.map_or((&zero, &zero), |d| (&d.l2, &d.h1));
+    let lambda = multiplier.map_or(&zero, |m| &m.error);
+    let e = energy.map_or(&zero, |e| &e.error);
+    norms
+        .iter()
+        .map(|&n| {
+            let v = match n {
+                Norm::DisplacementLinfH => l2.linf(),
+                Norm::DisplacementL2H => l2.l2(),
+                Norm::DisplacementLinfV => h1.linf(),
+                Norm::DisplacementL2V => h1.l2(),
+                Norm::MultiplierL2 => lambda.l2(),
+                Norm::EnergyLinf => e.linf(),
+                Norm::EnergyL2 => e.l2(),
+            };
+            (n, v)
+        })
+        .collect()
+}
+
+/// The contact node's displacement and multiplier with the exact ones.
+pub struct ContactRecorder<'a> {
+    bar: &'a Bar1d,
+    exact: &'a dyn ExactSolution,
+    /// The history so far.
+    pub history: ContactHistory,
+}
+
+impl<'a> ContactRecorder<'a> {
+    /// An empty history of `bar`'s contact node.
+    pub fn new(bar: &'a Bar1d, exact: &'a dyn ExactSolution) -> Self {
+        Self {
+            bar,
+            exact,
+            history: ContactHistory::default(),
+        }
+    }
+}
+
+impl Observer for ContactRecorder<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let t = state.time();
+        let m = state.multiplier();
+        let c = &mut self.history;
+        c.time.push(t);
+        c.displacement
+            .push(self.bar.nodal_value(state.displacement(), 0));
+        c.displacement_exact.push(self.exact.eval(0.0, t).u);
+        if c.multiplier_time.last().is_none_or(|&last| m.time > last) {
+            c.multiplier_time.push(m.time);
+            c.multiplier.push(m.value.first().copied().unwrap_or(0.0));
+            c.multiplier_exact
+                .push(self.exact.contact_multiplier(m.time));
+        }
+        Ok(())
+    }
+}
+
+/// The discrete energy with the exact one, once per energy time.
+pub struct EnergyRecorder<'a> {
+    exact: &'a dyn ExactSolution,
+    /// The history so far.
+    pub history: EnergyHistory,
+}
+
+impl<'a> EnergyRecorder<'a> {
+    /// An empty energy history.
+    pub fn new(exact: &'a dyn ExactSolution) -> Self {
+        Self {
+            exact,
+            history: EnergyHistory::default(),
+        }
+    }
+}
+
+impl Observer for EnergyRecorder<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let e = state.energy();
+        let h = &mut self.history;
+        if h.time.last().is_none_or(|&last| e.time > last) {
+            h.time.push(e.time);
+            h.energy.push(e.value);
+            h.energy_exact.push(self.exact.energy(e.time));
+        }
+        Ok(())
+    }
+}
+
+/// The displacement at fixed positions with the exact one.
+pub struct PointRecorder<'a> {
+    bar: &'a Bar1d,
+    exact: &'a dyn ExactSolution,
+    /// The history so far.
+    pub history: PointHistory,
+}
+
+impl<'a> PointRecorder<'a> {
+    /// An empty history at the positions `x`.
+    pub fn new(bar: &'a Bar1d, exact: &'a dyn ExactSolution, x: &[f64]) -> Self {
+        Self {
+            bar,
+            exact,
+            history: PointHistory {
+                x: x.to_vec(),
+                displacement: vec![Vec::new(); x.len()],
+                displacement_exact: vec![Vec::new(); x.len()],
+                ..PointHistory::default()
+            },
+        }
+    }
+}
+
+impl Observer for PointRecorder<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let t = state.time();
+        let p = &mut self.history;
+        p.time.push(t);
+        for (k, &x) in p.x.iter().enumerate() {
+            p.displacement[k].push(self.bar.value_at(state.displacement(), x));
+            p.displacement_exact[k].push(self.exact.eval(x, t).u);
+        }
+        Ok(())
+    }
+}
+
+/// The whole displacement and strain fields at the steps nearest to requested times.
+pub struct FieldRecorder<'a> {
+    bar: &'a Bar1d,
+    exact: &'a dyn ExactSolution,
+    pending: Vec<f64>,
+    /// The snapshots so far, in time order.
+    pub snapshots: Vec<FieldSnapshot>,
+}
+
+impl<'a> FieldRecorder<'a> {
+    /// Snapshots at the steps nearest to each of `times`.
+    pub fn new(bar: &'a Bar1d, exact: &'a dyn ExactSolution, times: &[f64]) -> Self {
+        Self {
+            bar,
+            exact,
+            pending: descending(times),
+            snapshots: Vec::new(),
+        }
+    }
+}
+
+impl Observer for FieldRecorder<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let t = state.time();
+        while let Some(&wanted) = self.pending.last() {
+            if t + 0.5 * state.dt() < wanted {
+                break;
+            }
+            self.pending.pop();
+            let u = state.displacement();
+            let bar = self.bar;
+            let nodes: Vec<f64> = (0..=bar.nx()).map(|i| bar.node(i)).collect();
+            let mids: Vec<f64> = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+            self.snapshots.push(FieldSnapshot {
+                requested_time: wanted,
+                time: t,
+                displacement: (0..=bar.nx()).map(|i| bar.nodal_value(u, i)).collect(),
+                displacement_exact: nodes.iter().map(|&x| self.exact.eval(x, t).u).collect(),
+                strain: (0..bar.nx())
+                    .map(|e| (bar.nodal_value(u, e + 1) - bar.nodal_value(u, e)) / bar.h())
+                    .collect(),
+                strain_exact: mids.iter().map(|&x| self.exact.eval(x, t).ux).collect(),
+                x: nodes,
+                x_mid: mids,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The scheme's discrete energy balance (1D paper eqs. 33, 35, 37), step by step.
+impl Observer for BalanceMonitor<'_> {
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        BalanceMonitor::observe(self, state);
+        Ok(())
+    }
+}
