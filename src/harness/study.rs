@@ -241,29 +241,39 @@ pub fn run_study_with_progress(
     })
 }
 
+/// Runs `job` on every item of `jobs` in parallel, the largest by `size` first (they take
+/// longest; ties in the order of `jobs`), and returns the results in the order of `jobs`. The
+/// first error stops the rest. Every study's case × level runs are scheduled here.
+pub fn run_largest_first<J: Sync, T: Send>(
+    jobs: &[J],
+    size: impl Fn(&J) -> usize,
+    job: impl Fn(&J) -> Result<T, Error> + Sync,
+) -> Result<Vec<T>, Error> {
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&k| (std::cmp::Reverse(size(&jobs[k])), k));
+    let mut results: Vec<(usize, T)> = order
+        .par_iter()
+        .map(|&k| job(&jobs[k]).map(|r| (k, r)))
+        .collect::<Result<_, _>>()?;
+    results.sort_by_key(|&(k, _)| k);
+    Ok(results.into_iter().map(|(_, r)| r).collect())
+}
+
 /// Runs `job(case, level)` for every case index below `n_cases` and every level index of
-/// `levels`, in parallel over case × level with the largest levels first (they take longest),
-/// and returns each case's results in level order. The first error stops the study.
+/// `levels` ([`run_largest_first`]: the largest levels first), and returns each case's results
+/// in level order.
 pub fn run_case_levels<T: Send>(
     n_cases: usize,
     levels: &[usize],
     job: impl Fn(usize, usize) -> Result<T, Error> + Sync,
 ) -> Result<Vec<Vec<T>>, Error> {
-    let mut jobs: Vec<(usize, usize)> = (0..n_cases)
+    let jobs: Vec<(usize, usize)> = (0..n_cases)
         .flat_map(|c| (0..levels.len()).map(move |l| (c, l)))
         .collect();
-    jobs.sort_by_key(|&(c, l)| (std::cmp::Reverse(levels[l]), c));
-    let results: Vec<((usize, usize), T)> = jobs
-        .par_iter()
-        .map(|&(c, l)| job(c, l).map(|r| ((c, l), r)))
-        .collect::<Result<_, _>>()?;
-    let mut by_job: BTreeMap<(usize, usize), T> = results.into_iter().collect();
+    let mut results =
+        run_largest_first(&jobs, |&(_, l)| levels[l], |&(c, l)| job(c, l))?.into_iter();
     Ok((0..n_cases)
-        .map(|c| {
-            (0..levels.len())
-                .map(|l| by_job.remove(&(c, l)).expect("every job ran"))
-                .collect()
-        })
+        .map(|_| results.by_ref().take(levels.len()).collect())
         .collect())
 }
 

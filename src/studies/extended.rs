@@ -72,10 +72,7 @@ pub fn extended_config() -> StudyConfig {
 
 /// The cases of one treatment's study: every scheme of [`SCHEMES`] with every mass variant.
 pub fn extended_cases() -> Vec<Case> {
-    SCHEMES
-        .into_iter()
-        .flat_map(|scheme| MassVariant::ALL.map(|mass| Case { scheme, mass }))
-        .collect()
+    Case::matrix(&SCHEMES, &MassVariant::ALL)
 }
 
 /// The Signorini–Dirichlet benchmark on the horizon of [`extended_config`] with the contact

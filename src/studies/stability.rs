@@ -20,7 +20,6 @@
 
 use std::sync::Arc;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::exact::AtRest;
@@ -29,7 +28,7 @@ use crate::harness::error::Error;
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
-use crate::harness::study::Case;
+use crate::harness::study::{run_largest_first, Case};
 
 /// The round-off ensemble of every stability run: 4 members with relative noise 1e-13. Fewer
 /// than the refinement study's 16: at one mesh the ensemble only has to witness whether the
@@ -375,14 +374,16 @@ fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
     }
 }
 
-/// Every hard case × every case, in parallel.
+/// Every hard case × every case, in parallel (the finest meshes first), in that order.
 pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecord>, Error> {
     let jobs: Vec<(usize, usize)> = (0..hard.len())
         .flat_map(|h| (0..cases.len()).map(move |c| (h, c)))
         .collect();
-    jobs.par_iter()
-        .map(|&(h, c)| judge(&hard[h], cases[c]))
-        .collect()
+    run_largest_first(
+        &jobs,
+        |&(h, _)| hard[h].nx,
+        |&(h, c)| judge(&hard[h], cases[c]),
+    )
 }
 
 /// The round-off column of a record: the class, a chaotic run's predictability horizon, and

@@ -27,7 +27,6 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::ParameterError;
@@ -42,7 +41,7 @@ use crate::harness::rates::fit_rate;
 use crate::harness::run::{Observables, Observer, RunConfig};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
-use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
+use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
 use comparison::{FineNorms, ReferenceComparison};
 use findings::{note_findings, Finding};
 use reference::{Reference, ReferenceKey};
@@ -84,14 +83,7 @@ impl ElasticStudyConfig {
                  has no exact solution)",
             )
         })?;
-        let cases = scene
-            .default_schemes()
-            .into_iter()
-            .flat_map(|scheme| {
-                [MassVariant::Standard, MassVariant::Redistributed]
-                    .map(|mass| Case { scheme, mass })
-            })
-            .collect();
+        let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
         Ok(Self {
             levels: scene.discretisation.levels.clone(),
             reference_level,
@@ -99,17 +91,6 @@ impl ElasticStudyConfig {
             cases,
             sensitivity: scene.discretisation.sensitivity,
         })
-    }
-
-    /// The note's cases: Crank–Nicolson and backward Euler, standard and redistributed mass.
-    pub fn note_cases() -> Vec<Case> {
-        [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER]
-            .into_iter()
-            .flat_map(|scheme| {
-                [MassVariant::Standard, MassVariant::Redistributed]
-                    .map(|mass| Case { scheme, mass })
-            })
-            .collect()
     }
 
     /// The case of the reference run.
@@ -369,10 +350,10 @@ pub fn run_elastic_study(
     if !jobs.contains(&(reference_case, check_level)) {
         jobs.push((reference_case, check_level));
     }
-    jobs.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
-    let outcomes: Vec<((String, usize), LevelOutcome)> = jobs
-        .par_iter()
-        .map(|&(case, n)| {
+    let outcomes = run_largest_first(
+        &jobs,
+        |&(_, n)| n,
+        |&(case, n)| {
             run_level(
                 problem,
                 config.ratio,
@@ -381,10 +362,13 @@ pub fn run_elastic_study(
                 n == finest,
                 comparator.comparison(n),
             )
-            .map(|o| ((case.id(), n), o))
-        })
-        .collect::<Result<_, Error>>()?;
-    let mut by_job: BTreeMap<(String, usize), LevelOutcome> = outcomes.into_iter().collect();
+        },
+    )?;
+    let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
+        .iter()
+        .map(|(case, n)| (case.id(), *n))
+        .zip(outcomes)
+        .collect();
 
     let check_errors = by_job
         .get(&(reference_case.id(), check_level))
