@@ -101,7 +101,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         std::fs::create_dir_all(dir)
             .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
     }
-    let result = run(&problem, &config)?;
+    let result = run(&problem, &config)?.completed()?;
     out!(
         "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
         scene.name,
@@ -254,7 +254,7 @@ fn run_box_scene(
             scene.observables.fields_at
         );
     }
-    let r = run_box(problem, &config)?;
+    let r = run_box(problem, &config)?.completed()?;
     let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
     let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
     out!(

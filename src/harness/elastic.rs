@@ -25,7 +25,7 @@ use crate::engine::problem::{Mesh, Problem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::output::write_atomic;
-use crate::harness::run::{descending, drive, Observer, RunConfig, Timings};
+use crate::harness::run::{descending, drive, Observer, RunConfig, RunStatus, Timings};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -45,6 +45,9 @@ pub struct BoxContactHistory {
 /// What a box run measured.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BoxRunResult {
+    /// How the run ended; absent from the JSON of a completed run.
+    #[serde(default, skip_serializing_if = "RunStatus::is_completed")]
+    pub status: RunStatus,
     /// Elements per direction.
     pub elements: Vec<usize>,
     /// Unknowns.
@@ -76,6 +79,14 @@ pub struct BoxRunResult {
 /// `config.observables.fields_dir`.
 pub fn run_box(problem: &BoxProblem, config: &RunConfig) -> Result<BoxRunResult, Error> {
     run_box_observed(problem, config, &mut [])
+}
+
+impl BoxRunResult {
+    /// The result of a completed run; otherwise the failure that stopped it.
+    pub fn completed(self) -> Result<Self, Error> {
+        self.status.completed()?;
+        Ok(self)
+    }
 }
 
 /// The energy `E_h(t_n)` (note eq. 6) at every step.
@@ -164,8 +175,7 @@ impl Observer for VtkSnapshots<'_> {
             }
             self.pending.pop();
             let path = self.dir.join(format!("field-t{wanted}.vtu"));
-            write_vtu(self.mesh, self.elasticity, state, &path)
-                .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))?;
+            write_vtu(self.mesh, self.elasticity, state, &path)?;
             self.files.push(path);
         }
         Ok(())
@@ -215,6 +225,7 @@ pub fn run_box_observed(
         )?
     };
     Ok(BoxRunResult {
+        status: stepped.status,
         elements: mesh.counts().to_vec(),
         dofs: model.n_dofs(),
         contact_nodes: model.contact().map_or(0, |c| c.len()),
@@ -237,7 +248,7 @@ pub fn write_vtu(
     elasticity: &Elasticity,
     state: &dyn TimeIntegrator,
     path: &Path,
-) -> Result<(), Box<dyn std::error::Error>> {
+) -> Result<(), Error> {
     let flat = |v: Vec<[f64; 3]>| v.into_iter().flatten().collect::<Vec<f64>>();
     let points: Vec<f64> = mesh.nodes().iter().flatten().copied().collect();
     let connectivity: Vec<u64> = mesh.elements().flatten().map(|&n| n as u64).collect();
@@ -276,7 +287,10 @@ pub fn write_vtu(
         }),
     };
     let mut bytes = Vec::new();
-    vtk.write_xml(&mut bytes)?;
-    write_atomic(path, &bytes)?;
+    vtk.write_xml(&mut bytes).map_err(|source| Error::Vtk {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_atomic(path, &bytes).map_err(Error::write(path))?;
     Ok(())
 }

@@ -27,7 +27,7 @@ use crate::engine::problem::Perturbation;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, least_squares_slope};
-use crate::harness::run::{run, ContactHistory, Observables, Problem1d, RunConfig, RunResult};
+use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use crate::harness::study::{run_case_levels, Case, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
@@ -259,24 +259,20 @@ impl Sensitivity {
     }
 }
 
-/// The contact history that [`run_ensemble`]'s runs record.
-fn contact_history(r: &RunResult) -> &ContactHistory {
-    r.contact_history.as_ref().expect("recorded")
-}
-
 /// Runs `problem` with `config` as an ensemble: the unperturbed run, then member `m = 1..=K`
 /// with the round-off perturbation `initial.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
 /// unperturbed initial displacement, the contact dofs untouched) and seed `m`. Each member's
-/// result (or the error that stopped it) is handed to `observe` with its [`Separation`] from
-/// the unperturbed run and dropped, so memory holds the unperturbed contact history and one
-/// member's; an error `observe` returns stops the ensemble. Returns the unperturbed result. The
+/// result is handed to `observe` with its [`Separation`] from the unperturbed run (`None` for
+/// a member that did not complete: its status says why) and dropped, so memory holds the
+/// unperturbed contact history and one member's; an error `observe` returns stops the
+/// ensemble. Returns the unperturbed result; when it did not complete, no member runs. The
 /// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
 /// for it, is evaluated on the unperturbed run only.
 pub fn run_ensemble(
     problem: &Problem1d,
     config: &RunConfig,
     ensemble: EnsembleConfig,
-    observe: &mut dyn FnMut(Result<(RunResult, Separation), Error>) -> Result<(), Error>,
+    observe: &mut dyn FnMut(RunResult, Option<Separation>) -> Result<(), Error>,
 ) -> Result<RunResult, Error> {
     ensemble.validate()?;
     let mut config = config.clone();
@@ -288,7 +284,13 @@ pub fn run_ensemble(
         .fold(0.0_f64, |m, x| m.max(x.abs()))
         .max(f64::MIN_POSITIVE);
     let base = run(problem, &config)?;
-    let base_history = contact_history(&base);
+    let Some(base_history) = base
+        .contact_history
+        .as_ref()
+        .filter(|_| base.status.is_completed())
+    else {
+        return Ok(base);
+    };
     config.observables.energy_balance = false;
     for member in 1..=ensemble.members {
         let mut perturbed = problem.clone();
@@ -296,15 +298,19 @@ pub fn run_ensemble(
             amplitude: ensemble.amplitude * scale,
             seed: member as u64,
         });
-        let member = run(&perturbed, &config).map(|r| {
-            let separation = Separation::between(
-                &base_history.time,
-                &base_history.displacement,
-                &contact_history(&r).displacement,
-            );
-            (r, separation)
-        });
-        observe(member)?;
+        let r = run(&perturbed, &config)?;
+        let separation = r
+            .contact_history
+            .as_ref()
+            .filter(|_| r.status.is_completed())
+            .map(|h| {
+                Separation::between(
+                    &base_history.time,
+                    &base_history.displacement,
+                    &h.displacement,
+                )
+            });
+        observe(r, separation)?;
     }
     Ok(base)
 }
@@ -401,12 +407,12 @@ fn level_ensemble(
     };
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
-    run_ensemble(problem, &config, ensemble, &mut |member| {
-        let (r, separation) = member?;
-        errors.push(r.errors);
-        separations.push(separation);
+    run_ensemble(problem, &config, ensemble, &mut |member, separation| {
+        errors.push(member.completed()?.errors);
+        separations.extend(separation);
         Ok(())
-    })?;
+    })?
+    .completed()?;
     Ok(LevelEnsemble {
         errors,
         separations,

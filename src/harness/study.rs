@@ -224,7 +224,7 @@ pub fn run_study_with_progress(
             mass: cases[c].mass,
             observables: observables.clone(),
         };
-        let result = run(problem, &cfg);
+        let result = run(problem, &cfg).and_then(RunResult::completed);
         done();
         result
     })?;

@@ -260,7 +260,8 @@ pub fn write_histories(out_dir: &Path, levels: &[usize]) -> Result<(), Box<dyn s
                                     ..crate::harness::run::Observables::default()
                                 },
                             },
-                        )?;
+                        )?
+                        .completed()?;
                         runs.push((mass, nx, r));
                     }
                 }
@@ -473,7 +474,7 @@ pub fn write_gravity_report(
             mass: case.case.mass,
             observables: scene.observables(),
         };
-        let r = crate::harness::run::run(&scene.problem(), &config)?;
+        let r = crate::harness::run::run(&scene.problem(), &config)?.completed()?;
         let mass = case.case.mass.name();
         if let Some(p) = &r.point_history {
             let mut text = String::from("time");

@@ -271,24 +271,33 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
     };
     let mut member_verdicts = Vec::new();
     let mut separations = Vec::new();
-    let base = run_ensemble(&hard.problem, &config, STABILITY_ENSEMBLE, &mut |member| {
-        match member {
-            Ok((r, separation)) => {
-                member_verdicts.push(assess(hard, case, &r).verdict);
-                separations.push(separation);
-            }
-            Err(Error::Solve(_)) => member_verdicts.push(Verdict::Diverged),
-            Err(e) => return Err(e),
-        }
-        Ok(())
-    });
+    let base = run_ensemble(
+        &hard.problem,
+        &config,
+        STABILITY_ENSEMBLE,
+        &mut |member, separation| {
+            member_verdicts.push(if member.status.is_completed() {
+                assess(hard, case, &member).verdict
+            } else {
+                Verdict::Diverged
+            });
+            separations.extend(separation);
+            Ok(())
+        },
+    );
     match base {
-        Ok(r) => Ok(StabilityRecord {
-            member_verdicts,
-            sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
-            max_balance_residual: r.max_balance_residual,
-            ..assess(hard, case, &r)
-        }),
+        Ok(r) => match r.status.completed() {
+            Ok(()) => Ok(StabilityRecord {
+                member_verdicts,
+                sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
+                max_balance_residual: r.max_balance_residual,
+                ..assess(hard, case, &r)
+            }),
+            Err(stopped) => Ok(StabilityRecord {
+                failure: Some(stopped.to_string()),
+                ..unmeasured(hard, case)
+            }),
+        },
         Err(Error::Solve(e)) => Ok(StabilityRecord {
             failure: Some(e.to_string()),
             ..unmeasured(hard, case)

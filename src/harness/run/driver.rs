@@ -52,9 +52,91 @@ pub fn time_grid(horizon: f64, h: f64, ratio: f64) -> (usize, f64) {
     (steps, horizon / steps as f64)
 }
 
+/// How a run ended: an outcome of the computation, reported the way a solver reports its
+/// status, not an error. A run that did not complete reports no error norm.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "kebab-case")]
+pub enum RunStatus {
+    /// Every step was taken.
+    #[default]
+    Completed,
+    /// A value became NaN or infinite at `step`: the run stopped there.
+    Diverged {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+        /// `displacement`, `velocity` or `multiplier`.
+        quantity: String,
+    },
+    /// The contact solver did not converge at `step`: the run stopped there.
+    ContactNotConverged {
+        /// The step.
+        step: usize,
+        /// Iterations spent.
+        iterations: usize,
+    },
+}
+
+impl RunStatus {
+    /// Whether every step was taken.
+    pub fn is_completed(&self) -> bool {
+        *self == RunStatus::Completed
+    }
+
+    /// `Ok` for a completed run; otherwise the failure, for callers that need every step (a
+    /// refinement study cannot fit a rate through a run that stopped).
+    pub fn completed(&self) -> Result<(), SolveError> {
+        match self {
+            RunStatus::Completed => Ok(()),
+            RunStatus::Diverged {
+                step,
+                time,
+                quantity,
+            } => Err(SolveError::NonFinite {
+                step: *step,
+                time: *time,
+                quantity: match quantity.as_str() {
+                    "velocity" => "velocity",
+                    "multiplier" => "multiplier",
+                    _ => "displacement",
+                },
+            }),
+            RunStatus::ContactNotConverged { step, iterations } => {
+                Err(SolveError::ContactNotConverged {
+                    step: *step,
+                    iterations: *iterations,
+                })
+            }
+        }
+    }
+
+    /// The status of a run stopped by `error` during stepping; `None` for an error that is not
+    /// an outcome of the computation.
+    fn of(error: &SolveError) -> Option<Self> {
+        match *error {
+            SolveError::NonFinite {
+                step,
+                time,
+                quantity,
+            } => Some(RunStatus::Diverged {
+                step,
+                time,
+                quantity: quantity.to_string(),
+            }),
+            SolveError::ContactNotConverged { step, iterations } => {
+                Some(RunStatus::ContactNotConverged { step, iterations })
+            }
+            _ => None,
+        }
+    }
+}
+
 /// What the time loop itself measured.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Stepped {
+    /// How the run ended.
+    pub status: RunStatus,
     /// Steps `N`.
     pub steps: usize,
     /// `Δt = T / N`.
@@ -96,8 +178,10 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 /// Steps `discretisation` from its initial dofs to `horizon` with `scheme` and
 /// `Δt = T / ⌈T ratio / Δx⌉` ([`time_grid`], `Δx` the element size along the axis), handing
 /// every state to each of `observers` in order. The first non-finite displacement, velocity
-/// or multiplier stops the run with [`SolveError::NonFinite`]. `started` is when the run's
-/// setup began (its discretisation included).
+/// or multiplier, or a contact solve that does not converge, stops the run with that
+/// [`RunStatus`]; a failure to set the scheme up (a parameter, the CFL bound, a
+/// factorisation) is an error. `started` is when the run's setup began (its discretisation
+/// included).
 pub fn drive(
     discretisation: &Discretisation,
     horizon: f64,
@@ -121,12 +205,16 @@ pub fn drive(
     let setup = started.elapsed().as_secs_f64();
 
     let (mut stepping, mut observe) = (0.0, 0.0);
+    let mut status = RunStatus::Completed;
     for step in 0..=steps {
         if step > 0 {
             let clock = Instant::now();
-            integ.advance()?;
-            check_finite(integ.as_ref())?;
+            let stepped = integ.advance().and_then(|()| check_finite(integ.as_ref()));
             stepping += clock.elapsed().as_secs_f64();
+            if let Err(e) = stepped {
+                status = RunStatus::of(&e).ok_or(e)?;
+                break;
+            }
         }
         let clock = Instant::now();
         for o in observers.iter_mut() {
@@ -135,6 +223,7 @@ pub fn drive(
         observe += clock.elapsed().as_secs_f64();
     }
     Ok(Stepped {
+        status,
         steps,
         dt,
         contact_solves: integ.contact_solves(),

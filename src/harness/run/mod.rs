@@ -11,7 +11,7 @@ mod driver;
 pub mod exact;
 
 pub(crate) use driver::descending;
-pub use driver::{drive, time_grid, Observer, Stepped, Timings};
+pub use driver::{drive, time_grid, Observer, RunStatus, Stepped, Timings};
 
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
@@ -158,6 +158,10 @@ pub struct EnergyHistory {
 /// Everything one run measured.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunResult {
+    /// How the run ended; absent from the JSON of a completed run. A run that did not
+    /// complete has no error norms, no multiplier variation and no balance residual.
+    #[serde(default, skip_serializing_if = "RunStatus::is_completed")]
+    pub status: RunStatus,
     /// `NX`.
     pub nx: usize,
     /// `h = L / NX`.
@@ -200,6 +204,14 @@ pub struct RunResult {
     /// ([`Observables::energy_balance`]); absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_balance_residual: Option<f64>,
+}
+
+impl RunResult {
+    /// The result of a completed run; otherwise the failure that stopped it.
+    pub fn completed(self) -> Result<Self, Error> {
+        self.status.completed()?;
+        Ok(self)
+    }
 }
 
 fn multiplier_name() -> String {
@@ -267,29 +279,38 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
             started,
         )?
     };
+    let completed = stepped.status.is_completed();
     Ok(RunResult {
+        status: stepped.status,
         nx: config.nx,
         h: bar.h(),
         dt: stepped.dt,
         steps: stepped.steps,
         dofs: model.n_dofs(),
         dof_steps: stepped.steps * model.n_dofs(),
-        errors: error_norms(
-            &observables.norms,
-            displacement.as_ref(),
-            multiplier.as_ref(),
-            energy.as_ref(),
-        ),
+        errors: if completed {
+            error_norms(
+                &observables.norms,
+                displacement.as_ref(),
+                multiplier.as_ref(),
+                energy.as_ref(),
+            )
+        } else {
+            BTreeMap::new()
+        },
         contact_solves: stepped.contact_solves,
         complementarity_violation: stepped.complementarity_violation,
         timings: stepped.timings,
         space_norm_evaluations: displacement.as_ref().map_or(0, |d| d.evaluations()),
-        multiplier_variation: multiplier.as_ref().and_then(|m| m.variation()),
+        multiplier_variation: multiplier
+            .as_ref()
+            .and_then(|m| m.variation())
+            .filter(|_| completed),
         contact_history: contact.map(|c| c.history),
         energy_history: energy_history.map(|e| e.history),
         point_history: points.map(|p| p.history),
         fields: fields.snapshots,
         contact_treatment: problem.contact.name(),
-        max_balance_residual: balance.map(|b| b.largest_residual()),
+        max_balance_residual: balance.map(|b| b.largest_residual()).filter(|_| completed),
     })
 }

@@ -561,7 +561,7 @@ fn run_compared(
     for o in observers.iter_mut() {
         all.push(&mut **o);
     }
-    run_box_observed(problem, &config, &mut all)
+    run_box_observed(problem, &config, &mut all)?.completed()
 }
 
 /// One case at one level, compared with the reference at every step.

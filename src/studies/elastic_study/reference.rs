@@ -168,7 +168,7 @@ impl Reference {
             step += 1;
             Ok(())
         };
-        let run = run_box_observed(problem, &config, &mut [&mut keep])?;
+        let run = run_box_observed(problem, &config, &mut [&mut keep])?.completed()?;
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
         let centre_displacement: Vec<f64> =
@@ -217,17 +217,17 @@ impl Reference {
     /// a missing or partial `.bin`).
     pub fn save(&self, dir: &Path, stem: &str) -> Result<(), Error> {
         let (json, bin) = Self::cache_paths(dir, stem);
-        let io =
-            |p: &Path, e: std::io::Error| Error::Io(format!("cannot write {}: {e}", p.display()));
         let bytes: Vec<u8> = self
             .displacement
             .iter()
             .flat_map(|x| x.to_le_bytes())
             .collect();
-        write_atomic(&bin, &bytes).map_err(|e| io(&bin, e))?;
-        let text = serde_json::to_string(&self.histories)
-            .map_err(|e| Error::Io(format!("cannot serialise the reference: {e}")))?;
-        write_atomic(&json, text.as_bytes()).map_err(|e| io(&json, e))
+        write_atomic(&bin, &bytes).map_err(Error::write(&bin))?;
+        let text = serde_json::to_string(&self.histories).map_err(|source| Error::Encode {
+            what: "the reference",
+            source,
+        })?;
+        write_atomic(&json, text.as_bytes()).map_err(Error::write(&json))
     }
 
     /// Reads the cache if it exists and its key equals `key`.
@@ -249,8 +249,7 @@ impl Reference {
         if !differences.is_empty() {
             return Ok(CacheLookup::Stale(differences));
         }
-        let bytes = std::fs::read(&bin)
-            .map_err(|e| Error::Io(format!("cannot read {}: {e}", bin.display())))?;
+        let bytes = std::fs::read(&bin).map_err(Error::read(&bin))?;
         let expected = histories.dofs * histories.time.len() * 8;
         if bytes.len() != expected {
             return Ok(CacheLookup::Stale(vec![format!(

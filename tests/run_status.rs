@@ -1,0 +1,65 @@
+//! A run that goes non-finite ends with a status, the way a solver reports one: it stops at the
+//! first non-finite value and reports no number.
+
+use signorini::fem::MassVariant;
+use signorini::norms::Norm;
+use signorini::run::{run, Observables, Problem1d, RunConfig, RunStatus};
+use signorini::schemes::Scheme;
+
+/// Newmark with β = 0.01, γ = ½ is only conditionally stable (`ω Δt < 1/√(γ/2 − β)`): at
+/// `Δx/Δt = 0.5` the highest mode of a 400-element bar has `ω Δt ≈ 4` and overflows.
+fn unstable() -> RunConfig {
+    RunConfig {
+        nx: 400,
+        ratio: 0.5,
+        scheme: Scheme::Newmark {
+            beta: 0.01,
+            gamma: 0.5,
+        },
+        mass: MassVariant::Standard,
+        observables: Observables {
+            norms: Norm::ALL
+                .into_iter()
+                .filter(|&n| n != Norm::MultiplierL2)
+                .collect(),
+            energy_history: true,
+            ..Observables::default()
+        },
+    }
+}
+
+#[test]
+fn a_diverging_run_stops_with_its_status_and_no_norms() {
+    let r = run(&Problem1d::free_vibration(2.0), &unstable()).expect("the setup is valid");
+    let RunStatus::Diverged { step, time, .. } = r.status.clone() else {
+        panic!("expected a diverged run, got {:?}", r.status);
+    };
+    assert!(
+        step > 1 && step < r.steps,
+        "stopped at step {step} of {}",
+        r.steps
+    );
+    assert!((time - step as f64 * r.dt).abs() < 1e-12);
+    assert!(
+        r.errors.is_empty(),
+        "a diverged run reported {:?}",
+        r.errors
+    );
+    assert!(r.multiplier_variation.is_none());
+    let energy = r.energy_history.as_ref().expect("requested");
+    assert!(energy.time.last().is_some_and(|&t| t < time));
+    assert!(r.completed().is_err());
+}
+
+#[test]
+fn a_completed_run_says_so() {
+    let config = RunConfig {
+        scheme: Scheme::CRANK_NICOLSON,
+        ratio: 1.0,
+        ..unstable()
+    };
+    let r = run(&Problem1d::free_vibration(0.5), &config).unwrap();
+    assert_eq!(r.status, RunStatus::Completed);
+    assert_eq!(r.errors.len(), 6);
+    assert!(r.completed().is_ok());
+}
