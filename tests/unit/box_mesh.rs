@@ -798,7 +798,7 @@ fn crank_nicolson_runs_on_the_3d_bar_with_the_energy_balance() {
 }
 
 /// Assembly cost of the 8 × 8 × 80 hexahedral mesh (19 440 dofs): run with
-/// `cargo test --release --test box_mesh -- --ignored --nocapture assembly_timing`.
+/// `cargo test --release --test unit -- --ignored --nocapture assembly_timing`.
 #[test]
 #[ignore = "timing measurement, run by hand"]
 fn assembly_timing_of_the_8x8x80_hex_mesh() {

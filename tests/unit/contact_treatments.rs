@@ -3,7 +3,7 @@
 //! convergence of the penalty to the multiplier, Nitsche's rates on the Dirichlet benchmark,
 //! the penalty on the 2D box, and bad input from the command line.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 

@@ -2,7 +2,7 @@
 //! contact nodes, box scenes run from the command line and write VTK files, and bad box input
 //! is rejected naming the field.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

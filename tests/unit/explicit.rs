@@ -1,7 +1,7 @@
 //! Explicit Newmark (β = 0, central differences for γ = ½): the CFL bound, energy
 //! conservation, second-order convergence, explicit contact with the singular masses.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 
