@@ -10,4 +10,5 @@ mod box_sensitivity;
 mod elastic_study;
 mod gate;
 mod sensitivity;
+mod smooth;
 mod stability;

@@ -9,10 +9,13 @@ mod common;
 
 mod bouncing_bar;
 mod box_mesh;
+mod complementarity;
 mod contact_cross_check;
 mod contact_treatments;
 mod energy_balance;
-mod engine;
 mod explicit;
+mod fem;
 mod mass_variants;
 mod perturbation;
+mod run;
+mod signorini_dirichlet;
