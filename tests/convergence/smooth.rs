@@ -75,6 +75,12 @@ fn crank_nicolson_converges_at_second_order_on_a_smooth_solution() {
 
 /// §3.2: with `M^mod` the node at `x = 0` loses its inertia even without obstacle (element 0's
 /// mass is removed, not moved); the paper recalls the method still converges ([DPP*12]).
+///
+/// At first order: the mass form loses `∫_0^h ρ u v`, a consistency error of order `h` on a
+/// smooth solution, which caps the second order of the scheme and of the consistent mass (the
+/// test above) at one. The window is the test above's ±0.1 around the theoretical order (the
+/// fit over NX = 10 … 80 measured 1.003, the error halving with `h` at every level): below 0.9
+/// the removed mass would cost more than `O(h)`, above 1.1 the mass would not have been removed.
 #[test]
 fn redistributed_mass_still_converges_on_a_smooth_solution() {
     let (hs, errors) = smooth_errors(MassVariant::Redistributed);
@@ -83,7 +89,10 @@ fn redistributed_mass_still_converges_on_a_smooth_solution() {
     for w in errors.windows(2) {
         assert!(w[1] < w[0], "errors must decrease: {errors:?}");
     }
-    assert!(rate >= 1.0, "fitted rate {rate}, errors {errors:?}");
+    assert!(
+        (0.9..=1.1).contains(&rate),
+        "fitted rate {rate}, errors {errors:?}"
+    );
 }
 
 /// Central differences (explicit Newmark, β = 0, γ = ½) are second order on the same mode,
