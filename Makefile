@@ -26,7 +26,7 @@ test:
 ## Regenerate the golden rates and the table snapshot (the only way they change).
 golden: build
 	$(BIN) golden --root .
-	INSTA_UPDATE=always $(CARGO) nextest run --test gate
+	INSTA_UPDATE=always $(CARGO) nextest run --test convergence -E 'test(/^gate::/)'
 
 ## The experiment behind the default horizon and levels (also part of `make report`).
 experiment: build

@@ -133,7 +133,11 @@ pub struct Golden {
     pub cases: Vec<GoldenCase>,
 }
 
-fn nan_to_inf(x: Option<f64>) -> f64 {
+/// A fitted rate, or NaN when the study could not fit one: no value, as in [`Drift::missing`].
+/// [`compare`] reports a NaN rate as a drift (its difference is not finite), and serde_json
+/// writes it, like any non-finite `f64`, as `null`, which a golden file cannot be read back
+/// with: a missing rate fails loudly, never gates against a made-up number.
+fn rate_or_nan(x: Option<f64>) -> f64 {
     x.unwrap_or(f64::NAN)
 }
 
@@ -159,8 +163,8 @@ impl Golden {
                             (
                                 r.norm.key().to_string(),
                                 GoldenNorm {
-                                    rate: nan_to_inf(r.fit.map(|f| f.rate)),
-                                    rate_last_three: nan_to_inf(r.fit_last_three.map(|f| f.rate)),
+                                    rate: rate_or_nan(r.fit.map(|f| f.rate)),
+                                    rate_last_three: rate_or_nan(r.fit_last_three.map(|f| f.rate)),
                                     errors: r.errors.clone(),
                                     error_rel: None,
                                     rate_abs: None,
@@ -285,11 +289,11 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
             let rate_tol = gn.rate_abs.unwrap_or_else(|| tol.rate_tolerance(key));
             let error_tol = gn.error_rel.unwrap_or(tol.error_rel);
             for (quantity, golden_value, now) in [
-                ("rate", gn.rate, nan_to_inf(r.fit.map(|f| f.rate))),
+                ("rate", gn.rate, rate_or_nan(r.fit.map(|f| f.rate))),
                 (
                     "rate_last_three",
                     gn.rate_last_three,
-                    nan_to_inf(r.fit_last_three.map(|f| f.rate)),
+                    rate_or_nan(r.fit_last_three.map(|f| f.rate)),
                 ),
             ] {
                 let diff = now - golden_value;

@@ -1,7 +1,7 @@
 //! The round-off sensitivity study: a chaotic case and a reproducible one are told apart by the
 //! module's fixed rules, the study is bit-reproducible, and bad ensemble input is refused.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 

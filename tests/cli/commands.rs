@@ -2,7 +2,7 @@
 //! one-paragraph message naming the field, exit code 2 for usage errors and 1 for failures,
 //! never a panic, and no half-written output.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -6,8 +6,11 @@
 //! two-point, 20 px long horizontal `<polyline>` of the same style; axes and ticks are
 //! `<polyline>`s of width 1 and grid lines are `<line>`s; markers are `<circle>`s; the legend
 //! box is two `<rect>`s (background, then border); an ensemble's band is one `<polygon>` with
-//! the series' fill and an opacity below 1, and its legend swatch a four-point one. Set
-//! `FIGURES_DEMO_DIR` to also write the demo figures there.
+//! the series' fill and an opacity below 1, and its legend swatch a four-point one. The demo
+//! figures are written to `target/tmp/figures-demo/`, or to `$FIGURES_DEMO_DIR` when it is set,
+//! for a person to look at.
+
+use std::path::{Path, PathBuf};
 
 use signorini::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
@@ -717,35 +720,16 @@ fn the_legend_is_inside_the_figure_and_covers_no_data_vertex() {
     }
 }
 
-/// Writes every figure to `$FIGURES_DEMO_DIR` (for looking at them); does nothing without it.
+/// Writes every demo figure to `$FIGURES_DEMO_DIR`, or without it to `target/tmp/figures-demo/`
+/// (to look at them), reads each file back and checks that it is the whole figure, well-formed
+/// SVG, with its title, one line per series (and the exact curve where there is one) and the
+/// band where one is given.
 #[test]
-fn demo_figures_when_asked() {
-    let Some(dir) = std::env::var_os("FIGURES_DEMO_DIR") else {
-        return;
-    };
-    let dir = std::path::PathBuf::from(dir);
+fn demo_figures_are_written_whole_and_well_formed() {
+    let dir = std::env::var_os("FIGURES_DEMO_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_TARGET_TMPDIR")).join("figures-demo"));
     std::fs::create_dir_all(&dir).unwrap();
-    let write = |name: &str, svg: String| std::fs::write(dir.join(name), svg).unwrap();
-    write(
-        "contact.svg",
-        contact_node_figure("Crank–Nicolson, contact node", &contact_panels()).unwrap(),
-    );
-    write(
-        "energy.svg",
-        energy_figure("Crank–Nicolson, energy", &energy_panels()).unwrap(),
-    );
-    write(
-        "convergence.svg",
-        convergence_figure("Convergence", &convergence_series()).unwrap(),
-    );
-    write(
-        "convergence-band.svg",
-        convergence_figure("Convergence with a band", &banded_series()).unwrap(),
-    );
-    write(
-        "work.svg",
-        work_precision_figure("Work–precision", &work_series()).unwrap(),
-    );
     let narrow = ConvergenceSeries {
         label: "under two decades".into(),
         h: vec![0.1, 0.05, 0.025],
@@ -753,12 +737,76 @@ fn demo_figures_when_asked() {
         fit: fit(1.0),
         band: None,
     };
-    write(
-        "narrow.svg",
-        convergence_figure("Under two decades", &[narrow]).unwrap(),
-    );
-    write(
-        "series.svg",
-        time_series_figure("Energy histories", "E_h(t)", &time_series()).unwrap(),
-    );
+    // (file, title, figure, data lines, bands)
+    let contact = "Crank–Nicolson, contact node";
+    let energy = "Crank–Nicolson, energy";
+    let figures = [
+        (
+            "contact.svg",
+            contact,
+            contact_node_figure(contact, &contact_panels()),
+            // 2 panels × 2 charts × (2 runs + exact)
+            12,
+            0,
+        ),
+        (
+            "energy.svg",
+            energy,
+            energy_figure(energy, &energy_panels()),
+            // 2 panels × (2 runs + exact)
+            6,
+            0,
+        ),
+        (
+            "convergence.svg",
+            "Convergence",
+            convergence_figure("Convergence", &convergence_series()),
+            3,
+            0,
+        ),
+        (
+            "convergence-band.svg",
+            "Convergence with a band",
+            convergence_figure("Convergence with a band", &banded_series()),
+            3,
+            1,
+        ),
+        (
+            "work.svg",
+            "Work–precision",
+            work_precision_figure("Work–precision", &work_series()),
+            2,
+            0,
+        ),
+        (
+            "narrow.svg",
+            "Under two decades",
+            convergence_figure("Under two decades", &[narrow]),
+            1,
+            0,
+        ),
+        (
+            "series.svg",
+            "Energy histories",
+            time_series_figure("Energy histories", "E_h(t)", &time_series()),
+            3,
+            0,
+        ),
+    ];
+    for (name, title, figure, lines, bands) in figures {
+        let figure = figure.unwrap_or_else(|e| panic!("{name}: {e}"));
+        let path = dir.join(name);
+        std::fs::write(&path, &figure).unwrap();
+        let written = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            written,
+            figure,
+            "{} is not the whole figure",
+            path.display()
+        );
+        let svg = Svg::parse(&written);
+        assert!(svg.has_text(title), "{name}: no title {title:?}");
+        assert_eq!(svg.data().len(), lines, "{name}: data lines");
+        assert_eq!(svg.bands().len(), bands, "{name}: bands");
+    }
 }

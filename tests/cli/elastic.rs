@@ -1,55 +1,12 @@
-//! The 2D/3D bars of the note: the θ-method's energy balance (eq. 35) per step with many
-//! contact nodes, box scenes run from the command line and write VTK files, and bad box input
-//! is rejected naming the field.
+//! The 2D/3D bars of the note from the command line: box scenes run and write VTK files, and
+//! bad box input is rejected naming the field. (The θ-method's energy balance on the boxes is in
+//! `tests/unit/energy_balance.rs`.)
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
-
-use signorini::fem::box_mesh::{BoxMesh, Elasticity};
-use signorini::fem::MassVariant;
-use signorini::model::Model;
-use signorini::schemes::energy_balance::BalanceMonitor;
-use signorini::schemes::{integrator, Scheme};
-
-#[test]
-fn backward_euler_balance_holds_every_step_in_2d_and_3d() {
-    // Eq. (35) with θ = 1 (`energy_balance::theta`):
-    // ΔE = −½ΔVᵀMΔV − ½ΔUᵀSΔU − Σ_i Δu_{c_i} λ_i^{n+1}.
-    for mesh in [
-        BoxMesh::note_2d(2, 16).unwrap(),
-        BoxMesh::note_3d(2, 2, 8).unwrap(),
-    ] {
-        for mass in MassVariant::ALL {
-            let model = Model::of_box(&mesh, &Elasticity::NOTE, mass, Some(0.2));
-            let d = mesh.dim();
-            let u0 = vec![0.0; model.n_dofs()];
-            let v0 = mesh.interpolate(|_| {
-                let mut v = [0.0; 3];
-                v[d - 1] = -0.5;
-                v
-            });
-            let dt = mesh.element_sizes()[d - 1] / 2.0;
-            let scheme = Scheme::Theta { theta: 1.0 };
-            let mut s = integrator(&model, scheme, dt, &u0, &v0).unwrap();
-            let mut monitor = BalanceMonitor::new(&model, scheme, dt);
-            monitor.observe(s.as_ref());
-            let e0 = s.energy().value;
-            let mut worst: f64 = 0.0;
-            let mut touched = false;
-            for _ in 0..((1.5 / dt).round() as usize) {
-                s.advance().unwrap();
-                touched |= s.multiplier().value.iter().any(|&l| l < 0.0);
-                let balance = monitor.observe(s.as_ref()).expect("one step further");
-                worst = worst.max(balance.residual().abs() / e0);
-            }
-            assert!(touched, "{d}D {mass}: no contact");
-            assert!(worst < 1e-12, "{d}D {mass}: residual {worst:e}");
-        }
-    }
-}
 
 #[test]
 fn a_2d_box_scene_runs_and_writes_vtk_files() {

@@ -3,7 +3,7 @@
 //! convergence of the penalty to the multiplier, Nitsche's rates on the Dirichlet benchmark,
 //! the penalty on the 2D box, and bad input from the command line.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 
@@ -456,7 +456,16 @@ fn nitsche_with_the_redistributed_mass_is_the_multiplier() {
 fn nitsche_converges_on_the_dirichlet_benchmark() {
     // Measured rates (least squares over NX = 10 … 160) of L∞(0,T;H) and L²(0,T) of λ; the
     // README quotes the full table. Every θ converges in displacement with both schemes and
-    // masses.
+    // masses, inside the window theory allows on this benchmark:
+    // * at least ½ less a margin: ½ is backward Euler's rate here with every treatment and
+    //   mass (README, "Contact treatments" and Tables 1–2: the kinks of the exact solution are
+    //   smeared by its dissipation), and Crank–Nicolson does no worse;
+    // * at most 1 plus a margin: the exact solution is only piecewise affine (u_x jumps across
+    //   the characteristics), so even the best pairing, the redistributed mass with which
+    //   Nitsche is the multiplier (tested above), converges at 1 (0.95 to NX = 640).
+    // The margins (0.1 below, 0.3 above) are for fits over five levels from NX = 10, where
+    // single observed orders reach 1.2. Measured: 0.49 (backward Euler, redistributed-
+    // conserving) to 1.01 (Crank–Nicolson, redistributed), printed below.
     let levels = [10, 20, 40, 80, 160];
     for contact in [
         "nitsche(theta=-1,gamma0=10)",
@@ -473,7 +482,10 @@ fn nitsche_converges_on_the_dirichlet_benchmark() {
                 let u: Vec<f64> = errors.iter().map(|e| e[0]).collect();
                 let rate = fit_rate(&h, &u).unwrap().rate;
                 println!("{contact} {scheme} {mass}: u_Linf_H rate {rate:.2} errors {u:?}");
-                assert!(rate > 0.4, "{contact} {scheme} {mass}: {rate} {u:?}");
+                assert!(
+                    (0.4..=1.3).contains(&rate),
+                    "{contact} {scheme} {mass}: {rate} {u:?}"
+                );
             }
         }
     }

@@ -1,9 +1,8 @@
-//! Explicit Newmark (β = 0, central differences for γ = ½): the CFL bound, energy
-//! conservation, second-order convergence, explicit contact with the singular masses.
+//! Explicit Newmark (β = 0, central differences for γ = ½): the CFL bound, explicit contact with
+//! the singular masses, on the bar and the 2D box. Its energy conservation and contact balance
+//! are in `energy_balance.rs`, its second-order convergence in `tests/convergence/smooth.rs`.
 
-mod common;
-
-use std::collections::BTreeSet;
+use crate::common;
 
 use nalgebra::DMatrix;
 use signorini::contact::ContactTreatment;
@@ -12,10 +11,8 @@ use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
-use signorini::norms::Norm;
-use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
+use signorini::run::Problem1d;
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
-use signorini::schemes::energy_balance::{self, ThreeLevels};
 use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [
@@ -198,138 +195,6 @@ fn explicit_contact_with_mass_is_refused() {
             "{mass}"
         );
         assert!(err.to_string().contains("redistributed-conserving"));
-    }
-}
-
-/// Without contact the staggered energy `E^{n+½}` is constant to round-off, for every mass
-/// (with a load too), including the singular ones whose contact node is static.
-#[test]
-fn central_differences_conserve_the_staggered_energy_without_contact() {
-    for mass in MassVariant::ALL {
-        for load in [None, Some(-0.3)] {
-            let bar = Bar1d::unit(40, EndCondition::Clamped).unwrap();
-            let model = Model::bar1d(&bar, mass, None, load);
-            let u0 = bar.interpolate(|x| (std::f64::consts::FRAC_PI_2 * x).cos());
-            let v0 = bar.interpolate(|x| 0.3 * x * (1.0 - x));
-            let dt = 0.5 * bar.h();
-            let mut s = integrator(&model, Scheme::CENTRAL_DIFFERENCE, dt, &u0, &v0).unwrap();
-            s.advance().unwrap();
-            let e_half = s.energy().value;
-            let (mut previous, mut per_step, mut drift): (f64, f64, f64) = (e_half, 0.0, 0.0);
-            for _ in 0..2000 {
-                s.advance().unwrap();
-                let e = s.energy().value;
-                per_step = per_step.max((e - previous).abs() / e_half.abs());
-                drift = drift.max((e - e_half).abs() / e_half.abs());
-                previous = e;
-            }
-            // Round-off: ½UᵀSU sums entries of size E/h² down to E (1/h = 40 here).
-            assert!(
-                per_step < 1e-11,
-                "{mass} load {load:?}: step change {per_step:e}"
-            );
-            assert!(drift < 1e-10, "{mass} load {load:?}: drift {drift:e}");
-            assert_eq!(s.energy().time, (s.step_index() as f64 - 0.5) * dt);
-        }
-    }
-    // The check can fail: γ = 0.6 damps, and the same energy then moves far above round-off.
-    let bar = Bar1d::unit(40, EndCondition::Clamped).unwrap();
-    let model = Model::bar1d(&bar, MassVariant::Standard, None, None);
-    let u0 = bar.interpolate(|x| (std::f64::consts::FRAC_PI_2 * x).cos());
-    let damped = Scheme::Newmark {
-        beta: 0.0,
-        gamma: 0.6,
-    };
-    let mut s = integrator(&model, damped, 0.5 * bar.h(), &u0, &vec![0.0; u0.len()]).unwrap();
-    s.advance().unwrap();
-    let e_half = s.energy().value;
-    for _ in 0..200 {
-        s.advance().unwrap();
-    }
-    assert!((s.energy().value - e_half).abs() / e_half > 1e-6);
-}
-
-/// With contact: `E^{n+½} − E^{n−½} = −½ λ^n (u_c^{n+1} − u_c^{n−1})` at every step
-/// (`energy_balance::central_difference`) for the staggered energy the scheme reports, and
-/// `0 ≤ u_c ⟂ λ ≤ 0` at every step, on the Dirichlet benchmark.
-#[test]
-fn explicit_contact_balance_and_complementarity_every_step() {
-    for mass in MASSLESS_CONTACT {
-        let problem = Problem1d::signorini_dirichlet(3.0);
-        let (bar, model) = problem.model(40, mass).unwrap();
-        let exact = SignoriniDirichlet;
-        let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
-        let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
-        let (steps, dt) = time_grid(3.0, bar.h(), 10.0);
-        let mut s = integrator(&model, Scheme::CENTRAL_DIFFERENCE, dt, &u0, &v0).unwrap();
-        let mut u_prev = s.displacement().to_vec();
-        s.advance().unwrap();
-        let e0 = s.energy().value;
-        let (mut worst, mut contact_steps): (f64, usize) = (0.0, 0);
-        for n in 1..steps {
-            let (u_now, lambda_now) = (s.displacement().to_vec(), s.multiplier().value.to_vec());
-            let (gap, lambda) = (u_now[0], lambda_now[0]);
-            assert!(gap >= -1e-14, "{mass} step {n}: gap {gap:e}");
-            assert!(lambda <= 0.0, "{mass} step {n}: λ {lambda:e}");
-            assert!((gap * lambda).abs() <= 1e-14, "{mass} step {n}");
-            if lambda != 0.0 {
-                contact_steps += 1;
-            }
-            let e_before = s.energy().value;
-            s.advance().unwrap();
-            let levels = ThreeLevels {
-                earlier: &u_prev,
-                current: &u_now,
-                later: s.displacement(),
-                multiplier: &lambda_now,
-            };
-            let b = energy_balance::central_difference(&model, dt, &levels);
-            assert_eq!(b.energy_before, e_before, "{mass} step {n}");
-            assert_eq!(b.energy_after, s.energy().value, "{mass} step {n}");
-            worst = worst.max(b.residual().abs() / e0);
-            u_prev = u_now;
-        }
-        assert!(contact_steps > 100, "{mass}: {contact_steps} contact steps");
-        // Round-off, as without contact (NX = 40: entries of S of size 40).
-        assert!(worst < 1e-11, "{mass}: balance residual {worst:e}");
-        assert!(s.complementarity_violation() < 1e-12, "{mass}");
-    }
-}
-
-/// Central differences are second order on the smooth first mode (no obstacle), like
-/// Crank–Nicolson in `tests/engine.rs`, with Δx/Δt = 2 (below both masses' CFL bounds). The
-/// lumped mass is pre-asymptotic at NX = 10 (observed order 1.69 there), hence NX ≥ 20.
-#[test]
-fn central_differences_converge_at_second_order_on_a_smooth_solution() {
-    for mass in [MassVariant::Standard, MassVariant::Lumped] {
-        let problem = Problem1d::free_vibration(4.0);
-        let (mut hs, mut errors) = (Vec::new(), Vec::new());
-        for nx in [20, 40, 80, 160] {
-            let config = RunConfig {
-                nx,
-                ratio: 2.0,
-                scheme: Scheme::CENTRAL_DIFFERENCE,
-                mass,
-                observables: Observables {
-                    norms: BTreeSet::from([Norm::DisplacementLinfH]),
-                    ..Observables::default()
-                },
-            };
-            let r = run::run(&problem, &config).unwrap();
-            hs.push(r.h.ln());
-            errors.push(r.errors[&Norm::DisplacementLinfH].ln());
-        }
-        let n = hs.len() as f64;
-        let (mx, my) = (hs.iter().sum::<f64>() / n, errors.iter().sum::<f64>() / n);
-        let sxy: f64 = hs
-            .iter()
-            .zip(&errors)
-            .map(|(x, y)| (x - mx) * (y - my))
-            .sum();
-        let sxx: f64 = hs.iter().map(|x| (x - mx) * (x - mx)).sum();
-        let rate = sxy / sxx;
-        println!("{mass}: central differences, u_Linf_H rate {rate:.4}");
-        assert!((1.9..=2.1).contains(&rate), "{mass}: rate {rate}");
     }
 }
 

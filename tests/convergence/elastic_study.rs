@@ -3,7 +3,7 @@
 //! the note's findings tested, and the reference cache and the `study`/`reference` commands
 //! from the command line.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,8 +1,9 @@
 //! Checks of the structured Q1 meshes of the 2D/3D note (§2.1, §3): element matrices (symmetry,
 //! rigid modes, exact energy of uniform strains, hand mass entries), assembly (patch test,
 //! integrated density), the redistributed mass `M^mod`, the contact set, the von Mises stress of
-//! uniform states, bad input, and a short dynamic run of the 1D engine's Crank–Nicolson scheme
-//! on the 2D and 3D models with the discrete energy balance checked at every step.
+//! uniform states and bad input. (A short dynamic run of the 1D engine's Crank–Nicolson scheme
+//! on the 2D and 3D models, with the discrete energy balance checked at every step, is in
+//! `energy_balance.rs`.)
 //!
 //! Every expected value is computed here from hand formulas (tensor-product 1D integrals, the
 //! analytical stresses of uniaxial and shear states), never read back from the code under test.
@@ -17,8 +18,6 @@ use signorini::fem::box_mesh::{
 };
 use signorini::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
-use signorini::schemes::energy_balance::BalanceMonitor;
-use signorini::schemes::{integrator, Scheme};
 
 /// A material with `λ ≠ μ` and `ρ ≠ 1`, so that a swapped parameter shows.
 const STEEL_LIKE: Elasticity = Elasticity {
@@ -731,74 +730,8 @@ fn bad_input_is_rejected_with_the_field_named() {
     }
 }
 
-/// The note's §3 set-up at a coarse level, run by the 1D engine: Crank–Nicolson, gap 0.2,
-/// `v⁰ = −0.5 e_d` off `Γ_Dir`, `Δt = h/2` to `t = 1`. Contact happens, complementarity holds
-/// after every step, and every step's energy change is the Crank–Nicolson balance
-/// `ΔE = −½ Σ_i (U^{n+1} − U^n)_{c_i} (λ_i^n + λ_i^{n+1})` (1D paper eq. 33, the note's §2.2
-/// identity; `energy_balance::newmark`) to 1e-10 E₀, with either mass.
-fn dynamic_smoke(mesh: &BoxMesh) {
-    let d = mesh.dim();
-    let gap = 0.2;
-    let h = mesh.element_sizes()[d - 1];
-    let dt = h / 2.0;
-    let steps = (1.0 / dt).round() as usize;
-    let u0 = vec![0.0; mesh.n_dofs()];
-    let v0 = mesh.interpolate(|_| {
-        let mut v = [0.0; 3];
-        v[d - 1] = -0.5;
-        v
-    });
-    for variant in MassVariant::ALL {
-        let model = Model::of_box(mesh, &Elasticity::NOTE, variant, Some(gap));
-        let contact = model.contact().unwrap().clone();
-        let mut integ = integrator(&model, Scheme::CRANK_NICOLSON, dt, &u0, &v0).unwrap();
-        let e0 = model.energy(integ.displacement(), integ.velocity());
-        assert!(e0 > 0.0);
-        let mut touched = false;
-        let mut monitor = BalanceMonitor::new(&model, Scheme::CRANK_NICOLSON, dt);
-        monitor.observe(integ.as_ref());
-        for n in 0..steps {
-            integ.advance().unwrap();
-            let balance = monitor.observe(integ.as_ref()).expect("one step further");
-            let u = integ.displacement();
-            let lambda = integ.multiplier().value;
-            for (i, &c) in contact.dofs.iter().enumerate() {
-                let value = u[c] + contact.gaps[i];
-                assert!(value >= -1e-10, "{variant} step {n}: penetration {value}");
-                assert!(lambda[i] <= 0.0, "{variant} step {n}: λ = {}", lambda[i]);
-                assert!(
-                    (lambda[i] * value).abs() <= 1e-10 * lambda[i].abs().max(1.0),
-                    "{variant} step {n}: λ (u + g) = {}",
-                    lambda[i] * value
-                );
-                touched |= lambda[i] < 0.0;
-            }
-            assert!(
-                balance.residual().abs() <= 1e-10 * e0,
-                "{variant} step {n}: ΔE = {}, balance {}, E₀ = {e0}",
-                balance.change,
-                balance.predicted_change
-            );
-        }
-        assert!(touched, "{variant}: the bar never touched the obstacle");
-        assert!((integ.time() - 1.0).abs() < 1e-12);
-    }
-}
-
-/// The dynamic smoke test on the note's 2D bar, 2 × 10 elements.
-#[test]
-fn crank_nicolson_runs_on_the_2d_bar_with_the_energy_balance() {
-    dynamic_smoke(&BoxMesh::note_2d(2, 10).unwrap());
-}
-
-/// The same on the note's 3D bar, 2 × 2 × 4 elements.
-#[test]
-fn crank_nicolson_runs_on_the_3d_bar_with_the_energy_balance() {
-    dynamic_smoke(&BoxMesh::note_3d(2, 2, 4).unwrap());
-}
-
 /// Assembly cost of the 8 × 8 × 80 hexahedral mesh (19 440 dofs): run with
-/// `cargo test --release --test box_mesh -- --ignored --nocapture assembly_timing`.
+/// `cargo test --release --test unit -- --ignored --nocapture assembly_timing`.
 #[test]
 #[ignore = "timing measurement, run by hand"]
 fn assembly_timing_of_the_8x8x80_hex_mesh() {

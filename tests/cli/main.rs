@@ -1,0 +1,11 @@
+//! What the user meets: the `signorini` binary end to end (exit codes, messages, whole files),
+//! the committed scene files, the box scenes' VTK output, and the SVG figures and their index.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod commands;
+mod elastic;
+mod figures;
+mod report_figures;
+mod scenes;

@@ -1,0 +1,21 @@
+//! Engine-level properties, each checked against hand formulas, finite differences or an
+//! independent solver rather than read back from the code under test: the P1 and Q1 assembly
+//! and the mass variants, the exact solutions of the benchmarks, complementarity and the contact
+//! treatments, explicit Newmark, the initial-data perturbation, and the discrete energy
+//! balances (all of them in `energy_balance.rs`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod bouncing_bar;
+mod box_mesh;
+mod complementarity;
+mod contact_cross_check;
+mod contact_treatments;
+mod energy_balance;
+mod explicit;
+mod fem;
+mod mass_variants;
+mod perturbation;
+mod run;
+mod signorini_dirichlet;
