@@ -11,7 +11,7 @@ use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
-use signorini::run::Problem1d;
+use signorini::run::{Observables, Problem1d, RunConfig};
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
 use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme};
 

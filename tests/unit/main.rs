@@ -18,4 +18,5 @@ mod fem;
 mod mass_variants;
 mod perturbation;
 mod run;
+mod run_status;
 mod signorini_dirichlet;
