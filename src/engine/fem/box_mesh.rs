@@ -91,16 +91,6 @@ impl Elasticity {
         let (l, m) = (self.lame_lambda, self.lame_mu);
         m * (3.0 * l + 2.0 * m) / (l + m)
     }
-
-    /// Poisson's ratio `ν = λ / (2(λ + μ))`.
-    pub fn poisson_ratio(&self) -> f64 {
-        self.lame_lambda / (2.0 * (self.lame_lambda + self.lame_mu))
-    }
-
-    /// The pressure-wave speed `c_p = √((λ + 2μ)/ρ)`.
-    pub fn pressure_wave_speed(&self) -> f64 {
-        ((self.lame_lambda + 2.0 * self.lame_mu) / self.density).sqrt()
-    }
 }
 
 /// The element stiffness `K_e = ∫_K Bᵀ D B dx` of a Q1 quadrilateral (plane strain) with corners
@@ -447,11 +437,6 @@ impl BoxMesh {
             .zip(&self.counts)
             .map(|(l, &n)| l / n as f64)
             .collect()
-    }
-
-    /// The measure `|Ω| = Π L_k`.
-    pub fn volume(&self) -> f64 {
-        self.lengths.iter().product()
     }
 
     /// Number of nodes `Π (n_k + 1)`, Dirichlet nodes included.

@@ -10,7 +10,7 @@ pub use elastic_box::{box_mesh, initial_dofs, BoxProblem};
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::contact::ContactLaw;
 use crate::engine::error::ParameterError;
 use crate::engine::exact::{ExactSolution, Pointwise};
 use crate::engine::fem::box_mesh::BoxMesh;
@@ -72,22 +72,6 @@ pub struct Discretisation {
 }
 
 impl Problem {
-    /// The horizon `T`.
-    pub fn horizon(&self) -> f64 {
-        match self {
-            Problem::Bar(p) => p.horizon,
-            Problem::Box(p) => p.horizon,
-        }
-    }
-
-    /// How the contact condition is discretised.
-    pub fn contact(&self) -> ContactTreatment {
-        match self {
-            Problem::Bar(p) => p.contact,
-            Problem::Box(p) => p.contact,
-        }
-    }
-
     /// The discretisation with `level` elements along the axis and the mass matrix `mass`:
     /// the mesh, the model with the problem's contact treatment, the initial dofs.
     pub fn discretise(

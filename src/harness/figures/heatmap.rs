@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::chart::Area;
+use super::chart::{drawing, Area};
 use super::{style, FigureError};
 
 /// One panel of [`space_time_map`].
@@ -35,10 +35,6 @@ fn colour_of(fraction: f64) -> RGBColor {
     let mix = |a: f64, b: f64| (a + w * (b - a)).round() as u8;
     let (a, b) = (STOPS[i], STOPS[i + 1]);
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
-}
-
-fn drawing<E: std::fmt::Display>(e: E) -> FigureError {
-    FigureError::Drawing(e.to_string())
 }
 
 /// Panels side by side (600 px each, 500 px high), time on the x axis, position on the y axis,
