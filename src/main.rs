@@ -23,6 +23,7 @@ use signorini::pipeline::{
     write_defaults_experiment, write_elastic_report, write_extended_report, write_golden,
     write_gravity_report, write_report, write_sensitivity_files, write_stability,
 };
+use signorini::problem::Problem;
 use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig, RunResult};
 use signorini::scene::{scene_files, Scene, SceneError};
@@ -258,6 +259,7 @@ impl From<EngineError> for Failure {
             EngineError::Solve(s) if s.is_usage() => Self::usage(s),
             EngineError::Solve(s) => Self::runtime(s),
             EngineError::Io(m) => Self::runtime(m),
+            EngineError::Scene(e) => Self::usage(e),
         }
     }
 }
@@ -554,17 +556,19 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                     .last()
                     .expect("validated: at least one level")
             });
-            if let Some(mut problem) = scene.box_problem() {
-                if check_balance {
-                    return Err(Failure::usage(
-                        "--check-balance: 1D scenes only (the 2D/3D run does not evaluate the \
-                         energy balance)",
-                    ));
+            let mut problem = match scene.problem() {
+                Problem::Box(mut problem) => {
+                    if check_balance {
+                        return Err(Failure::usage(
+                            "--check-balance: 1D scenes only (the 2D/3D run does not evaluate \
+                             the energy balance)",
+                        ));
+                    }
+                    problem.contact = contact.unwrap_or(problem.contact);
+                    return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
                 }
-                problem.contact = contact.unwrap_or(problem.contact);
-                return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
-            }
-            let mut problem = scene.problem();
+                Problem::Bar(problem) => problem,
+            };
             problem.contact = contact.unwrap_or(problem.contact);
             let mut observables = scene.observables();
             observables.energy_balance = check_balance;
@@ -642,31 +646,34 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             contact,
         } => {
             let scene = Scene::load(&scene)?;
-            if let Some(mut problem) = scene.box_problem() {
-                problem.contact = contact.unwrap_or(problem.contact);
-                let mut config = ElasticStudyConfig::from_scene(&scene, reference_level)
-                    .map_err(EngineError::from)?;
-                if !levels.is_empty() {
-                    config.levels = levels;
+            let mut problem = match scene.problem() {
+                Problem::Box(mut problem) => {
+                    problem.contact = contact.unwrap_or(problem.contact);
+                    let mut config = ElasticStudyConfig::from_scene(&scene, reference_level)
+                        .map_err(EngineError::from)?;
+                    if !levels.is_empty() {
+                        config.levels = levels;
+                    }
+                    if let Some(r) = ratio {
+                        config.ratio = r;
+                    }
+                    if !scheme.is_empty() || !mass.is_empty() {
+                        let schemes = if scheme.is_empty() {
+                            scene.default_schemes()
+                        } else {
+                            scheme
+                        };
+                        let masses = if mass.is_empty() {
+                            vec![MassVariant::Standard, MassVariant::Redistributed]
+                        } else {
+                            mass
+                        };
+                        config.cases = Case::matrix(&schemes, &masses);
+                    }
+                    return elastic_study(&problem, &config, out, &cache, json);
                 }
-                if let Some(r) = ratio {
-                    config.ratio = r;
-                }
-                if !scheme.is_empty() || !mass.is_empty() {
-                    let schemes = if scheme.is_empty() {
-                        scene.default_schemes()
-                    } else {
-                        scheme
-                    };
-                    let masses = if mass.is_empty() {
-                        vec![MassVariant::Standard, MassVariant::Redistributed]
-                    } else {
-                        mass
-                    };
-                    config.cases = Case::matrix(&schemes, &masses);
-                }
-                return elastic_study(&problem, &config, out, &cache, json);
-            }
+                Problem::Bar(problem) => problem,
+            };
             if reference_level.is_some() || out.is_some() {
                 return Err(Failure::usage(format!(
                     "scene {}: --reference-level and --out are for box scenes (a bar1d study \
@@ -685,7 +692,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 mass
             };
             let norms: BTreeSet<Norm> = if norm.is_empty() {
-                scene.norms()
+                scene.observables.norms.clone()
             } else {
                 norm.into_iter().collect()
             };
@@ -698,7 +705,6 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 config.ratio = r;
             }
             let bar = progress_bar(study_size(&cases, &config));
-            let mut problem = scene.problem();
             problem.contact = contact.unwrap_or(problem.contact);
             let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
             bar.finish_and_clear();
@@ -783,12 +789,12 @@ fn execute(cli: Cli) -> Result<(), Failure> {
         Command::Reference { scenes, cache } => {
             for path in scenes {
                 let scene = Scene::load(&path)?;
-                let problem = scene.box_problem().ok_or_else(|| {
-                    Failure::usage(format!(
+                let Problem::Box(problem) = scene.problem() else {
+                    return Err(Failure::usage(format!(
                         "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
                         scene.name
-                    ))
-                })?;
+                    )));
+                };
                 let config =
                     ElasticStudyConfig::from_scene(&scene, None).map_err(EngineError::from)?;
                 let mut computed = false;
@@ -819,19 +825,19 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             out,
         } => {
             let scene = Scene::load(&scene)?;
-            if scene.is_box() {
+            let Problem::Bar(problem) = scene.problem() else {
                 return Err(Failure::usage(format!(
                     "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
                      ensemble is its discretisation.sensitivity, run by `signorini study`)",
                     scene.name
                 )));
-            }
+            };
             let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
             let ensemble = EnsembleConfig { members, amplitude };
             let s = run_sensitivity(
-                &scene.problem(),
+                &problem,
                 &cases,
-                &scene.norms(),
+                &scene.observables.norms,
                 &scene.study_config(),
                 ensemble,
             )?;

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::engine::problem::Problem;
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
@@ -18,6 +19,7 @@ use crate::harness::report::{
 use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
+use crate::studies::benchmark::bar_scene;
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
 
@@ -347,15 +349,15 @@ pub const GRAVITY_SCENE: &str = "scenes/bar1d-gravity.json";
 /// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson) with both masses,
 /// its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let cases = Case::matrix(
         &scene.default_schemes(),
         &crate::engine::fem::MassVariant::PAPER,
     );
     Ok(run_study(
-        &scene.problem(),
+        &problem,
         &cases,
-        &scene.norms(),
+        &scene.observables.norms,
         &scene.study_config(),
     )?)
 }
@@ -370,11 +372,11 @@ pub fn gravity_sensitivity(
     root: &Path,
     cases: &[Case],
 ) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     Ok(run_sensitivity(
-        &scene.problem(),
+        &problem,
         cases,
-        &scene.norms(),
+        &scene.observables.norms,
         &scene.study_config(),
         EnsembleConfig::default(),
     )?)
@@ -435,7 +437,7 @@ pub fn write_gravity_report(
     root: &Path,
     out_dir: &Path,
 ) -> Result<Study, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let study = gravity_study(root)?;
     let mut md = format!(
         "# The gravity benchmark (1D paper §4)\n\n{}. Levels NX = {:?}, Δx/Δt = {}, T = {}; \
@@ -473,7 +475,7 @@ pub fn write_gravity_report(
             mass: case.case.mass,
             observables: scene.observables(),
         };
-        let r = crate::harness::run::run(&scene.problem(), &config)?;
+        let r = crate::harness::run::run(&problem, &config)?;
         let mass = case.case.mass.name();
         if let Some(p) = &r.point_history {
             let mut text = String::from("time");
@@ -696,9 +698,9 @@ fn elastic_gate(
     with_ensemble: bool,
 ) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
     let scene = crate::harness::scene::Scene::load(&root.join(ELASTIC_2D_SCENE))?;
-    let problem = scene
-        .box_problem()
-        .ok_or("the 2D scene is not a box scene")?;
+    let Problem::Box(problem) = scene.problem() else {
+        return Err("the 2D scene is not a box scene".into());
+    };
     let mut config = ElasticStudyConfig::from_scene(&scene, Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
     if let Some(cases) = cases {
         config.cases = cases.to_vec();
