@@ -732,7 +732,7 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 out.display(),
                 gravity.cases.len()
             );
-            let study = write_report(&out).map_err(Failure::runtime)?;
+            let study = write_report(Path::new("."), &out).map_err(Failure::runtime)?;
             out!(
                 "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
                 out.display(),
@@ -740,11 +740,11 @@ fn execute(cli: Cli) -> Result<(), Failure> {
                 study.cases.len(),
                 study.wall_seconds
             );
-            write_extended_report(&out).map_err(Failure::runtime)?;
+            write_extended_report(Path::new("."), &out).map_err(Failure::runtime)?;
             out!("wrote {}/extended.md", out.display());
         }
         Command::Experiment { out } => {
-            let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;
+            let md = write_defaults_experiment(Path::new("."), &out).map_err(Failure::runtime)?;
             let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
             out!(
                 "{}\nwrote {}/defaults-experiment.md",
@@ -768,7 +768,8 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             }
         }
         Command::Stability { out, ci_subset } => {
-            let records = write_stability(&out, ci_subset).map_err(Failure::runtime)?;
+            let records =
+                write_stability(Path::new("."), &out, ci_subset).map_err(Failure::runtime)?;
             let flagged = records
                 .iter()
                 .filter(|r| {

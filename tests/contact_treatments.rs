@@ -6,6 +6,7 @@
 mod common;
 
 use std::collections::BTreeSet;
+use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
@@ -19,6 +20,12 @@ use signorini::rates::fit_rate;
 use signorini::run::{run, Observables, Problem1d, RunConfig};
 use signorini::schemes::energy_balance::BalanceMonitor;
 use signorini::schemes::{integrator, Scheme, TimeIntegrator};
+use signorini::studies::benchmark;
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;
@@ -339,7 +346,7 @@ fn penalty_crank_nicolson_balance_holds_with_many_contact_nodes_in_2d() {
 fn dirichlet_run(nx: usize, scheme: Scheme, mass: MassVariant, contact: &str) -> Vec<f64> {
     let problem = Problem1d {
         contact: treatment(contact),
-        ..Problem1d::signorini_dirichlet(3.0)
+        ..dirichlet(3.0)
     };
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::MultiplierL2].into();
     let config = RunConfig {

@@ -8,6 +8,7 @@
 
 use std::collections::BTreeSet;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
 
 use approx::assert_abs_diff_eq;
 use signorini::error::Error;
@@ -17,6 +18,12 @@ use signorini::model::Model;
 use signorini::norms::Norm;
 use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
 use signorini::schemes::{initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator};
+use signorini::studies::benchmark;
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 const END_CONDITIONS: [EndCondition; 2] = [EndCondition::Clamped, EndCondition::Free];
 const MESHES: [usize; 4] = [1, 2, 7, 64];
@@ -739,7 +746,7 @@ fn redistributed_mass_still_converges_on_a_smooth_solution() {
 /// Only the requested norms are evaluated (the Tables 1–2 columns are independent).
 #[test]
 fn space_norms_are_evaluated_only_when_requested() {
-    let problem = Problem1d::signorini_dirichlet(1.5);
+    let problem = dirichlet(1.5);
     let config = |norms: &[Norm]| RunConfig {
         nx: 10,
         ratio: 10.0,
@@ -778,7 +785,7 @@ fn run_rejects_bad_input_naming_the_parameter() {
         mass: MassVariant::Standard,
         observables: only(&[Norm::DisplacementLinfH]),
     };
-    let problem = Problem1d::signorini_dirichlet(0.5);
+    let problem = dirichlet(0.5);
     assert!(run::run(&problem, &base).is_ok());
 
     let with = |f: &dyn Fn(&mut RunConfig)| {

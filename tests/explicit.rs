@@ -4,6 +4,7 @@
 mod common;
 
 use std::collections::BTreeSet;
+use std::path::Path;
 
 use nalgebra::DMatrix;
 use signorini::contact::ContactTreatment;
@@ -17,6 +18,12 @@ use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
 use signorini::schemes::energy_balance::{self, ThreeLevels};
 use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme};
+use signorini::studies::benchmark;
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [
     MassVariant::Redistributed,
@@ -78,7 +85,7 @@ fn lanczos_bound_matches_the_dense_eigenvalue() {
 /// bound; just below, the run proceeds.
 #[test]
 fn cfl_violation_is_a_typed_error_naming_the_bound() {
-    let problem = Problem1d::signorini_dirichlet(3.0);
+    let problem = dirichlet(3.0);
     for mass in MASSLESS_CONTACT {
         let (bar, model) = problem.model(40, mass).unwrap();
         let (s, m) = massed_blocks(&model);
@@ -255,7 +262,7 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
 #[test]
 fn explicit_contact_balance_and_complementarity_every_step() {
     for mass in MASSLESS_CONTACT {
-        let problem = Problem1d::signorini_dirichlet(3.0);
+        let problem = dirichlet(3.0);
         let (bar, model) = problem.model(40, mass).unwrap();
         let exact = SignoriniDirichlet;
         let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);

@@ -16,7 +16,13 @@ use signorini::report::paper_tables;
 use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::studies::benchmark;
 use signorini::study::{run_study, Case, Study, StudyConfig};
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 fn golden() -> Golden {
     read_golden(&Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN_TABLES)).unwrap()
@@ -46,9 +52,9 @@ fn assert_gate<E: std::fmt::Debug>(
 #[test]
 fn tables_study_matches_the_golden_rates_and_errors() {
     let golden = golden();
-    let study = tables_study().unwrap();
+    let study = tables_study(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap();
     let chaotic = assert_gate(GOLDEN_TABLES, &golden, &study, |cases| {
-        tables_sensitivity(cases)
+        tables_sensitivity(Path::new(env!("CARGO_MANIFEST_DIR")), cases)
     });
 
     let mut reproducible = study.clone();
@@ -69,7 +75,7 @@ fn tables_study_matches_the_golden_rates_and_errors() {
 #[test]
 fn the_gate_catches_a_small_change_in_a_reproducible_case() {
     let golden = golden();
-    let study = tables_study().unwrap();
+    let study = tables_study(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap();
     let id = "crank-nicolson/redistributed";
     let g = golden.cases.iter().find(|g| g.case == id).unwrap();
     assert_eq!(g.class, Some(SensitivityClass::Reproducible));
@@ -140,13 +146,7 @@ fn gate_reports_a_deliberately_wrong_scheme() {
         })
         .collect();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    let mut study = run_study(
-        &Problem1d::signorini_dirichlet(config.horizon),
-        &cases,
-        &norms,
-        &config,
-    )
-    .unwrap();
+    let mut study = run_study(&dirichlet(config.horizon), &cases, &norms, &config).unwrap();
     for c in &mut study.cases {
         c.case.scheme = Scheme::CRANK_NICOLSON;
     }
@@ -174,13 +174,7 @@ fn small_study() -> Study {
         mass: signorini::fem::MassVariant::Redistributed,
     }];
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
-    run_study(
-        &Problem1d::signorini_dirichlet(3.0),
-        &cases,
-        &norms,
-        &config,
-    )
-    .unwrap()
+    run_study(&dirichlet(3.0), &cases, &norms, &config).unwrap()
 }
 
 #[test]
@@ -243,12 +237,12 @@ fn extended_studies_match_the_golden_rates_and_errors() {
         .map(|t| t.contact.as_str())
         .collect();
     assert_eq!(names, TREATMENTS);
-    for s in extended_studies().unwrap() {
+    for s in extended_studies(root).unwrap() {
         let g = golden
             .treatment(&s.contact)
             .unwrap_or_else(|| panic!("{} is not in {GOLDEN_EXTENDED}", s.contact));
         assert_gate(&s.contact, g, &s.study, |cases| {
-            extended_sensitivity(&s.contact, cases)
+            extended_sensitivity(root, &s.contact, cases)
         });
     }
 }

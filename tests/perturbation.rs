@@ -10,6 +10,12 @@ use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use signorini::scene::Scene;
 use signorini::schemes::Scheme;
 use signorini::stability::hard_cases;
+use signorini::studies::benchmark;
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 /// The problem of a bar1d scene.
 fn bar(scene: &Scene) -> Problem1d {
@@ -25,7 +31,7 @@ fn dirichlet_with(perturbation: Option<Perturbation>) -> Problem1d {
             perturbation,
             ..InitialData::default()
         },
-        ..Problem1d::signorini_dirichlet(3.0)
+        ..dirichlet(3.0)
     }
 }
 
@@ -118,9 +124,9 @@ fn a_scene_perturbation_reaches_the_run() {
 
 #[test]
 fn the_rough_data_hard_case_is_rough() {
-    let cases = hard_cases(false);
+    let cases = hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), false).unwrap();
     let rough = cases.iter().find(|c| c.name == "rough-data").unwrap();
-    let plain = Problem1d::signorini_dirichlet(rough.problem.horizon);
+    let plain = dirichlet(rough.problem.horizon);
     let (bar, model) = rough
         .problem
         .model(rough.nx, MassVariant::Standard)

@@ -3,9 +3,10 @@
 
 use std::path::Path;
 
-use signorini::fem::MassVariant;
+use signorini::contact::ContactTreatment;
+use signorini::fem::{EndCondition, MassVariant};
 use signorini::norms::Norm;
-use signorini::problem::Problem;
+use signorini::problem::{InitialData, Problem};
 use signorini::run::{run, Problem1d, RunConfig};
 use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
@@ -39,20 +40,32 @@ fn every_committed_scene_is_valid() {
 
 #[test]
 fn the_dirichlet_scene_is_the_tables_problem() {
+    // The studies read the benchmark from this file (`studies::benchmark::dirichlet`): it is
+    // the 1D paper's §5 problem with the tables' levels, ratio, horizon and norms.
     let s = scene("bar1d-dirichlet.json");
-    let from_scene = bar(&s);
-    let programmatic = Problem1d::signorini_dirichlet(3.0);
-    assert_eq!(from_scene.length, programmatic.length);
-    assert_eq!(from_scene.density, programmatic.density);
-    assert_eq!(from_scene.wave_speed, programmatic.wave_speed);
-    assert_eq!(from_scene.far_end, programmatic.far_end);
-    assert_eq!(from_scene.obstacle_gap, programmatic.obstacle_gap);
-    assert_eq!(from_scene.body_force, programmatic.body_force);
-    assert_eq!(from_scene.initial, programmatic.initial);
-    assert_eq!(from_scene.horizon, programmatic.horizon);
-    assert_eq!(from_scene.exact.name(), programmatic.exact.name());
+    let p = bar(&s);
+    assert_eq!(
+        (p.length, p.density, p.wave_speed),
+        (1.0, 1.0, 1.0),
+        "L, ρ, c"
+    );
+    assert_eq!(p.far_end, EndCondition::Clamped);
+    assert_eq!(p.obstacle_gap, Some(0.0));
+    assert_eq!(p.body_force, None);
+    assert_eq!(p.initial, InitialData::default());
+    assert_eq!(p.horizon, 3.0);
+    assert_eq!(p.exact.name(), "signorini-dirichlet");
+    assert_eq!(p.contact, ContactTreatment::Multiplier);
     assert_eq!(s.study_config(), StudyConfig::paper_default());
     assert_eq!(s.observables.norms, Norm::ALL.into_iter().collect());
+
+    // What the studies run: the same problem, to the horizon they ask for.
+    let studied =
+        signorini::studies::benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), 9.0)
+            .unwrap();
+    assert_eq!(studied.horizon, 9.0);
+    assert_eq!(studied.initial, p.initial);
+    assert_eq!(studied.exact.name(), p.exact.name());
 }
 
 #[test]

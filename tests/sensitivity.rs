@@ -4,6 +4,7 @@
 mod common;
 
 use std::collections::BTreeSet;
+use std::path::Path;
 
 use common::expect_error;
 use signorini::fem::MassVariant;
@@ -11,7 +12,13 @@ use signorini::norms::Norm;
 use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
+use signorini::studies::benchmark;
 use signorini::study::{Case, StudyConfig};
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 /// Crank–Nicolson with the paper's two masses.
 fn crank_nicolson_cases() -> Vec<Case> {
@@ -33,7 +40,7 @@ fn small_sensitivity() -> signorini::sensitivity::Sensitivity {
     let cases = crank_nicolson_cases();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
     run_sensitivity(
-        &Problem1d::signorini_dirichlet(3.0),
+        &dirichlet(3.0),
         &cases,
         &norms,
         &config,
@@ -164,7 +171,7 @@ fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
     let s = small_sensitivity();
     let cases = crank_nicolson_cases();
     let study = signorini::study::run_study(
-        &Problem1d::signorini_dirichlet(3.0),
+        &dirichlet(3.0),
         &cases,
         &[Norm::DisplacementLinfH, Norm::EnergyL2].into(),
         &s.config,

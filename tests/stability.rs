@@ -2,16 +2,25 @@
 //! schemes meant to be stable stay stable over 100 periods, and the detector does flag the
 //! known energy growth of Crank–Nicolson with the standard mass.
 
+use std::path::Path;
+
 use signorini::fem::MassVariant;
 use signorini::run::Problem1d;
 use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::SensitivityClass;
 use signorini::stability::{hard_cases, judge, HardCase, Verdict, STABILITY_ENSEMBLE};
+use signorini::studies::benchmark;
 use signorini::study::Case;
 
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
+
 fn long_horizon() -> HardCase {
-    hard_cases(true)
+    hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), true)
+        .unwrap()
         .into_iter()
         .find(|h| h.name == "long-horizon")
         .expect("the CI subset has the long horizon")
@@ -95,7 +104,7 @@ fn the_detector_flags_crank_nicolson_with_the_standard_mass() {
     let hard = HardCase {
         name: "ten-periods",
         description: "",
-        problem: Problem1d::signorini_dirichlet(30.0),
+        problem: dirichlet(30.0),
         nx: 80,
         ratio: 10.0,
     };

@@ -16,10 +16,9 @@ use crate::harness::paper::PaperTables;
 use crate::harness::report::{
     convergence_tables, disagreement_section, disagreements, oscillation_word, paper_tables,
 };
-use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
-use crate::studies::benchmark::bar_scene;
+use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
 
@@ -30,10 +29,11 @@ pub const GOLDEN_TABLES: &str = "golden/rates-1d-dirichlet.json";
 /// the horizon: three periods.
 pub const LONGER_HORIZON: f64 = 9.0;
 
-/// The Tables 1–2 study with the default levels, ratio and horizon.
-pub fn tables_study() -> Result<Study, Error> {
+/// The Tables 1–2 study with the default levels, ratio and horizon. `root` is the repository
+/// root (the benchmark is its scene file).
+pub fn tables_study(root: &Path) -> Result<Study, Error> {
     let config = StudyConfig::paper_default();
-    let problem = Problem1d::signorini_dirichlet(config.horizon);
+    let problem = dirichlet(root, config.horizon)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     run_study(&problem, &Case::paper_matrix(), &norms, &config)
 }
@@ -57,9 +57,10 @@ struct RatesFile<'a> {
 }
 
 /// Runs the study, writes `tables.md` and `rates.json` into `out_dir`, and returns the study.
-pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
-    let study = tables_study()?;
-    let sensitivity = write_sensitivity(&study, out_dir)?;
+/// `root` is the repository root.
+pub fn write_report(root: &Path, out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
+    let study = tables_study(root)?;
+    let sensitivity = write_sensitivity(root, &study, out_dir)?;
     let paper = PaperTables::load();
     let mut list = disagreements(&study, &paper, Some(&sensitivity));
 
@@ -74,7 +75,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
     let mut config = study.config.clone();
     config.horizon = LONGER_HORIZON;
     let longer = run_study(
-        &Problem1d::signorini_dirichlet(LONGER_HORIZON),
+        &dirichlet(root, LONGER_HORIZON)?,
         &cases,
         &list.iter().map(|d| d.norm).collect(),
         &config,
@@ -138,7 +139,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
     };
     write_atomic(&out_dir.join("tables.md"), md.as_bytes())?;
     write_work_precision(&study, out_dir)?;
-    write_histories(out_dir, &HISTORY_LEVELS)?;
+    write_histories(root, out_dir, &HISTORY_LEVELS)?;
     write_atomic(
         &out_dir.join("rates.json"),
         serde_json::to_string_pretty(&rates)?.as_bytes(),
@@ -152,21 +153,22 @@ const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 /// The round-off sensitivity of the cases of `study` (same problem, levels and norms) with the
 /// default ensemble; writes `sensitivity.md` and `sensitivity.json` into `out_dir`.
 fn write_sensitivity(
+    root: &Path,
     study: &Study,
     out_dir: &Path,
 ) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    let s = tables_sensitivity(&study_cases(study))?;
+    let s = tables_sensitivity(root, &study_cases(study))?;
     write_sensitivity_files(&s, out_dir)?;
     Ok(s)
 }
 
 /// The round-off sensitivity of `cases` on the Tables 1–2 study (its problem, levels and all
 /// seven norms) with the default ensemble: what `make report` reports and what the gate holds
-/// the chaotic cases to.
-pub fn tables_sensitivity(cases: &[Case]) -> Result<Sensitivity, Error> {
+/// the chaotic cases to. `root` is the repository root.
+pub fn tables_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Error> {
     let config = StudyConfig::paper_default();
     run_sensitivity(
-        &Problem1d::signorini_dirichlet(config.horizon),
+        &dirichlet(root, config.horizon)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &config,
@@ -194,10 +196,10 @@ pub fn write_sensitivity_files(
 pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
 
 /// The extended studies ([`extended_studies`]), each with its round-off sensitivity measured.
-pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> {
-    extended_studies()?
+pub fn extended_studies_with_sensitivity(root: &Path) -> Result<Vec<ExtendedStudy>, Error> {
+    extended_studies(root)?
         .into_iter()
-        .map(ExtendedStudy::with_sensitivity)
+        .map(|s| s.with_sensitivity(root))
         .collect()
 }
 
@@ -205,9 +207,10 @@ pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> 
 /// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
 /// `out_dir`, and returns the studies.
 pub fn write_extended_report(
+    root: &Path,
     out_dir: &Path,
 ) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
-    let studies = extended_studies_with_sensitivity()?;
+    let studies = extended_studies_with_sensitivity(root)?;
     let (md, file) = render(&studies);
     write_atomic(&out_dir.join("extended.md"), md.as_bytes())?;
     write_atomic(
@@ -237,11 +240,16 @@ pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
 pub const HISTORY_LEVELS: [usize; 3] = [10, 20, 40];
 
 /// For every scheme of the tables, runs both masses at `levels` with the contact and energy
-/// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
-pub fn write_histories(out_dir: &Path, levels: &[usize]) -> Result<(), Box<dyn std::error::Error>> {
+/// histories and writes them to `data/histories/<scheme>.json` (the figures' input). `root` is
+/// the repository root.
+pub fn write_histories(
+    root: &Path,
+    out_dir: &Path,
+    levels: &[usize],
+) -> Result<(), Box<dyn std::error::Error>> {
     use rayon::prelude::*;
     let config = StudyConfig::paper_default();
-    let problem = Problem1d::signorini_dirichlet(config.horizon);
+    let problem = dirichlet(root, config.horizon)?;
     let histories: Vec<crate::studies::figures::from_reports::SchemeHistories> =
         crate::engine::schemes::Scheme::paper_schemes()
             .par_iter()
@@ -393,8 +401,8 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
     let studies = [
         (
             GOLDEN_TABLES,
-            tables_study()?,
-            Some(tables_sensitivity(&Case::paper_matrix())?),
+            tables_study(root)?,
+            Some(tables_sensitivity(root, &Case::paper_matrix())?),
         ),
         {
             let study = gravity_study(root)?;
@@ -411,7 +419,7 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
     let path = root.join(GOLDEN_EXTENDED);
     let previous = read_extended_golden(&path).ok();
     let extended =
-        ExtendedGolden::from_studies(&extended_studies_with_sensitivity()?, previous.as_ref());
+        ExtendedGolden::from_studies(&extended_studies_with_sensitivity(root)?, previous.as_ref());
     write_atomic(&path, serde_json::to_string_pretty(&extended)?.as_bytes())?;
     for t in extended.treatments {
         written.push((format!("{GOLDEN_EXTENDED} [{}]", t.contact), t.golden));
@@ -531,8 +539,12 @@ pub const EXPERIMENT_RANGES: [(usize, usize); 5] =
     [(10, 640), (20, 640), (40, 640), (10, 320), (160, 640)];
 
 /// How the rates of Tables 1–2 move with the horizon and with the level range: writes
-/// `defaults-experiment.md` into `out_dir` and returns the markdown.
-pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
+/// `defaults-experiment.md` into `out_dir` and returns the markdown. `root` is the repository
+/// root.
+pub fn write_defaults_experiment(
+    root: &Path,
+    out_dir: &Path,
+) -> Result<String, Box<dyn std::error::Error>> {
     let base = StudyConfig::paper_default();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let studies: Vec<Study> = EXPERIMENT_HORIZONS
@@ -542,12 +554,7 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
                 horizon: t,
                 ..base.clone()
             };
-            run_study(
-                &Problem1d::signorini_dirichlet(t),
-                &Case::paper_matrix(),
-                &norms,
-                &config,
-            )
+            run_study(&dirichlet(root, t)?, &Case::paper_matrix(), &norms, &config)
         })
         .collect::<Result<_, _>>()?;
     let reference = &studies[0];
@@ -645,12 +652,13 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
 }
 
 /// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
-/// `stability.json` into `out_dir`.
+/// `stability.json` into `out_dir`. `root` is the repository root.
 pub fn write_stability(
+    root: &Path,
     out_dir: &Path,
     ci: bool,
 ) -> Result<Vec<crate::studies::stability::StabilityRecord>, Box<dyn std::error::Error>> {
-    let hard = crate::studies::stability::hard_cases(ci);
+    let hard = crate::studies::stability::hard_cases(root, ci)?;
     let records = crate::studies::stability::run_suite(&hard, &Case::paper_matrix())?;
     let md = crate::studies::stability::render(&hard, &records);
     write_atomic(&out_dir.join("stability.md"), md.as_bytes())?;

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use super::InitialData;
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
-use crate::engine::exact::{ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::engine::exact::{ClampedFreeMode, ExactSolution};
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
 use crate::engine::model::Model;
 
@@ -37,22 +37,6 @@ pub struct Problem1d {
 }
 
 impl Problem1d {
-    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
-    pub fn signorini_dirichlet(horizon: f64) -> Self {
-        Self {
-            length: 1.0,
-            density: 1.0,
-            wave_speed: 1.0,
-            far_end: EndCondition::Clamped,
-            obstacle_gap: Some(0.0),
-            body_force: None,
-            exact: Arc::new(SignoriniDirichlet),
-            initial: InitialData::default(),
-            horizon,
-            contact: ContactTreatment::Multiplier,
-        }
-    }
-
     /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
     pub fn free_vibration(horizon: f64) -> Self {
         Self {
