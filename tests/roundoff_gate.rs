@@ -13,7 +13,13 @@ use signorini::norms::Norm;
 use signorini::pipeline::{read_golden, tables_sensitivity, GOLDEN_TABLES};
 use signorini::run::Problem1d;
 use signorini::schemes::{Scheme, REASSOCIATED_PREDICTOR};
+use signorini::studies::benchmark;
 use signorini::study::{run_study, Case, StudyConfig};
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 #[test]
 fn an_equivalent_rewrite_of_a_chaotic_step_passes_the_gate_and_fails_the_old_check() {
@@ -31,14 +37,8 @@ fn an_equivalent_rewrite_of_a_chaotic_step_passes_the_gate_and_fails_the_old_che
     REASSOCIATED_PREDICTOR.store(true, Ordering::Relaxed);
     let config = StudyConfig::paper_default();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    let rewritten = run_study(
-        &Problem1d::signorini_dirichlet(config.horizon),
-        &[case],
-        &norms,
-        &config,
-    )
-    .unwrap();
-    let ensembles = tables_sensitivity(&[case]).unwrap();
+    let rewritten = run_study(&dirichlet(config.horizon), &[case], &norms, &config).unwrap();
+    let ensembles = tables_sensitivity(Path::new(env!("CARGO_MANIFEST_DIR")), &[case]).unwrap();
     REASSOCIATED_PREDICTOR.store(false, Ordering::Relaxed);
 
     // The rewrite changed the run: it is not the golden sample any more.

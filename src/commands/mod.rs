@@ -93,6 +93,7 @@ impl From<Error> for Failure {
             Error::Parameter(p) => Self::usage(p),
             Error::Solve(s) if s.is_usage() => Self::usage(s),
             Error::Solve(s) => Self::runtime(s),
+            Error::Scene(e) => Self::usage(e),
             e @ (Error::Io { .. } | Error::Encode { .. } | Error::Vtk { .. }) => Self::runtime(e),
         }
     }

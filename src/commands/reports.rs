@@ -29,7 +29,7 @@ pub fn report(args: ReportArgs) -> Result<(), Failure> {
         out.display(),
         gravity.cases.len()
     );
-    let study = write_report(&out).map_err(Failure::runtime)?;
+    let study = write_report(Path::new("."), &out).map_err(Failure::runtime)?;
     out!(
         "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
         out.display(),
@@ -37,7 +37,7 @@ pub fn report(args: ReportArgs) -> Result<(), Failure> {
         study.cases.len(),
         study.wall_seconds
     );
-    write_extended_report(&out).map_err(Failure::runtime)?;
+    write_extended_report(Path::new("."), &out).map_err(Failure::runtime)?;
     out!("wrote {}/extended.md", out.display());
     Ok(())
 }
@@ -53,7 +53,7 @@ pub struct ExperimentArgs {
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
 pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
     let ExperimentArgs { out } = args;
-    let md = write_defaults_experiment(&out).map_err(Failure::runtime)?;
+    let md = write_defaults_experiment(Path::new("."), &out).map_err(Failure::runtime)?;
     let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
     out!(
         "{}\nwrote {}/defaults-experiment.md",
@@ -106,7 +106,7 @@ pub struct StabilityArgs {
 /// verdict each; writes stability.md and stability.json.
 pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
     let StabilityArgs { out, ci_subset } = args;
-    let records = write_stability(&out, ci_subset).map_err(Failure::runtime)?;
+    let records = write_stability(Path::new("."), &out, ci_subset).map_err(Failure::runtime)?;
     let flagged = records
         .iter()
         .filter(|r| {

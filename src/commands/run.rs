@@ -8,7 +8,7 @@ use clap::Args;
 use super::{parse_contact, parse_mass, parse_scheme, write_output, Failure};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
-use crate::engine::problem::BoxProblem;
+use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::engine::schemes::Scheme;
 use crate::harness::elastic::run_box;
@@ -70,17 +70,19 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
             .last()
             .expect("validated: at least one level")
     });
-    if let Some(mut problem) = scene.box_problem() {
-        if check_balance {
-            return Err(Failure::usage(
-                "--check-balance: 1D scenes only (the 2D/3D run does not evaluate the \
-                 energy balance)",
-            ));
+    let mut problem = match scene.problem() {
+        Problem::Box(mut problem) => {
+            if check_balance {
+                return Err(Failure::usage(
+                    "--check-balance: 1D scenes only (the 2D/3D run does not evaluate the \
+                     energy balance)",
+                ));
+            }
+            problem.contact = contact.unwrap_or(problem.contact);
+            return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
         }
-        problem.contact = contact.unwrap_or(problem.contact);
-        return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
-    }
-    let mut problem = scene.problem();
+        Problem::Bar(problem) => problem,
+    };
     problem.contact = contact.unwrap_or(problem.contact);
     let mut observables = scene.observables();
     observables.energy_balance = check_balance;

@@ -9,7 +9,7 @@ use clap::Args;
 use super::{parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, Failure};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
-use crate::engine::problem::BoxProblem;
+use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -77,31 +77,34 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         contact,
     } = args;
     let scene = Scene::load(&scene)?;
-    if let Some(mut problem) = scene.box_problem() {
-        problem.contact = contact.unwrap_or(problem.contact);
-        let mut config =
-            ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
-        if !levels.is_empty() {
-            config.levels = levels;
+    let mut problem = match scene.problem() {
+        Problem::Box(mut problem) => {
+            problem.contact = contact.unwrap_or(problem.contact);
+            let mut config =
+                ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
+            if !levels.is_empty() {
+                config.levels = levels;
+            }
+            if let Some(r) = ratio {
+                config.ratio = r;
+            }
+            if !scheme.is_empty() || !mass.is_empty() {
+                let schemes = if scheme.is_empty() {
+                    scene.default_schemes()
+                } else {
+                    scheme
+                };
+                let masses = if mass.is_empty() {
+                    vec![MassVariant::Standard, MassVariant::Redistributed]
+                } else {
+                    mass
+                };
+                config.cases = Case::matrix(&schemes, &masses);
+            }
+            return elastic_study(&problem, &config, out, &cache, json);
         }
-        if let Some(r) = ratio {
-            config.ratio = r;
-        }
-        if !scheme.is_empty() || !mass.is_empty() {
-            let schemes = if scheme.is_empty() {
-                scene.default_schemes()
-            } else {
-                scheme
-            };
-            let masses = if mass.is_empty() {
-                vec![MassVariant::Standard, MassVariant::Redistributed]
-            } else {
-                mass
-            };
-            config.cases = Case::matrix(&schemes, &masses);
-        }
-        return elastic_study(&problem, &config, out, &cache, json);
-    }
+        Problem::Bar(problem) => problem,
+    };
     if reference_level.is_some() || out.is_some() {
         return Err(Failure::usage(format!(
             "scene {}: --reference-level and --out are for box scenes (a bar1d study \
@@ -120,7 +123,7 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         mass
     };
     let norms: BTreeSet<Norm> = if norm.is_empty() {
-        scene.norms()
+        scene.observables.norms.clone()
     } else {
         norm.into_iter().collect()
     };
@@ -133,7 +136,6 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         config.ratio = r;
     }
     let bar = progress_bar(study_size(&cases, &config));
-    let mut problem = scene.problem();
     problem.contact = contact.unwrap_or(problem.contact);
     let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
     bar.finish_and_clear();
@@ -182,19 +184,19 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
         out,
     } = args;
     let scene = Scene::load(&scene)?;
-    if scene.is_box() {
+    let Problem::Bar(problem) = scene.problem() else {
         return Err(Failure::usage(format!(
             "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
              ensemble is its discretisation.sensitivity, run by `signorini study`)",
             scene.name
         )));
-    }
+    };
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
     let s = run_sensitivity(
-        &scene.problem(),
+        &problem,
         &cases,
-        &scene.norms(),
+        &scene.observables.norms,
         &scene.study_config(),
         ensemble,
     )?;
@@ -232,12 +234,12 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
     let ReferenceArgs { scenes, cache } = args;
     for path in scenes {
         let scene = Scene::load(&path)?;
-        let problem = scene.box_problem().ok_or_else(|| {
-            Failure::usage(format!(
+        let Problem::Box(problem) = scene.problem() else {
+            return Err(Failure::usage(format!(
                 "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
                 scene.name
-            ))
-        })?;
+            )));
+        };
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
         let mut computed = false;
         let reference = obtain_reference(&problem, &config, &cache, &mut |why| {

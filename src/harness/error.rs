@@ -1,5 +1,7 @@
-//! Errors of the harness: the engine's, plus the files it reads and writes.
+//! Errors of the harness: the engine's, plus the files it reads and writes (scene files among
+//! them).
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
@@ -44,6 +46,9 @@ pub enum Error {
         #[source]
         source: vtkio::Error,
     },
+    /// A scene file could not be read or is not valid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
 }
 
 impl Error {
@@ -71,6 +76,103 @@ impl From<engine::Error> for Error {
         match e {
             engine::Error::Parameter(p) => Error::Parameter(p),
             engine::Error::Solve(s) => Error::Solve(s),
+        }
+    }
+}
+
+/// A scene that could not be read or is not valid.
+#[derive(Debug)]
+pub enum SceneError {
+    /// The file cannot be read.
+    Io {
+        /// The scene file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
+    Json {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde's message (names the field and, for unknown fields, the allowed ones).
+        message: String,
+    },
+    /// A value out of range or inconsistent with the rest of the scene.
+    Invalid {
+        /// The scene file.
+        path: PathBuf,
+        /// The field, dotted (`material.density`).
+        field: String,
+        /// The offending value.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Io { path, source } => {
+                write!(f, "cannot read scene file {}: {source}", path.display())
+            }
+            SceneError::Json {
+                path,
+                line,
+                column,
+                message,
+            } => write!(
+                f,
+                "scene file {} is not a valid scene (line {line}, column {column}): {message}",
+                path.display()
+            ),
+            SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed,
+            } => write!(
+                f,
+                "scene file {}: invalid {field} = {value}; allowed: {allowed}",
+                path.display()
+            ),
+        }
+    }
+}
+
+impl SceneError {
+    /// Appends `detail` to what an [`SceneError::Invalid`] says is allowed.
+    pub(crate) fn with_detail(self, detail: String) -> Self {
+        match self {
+            SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed,
+            } => SceneError::Invalid {
+                path,
+                field,
+                value,
+                allowed: if allowed.is_empty() {
+                    detail
+                } else {
+                    format!("{allowed} ({detail})")
+                },
+            },
+            other => other,
+        }
+    }
+}
+
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SceneError::Io { source, .. } => Some(source),
+            _ => None,
         }
     }
 }

@@ -1,6 +1,9 @@
-//! Scene files: a problem described once, in JSON, and parsed into a [`Problem1d`] plus the
-//! study parameters and observables it declares. Only what a scene declares is simulated: no
-//! obstacle, no contact solve; no body force, no load vector; no norm asked for, no quadrature.
+//! Scene files: a problem described once, in JSON, and parsed at load into a typed [`Scene`]:
+//! the [`Problem`] (a bar or a box, with its contact treatment and reference), the study
+//! parameters (with their schemes) and the observables (with their norms). Names are parsed
+//! once, here; nothing downstream parses them again. Only what a scene declares is simulated:
+//! no obstacle, no contact solve; no body force, no load vector; no norm asked for, no
+//! quadrature.
 //!
 //! Every error names the file and the field, and says what is allowed.
 
@@ -9,7 +12,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 
 use crate::engine::contact::{ContactTreatment, TREATMENT_NAMES};
 use crate::engine::error::ParameterError;
@@ -18,261 +21,60 @@ use crate::engine::exact::{
 };
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
-use crate::engine::problem::Profile;
-use crate::engine::problem::{InitialData, Problem1d};
-use crate::engine::schemes::Scheme;
-use crate::harness::elastic::BoxProblem;
+use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
+use crate::engine::schemes::{Scheme, SCHEME_NAMES};
 use crate::harness::norms::Norm;
 use crate::harness::run::Observables;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
-/// The geometry and mesh family.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum Geometry {
-    /// A bar `[0, length]` meshed by uniform P1 elements; the obstacle side is `x = 0`.
-    Bar1d {
-        /// Length `L` (> 0).
-        length: f64,
-    },
-    /// A 2D or 3D box `[0, L₁] × … × [0, L_d]` of Q1 elements, the last axis along the bar;
-    /// the face `x_d = 0` faces the obstacle, the face `x_d = L_d` is held fixed.
-    Box {
-        /// `[L₁, L₂]` or `[L₁, L₂, L₃]` (> 0).
-        lengths: Vec<f64>,
-    },
-}
+pub use crate::harness::error::SceneError;
 
-/// Material constants: `density` and `wave_speed` for a bar, `density` and the Lamé constants
-/// for a box.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Material {
-    /// Density `ρ` (> 0).
-    pub density: f64,
-    /// Wave speed `c = sqrt(E/ρ)` (> 0), bars only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wave_speed: Option<f64>,
-    /// Lamé `λ` (boxes only; `λ + 2μ/d > 0`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub lame_lambda: Option<f64>,
-    /// Lamé `μ` (boxes only; > 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub lame_mu: Option<f64>,
-}
-
-/// Boundary conditions.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Boundary {
-    /// The end `x = L`: `clamped` (u = 0) or `free` (u_x = 0).
-    pub far_end: EndCondition,
-}
-
-/// A rigid obstacle at the end `x = 0`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Obstacle {
-    /// Distance of the bar's end from the obstacle when `u = 0` (≥ 0).
-    pub gap: f64,
-}
-
-/// A constant body force.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BodyForce {
-    /// Force per unit length (negative: towards the obstacle).
-    pub density: f64,
-}
-
-/// What the errors are measured against.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", deny_unknown_fields)]
-pub enum Reference {
-    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`, `at-rest`,
-    /// `bouncing-bar`).
-    Exact(String),
-    /// No reference: runs record energy, contact and fields, and no error norm.
-    None,
-}
-
-/// Refinement levels, the time step and the schemes a study runs by default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Discretisation {
-    /// `NX` of each level of a study, increasing.
-    pub levels: Vec<usize>,
-    /// `Δx / Δt`.
-    pub ratio: f64,
-    /// Scheme names a study runs when none is given (default: the paper's seven).
-    #[serde(default)]
-    pub schemes: Option<Vec<String>>,
-    /// Elements along the axis of the fine-mesh reference of a box study (a multiple of twice
-    /// the finest level); bar1d scenes have an exact reference and must not set it.
-    #[serde(default)]
-    pub reference_level: Option<usize>,
-    /// The round-off ensemble a box study also runs (`{"members": K, "amplitude": A}`: `K`
-    /// members whose initial velocity carries seeded noise of relative size `A`); bar1d scenes
-    /// must not set it (`signorini sensitivity` takes `--members` and `--amplitude`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sensitivity: Option<EnsembleConfig>,
-}
-
-/// What to record.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SceneObservables {
-    /// Error norms by key (`u_Linf_H`, `u_L2_H`, `u_Linf_V`, `u_L2_V`, `lambda_L2`,
-    /// `energy_Linf`, `energy_L2`).
-    #[serde(default)]
-    pub norms: Vec<String>,
-    /// Record the energy history of a run.
-    #[serde(default)]
-    pub energy_history: bool,
-    /// Record the contact node's displacement and multiplier of a run.
-    #[serde(default)]
-    pub contact_history: bool,
-    /// Positions `x` whose displacement history a run records (with the exact one).
-    #[serde(default)]
-    pub points: Vec<f64>,
-    /// Times at which a run records the whole field (`u_h`, `∂x u_h` and the exact ones).
-    #[serde(default)]
-    pub fields_at: Vec<f64>,
-}
-
-/// A scene file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// A scene: the problem, the study parameters and the observables a scene file declares,
+/// checked and typed when the file is read ([`Scene::load`]).
+#[derive(Debug, Clone)]
 pub struct Scene {
     /// Short name.
     pub name: String,
     /// One sentence for `signorini list`.
     pub description: String,
-    /// Geometry and mesh family.
-    pub geometry: Geometry,
-    /// Density and wave speed.
-    pub material: Material,
-    /// Boundary conditions.
-    pub boundary: Boundary,
-    /// The obstacle, if any.
-    #[serde(default)]
-    pub obstacle: Option<Obstacle>,
-    /// The body force, if any.
-    #[serde(default)]
-    pub body_force: Option<BodyForce>,
-    /// Initial displacement and velocity (default: the reference at `t = 0`).
-    #[serde(default)]
-    pub initial: InitialData,
-    /// Horizon `T` (> 0).
-    pub horizon: f64,
-    /// The reference solution.
-    pub reference: Reference,
-    /// Levels and `Δx/Δt` of studies.
+    /// The problem: the bar or box, material, boundary, obstacle, load, initial data, horizon,
+    /// contact treatment and (for a bar) its exact solution.
+    problem: Problem,
+    /// Levels, `Δx/Δt` and schemes of studies.
     pub discretisation: Discretisation,
     /// What runs record.
     pub observables: SceneObservables,
-    /// The contact treatment (`multiplier`, the default, `penalty(gamma0=G)`, or
-    /// `nitsche(theta=T,gamma0=G)` for a bar1d).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact: Option<String>,
 }
 
-/// A scene that could not be read or is not valid.
-#[derive(Debug)]
-pub enum SceneError {
-    /// The file cannot be read.
-    Io {
-        /// The scene file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
-    /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
-    Json {
-        /// The scene file.
-        path: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// serde's message (names the field and, for unknown fields, the allowed ones).
-        message: String,
-    },
-    /// A value out of range or inconsistent with the rest of the scene.
-    Invalid {
-        /// The scene file.
-        path: PathBuf,
-        /// The field, dotted (`material.density`).
-        field: String,
-        /// The offending value.
-        value: String,
-        /// What is allowed.
-        allowed: String,
-    },
+/// Refinement levels, the time step and the schemes a study runs by default.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Discretisation {
+    /// `NX` of each level of a study, increasing (elements along the axis for a box).
+    pub levels: Vec<usize>,
+    /// `Δx / Δt`.
+    pub ratio: f64,
+    /// The schemes a study runs when none is given (`None`: the paper's seven).
+    pub schemes: Option<Vec<Scheme>>,
+    /// Elements along the axis of the fine-mesh reference of a box study; `None` for a bar.
+    pub reference_level: Option<usize>,
+    /// The round-off ensemble a box study also runs; `None` for a bar.
+    pub sensitivity: Option<EnsembleConfig>,
 }
 
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SceneError::Io { path, source } => {
-                write!(f, "cannot read scene file {}: {source}", path.display())
-            }
-            SceneError::Json {
-                path,
-                line,
-                column,
-                message,
-            } => write!(
-                f,
-                "scene file {} is not a valid scene (line {line}, column {column}): {message}",
-                path.display()
-            ),
-            SceneError::Invalid {
-                path,
-                field,
-                value,
-                allowed,
-            } => write!(
-                f,
-                "scene file {}: invalid {field} = {value}; allowed: {allowed}",
-                path.display()
-            ),
-        }
-    }
-}
-
-impl SceneError {
-    /// Appends `detail` to what an [`SceneError::Invalid`] says is allowed.
-    fn with_detail(self, detail: String) -> Self {
-        match self {
-            SceneError::Invalid {
-                path,
-                field,
-                value,
-                allowed,
-            } => SceneError::Invalid {
-                path,
-                field,
-                value,
-                allowed: if allowed.is_empty() {
-                    detail
-                } else {
-                    format!("{allowed} ({detail})")
-                },
-            },
-            other => other,
-        }
-    }
-}
-
-impl std::error::Error for SceneError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            SceneError::Io { source, .. } => Some(source),
-            _ => None,
-        }
-    }
+/// What the runs of a scene record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObservables {
+    /// Error norms (none for a box: it has no exact solution).
+    pub norms: BTreeSet<Norm>,
+    /// Record the energy history of a run.
+    pub energy_history: bool,
+    /// Record the contact node's displacement and multiplier of a run.
+    pub contact_history: bool,
+    /// Positions `x` whose displacement history a run records (with the exact one).
+    pub points: Vec<f64>,
+    /// Times at which a run records the whole field.
+    pub fields_at: Vec<f64>,
 }
 
 /// The names of the exact solutions a scene can refer to.
@@ -290,50 +92,262 @@ impl Scene {
 
     /// Parses and validates scene text; `path` is used in messages.
     pub fn parse(text: &str, path: &Path) -> Result<Self, SceneError> {
-        let scene: Scene = serde_json::from_str(text).map_err(|e| SceneError::Json {
+        let file: SceneFile = serde_json::from_str(text).map_err(|e| SceneError::Json {
             path: path.to_path_buf(),
             line: e.line(),
             column: e.column(),
             message: e.to_string(),
         })?;
-        scene.validate(path)?;
-        Ok(scene)
+        file.into_scene(path)
     }
 
-    fn invalid(path: &Path, field: &str, value: impl fmt::Display, allowed: &str) -> SceneError {
-        SceneError::Invalid {
-            path: path.to_path_buf(),
-            field: field.to_string(),
-            value: value.to_string(),
-            allowed: allowed.to_string(),
+    /// The problem the scene declares: a [`Problem::Bar`] for a bar1d scene, a
+    /// [`Problem::Box`] for a 2D/3D box scene.
+    pub fn problem(&self) -> Problem {
+        self.problem.clone()
+    }
+
+    /// The observables of one run: the scene's, with the contact history only when there is
+    /// an obstacle.
+    pub fn observables(&self) -> Observables {
+        let obstacle = match &self.problem {
+            Problem::Bar(p) => p.obstacle_gap.is_some(),
+            Problem::Box(p) => p.obstacle_gap.is_some(),
+        };
+        Observables {
+            norms: self.observables.norms.clone(),
+            contact_history: self.observables.contact_history && obstacle,
+            energy_history: self.observables.energy_history,
+            points: self.observables.points.clone(),
+            fields_at: self.observables.fields_at.clone(),
+            energy_balance: false,
+            fields_dir: None,
         }
     }
 
-    fn validate(&self, path: &Path) -> Result<(), SceneError> {
-        let positive = |field: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Self::invalid(path, field, v, "a finite number > 0"))
-            }
-        };
-        positive("material.density", self.material.density)?;
-        positive("horizon", self.horizon)?;
-        positive("discretisation.ratio", self.discretisation.ratio)?;
+    /// The schemes a study runs when none is given on the command line.
+    pub fn default_schemes(&self) -> Vec<Scheme> {
+        match &self.discretisation.schemes {
+            Some(schemes) => schemes.clone(),
+            None => Scheme::paper_schemes().to_vec(),
+        }
+    }
+
+    /// The study parameters.
+    pub fn study_config(&self) -> StudyConfig {
+        StudyConfig {
+            levels: self.discretisation.levels.clone(),
+            ratio: self.discretisation.ratio,
+            horizon: self.problem.horizon(),
+        }
+    }
+}
+
+/// The scene files (`*.json`) of a directory, sorted by name; unreadable entries are skipped.
+pub fn scene_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "json"))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    files
+}
+
+// The file as written: names are strings here, checked and parsed by `SceneFile::into_scene`.
+// The serde names are the types' names of the format (`struct Scene`, …), as serde's messages
+// show them.
+
+/// A scene file as written.
+#[derive(Debug, Deserialize)]
+#[serde(rename = "Scene", deny_unknown_fields)]
+struct SceneFile {
+    /// Short name.
+    name: String,
+    /// One sentence for `signorini list`.
+    description: String,
+    /// Geometry and mesh family.
+    geometry: Geometry,
+    /// Density and wave speed, or density and Lamé constants.
+    material: Material,
+    /// Boundary conditions.
+    boundary: Boundary,
+    /// The obstacle, if any.
+    #[serde(default)]
+    obstacle: Option<Obstacle>,
+    /// The body force, if any.
+    #[serde(default)]
+    body_force: Option<BodyForce>,
+    /// Initial displacement and velocity (default: the reference at `t = 0`).
+    #[serde(default)]
+    initial: InitialData,
+    /// Horizon `T` (> 0).
+    horizon: f64,
+    /// The reference solution.
+    reference: Reference,
+    /// Levels and `Δx/Δt` of studies.
+    discretisation: DiscretisationFile,
+    /// What runs record.
+    observables: ObservablesFile,
+    /// The contact treatment (`multiplier`, the default, `penalty(gamma0=G)`, or
+    /// `nitsche(theta=T,gamma0=G)` for a bar1d).
+    #[serde(default)]
+    contact: Option<String>,
+}
+
+/// The geometry and mesh family.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+enum Geometry {
+    /// A bar `[0, length]` meshed by uniform P1 elements; the obstacle side is `x = 0`.
+    Bar1d {
+        /// Length `L` (> 0).
+        length: f64,
+    },
+    /// A 2D or 3D box `[0, L₁] × … × [0, L_d]` of Q1 elements, the last axis along the bar;
+    /// the face `x_d = 0` faces the obstacle, the face `x_d = L_d` is held fixed.
+    Box {
+        /// `[L₁, L₂]` or `[L₁, L₂, L₃]` (> 0).
+        lengths: Vec<f64>,
+    },
+}
+
+/// Material constants: `density` and `wave_speed` for a bar, `density` and the Lamé constants
+/// for a box.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Material {
+    /// Density `ρ` (> 0).
+    density: f64,
+    /// Wave speed `c = sqrt(E/ρ)` (> 0), bars only.
+    #[serde(default)]
+    wave_speed: Option<f64>,
+    /// Lamé `λ` (boxes only; `λ + 2μ/d > 0`).
+    #[serde(default)]
+    lame_lambda: Option<f64>,
+    /// Lamé `μ` (boxes only; > 0).
+    #[serde(default)]
+    lame_mu: Option<f64>,
+}
+
+/// Boundary conditions.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Boundary {
+    /// The end `x = L`: `clamped` (u = 0) or `free` (u_x = 0).
+    far_end: EndCondition,
+}
+
+/// A rigid obstacle at the end `x = 0`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Obstacle {
+    /// Distance of the bar's end from the obstacle when `u = 0` (≥ 0).
+    gap: f64,
+}
+
+/// A constant body force.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BodyForce {
+    /// Force per unit length (negative: towards the obstacle).
+    density: f64,
+}
+
+/// What the errors are measured against.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+enum Reference {
+    /// A named closed-form solution (`signorini-dirichlet`, `clamped-free-mode`, `at-rest`,
+    /// `bouncing-bar`).
+    Exact(String),
+    /// No reference: runs record energy, contact and fields, and no error norm.
+    None,
+}
+
+/// Refinement levels, the time step and the schemes a study runs by default, as written.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename = "Discretisation", deny_unknown_fields)]
+struct DiscretisationFile {
+    /// `NX` of each level of a study, increasing.
+    levels: Vec<usize>,
+    /// `Δx / Δt`.
+    ratio: f64,
+    /// Scheme names a study runs when none is given (default: the paper's seven).
+    #[serde(default)]
+    schemes: Option<Vec<String>>,
+    /// Elements along the axis of the fine-mesh reference of a box study (a multiple of twice
+    /// the finest level); bar1d scenes have an exact reference and must not set it.
+    #[serde(default)]
+    reference_level: Option<usize>,
+    /// The round-off ensemble a box study also runs (`{"members": K, "amplitude": A}`: `K`
+    /// members whose initial velocity carries seeded noise of relative size `A`); bar1d scenes
+    /// must not set it (`signorini sensitivity` takes `--members` and `--amplitude`).
+    #[serde(default)]
+    sensitivity: Option<EnsembleConfig>,
+}
+
+/// What to record, as written.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename = "SceneObservables", deny_unknown_fields)]
+struct ObservablesFile {
+    /// Error norms by key (`u_Linf_H`, `u_L2_H`, `u_Linf_V`, `u_L2_V`, `lambda_L2`,
+    /// `energy_Linf`, `energy_L2`).
+    #[serde(default)]
+    norms: Vec<String>,
+    /// Record the energy history of a run.
+    #[serde(default)]
+    energy_history: bool,
+    /// Record the contact node's displacement and multiplier of a run.
+    #[serde(default)]
+    contact_history: bool,
+    /// Positions `x` whose displacement history a run records (with the exact one).
+    #[serde(default)]
+    points: Vec<f64>,
+    /// Times at which a run records the whole field (`u_h`, `∂x u_h` and the exact ones).
+    #[serde(default)]
+    fields_at: Vec<f64>,
+}
+
+fn invalid(path: &Path, field: &str, value: impl fmt::Display, allowed: &str) -> SceneError {
+    SceneError::Invalid {
+        path: path.to_path_buf(),
+        field: field.to_string(),
+        value: value.to_string(),
+        allowed: allowed.to_string(),
+    }
+}
+
+/// `v` finite and > 0.
+fn positive(path: &Path, field: &str, v: f64) -> Result<(), SceneError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(path, field, v, "a finite number > 0"))
+    }
+}
+
+/// What the geometry-specific checks produce: the problem, the default schemes, the norms.
+type Checked<P> = (P, Option<Vec<Scheme>>, BTreeSet<Norm>);
+
+impl SceneFile {
+    /// Checks every field and parses the names: the typed scene, or the first invalid field.
+    fn into_scene(self, path: &Path) -> Result<Scene, SceneError> {
+        positive(path, "material.density", self.material.density)?;
+        positive(path, "horizon", self.horizon)?;
+        positive(path, "discretisation.ratio", self.discretisation.ratio)?;
         if let Some(o) = &self.obstacle {
             if !(o.gap.is_finite() && o.gap >= 0.0) {
-                return Err(Self::invalid(
-                    path,
-                    "obstacle.gap",
-                    o.gap,
-                    "a finite number >= 0",
-                ));
+                return Err(invalid(path, "obstacle.gap", o.gap, "a finite number >= 0"));
             }
         }
-        self.validate_contact(path)?;
+        let contact = self.contact_treatment(path)?;
         if let Some(b) = &self.body_force {
             if !b.density.is_finite() {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "body_force.density",
                     b.density,
@@ -341,39 +355,85 @@ impl Scene {
                 ));
             }
         }
-        let length = match &self.geometry {
+        let (problem, schemes, norms) = match &self.geometry {
             Geometry::Bar1d { length } => {
-                positive("geometry.length", *length)?;
-                let c = self.material.wave_speed.ok_or_else(|| {
-                    Self::invalid(
-                        path,
-                        "material.wave_speed",
-                        "missing",
-                        "a finite number > 0 for a bar1d",
-                    )
-                })?;
-                positive("material.wave_speed", c)?;
-                for (field, v) in [
-                    ("material.lame_lambda", self.material.lame_lambda),
-                    ("material.lame_mu", self.material.lame_mu),
-                ] {
-                    if let Some(v) = v {
-                        return Err(Self::invalid(
-                            path,
-                            field,
-                            v,
-                            "absent for a bar1d (use wave_speed)",
-                        ));
-                    }
-                }
-                *length
+                let (bar, schemes, norms) = self.bar1d(path, *length, contact)?;
+                (Problem::Bar(bar), schemes, norms)
             }
-            Geometry::Box { .. } => return self.validate_box(path),
+            Geometry::Box { lengths } => {
+                let (elastic_box, schemes, norms) = self.elastic_box(path, lengths, contact)?;
+                (Problem::Box(elastic_box), schemes, norms)
+            }
         };
+        let DiscretisationFile {
+            levels,
+            ratio,
+            reference_level,
+            sensitivity,
+            ..
+        } = self.discretisation;
+        let ObservablesFile {
+            energy_history,
+            contact_history,
+            points,
+            fields_at,
+            ..
+        } = self.observables;
+        Ok(Scene {
+            name: self.name,
+            description: self.description,
+            problem,
+            discretisation: Discretisation {
+                levels,
+                ratio,
+                schemes,
+                reference_level,
+                sensitivity,
+            },
+            observables: SceneObservables {
+                norms,
+                energy_history,
+                contact_history,
+                points,
+                fields_at,
+            },
+        })
+    }
+
+    /// A bar1d scene's checks and its problem.
+    fn bar1d(
+        &self,
+        path: &Path,
+        length: f64,
+        contact: ContactTreatment,
+    ) -> Result<Checked<Problem1d>, SceneError> {
+        positive(path, "geometry.length", length)?;
+        let wave_speed = self.material.wave_speed.ok_or_else(|| {
+            invalid(
+                path,
+                "material.wave_speed",
+                "missing",
+                "a finite number > 0 for a bar1d",
+            )
+        })?;
+        positive(path, "material.wave_speed", wave_speed)?;
+        for (field, v) in [
+            ("material.lame_lambda", self.material.lame_lambda),
+            ("material.lame_mu", self.material.lame_mu),
+        ] {
+            if let Some(v) = v {
+                return Err(invalid(
+                    path,
+                    field,
+                    v,
+                    "absent for a bar1d (use wave_speed)",
+                ));
+            }
+        }
         self.validate_levels_and_times(path)?;
         if let Some(p) = &self.initial.perturbation {
             if !(p.amplitude.is_finite() && p.amplitude > 0.0 && p.amplitude <= length) {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "initial.perturbation.amplitude",
                     p.amplitude,
@@ -382,7 +442,7 @@ impl Scene {
             }
         }
         if let Some(level) = self.discretisation.reference_level {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "discretisation.reference_level",
                 level,
@@ -390,27 +450,17 @@ impl Scene {
             ));
         }
         if self.discretisation.sensitivity.is_some() {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "discretisation.sensitivity",
                 "given",
                 "absent for a bar1d (`signorini sensitivity` takes --members and --amplitude)",
             ));
         }
-        for name in self.discretisation.schemes.iter().flatten() {
-            name.parse::<Scheme>().map_err(|e| {
-                Self::invalid(
-                    path,
-                    "discretisation.schemes",
-                    name,
-                    crate::engine::schemes::SCHEME_NAMES,
-                )
-                .with_detail(e.to_string())
-            })?;
-        }
+        let schemes = self.schemes(path)?;
         for &x in &self.observables.points {
             if !(x.is_finite() && (0.0..=length).contains(&x)) {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "observables.points",
                     x,
@@ -418,9 +468,10 @@ impl Scene {
                 ));
             }
         }
+        let mut norms = BTreeSet::new();
         for n in &self.observables.norms {
             let norm: Norm = n.parse().map_err(|_| {
-                Self::invalid(
+                invalid(
                     path,
                     "observables.norms",
                     n,
@@ -428,32 +479,67 @@ impl Scene {
                 )
             })?;
             if norm == Norm::MultiplierL2 && self.obstacle.is_none() {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "observables.norms",
                     n,
                     "norms the scene defines (lambda_L2 needs an obstacle)",
                 ));
             }
+            norms.insert(norm);
         }
-        self.exact_solution(path).map(|_| ())
+        let exact = self.exact_solution(path, length, wave_speed)?;
+        let problem = Problem1d {
+            length,
+            density: self.material.density,
+            wave_speed,
+            far_end: self.boundary.far_end,
+            obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
+            body_force: self.body_force.as_ref().map(|b| b.density),
+            exact,
+            initial: self.initial,
+            horizon: self.horizon,
+            contact,
+        };
+        Ok((problem, schemes, norms))
+    }
+
+    /// The scheme names of `discretisation.schemes` parsed (`None` when the scene names none).
+    fn schemes(&self, path: &Path) -> Result<Option<Vec<Scheme>>, SceneError> {
+        let Some(names) = &self.discretisation.schemes else {
+            return Ok(None);
+        };
+        names
+            .iter()
+            .map(|name| {
+                name.parse::<Scheme>().map_err(|e| {
+                    invalid(path, "discretisation.schemes", name, SCHEME_NAMES)
+                        .with_detail(e.to_string())
+                })
+            })
+            .collect::<Result<_, _>>()
+            .map(Some)
     }
 
     /// Levels increasing from 1 (element counts, along the axis for a box), field times in
-    /// `[0, T]`.
-    fn validate_levels_and_times(&self, path: &Path) -> Result<(), SceneError> {
+    /// `[0, T]`; returns the finest level.
+    fn validate_levels_and_times(&self, path: &Path) -> Result<usize, SceneError> {
         let levels = &self.discretisation.levels;
-        if levels.is_empty() || levels[0] == 0 || levels.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(Self::invalid(
-                path,
-                "discretisation.levels",
-                format!("{levels:?}"),
-                "increasing element counts >= 1",
-            ));
-        }
+        let increasing = levels.windows(2).all(|w| w[0] < w[1]);
+        let finest = match (levels.first(), levels.last()) {
+            (Some(&coarsest), Some(&finest)) if coarsest > 0 && increasing => finest,
+            _ => {
+                return Err(invalid(
+                    path,
+                    "discretisation.levels",
+                    format!("{levels:?}"),
+                    "increasing element counts >= 1",
+                ))
+            }
+        };
         for &t in &self.observables.fields_at {
             if !(t.is_finite() && (0.0..=self.horizon).contains(&t)) {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "observables.fields_at",
                     t,
@@ -461,53 +547,50 @@ impl Scene {
                 ));
             }
         }
-        Ok(())
+        Ok(finest)
     }
 
-    /// A known treatment with valid parameters, other than the multiplier only with an
-    /// obstacle, and Nitsche only for a bar1d.
-    fn validate_contact(&self, path: &Path) -> Result<(), SceneError> {
+    /// The contact treatment (the multiplier when the scene names none): a known treatment
+    /// with valid parameters, other than the multiplier only with an obstacle, and Nitsche only
+    /// for a bar1d.
+    fn contact_treatment(&self, path: &Path) -> Result<ContactTreatment, SceneError> {
         let Some(name) = &self.contact else {
-            return Ok(());
+            return Ok(ContactTreatment::Multiplier);
         };
         let treatment: ContactTreatment = name.parse().map_err(|e: ParameterError| {
-            Self::invalid(path, "contact", name, TREATMENT_NAMES).with_detail(e.to_string())
+            invalid(path, "contact", name, TREATMENT_NAMES).with_detail(e.to_string())
         })?;
         if treatment != ContactTreatment::Multiplier && self.obstacle.is_none() {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "contact",
                 name,
                 "multiplier for a scene without obstacle",
             ));
         }
-        if self.is_box() && matches!(treatment, ContactTreatment::Nitsche { .. }) {
-            return Err(Self::invalid(
+        if matches!(self.geometry, Geometry::Box { .. })
+            && matches!(treatment, ContactTreatment::Nitsche { .. })
+        {
+            return Err(invalid(
                 path,
                 "contact",
                 name,
                 "multiplier or penalty(gamma0=G) for a box (Nitsche is 1D only)",
             ));
         }
-        Ok(())
+        Ok(treatment)
     }
 
-    /// The scene's contact treatment (the multiplier when the scene names none).
-    pub fn contact_treatment(&self) -> ContactTreatment {
-        self.contact
-            .as_deref()
-            .map_or(ContactTreatment::Multiplier, |n| {
-                n.parse().expect("validated when the scene was parsed")
-            })
-    }
-
-    fn validate_box(&self, path: &Path) -> Result<(), SceneError> {
-        let Geometry::Box { lengths } = &self.geometry else {
-            unreachable!("called for boxes")
-        };
+    /// A box scene's checks and its problem.
+    fn elastic_box(
+        &self,
+        path: &Path,
+        lengths: &[f64],
+        contact: ContactTreatment,
+    ) -> Result<Checked<BoxProblem>, SceneError> {
         if !(2..=3).contains(&lengths.len()) || lengths.iter().any(|l| !(l.is_finite() && *l > 0.0))
         {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "geometry.lengths",
                 format!("{lengths:?}"),
@@ -515,26 +598,32 @@ impl Scene {
             ));
         }
         if let Some(c) = self.material.wave_speed {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "material.wave_speed",
                 c,
                 "absent for a box (use lame_lambda, lame_mu)",
             ));
         }
-        let elasticity = self.elasticity().ok_or_else(|| {
-            Self::invalid(
+        let (Some(lame_lambda), Some(lame_mu)) = (self.material.lame_lambda, self.material.lame_mu)
+        else {
+            return Err(invalid(
                 path,
                 "material.lame_lambda, material.lame_mu",
                 "missing",
                 "both given for a box",
-            )
-        })?;
-        elasticity.validate(lengths.len()).map_err(|e| {
-            Self::invalid(path, &format!("material.{}", e.name), e.value, e.allowed)
-        })?;
+            ));
+        };
+        let elasticity = Elasticity {
+            density: self.material.density,
+            lame_lambda,
+            lame_mu,
+        };
+        elasticity
+            .validate(lengths.len())
+            .map_err(|e| invalid(path, &format!("material.{}", e.name), e.value, e.allowed))?;
         if self.boundary.far_end != EndCondition::Clamped {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "boundary.far_end",
                 "free",
@@ -542,7 +631,7 @@ impl Scene {
             ));
         }
         if self.reference != Reference::None {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "reference",
                 "exact",
@@ -550,7 +639,7 @@ impl Scene {
             ));
         }
         if !self.observables.norms.is_empty() {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "observables.norms",
                 format!("{:?}", self.observables.norms),
@@ -558,7 +647,7 @@ impl Scene {
             ));
         }
         if !self.observables.points.is_empty() {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "observables.points",
                 format!("{:?}", self.observables.points),
@@ -566,44 +655,36 @@ impl Scene {
             ));
         }
         if self.body_force.is_some() {
-            return Err(Self::invalid(
+            return Err(invalid(path, "body_force", "given", "absent for a box"));
+        }
+        let constant = |field: &str, profile: Profile| match profile {
+            Profile::Constant(c) if c.is_finite() => Ok(c),
+            _ => Err(invalid(
                 path,
-                "body_force",
-                "given",
-                "absent for a box",
-            ));
-        }
-        for (field, profile) in [
-            ("initial.displacement", self.initial.displacement),
-            ("initial.velocity", self.initial.velocity),
-        ] {
-            if !matches!(profile, Profile::Constant(c) if c.is_finite()) {
-                return Err(Self::invalid(
-                    path,
-                    field,
-                    format!("{profile:?}"),
-                    "{\"constant\": value} along the bar's axis for a box",
-                ));
-            }
-        }
+                field,
+                format!("{profile:?}"),
+                "{\"constant\": value} along the bar's axis for a box",
+            )),
+        };
+        let initial_displacement = constant("initial.displacement", self.initial.displacement)?;
+        let initial_velocity = constant("initial.velocity", self.initial.velocity)?;
         if self.initial.perturbation.is_some() {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "initial.perturbation",
                 "given",
                 "absent for a box",
             ));
         }
-        self.validate_levels_and_times(path)?;
+        let finest = self.validate_levels_and_times(path)?;
         if let Some(level) = self.discretisation.reference_level {
-            let finest = *self.discretisation.levels.last().expect("levels validated");
             let nested = self
                 .discretisation
                 .levels
                 .windows(2)
                 .all(|w| w[1] % w[0] == 0);
             if !nested || level % (2 * finest) != 0 {
-                return Err(Self::invalid(
+                return Err(invalid(
                     path,
                     "discretisation.reference_level",
                     level,
@@ -614,7 +695,7 @@ impl Scene {
         }
         if let Some(ensemble) = &self.discretisation.sensitivity {
             ensemble.validate().map_err(|e| {
-                Self::invalid(
+                invalid(
                     path,
                     &format!("discretisation.sensitivity.{}", e.name),
                     e.value,
@@ -622,65 +703,43 @@ impl Scene {
                 )
             })?;
         }
-        Ok(())
-    }
-
-    fn elasticity(&self) -> Option<Elasticity> {
-        Some(Elasticity {
-            density: self.material.density,
-            lame_lambda: self.material.lame_lambda?,
-            lame_mu: self.material.lame_mu?,
-        })
-    }
-
-    /// Whether the scene is a 2D/3D box (run by [`crate::harness::elastic`]).
-    pub fn is_box(&self) -> bool {
-        matches!(self.geometry, Geometry::Box { .. })
-    }
-
-    /// The box problem of a box scene, `None` for a bar.
-    pub fn box_problem(&self) -> Option<BoxProblem> {
-        let Geometry::Box { lengths } = &self.geometry else {
-            return None;
-        };
-        let constant = |p: Profile| match p {
-            Profile::Constant(c) => c,
-            _ => 0.0,
-        };
-        Some(BoxProblem {
-            lengths: lengths.clone(),
-            elasticity: self.elasticity()?,
+        let schemes = self.schemes(path)?;
+        let problem = BoxProblem {
+            lengths: lengths.to_vec(),
+            elasticity,
             obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
-            initial_displacement: constant(self.initial.displacement),
-            initial_velocity: constant(self.initial.velocity),
+            initial_displacement,
+            initial_velocity,
             horizon: self.horizon,
-            contact: self.contact_treatment(),
+            contact,
             velocity_perturbation: None,
-        })
+        };
+        Ok((problem, schemes, BTreeSet::new()))
     }
 
-    /// The reference solution, checked against the scene's parameters: a closed form is valid
-    /// only for the problem it solves.
-    fn exact_solution(&self, path: &Path) -> Result<Arc<dyn ExactSolution>, SceneError> {
+    /// The reference solution of a bar of `length` and `wave_speed`, checked against the
+    /// scene's parameters: a closed form is valid only for the problem it solves.
+    fn exact_solution(
+        &self,
+        path: &Path,
+        length: f64,
+        wave_speed: f64,
+    ) -> Result<Arc<dyn ExactSolution>, SceneError> {
         let Reference::Exact(name) = &self.reference else {
-            return Err(Self::invalid(
+            return Err(invalid(
                 path,
                 "reference",
                 "none",
                 "{\"exact\": name} for a bar1d",
             ));
         };
-        let Geometry::Bar1d { length } = self.geometry else {
-            return Err(Self::invalid(path, "reference", name, "\"none\" for a box"));
-        };
-        let wave_speed = self.material.wave_speed.unwrap_or(f64::NAN);
         let unit = length == 1.0 && self.material.density == 1.0 && wave_speed == 1.0;
         let clamped = self.boundary.far_end == EndCondition::Clamped;
         let requirement = |ok: bool, needs: &str| {
             if ok {
                 Ok(())
             } else {
-                Err(Self::invalid(path, "reference.exact", name, needs))
+                Err(invalid(path, "reference.exact", name, needs))
             }
         };
         match name.as_str() {
@@ -723,7 +782,7 @@ impl Scene {
                 let bar = BouncingBar::new(length, gravity.unwrap_or(1.0), height.unwrap_or(1.0))
                     .and_then(|b| b.with_horizon(self.horizon))
                     .map_err(|e| {
-                        Self::invalid(path, "reference.exact", name, "").with_detail(e.to_string())
+                        invalid(path, "reference.exact", name, "").with_detail(e.to_string())
                     })?;
                 Ok(Arc::new(bar))
             }
@@ -734,92 +793,7 @@ impl Scene {
                 )?;
                 Ok(Arc::new(AtRest))
             }
-            _ => Err(Self::invalid(
-                path,
-                "reference.exact",
-                name,
-                EXACT_SOLUTIONS,
-            )),
+            _ => Err(invalid(path, "reference.exact", name, EXACT_SOLUTIONS)),
         }
     }
-
-    /// The problem the 1D engine runs (a bar1d scene; see [`Scene::box_problem`] for boxes).
-    pub fn problem(&self) -> Problem1d {
-        let Geometry::Bar1d { length } = self.geometry else {
-            panic!("Scene::problem is for bar1d scenes; check Scene::is_box first")
-        };
-        Problem1d {
-            length,
-            density: self.material.density,
-            wave_speed: self
-                .material
-                .wave_speed
-                .expect("validated when the scene was parsed"),
-            far_end: self.boundary.far_end,
-            obstacle_gap: self.obstacle.as_ref().map(|o| o.gap),
-            body_force: self.body_force.as_ref().map(|b| b.density),
-            exact: self
-                .exact_solution(Path::new(&self.name))
-                .expect("validated when the scene was parsed"),
-            initial: self.initial,
-            horizon: self.horizon,
-            contact: self.contact_treatment(),
-        }
-    }
-
-    /// The norms the scene asks for.
-    pub fn norms(&self) -> BTreeSet<Norm> {
-        self.observables
-            .norms
-            .iter()
-            .map(|n| n.parse().expect("validated when the scene was parsed"))
-            .collect()
-    }
-
-    /// The observables of one run.
-    pub fn observables(&self) -> Observables {
-        Observables {
-            norms: self.norms(),
-            contact_history: self.observables.contact_history && self.obstacle.is_some(),
-            energy_history: self.observables.energy_history,
-            points: self.observables.points.clone(),
-            fields_at: self.observables.fields_at.clone(),
-            energy_balance: false,
-            fields_dir: None,
-        }
-    }
-
-    /// The schemes a study runs when none is given on the command line.
-    pub fn default_schemes(&self) -> Vec<Scheme> {
-        match &self.discretisation.schemes {
-            Some(names) => names
-                .iter()
-                .map(|n| n.parse().expect("validated when the scene was parsed"))
-                .collect(),
-            None => Scheme::paper_schemes().to_vec(),
-        }
-    }
-
-    /// The study parameters.
-    pub fn study_config(&self) -> StudyConfig {
-        StudyConfig {
-            levels: self.discretisation.levels.clone(),
-            ratio: self.discretisation.ratio,
-            horizon: self.horizon,
-        }
-    }
-}
-
-/// The scene files (`*.json`) of a directory, sorted by name; unreadable entries are skipped.
-pub fn scene_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map(|entries| {
-            entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "json"))
-                .collect()
-        })
-        .unwrap_or_default();
-    files.sort();
-    files
 }

@@ -5,6 +5,7 @@
 //! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
@@ -21,6 +22,7 @@ use crate::harness::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+use crate::studies::benchmark::dirichlet;
 
 /// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
 pub const TREATMENTS: [&str; 5] = [
@@ -53,10 +55,10 @@ pub struct ExtendedStudy {
 
 impl ExtendedStudy {
     /// The study with the round-off sensitivity of all its cases measured
-    /// ([`extended_sensitivity`]).
-    pub fn with_sensitivity(self) -> Result<Self, Error> {
+    /// ([`extended_sensitivity`]); `root` is the repository root.
+    pub fn with_sensitivity(self, root: &Path) -> Result<Self, Error> {
         let cases: Vec<Case> = self.study.cases.iter().map(|c| c.case).collect();
-        let sensitivity = extended_sensitivity(&self.contact, &cases)?;
+        let sensitivity = extended_sensitivity(root, &self.contact, &cases)?;
         Ok(Self {
             sensitivity: Some(sensitivity),
             ..self
@@ -75,17 +77,18 @@ pub fn extended_cases() -> Vec<Case> {
     Case::matrix(&SCHEMES, &MassVariant::ALL)
 }
 
-/// The Signorini–Dirichlet benchmark on the horizon of [`extended_config`] with the contact
-/// treatment named `contact` (one of [`TREATMENTS`]).
-pub fn extended_problem(contact: &str) -> Result<Problem1d, Error> {
-    let mut problem = Problem1d::signorini_dirichlet(extended_config().horizon);
+/// The Signorini–Dirichlet benchmark (its scene under the repository root `root`) on the
+/// horizon of [`extended_config`] with the contact treatment named `contact` (one of
+/// [`TREATMENTS`]).
+pub fn extended_problem(root: &Path, contact: &str) -> Result<Problem1d, Error> {
+    let mut problem = dirichlet(root, extended_config().horizon)?;
     problem.contact = ContactTreatment::from_str(contact)?;
     Ok(problem)
 }
 
 /// Runs one study per treatment of [`TREATMENTS`] on the Signorini–Dirichlet benchmark with
-/// [`extended_config`] and [`extended_cases`], all seven norms.
-pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
+/// [`extended_config`] and [`extended_cases`], all seven norms; `root` is the repository root.
+pub fn extended_studies(root: &Path) -> Result<Vec<ExtendedStudy>, Error> {
     let config = extended_config();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let cases = extended_cases();
@@ -94,7 +97,7 @@ pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
         .map(|name| {
             Ok(ExtendedStudy {
                 contact: name.to_string(),
-                study: run_study(&extended_problem(name)?, &cases, &norms, &config)?,
+                study: run_study(&extended_problem(root, name)?, &cases, &norms, &config)?,
                 sensitivity: None,
             })
         })
@@ -103,10 +106,15 @@ pub fn extended_studies() -> Result<Vec<ExtendedStudy>, Error> {
 
 /// The round-off sensitivity (`crate::harness::sensitivity`, default ensemble) of `cases` under the
 /// treatment `contact`, on the extended studies' levels with all seven norms: what `make report`
-/// classifies the rows by and what the gate holds the chaotic ones to.
-pub fn extended_sensitivity(contact: &str, cases: &[Case]) -> Result<Sensitivity, Error> {
+/// classifies the rows by and what the gate holds the chaotic ones to. `root` is the repository
+/// root.
+pub fn extended_sensitivity(
+    root: &Path,
+    contact: &str,
+    cases: &[Case],
+) -> Result<Sensitivity, Error> {
     run_sensitivity(
-        &extended_problem(contact)?,
+        &extended_problem(root, contact)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &extended_config(),

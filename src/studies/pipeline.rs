@@ -6,6 +6,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::engine::problem::Problem;
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
@@ -15,9 +16,9 @@ use crate::harness::paper::PaperTables;
 use crate::harness::report::{
     convergence_tables, disagreement_section, disagreements, oscillation_word, paper_tables,
 };
-use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
+use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
 
@@ -28,10 +29,11 @@ pub const GOLDEN_TABLES: &str = "golden/rates-1d-dirichlet.json";
 /// the horizon: three periods.
 pub const LONGER_HORIZON: f64 = 9.0;
 
-/// The Tables 1–2 study with the default levels, ratio and horizon.
-pub fn tables_study() -> Result<Study, Error> {
+/// The Tables 1–2 study with the default levels, ratio and horizon. `root` is the repository
+/// root (the benchmark is its scene file).
+pub fn tables_study(root: &Path) -> Result<Study, Error> {
     let config = StudyConfig::paper_default();
-    let problem = Problem1d::signorini_dirichlet(config.horizon);
+    let problem = dirichlet(root, config.horizon)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     run_study(&problem, &Case::paper_matrix(), &norms, &config)
 }
@@ -55,9 +57,10 @@ struct RatesFile<'a> {
 }
 
 /// Runs the study, writes `tables.md` and `rates.json` into `out_dir`, and returns the study.
-pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
-    let study = tables_study()?;
-    let sensitivity = write_sensitivity(&study, out_dir)?;
+/// `root` is the repository root.
+pub fn write_report(root: &Path, out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
+    let study = tables_study(root)?;
+    let sensitivity = write_sensitivity(root, &study, out_dir)?;
     let paper = PaperTables::load();
     let mut list = disagreements(&study, &paper, Some(&sensitivity));
 
@@ -72,7 +75,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
     let mut config = study.config.clone();
     config.horizon = LONGER_HORIZON;
     let longer = run_study(
-        &Problem1d::signorini_dirichlet(LONGER_HORIZON),
+        &dirichlet(root, LONGER_HORIZON)?,
         &cases,
         &list.iter().map(|d| d.norm).collect(),
         &config,
@@ -136,7 +139,7 @@ pub fn write_report(out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>>
     };
     write_atomic(&out_dir.join("tables.md"), md.as_bytes())?;
     write_work_precision(&study, out_dir)?;
-    write_histories(out_dir, &HISTORY_LEVELS)?;
+    write_histories(root, out_dir, &HISTORY_LEVELS)?;
     write_atomic(
         &out_dir.join("rates.json"),
         serde_json::to_string_pretty(&rates)?.as_bytes(),
@@ -150,21 +153,22 @@ const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 /// The round-off sensitivity of the cases of `study` (same problem, levels and norms) with the
 /// default ensemble; writes `sensitivity.md` and `sensitivity.json` into `out_dir`.
 fn write_sensitivity(
+    root: &Path,
     study: &Study,
     out_dir: &Path,
 ) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    let s = tables_sensitivity(&study_cases(study))?;
+    let s = tables_sensitivity(root, &study_cases(study))?;
     write_sensitivity_files(&s, out_dir)?;
     Ok(s)
 }
 
 /// The round-off sensitivity of `cases` on the Tables 1–2 study (its problem, levels and all
 /// seven norms) with the default ensemble: what `make report` reports and what the gate holds
-/// the chaotic cases to.
-pub fn tables_sensitivity(cases: &[Case]) -> Result<Sensitivity, Error> {
+/// the chaotic cases to. `root` is the repository root.
+pub fn tables_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Error> {
     let config = StudyConfig::paper_default();
     run_sensitivity(
-        &Problem1d::signorini_dirichlet(config.horizon),
+        &dirichlet(root, config.horizon)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &config,
@@ -192,10 +196,10 @@ pub fn write_sensitivity_files(
 pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
 
 /// The extended studies ([`extended_studies`]), each with its round-off sensitivity measured.
-pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> {
-    extended_studies()?
+pub fn extended_studies_with_sensitivity(root: &Path) -> Result<Vec<ExtendedStudy>, Error> {
+    extended_studies(root)?
         .into_iter()
-        .map(ExtendedStudy::with_sensitivity)
+        .map(|s| s.with_sensitivity(root))
         .collect()
 }
 
@@ -203,9 +207,10 @@ pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> 
 /// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
 /// `out_dir`, and returns the studies.
 pub fn write_extended_report(
+    root: &Path,
     out_dir: &Path,
 ) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
-    let studies = extended_studies_with_sensitivity()?;
+    let studies = extended_studies_with_sensitivity(root)?;
     let (md, file) = render(&studies);
     write_atomic(&out_dir.join("extended.md"), md.as_bytes())?;
     write_atomic(
@@ -235,11 +240,16 @@ pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
 pub const HISTORY_LEVELS: [usize; 3] = [10, 20, 40];
 
 /// For every scheme of the tables, runs both masses at `levels` with the contact and energy
-/// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
-pub fn write_histories(out_dir: &Path, levels: &[usize]) -> Result<(), Box<dyn std::error::Error>> {
+/// histories and writes them to `data/histories/<scheme>.json` (the figures' input). `root` is
+/// the repository root.
+pub fn write_histories(
+    root: &Path,
+    out_dir: &Path,
+    levels: &[usize],
+) -> Result<(), Box<dyn std::error::Error>> {
     use rayon::prelude::*;
     let config = StudyConfig::paper_default();
-    let problem = Problem1d::signorini_dirichlet(config.horizon);
+    let problem = dirichlet(root, config.horizon)?;
     let histories: Vec<crate::studies::figures::from_reports::SchemeHistories> =
         crate::engine::schemes::Scheme::paper_schemes()
             .par_iter()
@@ -348,15 +358,15 @@ pub const GRAVITY_SCENE: &str = "scenes/bar1d-gravity.json";
 /// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson) with both masses,
 /// its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let cases = Case::matrix(
         &scene.default_schemes(),
         &crate::engine::fem::MassVariant::PAPER,
     );
     Ok(run_study(
-        &scene.problem(),
+        &problem,
         &cases,
-        &scene.norms(),
+        &scene.observables.norms,
         &scene.study_config(),
     )?)
 }
@@ -371,11 +381,11 @@ pub fn gravity_sensitivity(
     root: &Path,
     cases: &[Case],
 ) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     Ok(run_sensitivity(
-        &scene.problem(),
+        &problem,
         cases,
-        &scene.norms(),
+        &scene.observables.norms,
         &scene.study_config(),
         EnsembleConfig::default(),
     )?)
@@ -392,8 +402,8 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
     let studies = [
         (
             GOLDEN_TABLES,
-            tables_study()?,
-            Some(tables_sensitivity(&Case::paper_matrix())?),
+            tables_study(root)?,
+            Some(tables_sensitivity(root, &Case::paper_matrix())?),
         ),
         {
             let study = gravity_study(root)?;
@@ -410,7 +420,7 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::e
     let path = root.join(GOLDEN_EXTENDED);
     let previous = read_extended_golden(&path).ok();
     let extended =
-        ExtendedGolden::from_studies(&extended_studies_with_sensitivity()?, previous.as_ref());
+        ExtendedGolden::from_studies(&extended_studies_with_sensitivity(root)?, previous.as_ref());
     write_atomic(&path, serde_json::to_string_pretty(&extended)?.as_bytes())?;
     for t in extended.treatments {
         written.push((format!("{GOLDEN_EXTENDED} [{}]", t.contact), t.golden));
@@ -436,7 +446,7 @@ pub fn write_gravity_report(
     root: &Path,
     out_dir: &Path,
 ) -> Result<Study, Box<dyn std::error::Error>> {
-    let scene = crate::harness::scene::Scene::load(&root.join(GRAVITY_SCENE))?;
+    let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let study = gravity_study(root)?;
     let mut md = format!(
         "# The gravity benchmark (1D paper §4)\n\n{}. Levels NX = {:?}, Δx/Δt = {}, T = {}; \
@@ -474,7 +484,7 @@ pub fn write_gravity_report(
             mass: case.case.mass,
             observables: scene.observables(),
         };
-        let r = crate::harness::run::run(&scene.problem(), &config)?.completed()?;
+        let r = crate::harness::run::run(&problem, &config)?.completed()?;
         let mass = case.case.mass.name();
         if let Some(p) = &r.point_history {
             let mut text = String::from("time");
@@ -530,8 +540,12 @@ pub const EXPERIMENT_RANGES: [(usize, usize); 5] =
     [(10, 640), (20, 640), (40, 640), (10, 320), (160, 640)];
 
 /// How the rates of Tables 1–2 move with the horizon and with the level range: writes
-/// `defaults-experiment.md` into `out_dir` and returns the markdown.
-pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
+/// `defaults-experiment.md` into `out_dir` and returns the markdown. `root` is the repository
+/// root.
+pub fn write_defaults_experiment(
+    root: &Path,
+    out_dir: &Path,
+) -> Result<String, Box<dyn std::error::Error>> {
     let base = StudyConfig::paper_default();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let studies: Vec<Study> = EXPERIMENT_HORIZONS
@@ -541,12 +555,7 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
                 horizon: t,
                 ..base.clone()
             };
-            run_study(
-                &Problem1d::signorini_dirichlet(t),
-                &Case::paper_matrix(),
-                &norms,
-                &config,
-            )
+            run_study(&dirichlet(root, t)?, &Case::paper_matrix(), &norms, &config)
         })
         .collect::<Result<_, _>>()?;
     let reference = &studies[0];
@@ -644,12 +653,13 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
 }
 
 /// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
-/// `stability.json` into `out_dir`.
+/// `stability.json` into `out_dir`. `root` is the repository root.
 pub fn write_stability(
+    root: &Path,
     out_dir: &Path,
     ci: bool,
 ) -> Result<Vec<crate::studies::stability::StabilityRecord>, Box<dyn std::error::Error>> {
-    let hard = crate::studies::stability::hard_cases(ci);
+    let hard = crate::studies::stability::hard_cases(root, ci)?;
     let records = crate::studies::stability::run_suite(&hard, &Case::paper_matrix())?;
     let md = crate::studies::stability::render(&hard, &records);
     write_atomic(&out_dir.join("stability.md"), md.as_bytes())?;
@@ -697,9 +707,9 @@ fn elastic_gate(
     with_ensemble: bool,
 ) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
     let scene = crate::harness::scene::Scene::load(&root.join(ELASTIC_2D_SCENE))?;
-    let problem = scene
-        .box_problem()
-        .ok_or("the 2D scene is not a box scene")?;
+    let Problem::Box(problem) = scene.problem() else {
+        return Err("the 2D scene is not a box scene".into());
+    };
     let mut config = ElasticStudyConfig::from_scene(&scene, Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
     if let Some(cases) = cases {
         config.cases = cases.to_vec();

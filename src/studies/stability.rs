@@ -18,6 +18,7 @@
 //! verdict is `stable` or `dissipative` for the unperturbed run and every member, and the run
 //! is not round-off chaotic.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
@@ -29,6 +30,7 @@ use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::harness::study::{run_largest_first, Case};
+use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
 
 /// The round-off ensemble of every stability run: 4 members with relative noise 1e-13. Fewer
 /// than the refinement study's 16: at one mesh the ensemble only has to witness whether the
@@ -53,9 +55,14 @@ pub struct HardCase {
     pub ratio: f64,
 }
 
-/// The hard cases; `ci` selects the fast subset guarded by the test suite.
-pub fn hard_cases(ci: bool) -> Vec<HardCase> {
-    let dirichlet = Problem1d::signorini_dirichlet;
+/// The hard cases, on the Signorini–Dirichlet benchmark (its scene under the repository root
+/// `root`); `ci` selects the fast subset guarded by the test suite.
+pub fn hard_cases(root: &Path, ci: bool) -> Result<Vec<HardCase>, Error> {
+    let (_, declared) = bar_scene(root, DIRICHLET_SCENE)?;
+    let dirichlet = |horizon: f64| Problem1d {
+        horizon,
+        ..declared.clone()
+    };
     let mut cases = vec![HardCase {
         name: "long-horizon",
         description: "100 periods (T = 300) of the Dirichlet benchmark",
@@ -64,7 +71,7 @@ pub fn hard_cases(ci: bool) -> Vec<HardCase> {
         ratio: 10.0,
     }];
     if ci {
-        return cases;
+        return Ok(cases);
     }
     for (name, ratio) in [
         ("ratio-0.5", 0.5),
@@ -133,7 +140,7 @@ pub fn hard_cases(ci: bool) -> Vec<HardCase> {
         nx: 80,
         ratio: 10.0,
     });
-    cases
+    Ok(cases)
 }
 
 /// The verdict on one run.

@@ -3,6 +3,7 @@
 //! figure.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 
 use signorini::fem::MassVariant;
 use signorini::figures::convergence::convergence_figures;
@@ -17,7 +18,13 @@ use signorini::sensitivity::{
     CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
 use signorini::stability::{hard_cases, judge};
+use signorini::studies::benchmark;
 use signorini::study::{run_study, Case, Study, StudyConfig};
+
+/// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
+fn dirichlet(horizon: f64) -> Problem1d {
+    benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
+}
 
 /// Data polylines: plotters draws each line series as one `<polyline>` with a stroke width of
 /// at least 2 and more than two points (legend swatches have exactly two).
@@ -39,7 +46,7 @@ fn data_lines(svg: &str) -> usize {
 }
 
 fn histories(scheme: Scheme, levels: &[usize]) -> SchemeHistories {
-    let problem = Problem1d::signorini_dirichlet(3.0);
+    let problem = dirichlet(3.0);
     let mut runs = Vec::new();
     for mass in MassVariant::PAPER {
         for &nx in levels {
@@ -92,13 +99,7 @@ fn small_study() -> Study {
         })
         .to_vec();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
-    run_study(
-        &Problem1d::signorini_dirichlet(3.0),
-        &cases,
-        &norms,
-        &config,
-    )
-    .unwrap()
+    run_study(&dirichlet(3.0), &cases, &norms, &config).unwrap()
 }
 
 /// A sensitivity study of `study`'s cases, by hand: every case reproducible (its members
@@ -347,7 +348,7 @@ fn write_figures_reads_the_sensitivity_study_and_refuses_a_malformed_one() {
 
 #[test]
 fn stability_figures_leave_out_diverged_runs_and_say_so() {
-    let hard = hard_cases(true);
+    let hard = hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), true).unwrap();
     let records: Vec<_> = [
         ("crank-nicolson", MassVariant::Standard),
         ("backward-euler", MassVariant::Standard),

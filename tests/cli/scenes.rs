@@ -3,10 +3,12 @@
 
 use std::path::Path;
 
-use signorini::fem::MassVariant;
+use signorini::contact::ContactTreatment;
+use signorini::fem::{EndCondition, MassVariant};
 use signorini::norms::Norm;
+use signorini::problem::{InitialData, Problem};
 use signorini::run::{run, Problem1d, RunConfig};
-use signorini::scene::{scene_files, Scene};
+use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::Scheme;
 use signorini::study::StudyConfig;
 
@@ -17,6 +19,14 @@ fn scene(name: &str) -> Scene {
             .join(name),
     )
     .unwrap()
+}
+
+/// The problem of a bar1d scene.
+fn bar(scene: &Scene) -> Problem1d {
+    match scene.problem() {
+        Problem::Bar(p) => p,
+        Problem::Box(_) => panic!("{} is a box scene", scene.name),
+    }
 }
 
 #[test]
@@ -30,29 +40,41 @@ fn every_committed_scene_is_valid() {
 
 #[test]
 fn the_dirichlet_scene_is_the_tables_problem() {
+    // The studies read the benchmark from this file (`studies::benchmark::dirichlet`): it is
+    // the 1D paper's §5 problem with the tables' levels, ratio, horizon and norms.
     let s = scene("bar1d-dirichlet.json");
-    let from_scene = s.problem();
-    let programmatic = Problem1d::signorini_dirichlet(3.0);
-    assert_eq!(from_scene.length, programmatic.length);
-    assert_eq!(from_scene.density, programmatic.density);
-    assert_eq!(from_scene.wave_speed, programmatic.wave_speed);
-    assert_eq!(from_scene.far_end, programmatic.far_end);
-    assert_eq!(from_scene.obstacle_gap, programmatic.obstacle_gap);
-    assert_eq!(from_scene.body_force, programmatic.body_force);
-    assert_eq!(from_scene.initial, programmatic.initial);
-    assert_eq!(from_scene.horizon, programmatic.horizon);
-    assert_eq!(from_scene.exact.name(), programmatic.exact.name());
+    let p = bar(&s);
+    assert_eq!(
+        (p.length, p.density, p.wave_speed),
+        (1.0, 1.0, 1.0),
+        "L, ρ, c"
+    );
+    assert_eq!(p.far_end, EndCondition::Clamped);
+    assert_eq!(p.obstacle_gap, Some(0.0));
+    assert_eq!(p.body_force, None);
+    assert_eq!(p.initial, InitialData::default());
+    assert_eq!(p.horizon, 3.0);
+    assert_eq!(p.exact.name(), "signorini-dirichlet");
+    assert_eq!(p.contact, ContactTreatment::Multiplier);
     assert_eq!(s.study_config(), StudyConfig::paper_default());
-    assert_eq!(s.norms(), Norm::ALL.into_iter().collect());
+    assert_eq!(s.observables.norms, Norm::ALL.into_iter().collect());
+
+    // What the studies run: the same problem, to the horizon they ask for.
+    let studied =
+        signorini::studies::benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), 9.0)
+            .unwrap();
+    assert_eq!(studied.horizon, 9.0);
+    assert_eq!(studied.initial, p.initial);
+    assert_eq!(studied.exact.name(), p.exact.name());
 }
 
 #[test]
 fn a_scene_without_obstacle_never_solves_contact() {
     let s = scene("bar1d-free.json");
-    assert!(s.problem().obstacle_gap.is_none());
+    assert!(bar(&s).obstacle_gap.is_none());
     assert!(!s.observables().contact_history);
     let r = run(
-        &s.problem(),
+        &bar(&s),
         &RunConfig {
             nx: 20,
             ratio: 1.0,
@@ -69,7 +91,7 @@ fn a_scene_without_obstacle_never_solves_contact() {
     // The same bar with an obstacle does solve contact problems: the counter counts.
     let d = scene("bar1d-dirichlet.json");
     let r = run(
-        &d.problem(),
+        &bar(&d),
         &RunConfig {
             nx: 20,
             ratio: 10.0,
@@ -85,14 +107,14 @@ fn a_scene_without_obstacle_never_solves_contact() {
 #[test]
 fn a_scene_without_body_force_assembles_no_load() {
     let s = scene("bar1d-dirichlet.json");
-    let (_, model) = s.problem().model(10, MassVariant::Standard).unwrap();
+    let (_, model) = bar(&s).model(10, MassVariant::Standard).unwrap();
     assert!(model.load().is_none());
     assert!(model.contact().is_some());
 
     // Declaring a body force is what makes the model carry a load vector.
     let loaded = Problem1d {
         body_force: Some(-0.1),
-        ..s.problem()
+        ..bar(&s)
     };
     let (_, model) = loaded.model(10, MassVariant::Standard).unwrap();
     let total: f64 = model.load().unwrap().iter().sum();
@@ -118,7 +140,7 @@ fn a_scene_asking_only_for_energy_evaluates_no_space_norm() {
     observables.contact_history = false;
     observables.energy_history = false;
     let r = run(
-        &s.problem(),
+        &bar(&s),
         &RunConfig {
             nx: 20,
             ratio: 10.0,
@@ -133,4 +155,41 @@ fn a_scene_asking_only_for_energy_evaluates_no_space_norm() {
         r.errors.keys().copied().collect::<Vec<_>>(),
         vec![Norm::EnergyLinf]
     );
+}
+
+#[test]
+fn a_box_scene_is_a_box_problem_and_its_scheme_names_are_checked_at_load() {
+    let s = scene("bar2d.json");
+    let Problem::Box(p) = s.problem() else {
+        panic!("bar2d.json is a box scene")
+    };
+    assert_eq!(p.lengths, vec![0.1, 1.0]);
+    assert_eq!((p.initial_displacement, p.initial_velocity), (0.0, -0.5));
+    assert_eq!(p.obstacle_gap, Some(0.2));
+    assert_eq!(
+        s.default_schemes(),
+        vec![Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER]
+    );
+    assert!(s.observables.norms.is_empty());
+
+    // Scheme names are parsed when the file is read, in a box scene as in a bar1d one.
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
+            .unwrap();
+    let edited = text.replace("\"backward-euler\"", "\"backward-eulr\"");
+    assert_ne!(edited, text);
+    match Scene::parse(&edited, Path::new("misspelt.json")) {
+        Err(e @ SceneError::Invalid { .. }) => {
+            let message = e.to_string();
+            for needle in [
+                "misspelt.json",
+                "discretisation.schemes",
+                "backward-eulr",
+                "crank-nicolson",
+            ] {
+                assert!(message.contains(needle), "{needle:?} not in {message}");
+            }
+        }
+        other => panic!("expected an invalid scheme name, got {other:?}"),
+    }
 }

@@ -11,7 +11,7 @@ use signorini::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConf
 use signorini::error::Error;
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::problem::Perturbation;
+use signorini::problem::{Perturbation, Problem};
 use signorini::run::{Observables, RunConfig};
 use signorini::scene::{Scene, SceneError};
 use signorini::schemes::Scheme;
@@ -26,9 +26,12 @@ fn root() -> &'static Path {
 /// The 2D scene's bar to shortly after its first impact (it falls 0.2 at speed 0.5: t = 0.4).
 fn problem() -> BoxProblem {
     let scene = Scene::load(&root().join("scenes/bar2d.json")).unwrap();
+    let Problem::Box(declared) = scene.problem() else {
+        panic!("scenes/bar2d.json is not a box scene")
+    };
     BoxProblem {
         horizon: 0.8,
-        ..scene.box_problem().unwrap()
+        ..declared
     }
 }
 

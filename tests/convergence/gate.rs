@@ -1,6 +1,7 @@
 //! The regression gate: the Tables 1–2 study and the extended table against `golden/`, the
 //! rendered tables as an insta snapshot, and proof that the gate fails when a scheme changes.
 
+use crate::benchmarks;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -13,7 +14,6 @@ use signorini::pipeline::{
     tables_study, GOLDEN_EXTENDED, GOLDEN_GRAVITY, GOLDEN_TABLES,
 };
 use signorini::report::paper_tables;
-use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{Sensitivity, SensitivityClass};
 use signorini::study::{run_study, Case, Study, StudyConfig};
@@ -46,9 +46,9 @@ fn assert_gate<E: std::fmt::Debug>(
 #[test]
 fn tables_study_matches_the_golden_rates_and_errors() {
     let golden = golden();
-    let study = tables_study().unwrap();
+    let study = tables_study(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap();
     let chaotic = assert_gate(GOLDEN_TABLES, &golden, &study, |cases| {
-        tables_sensitivity(cases)
+        tables_sensitivity(Path::new(env!("CARGO_MANIFEST_DIR")), cases)
     });
 
     let mut reproducible = study.clone();
@@ -69,7 +69,7 @@ fn tables_study_matches_the_golden_rates_and_errors() {
 #[test]
 fn the_gate_catches_a_small_change_in_a_reproducible_case() {
     let golden = golden();
-    let study = tables_study().unwrap();
+    let study = tables_study(Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap();
     let id = "crank-nicolson/redistributed";
     let g = golden.cases.iter().find(|g| g.case == id).unwrap();
     assert_eq!(g.class, Some(SensitivityClass::Reproducible));
@@ -141,7 +141,7 @@ fn gate_reports_a_deliberately_wrong_scheme() {
         .collect();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let mut study = run_study(
-        &Problem1d::signorini_dirichlet(config.horizon),
+        &benchmarks::dirichlet(config.horizon),
         &cases,
         &norms,
         &config,
@@ -174,13 +174,7 @@ fn small_study() -> Study {
         mass: signorini::fem::MassVariant::Redistributed,
     }];
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
-    run_study(
-        &Problem1d::signorini_dirichlet(3.0),
-        &cases,
-        &norms,
-        &config,
-    )
-    .unwrap()
+    run_study(&benchmarks::dirichlet(3.0), &cases, &norms, &config).unwrap()
 }
 
 #[test]
@@ -243,12 +237,12 @@ fn extended_studies_match_the_golden_rates_and_errors() {
         .map(|t| t.contact.as_str())
         .collect();
     assert_eq!(names, TREATMENTS);
-    for s in extended_studies().unwrap() {
+    for s in extended_studies(root).unwrap() {
         let g = golden
             .treatment(&s.contact)
             .unwrap_or_else(|| panic!("{} is not in {GOLDEN_EXTENDED}", s.contact));
         assert_gate(&s.contact, g, &s.study, |cases| {
-            extended_sensitivity(&s.contact, cases)
+            extended_sensitivity(root, &s.contact, cases)
         });
     }
 }

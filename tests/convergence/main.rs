@@ -3,6 +3,8 @@
 //! gated, and the stability suite's CI subset. The equivalent-rewrite test of the gate is not
 //! here: it sets a process-wide hook, so it has a binary of its own (`tests/roundoff_gate.rs`).
 
+#[path = "../common/benchmarks.rs"]
+mod benchmarks;
 #[path = "../common/mod.rs"]
 mod common;
 

@@ -1,6 +1,7 @@
 //! The round-off sensitivity study: a chaotic case and a reproducible one are told apart by the
 //! module's fixed rules, the study is bit-reproducible, and bad ensemble input is refused.
 
+use crate::benchmarks;
 use crate::common;
 
 use std::collections::BTreeSet;
@@ -8,7 +9,6 @@ use std::collections::BTreeSet;
 use common::expect_error;
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
 use signorini::study::{Case, StudyConfig};
@@ -33,7 +33,7 @@ fn small_sensitivity() -> signorini::sensitivity::Sensitivity {
     let cases = crank_nicolson_cases();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
     run_sensitivity(
-        &Problem1d::signorini_dirichlet(3.0),
+        &benchmarks::dirichlet(3.0),
         &cases,
         &norms,
         &config,
@@ -164,7 +164,7 @@ fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
     let s = small_sensitivity();
     let cases = crank_nicolson_cases();
     let study = signorini::study::run_study(
-        &Problem1d::signorini_dirichlet(3.0),
+        &benchmarks::dirichlet(3.0),
         &cases,
         &[Norm::DisplacementLinfH, Norm::EnergyL2].into(),
         &s.config,

@@ -3,12 +3,13 @@
 //! consistent and the lumped mass, and the redistributed mass, which removes element 0's mass,
 //! is first order.
 
+use crate::benchmarks;
 use std::collections::BTreeSet;
 
 use approx::assert_abs_diff_eq;
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::run::{self, Observables, Problem1d, RunConfig};
+use signorini::run::{self, Observables, RunConfig};
 use signorini::schemes::Scheme;
 
 /// The least-squares slope of `log e` against `log h`.
@@ -23,7 +24,7 @@ fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
 }
 
 fn smooth_errors(mass: MassVariant) -> (Vec<f64>, Vec<f64>) {
-    let problem = Problem1d::free_vibration(4.0);
+    let problem = benchmarks::free_vibration(4.0);
     let mut hs = Vec::new();
     let mut errors = Vec::new();
     for nx in [10, 20, 40, 80] {
@@ -101,7 +102,7 @@ fn redistributed_mass_still_converges_on_a_smooth_solution() {
 #[test]
 fn central_differences_converge_at_second_order_on_a_smooth_solution() {
     for mass in [MassVariant::Standard, MassVariant::Lumped] {
-        let problem = Problem1d::free_vibration(4.0);
+        let problem = benchmarks::free_vibration(4.0);
         let (mut hs, mut errors) = (Vec::new(), Vec::new());
         for nx in [20, 40, 80, 160] {
             let config = RunConfig {

@@ -2,8 +2,10 @@
 //! schemes meant to be stable stay stable over 100 periods, and the detector does flag the
 //! known energy growth of Crank–Nicolson with the standard mass.
 
+use crate::benchmarks;
+use std::path::Path;
+
 use signorini::fem::MassVariant;
-use signorini::run::Problem1d;
 use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::SensitivityClass;
@@ -11,7 +13,8 @@ use signorini::stability::{hard_cases, judge, HardCase, Verdict, STABILITY_ENSEM
 use signorini::study::Case;
 
 fn long_horizon() -> HardCase {
-    hard_cases(true)
+    hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), true)
+        .unwrap()
         .into_iter()
         .find(|h| h.name == "long-horizon")
         .expect("the CI subset has the long horizon")
@@ -95,7 +98,7 @@ fn the_detector_flags_crank_nicolson_with_the_standard_mass() {
     let hard = HardCase {
         name: "ten-periods",
         description: "",
-        problem: Problem1d::signorini_dirichlet(30.0),
+        problem: benchmarks::dirichlet(30.0),
         nx: 80,
         ratio: 10.0,
     };

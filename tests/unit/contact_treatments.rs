@@ -3,6 +3,7 @@
 //! convergence of the penalty to the multiplier, Nitsche's rates on the Dirichlet benchmark,
 //! the penalty on the 2D box, and bad input from the command line.
 
+use crate::benchmarks;
 use crate::common;
 
 use std::collections::BTreeSet;
@@ -339,7 +340,7 @@ fn penalty_crank_nicolson_balance_holds_with_many_contact_nodes_in_2d() {
 fn dirichlet_run(nx: usize, scheme: Scheme, mass: MassVariant, contact: &str) -> Vec<f64> {
     let problem = Problem1d {
         contact: treatment(contact),
-        ..Problem1d::signorini_dirichlet(3.0)
+        ..benchmarks::dirichlet(3.0)
     };
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::MultiplierL2].into();
     let config = RunConfig {

@@ -11,11 +11,12 @@
 //! residual is also read, not derived, by the stability suite (`max_balance_residual`,
 //! `tests/convergence/stability.rs`) and by `run --check-balance` (`tests/cli/commands.rs`).
 
+use crate::benchmarks;
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::model::Model;
-use signorini::run::{time_grid, Problem1d};
+use signorini::run::time_grid;
 use signorini::schemes::energy_balance::{self, BalanceMonitor, Level, StepBalance, ThreeLevels};
 use signorini::schemes::{initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator};
 
@@ -499,7 +500,7 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
 #[test]
 fn explicit_contact_balance_and_complementarity_every_step() {
     for mass in MASSLESS_CONTACT {
-        let problem = Problem1d::signorini_dirichlet(3.0);
+        let problem = benchmarks::dirichlet(3.0);
         let (bar, model) = problem.model(40, mass).unwrap();
         let exact = SignoriniDirichlet;
         let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);

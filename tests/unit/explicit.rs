@@ -2,6 +2,7 @@
 //! the singular masses, on the bar and the 2D box. Its energy conservation and contact balance
 //! are in `energy_balance.rs`, its second-order convergence in `tests/convergence/smooth.rs`.
 
+use crate::benchmarks;
 use crate::common;
 
 use nalgebra::DMatrix;
@@ -11,7 +12,7 @@ use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
-use signorini::run::{Observables, Problem1d, RunConfig};
+use signorini::run::{Observables, RunConfig};
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
 use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme};
 
@@ -75,7 +76,7 @@ fn lanczos_bound_matches_the_dense_eigenvalue() {
 /// bound; just below, the run proceeds.
 #[test]
 fn cfl_violation_is_a_typed_error_naming_the_bound() {
-    let problem = Problem1d::signorini_dirichlet(3.0);
+    let problem = benchmarks::dirichlet(3.0);
     for mass in MASSLESS_CONTACT {
         let (bar, model) = problem.model(40, mass).unwrap();
         let (s, m) = massed_blocks(&model);

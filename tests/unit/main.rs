@@ -4,6 +4,8 @@
 //! treatments, explicit Newmark, the initial-data perturbation, and the discrete energy
 //! balances (all of them in `energy_balance.rs`).
 
+#[path = "../common/benchmarks.rs"]
+mod benchmarks;
 #[path = "../common/mod.rs"]
 mod common;
 

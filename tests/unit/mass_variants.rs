@@ -2,10 +2,11 @@
 //! singular-dynamic. Total mass, moments, massless contact dofs, the 1D entries derived in
 //! `fem::mass`, the cases that are refused, names, and the consistent start.
 
+use crate::benchmarks;
+
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, BoxMesh, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::model::Model;
-use signorini::run::Problem1d;
 use signorini::schemes::{initial_state, residual_force};
 
 const DENSITY: f64 = 2.5;
@@ -145,7 +146,7 @@ fn consistent_start_equilibrates_the_massless_contact_node() {
 
 #[test]
 fn too_thin_meshes_are_refused_naming_mass() {
-    let problem = Problem1d::signorini_dirichlet(3.0);
+    let problem = benchmarks::dirichlet(3.0);
     for (mass, thinnest_ok) in [
         (MassVariant::RedistributedConserving, 2),
         (MassVariant::SingularDynamic, 3),

@@ -2,14 +2,23 @@
 //! differ from the unperturbed ones, the same seed reproduces them bit for bit, another seed
 //! does not, the contact dof is left alone, and the stability suite's `rough-data` case is rough.
 
+use crate::benchmarks;
 use std::path::Path;
 
 use signorini::fem::MassVariant;
-use signorini::problem::{InitialData, Perturbation};
+use signorini::problem::{InitialData, Perturbation, Problem};
 use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use signorini::scene::Scene;
 use signorini::schemes::Scheme;
 use signorini::stability::hard_cases;
+
+/// The problem of a bar1d scene.
+fn bar(scene: &Scene) -> Problem1d {
+    match scene.problem() {
+        Problem::Bar(p) => p,
+        Problem::Box(_) => panic!("{} is a box scene", scene.name),
+    }
+}
 
 fn dirichlet_with(perturbation: Option<Perturbation>) -> Problem1d {
     Problem1d {
@@ -17,7 +26,7 @@ fn dirichlet_with(perturbation: Option<Perturbation>) -> Problem1d {
             perturbation,
             ..InitialData::default()
         },
-        ..Problem1d::signorini_dirichlet(3.0)
+        ..benchmarks::dirichlet(3.0)
     }
 }
 
@@ -98,21 +107,21 @@ fn a_scene_perturbation_reaches_the_run() {
     );
     assert_ne!(perturbed, text, "the scene's initial data changed shape");
     let scene = Scene::parse(&perturbed, &path).unwrap();
-    let from_scene = run_at_40(&scene.problem());
+    let from_scene = run_at_40(&bar(&scene));
     let programmatic = run_at_40(&dirichlet_with(Some(Perturbation {
         amplitude: 1e-3,
         seed: 7,
     })));
     assert_eq!(from_scene.errors, programmatic.errors);
-    let plain = run_at_40(&Scene::load(&path).unwrap().problem());
+    let plain = run_at_40(&bar(&Scene::load(&path).unwrap()));
     assert_ne!(from_scene.errors, plain.errors);
 }
 
 #[test]
 fn the_rough_data_hard_case_is_rough() {
-    let cases = hard_cases(false);
+    let cases = hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), false).unwrap();
     let rough = cases.iter().find(|c| c.name == "rough-data").unwrap();
-    let plain = Problem1d::signorini_dirichlet(rough.problem.horizon);
+    let plain = benchmarks::dirichlet(rough.problem.horizon);
     let (bar, model) = rough
         .problem
         .model(rough.nx, MassVariant::Standard)

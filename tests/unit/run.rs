@@ -2,6 +2,7 @@
 //! naming the parameter (never a panic), the scheme and mass names of Tables 1–2 parse, and the
 //! time grid lands on the horizon.
 
+use crate::benchmarks;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use approx::assert_abs_diff_eq;
@@ -21,7 +22,7 @@ fn only(norms: &[Norm]) -> Observables {
 /// Only the requested norms are evaluated (the Tables 1–2 columns are independent).
 #[test]
 fn space_norms_are_evaluated_only_when_requested() {
-    let problem = Problem1d::signorini_dirichlet(1.5);
+    let problem = benchmarks::dirichlet(1.5);
     let config = |norms: &[Norm]| RunConfig {
         nx: 10,
         ratio: 10.0,
@@ -41,7 +42,7 @@ fn space_norms_are_evaluated_only_when_requested() {
     assert_eq!(with_u.space_norm_evaluations, with_u.steps + 1);
     assert!(with_u.errors[&Norm::DisplacementLinfH] > 0.0);
 
-    let free = Problem1d::free_vibration(1.0);
+    let free = benchmarks::free_vibration(1.0);
     let result = run::run(&free, &config(&[Norm::MultiplierL2]));
     match result {
         Err(Error::Parameter(p)) => assert_eq!(p.name, "norm"),
@@ -60,7 +61,7 @@ fn run_rejects_bad_input_naming_the_parameter() {
         mass: MassVariant::Standard,
         observables: only(&[Norm::DisplacementLinfH]),
     };
-    let problem = Problem1d::signorini_dirichlet(0.5);
+    let problem = benchmarks::dirichlet(0.5);
     assert!(run::run(&problem, &base).is_ok());
 
     let with = |f: &dyn Fn(&mut RunConfig)| {

@@ -1,9 +1,10 @@
 //! A run that goes non-finite ends with a status, the way a solver reports one: it stops at the
 //! first non-finite value and reports no number.
 
+use crate::benchmarks;
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::run::{run, Observables, Problem1d, RunConfig, RunStatus};
+use signorini::run::{run, Observables, RunConfig, RunStatus};
 use signorini::schemes::Scheme;
 
 /// Newmark with β = 0.01, γ = ½ is only conditionally stable (`ω Δt < 1/√(γ/2 − β)`): at
@@ -30,7 +31,7 @@ fn unstable() -> RunConfig {
 
 #[test]
 fn a_diverging_run_stops_with_its_status_and_no_norms() {
-    let r = run(&Problem1d::free_vibration(2.0), &unstable()).expect("the setup is valid");
+    let r = run(&benchmarks::free_vibration(2.0), &unstable()).expect("the setup is valid");
     let RunStatus::Diverged { step, time, .. } = r.status.clone() else {
         panic!("expected a diverged run, got {:?}", r.status);
     };
@@ -58,7 +59,7 @@ fn a_completed_run_says_so() {
         ratio: 1.0,
         ..unstable()
     };
-    let r = run(&Problem1d::free_vibration(0.5), &config).unwrap();
+    let r = run(&benchmarks::free_vibration(0.5), &config).unwrap();
     assert_eq!(r.status, RunStatus::Completed);
     assert_eq!(r.errors.len(), 6);
     assert!(r.completed().is_ok());

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use super::InitialData;
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
-use crate::engine::exact::{ClampedFreeMode, ExactSolution, SignoriniDirichlet};
+use crate::engine::exact::ExactSolution;
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
 use crate::engine::model::Model;
 
@@ -34,40 +34,6 @@ pub struct Problem1d {
     pub horizon: f64,
     /// How the contact condition is discretised (default: the multiplier).
     pub contact: ContactTreatment,
-}
-
-impl Problem1d {
-    /// The Signorini–Dirichlet benchmark of §5 to the horizon `T`.
-    pub fn signorini_dirichlet(horizon: f64) -> Self {
-        Self {
-            length: 1.0,
-            density: 1.0,
-            wave_speed: 1.0,
-            far_end: EndCondition::Clamped,
-            obstacle_gap: Some(0.0),
-            body_force: None,
-            exact: Arc::new(SignoriniDirichlet),
-            initial: InitialData::default(),
-            horizon,
-            contact: ContactTreatment::Multiplier,
-        }
-    }
-
-    /// The clamped bar without obstacle vibrating in its first mode (smooth solution).
-    pub fn free_vibration(horizon: f64) -> Self {
-        Self {
-            length: 1.0,
-            density: 1.0,
-            wave_speed: 1.0,
-            far_end: EndCondition::Clamped,
-            obstacle_gap: None,
-            body_force: None,
-            exact: Arc::new(ClampedFreeMode),
-            initial: InitialData::default(),
-            horizon,
-            contact: ContactTreatment::Multiplier,
-        }
-    }
 }
 
 impl Problem1d {

@@ -72,6 +72,14 @@ pub struct Discretisation {
 }
 
 impl Problem {
+    /// The horizon `T`.
+    pub fn horizon(&self) -> f64 {
+        match self {
+            Problem::Bar(p) => p.horizon,
+            Problem::Box(p) => p.horizon,
+        }
+    }
+
     /// The discretisation with `level` elements along the axis and the mass matrix `mass`:
     /// the mesh, the model with the problem's contact treatment, the initial dofs.
     pub fn discretise(
