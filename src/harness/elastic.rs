@@ -25,7 +25,7 @@ use crate::engine::problem::{Mesh, Problem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::output::write_atomic;
-use crate::harness::run::{descending, drive, Observer, RunConfig, RunStatus, Timings};
+use crate::harness::run::{drive, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -162,18 +162,13 @@ struct VtkSnapshots<'a> {
     mesh: &'a BoxMesh,
     elasticity: &'a Elasticity,
     dir: &'a Path,
-    pending: Vec<f64>,
+    pending: SnapshotTimes,
     files: Vec<PathBuf>,
 }
 
 impl Observer for VtkSnapshots<'_> {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        let t = state.time();
-        while let Some(&wanted) = self.pending.last() {
-            if t + 0.5 * state.dt() < wanted {
-                break;
-            }
-            self.pending.pop();
+        while let Some(wanted) = self.pending.next_due(state) {
             let path = self.dir.join(format!("field-t{wanted}.vtu"));
             write_vtu(self.mesh, self.elasticity, state, &path)?;
             self.files.push(path);
@@ -205,7 +200,7 @@ pub fn run_box_observed(
             .fields_dir
             .as_deref()
             .unwrap_or(Path::new(".")),
-        pending: descending(&config.observables.fields_at),
+        pending: SnapshotTimes::new(&config.observables.fields_at),
         files: Vec::new(),
     };
     let stepped = {

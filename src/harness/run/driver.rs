@@ -149,11 +149,30 @@ pub struct Stepped {
     pub timings: Timings,
 }
 
-/// `times` sorted from the last to the first, so that the next one due is popped.
-pub(crate) fn descending(times: &[f64]) -> Vec<f64> {
-    let mut t = times.to_vec();
-    t.sort_by(|a, b| b.total_cmp(a));
-    t
+/// Requested snapshot times, each due at the step nearest to it.
+#[derive(Debug, Clone, Default)]
+pub struct SnapshotTimes {
+    /// From the last to the first, so that the next one due is popped.
+    pending: Vec<f64>,
+}
+
+impl SnapshotTimes {
+    /// The times `times`, in any order.
+    pub fn new(times: &[f64]) -> Self {
+        let mut pending = times.to_vec();
+        pending.sort_by(|a, b| b.total_cmp(a));
+        Self { pending }
+    }
+
+    /// The next requested time that the state at `t_n` is the nearest step to
+    /// (`t_n + Δt/2 ≥ t`), removed from the pending ones; `None` when none is due.
+    pub fn next_due(&mut self, state: &dyn TimeIntegrator) -> Option<f64> {
+        let wanted = *self.pending.last()?;
+        (state.time() + 0.5 * state.dt() >= wanted).then(|| {
+            self.pending.pop();
+            wanted
+        })
+    }
 }
 
 /// The first non-finite value of the state, as the error that stops the run.

@@ -11,7 +11,7 @@ use crate::engine::schemes::energy_balance::BalanceMonitor;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
-use crate::harness::run::driver::{descending, Observer};
+use crate::harness::run::driver::{Observer, SnapshotTimes};
 
 /// The space norms of the displacement error `u_h(t_n) − u(t_n)` (L² and H¹ in space),
 /// accumulated in time as the `u_*_H` and `u_*_V` norms.
@@ -261,7 +261,7 @@ impl Observer for PointRecorder<'_> {
 pub struct FieldRecorder<'a> {
     bar: &'a Bar1d,
     exact: &'a dyn ExactSolution,
-    pending: Vec<f64>,
+    pending: SnapshotTimes,
     /// The snapshots so far, in time order.
     pub snapshots: Vec<FieldSnapshot>,
 }
@@ -272,7 +272,7 @@ impl<'a> FieldRecorder<'a> {
         Self {
             bar,
             exact,
-            pending: descending(times),
+            pending: SnapshotTimes::new(times),
             snapshots: Vec::new(),
         }
     }
@@ -281,11 +281,7 @@ impl<'a> FieldRecorder<'a> {
 impl Observer for FieldRecorder<'_> {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
         let t = state.time();
-        while let Some(&wanted) = self.pending.last() {
-            if t + 0.5 * state.dt() < wanted {
-                break;
-            }
-            self.pending.pop();
+        while let Some(wanted) = self.pending.next_due(state) {
             let u = state.displacement();
             let bar = self.bar;
             let nodes: Vec<f64> = (0..=bar.nx()).map(|i| bar.node(i)).collect();

@@ -10,8 +10,7 @@ use serde::{Deserialize, Serialize};
 mod driver;
 pub mod exact;
 
-pub(crate) use driver::descending;
-pub use driver::{drive, time_grid, Observer, RunStatus, Stepped, Timings};
+pub use driver::{drive, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
 
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
