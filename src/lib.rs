@@ -15,9 +15,8 @@ pub mod harness;
 pub mod studies;
 
 pub use engine::{contact, exact, fem, linalg, model, problem, schemes};
-pub use harness::{
-    elastic, golden, norms, output, paper, rates, report, run, scene, sensitivity, study,
-};
+pub use harness::artifacts as output;
+pub use harness::{elastic, golden, norms, paper, rates, report, run, scene, sensitivity, study};
 pub use studies::{cost, elastic_study, extended, pipeline, stability};
 
 /// The errors of every layer (`engine::error` and `harness::error`) under their old path.

@@ -25,8 +25,8 @@ use crate::engine::fem::MassVariant;
 use crate::engine::model::Model;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
+use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
-use crate::harness::output::write_atomic;
 use crate::harness::run::{time_grid, Timings};
 
 /// One run of a box problem.

@@ -6,16 +6,17 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::harness::artifacts::write_atomic;
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
-use crate::harness::output::write_atomic;
 use crate::harness::paper::PaperTables;
 use crate::harness::report::{
     convergence_tables, disagreement_section, disagreements, oscillation_word, paper_tables,
 };
 use crate::harness::run::Problem1d;
+use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
@@ -363,6 +364,9 @@ pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
 /// The level whose predictability horizon and separation growth `gravity.md` shows.
 const GRAVITY_SENSITIVITY_SHOWN_LEVEL: usize = 160;
 
+/// The digits after the point of every number in the gravity benchmark's CSV files.
+const GRAVITY_CSV_DIGITS: usize = 10;
+
 /// The round-off sensitivity (default ensemble) of `cases` on the gravity benchmark's study
 /// (its scene's problem, levels, ratio and norms): what `gravity.md` reports and what the gate
 /// holds its chaotic cases to. `root` is the repository root.
@@ -476,31 +480,15 @@ pub fn write_gravity_report(
         let r = crate::harness::run::run(&scene.problem(), &config)?;
         let mass = case.case.mass.name();
         if let Some(p) = &r.point_history {
-            let mut text = String::from("time");
-            for x in &p.x {
-                text.push_str(&format!(",u_h(x={x}),u(x={x})"));
-            }
-            text.push('\n');
-            for k in 0..p.time.len() {
-                text.push_str(&format!("{:.10e}", p.time[k]));
-                for (h, e) in p.displacement.iter().zip(&p.displacement_exact) {
-                    text.push_str(&format!(",{:.10e},{:.10e}", h[k], e[k]));
-                }
-                text.push('\n');
-            }
-            write_atomic(&data.join(format!("points-{mass}.csv")), text.as_bytes())?;
+            write_atomic(
+                &data.join(format!("points-{mass}.csv")),
+                points_csv(p, GRAVITY_CSV_DIGITS).as_bytes(),
+            )?;
         }
         for f in &r.fields {
-            let mut text = String::from("x_mid,strain,strain_exact\n");
-            for k in 0..f.x_mid.len() {
-                text.push_str(&format!(
-                    "{:.10e},{:.10e},{:.10e}\n",
-                    f.x_mid[k], f.strain[k], f.strain_exact[k]
-                ));
-            }
             write_atomic(
-                &data.join(format!("strain-{mass}-t{}.csv", f.requested_time)),
-                text.as_bytes(),
+                &data.join(strain_csv_name(&format!("strain-{mass}"), f.requested_time)),
+                strain_csv(f, GRAVITY_CSV_DIGITS).as_bytes(),
             )?;
         }
         write_atomic(

@@ -323,7 +323,7 @@ pub fn write_figures(
     let dir = reports.join("figures");
     let mut names = Vec::new();
     for (name, svg) in figures {
-        crate::harness::output::write_atomic(&dir.join(&name), svg.as_bytes())?;
+        crate::harness::artifacts::write_atomic(&dir.join(&name), svg.as_bytes())?;
         names.push(name);
     }
     Ok((names, missing))
