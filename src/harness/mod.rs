@@ -16,3 +16,4 @@ pub mod run_files;
 pub mod scene;
 pub mod sensitivity;
 pub mod study;
+pub mod verdicts;

@@ -8,6 +8,7 @@ use crate::harness::paper::PaperTables;
 use crate::harness::rates::RateFit;
 use crate::harness::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, Study};
+use crate::harness::verdicts::oscillation_word;
 
 /// The columns of Table 1 (displacement).
 pub const TABLE1: [Norm; 4] = [
@@ -20,26 +21,6 @@ pub const TABLE1: [Norm; 4] = [
 /// The rate columns of Table 2 (multiplier and energy; the oscillation column sits between
 /// the first and the other two).
 pub const TABLE2: [Norm; 3] = [Norm::MultiplierL2, Norm::EnergyLinf, Norm::EnergyL2];
-
-/// The smallest oscillation indicator that counts as oscillating (the boundary between `No`
-/// and `Small` of [`oscillation_word`]).
-pub const OSCILLATES_FROM: f64 = 5.0;
-
-/// The word for the oscillation indicator `r = TV(λ_h) / TV(λ)` on the finest level:
-/// `No` for `r < 5` (the multiplier varies like the exact one up to an overshoot at each
-/// impact), `Small` for `5 ≤ r < 100`, `Yes` for `100 ≤ r < 2000`, `Big` for `r ≥ 2000`.
-/// The thresholds are decades of the variation ratio, chosen once for every case.
-pub fn oscillation_word(ratio: f64) -> &'static str {
-    if ratio < OSCILLATES_FROM {
-        "No"
-    } else if ratio < 100.0 {
-        "Small"
-    } else if ratio < 2000.0 {
-        "Yes"
-    } else {
-        "Big"
-    }
-}
 
 /// Agreement threshold with the paper's rates (issue: entries off by more than 0.1 are listed).
 pub const PAPER_AGREEMENT: f64 = 0.1;

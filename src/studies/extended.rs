@@ -15,12 +15,12 @@ use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
-use crate::harness::report::{oscillation_word, OSCILLATES_FROM};
 use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+use crate::harness::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 
 /// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
 pub const TREATMENTS: [&str; 5] = [
@@ -309,9 +309,7 @@ pub fn oscillating(rows: &[ExtendedRow]) -> Vec<&ExtendedRow> {
         .flat_map(|scheme| {
             let name = scheme.name();
             rows.iter().filter(move |r| {
-                r.scheme == name
-                    && r.oscillation_indicator
-                        .is_some_and(|i| i >= OSCILLATES_FROM)
+                r.scheme == name && r.oscillation_indicator.is_some_and(oscillates)
             })
         })
         .collect()

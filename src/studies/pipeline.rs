@@ -13,12 +13,13 @@ use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
 use crate::harness::paper::PaperTables;
 use crate::harness::report::{
-    convergence_tables, disagreement_section, disagreements, oscillation_word, paper_tables,
+    convergence_tables, disagreement_section, disagreements, paper_tables,
 };
 use crate::harness::run::Problem1d;
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
+use crate::harness::verdicts::oscillation_word;
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
 
