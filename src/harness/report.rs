@@ -270,15 +270,12 @@ pub fn disagreements(
             let ensemble = chaotic_spread(c, r.norm, sensitivity);
             let ours = ensemble.map_or(fit.rate, |e| e.median);
             if (ours - p).abs() > PAPER_AGREEMENT {
-                let n = r.errors.len().min(3);
-                let h: Vec<f64> = c.levels.iter().map(|l| l.h).collect();
                 out.push(Disagreement {
                     case: c.case.id(),
                     norm: r.norm,
                     ours: fit,
                     last_three: r.fit_last_three.map(|f| f.rate),
-                    first_three: crate::harness::rates::fit_rate(&h[..n], &r.errors[..n])
-                        .map(|f| f.rate),
+                    first_three: r.fit_first_three.map(|f| f.rate),
                     longer_horizon: None,
                     paper: p,
                     ensemble,

@@ -78,9 +78,9 @@ pub fn cost_to_target(case: &CaseStudy, norm: Norm, target: f64) -> Option<CostT
     })
 }
 
-/// The cost-to-target table for `norm`: one block per target, cases ranked by estimated time.
-pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
-    let mut md = String::new();
+/// The cost of reaching each of [`TARGETS`] in `norm` for every case of `study`: target by
+/// target, cases ranked by estimated time (no estimate last).
+pub fn costs_to_targets(study: &Study, norm: Norm) -> Vec<CostToTarget> {
     let mut all = Vec::new();
     for target in TARGETS {
         let mut rows: Vec<CostToTarget> = study
@@ -92,12 +92,22 @@ pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
             let key = |c: &CostToTarget| c.seconds.unwrap_or(f64::INFINITY);
             key(a).total_cmp(&key(b))
         });
+        all.extend(rows);
+    }
+    all
+}
+
+/// The cost-to-target table of `costs` ([`costs_to_targets`] in `norm`): one block per target,
+/// cases in the given order.
+pub fn cost_table(costs: &[CostToTarget], norm: Norm) -> String {
+    let mut md = String::new();
+    for target in TARGETS {
         let _ = writeln!(
             md,
             "\n#### Target {} = {target:.0e}\n\n| rank | case | estimated wall time | |\n|---|---|---|---|",
             norm.key()
         );
-        for (k, r) in rows.iter().enumerate() {
+        for (k, r) in costs.iter().filter(|r| r.target == target).enumerate() {
             let time = r.seconds.map_or(
                 "not reached (error does not fall with cost)".to_string(),
                 |s| format!("{s:.3e} s"),
@@ -105,7 +115,6 @@ pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
             let mark = if r.extrapolated { "extrapolated" } else { "" };
             let _ = writeln!(md, "| {} | {} | {} | {} |", k + 1, r.case, time, mark);
         }
-        all.extend(rows);
     }
-    (md, all)
+    md
 }

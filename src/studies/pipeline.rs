@@ -12,13 +12,14 @@ use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
 use crate::harness::paper::PaperTables;
+use crate::harness::rates::fit_rate;
 use crate::harness::report::{
     convergence_tables, disagreement_section, disagreements, paper_tables,
 };
 use crate::harness::run::Problem1d;
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
-use crate::harness::study::{run_study, Case, Study, StudyConfig};
+use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
 use crate::harness::verdicts::oscillation_word;
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
@@ -295,7 +296,8 @@ struct WorkPrecisionFile<'a> {
 /// norm, and the estimated cost of the target errors in `L∞(0,T;H)`.
 fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let norm = Norm::DisplacementLinfH;
-    let (cost_md, costs) = crate::studies::cost::cost_table(study, norm);
+    let costs = crate::studies::cost::costs_to_targets(study, norm);
+    let cost_md = crate::studies::cost::cost_table(&costs, norm);
     let note = "seconds are the wall time of each run inside the parallel study (2 runs at a \
                 time on 2 cores), setup + stepping + contact + observers";
     let file = WorkPrecisionFile {
@@ -517,9 +519,46 @@ pub const EXPERIMENT_HORIZONS: [f64; 3] = [3.0, 6.0, 9.0];
 pub const EXPERIMENT_RANGES: [(usize, usize); 5] =
     [(10, 640), (20, 640), (40, 640), (10, 320), (160, 640)];
 
-/// How the rates of Tables 1–2 move with the horizon and with the level range: writes
-/// `defaults-experiment.md` into `out_dir` and returns the markdown.
-pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
+/// One case and norm of the experiment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExperimentEntry {
+    /// `scheme/mass`.
+    pub case: String,
+    /// The norm.
+    pub norm: Norm,
+    /// The rate over all levels with each of [`EXPERIMENT_HORIZONS`], then the rate at the
+    /// first horizon over each of [`EXPERIMENT_RANGES`] but the first (`None` when undefined).
+    pub rates: Vec<Option<f64>>,
+}
+
+/// The defaults experiment: the base configuration and every entry with a defined rate at the
+/// first horizon.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DefaultsExperiment {
+    /// The configuration whose horizon and levels are varied.
+    pub base: StudyConfig,
+    /// One entry per case and norm, case by case in the order of the tables.
+    pub entries: Vec<ExperimentEntry>,
+}
+
+/// The least-squares rate of `norm` in `c` over the levels with `lo ≤ NX ≤ hi`.
+fn range_rate(c: &CaseStudy, norm: Norm, (lo, hi): (usize, usize)) -> Option<f64> {
+    let idx: Vec<usize> = c
+        .levels
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| (lo..=hi).contains(&l.nx))
+        .map(|(k, _)| k)
+        .collect();
+    let r = c.norm(norm)?;
+    let h: Vec<f64> = idx.iter().map(|&k| c.levels[k].h).collect();
+    let e: Vec<f64> = idx.iter().map(|&k| r.errors[k]).collect();
+    fit_rate(&h, &e).map(|f| f.rate)
+}
+
+/// Runs the Tables 1–2 study at every horizon of [`EXPERIMENT_HORIZONS`] and refits the first
+/// one's rates over [`EXPERIMENT_RANGES`].
+pub fn defaults_experiment() -> Result<DefaultsExperiment, Error> {
     let base = StudyConfig::paper_default();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let studies: Vec<Study> = EXPERIMENT_HORIZONS
@@ -538,20 +577,38 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
         })
         .collect::<Result<_, _>>()?;
     let reference = &studies[0];
-    let range_rate =
-        |c: &crate::harness::study::CaseStudy, norm: Norm, (lo, hi): (usize, usize)| {
-            let idx: Vec<usize> = c
-                .levels
+    let mut entries = Vec::new();
+    for c in &reference.cases {
+        for &norm in &Norm::ALL {
+            if c.norm(norm).and_then(|r| r.fit).is_none() {
+                continue;
+            }
+            let mut rates: Vec<Option<f64>> = studies
                 .iter()
-                .enumerate()
-                .filter(|(_, l)| (lo..=hi).contains(&l.nx))
-                .map(|(k, _)| k)
+                .map(|s| {
+                    s.case(&c.case)
+                        .and_then(|sc| sc.norm(norm))
+                        .and_then(|r| r.fit)
+                        .map(|f| f.rate)
+                })
                 .collect();
-            let r = c.norm(norm)?;
-            let h: Vec<f64> = idx.iter().map(|&k| c.levels[k].h).collect();
-            let e: Vec<f64> = idx.iter().map(|&k| r.errors[k]).collect();
-            crate::harness::rates::fit_rate(&h, &e).map(|f| f.rate)
-        };
+            for &range in EXPERIMENT_RANGES.iter().skip(1) {
+                rates.push(range_rate(c, norm, range));
+            }
+            entries.push(ExperimentEntry {
+                case: c.case.id(),
+                norm,
+                rates,
+            });
+        }
+    }
+    Ok(DefaultsExperiment { base, entries })
+}
+
+/// `defaults-experiment.md`: per variant the median and largest change of the rates, then
+/// every entry.
+pub fn render_defaults_experiment(experiment: &DefaultsExperiment) -> String {
+    let base = &experiment.base;
     let mut md = String::from("# Choosing the horizon T and the levels\n\n");
     md.push_str(&format!(
         "Tables 1–2 study (14 cases × 7 norms, Δx/Δt = {}) recomputed with T ∈ {:?} over the \
@@ -574,35 +631,21 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
     ));
     let n_variants = EXPERIMENT_HORIZONS.len() - 1 + EXPERIMENT_RANGES.len() - 1;
     let mut deltas: Vec<Vec<f64>> = vec![Vec::new(); n_variants];
-    for c in &reference.cases {
-        for &norm in &Norm::ALL {
-            let Some(base_rate) = c.norm(norm).and_then(|r| r.fit).map(|f| f.rate) else {
-                continue;
-            };
-            let mut row = format!("| {} | {} |", c.case.id(), norm.key());
-            let mut values = Vec::new();
-            for s in &studies {
-                let v = s
-                    .case(&c.case)
-                    .and_then(|sc| sc.norm(norm))
-                    .and_then(|r| r.fit)
-                    .map(|f| f.rate);
-                values.push(v);
-            }
-            for &range in EXPERIMENT_RANGES.iter().skip(1) {
-                values.push(range_rate(c, norm, range));
-            }
-            for (k, v) in values.iter().enumerate() {
-                row.push_str(&v.map_or(" — |".to_string(), |x| format!(" {x:.2} |")));
-                if k > 0 {
-                    if let Some(x) = v {
-                        deltas[k - 1].push((x - base_rate).abs());
-                    }
+    for entry in &experiment.entries {
+        let Some(base_rate) = entry.rates[0] else {
+            continue;
+        };
+        let mut row = format!("| {} | {} |", entry.case, entry.norm.key());
+        for (k, v) in entry.rates.iter().enumerate() {
+            row.push_str(&v.map_or(" — |".to_string(), |x| format!(" {x:.2} |")));
+            if k > 0 {
+                if let Some(x) = v {
+                    deltas[k - 1].push((x - base_rate).abs());
                 }
             }
-            detail.push_str(&row);
-            detail.push('\n');
         }
+        detail.push_str(&row);
+        detail.push('\n');
     }
     let names: Vec<String> = EXPERIMENT_HORIZONS
         .iter()
@@ -627,6 +670,13 @@ pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::
     }
     md.push_str(&header);
     md.push_str(&detail);
+    md
+}
+
+/// How the rates of Tables 1–2 move with the horizon and with the level range: writes
+/// `defaults-experiment.md` into `out_dir` and returns the markdown.
+pub fn write_defaults_experiment(out_dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let md = render_defaults_experiment(&defaults_experiment()?);
     write_atomic(&out_dir.join("defaults-experiment.md"), md.as_bytes())?;
     Ok(md)
 }
