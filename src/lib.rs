@@ -16,14 +16,17 @@ pub mod studies;
 
 pub use engine::{contact, exact, fem, linalg, model, problem, schemes};
 pub use harness::artifacts as output;
-pub use harness::{elastic, golden, norms, paper, rates, run, scene, sensitivity, study};
+pub use harness::{elastic, golden, norms, rates, run, scene, sensitivity, study};
+pub use studies::tables::paper;
 pub use studies::{cost, elastic_study, extended, pipeline, stability};
 
-/// The markdown renderers of a study (`harness::report`) and the oscillation words
-/// (`harness::verdicts`) under their old path.
+/// The markdown renderers of a study (`harness::report`), the oscillation words
+/// (`harness::verdicts`) and the tables beside the paper's (`studies::tables::agreement`) under
+/// their old path.
 pub mod report {
     pub use crate::harness::report::*;
     pub use crate::harness::verdicts::{oscillation_word, OSCILLATES_FROM};
+    pub use crate::studies::tables::agreement::*;
 }
 
 /// The errors of every layer (`engine::error` and `harness::error`) under their old path.

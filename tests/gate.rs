@@ -7,15 +7,15 @@ use std::path::Path;
 use signorini::extended::{extended_sensitivity, extended_studies, TREATMENTS};
 use signorini::golden::{compare, gate, render_drifts, Golden, Tolerances};
 use signorini::norms::Norm;
-use signorini::paper::PaperTables;
 use signorini::pipeline::{
     gravity_sensitivity, gravity_study, read_extended_golden, read_golden, tables_sensitivity,
     tables_study, GOLDEN_EXTENDED, GOLDEN_GRAVITY, GOLDEN_TABLES,
 };
-use signorini::report::paper_tables;
 use signorini::run::Problem1d;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::studies::tables::agreement::paper_tables;
+use signorini::studies::tables::paper::PaperTables;
 use signorini::study::{run_study, Case, Study, StudyConfig};
 
 fn golden() -> Golden {

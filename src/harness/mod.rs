@@ -8,7 +8,6 @@ pub mod error;
 pub mod figures;
 pub mod golden;
 pub mod norms;
-pub mod paper;
 pub mod rates;
 pub mod report;
 pub mod run;

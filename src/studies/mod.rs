@@ -7,3 +7,4 @@ pub mod extended;
 pub mod figures;
 pub mod pipeline;
 pub mod stability;
+pub mod tables;

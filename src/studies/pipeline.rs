@@ -11,11 +11,8 @@ use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
-use crate::harness::paper::PaperTables;
 use crate::harness::rates::fit_rate;
-use crate::harness::report::{
-    convergence_tables, disagreement_section, disagreements, paper_tables,
-};
+use crate::harness::report::convergence_tables;
 use crate::harness::run::Problem1d;
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
@@ -23,6 +20,8 @@ use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
 use crate::harness::verdicts::oscillation_word;
 use crate::studies::elastic_study::{self, run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::studies::extended::{extended_studies, render, ExtendedGolden, ExtendedStudy};
+use crate::studies::tables::agreement::{disagreement_section, disagreements, paper_tables};
+use crate::studies::tables::paper::PaperTables;
 
 /// The golden file of the Tables 1–2 study, relative to the repository root.
 pub const GOLDEN_TABLES: &str = "golden/rates-1d-dirichlet.json";
