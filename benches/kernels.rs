@@ -16,9 +16,9 @@ use std::time::Instant;
 
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::pipeline::{tables_sensitivity, tables_study};
 use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use signorini::schemes::Scheme;
+use signorini::studies::tables::{tables_sensitivity, tables_study};
 use signorini::study::Case;
 
 const NS_PER_DOF_STEP_TARGET: f64 = 25.0;

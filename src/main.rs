@@ -17,19 +17,24 @@ use signorini::elastic::{run_box, BoxProblem, BoxRunConfig};
 use signorini::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
 use signorini::error::{Error as EngineError, ParameterError};
 use signorini::fem::MassVariant;
+use signorini::harness::report::convergence_tables;
 use signorini::harness::run_files::{box_history_csv, history_csv, RUN_JSON};
 use signorini::norms::Norm;
 use signorini::output::write_atomic;
-use signorini::pipeline::{
-    write_defaults_experiment, write_elastic_report, write_extended_report, write_golden,
-    write_gravity_report, write_report, write_sensitivity_files, write_stability,
-};
-use signorini::report::convergence_tables;
 use signorini::run::{run, RunConfig};
 use signorini::scene::{scene_files, Scene, SceneError};
 use signorini::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{run_sensitivity, EnsembleConfig};
+use signorini::studies::elastic_study::files::write_elastic_report;
+use signorini::studies::experiment::write_defaults_experiment;
+use signorini::studies::extended::write_extended_report;
+use signorini::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
+use signorini::studies::golden::write_golden;
+use signorini::studies::gravity::write_gravity_report;
+use signorini::studies::report::write_report;
+use signorini::studies::stability::write_stability;
+use signorini::studies::tables::write_sensitivity_files;
 use signorini::study::{run_study_with_progress, study_size, Case};
 
 /// `println!` that ignores a closed stdout (`signorini list | head` must not panic).
@@ -658,10 +663,9 @@ fn execute(cli: Cli) -> Result<(), Failure> {
             );
         }
         Command::Figures { reports } => {
-            let (names, missing) = signorini::figures::from_reports::write_figures(&reports)
-                .map_err(Failure::runtime)?;
-            let index = signorini::figures::from_reports::reports_index(&names);
-            write_output(&reports.join("README.md"), index.as_bytes())?;
+            let (names, missing) = write_figures(&reports).map_err(Failure::runtime)?;
+            let index = reports_index(&names);
+            write_output(&reports.join(REPORTS_INDEX), index.as_bytes())?;
             out!(
                 "wrote {} figures into {}/figures and {}/README.md",
                 names.len(),

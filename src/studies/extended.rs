@@ -2,9 +2,11 @@
 //! Crank–Nicolson and backward Euler, every mass variant ([`MassVariant::ALL`]) and every contact
 //! treatment of [`TREATMENTS`], one refinement study per treatment. Per row (treatment, scheme,
 //! mass) it reports the seven least-squares rates, the oscillation indicator and an
-//! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2.
+//! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2. Its files:
+//! `extended.md`, `extended.json` ([`ExtendedFile`]) and [`GOLDEN_EXTENDED`].
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
@@ -12,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
+use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
@@ -21,6 +24,15 @@ use crate::harness::sensitivity::{
 };
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
 use crate::harness::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
+
+/// The golden file of the extended table, relative to the repository root.
+pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
+
+/// The table, under a reports directory.
+pub const EXTENDED_MD: &str = "extended.md";
+
+/// [`ExtendedFile`], under a reports directory.
+pub const EXTENDED_JSON: &str = "extended.json";
 
 /// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
 pub const TREATMENTS: [&str; 5] = [
@@ -521,6 +533,27 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
     (md, file)
 }
 
+/// The extended studies ([`extended_studies`]), each with its round-off sensitivity measured.
+pub fn extended_studies_with_sensitivity() -> Result<Vec<ExtendedStudy>, Error> {
+    extended_studies()?
+        .into_iter()
+        .map(ExtendedStudy::with_sensitivity)
+        .collect()
+}
+
+/// Runs the extended studies with their sensitivity
+/// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
+/// `out_dir`, and returns the studies.
+pub fn write_extended_report(
+    out_dir: &Path,
+) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
+    let studies = extended_studies_with_sensitivity()?;
+    let (md, file) = render(&studies);
+    write_atomic(&out_dir.join(EXTENDED_MD), md.as_bytes())?;
+    write_json(&out_dir.join(EXTENDED_JSON), &file)?;
+    Ok(studies)
+}
+
 /// The golden values of one treatment.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -574,6 +607,14 @@ impl ExtendedGolden {
             .find(|t| t.contact == contact)
             .map(|t| &t.golden)
     }
+}
+
+/// Reads the extended table's golden file.
+pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
+    serde_json::from_str(&text)
+        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
 }
 
 #[cfg(test)]

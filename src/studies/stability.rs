@@ -19,6 +19,7 @@
 //! verdict is `stable` or `dissipative` for the unperturbed run and every member, and the run
 //! is not round-off chaotic.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use rayon::prelude::*;
@@ -26,12 +27,20 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::exact::AtRest;
 use crate::engine::problem::{InitialData, Perturbation, Problem1d, Profile};
+use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::harness::study::Case;
 use crate::harness::verdicts::OSCILLATION_YES_FROM;
+
+/// The suite's report, under a reports directory.
+pub const STABILITY_MD: &str = "stability.md";
+
+/// Every record of the suite (`Vec<StabilityRecord>`), under a reports directory; `make
+/// figures` reads it back.
+pub const STABILITY_JSON: &str = "stability.json";
 
 /// The round-off ensemble of every stability run: 4 members with relative noise 1e-13. Fewer
 /// than the refinement study's 16: at one mesh the ensemble only has to witness whether the
@@ -385,6 +394,22 @@ pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecor
     jobs.par_iter()
         .map(|&(h, c)| judge(&hard[h], cases[c]))
         .collect()
+}
+
+/// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
+/// `stability.json` into `out_dir`.
+pub fn write_stability(
+    out_dir: &Path,
+    ci: bool,
+) -> Result<Vec<StabilityRecord>, Box<dyn std::error::Error>> {
+    let hard = hard_cases(ci);
+    let records = run_suite(&hard, &Case::paper_matrix())?;
+    write_atomic(
+        &out_dir.join(STABILITY_MD),
+        render(&hard, &records).as_bytes(),
+    )?;
+    write_json(&out_dir.join(STABILITY_JSON), &records)?;
+    Ok(records)
 }
 
 /// The round-off column of a record: the class, a chaotic run's predictability horizon, and
