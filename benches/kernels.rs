@@ -17,10 +17,10 @@ use std::time::Instant;
 
 use signorini::fem::MassVariant;
 use signorini::norms::Norm;
-use signorini::pipeline::{tables_sensitivity, tables_study};
 use signorini::run::{run, Observables, RunConfig, RunResult};
 use signorini::schemes::Scheme;
 use signorini::studies::benchmark::dirichlet;
+use signorini::studies::tables::{tables_sensitivity, tables_study};
 use signorini::study::Case;
 
 const NS_PER_DOF_STEP_TARGET: f64 = 25.0;

@@ -8,12 +8,12 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use signorini::fem::MassVariant;
-use signorini::golden::{compare, compare_ensemble, render_drifts};
+use signorini::golden::{compare, compare_ensemble, read_golden, render_drifts};
 use signorini::norms::Norm;
-use signorini::pipeline::{read_golden, tables_sensitivity, GOLDEN_TABLES};
 use signorini::run::Problem1d;
 use signorini::schemes::{Scheme, REASSOCIATED_PREDICTOR};
 use signorini::studies::benchmark;
+use signorini::studies::tables::{tables_sensitivity, GOLDEN_TABLES};
 use signorini::study::{run_study, Case, StudyConfig};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.

@@ -36,9 +36,9 @@ use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
+use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
-use crate::harness::output::write_atomic;
 use crate::harness::scene::SceneError;
 
 pub(crate) fn parse_scheme(s: &str) -> Result<Scheme, String> {

@@ -6,10 +6,13 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::{write_output, Failure};
-use crate::studies::pipeline::{
-    write_defaults_experiment, write_extended_report, write_golden, write_gravity_report,
-    write_report, write_stability,
-};
+use crate::studies::experiment::write_defaults_experiment;
+use crate::studies::extended::write_extended_report;
+use crate::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
+use crate::studies::golden::write_golden;
+use crate::studies::gravity::write_gravity_report;
+use crate::studies::report::write_report;
+use crate::studies::stability::write_stability;
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Args)]
@@ -75,10 +78,9 @@ pub struct FiguresArgs {
 /// (`make figures`), and write its README.md index.
 pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
     let FiguresArgs { reports } = args;
-    let (names, missing) =
-        crate::studies::figures::from_reports::write_figures(&reports).map_err(Failure::runtime)?;
-    let index = crate::studies::figures::from_reports::reports_index(&names);
-    write_output(&reports.join("README.md"), index.as_bytes())?;
+    let (names, missing) = write_figures(&reports).map_err(Failure::runtime)?;
+    let index = reports_index(&names);
+    write_output(&reports.join(REPORTS_INDEX), index.as_bytes())?;
     out!(
         "wrote {} figures into {}/figures and {}/README.md",
         names.len(),

@@ -12,7 +12,8 @@ use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::engine::schemes::Scheme;
 use crate::harness::elastic::run_box;
-use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::run::{run, Observables, RunConfig};
+use crate::harness::run_files::{box_history_csv, history_csv, RUN_JSON};
 use crate::harness::scene::Scene;
 
 /// The arguments of `signorini run`.
@@ -129,7 +130,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
     }
     if let Some(dir) = out {
         let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
-        write_output(&dir.join("run.json"), json.as_bytes())?;
+        write_output(&dir.join(RUN_JSON), json.as_bytes())?;
         for (name, text) in history_csv(&result) {
             write_output(&dir.join(&name), text.as_bytes())?;
         }
@@ -145,79 +146,6 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         )));
     }
     Ok(())
-}
-
-/// A CSV table with the given header and columns of equal length.
-fn csv(header: &str, columns: &[&[f64]]) -> String {
-    let mut s = format!("{header}\n");
-    let rows = columns.first().map_or(0, |c| c.len());
-    for k in 0..rows {
-        let row: Vec<String> = columns.iter().map(|c| format!("{:.17e}", c[k])).collect();
-        s.push_str(&row.join(","));
-        s.push('\n');
-    }
-    s
-}
-
-/// The histories of a run as (file name, CSV text).
-fn history_csv(result: &RunResult) -> Vec<(String, String)> {
-    let mut files = Vec::new();
-    if let Some(c) = &result.contact_history {
-        files.push((
-            "contact.csv".to_string(),
-            csv(
-                "time,displacement,displacement_exact",
-                &[&c.time, &c.displacement, &c.displacement_exact],
-            ),
-        ));
-        files.push((
-            "multiplier.csv".to_string(),
-            csv(
-                "time,multiplier,multiplier_exact",
-                &[&c.multiplier_time, &c.multiplier, &c.multiplier_exact],
-            ),
-        ));
-    }
-    if let Some(p) = &result.point_history {
-        let header: Vec<String> = std::iter::once("time".to_string())
-            .chain(
-                p.x.iter()
-                    .flat_map(|x| [format!("u_h(x={x})"), format!("u(x={x})")]),
-            )
-            .collect();
-        let mut columns: Vec<&[f64]> = vec![&p.time];
-        for (h, e) in p.displacement.iter().zip(&p.displacement_exact) {
-            columns.push(h);
-            columns.push(e);
-        }
-        files.push(("points.csv".to_string(), csv(&header.join(","), &columns)));
-    }
-    for f in &result.fields {
-        files.push((
-            format!("field-t{}.csv", f.requested_time),
-            csv(
-                "x,displacement,displacement_exact",
-                &[&f.x, &f.displacement, &f.displacement_exact],
-            ),
-        ));
-        files.push((
-            format!("strain-t{}.csv", f.requested_time),
-            csv(
-                "x_mid,strain,strain_exact",
-                &[&f.x_mid, &f.strain, &f.strain_exact],
-            ),
-        ));
-    }
-    if let Some(e) = &result.energy_history {
-        files.push((
-            "energy.csv".to_string(),
-            csv(
-                "time,energy,energy_exact",
-                &[&e.time, &e.energy, &e.energy_exact],
-            ),
-        ));
-    }
-    files
 }
 
 /// `signorini run` on a 2D/3D box scene: a summary, and with `--out` run.json, energy.csv,
@@ -281,27 +209,10 @@ fn run_box_scene(
     );
     if let Some(dir) = out {
         let json = serde_json::to_string_pretty(&r).map_err(Failure::runtime)?;
-        write_output(&dir.join("run.json"), json.as_bytes())?;
-        let (t, e): (Vec<f64>, Vec<f64>) = r.energy.iter().copied().unzip();
-        write_output(
-            &dir.join("energy.csv"),
-            csv("time,energy", &[&t, &e]).as_bytes(),
-        )?;
-        let c = &r.contact;
-        write_output(
-            &dir.join("contact.csv"),
-            csv(
-                "time,mean_gap,centre_gap,total_force,centre_multiplier",
-                &[
-                    &c.time,
-                    &c.mean_gap,
-                    &c.centre_gap,
-                    &c.total_force,
-                    &c.centre_multiplier,
-                ],
-            )
-            .as_bytes(),
-        )?;
+        write_output(&dir.join(RUN_JSON), json.as_bytes())?;
+        for (name, text) in box_history_csv(&r) {
+            write_output(&dir.join(&name), text.as_bytes())?;
+        }
         for f in &r.vtk_files {
             out!("wrote {}", f.display());
         }

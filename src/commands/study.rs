@@ -17,8 +17,9 @@ use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
 use crate::harness::study::{run_study_with_progress, study_size, Case};
+use crate::studies::elastic_study::files::write_elastic_report;
 use crate::studies::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
-use crate::studies::pipeline::{write_elastic_report, write_sensitivity_files};
+use crate::studies::tables::write_sensitivity_files;
 
 /// The arguments of `signorini study`.
 #[derive(Debug, Args)]

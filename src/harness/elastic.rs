@@ -23,8 +23,8 @@ use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::problem::{Mesh, Problem};
 use crate::engine::schemes::TimeIntegrator;
+use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
-use crate::harness::output::write_atomic;
 use crate::harness::run::{drive, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.

@@ -12,6 +12,7 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
@@ -131,6 +132,14 @@ pub struct Golden {
     pub tolerances: Tolerances,
     /// One entry per case.
     pub cases: Vec<GoldenCase>,
+}
+
+/// Reads a golden file.
+pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
+    serde_json::from_str(&text)
+        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
 }
 
 /// A fitted rate, or NaN when the study could not fit one: no value, as in [`Drift::missing`].

@@ -2,16 +2,17 @@
 //! cases and levels, round-off ensembles, golden files, and the renderers of reports and
 //! figures. It drives the engine and knows nothing of any particular study.
 
+pub mod artifacts;
 pub mod elastic;
 pub mod error;
 pub mod figures;
 pub mod golden;
 pub mod norms;
-pub mod output;
-pub mod paper;
 pub mod rates;
 pub mod report;
 pub mod run;
+pub mod run_files;
 pub mod scene;
 pub mod sensitivity;
 pub mod study;
+pub mod verdicts;

@@ -1,13 +1,30 @@
-//! What accuracy costs: error against wall time per case (work–precision), and the estimated
-//! time to reach a target error from the log–log fit `ln e = a + b ln s` over the levels.
+//! What accuracy costs (`make report`): error against wall time per case (work–precision), and
+//! the estimated time to reach a target error from the log–log fit `ln e = a + b ln s` over the
+//! levels; the files of this section are `work-precision.md` and `work-precision.json`
+//! ([`WorkPrecisionFile`]).
 
 use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
 use crate::harness::study::{CaseStudy, Study};
+
+/// The work–precision table and the cost to reach the targets, under a reports directory.
+pub const WORK_PRECISION_MD: &str = "work-precision.md";
+
+/// [`WorkPrecisionFile`], under a reports directory.
+pub const WORK_PRECISION_JSON: &str = "work-precision.json";
+
+/// The norm of the markdown table and of the cost to reach the targets.
+pub const COST_NORM: Norm = Norm::DisplacementLinfH;
+
+/// What the measured seconds are.
+const TIMING_NOTE: &str = "seconds are the wall time of each run inside the parallel study (2 \
+                           runs at a time on 2 cores), setup + stepping + contact + observers";
 
 /// The targets of the cost table, in `L∞(0,T;H)`.
 pub const TARGETS: [f64; 3] = [1e-2, 3e-3, 1e-3];
@@ -78,9 +95,9 @@ pub fn cost_to_target(case: &CaseStudy, norm: Norm, target: f64) -> Option<CostT
     })
 }
 
-/// The cost-to-target table for `norm`: one block per target, cases ranked by estimated time.
-pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
-    let mut md = String::new();
+/// The cost of reaching each of [`TARGETS`] in `norm` for every case of `study`: target by
+/// target, cases ranked by estimated time (no estimate last).
+pub fn costs_to_targets(study: &Study, norm: Norm) -> Vec<CostToTarget> {
     let mut all = Vec::new();
     for target in TARGETS {
         let mut rows: Vec<CostToTarget> = study
@@ -92,12 +109,22 @@ pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
             let key = |c: &CostToTarget| c.seconds.unwrap_or(f64::INFINITY);
             key(a).total_cmp(&key(b))
         });
+        all.extend(rows);
+    }
+    all
+}
+
+/// The cost-to-target table of `costs` ([`costs_to_targets`] in `norm`): one block per target,
+/// cases in the given order.
+pub fn cost_table(costs: &[CostToTarget], norm: Norm) -> String {
+    let mut md = String::new();
+    for target in TARGETS {
         let _ = writeln!(
             md,
             "\n#### Target {} = {target:.0e}\n\n| rank | case | estimated wall time | |\n|---|---|---|---|",
             norm.key()
         );
-        for (k, r) in rows.iter().enumerate() {
+        for (k, r) in costs.iter().filter(|r| r.target == target).enumerate() {
             let time = r.seconds.map_or(
                 "not reached (error does not fall with cost)".to_string(),
                 |s| format!("{s:.3e} s"),
@@ -105,7 +132,78 @@ pub fn cost_table(study: &Study, norm: Norm) -> (String, Vec<CostToTarget>) {
             let mark = if r.extrapolated { "extrapolated" } else { "" };
             let _ = writeln!(md, "| {} | {} | {} | {} |", k + 1, r.case, time, mark);
         }
-        all.extend(rows);
     }
-    (md, all)
+    md
+}
+
+/// `work-precision.json`: every case's error against wall time in every norm, and the cost to
+/// reach the targets in [`COST_NORM`]. `make figures` reads it back.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorkPrecisionFile {
+    /// The crate version that wrote it.
+    pub signorini_version: String,
+    /// What the seconds are.
+    pub note: String,
+    /// [`work_precision`] of the study.
+    pub work_precision: Vec<WorkPrecision>,
+    /// The norm of `cost_to_target`.
+    pub cost_to_target_norm: Norm,
+    /// [`costs_to_targets`] in that norm.
+    pub cost_to_target: Vec<CostToTarget>,
+}
+
+/// `work-precision.md`: the error in [`COST_NORM`] against wall time per case and level, and
+/// the cost-to-target table of `costs`.
+pub fn render(study: &Study, costs: &[CostToTarget]) -> String {
+    let norm = COST_NORM;
+    let mut md = format!(
+        "# What accuracy costs\n\nTables 1–2 study (`make report`), {TIMING_NOTE}. Error in {} \
+         against wall time; the other norms are in `work-precision.json`.\n\n\
+         | case | NX | dof-steps | wall s | ns per dof-step | {} |\n|---|---|---|---|---|---|\n",
+        norm.label(),
+        norm.key()
+    );
+    for c in &study.cases {
+        let Some(r) = c.norm(norm) else { continue };
+        for (l, e) in c.levels.iter().zip(&r.errors) {
+            let dof_steps = l.steps * l.dofs;
+            md.push_str(&format!(
+                "| {} | {} | {} | {:.3e} | {:.1} | {:.3e} |\n",
+                c.case.id(),
+                l.nx,
+                dof_steps,
+                l.timings.total(),
+                l.timings.total() * 1e9 / dof_steps as f64,
+                e
+            ));
+        }
+    }
+    md.push_str(&format!(
+        "\n## Cost to reach a target error\n\nFrom the least-squares fit of ln(error) on \
+         ln(wall time) over the levels; *extrapolated* marks a target outside the measured \
+         errors.\n{}",
+        cost_table(costs, norm)
+    ));
+    md
+}
+
+/// `work-precision.md` and `work-precision.json` of `study` into `out_dir`.
+pub fn write_work_precision(
+    study: &Study,
+    out_dir: &Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let costs = costs_to_targets(study, COST_NORM);
+    let file = WorkPrecisionFile {
+        signorini_version: env!("CARGO_PKG_VERSION").to_string(),
+        note: TIMING_NOTE.to_string(),
+        work_precision: work_precision(study),
+        cost_to_target_norm: COST_NORM,
+        cost_to_target: costs,
+    };
+    write_atomic(
+        &out_dir.join(WORK_PRECISION_MD),
+        render(study, &file.cost_to_target).as_bytes(),
+    )?;
+    write_json(&out_dir.join(WORK_PRECISION_JSON), &file)?;
+    Ok(())
 }

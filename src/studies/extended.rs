@@ -2,7 +2,8 @@
 //! Crank–Nicolson and backward Euler, every mass variant ([`MassVariant::ALL`]) and every contact
 //! treatment of [`TREATMENTS`], one refinement study per treatment. Per row (treatment, scheme,
 //! mass) it reports the seven least-squares rates, the oscillation indicator and an
-//! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2.
+//! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2. Its files:
+//! `extended.md`, `extended.json` ([`ExtendedFile`]) and [`GOLDEN_EXTENDED`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -13,16 +14,26 @@ use serde::{Deserialize, Serialize};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
+use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
 use crate::harness::norms::Norm;
-use crate::harness::report::{oscillation_word, OSCILLATES_FROM};
 use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+use crate::harness::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::studies::benchmark::dirichlet;
+
+/// The golden file of the extended table, relative to the repository root.
+pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
+
+/// The table, under a reports directory.
+pub const EXTENDED_MD: &str = "extended.md";
+
+/// [`ExtendedFile`], under a reports directory.
+pub const EXTENDED_JSON: &str = "extended.json";
 
 /// The contact treatments of the table, as [`ContactTreatment::from_str`] parses them.
 pub const TREATMENTS: [&str; 5] = [
@@ -314,9 +325,7 @@ pub fn oscillating(rows: &[ExtendedRow]) -> Vec<&ExtendedRow> {
         .flat_map(|scheme| {
             let name = scheme.name();
             rows.iter().filter(move |r| {
-                r.scheme == name
-                    && r.oscillation_indicator
-                        .is_some_and(|i| i >= OSCILLATES_FROM)
+                r.scheme == name && r.oscillation_indicator.is_some_and(oscillates)
             })
         })
         .collect()
@@ -528,6 +537,28 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
     (md, file)
 }
 
+/// The extended studies ([`extended_studies`]), each with its round-off sensitivity measured.
+pub fn extended_studies_with_sensitivity(root: &Path) -> Result<Vec<ExtendedStudy>, Error> {
+    extended_studies(root)?
+        .into_iter()
+        .map(|s| s.with_sensitivity(root))
+        .collect()
+}
+
+/// Runs the extended studies with their sensitivity
+/// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
+/// `out_dir`, and returns the studies.
+pub fn write_extended_report(
+    root: &Path,
+    out_dir: &Path,
+) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
+    let studies = extended_studies_with_sensitivity(root)?;
+    let (md, file) = render(&studies);
+    write_atomic(&out_dir.join(EXTENDED_MD), md.as_bytes())?;
+    write_json(&out_dir.join(EXTENDED_JSON), &file)?;
+    Ok(studies)
+}
+
 /// The golden values of one treatment.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -581,6 +612,14 @@ impl ExtendedGolden {
             .find(|t| t.contact == contact)
             .map(|t| &t.golden)
     }
+}
+
+/// Reads the extended table's golden file.
+pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
+    serde_json::from_str(&text)
+        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
 }
 
 #[cfg(test)]

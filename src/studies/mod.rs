@@ -1,10 +1,17 @@
-//! The studies behind the report's sections: the paper's tables, gravity, the extended
-//! table, stability, cost, the 2D/3D elastic study, and the figures drawn from their files.
+//! The studies behind the report's sections, one module per section with the files it writes
+//! (their names and formats, which the readers import): the paper's tables, gravity, the
+//! histories, what accuracy costs, the defaults experiment, the extended table, stability, the
+//! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
 
 pub mod benchmark;
 pub mod cost;
 pub mod elastic_study;
+pub mod experiment;
 pub mod extended;
 pub mod figures;
-pub mod pipeline;
+pub mod golden;
+pub mod gravity;
+pub mod histories;
+pub mod report;
 pub mod stability;
+pub mod tables;

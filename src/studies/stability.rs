@@ -6,7 +6,8 @@
 //! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
 //!    than 5 % of `E_0` over the horizon;
 //! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
-//!    (the threshold of "Yes" in the tables), or, when the exact force is constant, above 1e-9;
+//!    (the threshold of "Yes" in the tables, `crate::harness::verdicts::OSCILLATION_YES_FROM`),
+//!    or, when the exact force is constant, above 1e-9;
 //! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
 //!    than `1e-12 E_0`;
 //! 5. `stable`: none of the above.
@@ -25,12 +26,21 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::exact::AtRest;
 use crate::engine::problem::{InitialData, Perturbation, Problem1d, Profile};
+use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::harness::study::{run_largest_first, Case};
+use crate::harness::verdicts::OSCILLATION_YES_FROM;
 use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
+
+/// The suite's report, under a reports directory.
+pub const STABILITY_MD: &str = "stability.md";
+
+/// Every record of the suite (`Vec<StabilityRecord>`), under a reports directory; `make
+/// figures` reads it back.
+pub const STABILITY_JSON: &str = "stability.json";
 
 /// The round-off ensemble of every stability run: 4 members with relative noise 1e-13. Fewer
 /// than the refinement study's 16: at one mesh the ensemble only has to witness whether the
@@ -362,7 +372,7 @@ fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
         Verdict::Diverged
     } else if max_ratio - 1.0 > 0.05 && trend > 0.05 {
         Verdict::EnergyGrowth
-    } else if (is_ratio && indicator >= 100.0) || (!is_ratio && indicator > 1e-9) {
+    } else if (is_ratio && indicator >= OSCILLATION_YES_FROM) || (!is_ratio && indicator > 1e-9) {
         Verdict::Oscillating
     } else if (last - e0) / scale < -0.01 && step_increase <= 1e-12 {
         Verdict::Dissipative
@@ -400,6 +410,23 @@ pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecor
         |&(h, _)| hard[h].nx,
         |&(h, c)| judge(&hard[h], cases[c]),
     )
+}
+
+/// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
+/// `stability.json` into `out_dir`.
+pub fn write_stability(
+    root: &Path,
+    out_dir: &Path,
+    ci: bool,
+) -> Result<Vec<StabilityRecord>, Box<dyn std::error::Error>> {
+    let hard = hard_cases(root, ci)?;
+    let records = run_suite(&hard, &Case::paper_matrix())?;
+    write_atomic(
+        &out_dir.join(STABILITY_MD),
+        render(&hard, &records).as_bytes(),
+    )?;
+    write_json(&out_dir.join(STABILITY_JSON), &records)?;
+    Ok(records)
 }
 
 /// The round-off column of a record: the class, a chaotic run's predictability horizon, and

@@ -9,9 +9,9 @@ use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
-use signorini::golden::{compare, gate, render_drifts};
-use signorini::pipeline::{
-    elastic_gate_sensitivity, elastic_gate_study, read_golden, GOLDEN_ELASTIC_2D,
+use signorini::golden::{compare, gate, read_golden, render_drifts};
+use signorini::studies::elastic_study::gate::{
+    elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
 };
 
 /// Every case is held at what its reproducibility allows (`make golden` measured it with the

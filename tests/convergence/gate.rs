@@ -6,16 +6,15 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use signorini::extended::{extended_sensitivity, extended_studies, TREATMENTS};
-use signorini::golden::{compare, gate, render_drifts, Golden, Tolerances};
+use signorini::golden::{compare, gate, read_golden, render_drifts, Golden, Tolerances};
 use signorini::norms::Norm;
-use signorini::paper::PaperTables;
-use signorini::pipeline::{
-    gravity_sensitivity, gravity_study, read_extended_golden, read_golden, tables_sensitivity,
-    tables_study, GOLDEN_EXTENDED, GOLDEN_GRAVITY, GOLDEN_TABLES,
-};
-use signorini::report::paper_tables;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::studies::extended::{read_extended_golden, GOLDEN_EXTENDED};
+use signorini::studies::gravity::{gravity_sensitivity, gravity_study, GOLDEN_GRAVITY};
+use signorini::studies::tables::agreement::paper_tables;
+use signorini::studies::tables::paper::PaperTables;
+use signorini::studies::tables::{tables_sensitivity, tables_study, GOLDEN_TABLES};
 use signorini::study::{run_study, Case, Study, StudyConfig};
 
 fn golden() -> Golden {

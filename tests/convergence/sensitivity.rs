@@ -159,8 +159,8 @@ fn the_command_writes_its_report_and_json() {
 /// section says whether the paper's value is inside that range; reproducible rows are unchanged.
 #[test]
 fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
-    use signorini::paper::PaperTables;
-    use signorini::report::{disagreements, paper_tables};
+    use signorini::studies::tables::agreement::{disagreements, paper_tables};
+    use signorini::studies::tables::paper::PaperTables;
     let s = small_sensitivity();
     let cases = crank_nicolson_cases();
     let study = signorini::study::run_study(

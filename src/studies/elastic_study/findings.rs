@@ -6,7 +6,7 @@
 //!   [`CONVERGENCE_RATE`] = 0: the error decreases as `h` does (the note's "converges to 0"
 //!   against "unfortunately not the case", read from curves; how fast is the rate itself);
 //! * a case **oscillates** when its indicator `TV(Σλ_h) / TV(Σλ_ref)` on the finest level is at
-//!   least [`OSCILLATES_FROM`] (the 1D tables' boundary between "No" and "Small");
+//!   least [`verdicts::OSCILLATES_FROM`] (the 1D tables' boundary between "No" and "Small");
 //! * two cases **behave alike** in a norm when both converge or both do not, and their rates
 //!   differ by at most [`ALIKE_RATE_GAP`].
 
@@ -15,8 +15,8 @@ use serde::{Deserialize, Serialize};
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
 use crate::harness::norms::Norm;
-use crate::harness::report::OSCILLATES_FROM;
 use crate::harness::study::{Case, CaseStudy, Study};
+use crate::harness::verdicts;
 
 /// The rate above which a norm counts as converging.
 pub const CONVERGENCE_RATE: f64 = 0.0;
@@ -74,8 +74,7 @@ impl Judge<'_> {
 }
 
 fn oscillates(c: &CaseStudy) -> bool {
-    c.oscillation_indicator()
-        .is_some_and(|r| r >= OSCILLATES_FROM)
+    c.oscillation_indicator().is_some_and(verdicts::oscillates)
 }
 
 fn rates_text(label: &str, c: &CaseStudy, norms: &[Norm]) -> String {

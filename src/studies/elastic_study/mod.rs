@@ -18,7 +18,9 @@
 //! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
 pub mod comparison;
+pub mod files;
 pub mod findings;
+pub mod gate;
 pub mod reference;
 pub mod report;
 pub mod sensitivity;

@@ -16,9 +16,9 @@ use serde::{Deserialize, Serialize};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{BoxMesh, MassVariant};
 use crate::engine::schemes::{Scheme, TimeIntegrator};
+use crate::harness::artifacts::write_atomic;
 use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
 use crate::harness::error::Error;
-use crate::harness::output::write_atomic;
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning.

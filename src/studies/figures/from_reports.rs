@@ -12,11 +12,12 @@
 
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 
 use super::convergence::{convergence_figures, panel_label};
 use super::elastic::elastic_figures;
 use crate::engine::fem::MassVariant;
+use crate::harness::artifacts::write_atomic;
 use crate::harness::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
@@ -26,21 +27,19 @@ use crate::harness::norms::Norm;
 use crate::harness::run::RunResult;
 use crate::harness::sensitivity::Sensitivity;
 use crate::harness::study::Study;
-use crate::studies::cost::WorkPrecision;
+use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
+use crate::studies::elastic_study::files as elastic_files;
 use crate::studies::elastic_study::{ElasticHistories, ElasticStudy};
-use crate::studies::stability::{StabilityRecord, Verdict};
+use crate::studies::gravity;
+use crate::studies::histories::{SchemeHistories, HISTORIES_DIR};
+use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
+use crate::studies::tables::{RatesFile, RATES_JSON, SENSITIVITY_JSON};
 
-/// The runs of one scheme with both masses at a few levels (what `contact-` and `energy-`
-/// figures draw).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SchemeHistories {
-    /// Preset name of the scheme.
-    pub scheme: String,
-    /// The paper's label.
-    pub label: String,
-    /// `(mass, NX, run)` with contact and energy histories.
-    pub runs: Vec<(MassVariant, usize, RunResult)>,
-}
+/// The directory of the figures, under a reports directory.
+pub const FIGURES_DIR: &str = "figures";
+
+/// The index of a reports directory ([`reports_index`]).
+pub const REPORTS_INDEX: &str = "README.md";
 
 /// The contact-node and energy figures of one scheme (standard mass left, redistributed right).
 pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
@@ -247,16 +246,6 @@ fn read<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T, Box<dyn std::err
     Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
 }
 
-#[derive(Deserialize)]
-struct RatesFile {
-    study: Study,
-}
-
-#[derive(Deserialize)]
-struct WorkPrecisionFile {
-    work_precision: Vec<WorkPrecision>,
-}
-
 /// Draws every figure whose data exist under `reports` and writes them to `reports/figures/`;
 /// returns the names written and the inputs that were missing.
 pub fn write_figures(
@@ -264,7 +253,7 @@ pub fn write_figures(
 ) -> Result<(Vec<String>, Vec<String>), Box<dyn std::error::Error>> {
     let mut figures: Vec<Figure> = Vec::new();
     let mut missing = Vec::new();
-    let histories = reports.join("data/histories");
+    let histories = reports.join(HISTORIES_DIR);
     let mut files: Vec<_> = std::fs::read_dir(&histories)
         .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
         .unwrap_or_default();
@@ -275,7 +264,7 @@ pub fn write_figures(
     for f in files {
         figures.extend(scheme_figures(&read::<SchemeHistories>(&f)?)?);
     }
-    let sensitivity_path = reports.join("sensitivity.json");
+    let sensitivity_path = reports.join(SENSITIVITY_JSON);
     let sensitivity = if sensitivity_path.exists() {
         Some(read::<Sensitivity>(&sensitivity_path)?)
     } else {
@@ -285,45 +274,42 @@ pub fn write_figures(
         ));
         None
     };
-    match read::<RatesFile>(&reports.join("rates.json")) {
+    match read::<RatesFile>(&reports.join(RATES_JSON)) {
         Ok(r) => figures.extend(convergence_figures(&r.study, sensitivity.as_ref())?),
         Err(e) => missing.push(e.to_string()),
     }
+    let gravity_dir = reports.join(gravity::GRAVITY_DIR);
     let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
         .iter()
-        .map(|&m| {
-            read::<RunResult>(&reports.join(format!("gravity/run-{}.json", m.name())))
-                .map(|r| (m, r))
-        })
+        .map(|&m| read::<RunResult>(&gravity_dir.join(gravity::run_file(m))).map(|r| (m, r)))
         .collect();
     match (
-        read::<Study>(&reports.join("gravity/study.json")),
+        read::<Study>(&gravity_dir.join(gravity::STUDY_JSON)),
         gravity_runs,
     ) {
         (Ok(study), Ok(runs)) => figures.extend(gravity_figures(&study, &runs)?),
         (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
     }
-    match read::<WorkPrecisionFile>(&reports.join("work-precision.json")) {
+    match read::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON)) {
         Ok(w) => figures.extend(work_precision_figures(&w.work_precision)?),
         Err(e) => missing.push(e.to_string()),
     }
     for d in [2, 3] {
-        let study = read::<ElasticStudy>(&reports.join(format!("elastic-{d}d.json")));
-        let data =
-            read::<ElasticHistories>(&reports.join(format!("data/elastic-{d}d-histories.json")));
+        let study = read::<ElasticStudy>(&reports.join(elastic_files::study_file(d)));
+        let data = read::<ElasticHistories>(&reports.join(elastic_files::histories_file(d)));
         match (study, data) {
             (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
             (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
         }
     }
-    match read::<Vec<StabilityRecord>>(&reports.join("stability.json")) {
+    match read::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON)) {
         Ok(s) => figures.extend(stability_figures(&s)?),
         Err(e) => missing.push(e.to_string()),
     }
-    let dir = reports.join("figures");
+    let dir = reports.join(FIGURES_DIR);
     let mut names = Vec::new();
     for (name, svg) in figures {
-        crate::harness::output::write_atomic(&dir.join(&name), svg.as_bytes())?;
+        write_atomic(&dir.join(&name), svg.as_bytes())?;
         names.push(name);
     }
     Ok((names, missing))

@@ -65,7 +65,7 @@ pub struct PaperTables {
 }
 
 impl PaperTables {
-    /// The embedded tables (`src/paper/paper-tables.json`, a copy of the specification's data).
+    /// The embedded tables (`paper/paper-tables.json` beside this file, a copy of the specification's data).
     pub fn load() -> Self {
         serde_json::from_str(include_str!("paper/paper-tables.json"))
             .expect("the embedded paper tables are valid JSON")

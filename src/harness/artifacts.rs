@@ -1,0 +1,64 @@
+//! How the harness's files are written, whatever their format: whole or not at all (into a
+//! temporary file beside the target, then renamed), JSON through serde, CSV as columns of
+//! numbers. The formats themselves (names, schema) belong to the module that writes them and
+//! that its readers import: a run's files to [`crate::harness::run_files`], each report file to
+//! its study under `crate::studies`.
+
+use std::fs;
+use std::io::Write;
+use std::path::Path;
+
+use serde::Serialize;
+
+/// Writes `contents` to `path` atomically, creating the parent directory.
+pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    if let Some(dir) = dir {
+        fs::create_dir_all(dir)?;
+    }
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other(format!("{} is not a file path", path.display())))?;
+    let tmp = path.with_file_name(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(contents)?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Writes `value` to `path` atomically as indented JSON (`serde_json::to_string_pretty`).
+pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> std::io::Result<()> {
+    write_atomic(path, serde_json::to_string_pretty(value)?.as_bytes())
+}
+
+/// Writes `value` to `path` atomically as JSON on one line (`serde_json::to_string`), for the
+/// large data files only figures read.
+pub fn write_json_compact<T: Serialize + ?Sized>(path: &Path, value: &T) -> std::io::Result<()> {
+    write_atomic(path, serde_json::to_string(value)?.as_bytes())
+}
+
+/// A CSV table: the `header` line, then one row per index of the `columns` (of equal length),
+/// each number in scientific notation with `digits` digits after the point.
+pub fn csv(header: &str, columns: &[&[f64]], digits: usize) -> String {
+    let mut s = format!("{header}\n");
+    let rows = columns.first().map_or(0, |c| c.len());
+    for k in 0..rows {
+        let row: Vec<String> = columns
+            .iter()
+            .map(|c| format!("{:.*e}", digits, c[k]))
+            .collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}

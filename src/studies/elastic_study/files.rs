@@ -1,0 +1,49 @@
+//! The files of a 2D/3D study under a reports directory: `elastic-<d>d.md`, `elastic-<d>d.json`
+//! ([`ElasticStudy`]: the study, the reference check and the findings) and
+//! `data/elastic-<d>d-histories.json` ([`super::ElasticHistories`], the figure data), which
+//! `make figures` reads back; the fine-mesh references are cached under [`REFERENCE_CACHE`].
+
+use std::path::Path;
+
+use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
+use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
+use crate::harness::elastic::BoxProblem;
+
+/// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
+pub const REFERENCE_CACHE: &str = "data/references";
+
+/// The report of the `dimension`-D study, under a reports directory.
+pub fn report_file(dimension: usize) -> String {
+    format!("elastic-{dimension}d.md")
+}
+
+/// The `dimension`-D study ([`ElasticStudy`]), under a reports directory.
+pub fn study_file(dimension: usize) -> String {
+    format!("elastic-{dimension}d.json")
+}
+
+/// The figure data of the `dimension`-D study ([`super::ElasticHistories`]), under a reports
+/// directory.
+pub fn histories_file(dimension: usize) -> String {
+    format!("data/elastic-{dimension}d-histories.json")
+}
+
+/// Runs a 2D/3D study and writes its report, the study and the figure data into `out_dir`;
+/// the reference is cached in `cache_dir`.
+pub fn write_elastic_report(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    out_dir: &Path,
+    cache_dir: &Path,
+    note: &mut dyn FnMut(String),
+) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+    let (study, histories) = run_elastic_study(problem, config, cache_dir, note)?;
+    let d = study.dimension;
+    write_atomic(
+        &out_dir.join(report_file(d)),
+        super::report::render(&study).as_bytes(),
+    )?;
+    write_json(&out_dir.join(study_file(d)), &study)?;
+    write_json_compact(&out_dir.join(histories_file(d)), &histories)?;
+    Ok(study)
+}

@@ -1,0 +1,85 @@
+//! The contact and energy histories behind the paper's Figures 7–8 and 11–22 (`make report`):
+//! every scheme of the tables with both masses at [`HISTORY_LEVELS`], one file
+//! `data/histories/<scheme>.json` ([`SchemeHistories`]) per scheme, which `make figures` reads.
+
+use std::path::Path;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::engine::fem::MassVariant;
+use crate::engine::schemes::Scheme;
+use crate::harness::artifacts::write_json_compact;
+use crate::harness::error::Error;
+use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::study::StudyConfig;
+use crate::studies::benchmark::dirichlet;
+
+/// The levels whose contact and energy histories `make report` keeps for the figures.
+pub const HISTORY_LEVELS: [usize; 3] = [10, 20, 40];
+
+/// The directory of the history files, under a reports directory.
+pub const HISTORIES_DIR: &str = "data/histories";
+
+/// The history file of the scheme named `scheme`, under a reports directory.
+pub fn histories_file(scheme: &str) -> String {
+    format!("{HISTORIES_DIR}/{scheme}.json")
+}
+
+/// The runs of one scheme with both masses at a few levels (what `contact-` and `energy-`
+/// figures draw).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SchemeHistories {
+    /// Preset name of the scheme.
+    pub scheme: String,
+    /// The paper's label.
+    pub label: String,
+    /// `(mass, NX, run)` with contact and energy histories.
+    pub runs: Vec<(MassVariant, usize, RunResult)>,
+}
+
+/// For every scheme of the tables, runs both masses at `levels` with the contact and energy
+/// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
+pub fn write_histories(
+    root: &Path,
+    out_dir: &Path,
+    levels: &[usize],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let config = StudyConfig::paper_default();
+    let problem = dirichlet(root, config.horizon)?;
+    let histories: Vec<SchemeHistories> = Scheme::paper_schemes()
+        .par_iter()
+        .map(|&scheme| -> Result<_, Error> {
+            let mut runs = Vec::new();
+            for mass in MassVariant::PAPER {
+                for &nx in levels {
+                    let r = run(
+                        &problem,
+                        &RunConfig {
+                            nx,
+                            ratio: config.ratio,
+                            scheme,
+                            mass,
+                            observables: Observables {
+                                contact_history: true,
+                                energy_history: true,
+                                ..Observables::default()
+                            },
+                        },
+                    )?
+                    .completed()?;
+                    runs.push((mass, nx, r));
+                }
+            }
+            Ok(SchemeHistories {
+                scheme: scheme.name(),
+                label: scheme.label(),
+                runs,
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    for h in histories {
+        write_json_compact(&out_dir.join(histories_file(&h.scheme)), &h)?;
+    }
+    Ok(())
+}

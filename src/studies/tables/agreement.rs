@@ -1,0 +1,255 @@
+//! Tables 1–2 beside the paper's: the two tables in the paper's layout, the entries that
+//! disagree with it and what the harness shows about each ([`Disagreement::diagnosis`]).
+
+use std::fmt::Write as _;
+
+use super::paper::PaperTables;
+use crate::harness::norms::Norm;
+use crate::harness::rates::RateFit;
+use crate::harness::report::{chaotic_rate, chaotic_spread, fmt_fit};
+use crate::harness::sensitivity::{Sensitivity, Spread};
+use crate::harness::study::{CaseStudy, Study};
+use crate::harness::verdicts::oscillation_word;
+
+/// The columns of Table 1 (displacement).
+pub const TABLE1: [Norm; 4] = [
+    Norm::DisplacementLinfH,
+    Norm::DisplacementL2H,
+    Norm::DisplacementLinfV,
+    Norm::DisplacementL2V,
+];
+
+/// The rate columns of Table 2 (multiplier and energy; the oscillation column sits between
+/// the first and the other two).
+pub const TABLE2: [Norm; 3] = [Norm::MultiplierL2, Norm::EnergyLinf, Norm::EnergyL2];
+
+/// Agreement threshold with the paper's rates (issue: entries off by more than 0.1 are listed).
+pub const PAPER_AGREEMENT: f64 = 0.1;
+
+fn rate_of(c: &CaseStudy, norm: Norm) -> Option<RateFit> {
+    c.norm(norm).and_then(|r| r.fit)
+}
+
+fn cell(
+    c: &CaseStudy,
+    norm: Norm,
+    paper: Option<f64>,
+    sensitivity: Option<&Sensitivity>,
+) -> String {
+    if let Some(s) = chaotic_spread(c, norm, sensitivity) {
+        let ours = chaotic_rate(&s);
+        return match paper {
+            Some(p) => format!("{ours} ({p:.2}, {:+.2})", s.median - p),
+            None => ours,
+        };
+    }
+    match (rate_of(c, norm), paper) {
+        (Some(f), Some(p)) => format!("{:.2} ({:.2}, {:+.2})", f.rate, p, f.rate - p),
+        (Some(f), None) => format!("{:.2}", f.rate),
+        (None, _) => "—".to_string(),
+    }
+}
+
+/// Tables 1 and 2 in the paper's layout: each cell is `ours (paper, ours − paper)`. With a
+/// sensitivity study, a round-off chaotic case shows its ensemble median rate and range, marked
+/// `†`, instead of the one sample that the unperturbed run is.
+pub fn paper_tables(
+    study: &Study,
+    paper: &PaperTables,
+    sensitivity: Option<&Sensitivity>,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "### Table 1: convergence rates for the displacement\n");
+    let _ = writeln!(
+        out,
+        "| Scheme | Mass | {} |",
+        TABLE1.map(Norm::label).join(" | ")
+    );
+    let _ = writeln!(out, "|---|---|{}", "---|".repeat(TABLE1.len()));
+    for c in &study.cases {
+        let row = paper.row(&c.case);
+        let cells: Vec<String> = TABLE1
+            .iter()
+            .map(|&n| cell(c, n, row.map(|r| r.rate(n)), sensitivity))
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} |",
+            c.case.scheme.label(),
+            c.case.mass.paper_label(),
+            cells.join(" | ")
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\n### Table 2: convergence rates for the Lagrange multiplier and the energy\n"
+    );
+    let _ = writeln!(
+        out,
+        "| Scheme | Mass | {} | Oscillations (TV ratio; paper) | {} | {} |",
+        TABLE2[0].label(),
+        TABLE2[1].label(),
+        TABLE2[2].label()
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|");
+    for c in &study.cases {
+        let row = paper.row(&c.case);
+        let osc = match c.oscillation_indicator() {
+            Some(r) => format!(
+                "{} ({:.3}; {})",
+                oscillation_word(r),
+                r,
+                row.map_or("—", |r| r.oscillations.as_str())
+            ),
+            None => "—".to_string(),
+        };
+        let rates: Vec<String> = TABLE2
+            .iter()
+            .map(|&n| cell(c, n, row.map(|r| r.rate(n)), sensitivity))
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} |",
+            c.case.scheme.label(),
+            c.case.mass.paper_label(),
+            rates[0],
+            osc,
+            rates[1],
+            rates[2]
+        );
+    }
+    out
+}
+
+/// One entry that differs from the paper by more than [`PAPER_AGREEMENT`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Disagreement {
+    /// `scheme/mass`.
+    pub case: String,
+    /// The norm.
+    pub norm: Norm,
+    /// Our rate (all levels).
+    pub ours: RateFit,
+    /// Our rate over the last three levels.
+    pub last_three: Option<f64>,
+    /// Our rate over the first three levels.
+    pub first_three: Option<f64>,
+    /// Our rate over all levels with a longer horizon, when it was computed.
+    pub longer_horizon: Option<f64>,
+    /// The paper's rate.
+    pub paper: f64,
+    /// The ensemble spread of our rate when the case is round-off chaotic.
+    pub ensemble: Option<Spread>,
+}
+
+impl Disagreement {
+    /// What the harness shows about the difference, decided mechanically.
+    pub fn diagnosis(&self, longer_horizon: f64) -> String {
+        let near = |x: Option<f64>| x.is_some_and(|v| (v - self.paper).abs() <= PAPER_AGREEMENT);
+        let mut reasons = Vec::new();
+        if let Some(e) = self.ensemble {
+            let (verdict, place) = if (e.min..=e.max).contains(&self.paper) {
+                ("round-off noise", "inside")
+            } else {
+                ("not round-off noise", "outside")
+            };
+            reasons.push(format!(
+                "{verdict}: the paper's value is {place} our ensemble range [{:.2}, {:.2}] \
+                 (chaotic case)",
+                e.min, e.max
+            ));
+        }
+        if let (Some(lo), Some(hi)) = (self.ours.ci_low, self.ours.ci_high) {
+            if (lo..=hi).contains(&self.paper) {
+                reasons.push("the paper's value is inside our 95 % interval".to_string());
+            }
+        }
+        if near(self.first_three) {
+            reasons.push("our coarse levels (first three) give the paper's slope".to_string());
+        }
+        if near(self.last_three) {
+            reasons.push("our finest levels (last three) give the paper's slope".to_string());
+        }
+        if near(self.longer_horizon) {
+            reasons.push(format!(
+                "with T = {longer_horizon} our slope is the paper's"
+            ));
+        }
+        if reasons.is_empty() {
+            "not explained by the level range, the interval or the horizon".to_string()
+        } else {
+            reasons.join("; ")
+        }
+    }
+}
+
+/// Every entry of `study` off the paper by more than [`PAPER_AGREEMENT`]; for a round-off
+/// chaotic case (by `sensitivity`), by its ensemble median.
+pub fn disagreements(
+    study: &Study,
+    paper: &PaperTables,
+    sensitivity: Option<&Sensitivity>,
+) -> Vec<Disagreement> {
+    let mut out = Vec::new();
+    for c in &study.cases {
+        let Some(row) = paper.row(&c.case) else {
+            continue;
+        };
+        for r in &c.rates {
+            let Some(fit) = r.fit else { continue };
+            let p = row.rate(r.norm);
+            let ensemble = chaotic_spread(c, r.norm, sensitivity);
+            let ours = ensemble.map_or(fit.rate, |e| e.median);
+            if (ours - p).abs() > PAPER_AGREEMENT {
+                out.push(Disagreement {
+                    case: c.case.id(),
+                    norm: r.norm,
+                    ours: fit,
+                    last_three: r.fit_last_three.map(|f| f.rate),
+                    first_three: r.fit_first_three.map(|f| f.rate),
+                    longer_horizon: None,
+                    paper: p,
+                    ensemble,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The "Agreement with the paper" section.
+pub fn disagreement_section(list: &[Disagreement], longer_horizon: f64) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} entries differ from the paper by more than {PAPER_AGREEMENT}. For each: our rate \
+         over all levels with its 95 % interval (for a round-off chaotic case, †: the ensemble \
+         median and [min, max]), over the first and the last three levels, over all levels with \
+         T = {longer_horizon} (these three of the unperturbed run), and what these show.\n",
+        list.len()
+    );
+    let _ = writeln!(
+        out,
+        "| Case | Norm | ours | first 3 | last 3 | T = {longer_horizon} | paper | what the harness shows |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.2}"));
+    for d in list {
+        let ours = d.ensemble.map_or_else(
+            || fmt_fit(Some(d.ours)),
+            |e| format!("{:.2}† [{:.2}, {:.2}]", e.median, e.min, e.max),
+        );
+        let _ = writeln!(
+            out,
+            "| {} | {} | {ours} | {} | {} | {} | {:.2} | {} |",
+            d.case,
+            d.norm.key(),
+            f(d.first_three),
+            f(d.last_three),
+            f(d.longer_horizon),
+            d.paper,
+            d.diagnosis(longer_horizon)
+        );
+    }
+    out
+}
