@@ -94,14 +94,17 @@ impl From<Error> for Failure {
             Error::Solve(s) if s.is_usage() => Self::usage(s),
             Error::Solve(s) => Self::runtime(s),
             Error::Scene(e) => Self::usage(e),
-            e @ (Error::Io { .. } | Error::Encode { .. } | Error::Vtk { .. }) => Self::runtime(e),
+            e @ (Error::Io { .. }
+            | Error::Encode { .. }
+            | Error::Decode { .. }
+            | Error::Figure(_)
+            | Error::Vtk { .. }) => Self::runtime(e),
         }
     }
 }
 
 fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, contents)
-        .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", path.display())))
+    write_atomic(path, contents).map_err(Failure::runtime)
 }
 
 fn progress_bar(len: usize) -> ProgressBar {

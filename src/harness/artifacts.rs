@@ -8,10 +8,17 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
+use serde::de::DeserializeOwned;
 use serde::Serialize;
 
+use crate::harness::error::Error;
+
 /// Writes `contents` to `path` atomically, creating the parent directory.
-pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Error> {
+    write_whole(path, contents).map_err(Error::write(path))
+}
+
+fn write_whole(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
     if let Some(dir) = dir {
         fs::create_dir_all(dir)?;
@@ -37,14 +44,25 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
 }
 
 /// Writes `value` to `path` atomically as indented JSON (`serde_json::to_string_pretty`).
-pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> std::io::Result<()> {
-    write_atomic(path, serde_json::to_string_pretty(value)?.as_bytes())
+pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), Error> {
+    let text = serde_json::to_string_pretty(value).map_err(Error::encode(path))?;
+    write_atomic(path, text.as_bytes())
 }
 
 /// Writes `value` to `path` atomically as JSON on one line (`serde_json::to_string`), for the
 /// large data files only figures read.
-pub fn write_json_compact<T: Serialize + ?Sized>(path: &Path, value: &T) -> std::io::Result<()> {
-    write_atomic(path, serde_json::to_string(value)?.as_bytes())
+pub fn write_json_compact<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), Error> {
+    let text = serde_json::to_string(value).map_err(Error::encode(path))?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Reads the JSON file `path` into a `T`.
+pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
+    let text = fs::read_to_string(path).map_err(Error::read(path))?;
+    serde_json::from_str(&text).map_err(|source| Error::Decode {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// A CSV table: the `header` line, then one row per index of the `columns` (of equal length),

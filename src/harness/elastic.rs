@@ -286,6 +286,6 @@ pub fn write_vtu(
         path: path.to_path_buf(),
         source,
     })?;
-    write_atomic(path, &bytes).map_err(Error::write(path))?;
+    write_atomic(path, &bytes)?;
     Ok(())
 }

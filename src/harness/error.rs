@@ -31,12 +31,24 @@ pub enum Error {
     /// Data could not be encoded as JSON.
     #[error("cannot encode {what} as JSON: {source}")]
     Encode {
-        /// What was being encoded.
-        what: &'static str,
+        /// What was being encoded (its file).
+        what: String,
         /// What serde reported.
         #[source]
         source: serde_json::Error,
     },
+    /// A JSON file is not what its reader expects.
+    #[error("{} is not a valid file of its kind: {source}", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// What serde reported.
+        #[source]
+        source: serde_json::Error,
+    },
+    /// A figure could not be drawn.
+    #[error(transparent)]
+    Figure(#[from] FigureError),
     /// A VTK file could not be written.
     #[error("cannot write {}: {source}", path.display())]
     Vtk {
@@ -52,6 +64,14 @@ pub enum Error {
 }
 
 impl Error {
+    /// The error of encoding the content of `path`.
+    pub fn encode(path: &Path) -> impl FnOnce(serde_json::Error) -> Self + '_ {
+        move |source| Error::Encode {
+            what: path.display().to_string(),
+            source,
+        }
+    }
+
     /// The error of reading `path`.
     pub fn read(path: &Path) -> impl FnOnce(std::io::Error) -> Self + '_ {
         move |source| Error::Io {
@@ -175,4 +195,35 @@ impl std::error::Error for SceneError {
             _ => None,
         }
     }
+}
+
+/// Why a figure could not be drawn.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum FigureError {
+    /// The drawing library reported an error (its message).
+    #[error("drawing failed: {0}")]
+    Drawing(String),
+    /// Nothing finite was left to draw.
+    #[error("nothing to plot: {what}")]
+    EmptyData {
+        /// What was empty (the figure, panel or series).
+        what: String,
+    },
+    /// Two inputs that describe the same runs disagree (e.g. an ensemble run at other levels
+    /// than the study it is drawn with).
+    #[error("inconsistent inputs: {what}")]
+    Inconsistent {
+        /// What disagrees with what.
+        what: String,
+    },
+    /// Two sequences that pair up point by point have different lengths.
+    #[error("{what}: {left} abscissae but {right} values")]
+    LengthMismatch {
+        /// Which series.
+        what: String,
+        /// Length of the abscissae (times, mesh sizes, seconds).
+        left: usize,
+        /// Length of the values.
+        right: usize,
+    },
 }

@@ -16,6 +16,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::harness::artifacts::read_json;
+use crate::harness::error::Error;
 use crate::harness::sensitivity::{Sensitivity, SensitivityClass, Spread};
 use crate::harness::study::{Case, Study};
 
@@ -135,11 +137,8 @@ pub struct Golden {
 }
 
 /// Reads a golden file.
-pub fn read_golden(path: &Path) -> Result<Golden, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
-    serde_json::from_str(&text)
-        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
+pub fn read_golden(path: &Path) -> Result<Golden, Error> {
+    read_json(path)
 }
 
 /// A fitted rate, or NaN when the study could not fit one: no value, as in [`Drift::missing`].

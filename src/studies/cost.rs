@@ -9,6 +9,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::artifacts::{write_atomic, write_json};
+use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
 use crate::harness::study::{CaseStudy, Study};
@@ -188,10 +189,7 @@ pub fn render(study: &Study, costs: &[CostToTarget]) -> String {
 }
 
 /// `work-precision.md` and `work-precision.json` of `study` into `out_dir`.
-pub fn write_work_precision(
-    study: &Study,
-    out_dir: &Path,
-) -> Result<(), Box<dyn std::error::Error>> {
+pub fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Error> {
     let costs = costs_to_targets(study, COST_NORM);
     let file = WorkPrecisionFile {
         signorini_version: env!("CARGO_PKG_VERSION").to_string(),

@@ -174,10 +174,7 @@ pub fn render(experiment: &DefaultsExperiment) -> String {
 
 /// How the rates of Tables 1–2 move with the horizon and with the level range: writes
 /// `defaults-experiment.md` into `out_dir` and returns the markdown.
-pub fn write_defaults_experiment(
-    root: &Path,
-    out_dir: &Path,
-) -> Result<String, Box<dyn std::error::Error>> {
+pub fn write_defaults_experiment(root: &Path, out_dir: &Path) -> Result<String, Error> {
     let md = render(&defaults_experiment(root)?);
     write_atomic(&out_dir.join(DEFAULTS_EXPERIMENT_MD), md.as_bytes())?;
     Ok(md)

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
+use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
@@ -548,10 +549,7 @@ pub fn extended_studies_with_sensitivity(root: &Path) -> Result<Vec<ExtendedStud
 /// Runs the extended studies with their sensitivity
 /// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
 /// `out_dir`, and returns the studies.
-pub fn write_extended_report(
-    root: &Path,
-    out_dir: &Path,
-) -> Result<Vec<ExtendedStudy>, Box<dyn std::error::Error>> {
+pub fn write_extended_report(root: &Path, out_dir: &Path) -> Result<Vec<ExtendedStudy>, Error> {
     let studies = extended_studies_with_sensitivity(root)?;
     let (md, file) = render(&studies);
     write_atomic(&out_dir.join(EXTENDED_MD), md.as_bytes())?;
@@ -615,11 +613,8 @@ impl ExtendedGolden {
 }
 
 /// Reads the extended table's golden file.
-pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read golden file {}: {e}", path.display()))?;
-    serde_json::from_str(&text)
-        .map_err(|e| format!("golden file {} is invalid: {e}", path.display()).into())
+pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Error> {
+    read_json(path)
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use crate::harness::artifacts::write_json;
+use crate::harness::error::Error;
 use crate::harness::golden::{read_golden, Golden, Tolerances};
 use crate::harness::study::Case;
 use crate::studies::elastic_study::gate::{
@@ -18,7 +19,7 @@ use crate::studies::tables::{tables_sensitivity, tables_study, GOLDEN_TABLES};
 
 /// Runs the studies under the gate and writes their golden files under `root`, keeping the
 /// tolerances (and their per-norm overrides) of the files they replace.
-pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Box<dyn std::error::Error>> {
+pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Error> {
     let studies = [
         (
             GOLDEN_TABLES,

@@ -8,6 +8,7 @@ use std::path::Path;
 
 use crate::engine::fem::MassVariant;
 use crate::harness::artifacts::{write_atomic, write_json};
+use crate::harness::error::Error;
 use crate::harness::report::convergence_tables;
 use crate::harness::run::{run, RunConfig};
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
@@ -58,15 +59,15 @@ pub fn strain_file(mass: MassVariant, requested_time: f64) -> String {
 
 /// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson) with both masses,
 /// its levels, ratio and norms. `root` is the repository root.
-pub fn gravity_study(root: &Path) -> Result<Study, Box<dyn std::error::Error>> {
+pub fn gravity_study(root: &Path) -> Result<Study, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
-    Ok(run_study(
+    run_study(
         &problem,
         &cases,
         &scene.observables.norms,
         &scene.study_config(),
-    )?)
+    )
 }
 
 /// The level whose predictability horizon and separation growth `gravity.md` shows.
@@ -75,27 +76,21 @@ const GRAVITY_SENSITIVITY_SHOWN_LEVEL: usize = 160;
 /// The round-off sensitivity (default ensemble) of `cases` on the gravity benchmark's study
 /// (its scene's problem, levels, ratio and norms): what `gravity.md` reports and what the gate
 /// holds its chaotic cases to. `root` is the repository root.
-pub fn gravity_sensitivity(
-    root: &Path,
-    cases: &[Case],
-) -> Result<Sensitivity, Box<dyn std::error::Error>> {
+pub fn gravity_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
-    Ok(run_sensitivity(
+    run_sensitivity(
         &problem,
         cases,
         &scene.observables.norms,
         &scene.study_config(),
         EnsembleConfig::default(),
-    )?)
+    )
 }
 
 /// `gravity.md` and the data of the paper's Figures 2–4 (`gravity/`): the rate table of the
 /// gravity benchmark and, for both masses at NX = 160, the displacement at x = 0, ½, 1 over time
 /// and the strain field at the scene's `fields_at` times, as CSV.
-pub fn write_gravity_report(
-    root: &Path,
-    out_dir: &Path,
-) -> Result<Study, Box<dyn std::error::Error>> {
+pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let study = gravity_study(root)?;
     let mut md = format!(

@@ -40,11 +40,7 @@ pub struct SchemeHistories {
 
 /// For every scheme of the tables, runs both masses at `levels` with the contact and energy
 /// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
-pub fn write_histories(
-    root: &Path,
-    out_dir: &Path,
-    levels: &[usize],
-) -> Result<(), Box<dyn std::error::Error>> {
+pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<(), Error> {
     let config = StudyConfig::paper_default();
     let problem = dirichlet(root, config.horizon)?;
     let histories: Vec<SchemeHistories> = Scheme::paper_schemes()

@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use crate::harness::error::Error;
 use crate::harness::study::{Case, Study};
 use crate::studies::cost::write_work_precision;
 use crate::studies::histories::{write_histories, HISTORY_LEVELS};
@@ -16,7 +17,7 @@ use crate::studies::tables::{
 /// (`tables.md`, `rates.json`), what accuracy costs (`work-precision.md`,
 /// `work-precision.json`) and the histories of the figures (`data/histories/`); returns the
 /// study.
-pub fn write_report(root: &Path, out_dir: &Path) -> Result<Study, Box<dyn std::error::Error>> {
+pub fn write_report(root: &Path, out_dir: &Path) -> Result<Study, Error> {
     let study = tables_study(root)?;
     let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
     let sensitivity = tables_sensitivity(root, &cases)?;

@@ -418,7 +418,7 @@ pub fn write_stability(
     root: &Path,
     out_dir: &Path,
     ci: bool,
-) -> Result<Vec<StabilityRecord>, Box<dyn std::error::Error>> {
+) -> Result<Vec<StabilityRecord>, Error> {
     let hard = hard_cases(root, ci)?;
     let records = run_suite(&hard, &Case::paper_matrix())?;
     write_atomic(

@@ -8,6 +8,7 @@ use std::path::Path;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
+use crate::harness::error::Error;
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
 pub const REFERENCE_CACHE: &str = "data/references";
@@ -36,7 +37,7 @@ pub fn write_elastic_report(
     out_dir: &Path,
     cache_dir: &Path,
     note: &mut dyn FnMut(String),
-) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+) -> Result<ElasticStudy, Error> {
     let (study, histories) = run_elastic_study(problem, config, cache_dir, note)?;
     let d = study.dimension;
     write_atomic(

@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
+use crate::engine::error::ParameterError;
 use crate::engine::problem::Problem;
+use crate::harness::error::Error;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::Sensitivity;
 use crate::harness::study::Case;
@@ -23,20 +25,22 @@ pub const ELASTIC_GATE_REFERENCE_LEVEL: usize = 320;
 
 /// The gated 2D study (the scene's cases, no ensemble), its reference computed afresh (in a
 /// temporary directory, removed after).
-pub fn elastic_gate_study(root: &Path) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+pub fn elastic_gate_study(root: &Path) -> Result<ElasticStudy, Error> {
     elastic_gate(root, None, false)
 }
 
 /// The round-off sensitivity of `cases` (`None`: the scene's) on the gated 2D study (its levels
 /// and reference) with the ensemble the scene declares: what `make golden` attaches to the 2D
 /// golden file and what the gate holds the chaotic cases to.
-pub fn elastic_gate_sensitivity(
-    root: &Path,
-    cases: Option<&[Case]>,
-) -> Result<Sensitivity, Box<dyn std::error::Error>> {
-    elastic_gate(root, cases, true)?
-        .sensitivity
-        .ok_or_else(|| format!("{ELASTIC_2D_SCENE} declares no discretisation.sensitivity").into())
+pub fn elastic_gate_sensitivity(root: &Path, cases: Option<&[Case]>) -> Result<Sensitivity, Error> {
+    elastic_gate(root, cases, true)?.sensitivity.ok_or_else(|| {
+        ParameterError::new(
+            "discretisation.sensitivity",
+            "absent",
+            "an ensemble {members, amplitude} (the 2D gate holds its study with one)",
+        )
+        .into()
+    })
 }
 
 /// The gated 2D study of `cases` (`None`: the scene's), with the scene's ensemble when
@@ -45,10 +49,15 @@ fn elastic_gate(
     root: &Path,
     cases: Option<&[Case]>,
     with_ensemble: bool,
-) -> Result<ElasticStudy, Box<dyn std::error::Error>> {
+) -> Result<ElasticStudy, Error> {
     let scene = Scene::load(&root.join(ELASTIC_2D_SCENE))?;
     let Problem::Box(problem) = scene.problem() else {
-        return Err("the 2D scene is not a box scene".into());
+        return Err(ParameterError::new(
+            "geometry.kind",
+            "bar1d",
+            "box (the 2D gate studies a box scene)",
+        )
+        .into());
     };
     let mut config = ElasticStudyConfig::from_scene(&scene, Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
     if let Some(cases) = cases {

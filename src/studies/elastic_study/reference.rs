@@ -222,12 +222,9 @@ impl Reference {
             .iter()
             .flat_map(|x| x.to_le_bytes())
             .collect();
-        write_atomic(&bin, &bytes).map_err(Error::write(&bin))?;
-        let text = serde_json::to_string(&self.histories).map_err(|source| Error::Encode {
-            what: "the reference",
-            source,
-        })?;
-        write_atomic(&json, text.as_bytes()).map_err(Error::write(&json))
+        write_atomic(&bin, &bytes)?;
+        let text = serde_json::to_string(&self.histories).map_err(Error::encode(&json))?;
+        write_atomic(&json, text.as_bytes())
     }
 
     /// Reads the cache if it exists and its key equals `key`.

@@ -12,12 +12,12 @@
 
 use std::path::Path;
 
-use serde::Deserialize;
-
 use super::convergence::{convergence_figures, panel_label};
 use super::elastic::elastic_figures;
 use crate::engine::fem::MassVariant;
+use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::write_atomic;
+use crate::harness::error::Error;
 use crate::harness::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
@@ -236,21 +236,17 @@ pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, Fig
     Ok(out)
 }
 
-fn read<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        format!(
-            "cannot read {}: {e} (run `make report` first)",
-            path.display()
-        )
-    })?;
-    Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+/// Why an input of the figures could not be read: a missing file is `make report`'s to write.
+fn unreadable(e: &Error) -> String {
+    match e {
+        Error::Io { .. } => format!("{e} (run `make report` first)"),
+        _ => e.to_string(),
+    }
 }
 
 /// Draws every figure whose data exist under `reports` and writes them to `reports/figures/`;
 /// returns the names written and the inputs that were missing.
-pub fn write_figures(
-    reports: &Path,
-) -> Result<(Vec<String>, Vec<String>), Box<dyn std::error::Error>> {
+pub fn write_figures(reports: &Path) -> Result<(Vec<String>, Vec<String>), Error> {
     let mut figures: Vec<Figure> = Vec::new();
     let mut missing = Vec::new();
     let histories = reports.join(HISTORIES_DIR);
@@ -262,11 +258,11 @@ pub fn write_figures(
         missing.push(histories.display().to_string());
     }
     for f in files {
-        figures.extend(scheme_figures(&read::<SchemeHistories>(&f)?)?);
+        figures.extend(scheme_figures(&read_json::<SchemeHistories>(&f)?)?);
     }
     let sensitivity_path = reports.join(SENSITIVITY_JSON);
     let sensitivity = if sensitivity_path.exists() {
-        Some(read::<Sensitivity>(&sensitivity_path)?)
+        Some(read_json::<Sensitivity>(&sensitivity_path)?)
     } else {
         missing.push(format!(
             "{} (run `make report` first; chaotic cases are drawn from their one unperturbed run)",
@@ -274,37 +270,37 @@ pub fn write_figures(
         ));
         None
     };
-    match read::<RatesFile>(&reports.join(RATES_JSON)) {
+    match read_json::<RatesFile>(&reports.join(RATES_JSON)) {
         Ok(r) => figures.extend(convergence_figures(&r.study, sensitivity.as_ref())?),
-        Err(e) => missing.push(e.to_string()),
+        Err(e) => missing.push(unreadable(&e)),
     }
     let gravity_dir = reports.join(gravity::GRAVITY_DIR);
     let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
         .iter()
-        .map(|&m| read::<RunResult>(&gravity_dir.join(gravity::run_file(m))).map(|r| (m, r)))
+        .map(|&m| read_json::<RunResult>(&gravity_dir.join(gravity::run_file(m))).map(|r| (m, r)))
         .collect();
     match (
-        read::<Study>(&gravity_dir.join(gravity::STUDY_JSON)),
+        read_json::<Study>(&gravity_dir.join(gravity::STUDY_JSON)),
         gravity_runs,
     ) {
         (Ok(study), Ok(runs)) => figures.extend(gravity_figures(&study, &runs)?),
-        (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
+        (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
     }
-    match read::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON)) {
+    match read_json::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON)) {
         Ok(w) => figures.extend(work_precision_figures(&w.work_precision)?),
-        Err(e) => missing.push(e.to_string()),
+        Err(e) => missing.push(unreadable(&e)),
     }
     for d in [2, 3] {
-        let study = read::<ElasticStudy>(&reports.join(elastic_files::study_file(d)));
-        let data = read::<ElasticHistories>(&reports.join(elastic_files::histories_file(d)));
+        let study = read_json::<ElasticStudy>(&reports.join(elastic_files::study_file(d)));
+        let data = read_json::<ElasticHistories>(&reports.join(elastic_files::histories_file(d)));
         match (study, data) {
             (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
-            (Err(e), _) | (_, Err(e)) => missing.push(e.to_string()),
+            (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
         }
     }
-    match read::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON)) {
+    match read_json::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON)) {
         Ok(s) => figures.extend(stability_figures(&s)?),
-        Err(e) => missing.push(e.to_string()),
+        Err(e) => missing.push(unreadable(&e)),
     }
     let dir = reports.join(FIGURES_DIR);
     let mut names = Vec::new();

@@ -196,7 +196,7 @@ pub fn write_tables(
     study: &Study,
     sensitivity: &Sensitivity,
     out_dir: &Path,
-) -> Result<(), Box<dyn std::error::Error>> {
+) -> Result<(), Error> {
     let paper = PaperTables::load();
     let list = disagreements_with_longer_horizon(root, study, &paper, sensitivity)?;
     write_atomic(
@@ -222,10 +222,7 @@ pub fn tables_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Er
 }
 
 /// Writes `sensitivity.md` and `sensitivity.json` of `s` into `out_dir`.
-pub fn write_sensitivity_files(
-    s: &Sensitivity,
-    out_dir: &Path,
-) -> Result<(), Box<dyn std::error::Error>> {
+pub fn write_sensitivity_files(s: &Sensitivity, out_dir: &Path) -> Result<(), Error> {
     write_atomic(
         &out_dir.join(SENSITIVITY_MD),
         crate::harness::sensitivity::render(s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
