@@ -64,13 +64,12 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         check_balance,
     } = args;
     let scene = Scene::load(&scene)?;
-    let nx = nx.unwrap_or_else(|| {
-        *scene
-            .discretisation
-            .levels
-            .last()
-            .expect("validated: at least one level")
-    });
+    let Some(nx) = nx.or(scene.discretisation.levels.last().copied()) else {
+        return Err(Failure::usage(format!(
+            "scene {}: no --nx and no discretisation.levels to take the finest from",
+            scene.name
+        )));
+    };
     let mut problem = match scene.problem() {
         Problem::Box(mut problem) => {
             if check_balance {

@@ -48,7 +48,7 @@ pub struct StudyArgs {
     /// scene's `discretisation.reference_level`).
     #[arg(long)]
     pub reference_level: Option<usize>,
-    /// Box scenes: write elastic-<d>d.md, elastic-<d>d.json and the figure data into this
+    /// Box scenes: write `elastic-<d>d.md`, `elastic-<d>d.json` and the figure data into this
     /// reports directory instead of printing.
     #[arg(long)]
     pub out: Option<PathBuf>,

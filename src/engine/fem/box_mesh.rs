@@ -12,7 +12,7 @@
 //! those of the semi-discrete problem (5): `M_ij = ρ ∫ φ_i · φ_j`, `S_ij = a(φ_i, φ_j)` with
 //! the isotropic Hooke tensor `A_ijkl = λ δ_ij δ_kl + μ (δ_ik δ_jl + δ_il δ_jk)`, and the
 //! nodal contact condition on the normal displacement of each node of `Γ_Sig`. The result is a
-//! [`Model`], the same type the 1D engine uses, so every scheme and contact solver runs on it
+//! [`Model`](crate::engine::model::Model), the same type the 1D engine uses, so every scheme and contact solver runs on it
 //! unchanged.
 //!
 //! Numbering: nodes are lexicographic with the first coordinate fastest,

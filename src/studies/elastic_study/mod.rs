@@ -103,23 +103,22 @@ impl ElasticStudyConfig {
         }
     }
 
-    /// Checks the nesting and the ensemble: errors name `levels`, `reference_level`, `ratio`,
-    /// `members` or `amplitude` and say what is allowed.
-    pub fn validate(&self) -> Result<(), ParameterError> {
+    /// Checks the nesting and the ensemble and returns the finest level: errors name `levels`,
+    /// `reference_level`, `ratio`, `members` or `amplitude` and say what is allowed.
+    pub fn validate(&self) -> Result<usize, ParameterError> {
         let nested = !self.levels.is_empty()
             && self.levels[0] > 0
             && self
                 .levels
                 .windows(2)
                 .all(|w| w[1] > w[0] && w[1] % w[0] == 0);
-        if !nested {
+        let Some(&finest) = self.levels.last().filter(|_| nested) else {
             return Err(ParameterError::new(
                 "levels",
                 format!("{:?}", self.levels),
                 "increasing element counts > 0, each dividing the next (nested meshes)",
             ));
-        }
-        let finest = *self.levels.last().expect("not empty");
+        };
         if self.reference_level < 2 * finest || self.reference_level % (2 * finest) != 0 {
             return Err(ParameterError::new(
                 "reference_level",
@@ -129,9 +128,10 @@ impl ElasticStudyConfig {
             ));
         }
         crate::engine::error::require_positive("ratio", self.ratio)?;
-        self.sensitivity
-            .as_ref()
-            .map_or(Ok(()), EnsembleConfig::validate)
+        if let Some(ensemble) = &self.sensitivity {
+            ensemble.validate()?;
+        }
+        Ok(finest)
     }
 }
 
@@ -329,7 +329,7 @@ pub fn run_elastic_study(
     cache_dir: &Path,
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
-    config.validate()?;
+    let finest = config.validate()?;
     // An ensemble the problem cannot carry is refused before anything runs.
     let ensemble = config
         .sensitivity
@@ -337,7 +337,6 @@ pub fn run_elastic_study(
         .transpose()?;
     let clock = Instant::now();
     let reference = obtain_reference(problem, config, cache_dir, note)?;
-    let finest = *config.levels.last().expect("validated");
     let check_level = config.reference_level / 2;
     let mut all_levels = config.levels.clone();
     all_levels.push(check_level);
@@ -528,9 +527,8 @@ pub fn obtain_reference(
     cache_dir: &Path,
     note: &mut dyn FnMut(String),
 ) -> Result<Reference, Error> {
-    config.validate()?;
+    let finest = config.validate()?;
     let case = ElasticStudyConfig::reference_case();
-    let finest = *config.levels.last().expect("validated");
     let key = ReferenceKey::new(
         problem,
         config.reference_level,
