@@ -4,7 +4,6 @@
 
 use std::path::Path;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::fem::MassVariant;
@@ -12,7 +11,7 @@ use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_json_compact;
 use crate::harness::error::Error;
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
-use crate::harness::study::StudyConfig;
+use crate::harness::study::{run_case_levels, Case, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 
 /// The levels whose contact and energy histories `make report` keeps for the figures.
@@ -43,37 +42,32 @@ pub struct SchemeHistories {
 pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<(), Error> {
     let config = StudyConfig::paper_default();
     let problem = dirichlet(root, config.horizon)?;
-    let histories: Vec<SchemeHistories> = Scheme::paper_schemes()
-        .par_iter()
-        .map(|&scheme| -> Result<_, Error> {
-            let mut runs = Vec::new();
-            for mass in MassVariant::PAPER {
-                for &nx in levels {
-                    let r = run(
-                        &problem,
-                        &RunConfig {
-                            nx,
-                            ratio: config.ratio,
-                            scheme,
-                            mass,
-                            observables: Observables {
-                                contact_history: true,
-                                energy_history: true,
-                                ..Observables::default()
-                            },
-                        },
-                    )?
-                    .completed()?;
-                    runs.push((mass, nx, r));
-                }
-            }
-            Ok(SchemeHistories {
-                scheme: scheme.name(),
-                label: scheme.label(),
-                runs,
-            })
-        })
-        .collect::<Result<_, _>>()?;
+    let schemes = Scheme::paper_schemes();
+    let cases = Case::matrix(&schemes, &MassVariant::PAPER);
+    let per_case = run_case_levels(cases.len(), levels, |c, l| {
+        let config = RunConfig {
+            nx: levels[l],
+            ratio: config.ratio,
+            scheme: cases[c].scheme,
+            mass: cases[c].mass,
+            observables: Observables {
+                contact_history: true,
+                energy_history: true,
+                ..Observables::default()
+            },
+        };
+        run(&problem, &config)?.completed()
+    })?;
+    let mut per_case = cases.iter().zip(per_case);
+    let histories = schemes.iter().map(|scheme| SchemeHistories {
+        scheme: scheme.name(),
+        label: scheme.label(),
+        runs: per_case
+            .by_ref()
+            .take(MassVariant::PAPER.len())
+            .flat_map(|(case, runs)| levels.iter().zip(runs).map(|(&nx, r)| (case.mass, nx, r)))
+            .collect(),
+    });
     for h in histories {
         write_json_compact(&out_dir.join(histories_file(&h.scheme)), &h)?;
     }
