@@ -21,7 +21,6 @@ use vtkio::model::{
 use crate::engine::contact::ContactSet;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
-use crate::engine::problem::{Mesh, Problem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
@@ -185,10 +184,8 @@ pub fn run_box_observed(
     observers: &mut [&mut dyn Observer],
 ) -> Result<BoxRunResult, Error> {
     let started = Instant::now();
-    let discretisation = Problem::Box(problem.clone()).discretise(config.nx, config.mass)?;
-    let Mesh::Box(mesh) = &discretisation.mesh else {
-        unreachable!("a box discretises on a box mesh")
-    };
+    let discretisation = problem.discretise(config.nx, config.mass)?;
+    let mesh = &discretisation.mesh;
     let model = &discretisation.model;
     let mut energy = EnergyTrace::default();
     let mut face = FaceRecorder::new(problem, mesh, model.contact());

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::InitialData;
+use super::{Discretisation, InitialData};
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::ExactSolution;
@@ -55,6 +55,23 @@ impl Problem1d {
             model = model.with_contact_law(ContactLaw::bar1d(self.contact, &bar)?);
         }
         Ok((bar, model))
+    }
+
+    /// The discretisation with `nx` elements and the mass matrix `mass`: the mesh, the model
+    /// ([`Problem1d::model`]) and the initial dofs ([`Problem1d::initial_dofs`]).
+    pub fn discretise(
+        &self,
+        nx: usize,
+        mass: MassVariant,
+    ) -> Result<Discretisation<Bar1d>, ParameterError> {
+        let (bar, model) = self.model(nx, mass)?;
+        let (displacement, velocity) = self.initial_dofs(&bar, &model);
+        Ok(Discretisation {
+            mesh: bar,
+            model,
+            displacement,
+            velocity,
+        })
     }
 
     /// The initial displacement and velocity as dof vectors: the nodal interpolants of the

@@ -2,10 +2,12 @@
 //! side, its face `x_d = L_d` held fixed, starting with a uniform axial displacement and
 //! velocity.
 
-use super::Perturbation;
-use crate::engine::contact::ContactTreatment;
+use super::{Discretisation, Perturbation};
+use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
+use crate::engine::fem::MassVariant;
+use crate::engine::model::Model;
 
 /// A 2D/3D bar problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,4 +74,29 @@ pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>
         p.apply(&mut v0, &[]);
     }
     (u0, v0)
+}
+
+impl BoxProblem {
+    /// The discretisation with `n_axis` elements along the axis ([`box_mesh`]) and the mass
+    /// matrix `mass`: the mesh, the model with the problem's contact treatment
+    /// ([`Model::of_box`]) and the initial dofs ([`initial_dofs`]).
+    pub fn discretise(
+        &self,
+        n_axis: usize,
+        mass: MassVariant,
+    ) -> Result<Discretisation<BoxMesh>, ParameterError> {
+        let mesh = box_mesh(self, n_axis)?;
+        self.elasticity.validate(mesh.dim())?;
+        mesh.check_mass(mass)?;
+        let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
+        let model =
+            Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap).with_contact_law(law);
+        let (displacement, velocity) = initial_dofs(self, &mesh);
+        Ok(Discretisation {
+            mesh,
+            model,
+            displacement,
+            velocity,
+        })
+    }
 }

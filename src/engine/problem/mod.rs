@@ -1,5 +1,5 @@
 //! A problem as the engine sees it: a 1D bar ([`Problem1d`]) or a 2D/3D box ([`BoxProblem`]),
-//! and its discretisation at a level: the mesh, the model and the initial dofs every run
+//! and its [`Discretisation`] at a level: the mesh, the model and the initial dofs every run
 //! starts from. Scene files (`crate::harness::scene`) are parsed into this.
 
 mod bar;
@@ -10,15 +10,12 @@ pub use elastic_box::{box_mesh, initial_dofs, BoxProblem};
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::contact::ContactLaw;
-use crate::engine::error::ParameterError;
 use crate::engine::exact::{ExactSolution, Pointwise};
 use crate::engine::fem::box_mesh::BoxMesh;
-use crate::engine::fem::{Bar1d, MassVariant};
+use crate::engine::fem::Bar1d;
 use crate::engine::model::Model;
 
-/// A problem: the 1D bar of the paper or the 2D/3D box of the note. Runs, studies and
-/// ensembles take this; the geometry is data, not a code path.
+/// A problem: the 1D bar of the paper or the 2D/3D box of the note, as a scene describes it.
 #[derive(Debug, Clone)]
 pub enum Problem {
     /// A 1D bar with an exact solution.
@@ -27,42 +24,30 @@ pub enum Problem {
     Box(BoxProblem),
 }
 
-impl From<Problem1d> for Problem {
-    fn from(p: Problem1d) -> Self {
-        Problem::Bar(p)
+/// A mesh with an axis: the direction of `Δx` in the ratio `Δx/Δt` of a run.
+pub trait AxialMesh {
+    /// The element size along the axis.
+    fn axial_element_size(&self) -> f64;
+}
+
+impl AxialMesh for Bar1d {
+    fn axial_element_size(&self) -> f64 {
+        self.h()
     }
 }
 
-impl From<BoxProblem> for Problem {
-    fn from(p: BoxProblem) -> Self {
-        Problem::Box(p)
+impl AxialMesh for BoxMesh {
+    fn axial_element_size(&self) -> f64 {
+        self.element_sizes()[self.dim() - 1]
     }
 }
 
-/// A problem's mesh at one level.
+/// A problem discretised at one level on a mesh `M` ([`Problem1d::discretise`] on a
+/// [`Bar1d`], [`BoxProblem::discretise`] on a [`BoxMesh`]): what every run starts from.
 #[derive(Debug, Clone)]
-pub enum Mesh {
-    /// P1 elements on `[0, L]`.
-    Bar(Bar1d),
-    /// Q1 elements on a box.
-    Box(BoxMesh),
-}
-
-impl Mesh {
-    /// The element size along the axis, `Δx` of the ratio `Δx/Δt`.
-    pub fn axial_element_size(&self) -> f64 {
-        match self {
-            Mesh::Bar(bar) => bar.h(),
-            Mesh::Box(mesh) => mesh.element_sizes()[mesh.dim() - 1],
-        }
-    }
-}
-
-/// A problem discretised at one level: what every run starts from.
-#[derive(Debug, Clone)]
-pub struct Discretisation {
+pub struct Discretisation<M> {
     /// The mesh.
-    pub mesh: Mesh,
+    pub mesh: M,
     /// The semi-discrete model (eq. 30 in 1D, the note's (5) on a box).
     pub model: Model,
     /// `U⁰`.
@@ -77,42 +62,6 @@ impl Problem {
         match self {
             Problem::Bar(p) => p.horizon,
             Problem::Box(p) => p.horizon,
-        }
-    }
-
-    /// The discretisation with `level` elements along the axis and the mass matrix `mass`:
-    /// the mesh, the model with the problem's contact treatment, the initial dofs.
-    pub fn discretise(
-        &self,
-        level: usize,
-        mass: MassVariant,
-    ) -> Result<Discretisation, ParameterError> {
-        match self {
-            Problem::Bar(p) => {
-                let (bar, model) = p.model(level, mass)?;
-                let (displacement, velocity) = p.initial_dofs(&bar, &model);
-                Ok(Discretisation {
-                    mesh: Mesh::Bar(bar),
-                    model,
-                    displacement,
-                    velocity,
-                })
-            }
-            Problem::Box(p) => {
-                let mesh = box_mesh(p, level)?;
-                p.elasticity.validate(mesh.dim())?;
-                mesh.check_mass(mass)?;
-                let law = ContactLaw::boxed(p.contact, &mesh, &p.elasticity)?;
-                let model =
-                    Model::of_box(&mesh, &p.elasticity, mass, p.obstacle_gap).with_contact_law(law);
-                let (displacement, velocity) = initial_dofs(p, &mesh);
-                Ok(Discretisation {
-                    mesh: Mesh::Box(mesh),
-                    model,
-                    displacement,
-                    velocity,
-                })
-            }
         }
     }
 }

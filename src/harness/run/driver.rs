@@ -7,7 +7,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, SolveError};
-use crate::engine::problem::Discretisation;
+use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
 
@@ -201,8 +201,8 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 /// [`RunStatus`]; a failure to set the scheme up (a parameter, the CFL bound, a
 /// factorisation) is an error. `started` is when the run's setup began (its discretisation
 /// included).
-pub fn drive(
-    discretisation: &Discretisation,
+pub fn drive<M: AxialMesh>(
+    discretisation: &Discretisation<M>,
     horizon: f64,
     ratio: f64,
     scheme: Scheme,

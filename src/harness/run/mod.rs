@@ -16,7 +16,6 @@ use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 pub use crate::engine::problem::Problem1d;
-use crate::engine::problem::{Mesh, Problem};
 use crate::engine::schemes::energy_balance::BalanceMonitor;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
@@ -230,10 +229,8 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         )
         .into());
     }
-    let discretisation = Problem::Bar(problem.clone()).discretise(config.nx, config.mass)?;
-    let Mesh::Bar(bar) = &discretisation.mesh else {
-        unreachable!("a bar discretises on a bar mesh")
-    };
+    let discretisation = problem.discretise(config.nx, config.mass)?;
+    let bar = &discretisation.mesh;
     let model = &discretisation.model;
     let exact = problem.exact.as_ref();
     let has = |n: &[Norm]| n.iter().any(|x| observables.norms.contains(x));
