@@ -3,6 +3,7 @@
 //! Every message names the parameter (or the step and the quantity) and the allowed range, so
 //! that a user reading it knows what to change.
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 /// A parameter outside its allowed range.
@@ -103,9 +104,31 @@ pub enum SolveError {
         step: usize,
         /// Time of the step.
         time: f64,
-        /// Which quantity (`displacement`, `velocity`, `multiplier`, `energy`).
-        quantity: &'static str,
+        /// Which part of the state.
+        quantity: StateField,
     },
+}
+
+/// A part of a scheme's state at a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StateField {
+    /// `U^n`.
+    Displacement,
+    /// `V^n`.
+    Velocity,
+    /// `λ^n`.
+    Multiplier,
+}
+
+impl std::fmt::Display for StateField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StateField::Displacement => "displacement",
+            StateField::Velocity => "velocity",
+            StateField::Multiplier => "multiplier",
+        })
+    }
 }
 
 impl SolveError {

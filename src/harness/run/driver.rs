@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::error::{require_positive, SolveError};
+use crate::engine::error::{require_positive, SolveError, StateField};
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
@@ -67,7 +67,7 @@ pub enum RunStatus {
         /// Its time.
         time: f64,
         /// `displacement`, `velocity` or `multiplier`.
-        quantity: String,
+        quantity: StateField,
     },
     /// The contact solver did not converge at `step`: the run stopped there.
     ContactNotConverged {
@@ -96,11 +96,7 @@ impl RunStatus {
             } => Err(SolveError::NonFinite {
                 step: *step,
                 time: *time,
-                quantity: match quantity.as_str() {
-                    "velocity" => "velocity",
-                    "multiplier" => "multiplier",
-                    _ => "displacement",
-                },
+                quantity: *quantity,
             }),
             RunStatus::ContactNotConverged { step, iterations } => {
                 Err(SolveError::ContactNotConverged {
@@ -122,7 +118,7 @@ impl RunStatus {
             } => Some(RunStatus::Diverged {
                 step,
                 time,
-                quantity: quantity.to_string(),
+                quantity,
             }),
             SolveError::ContactNotConverged { step, iterations } => {
                 Some(RunStatus::ContactNotConverged { step, iterations })
@@ -177,10 +173,10 @@ impl SnapshotTimes {
 
 /// The first non-finite value of the state, as the error that stops the run.
 fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
-    let fields: [(&'static str, &[f64]); 3] = [
-        ("displacement", scheme.displacement()),
-        ("velocity", scheme.velocity()),
-        ("multiplier", scheme.multiplier().value),
+    let fields: [(StateField, &[f64]); 3] = [
+        (StateField::Displacement, scheme.displacement()),
+        (StateField::Velocity, scheme.velocity()),
+        (StateField::Multiplier, scheme.multiplier().value),
     ];
     for (quantity, values) in fields {
         if values.iter().any(|v| !v.is_finite()) {
