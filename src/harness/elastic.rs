@@ -104,6 +104,8 @@ impl Observer for EnergyTrace {
 /// The contact face's gaps and forces at every step.
 struct FaceRecorder {
     set: ContactSet,
+    /// `B u + g` of the current state (scratch).
+    gaps: Vec<f64>,
     centre: usize,
     history: BoxContactHistory,
 }
@@ -127,6 +129,7 @@ impl FaceRecorder {
             dist(a).total_cmp(&dist(b))
         })?;
         Some(Self {
+            gaps: vec![0.0; set.len()],
             set,
             centre,
             history: BoxContactHistory::default(),
@@ -136,15 +139,9 @@ impl FaceRecorder {
 
 impl Observer for FaceRecorder {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        let u = state.displacement();
         let lambda = state.multiplier().value;
-        let gaps: Vec<f64> = self
-            .set
-            .dofs
-            .iter()
-            .zip(&self.set.gaps)
-            .map(|(&dof, g)| u[dof] + g)
-            .collect();
+        let gaps = &mut self.gaps;
+        self.set.gaps_of(state.displacement(), gaps);
         let h = &mut self.history;
         h.time.push(state.time());
         h.mean_gap
