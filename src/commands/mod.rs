@@ -27,6 +27,7 @@ pub use reports::{
 pub use run::{run_scene, RunArgs};
 pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
 
+use crate::engine::schemes::conventions::{Conventions, Start};
 use std::io::IsTerminal;
 use std::path::Path;
 
@@ -46,6 +47,40 @@ pub(crate) fn parse_scheme(s: &str) -> Result<Scheme, String> {
 }
 
 pub(crate) fn parse_contact(s: &str) -> Result<ContactTreatment, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+/// The schemes' implementation choices on the command line, over the scene's
+/// ([`Conventions`]).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct ConventionArgs {
+    /// The schemes' implementation choices: harness or getfem-demo (GetFEM demo's start,
+    /// Nitsche acceleration and Paoli–Schatzman rows). Default: the scene's, else harness.
+    #[arg(long, value_parser = parse_conventions)]
+    pub conventions: Option<Conventions>,
+    /// The start with a massless contact node: static (its data moved into static
+    /// equilibrium) or implicit-multiplier (data kept, the paper's and GetFEM's). Default: the
+    /// conventions', else the scene's, else static.
+    #[arg(long, value_parser = parse_start)]
+    pub start: Option<Start>,
+}
+
+impl ConventionArgs {
+    /// `scene`'s conventions with the options given here applied over them.
+    pub fn over(self, scene: Conventions) -> Conventions {
+        let mut c = self.conventions.unwrap_or(scene);
+        if let Some(start) = self.start {
+            c.start = start;
+        }
+        c
+    }
+}
+
+fn parse_conventions(s: &str) -> Result<Conventions, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+fn parse_start(s: &str) -> Result<Start, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
 }
 

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{parse_contact, parse_mass, parse_scheme, write_output, Failure};
+use super::{parse_contact, parse_mass, parse_scheme, write_output, ConventionArgs, Failure};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{BoxProblem, Problem};
@@ -48,6 +48,9 @@ pub struct RunArgs {
     /// with --out) and fail with exit code 1 when it exceeds 1e-9. 1D scenes only.
     #[arg(long)]
     pub check_balance: bool,
+    /// The schemes' implementation choices.
+    #[command(flatten)]
+    pub conventions: ConventionArgs,
 }
 
 /// One run of a scene: the requested error norms on the terminal; with --out, run.json
@@ -62,6 +65,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         out,
         contact,
         check_balance,
+        conventions,
     } = args;
     let scene = Scene::load(&scene)?;
     let Some(nx) = nx.or(scene.discretisation.levels.last().copied()) else {
@@ -79,11 +83,13 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
                 ));
             }
             problem.contact = contact.unwrap_or(problem.contact);
+            problem.conventions = conventions.over(problem.conventions);
             return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
         }
         Problem::Bar(problem) => problem,
     };
     problem.contact = contact.unwrap_or(problem.contact);
+    problem.conventions = conventions.over(problem.conventions);
     let mut observables = scene.observables();
     observables.energy_balance = check_balance;
     if out.is_none() {

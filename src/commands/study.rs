@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, Failure};
+use super::{
+    parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, ConventionArgs, Failure,
+};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{BoxProblem, Problem};
@@ -59,6 +61,9 @@ pub struct StudyArgs {
     /// nitsche(theta=T,gamma0=G) (1D only). Default: the scene's, else multiplier.
     #[arg(long, value_parser = parse_contact)]
     pub contact: Option<ContactTreatment>,
+    /// The schemes' implementation choices.
+    #[command(flatten)]
+    pub conventions: ConventionArgs,
 }
 
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
@@ -76,11 +81,13 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         out,
         cache,
         contact,
+        conventions,
     } = args;
     let scene = Scene::load(&scene)?;
     let mut problem = match scene.problem() {
         Problem::Box(mut problem) => {
             problem.contact = contact.unwrap_or(problem.contact);
+            problem.conventions = conventions.over(problem.conventions);
             let mut config =
                 ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
             if !levels.is_empty() {
@@ -138,6 +145,7 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
     }
     let bar = progress_bar(study_size(&cases, &config));
     problem.contact = contact.unwrap_or(problem.contact);
+    problem.conventions = conventions.over(problem.conventions);
     let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
     bar.finish_and_clear();
     if json {

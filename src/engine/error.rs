@@ -88,15 +88,6 @@ pub enum SolveError {
         /// Newmark's γ.
         gamma: f64,
     },
-    /// Explicit Newmark with a contact dof that carries mass.
-    #[error(
-        "explicit contact requires a mass variant whose contact dofs are massless (redistributed, \
-         redistributed-conserving or singular-dynamic): contact dof {dof} has mass"
-    )]
-    ExplicitContactWithMass {
-        /// The first contact dof with mass.
-        dof: usize,
-    },
     /// A state value became NaN or infinite.
     #[error("non-finite {quantity} at step {step} (t = {time})")]
     NonFinite {
@@ -133,12 +124,9 @@ impl std::fmt::Display for StateField {
 
 impl SolveError {
     /// Whether the error is a choice of parameters the user can change before running (the
-    /// CFL bound, explicit contact with mass) rather than a failure of the computation.
+    /// CFL bound) rather than a failure of the computation.
     pub fn is_usage(&self) -> bool {
-        matches!(
-            self,
-            SolveError::CflViolated { .. } | SolveError::ExplicitContactWithMass { .. }
-        )
+        matches!(self, SolveError::CflViolated { .. })
     }
 }
 

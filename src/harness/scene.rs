@@ -22,6 +22,7 @@ use crate::engine::exact::{
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
 use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
+use crate::engine::schemes::Conventions;
 use crate::engine::schemes::{Scheme, SCHEME_NAMES};
 use crate::harness::norms::Norm;
 use crate::harness::run::Observables;
@@ -196,6 +197,13 @@ struct SceneFile {
     /// `nitsche(theta=T,gamma0=G)` for a bar1d).
     #[serde(default)]
     contact: Option<String>,
+    /// The schemes' implementation choices as a named set: `harness` (the default) or
+    /// `getfem-demo` (GetFEM demo's start, Nitsche acceleration and Paoli–Schatzman rows).
+    #[serde(default)]
+    conventions: Option<String>,
+    /// The start (`static`, the default, or `implicit-multiplier`), over the set's.
+    #[serde(default)]
+    start: Option<String>,
 }
 
 /// The geometry and mesh family.
@@ -345,6 +353,7 @@ impl SceneFile {
             }
         }
         let contact = self.contact_treatment(path)?;
+        let conventions = self.conventions(path)?;
         if let Some(b) = &self.body_force {
             if !b.density.is_finite() {
                 return Err(invalid(
@@ -357,11 +366,12 @@ impl SceneFile {
         }
         let (problem, schemes, norms) = match &self.geometry {
             Geometry::Bar1d { length } => {
-                let (bar, schemes, norms) = self.bar1d(path, *length, contact)?;
+                let (bar, schemes, norms) = self.bar1d(path, *length, contact, conventions)?;
                 (Problem::Bar(bar), schemes, norms)
             }
             Geometry::Box { lengths } => {
-                let (elastic_box, schemes, norms) = self.elastic_box(path, lengths, contact)?;
+                let (elastic_box, schemes, norms) =
+                    self.elastic_box(path, lengths, contact, conventions)?;
                 (Problem::Box(elastic_box), schemes, norms)
             }
         };
@@ -406,6 +416,7 @@ impl SceneFile {
         path: &Path,
         length: f64,
         contact: ContactTreatment,
+        conventions: Conventions,
     ) -> Result<Checked<Problem1d>, SceneError> {
         positive(path, "geometry.length", length)?;
         let wave_speed = self.material.wave_speed.ok_or_else(|| {
@@ -500,6 +511,7 @@ impl SceneFile {
             initial: self.initial,
             horizon: self.horizon,
             contact,
+            conventions,
         };
         Ok((problem, schemes, norms))
     }
@@ -550,6 +562,25 @@ impl SceneFile {
         Ok(finest)
     }
 
+    /// The schemes' conventions: the named set of `conventions` (the harness's when absent)
+    /// with the `start` the scene names, if any.
+    fn conventions(&self, path: &Path) -> Result<Conventions, SceneError> {
+        let mut conventions = match &self.conventions {
+            None => Conventions::HARNESS,
+            Some(name) => name.parse().map_err(|e: ParameterError| {
+                invalid(path, "conventions", name, "one of: harness, getfem-demo")
+                    .with_detail(e.to_string())
+            })?,
+        };
+        if let Some(name) = &self.start {
+            conventions.start = name.parse().map_err(|e: ParameterError| {
+                invalid(path, "start", name, "one of: static, implicit-multiplier")
+                    .with_detail(e.to_string())
+            })?;
+        }
+        Ok(conventions)
+    }
+
     /// The contact treatment (the multiplier when the scene names none): a known treatment
     /// with valid parameters, other than the multiplier only with an obstacle, and Nitsche only
     /// for a bar1d.
@@ -587,6 +618,7 @@ impl SceneFile {
         path: &Path,
         lengths: &[f64],
         contact: ContactTreatment,
+        conventions: Conventions,
     ) -> Result<Checked<BoxProblem>, SceneError> {
         if !(2..=3).contains(&lengths.len()) || lengths.iter().any(|l| !(l.is_finite() && *l > 0.0))
         {
@@ -713,6 +745,7 @@ impl SceneFile {
             horizon: self.horizon,
             contact,
             velocity_perturbation: None,
+            conventions,
         };
         Ok((problem, schemes, BTreeSet::new()))
     }

@@ -1,5 +1,5 @@
 //! Issue 11's extended table: the Signorini–Dirichlet benchmark (1D paper §5) with
-//! Crank–Nicolson and backward Euler, every mass variant ([`MassVariant::ALL`]) and every contact
+//! Crank–Nicolson and backward Euler, every mass variant ([`MassVariant::ON_EVERY_MESH`]) and every contact
 //! treatment of [`TREATMENTS`], one refinement study per treatment. Per row (treatment, scheme,
 //! mass) it reports the seven least-squares rates, the oscillation indicator and an
 //! [`EnergyVerdict`]; the golden file [`ExtendedGolden`] gates it like Tables 1–2. Its files:
@@ -59,7 +59,7 @@ pub const GROWS_AT_OR_BELOW: f64 = -0.25;
 pub struct ExtendedStudy {
     /// The treatment's name (one of [`TREATMENTS`]).
     pub contact: String,
-    /// Its study: [`SCHEMES`] × [`MassVariant::ALL`], all seven norms.
+    /// Its study: [`SCHEMES`] × [`MassVariant::ON_EVERY_MESH`], all seven norms.
     pub study: Study,
     /// The round-off sensitivity of its cases, when measured ([`ExtendedStudy::with_sensitivity`]).
     pub sensitivity: Option<Sensitivity>,
@@ -86,7 +86,7 @@ pub fn extended_config() -> StudyConfig {
 
 /// The cases of one treatment's study: every scheme of [`SCHEMES`] with every mass variant.
 pub fn extended_cases() -> Vec<Case> {
-    Case::matrix(&SCHEMES, &MassVariant::ALL)
+    Case::matrix(&SCHEMES, &MassVariant::ON_EVERY_MESH)
 }
 
 /// The Signorini–Dirichlet benchmark (its scene under the repository root `root`) on the
@@ -472,7 +472,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         md.push_str(" oscillation | energy error (finest) | energy verdict |\n|---|---|");
         md.push_str(&"---|".repeat(Norm::ALL.len() + 3));
         md.push('\n');
-        for mass in MassVariant::ALL {
+        for mass in MassVariant::ON_EVERY_MESH {
             for r in rows
                 .iter()
                 .filter(|r| r.scheme == name && r.mass == mass.name())

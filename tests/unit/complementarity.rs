@@ -2,6 +2,7 @@
 //! Tables 1–2, with both mass matrices, on the Signorini–Dirichlet benchmark (§5.2 setting), and
 //! the redistributed mass keeps the contact node in contact through the exact contact phase.
 
+use signorini::engine::schemes::Conventions;
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::model::Model;
@@ -52,8 +53,16 @@ fn complementarity_holds_at_every_step() {
             let mut contact_steps = 0;
             match scheme {
                 Scheme::PaoliSchatzman { beta, restitution } => {
-                    let start = initial_state(&model, &u0, &v0).unwrap();
-                    let mut s = PaoliSchatzman::new(&model, beta, restitution, dt, start).unwrap();
+                    let start = initial_state(&model, &u0, &v0, &Conventions::HARNESS).unwrap();
+                    let mut s = PaoliSchatzman::new(
+                        &model,
+                        beta,
+                        restitution,
+                        dt,
+                        start,
+                        &Conventions::HARNESS,
+                    )
+                    .unwrap();
                     for step in 1..=steps {
                         let u_older = s.previous_displacement()[0];
                         let u_old = s.displacement()[0];
@@ -73,7 +82,8 @@ fn complementarity_holds_at_every_step() {
                     }
                 }
                 _ => {
-                    let mut s = integrator(&model, scheme, dt, &u0, &v0).unwrap();
+                    let mut s =
+                        integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
                     for step in 1..=steps {
                         s.advance().unwrap();
                         assert_eq!(s.step_index(), step);

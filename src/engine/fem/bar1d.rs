@@ -125,7 +125,8 @@ impl Bar1d {
     /// contact node (§3.2); the extended variants take the contact node's velocity from the
     /// nodes `1, 2` (a clamped node contributes nothing: see [`Bar1d::check_mass`]).
     pub fn mass(&self, variant: MassVariant) -> SymmetricMatrix {
-        let me = Matrix2::new(2.0, 1.0, 1.0, 2.0) * (self.density * self.h() / 6.0);
+        let me = variant
+            .element_matrix(Matrix2::new(2.0, 1.0, 1.0, 2.0) * (self.density * self.h() / 6.0));
         let mut asm = SparseAssembler::new(self.n_dofs());
         for e in 0..self.nx {
             if variant.includes_element(e == 0) {
@@ -146,7 +147,7 @@ impl Bar1d {
     /// Whether `variant` is defined on this bar ([`MassVariant::check_layers`]: the extended
     /// variants need nodes above the contact node that exist and are not clamped).
     pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
-        variant.check_layers(self.nx, self.far_end == EndCondition::Clamped)
+        variant.check_layers(self.nx, self.far_end == EndCondition::Clamped, true)
     }
 
     /// The stiffness matrix: element matrix `E/h [[1, -1], [-1, 1]]`.

@@ -583,8 +583,12 @@ impl BoxMesh {
     pub fn mass(&self, variant: MassVariant, density: f64) -> SymmetricMatrix {
         let include = |e| variant.includes_element(self.touches_contact_boundary(e));
         let consistent = match self.dim {
-            2 => self.assemble::<2, 4, 8>(|x| quad_mass(x, density), include),
-            _ => self.assemble::<3, 8, 24>(|x| hex_mass(x, density), include),
+            2 => {
+                self.assemble::<2, 4, 8>(|x| variant.element_matrix(quad_mass(x, density)), include)
+            }
+            _ => {
+                self.assemble::<3, 8, 24>(|x| variant.element_matrix(hex_mass(x, density)), include)
+            }
         };
         let layer = self.contact_nodes().len();
         let contact_dofs: Vec<Option<(usize, usize)>> = {
@@ -613,7 +617,7 @@ impl BoxMesh {
     /// Whether `variant` is defined on this mesh ([`MassVariant::check_layers`] with the
     /// `n_d` element layers between `Γ_Sig` and `Γ_Dir`).
     pub fn check_mass(&self, variant: MassVariant) -> Result<(), ParameterError> {
-        variant.check_layers(self.counts[self.dim - 1], true)
+        variant.check_layers(self.counts[self.dim - 1], true, false)
     }
 
     /// The stiffness matrix `S_ij = a(φ_i, φ_j) = ∫_Ω A ε(φ_i) : ε(φ_j)` (eq. 4–5), plane strain

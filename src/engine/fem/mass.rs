@@ -7,7 +7,11 @@
 //!   and column: the node carries no inertia and evolves quasi-statically. The mass of the
 //!   removed elements is removed, not moved (the total mass drops by that of one element layer).
 //! * `lumped`: the row-sum diagonal of the consistent matrix, `M^L_ii = Σ_j M_ij` (GetFEM's
-//!   "basic lumped mass matrix" of `demo_dynamic_contact_1D.py`). No dof is massless.
+//!   "basic lumped mass matrix" of `demo_dynamic_contact_1D.py`), the sum running over every
+//!   node, the fixed (Dirichlet) ones included: it is assembled from the row-summed element
+//!   matrices ([`MassVariant::element_matrix`]), so a node next to a clamped end keeps the
+//!   mass `ρh` of its two half-elements (a row sum of the matrix with the Dirichlet dofs already
+//!   eliminated would give it `5ρh/6`). No dof is massless.
 //! * `redistributed-conserving` and `singular-dynamic`: the kinetic energy is that of a velocity
 //!   field whose values at the nodes of `Γ_Sig` are *extended* from the nodes above them along the
 //!   normal, `M^P = Pᵀ M P` (see [`ContactExtension`]). The contact nodes' own velocities never
@@ -29,6 +33,21 @@
 //!     constraint.) GetFEM's demo sets `M_11 = 7h/12`, which keeps neither the mass nor the
 //!     first moment.
 //!
+//! * `getfem-redistributed` and `getfem-singular`: the two masses of GetFEM's public demo
+//!   `demo_dynamic_contact_1D.py` (`mass_matrix_type` 1 and 2), kept so that the harness can
+//!   solve the demo's discrete problem (issue 17, `tests/data/getfem/`). Both zero the row and
+//!   column of the contact node `0` and change only the diagonal of its neighbour `1`:
+//!   - `getfem-redistributed`: `M_11 ← M_11 + M_00 + M_10` (`2h/3 + h/3 + h/6 = 7h/6` for
+//!     `ρ = 1`): the contact node's row sum is moved onto the neighbour's diagonal. It is not a
+//!     congruence of `M` (so not `redistributed-conserving`, whose `M_11` is `4h/3`), nor the
+//!     paper's `M^mod` (which removes the first element's mass: `M_11 = h/3`);
+//!   - `getfem-singular`: `M_11 ← 7ρh/12` (the demo's "singular dynamic" mass; it keeps neither
+//!     the total mass nor the first moment, unlike `singular-dynamic`).
+//!
+//!   They are defined on the 1D bar only: the demo writes them on its dof numbering, and the
+//!   constant `7h/12` has no counterpart on a box face; [`MassVariant::check_layers`] refuses
+//!   them on a box.
+//!
 //! The extension is defined when the nodes it reads exist and are not on the Dirichlet face
 //! (otherwise the mass would be moved onto a fixed node and lost); [`MassVariant::check_layers`]
 //! says so with a [`ParameterError`] on `mass`.
@@ -37,6 +56,8 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
+
+use nalgebra::SMatrix;
 
 use super::{SparseAssembler, SymmetricMatrix};
 use crate::engine::error::ParameterError;
@@ -57,6 +78,12 @@ pub enum MassVariant {
     /// `Pᵀ M P` with the contact nodes' velocities extrapolated linearly: massless contact
     /// nodes, total mass, centre of mass and inertia kept (Renard 2010).
     SingularDynamic,
+    /// GetFEM demo's `mass_matrix_type = 1`: the contact node's row sum moved onto its
+    /// neighbour's diagonal, the contact row and column zero (1D only).
+    GetfemRedistributed,
+    /// GetFEM demo's `mass_matrix_type = 2`: the neighbour's diagonal set to `7ρh/12`, the
+    /// contact row and column zero (1D only).
+    GetfemSingular,
 }
 
 /// How the velocity of a node of `Γ_Sig` is extended from the nodes above it along the normal:
@@ -69,12 +96,30 @@ pub struct ContactExtension {
 
 impl MassVariant {
     /// Every variant, in table order.
-    pub const ALL: [MassVariant; 5] = [
+    pub const ALL: [MassVariant; 7] = [
         MassVariant::Standard,
         MassVariant::Redistributed,
         MassVariant::Lumped,
         MassVariant::RedistributedConserving,
         MassVariant::SingularDynamic,
+        MassVariant::GetfemRedistributed,
+        MassVariant::GetfemSingular,
+    ];
+
+    /// The variants defined on every mesh, bar and box (all but GetFEM's two): the extended
+    /// study's.
+    pub const ON_EVERY_MESH: [MassVariant; 5] = [
+        MassVariant::Standard,
+        MassVariant::Redistributed,
+        MassVariant::Lumped,
+        MassVariant::RedistributedConserving,
+        MassVariant::SingularDynamic,
+    ];
+
+    /// GetFEM demo's masses, `mass_matrix_type` 1 and 2 (1D only).
+    pub const GETFEM: [MassVariant; 2] = [
+        MassVariant::GetfemRedistributed,
+        MassVariant::GetfemSingular,
     ];
 
     /// The two variants of the paper's Tables 1–2 (STD, MOD), in table order.
@@ -88,6 +133,8 @@ impl MassVariant {
             MassVariant::Lumped => "lumped",
             MassVariant::RedistributedConserving => "redistributed-conserving",
             MassVariant::SingularDynamic => "singular-dynamic",
+            MassVariant::GetfemRedistributed => "getfem-redistributed",
+            MassVariant::GetfemSingular => "getfem-singular",
         }
     }
 
@@ -99,6 +146,8 @@ impl MassVariant {
             MassVariant::Lumped => "LUMP",
             MassVariant::RedistributedConserving => "MODC",
             MassVariant::SingularDynamic => "SING",
+            MassVariant::GetfemRedistributed => "GF1",
+            MassVariant::GetfemSingular => "GF2",
         }
     }
 
@@ -117,6 +166,23 @@ impl MassVariant {
                 "singular dynamic mass (Renard 2010): contact nodes massless, linear extrapolation \
                  (mass, centre of mass and inertia kept)"
             }
+            MassVariant::GetfemRedistributed => {
+                "GetFEM demo's mass type 1: contact node massless, its row sum added to its \
+                 neighbour's diagonal (M_11 = 7h/6; 1D only)"
+            }
+            MassVariant::GetfemSingular => {
+                "GetFEM demo's mass type 2: contact node massless, M_11 = 7h/12 (1D only)"
+            }
+        }
+    }
+
+    /// The element matrix this variant assembles from the consistent element matrix `m`: its
+    /// row sums on the diagonal for `lumped` (so the lumped matrix is the row sums over every
+    /// node, fixed ones included), `m` itself for the others.
+    pub fn element_matrix<const N: usize>(self, m: SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
+        match self {
+            MassVariant::Lumped => SMatrix::from_diagonal(&m.column_sum()),
+            _ => m,
         }
     }
 
@@ -128,10 +194,13 @@ impl MassVariant {
         }
     }
 
-    /// The velocity extension of the variants `Pᵀ M P`, `None` for the others.
+    /// The velocity extension of the variants `Pᵀ M P`; for GetFEM's masses, the neighbour
+    /// (weight 1) whose diagonal receives the contact node's mass; `None` for the others.
     pub fn contact_extension(self) -> Option<ContactExtension> {
         match self {
-            MassVariant::RedistributedConserving => Some(ContactExtension { weights: &[1.0] }),
+            MassVariant::RedistributedConserving
+            | MassVariant::GetfemRedistributed
+            | MassVariant::GetfemSingular => Some(ContactExtension { weights: &[1.0] }),
             MassVariant::SingularDynamic => Some(ContactExtension {
                 weights: &[2.0, -1.0],
             }),
@@ -139,11 +208,38 @@ impl MassVariant {
         }
     }
 
+    /// Whether this is one of GetFEM demo's masses ([`MassVariant::GETFEM`]), which edit the
+    /// contact node's neighbour along the normal.
+    pub fn is_getfem(self) -> bool {
+        MassVariant::GETFEM.contains(&self)
+    }
+
     /// Checks that the variant is defined on a mesh with `layers` element layers between the
     /// contact boundary and the far face, which is fixed (Dirichlet) or free. The extension of
     /// `redistributed-conserving` (`singular-dynamic`) reads the nodes 1 (and 2) layers above
     /// `Γ_Sig`: they must exist and must not be fixed, or mass is lost.
-    pub fn check_layers(self, layers: usize, far_face_fixed: bool) -> Result<(), ParameterError> {
+    ///
+    /// GetFEM's masses are refused on a box (`on_bar` false), and need a neighbour node that
+    /// is not fixed on a bar.
+    pub fn check_layers(
+        self,
+        layers: usize,
+        far_face_fixed: bool,
+        on_bar: bool,
+    ) -> Result<(), ParameterError> {
+        if self.is_getfem() {
+            let allowed = if !on_bar {
+                "a variant other than getfem-redistributed and getfem-singular on a box (GetFEM \
+                 demo's masses are defined on the 1D bar only)"
+            } else if layers < 1 + usize::from(far_face_fixed) {
+                "a variant other than getfem-redistributed and getfem-singular on a bar with one \
+                 element and a clamped end (the contact node's neighbour is fixed); use at least \
+                 2 elements"
+            } else {
+                return Ok(());
+            };
+            return Err(ParameterError::new("mass", self.name(), allowed));
+        }
         let Some(ext) = self.contact_extension() else {
             return Ok(());
         };
@@ -174,10 +270,12 @@ impl MassVariant {
         ))
     }
 
-    /// The variant built from the consistent matrix `consistent` (already assembled with
-    /// [`includes_element`](Self::includes_element)): `standard` and `redistributed` unchanged,
-    /// `lumped` its row sums, and the extended variants `Pᵀ M P` where `extension(d)` lists
-    /// `(dof, weight)` of the extension of a contact dof `d` and is `None` for the other dofs.
+    /// The variant built from the matrix `consistent` assembled with
+    /// [`includes_element`](Self::includes_element) and [`element_matrix`](Self::element_matrix)
+    /// (so already lumped for `lumped`): `standard`, `redistributed` and `lumped` unchanged, the
+    /// extended variants `Pᵀ M P` where `extension(d)` lists `(dof, weight)` of the extension of
+    /// a contact dof `d` and is `None` for the other dofs, and GetFEM's two edited on the
+    /// contact dofs' neighbours.
     pub fn from_consistent(
         self,
         consistent: SymmetricMatrix,
@@ -185,25 +283,54 @@ impl MassVariant {
     ) -> SymmetricMatrix {
         match self {
             MassVariant::Standard | MassVariant::Redistributed => consistent,
-            MassVariant::Lumped => lumped(&consistent),
+            MassVariant::Lumped => diagonal_of(&consistent),
             MassVariant::RedistributedConserving | MassVariant::SingularDynamic => {
                 let expand: Vec<Vec<(usize, f64)>> = (0..consistent.dim())
                     .map(|d| extension(d).unwrap_or_else(|| vec![(d, 1.0)]))
                     .collect();
                 consistent.congruence(&expand)
             }
+            MassVariant::GetfemRedistributed | MassVariant::GetfemSingular => {
+                let pairs: Vec<(usize, usize)> = (0..consistent.dim())
+                    .filter_map(|d| Some((d, extension(d)?.first()?.0)))
+                    .collect();
+                getfem_demo_mass(self, &consistent, &pairs)
+            }
         }
     }
 }
 
-/// `diag(M 1)`: the row sums of `m` on the diagonal.
-fn lumped(m: &SymmetricMatrix) -> SymmetricMatrix {
-    let ones = vec![1.0; m.dim()];
-    let mut sums = vec![0.0; m.dim()];
-    m.mul_into(&ones, &mut sums);
+/// GetFEM demo's masses from the consistent matrix `m`, for each `(contact, neighbour)` of
+/// `pairs`: the row and column `contact` zeroed, and `M_nn ← M_nn + M_cc + M_nc`
+/// (`getfem-redistributed`) or `M_nn ← 7 M_cc / 4` (`getfem-singular`: `7ρh/12` with the
+/// contact node's consistent diagonal `ρh/3`). The other entries are kept.
+fn getfem_demo_mass(
+    variant: MassVariant,
+    m: &SymmetricMatrix,
+    pairs: &[(usize, usize)],
+) -> SymmetricMatrix {
     let mut asm = SparseAssembler::new(m.dim());
-    for (i, s) in sums.into_iter().enumerate() {
-        asm.add(i, i, s);
+    asm.add_scaled(m, 1.0);
+    for &(c, n) in pairs {
+        let (m_cc, m_nc, m_nn) = (m.get(c, c), m.get(n, c), m.get(n, n));
+        let new_nn = match variant {
+            MassVariant::GetfemRedistributed => m_nn + m_cc + m_nc,
+            _ => 7.0 * m_cc / 4.0,
+        };
+        asm.add(n, n, new_nn - m_nn);
+        asm.add(c, c, -m_cc);
+        asm.add(n, c, -m_nc);
+        asm.add(c, n, -m.get(c, n));
+    }
+    asm.finish()
+}
+
+/// The diagonal of `m` as a matrix with no other entry (the assembly of diagonal element
+/// matrices stores their zeros).
+fn diagonal_of(m: &SymmetricMatrix) -> SymmetricMatrix {
+    let mut asm = SparseAssembler::new(m.dim());
+    for i in 0..m.dim() {
+        asm.add(i, i, m.get(i, i));
     }
     asm.finish()
 }
@@ -226,7 +353,7 @@ impl FromStr for MassVariant {
                     "mass",
                     s,
                     "one of: standard, redistributed, lumped, redistributed-conserving, \
-                     singular-dynamic",
+                     singular-dynamic, getfem-redistributed, getfem-singular",
                 )
             })
     }

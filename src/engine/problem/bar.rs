@@ -9,6 +9,7 @@ use crate::engine::error::ParameterError;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
 use crate::engine::model::Model;
+use crate::engine::schemes::Conventions;
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
 /// initial data and the reference, and the horizon.
@@ -34,6 +35,8 @@ pub struct Problem1d {
     pub horizon: f64,
     /// How the contact condition is discretised (default: the multiplier).
     pub contact: ContactTreatment,
+    /// The implementation choices of the schemes (the start, …; default: the harness's).
+    pub conventions: Conventions,
 }
 
 impl Problem1d {
@@ -71,6 +74,7 @@ impl Problem1d {
             model,
             displacement,
             velocity,
+            conventions: self.conventions,
         })
     }
 

@@ -8,6 +8,7 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::MassVariant;
 use crate::engine::model::Model;
+use crate::engine::schemes::Conventions;
 
 /// A 2D/3D bar problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +31,8 @@ pub struct BoxProblem {
     /// member of a round-off ensemble (`crate::studies::elastic_study::sensitivity`); `None` for the
     /// problem as stated.
     pub velocity_perturbation: Option<Perturbation>,
+    /// The implementation choices of the schemes (the start, …; default: the harness's).
+    pub conventions: Conventions,
 }
 
 /// The mesh of a run: `n_axis` elements along the axis, square elements across.
@@ -97,6 +100,7 @@ impl BoxProblem {
             model,
             displacement,
             velocity,
+            conventions: self.conventions,
         })
     }
 }

@@ -14,6 +14,7 @@ use crate::engine::exact::{ExactSolution, Pointwise};
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::fem::Bar1d;
 use crate::engine::model::Model;
+use crate::engine::schemes::Conventions;
 
 /// A problem: the 1D bar of the paper or the 2D/3D box of the note, as a scene describes it.
 #[derive(Debug, Clone)]
@@ -54,6 +55,8 @@ pub struct Discretisation<M> {
     pub displacement: Vec<f64>,
     /// `V⁰`.
     pub velocity: Vec<f64>,
+    /// The implementation choices the schemes start and step with.
+    pub conventions: Conventions,
 }
 
 impl Problem {

@@ -12,10 +12,12 @@
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
 //! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
+//! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration and Paoli–Schatzman's massless rows and first step, the harness's or GetFEM demo's | — |
 //!
 //! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
 
 pub mod cfl;
+pub mod conventions;
 pub mod energy_balance;
 pub mod factory;
 pub mod massless;
@@ -25,6 +27,7 @@ pub mod paoli_schatzman;
 pub mod scheme;
 pub mod theta;
 
+pub use conventions::Conventions;
 pub use factory::integrator;
 pub use newmark::{initial_state, ExplicitNewmark};
 #[doc(hidden)]

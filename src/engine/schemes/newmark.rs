@@ -22,12 +22,20 @@
 //! With the redistributed mass the contact node carries no inertia: its equation is the static
 //! one, `(S U − F + Bᵀλ)_Z = 0` on the massless dofs `Z`, with the contact condition. Given
 //! data need not satisfy it (the Dirichlet benchmark starts with `u_0 = ½` but a strained first
-//! element), so the massless dofs of `U^0` are replaced by the solution of that static contact
-//! problem with the other dofs fixed ([`QuasiStatic`]), which also yields `λ^0`. The initial
-//! acceleration solves `M_RR A_R = (F − S U^0 − Bᵀλ^0)_R` on the dofs `R` that carry mass
-//! (eq. 32c at `t = 0`); `A_Z = 0` (it never enters `M A`).
+//! element). Two starts are offered ([`Start`]):
 //!
-//! For the standard mass `Z` is empty, `U^0` is the given data and `λ^0 = 0`.
+//! * [`Start::Static`] (the default): the massless dofs of `U^0` are replaced by the solution of
+//!   that static contact problem with the other dofs fixed ([`QuasiStatic`]), which also yields
+//!   `λ^0`;
+//! * [`Start::ImplicitMultiplier`] (the paper's and GetFEM's): `U^0` is kept and the rows `Z` of
+//!   (32c) are not imposed at `t = 0`; a massless contact dof reports the multiplier they imply,
+//!   `λ^0 = −(S U^0 − F)_c`. The first step restores the static equation.
+//!
+//! The initial acceleration solves `M_RR A_R = (F − S U^0 − Bᵀλ^0)_R` on the dofs `R` that
+//! carry mass (eq. 32c at `t = 0`); `A_Z = 0` (it never enters `M A`).
+//!
+//! For the standard mass `Z` is empty, `U^0` is the given data, `λ^0 = 0`, and both starts are
+//! the same.
 //!
 //! A penalty or Nitsche treatment ([`crate::engine::contact::law`]) makes the force a function of the
 //! displacement: the static problem on `Z` is solved with it, and `λ^0` is that force at `U^0`
@@ -46,11 +54,17 @@
 //!   for the lumped mass, a band or sparse Cholesky for the consistent ones); `A_Z = 0` and
 //!   `V_Z` is the difference quotient, as in the implicit schemes (they never enter `M A`).
 //!
-//! **Contact.** Every contact dof must be massless (`redistributed`, `redistributed-conserving`,
-//! `singular-dynamic`): then the contact force only acts in the static rows and the step stays
-//! explicit on `R`. A contact dof with mass would need the Delassus operator of `M_RR/Δt²`,
-//! i.e. an implicit correction at every impact; this is refused with
-//! [`SolveError::ExplicitContactWithMass`].
+//! **Contact.** A massless contact dof (`redistributed`, `redistributed-conserving`,
+//! `singular-dynamic`, GetFEM's two) is in the static rows: the contact force only acts there
+//! and the step stays explicit on `R`. A contact dof with mass (`standard`, `lumped`) gets the
+//! Taylor–Flanagan step ([`TaylorFlanagan`]; GetFEM demo's version 4): when the predictor
+//! penetrates while approaching, `B_A U^{n+1} + g_A < 0` and `B_A Ṽ < 0` on the set `A`, the
+//! impulse `s` that stops those dofs,
+//! `(B_A M⁻¹ B_Aᵀ) s = B_A Ṽ / Δt` with `Ṽ = V^n + Δt(1 − γ)A^n`, is applied to the velocity and
+//! the displacement, `Ṽ ← Ṽ − Δt M⁻¹B_Aᵀ s`, `U^{n+1} ← U^{n+1} − Δt² M⁻¹B_Aᵀ s` (so `B_A Ṽ = 0`),
+//! and `λ_A = s`. It is not the Signorini condition at `t_{n+1}` (the node may stay below the
+//! obstacle by `O(Δt²)` until it leaves) and dissipates the kinetic energy of the stopped
+//! dofs, so the explicit energy balance below holds only away from those steps.
 //!
 //! **Stability.** The run is refused before the first step when `Δt > √(2/γ)/ω_max`
 //! ([`super::cfl`]; `2/ω_max` for central differences) with [`SolveError::CflViolated`].
@@ -62,6 +76,7 @@
 //! ([`super::energy_balance::central_difference`]).
 
 use super::cfl::{largest_eigenvalue, stable_step};
+use super::conventions::{Conventions, NitscheAcceleration, Start};
 use super::massless::QuasiStatic;
 use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::error::SolveError;
@@ -80,31 +95,61 @@ impl StepCoefficients {
     }
 }
 
-/// Builds the consistent initial state from the given displacement and velocity dofs: the
-/// massless dofs of `U^0` in static equilibrium, and `A^0` from eq. (32c) at `t = 0` (see the
-/// module documentation).
-pub fn initial_state(model: &Model, u0: &[f64], v0: &[f64]) -> Result<InitialState, SolveError> {
+/// Builds the initial state from the given displacement and velocity dofs under
+/// `conventions`: the massless dofs of `U^0` in static equilibrium ([`Start::Static`]) or kept
+/// with the implicit multiplier `λ⁰ = −(S U⁰ − F)_c` of a massless contact dof
+/// ([`Start::ImplicitMultiplier`]), and `A^0` from eq. (32c) at `t = 0` on the dofs with mass
+/// (with the elastic stiffness for [`NitscheAcceleration::ElasticStiffness`]); see the module
+/// documentation.
+pub fn initial_state(
+    model: &Model,
+    u0: &[f64],
+    v0: &[f64],
+    conventions: &Conventions,
+) -> Result<InitialState, SolveError> {
     let n = model.n_dofs();
     let mut u = u0.to_vec();
     let n_contact = model.contact().map_or(0, ContactSet::len);
     let mut lambda = vec![0.0; n_contact];
-    if let Some(mut statics) = QuasiStatic::new(model)? {
-        statics.solve(model, 0, &mut u, &mut lambda)?;
-    }
     let massless = model.massless_dofs();
+    let mut rhs = vec![0.0; n];
+    match conventions.start {
+        Start::Static => {
+            if let Some(mut statics) = QuasiStatic::new(model)? {
+                statics.solve(model, 0, &mut u, &mut lambda)?;
+            }
+        }
+        Start::ImplicitMultiplier => {
+            if let Some(c) = model.contact() {
+                residual_force(model, &u, &mut rhs);
+                for (l, &d) in lambda.iter_mut().zip(&c.dofs) {
+                    if massless.binary_search(&d).is_ok() {
+                        *l = -rhs[d];
+                    }
+                }
+            }
+        }
+    }
     if let Some(c) = model.contact() {
         if let Some(forces) = model.contact_law().forces(c, &u) {
             lambda = forces;
         }
     }
 
-    let mut rhs = vec![0.0; n];
     residual_force(model, &u, &mut rhs);
     rhs.iter_mut().for_each(|r| *r = -*r);
     if let Some(c) = model.contact() {
         for (row, &l) in model.contact_law().rows(c).iter().zip(&lambda) {
             for &(k, coef) in &row.force {
                 rhs[k] -= coef * l;
+            }
+        }
+    }
+    if conventions.nitsche_acceleration == NitscheAcceleration::ElasticStiffness {
+        if let Some((a, scale)) = model.contact_law().stiffness_update() {
+            let stress: f64 = a.iter().map(|&(k, ak)| ak * u[k]).sum();
+            for &(k, ak) in a {
+                rhs[k] += scale * stress * ak;
             }
         }
     }
@@ -147,6 +192,90 @@ pub fn staggered_energy(model: &Model, dt: f64, earlier: &[f64], later: &[f64]) 
     kinetic + strain - load
 }
 
+/// The Taylor–Flanagan contact step of the contact dofs with mass (see the module
+/// documentation): `(B_A M⁻¹ B_Aᵀ) s = B_A Ṽ / Δt` on the penetrating set `A`.
+#[derive(Debug)]
+struct TaylorFlanagan {
+    /// `(contact index, dof)` of the contact dofs with mass.
+    dofs: Vec<(usize, usize)>,
+    /// The position of each dof among the dofs with mass `R`.
+    position: Vec<usize>,
+    /// The dofs with mass `R`.
+    with_mass: Vec<usize>,
+}
+
+impl TaylorFlanagan {
+    /// The contact dofs of `model` that carry mass; `None` when there are none.
+    fn new(model: &Model, with_mass: &[usize]) -> Option<Self> {
+        let c = model.contact()?;
+        let (dofs, position): (Vec<_>, Vec<_>) = (c.dofs.iter().enumerate())
+            .filter_map(|(k, &d)| with_mass.binary_search(&d).ok().map(|p| ((k, d), p)))
+            .unzip();
+        (!dofs.is_empty()).then(|| Self {
+            dofs,
+            position,
+            with_mass: with_mass.to_vec(),
+        })
+    }
+
+    /// Stops the penetrating dofs that approach the obstacle (`Ṽ < 0`: a receding dof gets no
+    /// adhesive impulse; GetFEM's demo, which tests the penetration only, never met one): corrects `next` (`U^{n+1}`) and `velocity` (`Ṽ`, on the
+    /// dofs with mass `R`, indexed by position) and writes their impulses into `lambda` (zero for
+    /// the others).
+    fn apply(
+        &self,
+        set: &ContactSet,
+        mass: &SpdSolver,
+        dt: f64,
+        next: &mut [f64],
+        velocity: &mut [f64],
+        lambda: &mut [f64],
+    ) -> Result<(), SolveError> {
+        let active: Vec<usize> = (0..self.dofs.len())
+            .filter(|&i| {
+                let (k, d) = self.dofs[i];
+                next[d] + set.gaps[k] < 0.0 && velocity[self.position[i]] < 0.0
+            })
+            .collect();
+        for &(k, _) in &self.dofs {
+            lambda[k] = 0.0;
+        }
+        if active.is_empty() {
+            return Ok(());
+        }
+        let columns: Vec<Vec<f64>> = active
+            .iter()
+            .map(|&i| {
+                let mut col = vec![0.0; self.with_mass.len()];
+                col[self.position[i]] = 1.0;
+                mass.solve_in_place(&mut col);
+                col
+            })
+            .collect();
+        let m = active.len();
+        let delassus =
+            nalgebra::DMatrix::from_fn(m, m, |r, c| columns[c][self.position[active[r]]]);
+        let stopped = nalgebra::DVector::from_fn(m, |r, _| velocity[self.position[active[r]]] / dt);
+        let impulse = delassus
+            .cholesky()
+            .ok_or_else(|| SolveError::Factorization {
+                matrix: "Taylor–Flanagan Delassus operator B M⁻¹ Bᵀ",
+                detail: "Cholesky failed".to_string(),
+            })?
+            .solve(&stopped);
+        for (col, &s) in columns.iter().zip(impulse.iter()) {
+            for ((v, &i), c) in velocity.iter_mut().zip(&self.with_mass).zip(col) {
+                *v -= dt * s * c;
+                next[i] -= dt * dt * s * c;
+            }
+        }
+        for (&i, &s) in active.iter().zip(impulse.iter()) {
+            lambda[self.dofs[i].0] = s;
+        }
+        Ok(())
+    }
+}
+
 /// Explicit Newmark(0, γ) with its state.
 #[derive(Debug)]
 pub struct ExplicitNewmark<'m> {
@@ -156,6 +285,7 @@ pub struct ExplicitNewmark<'m> {
     with_mass: Vec<usize>,
     mass_solver: Option<SpdSolver>,
     statics: Option<QuasiStatic>,
+    taylor_flanagan: Option<TaylorFlanagan>,
     stable_dt: f64,
     step: usize,
     u_prev: Vec<f64>,
@@ -170,7 +300,8 @@ pub struct ExplicitNewmark<'m> {
 }
 
 impl<'m> ExplicitNewmark<'m> {
-    /// Checks that every contact dof is massless and the CFL bound, then factorises `M_RR`.
+    /// Checks the CFL bound, then factorises `M_RR` and prepares the contact steps (static
+    /// for massless contact dofs, Taylor–Flanagan for the others).
     pub fn new(
         model: &'m Model,
         gamma: f64,
@@ -178,11 +309,6 @@ impl<'m> ExplicitNewmark<'m> {
         start: InitialState,
     ) -> Result<Self, SolveError> {
         let massless = model.massless_dofs();
-        if let Some(c) = model.contact() {
-            if let Some(&dof) = c.dofs.iter().find(|d| massless.binary_search(d).is_err()) {
-                return Err(SolveError::ExplicitContactWithMass { dof });
-            }
-        }
         let n = model.n_dofs();
         let with_mass: Vec<usize> = (0..n)
             .filter(|i| massless.binary_search(i).is_err())
@@ -210,6 +336,7 @@ impl<'m> ExplicitNewmark<'m> {
             dt,
             mass_solver,
             statics: QuasiStatic::new(model)?,
+            taylor_flanagan: TaylorFlanagan::new(model, &with_mass),
             stable_dt,
             step: 0,
             u_prev: start.displacement.clone(),
@@ -245,6 +372,22 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
         if let Some(statics) = self.statics.as_mut() {
             statics.solve(self.model, self.step + 1, &mut self.next, &mut self.lambda)?;
         }
+        let gamma = self.gamma;
+        for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
+            self.v[i] += dt * (1.0 - gamma) * self.a[i];
+            *f = self.v[i];
+        }
+        if let (Some(tf), Some(m), Some(set)) = (
+            &self.taylor_flanagan,
+            &self.mass_solver,
+            self.model.contact(),
+        ) {
+            let lambda = &mut self.lambda;
+            tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
+            for (&i, &v) in self.with_mass.iter().zip(&self.force_r) {
+                self.v[i] = v;
+            }
+        }
         residual_force(self.model, &self.next, &mut self.force);
         for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
             *f = -self.force[i];
@@ -252,9 +395,8 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
         if let Some(m) = &self.mass_solver {
             m.solve_in_place(&mut self.force_r);
         }
-        let gamma = self.gamma;
         for (&i, &a_new) in self.with_mass.iter().zip(&self.force_r) {
-            self.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
+            self.v[i] += dt * gamma * a_new;
             self.a[i] = a_new;
         }
         for &z in self.model.massless_dofs() {

@@ -18,10 +18,13 @@
 //!
 //! A penalty or Nitsche treatment ([`crate::engine::contact::law`]) replaces `Bᵀλ^{n+1}` by
 //! `Σ λ_i^{n+1} f_i` with `λ^{n+1}` the force at `U^{n+1}` (implicit), solved through the
-//! shifted Delassus operator; for Nitsche `S` is the model's modified stiffness.
+//! shifted Delassus operator; for Nitsche `S` is the model's modified stiffness. With
+//! [`NitscheAcceleration::ElasticStiffness`] the acceleration kept is instead the one of the
+//! elastic stiffness, `A^{n+1} − M⁻¹ (θ/γ) a (aᵀU^{n+1})` ([`ElasticAcceleration`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use super::conventions::NitscheAcceleration;
 use super::{InitialState, TimeIntegrator, Timed};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -42,6 +45,58 @@ pub struct StepCoefficients {
     pub d: f64,
 }
 
+/// The change from the acceleration of the Nitsche stiffness `S_θ = S + scale a aᵀ`
+/// (`scale = −θ/γ`) to the one of the elastic `S` ([`NitscheAcceleration::ElasticStiffness`]):
+/// `M (A_S − A_θ) = scale a (aᵀU)`, so `A_S = A_θ + scale (aᵀU) w` with `w = M_RR⁻¹ a_R` on
+/// the dofs with mass (zero on massless dofs, whose acceleration never enters `M A`).
+#[derive(Debug)]
+struct ElasticAcceleration {
+    stress: Vec<(usize, f64)>,
+    scale: f64,
+    w: Vec<f64>,
+}
+
+impl ElasticAcceleration {
+    /// `None` unless the model has a Nitsche stiffness and the convention asks for it.
+    fn new(model: &Model, convention: NitscheAcceleration) -> Result<Option<Self>, SolveError> {
+        let Some((a, scale)) = model.contact_law().stiffness_update() else {
+            return Ok(None);
+        };
+        if convention == NitscheAcceleration::Consistent || scale == 0.0 {
+            return Ok(None);
+        }
+        let massless = model.massless_dofs();
+        let with_mass: Vec<usize> = (0..model.n_dofs())
+            .filter(|i| massless.binary_search(i).is_err())
+            .collect();
+        let m_rr = model.mass().principal_submatrix(&with_mass);
+        let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+        let mut a_r: Vec<f64> = with_mass
+            .iter()
+            .map(|i| a.iter().find(|(k, _)| k == i).map_or(0.0, |&(_, v)| v))
+            .collect();
+        solver.solve_in_place(&mut a_r);
+        let mut w = vec![0.0; model.n_dofs()];
+        for (&i, wi) in with_mass.iter().zip(a_r) {
+            w[i] = wi;
+        }
+        Ok(Some(Self {
+            stress: a.to_vec(),
+            scale,
+            w,
+        }))
+    }
+
+    /// `A ← A + scale (aᵀu) w`.
+    fn apply(&self, u: &[f64], acceleration: &mut [f64]) {
+        let stress: f64 = self.stress.iter().map(|&(k, ak)| ak * u[k]).sum();
+        let shift = self.scale * stress;
+        for (acc, wi) in acceleration.iter_mut().zip(&self.w) {
+            *acc += shift * wi;
+        }
+    }
+}
+
 /// A Newmark or θ-method integrator with its state and factorised step matrix.
 #[derive(Debug)]
 pub struct OneStepScheme<'m> {
@@ -50,6 +105,7 @@ pub struct OneStepScheme<'m> {
     dt: f64,
     system: SpdSolver,
     contact: Option<ContactStep>,
+    elastic_acceleration: Option<ElasticAcceleration>,
     step: usize,
     u: Vec<f64>,
     v: Vec<f64>,
@@ -60,12 +116,14 @@ pub struct OneStepScheme<'m> {
 }
 
 impl<'m> OneStepScheme<'m> {
-    /// Factorises `M / (bΔt²) + S` and prepares the contact correction.
+    /// Factorises `M / (bΔt²) + S` and prepares the contact correction; `nitsche` says which
+    /// acceleration a Nitsche run keeps (see the module documentation).
     pub fn new(
         model: &'m Model,
         coef: StepCoefficients,
         dt: f64,
         start: InitialState,
+        nitsche: NitscheAcceleration,
     ) -> Result<Self, SolveError> {
         let k = model
             .mass()
@@ -82,6 +140,7 @@ impl<'m> OneStepScheme<'m> {
             dt,
             system,
             contact,
+            elastic_acceleration: ElasticAcceleration::new(model, nitsche)?,
             step: 0,
             u: start.displacement,
             v: start.velocity,
@@ -114,8 +173,14 @@ impl<'m> OneStepScheme<'m> {
 #[doc(hidden)]
 pub static REASSOCIATED_PREDICTOR: AtomicBool = AtomicBool::new(false);
 
-impl TimeIntegrator for OneStepScheme<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
+impl OneStepScheme<'_> {
+    /// One step with the contact condition `B U^{n+1} + shift(i, g_i) ≥ 0` instead of
+    /// `B U^{n+1} + g ≥ 0` (Paoli–Schatzman's first step,
+    /// [`super::conventions::FirstStepContact`]).
+    pub fn advance_with_gap(
+        &mut self,
+        shift: impl Fn(usize, f64) -> f64,
+    ) -> Result<(), SolveError> {
         let dt = self.dt;
         let StepCoefficients { a, b, c, d } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
@@ -142,17 +207,41 @@ impl TimeIntegrator for OneStepScheme<'_> {
         }
         self.system.solve_in_place(&mut self.scratch);
         if let Some(contact) = self.contact.as_mut() {
-            contact.enforce(self.step + 1, &mut self.scratch, |_, g| g, &mut self.lambda)?;
+            contact.enforce(self.step + 1, &mut self.scratch, shift, &mut self.lambda)?;
         }
-        let updates = self.scratch.iter().zip(&self.predictor);
-        for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates) {
-            let a_new = (u_new - p) * inv_bdt2;
-            *v += dt * (c * *acc + d * a_new);
-            *acc = a_new;
+        match &self.elastic_acceleration {
+            None => {
+                let updates = self.scratch.iter().zip(&self.predictor);
+                for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates)
+                {
+                    let a_new = (u_new - p) * inv_bdt2;
+                    *v += dt * (c * *acc + d * a_new);
+                    *acc = a_new;
+                }
+            }
+            Some(elastic) => {
+                // A^{n+1} needs the whole of U^{n+1} before the velocity update: the predictor
+                // buffer takes it.
+                for (p, u_new) in self.predictor.iter_mut().zip(&self.scratch) {
+                    *p = (u_new - *p) * inv_bdt2;
+                }
+                elastic.apply(&self.scratch, &mut self.predictor);
+                let updates = self.v.iter_mut().zip(self.a.iter_mut());
+                for ((v, acc), &a_new) in updates.zip(&self.predictor) {
+                    *v += dt * (c * *acc + d * a_new);
+                    *acc = a_new;
+                }
+            }
         }
         std::mem::swap(&mut self.u, &mut self.scratch);
         self.step += 1;
         Ok(())
+    }
+}
+
+impl TimeIntegrator for OneStepScheme<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        self.advance_with_gap(|_, g| g)
     }
 
     fn step_index(&self) -> usize {

@@ -10,12 +10,19 @@
 //! equilibrium on a three-level average, whose `(−1)^n` mode is undamped (the paper's reason for
 //! the projection, §3.2). With the standard mass the reported multiplier is `λ^n` at `t_n`.
 //!
-//! `U^1` comes from one Newmark(β, ½) step with the contact at `t_1` (the one-step scheme whose
-//! two-step form this is). The energy is the half-step quantity ([`HalfStep::energy`])
+//! With [`MasslessRows::ThreeLevel`] (GetFEM's demo) `P` is the identity: the rows of `ker M`
+//! impose `β R(U^{n+1}) + (1 − 2β) R(U^n) + β R(U^{n−1}) = −Bᵀλ^n`, where the residual of `U^0`
+//! is the one the start imposed, `R(U^0) + Bᵀλ^0` (zero on a massless contact dof under either
+//! [`super::conventions::Start`]); `λ^n` is then reported at `t_n`, as with the standard mass.
+//!
+//! `U^1` comes from one Newmark(β, ½) step (the one-step scheme whose two-step form this is),
+//! with the contact on `U^1` ([`FirstStepContact::AtNewStep`]) or on `(U^1 + e U^0)/(1 + e)`
+//! ([`FirstStepContact::PreviousEqualsInitial`], GetFEM's `U₋₁ = U0`). The energy is the half-step quantity ([`HalfStep::energy`])
 //! `E^{n−½} = ½ V^{n−½}ᵀ (M + (β − ¼)Δt² S) V^{n−½} + ½ Ūᵀ S Ū − Fᵀ Ū`, `Ū = (U^n + U^{n−1})/2`,
 //! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's. Its balance is
 //! eq. (37) ([`super::energy_balance::paoli_schatzman`]).
 
+use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcceleration};
 use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -76,8 +83,13 @@ pub struct PaoliSchatzman<'m> {
     beta: f64,
     restitution: f64,
     dt: f64,
-    /// Whether every contact dof is massless (decides which multiplier is reported).
+    /// Whether every contact dof is massless and the rows of `ker M` are projected (decides
+    /// which multiplier is reported).
     massless_contact: bool,
+    first_step: FirstStepContact,
+    /// `β (Bᵀλ^0)_z` on the massless dofs `z` of the three-level rows, added to the force of
+    /// the first two-step; `None` when the rows are projected.
+    three_level_start: Option<Vec<(usize, f64)>>,
     system: SpdSolver,
     contact: Option<ContactStep>,
     start_contact_solves: usize,
@@ -99,13 +111,15 @@ pub struct PaoliSchatzman<'m> {
 }
 
 impl<'m> PaoliSchatzman<'m> {
-    /// Factorises `M/Δt² + βS` and prepares the contact correction.
+    /// Factorises `M/Δt² + βS` and prepares the contact correction, with the treatment of the
+    /// massless rows and of the first step that `conventions` ask for.
     pub fn new(
         model: &'m Model,
         beta: f64,
         restitution: f64,
         dt: f64,
         start: InitialState,
+        conventions: &Conventions,
     ) -> Result<Self, SolveError> {
         let k = model
             .mass()
@@ -117,12 +131,27 @@ impl<'m> PaoliSchatzman<'m> {
             .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
             .transpose()?;
         let energy_at_start = model.energy(&start.displacement, &start.velocity);
+        let three_level = conventions.paoli_schatzman_massless_rows == MasslessRows::ThreeLevel;
+        let three_level_start = three_level.then(|| {
+            let massless = model.massless_dofs();
+            let mut start_force = Vec::new();
+            if let Some(c) = model.contact() {
+                for (&d, &l) in c.dofs.iter().zip(&start.multiplier) {
+                    if massless.binary_search(&d).is_ok() {
+                        start_force.push((d, beta * l));
+                    }
+                }
+            }
+            start_force
+        });
         Ok(Self {
             model,
             beta,
             restitution,
             dt,
-            massless_contact: model.contact_is_massless(),
+            massless_contact: model.contact_is_massless() && !three_level,
+            first_step: conventions.paoli_schatzman_first_step,
+            three_level_start,
             system,
             contact,
             start_contact_solves: 0,
@@ -160,8 +189,15 @@ impl<'m> PaoliSchatzman<'m> {
             StepCoefficients::newmark(self.beta, 0.5),
             self.dt,
             start,
+            NitscheAcceleration::Consistent,
         )?;
-        first.advance()?;
+        match (self.first_step, self.model.contact()) {
+            (FirstStepContact::PreviousEqualsInitial, Some(set)) => {
+                let (e, u0) = (self.restitution, &self.u);
+                first.advance_with_gap(|i, g| e * u0[set.dofs[i]] + (1.0 + e) * g)?;
+            }
+            _ => first.advance()?,
+        }
         self.start_contact_solves = first.contact_solves();
         self.start_contact_seconds = first.contact_seconds();
         self.start_violation = first.complementarity_violation();
@@ -192,8 +228,18 @@ impl<'m> PaoliSchatzman<'m> {
                 .zip(f)
                 .for_each(|(r, fi)| *r += beta * fi);
         }
-        for &z in self.model.massless_dofs() {
-            self.force[z] = 0.0;
+        match &self.three_level_start {
+            None => {
+                for &z in self.model.massless_dofs() {
+                    self.force[z] = 0.0;
+                }
+            }
+            Some(start_force) if self.step == 1 => {
+                for &(z, f) in start_force {
+                    self.force[z] += f;
+                }
+            }
+            Some(_) => {}
         }
         for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
             *w = (2.0 * u - up) / (dt * dt);

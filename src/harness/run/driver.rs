@@ -216,6 +216,7 @@ pub fn drive<M: AxialMesh>(
         dt,
         &discretisation.displacement,
         &discretisation.velocity,
+        &discretisation.conventions,
     )?;
     let setup = started.elapsed().as_secs_f64();
 
