@@ -72,8 +72,8 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         );
     }
     if let Some(path) = write_golden {
-        write_json(&path, &VerifyGolden::from_verification(&verification))
-            .map_err(Failure::runtime)?;
+        let golden = VerifyGolden::from_verification(&verification)?;
+        write_json(&path, &golden).map_err(Failure::runtime)?;
         out!("wrote the golden file {}", path.display());
     }
     if let Some(path) = golden {

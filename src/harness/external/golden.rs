@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::error::ExternalError;
 use super::format::Code;
 use super::verify::{Series, Verification};
 use crate::harness::golden::{compare_rates, Drift, GoldenCase, GoldenNorm, Tolerances};
@@ -59,14 +60,33 @@ pub struct VerifyGolden {
 }
 
 impl VerifyGolden {
-    /// The golden values of `verification`, at the default tolerances.
-    pub fn from_verification(verification: &Verification) -> Self {
-        Self {
+    /// The golden values of `verification`, at the default tolerances. Every computed norm of
+    /// every series needs its rates (two levels or more with a positive finite error; three for
+    /// `rate_last_three`): a gate cannot hold a rate that does not exist.
+    pub fn from_verification(verification: &Verification) -> Result<Self, ExternalError> {
+        for s in &verification.series {
+            if let Some(r) = s
+                .rates
+                .iter()
+                .find(|r| r.fit.is_none() || r.fit_last_three.is_none())
+            {
+                return Err(ExternalError::Series {
+                    label: s.label.clone(),
+                    problem: format!(
+                        "{} has no fitted rate over all levels or the last three (levels {:?}): \
+                         a golden file needs at least two levels with a positive, finite error",
+                        r.norm.key(),
+                        s.levels.iter().map(|l| l.nx).collect::<Vec<_>>()
+                    ),
+                });
+            }
+        }
+        Ok(Self {
             generated_by: "signorini verify --write-golden".to_string(),
             scene: verification.scene.clone(),
             tolerances: Tolerances::default(),
             series: verification.series.iter().map(GoldenSeries::of).collect(),
-        }
+        })
     }
 }
 
