@@ -58,7 +58,8 @@ impl<'a> Replay<'a> {
         })
     }
 
-    /// The time of sample `k`'s `times` when the file gives them, else the sample's time.
+    /// The current sample's entry of `times` (`lambda_time`, `energy_time`) when the file gives
+    /// them, else the sample's time.
     fn reported_time(&self, times: &Option<Vec<f64>>) -> f64 {
         times.as_ref().map_or(self.time(), |t| t[self.step])
     }
