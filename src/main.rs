@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 
 use signorini::commands::{
     self, ExperimentArgs, Failure, FiguresArgs, GoldenArgs, ListArgs, ReferenceArgs, ReportArgs,
-    RunArgs, SensitivityArgs, StabilityArgs, StudyArgs,
+    RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -22,6 +22,7 @@ Examples:
   signorini run scenes/bar1d-dirichlet.json --scheme paoli-schatzman-e0.5 --mass redistributed --check-balance
   signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass standard,redistributed --norm u_Linf_H,energy_L2
   signorini study scenes/bar1d-free.json --scheme crank-nicolson --mass standard --json
+  signorini verify scenes/bar1d-dirichlet.json runs/mycode-nx*.csv --out verified/
   signorini report
 
 Exit codes: 0 success, 2 usage error (arguments or scene file), 1 failure.";
@@ -65,6 +66,10 @@ enum Command {
     /// golden`; nothing else writes them): golden/rates-1d-dirichlet.json,
     /// rates-1d-gravity.json, rates-1d-extended.json and rates-2d.json.
     Golden(GoldenArgs),
+    /// Another code's runs of a scene (JSON or CSV run files): the harness's norms, the rates
+    /// of each labelled series as Tables 1–2; --golden gates them, --write-golden writes such
+    /// a file, --out writes verify.json and verify.md.
+    Verify(VerifyArgs),
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List(ListArgs),
 }
@@ -80,6 +85,7 @@ fn main() -> ExitCode {
         Command::Figures(args) => commands::figures(args),
         Command::Stability(args) => commands::stability(args),
         Command::Golden(args) => commands::golden(args),
+        Command::Verify(args) => commands::verify_runs(args),
         Command::List(args) => commands::list(args),
     };
     match result {

@@ -18,6 +18,7 @@ mod list;
 mod reports;
 mod run;
 mod study;
+mod verify;
 
 pub use list::{list, ListArgs};
 pub use reports::{
@@ -26,6 +27,7 @@ pub use reports::{
 };
 pub use run::{run_scene, RunArgs};
 pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
+pub use verify::{verify_runs, VerifyArgs};
 
 use crate::engine::schemes::conventions::{Conventions, Start};
 use std::io::IsTerminal;

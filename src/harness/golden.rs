@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::artifacts::read_json;
 use crate::harness::error::Error;
 use crate::harness::sensitivity::{Sensitivity, SensitivityClass, Spread};
-use crate::harness::study::{Case, Study};
+use crate::harness::study::{Case, NormRates, Study};
 
 /// A case's tolerance is this many times its measured ensemble spread.
 pub const SPREAD_SAFETY: f64 = 10.0;
@@ -112,6 +112,31 @@ pub struct GoldenCase {
 }
 
 impl GoldenCase {
+    /// The golden values of the series `case` (a study's `scheme/mass`, another code's label):
+    /// each norm's rates and errors, without class or tolerances of its own.
+    pub fn from_rates(case: String, rates: &[NormRates]) -> Self {
+        Self {
+            case,
+            class: None,
+            norms: rates
+                .iter()
+                .map(|r| {
+                    (
+                        r.norm.key().to_string(),
+                        GoldenNorm {
+                            rate: rate_or_nan(r.fit.map(|f| f.rate)),
+                            rate_last_three: rate_or_nan(r.fit_last_three.map(|f| f.rate)),
+                            errors: r.errors.clone(),
+                            error_rel: None,
+                            rate_abs: None,
+                            ensemble: None,
+                        },
+                    )
+                })
+                .collect(),
+        }
+    }
+
     /// Whether the case is round-off chaotic (gated by [`compare_ensemble`] only).
     pub fn is_chaotic(&self) -> bool {
         self.class == Some(SensitivityClass::Chaotic)
@@ -161,27 +186,7 @@ impl Golden {
             cases: study
                 .cases
                 .iter()
-                .map(|c| GoldenCase {
-                    case: c.case.id(),
-                    class: None,
-                    norms: c
-                        .rates
-                        .iter()
-                        .map(|r| {
-                            (
-                                r.norm.key().to_string(),
-                                GoldenNorm {
-                                    rate: rate_or_nan(r.fit.map(|f| f.rate)),
-                                    rate_last_three: rate_or_nan(r.fit_last_three.map(|f| f.rate)),
-                                    errors: r.errors.clone(),
-                                    error_rel: None,
-                                    rate_abs: None,
-                                    ensemble: None,
-                                },
-                            )
-                        })
-                        .collect(),
-                })
+                .map(|c| GoldenCase::from_rates(c.case.id(), &c.rates))
                 .collect(),
         }
     }
@@ -250,7 +255,7 @@ pub struct Drift {
 impl Drift {
     /// An entry the comparison could not make (`quantity` = `missing`); `norm` says what is
     /// missing.
-    fn missing(case: &str, norm: &str) -> Self {
+    pub fn missing(case: &str, norm: &str) -> Self {
         Self {
             case: case.to_string(),
             norm: norm.to_string(),
@@ -288,49 +293,64 @@ pub fn compare(golden: &Golden, study: &Study) -> Vec<Drift> {
             ));
             continue;
         }
-        for r in &c.rates {
-            let key = r.norm.key();
-            let Some(gn) = g.norms.get(key) else {
-                drifts.push(missing(key));
-                continue;
-            };
-            let rate_tol = gn.rate_abs.unwrap_or_else(|| tol.rate_tolerance(key));
-            let error_tol = gn.error_rel.unwrap_or(tol.error_rel);
-            for (quantity, golden_value, now) in [
-                ("rate", gn.rate, rate_or_nan(r.fit.map(|f| f.rate))),
-                (
-                    "rate_last_three",
-                    gn.rate_last_three,
-                    rate_or_nan(r.fit_last_three.map(|f| f.rate)),
-                ),
-            ] {
-                let diff = now - golden_value;
-                if !diff.is_finite() || diff.abs() > rate_tol {
-                    drifts.push(Drift {
-                        case: id.clone(),
-                        norm: key.to_string(),
-                        quantity: quantity.to_string(),
-                        golden: golden_value,
-                        now,
-                        difference: diff,
-                        tolerance: rate_tol,
-                    });
-                }
+        drifts.extend(compare_rates(g, tol, &c.rates, &study.config.levels));
+    }
+    drifts
+}
+
+/// Compares the rates and per-level errors of one series (`rates` at the levels `levels`) with
+/// its golden values `g`, each norm at its own tolerance or else the file's `tol`; returns every
+/// drifted entry. A norm of `rates` that `g` lacks is a drift.
+pub fn compare_rates(
+    g: &GoldenCase,
+    tol: &Tolerances,
+    rates: &[NormRates],
+    levels: &[usize],
+) -> Vec<Drift> {
+    let mut drifts = Vec::new();
+    let id = &g.case;
+    for r in rates {
+        let key = r.norm.key();
+        let Some(gn) = g.norms.get(key) else {
+            drifts.push(Drift::missing(id, key));
+            continue;
+        };
+        let rate_tol = gn.rate_abs.unwrap_or_else(|| tol.rate_tolerance(key));
+        let error_tol = gn.error_rel.unwrap_or(tol.error_rel);
+        for (quantity, golden_value, now) in [
+            ("rate", gn.rate, rate_or_nan(r.fit.map(|f| f.rate))),
+            (
+                "rate_last_three",
+                gn.rate_last_three,
+                rate_or_nan(r.fit_last_three.map(|f| f.rate)),
+            ),
+        ] {
+            let diff = now - golden_value;
+            if !diff.is_finite() || diff.abs() > rate_tol {
+                drifts.push(Drift {
+                    case: id.clone(),
+                    norm: key.to_string(),
+                    quantity: quantity.to_string(),
+                    golden: golden_value,
+                    now,
+                    difference: diff,
+                    tolerance: rate_tol,
+                });
             }
-            for (k, (&ge, &e)) in gn.errors.iter().zip(&r.errors).enumerate() {
-                let rel = (e - ge) / ge.abs();
-                let both_zero = e == 0.0 && ge == 0.0;
-                if !both_zero && (!rel.is_finite() || rel.abs() > error_tol) {
-                    drifts.push(Drift {
-                        case: id.clone(),
-                        norm: key.to_string(),
-                        quantity: format!("error[NX={}]", study.config.levels[k]),
-                        golden: ge,
-                        now: e,
-                        difference: rel,
-                        tolerance: error_tol,
-                    });
-                }
+        }
+        for (k, (&ge, &e)) in gn.errors.iter().zip(&r.errors).enumerate() {
+            let rel = (e - ge) / ge.abs();
+            let both_zero = e == 0.0 && ge == 0.0;
+            if !both_zero && (!rel.is_finite() || rel.abs() > error_tol) {
+                drifts.push(Drift {
+                    case: id.clone(),
+                    norm: key.to_string(),
+                    quantity: format!("error[NX={}]", levels[k]),
+                    golden: ge,
+                    now: e,
+                    difference: rel,
+                    tolerance: error_tol,
+                });
             }
         }
     }

@@ -5,6 +5,7 @@
 pub mod artifacts;
 pub mod elastic;
 pub mod error;
+pub mod external;
 pub mod figures;
 pub mod golden;
 pub mod norms;

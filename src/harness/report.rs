@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use crate::harness::norms::Norm;
 use crate::harness::rates::RateFit;
 use crate::harness::sensitivity::{Sensitivity, Spread};
-use crate::harness::study::{CaseStudy, Study};
+use crate::harness::study::{CaseStudy, LevelRecord, NormRates, Study};
 
 /// The ensemble spread of the rate of `norm` when `c` is round-off chaotic in `sensitivity`.
 pub(crate) fn chaotic_spread(
@@ -44,38 +44,45 @@ pub(crate) fn fmt_fit(f: Option<RateFit>) -> String {
 /// For every case, the errors of every norm per level with the observed order, then the
 /// least-squares rate over all levels (95 % interval) and over the last three.
 pub fn convergence_tables(study: &Study) -> String {
+    study
+        .cases
+        .iter()
+        .map(|c| {
+            let heading = format!("{} — {}", c.case.scheme.label(), c.case.mass.name());
+            convergence_table(&heading, &c.levels, &c.rates)
+        })
+        .collect()
+}
+
+/// One series of levels under the heading `heading`: the errors of every norm per level with
+/// the observed order, then the least-squares rate over all levels (95 % interval) and over the
+/// last three.
+pub fn convergence_table(heading: &str, levels: &[LevelRecord], rates: &[NormRates]) -> String {
     let mut out = String::new();
-    for c in &study.cases {
-        let _ = writeln!(
-            out,
-            "#### {} — {}\n",
-            c.case.scheme.label(),
-            c.case.mass.name()
-        );
-        let _ = write!(out, "| NX | h | Δt |");
-        for r in &c.rates {
-            let _ = write!(out, " {} | order |", r.norm.key());
-        }
-        let _ = writeln!(out);
-        let _ = writeln!(out, "|---|---|---|{}", "---|---|".repeat(c.rates.len()));
-        for (k, level) in c.levels.iter().enumerate() {
-            let _ = write!(out, "| {} | {:.3e} | {:.3e} |", level.nx, level.h, level.dt);
-            for r in &c.rates {
-                let order = r.orders[k].map_or("—".to_string(), |o| format!("{o:.2}"));
-                let _ = write!(out, " {:.3e} | {} |", r.errors[k], order);
-            }
-            let _ = writeln!(out);
-        }
-        let _ = write!(out, "| fit, all levels (95 % CI) | | |");
-        for r in &c.rates {
-            let _ = write!(out, " {} | |", fmt_fit(r.fit));
-        }
-        let _ = writeln!(out);
-        let _ = write!(out, "| fit, last three levels | | |");
-        for r in &c.rates {
-            let _ = write!(out, " {} | |", fmt_fit(r.fit_last_three));
-        }
-        let _ = writeln!(out, "\n");
+    let _ = writeln!(out, "#### {heading}\n");
+    let _ = write!(out, "| NX | h | Δt |");
+    for r in rates {
+        let _ = write!(out, " {} | order |", r.norm.key());
     }
+    let _ = writeln!(out);
+    let _ = writeln!(out, "|---|---|---|{}", "---|---|".repeat(rates.len()));
+    for (k, level) in levels.iter().enumerate() {
+        let _ = write!(out, "| {} | {:.3e} | {:.3e} |", level.nx, level.h, level.dt);
+        for r in rates {
+            let order = r.orders[k].map_or("—".to_string(), |o| format!("{o:.2}"));
+            let _ = write!(out, " {:.3e} | {} |", r.errors[k], order);
+        }
+        let _ = writeln!(out);
+    }
+    let _ = write!(out, "| fit, all levels (95 % CI) | | |");
+    for r in rates {
+        let _ = write!(out, " {} | |", fmt_fit(r.fit));
+    }
+    let _ = writeln!(out);
+    let _ = write!(out, "| fit, last three levels | | |");
+    for r in rates {
+        let _ = write!(out, " {} | |", fmt_fit(r.fit_last_three));
+    }
+    let _ = writeln!(out, "\n");
     out
 }

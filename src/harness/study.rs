@@ -121,6 +121,29 @@ pub struct NormRates {
     pub fit_first_three: Option<RateFit>,
 }
 
+/// The errors of each norm at `levels` with the observed orders and the least-squares rates
+/// (all levels, first three, last three), in the order of `errors`: every series of levels is
+/// fitted here, a study's case ([`CaseStudy::from_levels`]) as another code's runs
+/// (`crate::harness::external`).
+pub fn fit_norm_rates(levels: &[LevelRecord], errors: BTreeMap<Norm, Vec<f64>>) -> Vec<NormRates> {
+    let h: Vec<f64> = levels.iter().map(|l| l.h).collect();
+    let tail = h.len().saturating_sub(3);
+    errors
+        .into_iter()
+        .map(|(norm, errors)| {
+            let head = errors.len().min(3);
+            NormRates {
+                norm,
+                orders: observed_orders(&h, &errors),
+                fit: fit_rate(&h, &errors),
+                fit_last_three: fit_rate(&h[tail..], &errors[tail..]),
+                fit_first_three: fit_rate(&h[..head], &errors[..head]),
+                errors,
+            }
+        })
+        .collect()
+}
+
 /// All levels of one case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CaseStudy {
@@ -133,34 +156,17 @@ pub struct CaseStudy {
 }
 
 impl CaseStudy {
-    /// A case from its level records and the error of each norm at each level: the observed
-    /// orders and the least-squares rates (all levels, first three, last three) are fitted
-    /// here, and nowhere else.
+    /// A case from its level records and the error of each norm at each level, fitted by
+    /// [`fit_norm_rates`].
     pub fn from_levels(
         case: Case,
         levels: Vec<LevelRecord>,
         errors: BTreeMap<Norm, Vec<f64>>,
     ) -> Self {
-        let h: Vec<f64> = levels.iter().map(|l| l.h).collect();
-        let tail = h.len().saturating_sub(3);
-        let rates = errors
-            .into_iter()
-            .map(|(norm, errors)| {
-                let head = errors.len().min(3);
-                NormRates {
-                    norm,
-                    orders: observed_orders(&h, &errors),
-                    fit: fit_rate(&h, &errors),
-                    fit_last_three: fit_rate(&h[tail..], &errors[tail..]),
-                    fit_first_three: fit_rate(&h[..head], &errors[..head]),
-                    errors,
-                }
-            })
-            .collect();
         Self {
             case,
+            rates: fit_norm_rates(&levels, errors),
             levels,
-            rates,
         }
     }
 

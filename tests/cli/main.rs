@@ -3,9 +3,12 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/external.rs"]
+mod external_runs;
 
 mod commands;
 mod elastic;
 mod figures;
 mod report_figures;
 mod scenes;
+mod verify;

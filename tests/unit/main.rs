@@ -8,6 +8,8 @@
 mod benchmarks;
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/external.rs"]
+mod external_runs;
 
 mod bouncing_bar;
 mod box_mesh;
@@ -16,6 +18,7 @@ mod contact_cross_check;
 mod contact_treatments;
 mod energy_balance;
 mod explicit;
+mod external;
 mod fem;
 mod mass_variants;
 mod perturbation;

@@ -1,0 +1,95 @@
+//! `signorini verify`: another code's runs of a scene, read from JSON or CSV run files,
+//! measured with the harness's norms, fitted into rates per label and printed as Tables 1–2;
+//! optionally gated against a golden file, written as one, and saved as JSON and markdown.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{write_output, Failure};
+use crate::harness::artifacts::{read_json, write_json};
+use crate::harness::external::report::render;
+use crate::harness::external::{compare, verify, ExternalError, VerifyGolden};
+use crate::harness::golden::render_drifts;
+use crate::harness::scene::Scene;
+
+/// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
+pub const VERIFY_JSON: &str = "verify.json";
+
+/// `verify.md` under `--out`: the tables.
+pub const VERIFY_MD: &str = "verify.md";
+
+/// The arguments of `signorini verify`.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// The scene file the runs solve (a bar1d scene with an exact solution).
+    pub scene: PathBuf,
+    /// Run files of another code (`.json` or `.csv`, see the README's "Verifying another
+    /// code's runs"); files with one label form one refinement series.
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// Gate the rates and errors against this golden file (exit code 1 on a drift).
+    #[arg(long, conflicts_with = "write_golden")]
+    pub golden: Option<PathBuf>,
+    /// Write the rates and errors as a golden file for later `--golden` checks.
+    #[arg(long)]
+    pub write_golden: Option<PathBuf>,
+    /// Write verify.json (norms and rates) and verify.md (the tables) into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+impl From<ExternalError> for Failure {
+    fn from(e: ExternalError) -> Self {
+        match e {
+            ExternalError::Harness(e) => e.into(),
+            e => Self::usage(e),
+        }
+    }
+}
+
+/// Verifies another code's runs of a scene: prints Tables 1–2 of their series, then gates or
+/// writes the golden file and writes the outputs asked for.
+pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
+    let VerifyArgs {
+        scene,
+        runs,
+        golden,
+        write_golden,
+        out,
+    } = args;
+    let scene = Scene::load(&scene)?;
+    let verification = verify(&scene, &runs)?;
+    let markdown = render(&verification);
+    out!("{}", markdown.trim_end());
+    if let Some(dir) = &out {
+        write_json(&dir.join(VERIFY_JSON), &verification).map_err(Failure::runtime)?;
+        write_output(&dir.join(VERIFY_MD), markdown.as_bytes())?;
+        out!(
+            "wrote {}/{VERIFY_JSON} and {}/{VERIFY_MD}",
+            dir.display(),
+            dir.display()
+        );
+    }
+    if let Some(path) = write_golden {
+        let golden = VerifyGolden::from_verification(&verification)?;
+        write_json(&path, &golden).map_err(Failure::runtime)?;
+        out!("wrote the golden file {}", path.display());
+    }
+    if let Some(path) = golden {
+        let golden: VerifyGolden = read_json(&path).map_err(Failure::usage)?;
+        let drifts = compare(&golden, &verification);
+        if !drifts.is_empty() {
+            return Err(Failure::runtime(format!(
+                "the verified runs drifted from the golden file {}\n{}",
+                path.display(),
+                render_drifts(&drifts).trim_end()
+            )));
+        }
+        out!(
+            "golden gate passed: every rate and error within its tolerance of {}",
+            path.display()
+        );
+    }
+    Ok(())
+}

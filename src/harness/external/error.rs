@@ -1,0 +1,92 @@
+//! What can be wrong with another code's run files: each error names the file, the field (and
+//! the sample, line or column where relevant) and what is allowed, as the scene errors do.
+
+use std::path::PathBuf;
+
+use thiserror::Error;
+
+use crate::harness::error::Error;
+
+/// A run file that cannot be read, or whose content is not a valid run of the scene; a series
+/// of runs that cannot be fitted; or an error of the harness while verifying.
+#[derive(Debug, Error)]
+pub enum ExternalError {
+    /// The file cannot be read (it is missing, or not readable).
+    #[error("cannot read run file {}: {source}", path.display())]
+    Io {
+        /// The run file.
+        path: PathBuf,
+        /// What the system reported.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
+    #[error(
+        "run file {} is not a valid run (line {line}, column {column}): {message}",
+        path.display()
+    )]
+    Json {
+        /// The run file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde's message (names the field and, for an unknown one, the allowed ones).
+        message: String,
+    },
+    /// A value that is missing, out of range, of the wrong length or inconsistent with the
+    /// scene or the rest of the file.
+    #[error("run file {}: invalid {field} = {value}{}; allowed: {allowed}", path.display(), at.as_ref().map(|a| format!(" (at {a})")).unwrap_or_default())]
+    Invalid {
+        /// The run file.
+        path: PathBuf,
+        /// The field (`mesh.nodes`, `time`, `u3`, …).
+        field: String,
+        /// Where in the file: `samples[12]`, `line 17, column 4`; `None` for a whole field.
+        at: Option<String>,
+        /// The offending value.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// The runs of one label do not form a refinement series.
+    #[error("series {label:?}: {problem}")]
+    Series {
+        /// The configuration label the files share.
+        label: String,
+        /// What is wrong, naming the files.
+        problem: String,
+    },
+    /// The scene has no exact solution to verify against.
+    #[error(
+        "scene {scene}: verify needs a bar1d scene with an exact solution (a box scene has only \
+         a fine-mesh reference of the harness's own)"
+    )]
+    NoExactReference {
+        /// The scene's name.
+        scene: String,
+    },
+    /// The harness failed (the reference, an observer, an output file).
+    #[error(transparent)]
+    Harness(#[from] Error),
+}
+
+impl ExternalError {
+    /// The error of the field `field` of `path`, at `at` when given.
+    pub fn invalid(
+        path: &std::path::Path,
+        field: impl Into<String>,
+        at: Option<String>,
+        value: impl std::fmt::Display,
+        allowed: impl Into<String>,
+    ) -> Self {
+        ExternalError::Invalid {
+            path: path.to_path_buf(),
+            field: field.into(),
+            at,
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+}

@@ -1,0 +1,383 @@
+//! Another code's run in memory ([`ExternalRun`]), as the JSON and CSV readers hand it over,
+//! the limits a file must respect, and the checks of its content against the scene it claims
+//! to solve ([`ExternalRun::check_against`]): the scene's name, a uniform P1 mesh of the
+//! scene's bar, sample times from 0 to the horizon, a clamped end at rest.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::error::ExternalError;
+use crate::engine::fem::EndCondition;
+use crate::engine::problem::Problem1d;
+
+/// The format's name and version, the first thing a file states (`format`).
+pub const FORMAT: &str = "signorini-external/1";
+
+/// The largest run file read, in bytes (256 MiB): a larger one is refused before it is read.
+pub const MAX_FILE_BYTES: u64 = 256 * 1024 * 1024;
+
+/// The most numbers one file may hold (2²⁵, 256 MiB as `f64`): samples × values per sample.
+pub const MAX_VALUES: usize = 1 << 25;
+
+/// How far a node may be from `i L/NX`, relative to `L/NX` (uniformity and span of the mesh).
+pub const MESH_TOLERANCE: f64 = 1e-9;
+
+/// How far the last sample time may be from the horizon `T`, relative to `T`; a time above `T`
+/// within it is read as `T`.
+pub const HORIZON_TOLERANCE: f64 = 1e-9;
+
+/// How far a clamped end's displacement or velocity may be from 0 (absolute).
+pub const CLAMPED_TOLERANCE: f64 = 1e-12;
+
+/// How far `contact_displacement` may be from the field's value at `x = 0`: relative to
+/// `max(1, |u_0|)`.
+pub const CONTACT_TOLERANCE: f64 = 1e-9;
+
+/// The code that made a run.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Code {
+    /// Its name.
+    pub name: String,
+    /// Its version.
+    pub version: String,
+}
+
+/// How a sample index reads in messages: `samples[k]` in JSON, the line in CSV.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SampleOrigin {
+    /// `samples[k]` of a JSON file.
+    Json,
+    /// A CSV file whose sample 0 is on this 1-based line.
+    Csv {
+        /// The line of sample 0.
+        first_line: usize,
+    },
+}
+
+impl SampleOrigin {
+    /// Where sample `k` is in the file.
+    pub fn at(self, k: usize) -> String {
+        match self {
+            SampleOrigin::Json => format!("samples[{k}]"),
+            SampleOrigin::Csv { first_line } => format!("line {}", first_line + k),
+        }
+    }
+}
+
+/// One run of another code, as read: every value finite, every per-sample series as long as
+/// `time`, every field row as long as `nodes` (the readers check this). The rest is checked
+/// against the scene by [`ExternalRun::check_against`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExternalRun {
+    /// The file it was read from.
+    pub path: PathBuf,
+    /// How sample indices read in messages.
+    pub origin: SampleOrigin,
+    /// The scene's name (`bar1d-dirichlet`).
+    pub scene: String,
+    /// The code and its version.
+    pub code: Code,
+    /// The configuration: files with one label form one refinement series.
+    pub label: String,
+    /// The mesh nodes `x_0 < … < x_NX`.
+    pub nodes: Vec<f64>,
+    /// The sample times `t_0 = 0 < … < t_N = T`.
+    pub time: Vec<f64>,
+    /// `u_h(x_i, t_n)`, sample by sample (`(N + 1) × (NX + 1)`, row-major).
+    pub displacement: Option<Vec<f64>>,
+    /// `∂t u_h(x_i, t_n)`, like `displacement`.
+    pub velocity: Option<Vec<f64>>,
+    /// The contact multiplier (stress) at `x = 0`, one per sample.
+    pub lambda: Option<Vec<f64>>,
+    /// The time each `lambda` approximates (default: the sample's).
+    pub lambda_time: Option<Vec<f64>>,
+    /// `u_h(0, t_n)`, one per sample.
+    pub contact_displacement: Option<Vec<f64>>,
+    /// The discrete energy, one per sample.
+    pub energy: Option<Vec<f64>>,
+    /// The time each `energy` approximates (default: the sample's).
+    pub energy_time: Option<Vec<f64>>,
+}
+
+impl ExternalRun {
+    /// `NX`, the number of elements.
+    pub fn nx(&self) -> usize {
+        self.nodes.len().saturating_sub(1)
+    }
+
+    /// The number of samples `N + 1`.
+    pub fn samples(&self) -> usize {
+        self.time.len()
+    }
+
+    /// The nodal values of sample `k` of a field (`displacement`, `velocity`).
+    pub fn row(field: &[f64], nodes: usize, k: usize) -> &[f64] {
+        &field[k * nodes..(k + 1) * nodes]
+    }
+
+    /// The contact node's displacement at sample `k`: the file's `contact_displacement`, else
+    /// the field's value at `x = 0`; `None` when the file has neither.
+    pub fn contact_displacement_at(&self, k: usize) -> Option<f64> {
+        match (&self.contact_displacement, &self.displacement) {
+            (Some(c), _) => Some(c[k]),
+            (None, Some(u)) => Some(u[k * self.nodes.len()]),
+            (None, None) => None,
+        }
+    }
+
+    fn invalid(
+        &self,
+        field: impl Into<String>,
+        at: Option<String>,
+        value: impl std::fmt::Display,
+        allowed: impl Into<String>,
+    ) -> ExternalError {
+        ExternalError::invalid(&self.path, field, at, value, allowed)
+    }
+
+    /// Checks the run against the scene named `scene` whose problem is `problem`, and reads a
+    /// time above the horizon (within [`HORIZON_TOLERANCE`]) as the horizon: the first
+    /// inconsistency is an error naming its field.
+    pub fn check_against(&mut self, scene: &str, problem: &Problem1d) -> Result<(), ExternalError> {
+        for (field, value) in [
+            ("code.name", &self.code.name),
+            ("code.version", &self.code.version),
+            ("label", &self.label),
+        ] {
+            if value.trim().is_empty() {
+                return Err(self.invalid(field, None, "\"\"", "a non-empty text"));
+            }
+        }
+        if self.scene != scene {
+            return Err(self.invalid(
+                "scene",
+                None,
+                format!("{:?}", self.scene),
+                format!("{scene:?}, the name of the scene given on the command line"),
+            ));
+        }
+        if self.displacement.is_none()
+            && self.contact_displacement.is_none()
+            && self.lambda.is_none()
+        {
+            return Err(self.invalid(
+                "displacement",
+                None,
+                "missing",
+                "nodal displacements, or a contact trace (contact_displacement and/or lambda)",
+            ));
+        }
+        self.check_mesh(problem)?;
+        self.check_times(problem.horizon)?;
+        if problem.far_end == EndCondition::Clamped {
+            self.check_clamped_end()?;
+        }
+        self.check_contact_displacement()
+    }
+
+    /// A uniform P1 mesh of the bar `[0, L]`: node `i` within [`MESH_TOLERANCE`]`·L/NX` of
+    /// `i L/NX`.
+    fn check_mesh(&self, problem: &Problem1d) -> Result<(), ExternalError> {
+        let nx = self.nx();
+        let length = problem.length;
+        if nx == 0 {
+            return Err(self.invalid(
+                "mesh.nodes",
+                None,
+                format!("{} node(s)", self.nodes.len()),
+                "at least two nodes",
+            ));
+        }
+        let h = length / nx as f64;
+        for (i, &x) in self.nodes.iter().enumerate() {
+            let expected = if i == nx { length } else { i as f64 * h };
+            if (x - expected).abs() > MESH_TOLERANCE * h {
+                return Err(self.invalid(
+                    "mesh.nodes",
+                    Some(format!("node {i}")),
+                    x,
+                    format!(
+                        "the {} nodes of a uniform mesh of the scene's bar [0, {length}], \
+                         ascending: node {i} at {expected} (L/NX = {h}) within a relative \
+                         {MESH_TOLERANCE:e} of L/NX",
+                        nx + 1
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `t_0 = 0 < t_1 < … < t_N`, `|t_N − T| ≤ HORIZON_TOLERANCE·T`; `lambda_time` and
+    /// `energy_time` non-decreasing in `[0, T]`. Times above `T` within the tolerance are read
+    /// as `T`.
+    fn check_times(&mut self, horizon: f64) -> Result<(), ExternalError> {
+        let origin = self.origin;
+        if self.time.len() < 2 {
+            return Err(self.invalid(
+                "time",
+                None,
+                format!("{} sample(s)", self.time.len()),
+                "at least two samples, from t = 0 to the horizon",
+            ));
+        }
+        if self.time[0] != 0.0 {
+            return Err(self.invalid(
+                "time",
+                Some(origin.at(0)),
+                self.time[0],
+                "0 for the first sample (the initial data)",
+            ));
+        }
+        let last = self.time.len() - 1;
+        if (self.time[last] - horizon).abs() > HORIZON_TOLERANCE * horizon {
+            return Err(self.invalid(
+                "time",
+                Some(origin.at(last)),
+                self.time[last],
+                format!(
+                    "the scene's horizon T = {horizon} for the last sample, within a relative \
+                     {HORIZON_TOLERANCE:e}"
+                ),
+            ));
+        }
+        self.time[last] = self.time[last].min(horizon);
+        for k in 1..self.time.len() {
+            if self.time[k] <= self.time[k - 1] {
+                return Err(self.invalid(
+                    "time",
+                    Some(origin.at(k)),
+                    self.time[k],
+                    format!(
+                        "strictly increasing times: after {} (the previous sample)",
+                        self.time[k - 1]
+                    ),
+                ));
+            }
+        }
+        for (field, times, values) in [
+            ("lambda_time", &self.lambda_time, &self.lambda),
+            ("energy_time", &self.energy_time, &self.energy),
+        ] {
+            if times.is_some() && values.is_none() {
+                let base = field.trim_end_matches("_time");
+                return Err(self.invalid(
+                    field,
+                    None,
+                    "given",
+                    format!("only with {base} (the times its values approximate)"),
+                ));
+            }
+        }
+        let path = &self.path;
+        for (field, times) in [
+            ("lambda_time", &mut self.lambda_time),
+            ("energy_time", &mut self.energy_time),
+        ] {
+            if let Some(times) = times {
+                read_reported_times(path, origin, field, times, horizon)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The clamped end `x = L` at rest: its displacement and velocity within
+    /// [`CLAMPED_TOLERANCE`] of 0 at every sample.
+    fn check_clamped_end(&self) -> Result<(), ExternalError> {
+        let nodes = self.nodes.len();
+        for (name, field) in [("u", &self.displacement), ("v", &self.velocity)] {
+            let Some(field) = field else { continue };
+            for k in 0..self.samples() {
+                let value = Self::row(field, nodes, k)[nodes - 1];
+                if value.abs() > CLAMPED_TOLERANCE {
+                    return Err(self.invalid(
+                        format!("{name}{}", nodes - 1),
+                        Some(self.origin.at(k)),
+                        value,
+                        format!(
+                            "0 within {CLAMPED_TOLERANCE:e}: the scene's bar is clamped at its \
+                             last node"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `contact_displacement` equal to the field's value at `x = 0` when both are given.
+    fn check_contact_displacement(&self) -> Result<(), ExternalError> {
+        let (Some(contact), Some(u)) = (&self.contact_displacement, &self.displacement) else {
+            return Ok(());
+        };
+        let nodes = self.nodes.len();
+        for (k, &c) in contact.iter().enumerate() {
+            let u0 = u[k * nodes];
+            if (c - u0).abs() > CONTACT_TOLERANCE * u0.abs().max(1.0) {
+                return Err(self.invalid(
+                    "contact_displacement",
+                    Some(self.origin.at(k)),
+                    c,
+                    format!(
+                        "the displacement field's value at x = 0 ({u0}) within \
+                         {CONTACT_TOLERANCE:e} (relative, absolute below 1)"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks the times `times` at which the values of `field` are reported (`lambda_time`,
+/// `energy_time`): non-decreasing, in `[0, T]` within [`HORIZON_TOLERANCE`]; a time above `T`
+/// is read as `T`.
+fn read_reported_times(
+    path: &Path,
+    origin: SampleOrigin,
+    field: &str,
+    times: &mut [f64],
+    horizon: f64,
+) -> Result<(), ExternalError> {
+    let limit = horizon * (1.0 + HORIZON_TOLERANCE);
+    let mut previous = 0.0;
+    for (k, t) in times.iter_mut().enumerate() {
+        if !(previous..=limit).contains(t) {
+            return Err(ExternalError::invalid(
+                path,
+                field,
+                Some(origin.at(k)),
+                *t,
+                format!(
+                    "non-decreasing times in [0, T = {horizon}] (T within a relative \
+                     {HORIZON_TOLERANCE:e}), here at least {previous}"
+                ),
+            ));
+        }
+        *t = t.min(horizon);
+        previous = *t;
+    }
+    Ok(())
+}
+
+/// `path`'s size, refused above [`MAX_FILE_BYTES`] before anything is read.
+pub fn check_size(path: &Path) -> Result<(), ExternalError> {
+    let bytes = std::fs::metadata(path)
+        .map_err(|source| ExternalError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .len();
+    if bytes > MAX_FILE_BYTES {
+        return Err(ExternalError::invalid(
+            path,
+            "file size",
+            None,
+            format!("{bytes} bytes"),
+            format!("at most {MAX_FILE_BYTES} bytes (256 MiB): sample fewer times or levels"),
+        ));
+    }
+    Ok(())
+}

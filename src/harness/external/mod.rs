@@ -1,0 +1,30 @@
+//! Another code's runs verified with the harness (`signorini verify`): the external-run format
+//! (README, "Verifying another code's runs"), read from JSON or CSV and checked against the
+//! scene, replayed as a time integrator through the harness's own observers, grouped by label
+//! into refinement series fitted by the harness's own fit, rendered as Tables 1–2 and gated by
+//! the harness's own comparison.
+//!
+//! | file | what |
+//! |---|---|
+//! | [`format`] | the run in memory, the format's limits and its checks against the scene |
+//! | [`json`], [`csv`] | the two forms of a file, each read into an [`ExternalRun`] |
+//! | [`load`] | a file of either form, read and checked |
+//! | [`replay`] | the samples as a [`crate::engine::schemes::TimeIntegrator`], through the observers |
+//! | [`verify`] | every file replayed, grouped into series, fitted |
+//! | [`report`], [`golden`] | the tables; the golden file and its gate |
+//! | [`error`] | what can be wrong, naming the file and the field |
+
+pub mod csv;
+pub mod error;
+pub mod format;
+pub mod golden;
+pub mod json;
+pub mod load;
+pub mod replay;
+pub mod report;
+pub mod verify;
+
+pub use error::ExternalError;
+pub use format::ExternalRun;
+pub use golden::{compare, VerifyGolden};
+pub use verify::{verify, Verification};

@@ -1,0 +1,106 @@
+//! The markdown of a verification (`verify.md`, and what `signorini verify` prints): Tables
+//! 1–2 with one row per series, the norms not computed and why, and each series' per-level
+//! errors in the harness's own convergence tables.
+
+use std::fmt::Write as _;
+
+use super::verify::{Series, Verification};
+use crate::harness::norms::Norm;
+use crate::harness::report::convergence_table;
+use crate::harness::verdicts::oscillation_word;
+
+/// The columns of Table 1 (displacement).
+const TABLE1: [Norm; 4] = [
+    Norm::DisplacementLinfH,
+    Norm::DisplacementL2H,
+    Norm::DisplacementLinfV,
+    Norm::DisplacementL2V,
+];
+
+/// One cell: the rate over all levels, `—` without two levels to fit, or `not computed`.
+fn cell(s: &Series, norm: Norm) -> String {
+    match s.norm(norm) {
+        Some(r) => r.fit.map_or("—".to_string(), |f| format!("{:.2}", f.rate)),
+        None => "not computed".to_string(),
+    }
+}
+
+/// `label | code version`.
+fn row_head(s: &Series) -> String {
+    format!("{} | {} {}", s.label, s.code.name, s.code.version)
+}
+
+/// The whole markdown of `v`.
+pub fn render(v: &Verification) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# Verification of external runs\n\nScene `{}` against the exact solution `{}`, T = {}. \
+         Each cell: the least-squares rate over the series' levels (`—` with fewer than two).\n",
+        v.scene, v.reference, v.horizon
+    );
+    let _ = writeln!(out, "### Table 1: convergence rates for the displacement\n");
+    let _ = writeln!(
+        out,
+        "| Configuration | Code | {} |",
+        TABLE1.map(Norm::label).join(" | ")
+    );
+    let _ = writeln!(out, "|---|---|{}", "---|".repeat(TABLE1.len()));
+    for s in &v.series {
+        let cells: Vec<String> = TABLE1.iter().map(|&n| cell(s, n)).collect();
+        let _ = writeln!(out, "| {} | {} |", row_head(s), cells.join(" | "));
+    }
+    let _ = writeln!(
+        out,
+        "\n### Table 2: convergence rates for the Lagrange multiplier and the energy\n"
+    );
+    let _ = writeln!(
+        out,
+        "| Configuration | Code | {} | Oscillations (TV ratio) | {} | {} |",
+        Norm::MultiplierL2.label(),
+        Norm::EnergyLinf.label(),
+        Norm::EnergyL2.label()
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|");
+    for s in &v.series {
+        let osc = s.oscillation_indicator().map_or("—".to_string(), |r| {
+            format!("{} ({r:.3})", oscillation_word(r))
+        });
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} |",
+            row_head(s),
+            cell(s, Norm::MultiplierL2),
+            osc,
+            cell(s, Norm::EnergyLinf),
+            cell(s, Norm::EnergyL2)
+        );
+    }
+    let missing: Vec<&Series> = v
+        .series
+        .iter()
+        .filter(|s| !s.not_computed.is_empty())
+        .collect();
+    if !missing.is_empty() {
+        let _ = writeln!(out, "\n### Not computed\n");
+        for s in missing {
+            for same in s.not_computed.chunk_by(|a, b| a.reason == b.reason) {
+                let keys: Vec<String> =
+                    same.iter().map(|n| format!("`{}`", n.norm.key())).collect();
+                let _ = writeln!(
+                    out,
+                    "- {}: {} not computed: {}",
+                    s.label,
+                    keys.join(", "),
+                    same[0].reason
+                );
+            }
+        }
+    }
+    let _ = writeln!(out, "\n## Per-level errors and observed orders\n");
+    for s in &v.series {
+        let heading = format!("{} — {} {}", s.label, s.code.name, s.code.version);
+        out.push_str(&convergence_table(&heading, &s.levels, &s.rates));
+    }
+    out
+}

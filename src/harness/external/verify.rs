@@ -1,0 +1,276 @@
+//! Verifying another code's runs against a scene: every file read, checked and replayed
+//! ([`super::replay`]), the files grouped by label into refinement series, and each series'
+//! norms fitted into rates by the harness's own fit (`crate::harness::study::fit_norm_rates`).
+//! A norm whose data a series' file lacks is not computed, and says why.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::error::ExternalError;
+use super::format::{Code, ExternalRun};
+use super::load::load;
+use super::replay::{replay, TimeNorms};
+use crate::engine::fem::Bar1d;
+use crate::engine::problem::{Problem, Problem1d};
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::run::Timings;
+use crate::harness::scene::Scene;
+use crate::harness::study::{fit_norm_rates, LevelRecord, NormRates};
+
+/// One file of a series.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// The file, as given on the command line.
+    pub file: String,
+    /// `NX`.
+    pub nx: usize,
+    /// The number of time samples `N + 1`.
+    pub samples: usize,
+    /// The smallest spacing of the sample times.
+    pub dt_min: f64,
+    /// The largest spacing of the sample times.
+    pub dt_max: f64,
+    /// `u_h(0, t) − u(0, t)` in `L∞(0, T)` and `L²(0, T)` over the samples, when the file has
+    /// the contact node's displacement (not a table norm: not fitted, not gated).
+    pub contact_displacement_error: Option<TimeNorms>,
+}
+
+/// A norm a series does not report, and why.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NotComputed {
+    /// The norm.
+    pub norm: Norm,
+    /// Why: the file that lacks its data, and which data.
+    pub reason: String,
+}
+
+/// One refinement series: the files with one label, by increasing `NX`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    /// The configuration's label.
+    pub label: String,
+    /// The code and its version.
+    pub code: Code,
+    /// One record per file, by increasing `NX`.
+    pub runs: Vec<RunRecord>,
+    /// One level per file (`dt` the largest spacing of its sample times, `steps` its samples
+    /// less one, `dofs` its nodes less a clamped end, `timings.observe` the replay's seconds).
+    pub levels: Vec<LevelRecord>,
+    /// The errors and rates of each computed norm, in the order of [`Norm::ALL`].
+    pub rates: Vec<NormRates>,
+    /// The scene's norms that are not computed, with the reason.
+    pub not_computed: Vec<NotComputed>,
+}
+
+impl Series {
+    /// The oscillation indicator `TV(λ_h) / TV(λ)` on the finest level, when `lambda_L2` was
+    /// computed.
+    pub fn oscillation_indicator(&self) -> Option<f64> {
+        self.levels.last()?.multiplier_variation_ratio
+    }
+
+    /// The rates of `norm`, if it was computed.
+    pub fn norm(&self, norm: Norm) -> Option<&NormRates> {
+        self.rates.iter().find(|r| r.norm == norm)
+    }
+
+    /// Why `norm` was not computed, if it was not.
+    pub fn not_computed(&self, norm: Norm) -> Option<&str> {
+        self.not_computed
+            .iter()
+            .find(|n| n.norm == norm)
+            .map(|n| n.reason.as_str())
+    }
+}
+
+/// The verification of another code's runs (`verify.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Verification {
+    /// The crate version that verified.
+    pub signorini_version: String,
+    /// The scene's name.
+    pub scene: String,
+    /// The exact solution the errors are measured against.
+    pub reference: String,
+    /// The scene's horizon `T`.
+    pub horizon: f64,
+    /// The scene's norms: each series computes those its files have the data of.
+    pub norms: Vec<Norm>,
+    /// One series per label, in the order the labels first appear among the files.
+    pub series: Vec<Series>,
+}
+
+/// The data a file lacks for `norm`, if any.
+fn missing_data(run: &ExternalRun, norm: Norm) -> Option<&'static str> {
+    match norm {
+        Norm::DisplacementLinfH
+        | Norm::DisplacementL2H
+        | Norm::DisplacementLinfV
+        | Norm::DisplacementL2V => run
+            .displacement
+            .is_none()
+            .then_some("displacement fields (u0…uNX)"),
+        Norm::MultiplierL2 => run
+            .lambda
+            .is_none()
+            .then_some("contact multiplier (lambda)"),
+        Norm::EnergyLinf | Norm::EnergyL2 => run.energy.is_none().then_some("energy"),
+    }
+}
+
+/// One file's results, before the files are grouped.
+struct Level {
+    label: String,
+    code: Code,
+    record: RunRecord,
+    level: LevelRecord,
+    errors: BTreeMap<Norm, f64>,
+    lacks: BTreeMap<Norm, &'static str>,
+}
+
+/// Reads, checks and replays one file against `problem` for the norms `norms`.
+fn verify_file(
+    path: &Path,
+    scene: &str,
+    problem: &Problem1d,
+    norms: &BTreeSet<Norm>,
+) -> Result<Level, ExternalError> {
+    let run = load(path, scene, problem)?;
+    let bar = Bar1d::new(
+        problem.length,
+        run.nx(),
+        problem.density,
+        problem.wave_speed,
+        problem.far_end,
+    )
+    .map_err(Error::from)?;
+    let lacks: BTreeMap<Norm, &'static str> = norms
+        .iter()
+        .filter_map(|&n| missing_data(&run, n).map(|what| (n, what)))
+        .collect();
+    let allowed: BTreeSet<Norm> = norms
+        .iter()
+        .copied()
+        .filter(|n| !lacks.contains_key(n))
+        .collect();
+    let replayed = replay(&run, &bar, problem.exact.as_ref(), &allowed)?;
+    let spacing = run.time.windows(2).map(|w| w[1] - w[0]);
+    let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
+    let dt_max = spacing.fold(0.0, f64::max);
+    Ok(Level {
+        record: RunRecord {
+            file: path.display().to_string(),
+            nx: run.nx(),
+            samples: run.samples(),
+            dt_min,
+            dt_max,
+            contact_displacement_error: replayed.contact_displacement_error,
+        },
+        level: LevelRecord {
+            nx: run.nx(),
+            h: bar.h(),
+            dt: dt_max,
+            steps: run.samples() - 1,
+            dofs: bar.n_dofs(),
+            timings: Timings {
+                observe: replayed.seconds,
+                ..Timings::default()
+            },
+            multiplier_variation_ratio: replayed.multiplier_variation.and_then(|v| v.ratio()),
+        },
+        errors: replayed.errors,
+        lacks,
+        label: run.label,
+        code: run.code,
+    })
+}
+
+/// Verifies the run files `files` against `scene`: each is read, checked against the scene and
+/// replayed for the scene's norms, one at a time (a file's samples are dropped once its norms
+/// are computed); then the files are grouped by label into series, each checked to come from
+/// one code and version with one file per `NX`, and fitted.
+pub fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, ExternalError> {
+    let Problem::Bar(problem) = scene.problem() else {
+        return Err(ExternalError::NoExactReference {
+            scene: scene.name.clone(),
+        });
+    };
+    let norms = &scene.observables.norms;
+    let mut groups: Vec<Vec<Level>> = Vec::new();
+    for path in files {
+        let level = verify_file(path, &scene.name, &problem, norms)?;
+        match groups.iter_mut().find(|g| g[0].label == level.label) {
+            Some(group) => group.push(level),
+            None => groups.push(vec![level]),
+        }
+    }
+    let series = groups
+        .into_iter()
+        .map(|group| series(group, norms))
+        .collect::<Result<_, _>>()?;
+    Ok(Verification {
+        signorini_version: env!("CARGO_PKG_VERSION").to_string(),
+        scene: scene.name.clone(),
+        reference: problem.exact.name().to_string(),
+        horizon: problem.horizon,
+        norms: norms.iter().copied().collect(),
+        series,
+    })
+}
+
+/// The series of the files `group` (one label): one code and version, one file per `NX`, the
+/// norms every file has the data of fitted, the others not computed.
+fn series(mut group: Vec<Level>, norms: &BTreeSet<Norm>) -> Result<Series, ExternalError> {
+    let label = group[0].label.clone();
+    let series_error = |problem: String| ExternalError::Series {
+        label: label.clone(),
+        problem,
+    };
+    if let Some(other) = group.iter().find(|l| l.code != group[0].code) {
+        return Err(series_error(format!(
+            "{} is from {} {} but {} from {} {}: the files of one label must come from one \
+             code and version",
+            group[0].record.file,
+            group[0].code.name,
+            group[0].code.version,
+            other.record.file,
+            other.code.name,
+            other.code.version
+        )));
+    }
+    group.sort_by_key(|l| l.level.nx);
+    if let Some(w) = group.windows(2).find(|w| w[0].level.nx == w[1].level.nx) {
+        return Err(series_error(format!(
+            "{} and {} are both at NX = {}: one file per level",
+            w[0].record.file, w[1].record.file, w[0].level.nx
+        )));
+    }
+    let mut errors = BTreeMap::new();
+    let mut not_computed = Vec::new();
+    for &norm in norms {
+        match group
+            .iter()
+            .find_map(|l| l.lacks.get(&norm).map(|what| (&l.record.file, what)))
+        {
+            Some((file, what)) => not_computed.push(NotComputed {
+                norm,
+                reason: format!("the file {file} has no {what}"),
+            }),
+            None => {
+                errors.insert(norm, group.iter().map(|l| l.errors[&norm]).collect());
+            }
+        }
+    }
+    let levels: Vec<LevelRecord> = group.iter().map(|l| l.level.clone()).collect();
+    Ok(Series {
+        code: group[0].code.clone(),
+        rates: fit_norm_rates(&levels, errors),
+        runs: group.into_iter().map(|l| l.record).collect(),
+        levels,
+        not_computed,
+        label,
+    })
+}
