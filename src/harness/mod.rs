@@ -6,6 +6,7 @@ pub mod artifacts;
 pub mod elastic;
 pub mod error;
 pub mod figures;
+pub mod getfem;
 pub mod golden;
 pub mod norms;
 pub mod rates;

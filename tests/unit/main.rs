@@ -17,6 +17,7 @@ mod contact_treatments;
 mod energy_balance;
 mod explicit;
 mod fem;
+mod getfem_demo;
 mod mass_variants;
 mod perturbation;
 mod run;

@@ -1,0 +1,398 @@
+//! GetFEM's 1D contact demo as an external witness (`tests/data/getfem/`, issue 17): every run
+//! file reads into typed values and is what its name says; the demo's norms recomputed from its
+//! stored series are its printed norms; bad files are typed errors naming the file and the field.
+
+use std::path::{Path, PathBuf};
+
+use signorini::harness::error::DemoRunError;
+use signorini::harness::getfem::{
+    list_runs, read_run, DemoErrorNorms, DemoMass, DemoRun, DemoRunName, DemoSeries, DemoVersion,
+    MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,
+};
+use signorini::run::time_grid;
+
+fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/getfem")
+}
+
+fn all_runs() -> Vec<(PathBuf, DemoRun)> {
+    list_runs(&data_dir())
+        .expect("tests/data/getfem lists")
+        .into_iter()
+        .map(|f| {
+            let run = read_run(&f.path).unwrap_or_else(|e| panic!("{e}"));
+            (f.path, run)
+        })
+        .collect()
+}
+
+/// `|a − b| / max(|a|, |b|)`, 0 for two equal values and for two non-finite ones (the files
+/// store `inf` and `NaN` alike as `null`); infinite when only one is finite.
+fn relative_difference(a: f64, b: f64) -> f64 {
+    match (a.is_finite(), b.is_finite()) {
+        (false, false) => 0.0,
+        (true, true) if a == b => 0.0,
+        (true, true) => (a - b).abs() / a.abs().max(b.abs()),
+        _ => f64::INFINITY,
+    }
+}
+
+/// The largest relative difference of the seven norms, with the name of the worst.
+fn worst_norm(a: &DemoErrorNorms, b: &DemoErrorNorms) -> (&'static str, f64) {
+    a.named()
+        .into_iter()
+        .zip(b.named())
+        .map(|((name, x), (_, y))| (name, relative_difference(x, y)))
+        .fold(("", 0.0), |w, c| if c.1 > w.1 { c } else { w })
+}
+
+/// The directory lists the 52 runs (NX = 20 and 40) sorted by file name; every file reads, is
+/// what its name says (the reader checks it) and has one value per time point and per node.
+#[test]
+fn every_run_file_reads_and_matches_its_name() {
+    let files = list_runs(&data_dir()).unwrap();
+    assert_eq!(files.len(), 52);
+    let names: Vec<_> = files.iter().map(|f| f.path.file_name().unwrap()).collect();
+    let mut sorted = names.clone();
+    sorted.sort();
+    assert_eq!(names, sorted);
+    for f in &files {
+        let run = read_run(&f.path).unwrap_or_else(|e| panic!("{e}"));
+        let c = &run.config;
+        assert!([20, 40].contains(&c.nx), "{}", f.path.display());
+        assert_eq!(c.horizon, 3.0);
+        assert_eq!(run.energy.len(), run.series.len());
+        assert_eq!(run.final_state.x.len(), c.nx + 1);
+        assert_eq!(f.name.nx, c.nx);
+        assert_eq!(f.name.dt(), c.dt);
+        // The harness's time grid is the demo's `np.arange(0, T + dt, dt)`.
+        let (steps, dt) = time_grid(c.horizon, 1.0 / c.nx as f64, f.name.ratio as f64);
+        assert_eq!(
+            (steps + 1, dt),
+            (run.series.len(), c.dt),
+            "{}",
+            f.path.display()
+        );
+        if c.version == DemoVersion::TaylorFlanagan {
+            assert_eq!((c.beta, f.name.ratio), (0.0, 2));
+        }
+    }
+    // One file's configuration in full, against its name.
+    let newmark = read_run(&data_dir().join("getfem_v3_b0.25_g0.5_gN10_tN-1_m1_nx40.json.gz"))
+        .unwrap()
+        .config;
+    assert_eq!(newmark.version, DemoVersion::Nitsche);
+    assert_eq!(newmark.version.code(), 3);
+    assert_eq!((newmark.beta, newmark.gamma), (0.25, 0.5));
+    assert_eq!((newmark.gamma0_n, newmark.theta_n), (10.0, -1.0));
+    assert_eq!(newmark.mass, DemoMass::Redistributed);
+    assert_eq!(newmark.mass.code(), 1);
+    assert!(!newmark.lumped);
+    assert_eq!((newmark.nx, newmark.dt), (40, 0.0025));
+}
+
+/// The demo's seven norms recomputed from its stored series (`store_UL2`, …, `store_s0`,
+/// `store_s0_ex`) by `DemoSeries::norms` are the norms it printed (`params`), for all 52 runs:
+/// the formulas are the demo's. The Nitsche θ = 1 run with mass type 1 blows up; its series and
+/// its norms are non-finite alike.
+#[test]
+fn series_norms_are_the_demos_printed_norms() {
+    let mut worst = (String::new(), "", 0.0);
+    let mut blown_up = 0;
+    for (path, run) in all_runs() {
+        let ours = run.series.norms();
+        if run.norms.named().iter().any(|(_, v)| !v.is_finite()) {
+            blown_up += 1;
+        }
+        let (name, diff) = worst_norm(&ours, &run.norms);
+        assert!(
+            diff <= 1e-12,
+            "{}: {name} recomputed {:?} vs printed {:?} (relative difference {diff:.2e})",
+            path.display(),
+            ours,
+            run.norms
+        );
+        if diff >= worst.2 {
+            worst = (path.display().to_string(), name, diff);
+        }
+    }
+    assert_eq!(blown_up, 1);
+    eprintln!(
+        "largest relative difference: {:.2e} ({} of {})",
+        worst.2, worst.1, worst.0
+    );
+}
+
+/// The norms of series by hand: maxima and root sums of squares, `NaN` propagated as NumPy's
+/// `amax` propagates it, and the demo's names in its order.
+#[test]
+fn series_norms_by_hand() {
+    let series = DemoSeries {
+        time: vec![0.0, 0.1, 0.2],
+        u0: vec![0.0; 3],
+        u0_ex: vec![0.0; 3],
+        v0: vec![0.0; 3],
+        v0_ex: vec![0.0; 3],
+        s0: vec![0.0, -1.0, -2.0],
+        s0_ex: vec![0.0, -0.5, -0.5],
+        u_l2: vec![0.0, 3.0, 4.0],
+        u_l2_ex: vec![1.0, 2.0, 2.0],
+        u_h1: vec![1.0, 1.0, 1.0],
+        u_h1_ex: vec![2.0, 2.0, 2.0],
+        v_l2: vec![0.5, f64::NAN, 0.5],
+        v_l2_ex: vec![1.0, 1.0, 1.0],
+    };
+    let n = series.norms();
+    assert_eq!(n.linf_l2_u, 4.0 / 2.0);
+    assert_eq!(n.l2_l2_u, 5.0 / 3.0);
+    assert_eq!(n.linf_h1_u, 0.5);
+    assert_eq!(n.l2_h1_u, 0.5);
+    assert!(n.linf_l2_v.is_nan() && n.l2_l2_v.is_nan());
+    // (0² + 0.5² + 1.5²)^½ / (0² + 0.5² + 0.5²)^½ = (2.5 / 0.5)^½
+    assert!((n.l2_sn - 5f64.sqrt()).abs() <= 1e-15);
+    assert_eq!(n.named().map(|(name, _)| name), DemoErrorNorms::NAMES);
+    assert_eq!(n.named()[3], ("L2L2u", 5.0 / 3.0));
+    assert_eq!(series.len(), 3);
+    assert!(!series.is_empty() && DemoSeries::default().is_empty());
+    assert!(DemoSeries::default().norms().linf_l2_u.is_nan());
+}
+
+/// The file-name convention, and names that break it, each with what does not fit.
+#[test]
+fn run_names_parse() {
+    let parse = |name: &str| DemoRunName::parse(Path::new(name));
+    let n = parse("getfem_v3_b0.25_g0.5_gN10_tN-1_lump_m1_nx40.json.gz").unwrap();
+    assert_eq!(n.version, DemoVersion::Nitsche);
+    assert_eq!((n.beta, n.gamma), (0.25, 0.5));
+    assert_eq!((n.gamma0_n, n.theta_n), (Some(10.0), Some(-1.0)));
+    assert_eq!((n.e_ps, n.gamma0_p), (None, None));
+    assert!(n.lumped);
+    assert_eq!((n.mass, n.nx, n.ratio), (DemoMass::Redistributed, 40, 10));
+    assert_eq!(n.dt(), 1.0 / 400.0);
+    let k = parse("dir/getfem_v4_b0_g0.5_m2_nx20_k2.json.gz").unwrap();
+    assert_eq!(
+        (k.version, k.mass, k.ratio),
+        (DemoVersion::TaylorFlanagan, DemoMass::SingularDynamic, 2)
+    );
+    assert_eq!(k.dt(), 0.025);
+    let e = parse("getfem_v1_b0.25_g0.5_e0.5_m0_nx20.json.gz").unwrap();
+    assert_eq!(
+        (e.version, e.e_ps),
+        (DemoVersion::PaoliSchatzman, Some(0.5))
+    );
+    let p = parse("getfem_v2_b0.25_g0.5_gP10_m0_nx20.json.gz").unwrap();
+    assert_eq!((p.version, p.gamma0_p), (DemoVersion::Penalty, Some(10.0)));
+    assert_eq!(
+        parse("getfem_v0_b0.5_g1_m0_nx20.json.gz")
+            .unwrap()
+            .version
+            .code(),
+        0
+    );
+
+    for (name, needle) in [
+        ("run_v0_b0.5_g1_m0_nx20.json.gz", "must start with getfem_"),
+        ("getfem_v0_b0.5_g1_m0_nx20.json", "end with .json.gz"),
+        ("getfem_v7_b0.5_g1_m0_nx20.json.gz", "version 7"),
+        ("getfem_v0_bx_g1_m0_nx20.json.gz", "`x` is not a number"),
+        (
+            "getfem_v0_b0.5_m0_nx20.json.gz",
+            "`m0` where `g…` is expected",
+        ),
+        ("getfem_v0_b0.5_g1_m3_nx20.json.gz", "mass type 3"),
+        ("getfem_v0_b0.5_g1_m0.json.gz", "`` where `nx…` is expected"),
+        ("getfem_v0_b0.5_g1_m0_nx0.json.gz", "at least 1"),
+        (
+            "getfem_v0_b0.5_g1_m0_nx20_k2_x.json.gz",
+            "`x` after the last part",
+        ),
+        (
+            "getfem_v3_b0.25_g0.5_gN10_m0_nx20.json.gz",
+            "`m0` where `tN…` is expected",
+        ),
+    ] {
+        let e = parse(name).unwrap_err();
+        assert!(matches!(e, DemoRunError::Name { .. }), "{name}: {e:?}");
+        let message = e.to_string();
+        assert!(message.contains(name), "{message}");
+        assert!(
+            message.contains(needle),
+            "{name}: {needle:?} not in {message}"
+        );
+    }
+}
+
+/// A scratch directory of this test process.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("signorini-getfem-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `bytes` gzipped into `dir/name`.
+fn write_gz(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    use std::io::Write;
+    let path = dir.join(name);
+    let file = std::fs::File::create(&path).unwrap();
+    let mut gz = flate2::write::GzEncoder::new(file, flate2::Compression::fast());
+    gz.write_all(bytes).unwrap();
+    gz.finish().unwrap();
+    path
+}
+
+/// Bad files are typed errors naming the file and, for a field, the field: a file that is not
+/// gzip, malformed JSON, a missing section, a missing, mistyped or out-of-range parameter, an
+/// array holding a string or of the wrong length, a configuration that is not what the name
+/// says, and files over the size limits. A missing directory cannot be listed.
+#[test]
+fn bad_run_files_are_typed_errors() {
+    let dir = scratch("bad");
+    let good = data_dir().join("getfem_v0_b0.5_g1_m0_nx20.json.gz");
+    let original: serde_json::Value = {
+        use std::io::Read;
+        let mut text = String::new();
+        flate2::read::GzDecoder::new(std::fs::File::open(&good).unwrap())
+            .read_to_string(&mut text)
+            .unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let name = "getfem_v0_b0.5_g1_m0_nx20.json.gz";
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut value = original.clone();
+        edit(&mut value);
+        write_gz(&dir, name, value.to_string().as_bytes())
+    };
+    let field_error = |path: &Path, field: &str, needle: &str| {
+        let e = read_run(path).unwrap_err();
+        match &e {
+            DemoRunError::Field {
+                field: f, path: p, ..
+            } => {
+                assert_eq!((f.as_str(), p.as_path()), (field, path), "{e}")
+            }
+            other => panic!("{field}: expected a field error, got {other:?}"),
+        }
+        let message = e.to_string();
+        assert!(
+            message.contains(name) && message.contains(needle),
+            "{needle:?}: {message}"
+        );
+    };
+
+    let p = edited(&|v| {
+        v["params"].as_object_mut().unwrap().remove("beta");
+    });
+    field_error(&p, "params.beta", "missing; expected a finite number");
+    let p = edited(&|v| v["params"]["gamma"] = "one".into());
+    field_error(&p, "params.gamma", "\"one\"");
+    let p = edited(&|v| v["params"]["version"] = 7.into());
+    field_error(&p, "params.version", "an integer from 0 to 4");
+    let p = edited(&|v| v["params"]["mass_matrix_type"] = 1.5.into());
+    field_error(&p, "params.mass_matrix_type", "1.5");
+    let p = edited(&|v| v["params"]["dt"] = (-0.005).into());
+    field_error(&p, "params.dt", "a finite number > 0");
+    let p = edited(&|v| v["params"]["u_degree"] = 2.into());
+    field_error(&p, "params.u_degree", "P1");
+    let p = edited(&|v| v["params"]["L2sn"] = "big".into());
+    field_error(&p, "params.L2sn", "a number, null, Infinity or NaN");
+    let p = edited(&|v| v["params"]["NX"] = 40.into());
+    field_error(&p, "params.NX", "as the file name says");
+    let p = edited(&|v| v["params"]["dt"] = 0.004.into());
+    field_error(&p, "params.dt", "as the file name says");
+    let p = edited(&|v| {
+        v["arrays"].as_object_mut().unwrap().remove("store_UH1_ex");
+    });
+    field_error(&p, "arrays.store_UH1_ex", "missing");
+    let p = edited(&|v| {
+        v["arrays"]["store_s0"].as_array_mut().unwrap().pop();
+    });
+    field_error(
+        &p,
+        "arrays.store_s0",
+        "600 values long; expected 601 values",
+    );
+    let p = edited(&|v| {
+        v["final_state"]["V"].as_array_mut().unwrap().pop();
+    });
+    field_error(&p, "final_state.V", "expected 21 values");
+    let p = edited(&|v| v["arrays"]["TT"] = serde_json::json!([]));
+    field_error(&p, "arrays.TT", "empty");
+
+    let json_error = |path: &Path, needle: &str| {
+        let e = read_run(path).unwrap_err();
+        assert!(matches!(e, DemoRunError::Json { .. }), "{e:?}");
+        let message = e.to_string();
+        assert!(
+            message.contains(name) && message.contains(needle),
+            "{needle:?}: {message}"
+        );
+    };
+    let p = edited(&|v| v["arrays"]["store_UL2"][3] = "x".into());
+    json_error(
+        &p,
+        "`arrays.store_UL2[3]` is \"x\", not a number, null, Infinity or NaN",
+    );
+    let p = edited(&|v| v["final_state"]["U"] = 1.into());
+    json_error(&p, "`final_state.U`: an array of numbers and nulls");
+    let p = edited(&|v| {
+        v.as_object_mut().unwrap().remove("arrays");
+    });
+    json_error(&p, "missing field `arrays`");
+    let p = write_gz(&dir, name, b"{\"params\": ");
+    json_error(&p, "EOF");
+
+    // A null norm or array value is read as NaN.
+    let p = edited(&|v| {
+        v["params"]["L2sn"] = serde_json::Value::Null;
+        v["arrays"]["store_E"][5] = serde_json::Value::Null;
+    });
+    let run = read_run(&p).unwrap();
+    assert!(run.norms.l2_sn.is_nan() && run.energy[5].is_nan());
+
+    let p = dir.join(name);
+    std::fs::write(&p, b"not gzip").unwrap();
+    let e = read_run(&p).unwrap_err();
+    assert!(matches!(e, DemoRunError::Gzip { .. }), "{e:?}");
+    assert!(e.to_string().contains(name), "{e}");
+
+    let p = write_gz(&dir, name, &vec![b' '; MAX_JSON_BYTES as usize + 1]);
+    let e = read_run(&p).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            DemoRunError::TooLarge {
+                what: "decompressed JSON",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains(&MAX_JSON_BYTES.to_string()), "{e}");
+    std::fs::write(&p, vec![0u8; MAX_COMPRESSED_BYTES as usize + 1]).unwrap();
+    let e = read_run(&p).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            DemoRunError::TooLarge {
+                what: "compressed file",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+
+    let e = read_run(&dir.join("getfem_v0_b0.5_g1_m0_nx80.json.gz")).unwrap_err();
+    assert!(matches!(e, DemoRunError::Io { .. }), "{e:?}");
+    let e = list_runs(&dir.join("absent")).unwrap_err();
+    assert!(
+        matches!(e, DemoRunError::Io { .. }) && e.to_string().contains("absent"),
+        "{e}"
+    );
+    // A stray run name breaks the listing; other files are skipped.
+    std::fs::write(dir.join("README.md"), "").unwrap();
+    assert_eq!(list_runs(&dir).unwrap().len(), 1);
+    std::fs::write(dir.join("getfem_oops.json.gz"), "").unwrap();
+    let e = list_runs(&dir).unwrap_err();
+    assert!(matches!(e, DemoRunError::Name { .. }), "{e:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
