@@ -1,15 +1,20 @@
 //! GetFEM's 1D contact demo as an external witness (`tests/data/getfem/`, issue 17): every run
 //! file reads into typed values and is what its name says; the demo's norms recomputed from its
-//! stored series are its printed norms; bad files are typed errors naming the file and the field.
+//! stored series are its printed norms; the demo's exact solution, nodes, time grid and P1 space
+//! norms are reproduced; bad files are typed errors naming the file and the field.
 
 use std::path::{Path, PathBuf};
 
+use signorini::engine::error::SolveError;
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::schemes::{TimeIntegrator, Timed};
+use signorini::fem::{Bar1d, EndCondition};
 use signorini::harness::error::DemoRunError;
 use signorini::harness::getfem::{
-    list_runs, read_run, DemoErrorNorms, DemoMass, DemoRun, DemoRunName, DemoSeries, DemoVersion,
-    MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,
+    demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
+    DemoSeries, DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,
 };
-use signorini::run::time_grid;
+use signorini::run::{time_grid, Observer};
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/getfem")
@@ -121,6 +126,197 @@ fn series_norms_are_the_demos_printed_norms() {
         "largest relative difference: {:.2e} ({} of {})",
         worst.2, worst.1, worst.0
     );
+}
+
+/// A state replayed from a run file: the dofs `U`, `V` of the bar (the clamped node dropped) at
+/// step `n`, with the stress `s`.
+struct Replay {
+    n: usize,
+    dt: f64,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    s: [f64; 1],
+}
+
+impl TimeIntegrator for Replay {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        unreachable!("a replayed state is observed, never stepped")
+    }
+    fn step_index(&self) -> usize {
+        self.n
+    }
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.time(),
+            value: &self.s,
+        }
+    }
+    fn energy(&self) -> Timed<f64> {
+        unreachable!("DemoNorms reads no energy")
+    }
+    fn contact_solves(&self) -> usize {
+        0
+    }
+    fn contact_seconds(&self) -> f64 {
+        0.0
+    }
+    fn complementarity_violation(&self) -> f64 {
+        0.0
+    }
+}
+
+/// The demo's nodes are the bar's, its time points are `n Δt`, and `demo_exact` is its exact
+/// solution: at every time point of every run, `DemoNorms` fed with a zero state records the
+/// stored exact series (`store_u0_ex`, `store_v0_ex`, `store_s0_ex`, the norms of the
+/// interpolants `store_UL2_ex`, `store_UH1_ex`, `store_VL2_ex`); fed with the stored final state
+/// it records the stored error norms at `t = T`. So the P1 closed forms are GetFEM's
+/// `compute_L2_norm` and `compute_H1_norm`.
+#[test]
+fn demo_norms_reproduce_the_stored_samples() {
+    let mut worst_exact: f64 = 0.0;
+    let mut worst_final: f64 = 0.0;
+    for (path, run) in all_runs() {
+        let c = &run.config;
+        let bar = Bar1d::unit(c.nx, EndCondition::Clamped).unwrap();
+        let nodes: Vec<f64> = (0..=c.nx).map(|i| bar.node(i)).collect();
+        assert_eq!(nodes, run.final_state.x, "{}", path.display());
+        let stored = &run.series;
+        for (n, &t) in stored.time.iter().enumerate() {
+            assert_eq!(t, n as f64 * c.dt, "{} TT[{n}]", path.display());
+        }
+        let mut zero = DemoNorms::new(&bar).unwrap();
+        for n in 0..stored.len() {
+            let state = Replay {
+                n,
+                dt: c.dt,
+                u: vec![0.0; c.nx],
+                v: vec![0.0; c.nx],
+                s: [0.0],
+            };
+            zero.observe(&state).unwrap();
+        }
+        let ours = zero.series();
+        assert_eq!(ours.time, stored.time);
+        assert_eq!(ours.u0_ex, stored.u0_ex, "{}", path.display());
+        assert_eq!(ours.v0_ex, stored.v0_ex, "{}", path.display());
+        assert_eq!(ours.s0_ex, stored.s0_ex, "{}", path.display());
+        let pairs = [
+            (&ours.u_l2_ex, &stored.u_l2_ex),
+            (&ours.u_h1_ex, &stored.u_h1_ex),
+            (&ours.v_l2_ex, &stored.v_l2_ex),
+            // A zero state's error is minus the interpolant.
+            (&ours.u_l2, &stored.u_l2_ex),
+            (&ours.v_l2, &stored.v_l2_ex),
+        ];
+        for (a, b) in pairs {
+            for (x, y) in a.iter().zip(b) {
+                worst_exact = worst_exact.max(relative_difference(*x, *y));
+            }
+        }
+
+        let f = &run.final_state;
+        assert_eq!(
+            f.u_ex,
+            nodes
+                .iter()
+                .map(|&x| demo_exact(x, c.horizon).u)
+                .collect::<Vec<_>>()
+        );
+        assert_eq!(
+            f.v_ex,
+            nodes
+                .iter()
+                .map(|&x| demo_exact(x, c.horizon).ut)
+                .collect::<Vec<_>>()
+        );
+        assert_eq!((f.u[c.nx], f.v[c.nx]), (0.0, 0.0), "{}", path.display());
+        let last = stored.len() - 1;
+        let mut at_end = DemoNorms::new(&bar).unwrap();
+        at_end
+            .observe(&Replay {
+                n: last,
+                dt: c.dt,
+                u: f.u[..c.nx].to_vec(),
+                v: f.v[..c.nx].to_vec(),
+                s: [stored.s0[last]],
+            })
+            .unwrap();
+        let end = at_end.series();
+        for (x, y) in [
+            (end.u_l2[0], stored.u_l2[last]),
+            (end.u_h1[0], stored.u_h1[last]),
+            (end.v_l2[0], stored.v_l2[last]),
+            (end.u0[0], stored.u0[last]),
+            (end.v0[0], stored.v0[last]),
+            (end.s0[0], stored.s0[last]),
+        ] {
+            worst_final = worst_final.max(relative_difference(x, y));
+        }
+    }
+    eprintln!("exact series: {worst_exact:.2e}, final error norms: {worst_final:.2e}");
+    assert!(worst_exact <= 1e-13, "{worst_exact:.2e}");
+    assert!(worst_final <= 1e-12, "{worst_final:.2e}");
+}
+
+/// `demo_exact` is the engine's Signorini–Dirichlet solution except on the characteristics:
+/// `u` agrees everywhere, `u_x` and `u_t` off `x = τ` and `x = 1 − τ`. On them the demo's
+/// closure differs from the engine's, and with the engine's the nodal interpolant of the
+/// velocity would not be the demo's: that is why the demo's norms use `demo_exact`.
+#[test]
+fn demo_exact_is_the_engines_solution_closed_as_the_demo() {
+    let engine = SignoriniDirichlet;
+    let path = data_dir().join("getfem_v0_b0.5_g1_m0_nx20.json.gz");
+    let run = read_run(&path).unwrap();
+    let bar = Bar1d::unit(run.config.nx, EndCondition::Clamped).unwrap();
+    let mut times_where_velocity_differs = 0;
+    for &t in &run.series.time {
+        let tau = t.rem_euclid(3.0).fract();
+        let mut differs = false;
+        for i in 0..=bar.nx() {
+            let x = bar.node(i);
+            let (ours, theirs) = (demo_exact(x, t), engine.eval(x, t));
+            assert!((ours.u - theirs.u).abs() <= 1e-15, "u at ({x}, {t})");
+            let on_characteristic = (x - tau).abs() < 1e-12 || (x + tau - 1.0).abs() < 1e-12;
+            if !on_characteristic {
+                assert_eq!((ours.ux, ours.ut), (theirs.ux, theirs.ut), "({x}, {t})");
+            }
+            differs |= ours.ut != theirs.ut;
+        }
+        times_where_velocity_differs += differs as usize;
+    }
+    eprintln!(
+        "the engine's closure changes I_h v at {times_where_velocity_differs} of {} time points",
+        run.series.len()
+    );
+    assert!(times_where_velocity_differs > 0);
+    // The contact stress: `u_x(0, t)` of the demo is the engine's multiplier, t = 0 included.
+    for &t in &run.series.time {
+        assert_eq!(
+            demo_exact(0.0, t).ux,
+            engine.contact_multiplier(t),
+            "t = {t}"
+        );
+    }
+}
+
+/// `DemoNorms` is for the demo's bar only; another is a parameter error naming what differs.
+#[test]
+fn demo_norms_reject_another_bar() {
+    let free = Bar1d::unit(20, EndCondition::Free).unwrap();
+    assert_eq!(DemoNorms::new(&free).unwrap_err().name, "far_end");
+    let long = Bar1d::new(2.0, 20, 1.0, 1.0, EndCondition::Clamped).unwrap();
+    assert_eq!(DemoNorms::new(&long).unwrap_err().name, "length");
+    let stiff = Bar1d::new(1.0, 20, 1.0, 2.0, EndCondition::Clamped).unwrap();
+    assert_eq!(DemoNorms::new(&stiff).unwrap_err().name, "young_modulus");
 }
 
 /// The norms of series by hand: maxima and root sums of squares, `NaN` propagated as NumPy's
