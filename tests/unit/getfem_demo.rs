@@ -703,6 +703,18 @@ fn bad_run_files_are_typed_errors() {
     });
     let run = read_run(&p).unwrap();
     assert!(run.norms.l2_sn.is_nan() && run.energy[5].is_nan());
+    // Python's bare words for non-finite floats are read as their values, outside strings only.
+    let mut value = original.clone();
+    value["source"] = "a string that says NaN, -Infinity and Infinity".into();
+    value["params"]["L2sn"] = serde_json::Value::Null;
+    value["arrays"]["store_E"][5] = serde_json::Value::Null;
+    let text = value
+        .to_string()
+        .replace("\"L2sn\":null", "\"L2sn\":-Infinity")
+        .replace("null", "NaN");
+    let run = read_run(&write_gz(&dir, name, text.as_bytes())).unwrap();
+    assert_eq!(run.norms.l2_sn, f64::NEG_INFINITY);
+    assert!(run.energy[5].is_nan());
 
     let p = dir.join(name);
     std::fs::write(&p, b"not gzip").unwrap();

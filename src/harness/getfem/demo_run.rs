@@ -391,13 +391,15 @@ pub fn list_runs(dir: &Path) -> Result<Vec<DemoRunFile>, DemoRunError> {
 /// all of `NX + 1` values. Each failure names the file and the field.
 pub fn read_run(path: &Path) -> Result<DemoRun, DemoRunError> {
     let name = DemoRunName::parse(path)?;
-    let text = inflate(path)?;
-    let text = quote_python_literals(&text);
-    let raw: RawRun = serde_json::from_slice(&text).map_err(|source| DemoRunError::Json {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    drop(text);
+    let raw: RawRun = {
+        let text = inflate(path)?;
+        serde_json::from_slice(&quote_python_literals(&text)).map_err(|source| {
+            DemoRunError::Json {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?
+    };
     raw.into_run(path, &name)
 }
 
