@@ -7,6 +7,7 @@ pub mod elastic;
 pub mod error;
 pub mod external;
 pub mod figures;
+pub mod getfem;
 pub mod golden;
 pub mod norms;
 pub mod rates;

@@ -20,6 +20,7 @@ mod energy_balance;
 mod explicit;
 mod external;
 mod fem;
+mod getfem_demo;
 mod mass_variants;
 mod perturbation;
 mod run;
