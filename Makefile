@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench stability figures reference
+.PHONY: report test golden build lint fmt experiment bench stability figures reference verify-getfem
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -11,6 +11,7 @@ report: build
 	$(BIN) experiment --out reports
 	$(BIN) study scenes/bar2d.json --out reports
 	$(BIN) study scenes/bar3d.json --out reports
+	$(BIN) getfem --out reports
 	$(BIN) figures --reports reports
 
 ## The fine-mesh references of the 2D/3D studies (reports/data/references/): the cache is kept
@@ -43,6 +44,11 @@ figures: build
 	$(BIN) figures --reports reports
 	@command -v rsvg-convert >/dev/null || (apt-get update -qq && apt-get install -y -qq librsvg2-bin)
 	rsvg-convert -o reports/figures/contact-crank-nicolson.png reports/figures/contact-crank-nicolson.svg
+
+## GetFEM's demo runs (tests/data/getfem) solved again with its conventions, compared step by
+## step with the demo's arrays and norms: reports/getfem.md.
+verify-getfem: build
+	$(BIN) getfem --out reports
 
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
 ## peak memory (/usr/bin/time -v, from Debian's `time` package). Exits non-zero on a miss.

@@ -9,8 +9,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ExperimentArgs, Failure, FiguresArgs, GoldenArgs, ListArgs, ReferenceArgs, ReportArgs,
-    RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
+    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GoldenArgs, ListArgs, ReferenceArgs,
+    ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -70,6 +70,9 @@ enum Command {
     /// of each labelled series as Tables 1–2; --golden gates them, --write-golden writes such
     /// a file, --out writes verify.json and verify.md.
     Verify(VerifyArgs),
+    /// GetFEM's demo runs (tests/data/getfem) solved again with its conventions and compared
+    /// step by step (`make verify-getfem`); writes getfem.md.
+    Getfem(GetfemArgs),
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List(ListArgs),
 }
@@ -86,6 +89,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => commands::stability(args),
         Command::Golden(args) => commands::golden(args),
         Command::Verify(args) => commands::verify_runs(args),
+        Command::Getfem(args) => commands::getfem(args),
         Command::List(args) => commands::list(args),
     };
     match result {

@@ -14,12 +14,14 @@ macro_rules! out {
     }};
 }
 
+mod getfem;
 mod list;
 mod reports;
 mod run;
 mod study;
 mod verify;
 
+pub use getfem::{getfem, GetfemArgs};
 pub use list::{list, ListArgs};
 pub use reports::{
     experiment, figures, golden, report, stability, ExperimentArgs, FiguresArgs, GoldenArgs,
@@ -136,6 +138,7 @@ impl From<Error> for Failure {
             | Error::Decode { .. }
             | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
+            Error::DemoRun(e) => Self::usage(e),
         }
     }
 }

@@ -49,6 +49,9 @@ pub enum Error {
     /// A figure could not be drawn.
     #[error(transparent)]
     Figure(#[from] FigureError),
+    /// A run of GetFEM's demo could not be read.
+    #[error(transparent)]
+    DemoRun(#[from] DemoRunError),
     /// A VTK file could not be written.
     #[error("cannot write {}: {source}", path.display())]
     Vtk {

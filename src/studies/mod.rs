@@ -9,6 +9,7 @@ pub mod elastic_study;
 pub mod experiment;
 pub mod extended;
 pub mod figures;
+pub mod getfem;
 pub mod golden;
 pub mod gravity;
 pub mod histories;

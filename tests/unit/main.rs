@@ -21,6 +21,7 @@ mod explicit;
 mod external;
 mod fem;
 mod getfem_demo;
+mod getfem_roundoff;
 mod mass_variants;
 mod perturbation;
 mod run;

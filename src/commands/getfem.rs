@@ -1,0 +1,36 @@
+//! `signorini getfem`: GetFEM's demo runs solved again with its conventions
+//! (`make verify-getfem`).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::Failure;
+use crate::studies::getfem::{write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS};
+
+/// The arguments of `signorini getfem`.
+#[derive(Debug, Args)]
+pub struct GetfemArgs {
+    /// The directory of the demo's runs (`getfem_*.json.gz`).
+    #[arg(long, default_value = GETFEM_RUNS)]
+    pub runs: PathBuf,
+    /// Output directory.
+    #[arg(long, default_value = "reports")]
+    pub out: PathBuf,
+}
+
+/// Reproduces every run and writes getfem.md.
+pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
+    let GetfemArgs { runs, out } = args;
+    let all = write_getfem_report(Path::new("."), &runs, &out)?;
+    let reproducible = all
+        .iter()
+        .filter(|r| r.expectation == Expectation::RoundOff)
+        .count();
+    out!(
+        "wrote {}/{GETFEM_REPORT} ({} runs, {reproducible} expected to agree at every step)",
+        out.display(),
+        all.len()
+    );
+    Ok(())
+}
