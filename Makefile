@@ -46,9 +46,12 @@ figures: build
 	rsvg-convert -o reports/figures/contact-crank-nicolson.png reports/figures/contact-crank-nicolson.svg
 
 ## GetFEM's demo runs (tests/data/getfem) solved again with its conventions, compared step by
-## step with the demo's arrays and norms: reports/getfem.md.
+## step with the demo's arrays and norms: reports/getfem.md; the runs as external-run files
+## (target/getfem-runs/, derived in under a second) verified like any other code's:
+## reports/getfem-verify/.
 verify-getfem: build
-	$(BIN) getfem --out reports
+	$(BIN) getfem --out reports --export target/getfem-runs
+	$(BIN) verify scenes/bar1d-dirichlet.json target/getfem-runs/*.csv --out reports/getfem-verify
 
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
 ## peak memory (/usr/bin/time -v, from Debian's `time` package). Exits non-zero on a miss.

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::Failure;
-use crate::studies::getfem::{write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS};
+use crate::studies::getfem::{
+    export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
+};
 
 /// The arguments of `signorini getfem`.
 #[derive(Debug, Args)]
@@ -17,11 +19,23 @@ pub struct GetfemArgs {
     /// Output directory.
     #[arg(long, default_value = "reports")]
     pub out: PathBuf,
+    /// Also write every finite run as a contact-trace file of the external-run format into
+    /// this directory, for `signorini verify`.
+    #[arg(long)]
+    pub export: Option<PathBuf>,
 }
 
 /// Reproduces every run and writes getfem.md.
 pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
-    let GetfemArgs { runs, out } = args;
+    let GetfemArgs { runs, out, export } = args;
+    if let Some(dir) = export {
+        let written = export_runs(&runs, &dir)?;
+        out!(
+            "wrote {} external-run files to {}",
+            written.len(),
+            dir.display()
+        );
+    }
     let all = write_getfem_report(Path::new("."), &runs, &out)?;
     let reproducible = all
         .iter()

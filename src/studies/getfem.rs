@@ -6,7 +6,7 @@
 //! the demo's own definition ([`DemoEnergy`]) and the contact stress.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::engine::contact::ContactTreatment;
@@ -389,4 +389,54 @@ pub fn write_getfem_report(
     }
     write_atomic(&out.join(GETFEM_REPORT), md.as_bytes())?;
     Ok(all.into_iter().map(|(_, r)| r).collect())
+}
+
+/// Writes each run of `runs` whose series are finite as a contact-trace file of the external-run
+/// format (`signorini-external/1`, CSV; README, "Verifying another code's runs") into `dir`:
+/// the demo's time points, its contact displacement `store_u0`, stress `store_s0` (as `lambda`,
+/// at the same times, as the demo stores it) and energy `store_E`, on the Dirichlet scene; runs
+/// of one configuration at several NX share a label (the file name without `_nx…`), so that
+/// `signorini verify` fits their rates. A run with a non-finite value (the demo's blown-up
+/// Nitsche run) is skipped: the format refuses it. Returns the files written.
+pub fn export_runs(runs: &Path, dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    let mut written = Vec::new();
+    for file in list_runs(runs)? {
+        let run = read_run(&file.path)?;
+        let series = &run.series;
+        let columns = [&series.u0, &series.s0, &run.energy];
+        if columns.iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+            continue;
+        }
+        let stem = file
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let stem = stem.trim_end_matches(".json.gz");
+        let label = stem
+            .split('_')
+            .filter(|part| !part.starts_with("nx"))
+            .collect::<Vec<_>>()
+            .join("_");
+        let nx = run.config.nx;
+        let nodes: Vec<String> = (0..=nx)
+            .map(|i| format!("{:?}", i as f64 / nx as f64))
+            .collect();
+        let mut csv = format!(
+            "# format: signorini-external/1\n# scene: bar1d-dirichlet\n\
+             # code.name: GetFEM demo_dynamic_contact_1D.py\n# code.version: 5.4.2\n\
+             # label: {label}\n# mesh.nodes: {}\ntime,contact_displacement,lambda,energy\n",
+            nodes.join(", ")
+        );
+        for (n, t) in series.time.iter().enumerate() {
+            let _ = writeln!(
+                csv,
+                "{t:?},{:?},{:?},{:?}",
+                series.u0[n], series.s0[n], run.energy[n]
+            );
+        }
+        let path = dir.join(format!("{stem}.csv"));
+        write_atomic(&path, csv.as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
 }

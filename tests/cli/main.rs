@@ -9,6 +9,7 @@ mod external_runs;
 mod commands;
 mod elastic;
 mod figures;
+mod getfem;
 mod report_figures;
 mod scenes;
 mod verify;

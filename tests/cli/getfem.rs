@@ -1,0 +1,48 @@
+//! `signorini getfem`: the report of GetFEM's runs solved again, and the runs exported as
+//! external-run files that `signorini verify` reads like any other code's.
+
+use crate::common;
+
+#[test]
+fn getfem_writes_its_report_and_exports_runs_that_verify() {
+    let dir = std::env::temp_dir().join(format!("signorini-getfem-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let runs = dir.join("runs");
+    let out = common::signorini(&[
+        "getfem",
+        "--out",
+        dir.to_str().unwrap(),
+        "--export",
+        runs.to_str().unwrap(),
+    ]);
+    let stdout = common::success_stdout(&out);
+    assert!(stdout.contains("wrote 51 external-run files"), "{stdout}");
+    let report = std::fs::read_to_string(dir.join("getfem.md")).unwrap();
+    assert_eq!(
+        report.matches("| `getfem_v").count(),
+        2 * 52,
+        "both tables, 52 runs"
+    );
+    // The blown-up Nitsche run has no finite trace to export.
+    assert!(!runs
+        .join("getfem_v3_b0.25_g0.5_gN10_tN1_m1_nx40.csv")
+        .exists());
+    let series = ["nx20", "nx40"].map(|nx| {
+        runs.join(format!("getfem_v0_b0.5_g1_m1_{nx}.csv"))
+            .to_string_lossy()
+            .into_owned()
+    });
+    let verified = common::signorini(&[
+        "verify",
+        "scenes/bar1d-dirichlet.json",
+        &series[0],
+        &series[1],
+    ]);
+    let stdout = common::success_stdout(&verified);
+    assert!(stdout.contains("getfem_v0_b0.5_g1_m1"), "{stdout}");
+    assert!(
+        stdout.contains("not computed"),
+        "a contact trace has no field: {stdout}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
