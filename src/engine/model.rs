@@ -144,6 +144,13 @@ impl Model {
         &self.massless
     }
 
+    /// The dofs with mass `R`, the complement of [`Model::massless_dofs`], increasing.
+    pub fn dofs_with_mass(&self) -> Vec<usize> {
+        (0..self.n_dofs())
+            .filter(|i| self.massless.binary_search(i).is_err())
+            .collect()
+    }
+
     /// Whether every contact dof is massless (the redistributed mass).
     pub fn contact_is_massless(&self) -> bool {
         self.contact.as_ref().is_some_and(|c| {

@@ -567,16 +567,14 @@ impl SceneFile {
     fn conventions(&self, path: &Path) -> Result<Conventions, SceneError> {
         let mut conventions = match &self.conventions {
             None => Conventions::HARNESS,
-            Some(name) => name.parse().map_err(|e: ParameterError| {
-                invalid(path, "conventions", name, "one of: harness, getfem-demo")
-                    .with_detail(e.to_string())
-            })?,
+            Some(name) => name
+                .parse()
+                .map_err(|e: ParameterError| invalid(path, "conventions", name, e.allowed))?,
         };
         if let Some(name) = &self.start {
-            conventions.start = name.parse().map_err(|e: ParameterError| {
-                invalid(path, "start", name, "one of: static, implicit-multiplier")
-                    .with_detail(e.to_string())
-            })?;
+            conventions.start = name
+                .parse()
+                .map_err(|e: ParameterError| invalid(path, "start", name, e.allowed))?;
         }
         Ok(conventions)
     }

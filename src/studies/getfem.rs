@@ -182,10 +182,7 @@ struct DemoEnergy<'a> {
 impl<'a> DemoEnergy<'a> {
     fn new(config: &'a DemoConfig, d: &'a Discretisation<Bar1d>) -> Result<Self, Error> {
         let model = &d.model;
-        let massless = model.massless_dofs();
-        let with_mass: Vec<usize> = (0..model.n_dofs())
-            .filter(|i| massless.binary_search(i).is_err())
-            .collect();
+        let with_mass = model.dofs_with_mass();
         let m_rr = model.mass().principal_submatrix(&with_mass);
         Ok(Self {
             config,

@@ -79,6 +79,7 @@ use super::cfl::{largest_eigenvalue, stable_step};
 use super::conventions::{Conventions, NitscheAcceleration, Start};
 use super::massless::QuasiStatic;
 use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
+use crate::engine::contact::law::sparse_dot;
 use crate::engine::error::SolveError;
 use crate::engine::linalg::SpdSolver;
 use crate::engine::model::{ContactSet, Model};
@@ -111,32 +112,26 @@ pub fn initial_state(
     let mut u = u0.to_vec();
     let n_contact = model.contact().map_or(0, ContactSet::len);
     let mut lambda = vec![0.0; n_contact];
-    let massless = model.massless_dofs();
-    let mut rhs = vec![0.0; n];
-    match conventions.start {
-        Start::Static => {
-            if let Some(mut statics) = QuasiStatic::new(model)? {
-                statics.solve(model, 0, &mut u, &mut lambda)?;
-            }
+    if conventions.start == Start::Static {
+        if let Some(mut statics) = QuasiStatic::new(model)? {
+            statics.solve(model, 0, &mut u, &mut lambda)?;
         }
-        Start::ImplicitMultiplier => {
-            if let Some(c) = model.contact() {
-                residual_force(model, &u, &mut rhs);
-                for (l, &d) in lambda.iter_mut().zip(&c.dofs) {
-                    if massless.binary_search(&d).is_ok() {
-                        *l = -rhs[d];
-                    }
+    }
+    let mut rhs = vec![0.0; n];
+    residual_force(model, &u, &mut rhs);
+    if let Some(c) = model.contact() {
+        if conventions.start == Start::ImplicitMultiplier {
+            let massless = model.massless_dofs();
+            for (l, &d) in lambda.iter_mut().zip(&c.dofs) {
+                if massless.binary_search(&d).is_ok() {
+                    *l = -rhs[d];
                 }
             }
         }
-    }
-    if let Some(c) = model.contact() {
         if let Some(forces) = model.contact_law().forces(c, &u) {
             lambda = forces;
         }
     }
-
-    residual_force(model, &u, &mut rhs);
     rhs.iter_mut().for_each(|r| *r = -*r);
     if let Some(c) = model.contact() {
         for (row, &l) in model.contact_law().rows(c).iter().zip(&lambda) {
@@ -147,15 +142,13 @@ pub fn initial_state(
     }
     if conventions.nitsche_acceleration == NitscheAcceleration::ElasticStiffness {
         if let Some((a, scale)) = model.contact_law().stiffness_update() {
-            let stress: f64 = a.iter().map(|&(k, ak)| ak * u[k]).sum();
+            let stress = sparse_dot(a, &u);
             for &(k, ak) in a {
                 rhs[k] += scale * stress * ak;
             }
         }
     }
-    let with_mass: Vec<usize> = (0..n)
-        .filter(|i| massless.binary_search(i).is_err())
-        .collect();
+    let with_mass = model.dofs_with_mass();
     let mut acceleration = vec![0.0; n];
     if !with_mass.is_empty() {
         let m_rr = model.mass().principal_submatrix(&with_mass);
@@ -308,11 +301,8 @@ impl<'m> ExplicitNewmark<'m> {
         dt: f64,
         start: InitialState,
     ) -> Result<Self, SolveError> {
-        let massless = model.massless_dofs();
         let n = model.n_dofs();
-        let with_mass: Vec<usize> = (0..n)
-            .filter(|i| massless.binary_search(i).is_err())
-            .collect();
+        let with_mass = model.dofs_with_mass();
         let (mass_solver, stable_dt) = if with_mass.is_empty() {
             (None, f64::INFINITY)
         } else {
@@ -373,15 +363,17 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
             statics.solve(self.model, self.step + 1, &mut self.next, &mut self.lambda)?;
         }
         let gamma = self.gamma;
-        for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
+        for &i in &self.with_mass {
             self.v[i] += dt * (1.0 - gamma) * self.a[i];
-            *f = self.v[i];
         }
         if let (Some(tf), Some(m), Some(set)) = (
             &self.taylor_flanagan,
             &self.mass_solver,
             self.model.contact(),
         ) {
+            for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
+                *f = self.v[i];
+            }
             let lambda = &mut self.lambda;
             tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
             for (&i, &v) in self.with_mass.iter().zip(&self.force_r) {

@@ -26,6 +26,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::conventions::NitscheAcceleration;
 use super::{InitialState, TimeIntegrator, Timed};
+use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
 use crate::engine::linalg::SpdSolver;
@@ -65,19 +66,17 @@ impl ElasticAcceleration {
         if convention == NitscheAcceleration::Consistent || scale == 0.0 {
             return Ok(None);
         }
-        let massless = model.massless_dofs();
-        let with_mass: Vec<usize> = (0..model.n_dofs())
-            .filter(|i| massless.binary_search(i).is_err())
-            .collect();
+        let with_mass = model.dofs_with_mass();
         let m_rr = model.mass().principal_submatrix(&with_mass);
         let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
-        let mut a_r: Vec<f64> = with_mass
-            .iter()
-            .map(|i| a.iter().find(|(k, _)| k == i).map_or(0.0, |&(_, v)| v))
-            .collect();
-        solver.solve_in_place(&mut a_r);
         let mut w = vec![0.0; model.n_dofs()];
-        for (&i, wi) in with_mass.iter().zip(a_r) {
+        for &(k, ak) in a {
+            w[k] = ak;
+        }
+        let mut w_r: Vec<f64> = with_mass.iter().map(|&i| w[i]).collect();
+        solver.solve_in_place(&mut w_r);
+        w.fill(0.0);
+        for (&i, wi) in with_mass.iter().zip(w_r) {
             w[i] = wi;
         }
         Ok(Some(Self {
@@ -89,8 +88,7 @@ impl ElasticAcceleration {
 
     /// `A ← A + scale (aᵀu) w`.
     fn apply(&self, u: &[f64], acceleration: &mut [f64]) {
-        let stress: f64 = self.stress.iter().map(|&(k, ak)| ak * u[k]).sum();
-        let shift = self.scale * stress;
+        let shift = self.scale * sparse_dot(&self.stress, u);
         for (acc, wi) in acceleration.iter_mut().zip(&self.w) {
             *acc += shift * wi;
         }

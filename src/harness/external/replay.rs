@@ -15,7 +15,7 @@ use crate::engine::fem::Bar1d;
 use crate::engine::schemes::{TimeIntegrator, Timed};
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, TimeSeriesNorm};
-use crate::harness::run::exact::{error_norms, DisplacementErrors, EnergyErrors, MultiplierErrors};
+use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::{MultiplierVariation, Observer};
 
 /// The samples of a run file as the states of a time integrator on the scene's bar: sample `n`
@@ -172,25 +172,13 @@ pub fn replay(
     norms: &BTreeSet<Norm>,
 ) -> Result<Replayed, Error> {
     let clock = Instant::now();
-    let has = |n: &[Norm]| n.iter().any(|x| norms.contains(x));
-    let mut displacement = has(&[
-        Norm::DisplacementLinfH,
-        Norm::DisplacementL2H,
-        Norm::DisplacementLinfV,
-        Norm::DisplacementL2V,
-    ])
-    .then(|| DisplacementErrors::new(bar, exact));
-    let mut multiplier = has(&[Norm::MultiplierL2]).then(|| MultiplierErrors::new(exact));
-    let mut energy = has(&[Norm::EnergyLinf, Norm::EnergyL2]).then(|| EnergyErrors::new(exact));
+    let mut errors = ErrorObservers::new(bar, exact, norms, false);
     let mut contact = run
         .contact_displacement_at(0)
         .map(|_| TimeSeriesNorm::default());
     let mut state = Replay::new(run, bar);
     {
-        let mut observers: Vec<&mut dyn Observer> = Vec::new();
-        observers.extend(displacement.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(multiplier.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(energy.as_mut().map(|o| o as &mut dyn Observer));
+        let mut observers: Vec<&mut dyn Observer> = errors.observers().collect();
         for k in 0..run.samples() {
             if k > 0 {
                 state.advance()?;
@@ -205,13 +193,8 @@ pub fn replay(
         }
     }
     Ok(Replayed {
-        errors: error_norms(
-            norms,
-            displacement.as_ref(),
-            multiplier.as_ref(),
-            energy.as_ref(),
-        ),
-        multiplier_variation: multiplier.as_ref().and_then(|m| m.variation()),
+        errors: errors.norms(norms),
+        multiplier_variation: errors.multiplier.as_ref().and_then(|m| m.variation()),
         contact_displacement_error: contact.map(|c| TimeNorms {
             linf: c.linf(),
             l2: c.l2(),

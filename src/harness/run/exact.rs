@@ -123,33 +123,75 @@ impl Observer for EnergyErrors<'_> {
     }
 }
 
-/// The seven norms of a run from the observers that accumulated them; a norm whose observer
-/// was not built is absent from `norms` by construction.
-pub fn error_norms(
-    norms: &BTreeSet<Norm>,
-    displacement: Option<&DisplacementErrors<'_>>,
-    multiplier: Option<&MultiplierErrors<'_>>,
-    energy: Option<&EnergyErrors<'_>>,
-) -> BTreeMap<Norm, f64> {
-    let zero = TimeSeriesNorm::default();
-    let (l2, h1) = displacement.map_or((&zero, &zero), |d| (&d.l2, &d.h1));
-    let lambda = multiplier.map_or(&zero, |m| &m.error);
-    let e = energy.map_or(&zero, |e| &e.error);
-    norms
-        .iter()
-        .map(|&n| {
-            let v = match n {
-                Norm::DisplacementLinfH => l2.linf(),
-                Norm::DisplacementL2H => l2.l2(),
-                Norm::DisplacementLinfV => h1.linf(),
-                Norm::DisplacementL2V => h1.l2(),
-                Norm::MultiplierL2 => lambda.l2(),
-                Norm::EnergyLinf => e.linf(),
-                Norm::EnergyL2 => e.l2(),
-            };
-            (n, v)
-        })
-        .collect()
+/// The error observers a set of norms needs, built only when a requested norm (or, for the
+/// multiplier, its variation) reads them: the one choice of every run, internal or replayed.
+pub struct ErrorObservers<'a> {
+    /// The displacement norms' observer.
+    pub displacement: Option<DisplacementErrors<'a>>,
+    /// The multiplier norm's observer (also the oscillation measure).
+    pub multiplier: Option<MultiplierErrors<'a>>,
+    /// The energy norms' observer.
+    pub energy: Option<EnergyErrors<'a>>,
+}
+
+impl<'a> ErrorObservers<'a> {
+    /// The observers of `norms`; the multiplier's also when `multiplier_anyway` (a run that
+    /// records the contact history reports the multiplier's variation).
+    pub fn new(
+        bar: &'a Bar1d,
+        exact: &'a dyn ExactSolution,
+        norms: &BTreeSet<Norm>,
+        multiplier_anyway: bool,
+    ) -> Self {
+        let has = |n: &[Norm]| n.iter().any(|x| norms.contains(x));
+        Self {
+            displacement: has(&[
+                Norm::DisplacementLinfH,
+                Norm::DisplacementL2H,
+                Norm::DisplacementLinfV,
+                Norm::DisplacementL2V,
+            ])
+            .then(|| DisplacementErrors::new(bar, exact)),
+            multiplier: (has(&[Norm::MultiplierL2]) || multiplier_anyway)
+                .then(|| MultiplierErrors::new(exact)),
+            energy: has(&[Norm::EnergyLinf, Norm::EnergyL2]).then(|| EnergyErrors::new(exact)),
+        }
+    }
+
+    /// The observers built, to hand to a run.
+    pub fn observers(&mut self) -> impl Iterator<Item = &mut dyn Observer> + use<'_, 'a> {
+        let d = self.displacement.as_mut().map(|o| o as &mut dyn Observer);
+        let m = self.multiplier.as_mut().map(|o| o as &mut dyn Observer);
+        let e = self.energy.as_mut().map(|o| o as &mut dyn Observer);
+        d.into_iter().chain(m).chain(e)
+    }
+
+    /// The norms `norms` from what the observers accumulated; a norm whose observer was not
+    /// built is absent from `norms` by construction.
+    pub fn norms(&self, norms: &BTreeSet<Norm>) -> BTreeMap<Norm, f64> {
+        let zero = TimeSeriesNorm::default();
+        let (l2, h1) = self
+            .displacement
+            .as_ref()
+            .map_or((&zero, &zero), |d| (&d.l2, &d.h1));
+        let lambda = self.multiplier.as_ref().map_or(&zero, |m| &m.error);
+        let e = self.energy.as_ref().map_or(&zero, |e| &e.error);
+        norms
+            .iter()
+            .map(|&n| {
+                let v = match n {
+                    Norm::DisplacementLinfH => l2.linf(),
+                    Norm::DisplacementL2H => l2.l2(),
+                    Norm::DisplacementLinfV => h1.linf(),
+                    Norm::DisplacementL2V => h1.l2(),
+                    Norm::MultiplierL2 => lambda.l2(),
+                    Norm::EnergyLinf => e.linf(),
+                    Norm::EnergyL2 => e.l2(),
+                };
+                (n, v)
+            })
+            .collect()
+    }
 }
 
 /// The contact node's displacement and multiplier with the exact ones.

@@ -20,10 +20,7 @@ use crate::engine::schemes::energy_balance::BalanceMonitor;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
-use exact::{
-    error_norms, ContactRecorder, DisplacementErrors, EnergyErrors, EnergyRecorder, FieldRecorder,
-    MultiplierErrors, PointRecorder,
-};
+use exact::{ContactRecorder, EnergyRecorder, ErrorObservers, FieldRecorder, PointRecorder};
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -233,17 +230,8 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
     let bar = &discretisation.mesh;
     let model = &discretisation.model;
     let exact = problem.exact.as_ref();
-    let has = |n: &[Norm]| n.iter().any(|x| observables.norms.contains(x));
-    let mut displacement = has(&[
-        Norm::DisplacementLinfH,
-        Norm::DisplacementL2H,
-        Norm::DisplacementLinfV,
-        Norm::DisplacementL2V,
-    ])
-    .then(|| DisplacementErrors::new(bar, exact));
-    let mut multiplier = (has(&[Norm::MultiplierL2]) || observables.contact_history)
-        .then(|| MultiplierErrors::new(exact));
-    let mut energy = has(&[Norm::EnergyLinf, Norm::EnergyL2]).then(|| EnergyErrors::new(exact));
+    let mut errors =
+        ErrorObservers::new(bar, exact, &observables.norms, observables.contact_history);
     let mut contact = observables
         .contact_history
         .then(|| ContactRecorder::new(bar, exact));
@@ -260,9 +248,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
     let stepped = {
         let mut observers: Vec<&mut dyn Observer> = vec![&mut fields];
         observers.extend(points.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(displacement.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(multiplier.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(energy.as_mut().map(|o| o as &mut dyn Observer));
+        observers.extend(errors.observers());
         observers.extend(contact.as_mut().map(|o| o as &mut dyn Observer));
         observers.extend(energy_history.as_mut().map(|o| o as &mut dyn Observer));
         observers.extend(balance.as_mut().map(|o| o as &mut dyn Observer));
@@ -285,20 +271,16 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         dofs: model.n_dofs(),
         dof_steps: stepped.steps * model.n_dofs(),
         errors: if completed {
-            error_norms(
-                &observables.norms,
-                displacement.as_ref(),
-                multiplier.as_ref(),
-                energy.as_ref(),
-            )
+            errors.norms(&observables.norms)
         } else {
             BTreeMap::new()
         },
         contact_solves: stepped.contact_solves,
         complementarity_violation: stepped.complementarity_violation,
         timings: stepped.timings,
-        space_norm_evaluations: displacement.as_ref().map_or(0, |d| d.evaluations()),
-        multiplier_variation: multiplier
+        space_norm_evaluations: errors.displacement.as_ref().map_or(0, |d| d.evaluations()),
+        multiplier_variation: errors
+            .multiplier
             .as_ref()
             .and_then(|m| m.variation())
             .filter(|_| completed),
