@@ -1,7 +1,8 @@
 //! Every run of GetFEM's demo in `tests/data/getfem/` solved again with the demo's conventions
 //! ([`signorini::studies::getfem`]): the contact node's displacement, the demo's energy and the
 //! contact stress agree step by step wherever the two codes solve the same discrete problem, up
-//! to the first impact where that problem is round-off chaotic, and up to the first impact for
+//! to the first impact where that problem is round-off chaotic (and after its predictability
+//! horizon within the spread of the harness's round-off ensemble), and up to the first impact for
 //! the one the demo itself integrates inconsistently (Nitsche θ ≠ 0 with its mass type 1; with
 //! θ = 1 the demo blows up and the harness's energy stays bounded). The expectation of each
 //! configuration, with its reason, is [`Expectation::of`].
@@ -9,7 +10,9 @@
 use std::path::Path;
 
 use signorini::harness::getfem::{list_runs, read_run};
-use signorini::studies::getfem::{reproduce, Expectation, GETFEM_RUNS};
+use signorini::studies::getfem::{
+    ensemble_agreement, reproduce, Expectation, GETFEM_ENSEMBLE, GETFEM_RUNS,
+};
 
 /// The displacement and the energy at every step.
 const STATE_TOL: f64 = 1e-8;
@@ -24,7 +27,7 @@ fn every_getfem_run_is_reproduced_where_the_discrete_problems_agree() {
     let mut failures = Vec::new();
     for file in &runs {
         let run = read_run(&file.path).unwrap();
-        let r = reproduce(Path::new("."), &run).unwrap();
+        let r = reproduce(Path::new("."), &file.path, &run).unwrap();
         let name = file.path.file_name().unwrap().to_string_lossy();
         let ok = r.status.is_completed()
             && match r.expectation {
@@ -38,7 +41,11 @@ fn every_getfem_run_is_reproduced_where_the_discrete_problems_agree() {
                         && r.energy.max <= STATE_TOL
                         && r.stress_before_impact.max <= STRESS_TOL
                 }
-                Expectation::RoundOffChaotic => r.parting.is_some_and(|n| n > r.first_impact),
+                Expectation::RoundOffChaotic => {
+                    let ensemble =
+                        ensemble_agreement(Path::new("."), &run, GETFEM_ENSEMBLE).unwrap();
+                    r.parting.is_some_and(|n| n > r.first_impact) && ensemble.holds()
+                }
                 // θ = −1: the same steps while the contact end is at rest; θ = 1: the demo
                 // blows up, the harness's energy stays at E₀ = 1/8.
                 Expectation::DemoMasslessNitsche if r.config.theta_n < 0.0 => {

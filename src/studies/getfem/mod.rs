@@ -3,10 +3,23 @@
 //! harness with the demo's discrete problem — its mass ([`MassVariant::GETFEM`], lumped or
 //! consistent), its contact treatment, its time step and [`Conventions::GETFEM_DEMO`] — and the
 //! two trajectories are compared step by step: the contact node's displacement, the energy in
-//! the demo's own definition ([`DemoEnergy`]) and the contact stress.
+//! the demo's own definition ([`DemoEnergy`]), the contact stress and the final field. A
+//! round-off-chaotic run is measured after its predictability horizon against the harness's
+//! round-off ensemble ([`ensemble`]); GetFEM's contact traces are measured with the harness's
+//! norms as another code's runs ([`trace`]); [`report`] writes `reports/getfem.md`.
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+mod ensemble;
+mod report;
+mod trace;
+
+pub use ensemble::{
+    ensemble_agreement, EnsembleAgreement, NormInEnsemble, AMPLITUDE_DECADES, GETFEM_ENSEMBLE,
+};
+pub use report::{write_getfem_report, GETFEM_REPORT};
+pub use trace::{contact_trace, export_runs, label, trace_norms, TRACE_NORMS};
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::time::Instant;
 
 use crate::engine::contact::ContactTreatment;
@@ -14,14 +27,16 @@ use crate::engine::fem::Bar1d;
 use crate::engine::fem::{MassVariant, SymmetricMatrix};
 use crate::engine::linalg::SpdSolver;
 use crate::engine::model::Model;
-use crate::engine::problem::Discretisation;
+use crate::engine::problem::{Discretisation, Perturbation};
 use crate::engine::schemes::{Conventions, Scheme, TimeIntegrator};
-use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
 use crate::harness::getfem::{
-    list_runs, read_run, DemoConfig, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
+    DemoConfig, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
-use crate::harness::run::{drive, RunStatus};
+use crate::harness::norms::Norm;
+use crate::harness::run::exact::ErrorObservers;
+use crate::harness::run::{drive, Observer, RunStatus};
+use crate::harness::sensitivity::PARTING;
 use crate::studies::benchmark::dirichlet;
 
 /// Where the demo's runs are kept, relative to the repository root.
@@ -71,17 +86,17 @@ impl Expectation {
     }
 }
 
-/// The largest difference of a series from the demo's, and the step where it occurs.
+/// The largest difference of a series from the demo's, and the step (or node) where it occurs.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Difference {
     /// `max_n |harness_n − demo_n|` (`NaN` when either is not finite at some step).
     pub max: f64,
-    /// The step of the maximum.
+    /// The step (or node) of the maximum.
     pub step: usize,
 }
 
 impl Difference {
-    /// Over the steps `from..` common to both series.
+    /// Over the indices `from..` common to both series.
     fn between(harness: &[f64], demo: &[f64], from: usize) -> Self {
         let mut d = Difference::default();
         for (n, (a, b)) in harness.iter().zip(demo).enumerate().skip(from) {
@@ -115,7 +130,10 @@ pub struct Reproduction {
     pub stress: Difference,
     /// The same up to the first impact.
     pub stress_before_impact: Difference,
-    /// The first step where the displacements differ by more than `1e-8`.
+    /// The displacement field at `t = T` (the demo stores no other), node by node: the
+    /// largest difference and its node.
+    pub final_field: Difference,
+    /// The first step where the displacements differ by more than [`PARTING`] (`1e-8`).
     pub parting: Option<usize>,
     /// The step of the first impact of the exact solution (`t = 1`).
     pub first_impact: usize,
@@ -123,6 +141,11 @@ pub struct Reproduction {
     pub demo_norms: DemoErrorNorms,
     /// The same norms of the harness's run, in the demo's conventions.
     pub harness_demo_norms: DemoErrorNorms,
+    /// The harness's Tables 1–2 norms of its run.
+    pub harness_norms: BTreeMap<Norm, f64>,
+    /// The harness's [`trace::TRACE_NORMS`] of GetFEM's own contact trace; `None` for a run
+    /// that is not finite.
+    pub getfem_trace_norms: Option<BTreeMap<Norm, f64>>,
     /// The demo's largest energy (its run blows up when this is huge or not finite).
     pub demo_peak_energy: f64,
     /// The harness's largest energy.
@@ -235,14 +258,45 @@ impl<'a> DemoEnergy<'a> {
     }
 }
 
-/// Solves `run`'s configuration with the harness and compares it with the demo's arrays.
-pub fn reproduce(root: &Path, run: &DemoRun) -> Result<Reproduction, Error> {
-    let config = &run.config;
-    let (problem, mass, scheme, ratio) = harness_setup(root, config)?;
+/// The harness's run of a demo configuration, as the comparisons read it.
+struct HarnessTrace {
+    /// How the run ended.
+    status: RunStatus,
+    /// `max |U⁰|` of the unperturbed data (the scale of an ensemble member's perturbation).
+    initial_scale: f64,
+    /// The contact node's displacement at every step.
+    u0: Vec<f64>,
+    /// The energy in the demo's definition at every step.
+    energy: Vec<f64>,
+    /// The contact stress at every step, stored as the demo stores it.
+    stress: Vec<f64>,
+    /// The demo's seven norms of the run ([`DemoNorms`]).
+    demo_norms: DemoErrorNorms,
+    /// The harness's Tables 1–2 norms of the run.
+    norms: BTreeMap<Norm, f64>,
+    /// The displacement dofs at the last step.
+    final_displacement: Vec<f64>,
+}
+
+/// Solves `config` with the harness (`round_off`: an ensemble member's perturbation of the
+/// initial displacement), recording what the comparisons read.
+fn solve(
+    root: &Path,
+    config: &DemoConfig,
+    round_off: Option<Perturbation>,
+) -> Result<HarnessTrace, Error> {
+    let (mut problem, mass, scheme, ratio) = harness_setup(root, config)?;
+    problem.initial.round_off = round_off;
     let discretisation = problem.discretise(config.nx, mass)?;
+    let initial_scale = discretisation
+        .displacement
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
     let mut energy = DemoEnergy::new(config, &discretisation)?;
-    let mut norms = DemoNorms::new(&discretisation.mesh)?;
-    let (mut u0, mut e, mut s) = (Vec::new(), Vec::new(), Vec::new());
+    let mut demo_norms = DemoNorms::new(&discretisation.mesh)?;
+    let all: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let mut errors = ErrorObservers::new(&discretisation.mesh, problem.exact.as_ref(), &all, false);
+    let (mut u0, mut e, mut s, mut last) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let paoli_schatzman = config.version == DemoVersion::PaoliSchatzman;
     let mut record = |state: &dyn TimeIntegrator| -> Result<(), Error> {
         // Paoli–Schatzman's λ^n produced U^{n+1}: the demo stores it with U^{n+1}.
@@ -254,186 +308,86 @@ pub fn reproduce(root: &Path, run: &DemoRun) -> Result<Reproduction, Error> {
         u0.push(state.displacement()[0]);
         e.push(energy.energy(state, stress));
         s.push(stress);
+        last.clear();
+        last.extend_from_slice(state.displacement());
         Ok(())
     };
+    let mut observers: Vec<&mut dyn Observer> = vec![&mut record, &mut demo_norms];
+    observers.extend(errors.observers());
     let stepped = drive(
         &discretisation,
         problem.horizon,
         ratio,
         scheme,
-        &mut [&mut record, &mut norms],
+        &mut observers,
         Instant::now(),
     )?;
-    let series = &run.series;
-    let stress_scale = series.s0.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let first_impact = (1.0 / config.dt).round() as usize;
-    let mut stress = Difference::between(&s, &series.s0, 1);
-    stress.max /= stress_scale;
-    let mut stress_before_impact =
-        Difference::between(&s[..s.len().min(first_impact + 1)], &series.s0, 1);
-    stress_before_impact.max /= stress_scale;
-    let peak = |v: &[f64]| {
-        v.iter().fold(0.0_f64, |m, &x| {
-            if x.is_finite() {
-                m.max(x)
-            } else {
-                f64::INFINITY
-            }
-        })
-    };
-    Ok(Reproduction {
-        config: config.clone(),
-        expectation: Expectation::of(config),
+    drop(observers);
+    Ok(HarnessTrace {
         status: stepped.status,
-        displacement: Difference::between(&u0, &series.u0, 0),
-        energy: Difference::between(&e, &run.energy, 0),
-        stress,
-        stress_before_impact,
-        parting: (0..u0.len().min(series.u0.len())).find(|&n| {
-            let gap = (u0[n] - series.u0[n]).abs();
-            gap > 1e-8 || gap.is_nan()
-        }),
-        first_impact,
-        demo_norms: run.norms,
-        harness_demo_norms: norms.norms(),
-        demo_peak_energy: peak(&run.energy),
-        harness_peak_energy: peak(&e),
+        initial_scale,
+        u0,
+        energy: e,
+        stress: s,
+        demo_norms: demo_norms.norms(),
+        norms: errors.norms(&all),
+        final_displacement: last,
     })
 }
 
-/// The report's file name.
-pub const GETFEM_REPORT: &str = "getfem.md";
-
-/// Reproduces every run of `runs` (a directory of the demo's `.json.gz` files) and writes
-/// `out`/[`GETFEM_REPORT`]: per configuration, what the comparison can hold, the largest
-/// differences from the demo with their steps, and the demo's own seven norms beside the same
-/// norms of the harness's run computed with the demo's conventions (nodal interpolant,
-/// rectangle sums). Returns the reproductions.
-pub fn write_getfem_report(
-    root: &Path,
-    runs: &Path,
-    out: &Path,
-) -> Result<Vec<Reproduction>, Error> {
-    let mut all = Vec::new();
-    let mut md = String::from(
-        "# GetFEM's demo solved again by the harness\n\n\
-         Every run of `demo_dynamic_contact_1D.py` in the directory given (by default \
-         `tests/data/getfem/`, see its README) solved with the demo's discrete problem: its mass \
-         (`getfem-redistributed`, `getfem-singular`, `standard`, `lumped`), contact treatment and \
-         time step, with `--conventions getfem-demo`. `Δu` is the largest difference of the \
-         contact node's displacement over all steps, `ΔE` of the energy in the demo's definition, \
-         `Δs/max|s|` of the contact stress from the first step; `parts at` is the first step \
-         where the displacements differ by more than 1e-8 (`—`: never). What each expectation \
-         holds is in `src/studies/getfem.rs` (`Expectation`); `tests/unit/getfem_roundoff.rs` \
-         asserts it for every run. Written by `make verify-getfem`.\n\n\
-         | run | expectation | Δu (step) | ΔE (step) | Δs/max\\|s\\| (step) | parts at | first impact |\n\
-         |---|---|---|---|---|---|---|\n",
-    );
-    let files = list_runs(runs)?;
-    for file in &files {
-        let run = read_run(&file.path)?;
-        let r = reproduce(root, &run)?;
-        let name = file
-            .path
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let _ = writeln!(
-            md,
-            "| `{name}` | {:?} | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {} | {} |",
-            r.expectation,
-            r.displacement.max,
-            r.displacement.step,
-            r.energy.max,
-            r.energy.step,
-            r.stress.max,
-            r.stress.step,
-            r.parting.map_or("—".to_string(), |n| n.to_string()),
-            r.first_impact,
-        );
-        all.push((name, r));
-    }
-    md.push_str(
-        "\n## The demo's norms and the same norms of the harness's run\n\n\
-         The demo's seven relative error norms as it prints them, and the harness's run measured \
-         the same way (`DemoNorms`). Where the runs agree, the displacement norms agree to the \
-         printed digits. Three reporting conventions, not the solutions, separate the others: \
-         (1) the velocity of a massless contact node (masses 1, 2 with the implicit schemes), \
-         which the dynamics leave undefined: the demo reports `(U¹₀ − U⁰₀)/Δt`, the harness the \
-         value of Newmark's recurrences, so `LinfL2v` and `L2L2v` differ; (2) Paoli–Schatzman's \
-         velocity, which the harness reports at `t_{n−½}` (`(Uⁿ − Uⁿ⁻¹)/Δt`) and the demo at \
-         `t_n`; (3) the stress at `t = 0`, which the demo stores as 0 while the harness's implicit \
-         start reports `λ⁰ = −½` (the exact `u_x(0, 0)`), so `L2sn` differs with masses 1 and 2. \
-         Where the runs part (round-off chaos, the demo's massless Nitsche) the norms differ as \
-         the runs do.\n\n| run |",
-    );
-    for name in DemoErrorNorms::NAMES {
-        let _ = write!(md, " {name} demo / harness |");
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(DemoErrorNorms::NAMES.len()));
-    md.push('\n');
-    for (name, r) in &all {
-        let _ = write!(md, "| `{name}` |");
-        for ((_, d), (_, h)) in r
-            .demo_norms
-            .named()
-            .into_iter()
-            .zip(r.harness_demo_norms.named())
-        {
-            let _ = write!(md, " {d:.6e} / {h:.6e} |");
-        }
-        md.push('\n');
-    }
-    write_atomic(&out.join(GETFEM_REPORT), md.as_bytes())?;
-    Ok(all.into_iter().map(|(_, r)| r).collect())
+/// Solves `run`'s configuration with the harness and compares it with the demo's arrays; the
+/// harness's Tables 1–2 norms of GetFEM's contact trace come from its replay
+/// ([`trace::trace_norms`], as `signorini verify` computes them).
+pub fn reproduce(root: &Path, path: &Path, run: &DemoRun) -> Result<Reproduction, Error> {
+    let config = &run.config;
+    let trace = solve(root, config, None)?;
+    let series = &run.series;
+    let stress_scale = series.s0.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let first_impact = (1.0 / config.dt).round() as usize;
+    let mut stress = Difference::between(&trace.stress, &series.s0, 1);
+    stress.max /= stress_scale;
+    let before_impact = &trace.stress[..trace.stress.len().min(first_impact + 1)];
+    let mut stress_before_impact = Difference::between(before_impact, &series.s0, 1);
+    stress_before_impact.max /= stress_scale;
+    let getfem_trace_norms = contact_trace(path, run)
+        .map(|t| trace_norms(root, &t))
+        .transpose()?;
+    Ok(Reproduction {
+        config: config.clone(),
+        expectation: Expectation::of(config),
+        status: trace.status,
+        displacement: Difference::between(&trace.u0, &series.u0, 0),
+        energy: Difference::between(&trace.energy, &run.energy, 0),
+        stress,
+        stress_before_impact,
+        final_field: Difference::between(&trace.final_displacement, &run.final_state.u, 0),
+        parting: parting(&trace.u0, &series.u0),
+        first_impact,
+        demo_norms: run.norms,
+        harness_demo_norms: trace.demo_norms,
+        harness_norms: trace.norms,
+        getfem_trace_norms,
+        demo_peak_energy: peak(&run.energy),
+        harness_peak_energy: peak(&trace.energy),
+    })
 }
 
-/// Writes each run of `runs` whose series are finite as a contact-trace file of the external-run
-/// format (`signorini-external/1`, CSV; README, "Verifying another code's runs") into `dir`:
-/// the demo's time points, its contact displacement `store_u0`, stress `store_s0` (as `lambda`,
-/// at the same times, as the demo stores it) and energy `store_E`, on the Dirichlet scene; runs
-/// of one configuration at several NX share a label (the file name without `_nx…`), so that
-/// `signorini verify` fits their rates. A run with a non-finite value (the demo's blown-up
-/// Nitsche run) is skipped: the format refuses it. Returns the files written.
-pub fn export_runs(runs: &Path, dir: &Path) -> Result<Vec<PathBuf>, Error> {
-    let mut written = Vec::new();
-    for file in list_runs(runs)? {
-        let run = read_run(&file.path)?;
-        let series = &run.series;
-        let columns = [&series.u0, &series.s0, &run.energy];
-        if columns.iter().any(|c| c.iter().any(|v| !v.is_finite())) {
-            continue;
+/// The first step where two contact-node displacement histories differ by more than
+/// [`PARTING`] (or one is not finite).
+fn parting(a: &[f64], b: &[f64]) -> Option<usize> {
+    a.iter().zip(b).position(|(x, y)| {
+        let gap = (x - y).abs();
+        gap > PARTING || gap.is_nan()
+    })
+}
+
+/// The largest value of a series; infinite when one is not finite.
+fn peak(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, &x| {
+        if x.is_finite() {
+            m.max(x)
+        } else {
+            f64::INFINITY
         }
-        let stem = file
-            .path
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let stem = stem.trim_end_matches(".json.gz");
-        let label = stem
-            .split('_')
-            .filter(|part| !part.starts_with("nx"))
-            .collect::<Vec<_>>()
-            .join("_");
-        let nx = run.config.nx;
-        let nodes: Vec<String> = (0..=nx)
-            .map(|i| format!("{:?}", i as f64 / nx as f64))
-            .collect();
-        let mut csv = format!(
-            "# format: signorini-external/1\n# scene: bar1d-dirichlet\n\
-             # code.name: GetFEM demo_dynamic_contact_1D.py\n# code.version: 5.4.2\n\
-             # label: {label}\n# mesh.nodes: {}\ntime,contact_displacement,lambda,energy\n",
-            nodes.join(", ")
-        );
-        for (n, t) in series.time.iter().enumerate() {
-            let _ = writeln!(
-                csv,
-                "{t:?},{:?},{:?},{:?}",
-                series.u0[n], series.s0[n], run.energy[n]
-            );
-        }
-        let path = dir.join(format!("{stem}.csv"));
-        write_atomic(&path, csv.as_bytes())?;
-        written.push(path);
-    }
-    Ok(written)
+    })
 }

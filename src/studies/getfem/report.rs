@@ -1,0 +1,321 @@
+//! `reports/getfem.md`: every demo run solved again and compared step by step, the harness's
+//! Tables 1–2 norms of GetFEM's runs with their rates, the round-off-chaotic runs against the
+//! harness's ensemble, and the demo's own norms beside the same norms computed with its
+//! conventions.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::{
+    ensemble_agreement, label, reproduce, EnsembleAgreement, Expectation, Reproduction,
+    AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
+};
+use crate::harness::artifacts::write_atomic;
+use crate::harness::error::Error;
+use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms};
+use crate::harness::norms::Norm;
+use crate::harness::rates::observed_orders;
+use crate::harness::sensitivity::EnsembleConfig;
+
+/// The report's file name.
+pub const GETFEM_REPORT: &str = "getfem.md";
+
+/// One run of the directory, reproduced.
+struct Row {
+    /// The run file's name.
+    name: String,
+    /// Its configuration's label (the name without `_nx…`).
+    label: String,
+    /// The reproduction.
+    reproduction: Reproduction,
+    /// The largest relative difference between the demo's printed norms and the same norms of
+    /// its stored series ([`crate::harness::getfem::DemoSeries::norms`]).
+    stored_series: f64,
+    /// The ensemble of a round-off-chaotic run ([`GETFEM_ENSEMBLE`]).
+    ensemble: Option<EnsembleAgreement>,
+    /// The horizons of its ensembles of amplitude [`AMPLITUDE_DECADES`].
+    horizons: Vec<Option<usize>>,
+}
+
+/// Reproduces every run of `runs` (a directory of the demo's `.json.gz` files), runs the
+/// harness's round-off ensembles of each round-off-chaotic one ([`GETFEM_ENSEMBLE`], and one per
+/// amplitude of [`AMPLITUDE_DECADES`]), and writes `out`/[`GETFEM_REPORT`]. Returns the reproductions.
+pub fn write_getfem_report(
+    root: &Path,
+    runs: &Path,
+    out: &Path,
+) -> Result<Vec<Reproduction>, Error> {
+    let mut rows = Vec::new();
+    for file in list_runs(runs)? {
+        let run = read_run(&file.path)?;
+        let reproduction = reproduce(root, &file.path, &run)?;
+        let recomputed = run.series.norms().named();
+        let stored_series = run
+            .norms
+            .named()
+            .iter()
+            .zip(recomputed)
+            .map(|((_, printed), (_, again))| ((printed - again) / printed).abs())
+            .fold(0.0_f64, |m, d| if d.is_nan() { m } else { m.max(d) });
+        let chaotic = reproduction.expectation == Expectation::RoundOffChaotic;
+        let ensemble = chaotic
+            .then(|| ensemble_agreement(root, &run, GETFEM_ENSEMBLE))
+            .transpose()?;
+        let mut horizons = Vec::new();
+        for amplitude in AMPLITUDE_DECADES.into_iter().filter(|_| chaotic) {
+            let ensemble = EnsembleConfig {
+                amplitude,
+                ..GETFEM_ENSEMBLE
+            };
+            horizons.push(ensemble_agreement(root, &run, ensemble)?.horizon);
+        }
+        rows.push(Row {
+            name: file
+                .path
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+            label: label(&file.path),
+            reproduction,
+            stored_series,
+            ensemble,
+            horizons,
+        });
+    }
+    let mut md = String::new();
+    step_by_step(&mut md, &rows);
+    harness_norms(&mut md, &rows);
+    ensembles(&mut md, &rows);
+    demo_norms(&mut md, &rows);
+    write_atomic(&out.join(GETFEM_REPORT), md.as_bytes())?;
+    Ok(rows.into_iter().map(|r| r.reproduction).collect())
+}
+
+/// The largest differences from the demo, run by run.
+fn step_by_step(md: &mut String, rows: &[Row]) {
+    md.push_str(
+        "# GetFEM's demo solved again by the harness\n\n\
+         Every run of `demo_dynamic_contact_1D.py` in the directory given (by default \
+         `tests/data/getfem/`, see its README) solved with the demo's discrete problem: its mass \
+         (`getfem-redistributed`, `getfem-singular`, `standard`, `lumped`), contact treatment and \
+         time step, with `--conventions getfem-demo`. `Δu` is the largest difference of the \
+         contact node's displacement over all steps, `ΔE` of the energy in the demo's definition, \
+         `Δs/max|s|` of the contact stress from the first step, `ΔU(T)` of the displacement \
+         field at `t = T` (the only field the demo stores) over the nodes; `parts at` is the \
+         first step where the displacements differ by more than 1e-8 (`—`: never). What each \
+         expectation holds is in `src/studies/getfem/mod.rs` (`Expectation`); \
+         `tests/unit/getfem_roundoff.rs` asserts it for every run. Written by `make \
+         verify-getfem`.\n\n\
+         | run | expectation | Δu (step) | ΔE (step) | Δs/max\\|s\\| (step) | ΔU(T) (node) | parts at | first impact |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for Row {
+        name,
+        reproduction: r,
+        ..
+    } in rows
+    {
+        let _ = writeln!(
+            md,
+            "| `{name}` | {:?} | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {} | {} |",
+            r.expectation,
+            r.displacement.max,
+            r.displacement.step,
+            r.energy.max,
+            r.energy.step,
+            r.stress.max,
+            r.stress.step,
+            r.final_field.max,
+            r.final_field.step,
+            r.parting.map_or("—".to_string(), |n| n.to_string()),
+            r.first_impact,
+        );
+    }
+}
+
+/// Whether the harness's run is GetFEM's to round-off in the whole state, so that its
+/// displacement norms are those of GetFEM's run.
+fn same_trajectory(r: &Reproduction) -> bool {
+    matches!(
+        r.expectation,
+        Expectation::RoundOff | Expectation::UndampedStressRoundOff
+    ) && r.parting.is_none()
+}
+
+/// `e` at the finest level and the observed order over the levels, `—` where missing.
+fn value_and_rate(levels: &[(f64, Option<f64>)]) -> String {
+    let Some((_, Some(finest))) = levels.last() else {
+        return "—".to_string();
+    };
+    let h: Vec<f64> = levels.iter().map(|(h, _)| *h).collect();
+    let e: Vec<f64> = levels.iter().map(|(_, e)| e.unwrap_or(f64::NAN)).collect();
+    match observed_orders(&h, &e).last().copied().flatten() {
+        Some(rate) => format!("{finest:.3e} ({rate:.2})"),
+        None => format!("{finest:.3e}"),
+    }
+}
+
+/// The harness's Tables 1–2 norms of GetFEM's runs, configuration by configuration.
+fn harness_norms(md: &mut String, rows: &[Row]) {
+    md.push_str(
+        "\n## The harness's norms of GetFEM's runs, with their rates\n\n\
+         The harness's Tables 1–2 norms (against the engine's exact solution, as in \
+         `reports/tables.md`) at the finest NX of each configuration, with the observed order \
+         over NX = 20, 40 in brackets. `lambda_L2` and the energy norms are those of GetFEM's own \
+         contact trace (`store_s0`, `store_E`), replayed as `signorini verify` replays the \
+         exported files (`make verify-getfem`, `reports/getfem-verify/`); beside them, after \
+         the slash, those of the harness's run of the same configuration, which differ where the \
+         two codes define or store the quantity differently: the stress at `t = 0` with a \
+         massless contact node (the demo stores 0), Paoli–Schatzman's stress (stored with the \
+         next step's displacement); the energy wherever the demo's definition is not the \
+         harness's (Paoli–Schatzman's and the explicit scheme's velocities, Nitsche's contact \
+         term, and with Paoli–Schatzman and a massless contact node the undamped `(−1)ⁿ` mode \
+         that the demo's `M·V` bookkeeping carries, which makes its energy grow: the negative \
+         rates). The demo stores no displacement field but the final one, so the four `u_*` norms are \
+         those of the harness's run, shown only where that run is GetFEM's to round-off at \
+         every step and at `t = T` (expectations `RoundOff` and `UndampedStressRoundOff`); `—` \
+         where the runs part, or where GetFEM's run is not finite.\n\n| configuration |",
+    );
+    for norm in Norm::ALL {
+        let _ = write!(md, " {} |", norm.key());
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(Norm::ALL.len()));
+    md.push('\n');
+    let mut labels: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
+    labels.dedup();
+    for label in labels {
+        let mut series: Vec<&Reproduction> = rows
+            .iter()
+            .filter(|r| r.label == label)
+            .map(|r| &r.reproduction)
+            .collect();
+        series.sort_by_key(|r| r.config.nx);
+        let h = |r: &Reproduction| 1.0 / r.config.nx as f64;
+        let _ = write!(md, "| `{label}` |");
+        for norm in Norm::ALL {
+            let harness: Vec<(f64, Option<f64>)> = series
+                .iter()
+                .map(|r| (h(r), r.harness_norms.get(&norm).copied()))
+                .collect();
+            let cell = if !TRACE_NORMS.contains(&norm) {
+                if series.iter().all(|r| same_trajectory(r)) {
+                    value_and_rate(&harness)
+                } else {
+                    "—".to_string()
+                }
+            } else {
+                let getfem: Vec<(f64, Option<f64>)> = series
+                    .iter()
+                    .map(|r| {
+                        let e = r.getfem_trace_norms.as_ref().and_then(|n| n.get(&norm));
+                        (h(r), e.copied())
+                    })
+                    .collect();
+                format!("{} / {}", value_and_rate(&getfem), value_and_rate(&harness))
+            };
+            let _ = write!(md, " {cell} |");
+        }
+        md.push('\n');
+    }
+}
+
+/// The round-off-chaotic runs against the harness's ensemble.
+fn ensembles(md: &mut String, rows: &[Row]) {
+    let Some(config) = rows.iter().find_map(|r| r.ensemble.as_ref()) else {
+        return;
+    };
+    let decades: Vec<String> = AMPLITUDE_DECADES
+        .iter()
+        .map(|a| format!("{a:.0e}"))
+        .collect();
+    let _ = write!(
+        md,
+        "\n## Round-off-chaotic runs against the harness's ensemble\n\n\
+         After its predictability horizon a round-off-chaotic run (issue 12) is not reproducible \
+         step by step, by GetFEM's own two linear solvers either: there GetFEM's run is measured \
+         as one more member of a harness ensemble, the unperturbed run and {} members whose \
+         initial displacement carries seeded noise of relative size `A` (as `signorini \
+         sensitivity`'s). The horizon of an ensemble is the first step where a member parts from \
+         the unperturbed run by more than 1e-8; `horizons` gives it for `A` = {}, beside the step \
+         where GetFEM's run parts: the two codes' round-off acts like noise of the size where \
+         GetFEM's step falls among them. The agreement is judged with `A` = {:.0e}, the smallest \
+         of these whose members part no later than GetFEM in every run \
+         (`src/studies/getfem/ensemble.rs`): `Δu` is GetFEM's largest difference up to its \
+         horizon; each demo norm that the two codes report alike is GetFEM's value with the \
+         ensemble's [min, max], and agrees when `|GetFEM − median| ≤ max − min`. \
+         `tests/unit/getfem_roundoff.rs` asserts that GetFEM parts no earlier than that horizon \
+         and that every norm agrees.\n\n\
+         | run | horizons | GetFEM parts | horizon at {:.0e} | Δu to it | norms: GetFEM [ensemble min, max] | agrees |\n\
+         |---|---|---|---|---|---|---|\n",
+        config.ensemble.members,
+        decades.join(", "),
+        config.ensemble.amplitude,
+        config.ensemble.amplitude,
+    );
+    for row in rows {
+        let Some(e) = &row.ensemble else { continue };
+        let norms: Vec<String> = e
+            .norms
+            .iter()
+            .map(|n| {
+                format!(
+                    "{} {:.4e} [{:.4e}, {:.4e}]",
+                    n.name, n.getfem, n.spread.min, n.spread.max
+                )
+            })
+            .collect();
+        let step = |s: Option<usize>| s.map_or("—".to_string(), |n| n.to_string());
+        let horizons: Vec<String> = row.horizons.iter().map(|&h| step(h)).collect();
+        let _ = writeln!(
+            md,
+            "| `{}` | {} | {} | {} | {:.1e} | {} | {} |",
+            row.name,
+            horizons.join(", "),
+            step(e.getfem_parting),
+            step(e.horizon),
+            e.before_horizon.max,
+            norms.join("; "),
+            if e.holds() { "yes" } else { "no" }
+        );
+    }
+}
+
+/// The demo's norms beside the same norms of its stored series and of the harness's run.
+fn demo_norms(md: &mut String, rows: &[Row]) {
+    md.push_str(
+        "\n## The demo's norms and the same norms of the harness's run\n\n\
+         The demo's seven relative error norms as it prints them, and the harness's run measured \
+         the same way (`DemoNorms`: nodal interpolant, rectangle sums). `stored Δ` is the largest \
+         relative difference between the printed norms and the same norms recomputed by the \
+         harness from the demo's stored series (`DemoSeries::norms`): the demo's conventions, \
+         reproduced. Where the runs agree, the displacement norms agree to the printed digits. \
+         Three reporting conventions, not the solutions, separate the others: \
+         (1) the velocity of a massless contact node (masses 1, 2 with the implicit schemes), \
+         which the dynamics leave undefined: the demo reports `(U¹₀ − U⁰₀)/Δt`, the harness the \
+         value of Newmark's recurrences, so `LinfL2v` and `L2L2v` differ; (2) Paoli–Schatzman's \
+         velocity, which the harness reports at `t_{n−½}` (`(Uⁿ − Uⁿ⁻¹)/Δt`) and the demo at \
+         `t_n`; (3) the stress at `t = 0`, which the demo stores as 0 while the harness's implicit \
+         start reports `λ⁰ = −½` (the exact `u_x(0, 0)`), so `L2sn` differs with masses 1 and 2. \
+         Where the runs part (round-off chaos, the demo's massless Nitsche) the norms differ as \
+         the runs do.\n\n| run | stored Δ |",
+    );
+    for name in DemoErrorNorms::NAMES {
+        let _ = write!(md, " {name} demo / harness |");
+    }
+    md.push_str("\n|---|---|");
+    md.push_str(&"---|".repeat(DemoErrorNorms::NAMES.len()));
+    md.push('\n');
+    for row in rows {
+        let r = &row.reproduction;
+        let _ = write!(md, "| `{}` | {:.1e} |", row.name, row.stored_series);
+        for ((_, d), (_, h)) in r
+            .demo_norms
+            .named()
+            .into_iter()
+            .zip(r.harness_demo_norms.named())
+        {
+            let _ = write!(md, " {d:.6e} / {h:.6e} |");
+        }
+        md.push('\n');
+    }
+}

@@ -1,0 +1,141 @@
+//! GetFEM's runs as another code's runs: each finite run is the contact trace of the
+//! external-run format (`signorini-external/1`; README, "Verifying another code's runs"), which
+//! [`export_runs`] writes for `signorini verify` and [`trace_norms`] measures in place with the
+//! same replay.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::engine::fem::Bar1d;
+use crate::harness::artifacts::write_atomic;
+use crate::harness::error::{DemoRunError, Error};
+use crate::harness::external::format::{Code, ExternalRun, SampleOrigin};
+use crate::harness::external::replay::replay;
+use crate::harness::getfem::{list_runs, read_run, DemoRun};
+use crate::harness::norms::Norm;
+use crate::studies::benchmark::dirichlet;
+
+/// The scene every demo run solves.
+const SCENE: &str = "bar1d-dirichlet";
+
+/// The norms a contact trace has the data of: the multiplier's and the energy's.
+pub const TRACE_NORMS: [Norm; 3] = [Norm::MultiplierL2, Norm::EnergyLinf, Norm::EnergyL2];
+
+/// The configuration's label of a run file: its name without the directory, the `_nx…` part
+/// and the extension (`getfem_v0_b0.5_g0.5_m0`), so that the runs of one configuration at
+/// several NX form one series.
+pub fn label(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    name.trim_end_matches(".json.gz")
+        .split('_')
+        .filter(|part| !part.starts_with("nx"))
+        .collect::<Vec<_>>()
+        .join("_")
+}
+
+/// The contact trace of the demo's run `run`, read from `path`: its time points, its contact
+/// displacement `store_u0`, stress `store_s0` (as `lambda`, at the same times, as the demo
+/// stores it) and energy `store_E`, on the Dirichlet scene's mesh with the run's NX; `None`
+/// when a value is not finite (the format refuses it: the demo's blown-up Nitsche run).
+pub fn contact_trace(path: &Path, run: &DemoRun) -> Option<ExternalRun> {
+    let series = &run.series;
+    let columns = [&series.u0, &series.s0, &run.energy];
+    if columns.iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+        return None;
+    }
+    let nx = run.config.nx;
+    Some(ExternalRun {
+        path: path.to_path_buf(),
+        origin: SampleOrigin::Json,
+        scene: SCENE.to_string(),
+        code: Code {
+            name: "GetFEM demo_dynamic_contact_1D.py".to_string(),
+            version: "5.4.2".to_string(),
+        },
+        label: label(path),
+        nodes: (0..=nx).map(|i| i as f64 / nx as f64).collect(),
+        time: series.time.clone(),
+        displacement: None,
+        velocity: None,
+        lambda: Some(series.s0.clone()),
+        lambda_time: None,
+        contact_displacement: Some(series.u0.clone()),
+        energy: Some(run.energy.clone()),
+        energy_time: None,
+    })
+}
+
+/// The harness's [`TRACE_NORMS`] of a contact trace, as `signorini verify` computes them from
+/// the exported file: checked against the Dirichlet scene under `root` (to the trace's
+/// horizon), then replayed against its exact solution.
+pub fn trace_norms(root: &Path, trace: &ExternalRun) -> Result<BTreeMap<Norm, f64>, Error> {
+    let horizon = trace.time.last().copied().unwrap_or(0.0);
+    let problem = dirichlet(root, horizon)?;
+    let mut trace = trace.clone();
+    trace
+        .check_against(SCENE, &problem)
+        .map_err(|e| DemoRunError::Field {
+            path: trace.path.clone(),
+            field: "arrays".to_string(),
+            found: e.to_string(),
+            expected: format!("a contact trace of the scene {SCENE}"),
+        })?;
+    let bar = Bar1d::new(
+        problem.length,
+        trace.nx(),
+        problem.density,
+        problem.wave_speed,
+        problem.far_end,
+    )?;
+    let norms: BTreeSet<Norm> = TRACE_NORMS.into_iter().collect();
+    Ok(replay(&trace, &bar, problem.exact.as_ref(), &norms)?.errors)
+}
+
+/// The contact trace as the CSV form of the format.
+fn trace_csv(trace: &ExternalRun) -> String {
+    let nodes: Vec<String> = trace.nodes.iter().map(|x| format!("{x:?}")).collect();
+    let mut csv = format!(
+        "# format: signorini-external/1\n# scene: {}\n# code.name: {}\n# code.version: {}\n\
+         # label: {}\n# mesh.nodes: {}\ntime,contact_displacement,lambda,energy\n",
+        trace.scene,
+        trace.code.name,
+        trace.code.version,
+        trace.label,
+        nodes.join(", ")
+    );
+    let column = |c: &Option<Vec<f64>>| c.as_deref().unwrap_or_default().to_vec();
+    let (u0, lambda, energy) = (
+        column(&trace.contact_displacement),
+        column(&trace.lambda),
+        column(&trace.energy),
+    );
+    for (n, t) in trace.time.iter().enumerate() {
+        let _ = writeln!(csv, "{t:?},{:?},{:?},{:?}", u0[n], lambda[n], energy[n]);
+    }
+    csv
+}
+
+/// Writes the contact trace of each run of `runs` whose series are finite ([`contact_trace`])
+/// as a CSV run file into `dir`, named after the run (`….csv`); runs of one configuration at
+/// several NX share a [`label`], so that `signorini verify` fits their rates. Returns the files
+/// written.
+pub fn export_runs(runs: &Path, dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    let mut written = Vec::new();
+    for file in list_runs(runs)? {
+        let run = read_run(&file.path)?;
+        let Some(trace) = contact_trace(&file.path, &run) else {
+            continue;
+        };
+        let name = file
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let path = dir.join(format!("{}.csv", name.trim_end_matches(".json.gz")));
+        write_atomic(&path, trace_csv(&trace).as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
+}
