@@ -26,7 +26,11 @@ fn getfem_writes_its_report_and_exports_runs_that_verify() {
     let chaotic = report
         .lines()
         .filter(|l| l.starts_with("| `getfem_v") && l.ends_with("| yes |"));
-    assert_eq!(chaotic.count(), 8, "every chaotic run agrees with the ensemble");
+    assert_eq!(
+        chaotic.count(),
+        8,
+        "every chaotic run agrees with the ensemble"
+    );
     // The blown-up Nitsche run has no finite trace to export.
     assert!(!runs
         .join("getfem_v3_b0.25_g0.5_gN10_tN1_m1_nx40.csv")

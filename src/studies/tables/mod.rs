@@ -5,6 +5,7 @@
 
 pub mod agreement;
 pub mod paper;
+pub mod starts;
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -13,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use self::agreement::{disagreement_section, disagreements, paper_tables, Disagreement};
 use self::paper::PaperTables;
+use self::starts::{implicit_start_study, starts_section};
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -126,12 +128,14 @@ pub fn disagreements_with_longer_horizon(
     Ok(list)
 }
 
-/// `tables.md`: Tables 1–2 beside the paper's, the agreement section and the per-level errors.
+/// `tables.md`: Tables 1–2 beside the paper's, the agreement section, the M^mod rows under both
+/// starts (`implicit`: those cases with the implicit-multiplier start) and the per-level errors.
 pub fn render(
     study: &Study,
     paper: &PaperTables,
     sensitivity: &Sensitivity,
     list: &[Disagreement],
+    implicit: &Study,
 ) -> String {
     let mut md = String::new();
     md.push_str("# Tables 1–2 recomputed\n\n");
@@ -158,6 +162,8 @@ pub fn render(
     );
     md.push_str("## Agreement with the paper\n\n");
     md.push_str(&disagreement_section(list, LONGER_HORIZON));
+    md.push('\n');
+    md.push_str(&starts_section(study, implicit));
     md.push_str("\n## Per-level errors and observed orders\n\n");
     md.push_str(&convergence_tables(study));
     md
@@ -189,8 +195,9 @@ pub fn rates_file(study: &Study, paper: &PaperTables, list: &[Disagreement]) -> 
     }
 }
 
-/// Compares `study` with the paper (with the longer-horizon study of the disagreements) and
-/// writes `tables.md` and `rates.json` into `out_dir`.
+/// Compares `study` with the paper (with the longer-horizon study of the disagreements), runs its
+/// M^mod cases with the implicit-multiplier start, and writes `tables.md` and `rates.json` into
+/// `out_dir`.
 pub fn write_tables(
     root: &Path,
     study: &Study,
@@ -199,9 +206,10 @@ pub fn write_tables(
 ) -> Result<(), Error> {
     let paper = PaperTables::load();
     let list = disagreements_with_longer_horizon(root, study, &paper, sensitivity)?;
+    let implicit = implicit_start_study(root, study)?;
     write_atomic(
         &out_dir.join(TABLES_MD),
-        render(study, &paper, sensitivity, &list).as_bytes(),
+        render(study, &paper, sensitivity, &list, &implicit).as_bytes(),
     )?;
     write_json(&out_dir.join(RATES_JSON), &rates_file(study, &paper, &list))?;
     Ok(())
