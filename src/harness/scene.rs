@@ -17,7 +17,7 @@ use serde::Deserialize;
 use crate::engine::contact::{ContactTreatment, TREATMENT_NAMES};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::{
-    AtRest, BouncingBar, ClampedFreeMode, ExactSolution, SignoriniDirichlet,
+    AtRest, BouncingBar, ClampedFreeMode, ExactSolution, Pointwise, SignoriniDirichlet,
 };
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
@@ -80,6 +80,10 @@ pub struct SceneObservables {
 
 /// The names of the exact solutions a scene can refer to.
 pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-rest, bouncing-bar";
+
+/// The intervals of `[0, L]` whose end points check the initial data against a closed-form
+/// reference.
+const INITIAL_DATA_SAMPLES: usize = 256;
 
 impl Scene {
     /// Reads and validates a scene file.
@@ -500,6 +504,7 @@ impl SceneFile {
             norms.insert(norm);
         }
         let exact = self.exact_solution(path, length, wave_speed)?;
+        self.check_initial_data(path, length, exact.as_ref())?;
         let problem = Problem1d {
             length,
             density: self.material.density,
@@ -746,6 +751,53 @@ impl SceneFile {
             conventions,
         };
         Ok((problem, schemes, BTreeSet::new()))
+    }
+
+    /// A closed-form reference solves only its own initial data: each initial profile that is
+    /// not `"reference"` must equal the reference's displacement (within the declared
+    /// perturbation's amplitude) or velocity at `t = 0`, checked at [`INITIAL_DATA_SAMPLES`] + 1
+    /// points of `[0, L]` to a relative 1e-9.
+    fn check_initial_data(
+        &self,
+        path: &Path,
+        length: f64,
+        exact: &dyn ExactSolution,
+    ) -> Result<(), SceneError> {
+        let displacement: fn(Pointwise) -> f64 = |p| p.u;
+        let velocity: fn(Pointwise) -> f64 = |p| p.ut;
+        let slack = self.initial.perturbation.map_or(0.0, |p| p.amplitude);
+        for (field, profile, pick, slack) in [
+            (
+                "initial.displacement",
+                self.initial.displacement,
+                displacement,
+                slack,
+            ),
+            ("initial.velocity", self.initial.velocity, velocity, 0.0),
+        ] {
+            if profile == Profile::Reference {
+                continue;
+            }
+            for k in 0..=INITIAL_DATA_SAMPLES {
+                let x = length * k as f64 / INITIAL_DATA_SAMPLES as f64;
+                let given = profile.at(x, length, exact, pick);
+                let wanted = pick(exact.eval(x, 0.0));
+                if !((given - wanted).abs() <= slack + 1e-9 * wanted.abs().max(1.0)) {
+                    let profile = serde_json::to_string(&profile).unwrap_or_default();
+                    return Err(invalid(
+                        path,
+                        field,
+                        format!("{profile} ({given} at x = {x})"),
+                        &format!(
+                            "the data of the reference {}: {wanted} at x = {x} (\"reference\" \
+                             takes them; other data need a reference that solves them)",
+                            exact.name()
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The reference solution of a bar of `length` and `wave_speed`, checked against the

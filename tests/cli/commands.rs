@@ -18,6 +18,9 @@ fn scratch(name: &str) -> PathBuf {
 const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";
 
 /// The scene text with `from` replaced by `to`, written to a scratch file.
+/// The Dirichlet scene's velocity, horizon and reference: replaced to make an `at-rest` scene.
+const AT_REST_FROM: &str = "\"velocity\": \"reference\" },\n  \"horizon\": 3.0,\n  \"reference\": { \"exact\": \"signorini-dirichlet\" }";
+
 fn edited_scene(dir: &Path, from: &str, to: &str) -> String {
     let text =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(DIRICHLET)).unwrap();
@@ -291,7 +294,7 @@ fn bad_scene_files_exit_2_naming_the_problem() {
     );
 
     // (text in the scene, replacement, what the message must say)
-    let edits: [(&str, &str, &[&str]); 14] = [
+    let edits: [(&str, &str, &[&str]); 18] = [
         (
             "\"horizon\"",
             "\"horizn\": 1.0, \"horizon\"",
@@ -350,11 +353,47 @@ fn bad_scene_files_exit_2_naming_the_problem() {
             "\"velocity\": \"reference\", \"perturbation\": {\"amplitude\": 1e308, \"seed\": 1} }",
             &["initial.perturbation.amplitude", "(0, L]"],
         ),
+        // A closed-form reference solves only its own data.
+        (
+            "\"displacement\": \"reference\"",
+            "\"displacement\": {\"constant\": 0.3}",
+            &["initial.displacement", "signorini-dirichlet", "0.5 at x = 0"],
+        ),
+        (
+            "\"displacement\": \"reference\"",
+            "\"displacement\": {\"constant\": 2.0}",
+            &["initial.displacement", "signorini-dirichlet"],
+        ),
+        (
+            AT_REST_FROM,
+            "\"velocity\": {\"constant\": -1.0} },\n  \"horizon\": 3.0,\n  \"reference\": { \"exact\": \"at-rest\" }",
+            &["initial.velocity", "at-rest", "0 at x = 0"],
+        ),
+        (
+            AT_REST_FROM,
+            "\"velocity\": {\"constant\": 1e160} },\n  \"horizon\": 3.0,\n  \"reference\": { \"exact\": \"at-rest\" }",
+            &["initial.velocity", "at-rest"],
+        ),
     ];
     for (from, to, needles) in edits {
         let s = edited_scene(&dir, from, to);
         expect_error(&run_args(&s, &[]), 2, needles);
     }
+}
+
+#[test]
+fn initial_data_equal_to_the_references_are_accepted_and_run_as_the_reference() {
+    let dir = scratch("reference-data");
+    let s = edited_scene(
+        &dir,
+        "\"initial\": { \"displacement\": \"reference\", \"velocity\": \"reference\" }",
+        "\"initial\": { \"displacement\": {\"affine\": {\"at_start\": 0.5, \"at_end\": 0.0}}, \
+         \"velocity\": {\"constant\": 0.0} }",
+    );
+    let given = success_stdout(&signorini(&run_args(&s, &[])));
+    let reference = success_stdout(&signorini(&run_args(DIRICHLET, &[])));
+    let errors = |out: &str| out.lines().skip(1).map(str::to_string).collect::<Vec<_>>();
+    assert_eq!(errors(&given), errors(&reference));
 }
 
 #[test]

@@ -88,6 +88,22 @@ pub enum Profile {
 }
 
 impl Profile {
+    /// The profile's value at `x` on a bar of length `length`; `pick` selects `u` or `u_t` of
+    /// the reference.
+    pub fn at(
+        &self,
+        x: f64,
+        length: f64,
+        exact: &dyn ExactSolution,
+        pick: impl Fn(Pointwise) -> f64,
+    ) -> f64 {
+        match *self {
+            Profile::Reference => pick(exact.eval(x, 0.0)),
+            Profile::Constant(c) => c,
+            Profile::Affine { at_start, at_end } => at_start + (at_end - at_start) * x / length,
+        }
+    }
+
     /// The nodal interpolant as a dof vector; `pick` selects `u` or `u_t` of the reference.
     pub fn interpolate(
         &self,
@@ -95,14 +111,7 @@ impl Profile {
         exact: &dyn ExactSolution,
         pick: impl Fn(Pointwise) -> f64,
     ) -> Vec<f64> {
-        match *self {
-            Profile::Reference => bar.interpolate(|x| pick(exact.eval(x, 0.0))),
-            Profile::Constant(c) => bar.interpolate(|_| c),
-            Profile::Affine { at_start, at_end } => {
-                let l = bar.length();
-                bar.interpolate(|x| at_start + (at_end - at_start) * x / l)
-            }
-        }
+        bar.interpolate(|x| self.at(x, bar.length(), exact, &pick))
     }
 }
 
