@@ -2,7 +2,7 @@
 //! round-off ensembles and the fine-mesh references of box scenes.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
@@ -19,7 +19,8 @@ use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
 use crate::harness::study::{run_study_with_progress, study_size, Case};
-use crate::studies::elastic_study::files::write_elastic_report;
+use crate::studies::elastic_study::files::{write_elastic_report, REFERENCE_CACHE};
+use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
 use crate::studies::tables::write_sensitivity_files;
 
@@ -54,9 +55,11 @@ pub struct StudyArgs {
     /// reports directory instead of printing.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Box scenes: where the fine-mesh reference is cached.
-    #[arg(long, default_value = "reports/data/references")]
-    pub cache: PathBuf,
+    /// Box scenes: where the fine-mesh reference is looked up and kept. Default: with --out,
+    /// OUT/data/references (read and written); without, reports/data/references, read only (a
+    /// study without --out or --cache writes nothing).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
     /// Contact treatment of every case: multiplier, penalty(gamma0=G),
     /// nitsche(theta=T,gamma0=G) (1D only). Default: the scene's, else multiplier.
     #[arg(long, value_parser = parse_contact)]
@@ -109,6 +112,11 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
                 };
                 config.cases = Case::matrix(&schemes, &masses);
             }
+            let cache = match (cache, &out) {
+                (Some(dir), _) => ReferenceCache::ReadWrite(dir),
+                (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
+                (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
+            };
             return elastic_study(&problem, &config, out, &cache, json);
         }
         Problem::Bar(problem) => problem,
@@ -233,7 +241,7 @@ pub struct ReferenceArgs {
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Where the references are cached.
-    #[arg(long, default_value = "reports/data/references")]
+    #[arg(long, default_value = REPORT_REFERENCES)]
     pub cache: PathBuf,
 }
 
@@ -251,7 +259,8 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
         };
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
         let mut computed = false;
-        let reference = obtain_reference(&problem, &config, &cache, &mut |why| {
+        let store = ReferenceCache::ReadWrite(cache.clone());
+        let reference = obtain_reference(&problem, &config, &store, &mut |why| {
             computed = true;
             eprintln!("{why}; computing it");
         })?;
@@ -278,12 +287,13 @@ fn elastic_study(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
     out: Option<PathBuf>,
-    cache: &Path,
+    cache: &ReferenceCache,
     json: bool,
 ) -> Result<(), Failure> {
     let mut note = |why: String| eprintln!("{why}; computing the reference");
+    let command = invocation();
     if let Some(dir) = out {
-        let study = write_elastic_report(problem, config, &dir, cache, &mut note)
+        let study = write_elastic_report(problem, config, &dir, cache, &command, &mut note)
             .map_err(Failure::runtime)?;
         out!(
             "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
@@ -314,8 +324,19 @@ fn elastic_study(
     } else {
         out!(
             "{}",
-            crate::studies::elastic_study::report::render(&study).trim_end()
+            crate::studies::elastic_study::report::render(&study, &command).trim_end()
         );
     }
     Ok(())
+}
+
+/// The references `make report` keeps, relative to the repository root.
+const REPORT_REFERENCES: &str = "reports/data/references";
+
+/// This process's command line as a user types it: `signorini` and the arguments.
+fn invocation() -> String {
+    std::iter::once("signorini".to_string())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ")
 }

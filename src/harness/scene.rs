@@ -782,7 +782,8 @@ impl SceneFile {
                 let x = length * k as f64 / INITIAL_DATA_SAMPLES as f64;
                 let given = profile.at(x, length, exact, pick);
                 let wanted = pick(exact.eval(x, 0.0));
-                if !((given - wanted).abs() <= slack + 1e-9 * wanted.abs().max(1.0)) {
+                let agrees = (given - wanted).abs() <= slack + 1e-9 * wanted.abs().max(1.0);
+                if !agrees {
                     let profile = serde_json::to_string(&profile).unwrap_or_default();
                     return Err(invalid(
                         path,

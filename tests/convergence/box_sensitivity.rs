@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use signorini::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
+use signorini::elastic_study::reference::ReferenceCache;
 use signorini::elastic_study::report::render;
 use signorini::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use signorini::error::Error;
@@ -69,7 +70,12 @@ fn run(
     name: &str,
 ) -> Result<ElasticStudy, Error> {
     let dir = cache(name);
-    let result = run_elastic_study(problem, config, &dir, &mut |_| {});
+    let result = run_elastic_study(
+        problem,
+        config,
+        &ReferenceCache::ReadWrite(dir.clone()),
+        &mut |_| {},
+    );
     let _ = std::fs::remove_dir_all(&dir);
     result.map(|(study, _)| study)
 }
@@ -125,14 +131,14 @@ fn a_tiny_box_ensemble_is_bit_reproducible_and_its_members_differ_from_the_unper
 
     // The report has a sensitivity section, and marks a chaotic case's rates (here one made
     // chaotic by hand) with its ensemble median and range, and lists its rate ranges.
-    let md = render(&first);
+    let md = render(&first, "signorini study");
     assert!(md.contains("## Round-off sensitivity"));
     assert!(!md.contains('†'));
     let mut marked = first.clone();
     let chaotic = &mut marked.sensitivity.as_mut().unwrap().cases[0];
     chaotic.class = SensitivityClass::Chaotic;
     chaotic.chaotic = true;
-    let md = render(&marked);
+    let md = render(&marked, "signorini study");
     let row = md
         .lines()
         .find(|l| l.starts_with(&format!("| {} | ", a.cases[0].case)))
@@ -189,7 +195,12 @@ fn the_perturbation_touches_the_initial_velocity_only() {
 /// The name of the field a study refuses, or a failure naming what happened instead.
 fn refused_field(problem: &BoxProblem, config: &ElasticStudyConfig) -> &'static str {
     let dir = cache("refused");
-    match run_elastic_study(problem, config, &dir, &mut |_| {}) {
+    match run_elastic_study(
+        problem,
+        config,
+        &ReferenceCache::ReadWrite(dir.clone()),
+        &mut |_| {},
+    ) {
         Err(Error::Parameter(p)) => {
             assert!(
                 !dir.exists(),

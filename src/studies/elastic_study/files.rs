@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
@@ -30,19 +31,21 @@ pub fn histories_file(dimension: usize) -> String {
 }
 
 /// Runs a 2D/3D study and writes its report, the study and the figure data into `out_dir`;
-/// the reference is cached in `cache_dir`.
+/// the reference is looked up (and kept) in `cache`; the report says it was made by
+/// `command`.
 pub fn write_elastic_report(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
     out_dir: &Path,
-    cache_dir: &Path,
+    cache: &ReferenceCache,
+    command: &str,
     note: &mut dyn FnMut(String),
 ) -> Result<ElasticStudy, Error> {
-    let (study, histories) = run_elastic_study(problem, config, cache_dir, note)?;
+    let (study, histories) = run_elastic_study(problem, config, cache, note)?;
     let d = study.dimension;
     write_atomic(
         &out_dir.join(report_file(d)),
-        super::report::render(&study).as_bytes(),
+        super::report::render(&study, command).as_bytes(),
     )?;
     write_json(&out_dir.join(study_file(d)), &study)?;
     write_json_compact(&out_dir.join(histories_file(d)), &histories)?;

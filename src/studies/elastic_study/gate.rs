@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::engine::error::ParameterError;
 use crate::engine::problem::Problem;
@@ -71,7 +72,12 @@ fn elastic_gate(
         std::process::id(),
         std::thread::current().id()
     ));
-    let result = run_elastic_study(&problem, &config, &cache, &mut |_| {});
+    let result = run_elastic_study(
+        &problem,
+        &config,
+        &ReferenceCache::ReadWrite(cache.clone()),
+        &mut |_| {},
+    );
     let _ = std::fs::remove_dir_all(&cache);
     Ok(result?.0)
 }

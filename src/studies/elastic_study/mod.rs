@@ -26,7 +26,6 @@ pub mod report;
 pub mod sensitivity;
 
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -46,7 +45,7 @@ use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
 use comparison::{FineNorms, ReferenceComparison};
 use findings::{note_findings, Finding};
-use reference::{Reference, ReferenceKey};
+use reference::{Reference, ReferenceCache, ReferenceKey};
 
 /// Number of time samples of the von Mises space–time map (Figures 4–5).
 const STRESS_MAP_SAMPLES: usize = 200;
@@ -321,12 +320,12 @@ fn axial_element_size(problem: &BoxProblem, n_axis: usize) -> f64 {
 }
 
 /// Runs the study, then (when `config.sensitivity` asks for it) its round-off ensemble. The
-/// reference is read from `cache_dir` when its key matches, computed (and cached) otherwise;
-/// `note` hears why a cache was not used.
+/// reference is read from `cache` when its key matches, computed otherwise (and saved when
+/// `cache` may be written); `note` hears why a cache was not used.
 pub fn run_elastic_study(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
-    cache_dir: &Path,
+    cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
     let finest = config.validate()?;
@@ -336,7 +335,7 @@ pub fn run_elastic_study(
         .map(|e| sensitivity::noise_scale(problem).map(|scale| (e, scale)))
         .transpose()?;
     let clock = Instant::now();
-    let reference = obtain_reference(problem, config, cache_dir, note)?;
+    let reference = obtain_reference(problem, config, cache, note)?;
     let check_level = config.reference_level / 2;
     let mut all_levels = config.levels.clone();
     all_levels.push(check_level);
@@ -515,16 +514,11 @@ fn rate_bias(case: &CaseStudy, norm: Norm, delta: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The cache file stem of a study's reference, e.g. `reference-2d`.
-pub fn reference_stem(problem: &BoxProblem) -> String {
-    format!("reference-{}d", problem.lengths.len())
-}
-
-/// The reference of a study: cached when the key matches, computed otherwise.
+/// The reference of a study: read from `cache` when the key matches, computed otherwise.
 pub fn obtain_reference(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
-    cache_dir: &Path,
+    cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
 ) -> Result<Reference, Error> {
     let finest = config.validate()?;
@@ -537,7 +531,7 @@ pub fn obtain_reference(
         case.mass,
         config.reference_level / finest,
     );
-    Reference::obtain(problem, cache_dir, &reference_stem(problem), key, note)
+    Reference::obtain(problem, cache, key, note)
 }
 
 /// One run of `case` on `n_axis` elements, compared with the reference at every step;

@@ -5,8 +5,11 @@
 //! the displacement dofs, the energy (eq. 6), the total normal contact force `Σ λ_i` and the
 //! contact-face centre node's displacement and multiplier. The cache is two files under a
 //! directory: `<stem>.json` (the [`ReferenceKey`], the scalar histories) and `<stem>.bin` (the
-//! displacement samples, little-endian `f64`, sample after sample). A cache is used only when its
-//! key equals the key of the reference asked for, field by field; otherwise it is recomputed.
+//! displacement samples, little-endian `f64`, sample after sample). The stem names the key
+//! ([`ReferenceKey::stem`]), so references of different parameters live side by side and none
+//! evicts another. A cache is used only when its key equals the key of the reference asked for,
+//! field by field; otherwise it is recomputed. A [`ReferenceCache`] says whether the run may
+//! write the directory.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -90,6 +93,17 @@ impl ReferenceKey {
             format: CACHE_FORMAT,
             signorini_version: env!("CARGO_PKG_VERSION").to_string(),
         }
+    }
+
+    /// The cache file stem of this key: `reference-<d>d-<fingerprint>`, the fingerprint the
+    /// 64-bit FNV-1a hash of the key's JSON (stable across runs, platforms and Rust versions),
+    /// e.g. `reference-3d-5be0c1a29d3f4e77`.
+    pub fn stem(&self) -> String {
+        let text = serde_json::to_string(self).unwrap_or_default();
+        let fingerprint = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        });
+        format!("reference-{}d-{fingerprint:016x}", self.lengths.len())
     }
 
     /// The fields whose values differ from `other`'s (empty: the keys are equal).
@@ -267,13 +281,14 @@ impl Reference {
         })))
     }
 
-    /// The cached reference when its key matches, otherwise a new run, cached. `note` is told
-    /// why a cache was not used. A problem with a velocity perturbation is refused: the key
-    /// cannot tell it from the problem as stated.
+    /// The cached reference of `key` in `cache` when there is one, otherwise a new run, saved
+    /// when `cache` may be written. `note` is told why a cache was not used: no file for the
+    /// key (with the closest other reference of the same dimension and the fields it differs
+    /// in), or a file whose content does not match. A problem with a velocity perturbation is
+    /// refused: the key cannot tell it from the problem as stated.
     pub fn obtain(
         problem: &BoxProblem,
-        dir: &Path,
-        stem: &str,
+        cache: &ReferenceCache,
         key: ReferenceKey,
         note: &mut dyn FnMut(String),
     ) -> Result<Self, Error> {
@@ -285,20 +300,74 @@ impl Reference {
             )
             .into());
         }
-        match Self::load(problem, dir, stem, &key)? {
+        let (dir, stem) = (cache.dir(), key.stem());
+        match Self::load(problem, dir, &stem, &key)? {
             CacheLookup::Hit(reference) => return Ok(*reference),
-            CacheLookup::Missing => {
-                note(format!("no cached reference {stem} in {}", dir.display()))
-            }
+            CacheLookup::Missing => note(format!(
+                "no cached reference for these parameters in {}{}",
+                dir.display(),
+                closest_other(dir, &key)
+                    .map(|(name, fields)| format!(
+                        " (the closest, {name}, differs in {})",
+                        fields.join("; ")
+                    ))
+                    .unwrap_or_default()
+            )),
             CacheLookup::Stale(why) => note(format!(
                 "cached reference {stem} is stale ({})",
                 why.join("; ")
             )),
         }
         let reference = Self::compute(problem, key)?;
-        reference.save(dir, stem)?;
+        if let ReferenceCache::ReadWrite(dir) = cache {
+            reference.save(dir, &stem)?;
+        } else {
+            note(format!(
+                "the reference is not cached: the study writes nothing without --out or \
+                 --cache DIR (it looked in {})",
+                dir.display()
+            ));
+        }
         Ok(reference)
     }
+}
+
+/// Where a study's reference is looked up, and whether it is kept there.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ReferenceCache {
+    /// Read the directory, and save a reference computed for want of a cache into it.
+    ReadWrite(PathBuf),
+    /// Read the directory; a reference computed for want of a cache is not saved (a study
+    /// without `--out` writes nothing).
+    ReadOnly(PathBuf),
+}
+
+impl ReferenceCache {
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        match self {
+            ReferenceCache::ReadWrite(dir) | ReferenceCache::ReadOnly(dir) => dir,
+        }
+    }
+}
+
+/// The cached reference of `dir` of the same dimension as `key` whose key differs from it in
+/// the fewest fields (its file name, those fields); `None` when there is none.
+fn closest_other(dir: &Path, key: &ReferenceKey) -> Option<(String, Vec<String>)> {
+    let prefix = format!("reference-{}d-", key.lengths.len());
+    std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(Result::ok)
+        .filter_map(|entry| {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if !(name.starts_with(&prefix) && name.ends_with(".json")) {
+                return None;
+            }
+            let text = std::fs::read_to_string(entry.path()).ok()?;
+            let histories: ReferenceHistories = serde_json::from_str(&text).ok()?;
+            Some((name, key.differences(&histories.key)))
+        })
+        .min_by_key(|(_, fields)| fields.len())
 }
 
 /// The outcome of looking for a cached reference.
