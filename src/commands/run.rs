@@ -37,7 +37,8 @@ pub struct RunArgs {
     /// Δx/Δt (default: the scene's).
     #[arg(long, allow_hyphen_values = true)]
     pub ratio: Option<f64>,
-    /// Output directory for run.json and the CSV histories.
+    /// Output directory for run.json and the histories (CSV, VTK for a box), written whole or
+    /// not at all; an existing one is replaced when it holds only such files.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Contact treatment: multiplier, penalty(gamma0=G), nitsche(theta=T,gamma0=G) (1D
@@ -55,7 +56,8 @@ pub struct RunArgs {
 }
 
 /// One run of a scene: the requested error norms on the terminal; with --out, run.json
-/// plus the histories the scene asks for (contact.csv, multiplier.csv, energy.csv).
+/// plus the histories the scene asks for ([`history_csv`], [`box_history_csv`] and the box's
+/// VTK snapshots), staged and moved into place whole at the end.
 pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
     let RunArgs {
         scene,

@@ -372,7 +372,7 @@ fn check_owned(
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().is_ok_and(|t| t.is_file());
-        if !is_file || !owns(&name) {
+        if !is_file || !(owns(&name) || owned_temporary(&name, owns)) {
             return Err(OutputDirError::Foreign {
                 option,
                 dir: target.to_path_buf(),
@@ -381,6 +381,17 @@ fn check_owned(
         }
     }
     Ok(())
+}
+
+/// Whether `name` is the temporary file of an owned file, `.<name>.tmp-<pid>` as
+/// [`crate::harness::artifacts::write_atomic`] names it, left by a run killed before this
+/// module staged its files.
+fn owned_temporary(name: &str, owns: fn(&str) -> bool) -> bool {
+    name.strip_prefix('.')
+        .and_then(|rest| rest.rsplit_once(".tmp-"))
+        .is_some_and(|(file, pid)| {
+            owns(file) && !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit())
+        })
 }
 
 /// Creates `dir` and its missing parents; returns those created, deepest first.

@@ -229,6 +229,7 @@ fn a_new_run_replaces_an_earlier_one_whole_and_removes_what_a_killed_one_left() 
     fs::create_dir(&out).unwrap();
     fs::write(out.join("points.csv"), "an earlier run's").unwrap();
     fs::write(out.join("run.json"), "{}").unwrap();
+    fs::write(out.join(".contact.csv.tmp-4000000"), "an older version's").unwrap();
     let stale = dir.join(".out.staging-4000000");
     fs::create_dir(&stale).unwrap();
     fs::write(stale.join("run.json"), "half").unwrap();
