@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::Failure;
+use crate::harness::output_dir::{Replace, StagedDir};
 use crate::studies::getfem::{
     export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
 };
@@ -28,15 +29,22 @@ pub struct GetfemArgs {
 /// Reproduces every run and writes getfem.md.
 pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
     let GetfemArgs { runs, out, export } = args;
+    let staged_out = StagedDir::begin("--out", &out, Replace::Files)?;
     if let Some(dir) = export {
-        let written = export_runs(&runs, &dir)?;
+        let replace = Replace::Whole {
+            owns: |name| name.ends_with(".csv"),
+        };
+        let staged = StagedDir::begin("--export", &dir, replace)?;
+        let written = export_runs(&runs, staged.path())?;
+        staged.commit()?;
         out!(
             "wrote {} external-run files to {}",
             written.len(),
             dir.display()
         );
     }
-    let all = write_getfem_report(Path::new("."), &runs, &out)?;
+    let all = write_getfem_report(Path::new("."), &runs, staged_out.path())?;
+    staged_out.commit()?;
     let reproducible = all
         .iter()
         .filter(|r| r.expectation == Expectation::RoundOff)

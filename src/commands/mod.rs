@@ -44,6 +44,7 @@ use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
+use crate::harness::output_dir::OutputDirError;
 use crate::harness::scene::SceneError;
 
 pub(crate) fn parse_scheme(s: &str) -> Result<Scheme, String> {
@@ -139,6 +140,16 @@ impl From<Error> for Failure {
             | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
             Error::DemoRun(e) => Self::usage(e),
+        }
+    }
+}
+
+impl From<OutputDirError> for Failure {
+    fn from(e: OutputDirError) -> Self {
+        if e.is_usage() {
+            Self::usage(e)
+        } else {
+            Self::runtime(e)
         }
     }
 }

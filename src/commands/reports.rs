@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::{write_output, Failure};
+use crate::harness::output_dir::{Replace, StagedDir};
 use crate::studies::experiment::write_defaults_experiment;
 use crate::studies::extended::write_extended_report;
 use crate::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
@@ -25,14 +26,15 @@ pub struct ReportArgs {
 /// What `make report` runs: Tables 1–2 beside the paper into reports/.
 pub fn report(args: ReportArgs) -> Result<(), Failure> {
     let ReportArgs { out } = args;
-    let gravity = write_gravity_report(Path::new("."), &out).map_err(Failure::runtime)?;
+    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
+    let gravity = write_gravity_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
     out!(
         "wrote {}/gravity.md and {}/gravity/ ({} cases)",
         out.display(),
         out.display(),
         gravity.cases.len()
     );
-    let study = write_report(Path::new("."), &out).map_err(Failure::runtime)?;
+    let study = write_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
     out!(
         "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
         out.display(),
@@ -40,7 +42,8 @@ pub fn report(args: ReportArgs) -> Result<(), Failure> {
         study.cases.len(),
         study.wall_seconds
     );
-    write_extended_report(Path::new("."), &out).map_err(Failure::runtime)?;
+    write_extended_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    staged.commit()?;
     out!("wrote {}/extended.md", out.display());
     Ok(())
 }
@@ -56,7 +59,9 @@ pub struct ExperimentArgs {
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
 pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
     let ExperimentArgs { out } = args;
-    let md = write_defaults_experiment(Path::new("."), &out).map_err(Failure::runtime)?;
+    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
+    let md = write_defaults_experiment(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    staged.commit()?;
     let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
     out!(
         "{}\nwrote {}/defaults-experiment.md",
@@ -78,9 +83,11 @@ pub struct FiguresArgs {
 /// (`make figures`), and write its README.md index.
 pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
     let FiguresArgs { reports } = args;
-    let (names, missing) = write_figures(&reports).map_err(Failure::runtime)?;
+    let staged = StagedDir::begin("--reports", &reports, Replace::Files)?;
+    let (names, missing) = write_figures(&reports, staged.path()).map_err(Failure::runtime)?;
     let index = reports_index(&names);
-    write_output(&reports.join(REPORTS_INDEX), index.as_bytes())?;
+    write_output(&staged.path().join(REPORTS_INDEX), index.as_bytes())?;
+    staged.commit()?;
     out!(
         "wrote {} figures into {}/figures and {}/README.md",
         names.len(),
@@ -108,7 +115,10 @@ pub struct StabilityArgs {
 /// verdict each; writes stability.md and stability.json.
 pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
     let StabilityArgs { out, ci_subset } = args;
-    let records = write_stability(Path::new("."), &out, ci_subset).map_err(Failure::runtime)?;
+    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
+    let records =
+        write_stability(Path::new("."), staged.path(), ci_subset).map_err(Failure::runtime)?;
+    staged.commit()?;
     let flagged = records
         .iter()
         .filter(|r| {

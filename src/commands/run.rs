@@ -1,7 +1,7 @@
 //! `signorini run`: one run of a scene, bar or box, with its summary on the terminal and,
 //! with `--out`, its result and histories as files.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
@@ -12,8 +12,9 @@ use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::engine::schemes::Scheme;
 use crate::harness::elastic::run_box;
+use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::run::{run, Observables, RunConfig};
-use crate::harness::run_files::{box_history_csv, history_csv, RUN_JSON};
+use crate::harness::run_files::{box_history_csv, history_csv, is_run_file, RUN_JSON};
 use crate::harness::scene::Scene;
 
 /// The arguments of `signorini run`.
@@ -36,7 +37,8 @@ pub struct RunArgs {
     /// Δx/Δt (default: the scene's).
     #[arg(long, allow_hyphen_values = true)]
     pub ratio: Option<f64>,
-    /// Output directory for run.json and the CSV histories.
+    /// Output directory for run.json and the histories (CSV, VTK for a box), written whole or
+    /// not at all; an existing one is replaced when it holds only such files.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Contact treatment: multiplier, penalty(gamma0=G), nitsche(theta=T,gamma0=G) (1D
@@ -54,7 +56,8 @@ pub struct RunArgs {
 }
 
 /// One run of a scene: the requested error norms on the terminal; with --out, run.json
-/// plus the histories the scene asks for (contact.csv, multiplier.csv, energy.csv).
+/// plus the histories the scene asks for ([`history_csv`], [`box_history_csv`] and the box's
+/// VTK snapshots), staged and moved into place whole at the end.
 pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
     let RunArgs {
         scene,
@@ -105,10 +108,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         mass,
         observables,
     };
-    if let Some(dir) = &out {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
-    }
+    let staged = stage(out.as_deref())?;
     let result = run(&problem, &config)?.completed()?;
     out!(
         "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
@@ -133,12 +133,13 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
              of the energy (tolerance {BALANCE_TOLERANCE:e})"
         );
     }
-    if let Some(dir) = out {
+    if let (Some(dir), Some(staged)) = (out, staged) {
         let json = serde_json::to_string_pretty(&result).map_err(Failure::runtime)?;
-        write_output(&dir.join(RUN_JSON), json.as_bytes())?;
+        write_output(&staged.path().join(RUN_JSON), json.as_bytes())?;
         for (name, text) in history_csv(&result) {
-            write_output(&dir.join(&name), text.as_bytes())?;
+            write_output(&staged.path().join(&name), text.as_bytes())?;
         }
+        staged.commit()?;
         out!("wrote {}", dir.display());
     }
     if let Some(residual) = result
@@ -164,10 +165,7 @@ fn run_box_scene(
     ratio: Option<f64>,
     out: Option<PathBuf>,
 ) -> Result<(), Failure> {
-    if let Some(dir) = &out {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::runtime(format!("cannot create {}: {e}", dir.display())))?;
-    }
+    let staged = stage(out.as_deref())?;
     let config = RunConfig {
         nx: n_axis,
         ratio: ratio.unwrap_or(scene.discretisation.ratio),
@@ -179,7 +177,7 @@ fn run_box_scene(
             } else {
                 Vec::new()
             },
-            fields_dir: out.clone(),
+            fields_dir: staged.as_ref().map(|s| s.path().to_path_buf()),
             ..Observables::default()
         },
     };
@@ -189,7 +187,7 @@ fn run_box_scene(
             scene.observables.fields_at
         );
     }
-    let r = run_box(problem, &config)?.completed()?;
+    let mut r = run_box(problem, &config)?.completed()?;
     let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
     let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
     out!(
@@ -212,16 +210,27 @@ fn run_box_scene(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
         r.complementarity_violation
     );
-    if let Some(dir) = out {
+    if let (Some(dir), Some(staged)) = (out, staged) {
+        r.vtk_files = r.vtk_files.iter().map(|f| staged.final_path(f)).collect();
         let json = serde_json::to_string_pretty(&r).map_err(Failure::runtime)?;
-        write_output(&dir.join(RUN_JSON), json.as_bytes())?;
+        write_output(&staged.path().join(RUN_JSON), json.as_bytes())?;
         for (name, text) in box_history_csv(&r) {
-            write_output(&dir.join(&name), text.as_bytes())?;
+            write_output(&staged.path().join(&name), text.as_bytes())?;
         }
+        staged.commit()?;
         for f in &r.vtk_files {
             out!("wrote {}", f.display());
         }
         out!("wrote {}", dir.display());
     }
     Ok(())
+}
+
+/// The staged `--out` directory of a run, replaced whole at the end when it holds only a run's
+/// files ([`is_run_file`]).
+fn stage(out: Option<&Path>) -> Result<Option<StagedDir>, Failure> {
+    let replace = Replace::Whole { owns: is_run_file };
+    Ok(out
+        .map(|dir| StagedDir::begin("--out", dir, replace))
+        .transpose()?)
 }

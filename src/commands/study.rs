@@ -15,6 +15,7 @@ use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
+use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
@@ -210,6 +211,7 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
     };
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
+    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
     let s = run_sensitivity(
         &problem,
         &cases,
@@ -217,8 +219,9 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
         &scene.study_config(),
         ensemble,
     )?;
-    write_sensitivity_files(&s, &out)
+    write_sensitivity_files(&s, staged.path())
         .map_err(|e| Failure::runtime(format!("cannot write into {}: {e}", out.display())))?;
+    staged.commit()?;
     for c in &s.cases {
         out!("  {:36} {}", c.case, c.class.name());
     }
@@ -293,8 +296,11 @@ fn elastic_study(
     let mut note = |why: String| eprintln!("{why}; computing the reference");
     let command = invocation();
     if let Some(dir) = out {
-        let study = write_elastic_report(problem, config, &dir, cache, &command, &mut note)
-            .map_err(Failure::runtime)?;
+        let staged = StagedDir::begin("--out", &dir, Replace::Files)?;
+        let study =
+            write_elastic_report(problem, config, staged.path(), cache, &command, &mut note)
+                .map_err(Failure::runtime)?;
+        staged.commit()?;
         out!(
             "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
              {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",

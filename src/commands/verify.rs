@@ -11,6 +11,7 @@ use crate::harness::artifacts::{read_json, write_json};
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify, ExternalError, VerifyGolden};
 use crate::harness::golden::render_drifts;
+use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::scene::Scene;
 
 /// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
@@ -59,12 +60,20 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         out,
     } = args;
     let scene = Scene::load(&scene)?;
+    let replace = Replace::Whole {
+        owns: |name| name == VERIFY_JSON || name == VERIFY_MD,
+    };
+    let staged = out
+        .as_deref()
+        .map(|dir| StagedDir::begin("--out", dir, replace))
+        .transpose()?;
     let verification = verify(&scene, &runs)?;
     let markdown = render(&verification);
     out!("{}", markdown.trim_end());
-    if let Some(dir) = &out {
-        write_json(&dir.join(VERIFY_JSON), &verification).map_err(Failure::runtime)?;
-        write_output(&dir.join(VERIFY_MD), markdown.as_bytes())?;
+    if let (Some(dir), Some(staged)) = (&out, staged) {
+        write_json(&staged.path().join(VERIFY_JSON), &verification).map_err(Failure::runtime)?;
+        write_output(&staged.path().join(VERIFY_MD), markdown.as_bytes())?;
+        staged.commit()?;
         out!(
             "wrote {}/{VERIFY_JSON} and {}/{VERIFY_MD}",
             dir.display(),

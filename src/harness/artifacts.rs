@@ -2,11 +2,12 @@
 //! temporary file beside the target, then renamed), JSON through serde, CSV as columns of
 //! numbers. The formats themselves (names, schema) belong to the module that writes them and
 //! that its readers import: a run's files to [`crate::harness::run_files`], each report file to
-//! its study under `crate::studies`.
+//! its study under `crate::studies`. Whole directories are [`crate::harness::output_dir`]'s.
 
 use std::fs;
 use std::io::Write;
 use std::path::Path;
+use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard};
 
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -18,7 +19,24 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Error> {
     write_whole(path, contents).map_err(Error::write(path))
 }
 
+/// Taken shared by every write in flight and by a directory's commit; taken exclusively by the
+/// interrupt's cleanup, which thereby waits for them and then lets none start.
+static WRITES: RwLock<()> = RwLock::new(());
+
+/// Holds off [`stop_writes`] while the caller moves finished files into place (a commit of
+/// [`crate::harness::output_dir`]). Must not be held across a call to [`write_atomic`].
+pub fn hold_writes() -> RwLockReadGuard<'static, ()> {
+    WRITES.read().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Waits for the writes and commits in flight to finish and blocks every later one for as long
+/// as the guard lives: what the interrupt's cleanup holds until the process ends.
+pub fn stop_writes() -> RwLockWriteGuard<'static, ()> {
+    WRITES.write().unwrap_or_else(PoisonError::into_inner)
+}
+
 fn write_whole(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let _writing = hold_writes();
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
     if let Some(dir) = dir {
         fs::create_dir_all(dir)?;

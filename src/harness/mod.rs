@@ -10,6 +10,7 @@ pub mod figures;
 pub mod getfem;
 pub mod golden;
 pub mod norms;
+pub mod output_dir;
 pub mod rates;
 pub mod report;
 pub mod run;

@@ -314,7 +314,7 @@ fn write_figures_reads_the_sensitivity_study_and_refuses_a_malformed_one() {
     let convergence = dir.join("figures/convergence-crank-nicolson-u_Linf_H.svg");
 
     // Absent: the figures as before, the input listed as missing.
-    let (names, missing) = write_figures(&dir).unwrap();
+    let (names, missing) = write_figures(&dir, &dir).unwrap();
     assert!(names.contains(&"convergence-crank-nicolson-u_Linf_H.svg".to_string()));
     assert!(
         missing.iter().any(|m| m.contains("sensitivity.json")),
@@ -329,7 +329,7 @@ fn write_figures_reads_the_sensitivity_study_and_refuses_a_malformed_one() {
     };
     let sensitivity = serde_json::to_string(&sensitivity_of(&study, standard)).unwrap();
     std::fs::write(dir.join("sensitivity.json"), sensitivity).unwrap();
-    let (_, missing) = write_figures(&dir).unwrap();
+    let (_, missing) = write_figures(&dir, &dir).unwrap();
     assert!(
         !missing.iter().any(|m| m.contains("sensitivity.json")),
         "{missing:?}"
@@ -341,7 +341,7 @@ fn write_figures_reads_the_sensitivity_study_and_refuses_a_malformed_one() {
 
     // Malformed: an error naming the file, not a panic.
     std::fs::write(dir.join("sensitivity.json"), "{\"cases\": 3}").unwrap();
-    let err = write_figures(&dir).unwrap_err().to_string();
+    let err = write_figures(&dir, &dir).unwrap_err().to_string();
     assert!(err.contains("sensitivity.json"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -244,9 +244,10 @@ fn unreadable(e: &Error) -> String {
     }
 }
 
-/// Draws every figure whose data exist under `reports` and writes them to `reports/figures/`;
-/// returns the names written and the inputs that were missing.
-pub fn write_figures(reports: &Path) -> Result<(Vec<String>, Vec<String>), Error> {
+/// Draws every figure whose data exist under `reports` and writes them to `into/figures/`
+/// (`into` is `reports` or where its new files are staged); returns the names written and the
+/// inputs that were missing.
+pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<String>), Error> {
     let mut figures: Vec<Figure> = Vec::new();
     let mut missing = Vec::new();
     let histories = reports.join(HISTORIES_DIR);
@@ -302,7 +303,7 @@ pub fn write_figures(reports: &Path) -> Result<(Vec<String>, Vec<String>), Error
         Ok(s) => figures.extend(stability_figures(&s)?),
         Err(e) => missing.push(unreadable(&e)),
     }
-    let dir = reports.join(FIGURES_DIR);
+    let dir = into.join(FIGURES_DIR);
     let mut names = Vec::new();
     for (name, svg) in figures {
         write_atomic(&dir.join(&name), svg.as_bytes())?;
