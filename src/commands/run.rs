@@ -93,7 +93,9 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
             }
             problem.contact = contact.unwrap_or(problem.contact);
             problem.conventions = conventions.over(problem.conventions);
-            let snapshots = out.as_ref().map_or(0, |_| scene.observables.fields_at.len());
+            let snapshots = out
+                .as_ref()
+                .map_or(0, |_| scene.observables.fields_at.len());
             let ratio_used = ratio.unwrap_or(scene.discretisation.ratio);
             limits.check(budget::box_run(
                 &problem,

@@ -148,10 +148,15 @@ fn human_bytes(bytes: f64) -> String {
     }
 }
 
+/// `estimate` at most `limit`; a NaN estimate is not.
+fn within(estimate: f64, limit: f64) -> bool {
+    estimate <= limit
+}
+
 impl Estimate {
     /// `Ok` when every part is within `limits`; otherwise the first part over its limit.
     pub fn check(&self, limits: &Limits) -> Result<(), BudgetError> {
-        if !(self.memory_bytes <= limits.memory_bytes) {
+        if !within(self.memory_bytes, limits.memory_bytes) {
             return Err(BudgetError::OverLimit {
                 resource: "memory",
                 estimate: human_bytes(self.memory_bytes),
@@ -163,7 +168,7 @@ impl Estimate {
                 option: "--max-memory",
             });
         }
-        if !(self.files <= limits.files) {
+        if !within(self.files, limits.files) {
             return Err(BudgetError::OverLimit {
                 resource: "number of files written",
                 estimate: format!("{:.0} files", self.files),
@@ -171,7 +176,7 @@ impl Estimate {
                 option: "--max-files",
             });
         }
-        if !(self.dof_steps <= limits.dof_steps) {
+        if !within(self.dof_steps, limits.dof_steps) {
             return Err(BudgetError::OverLimit {
                 resource: "work",
                 estimate: format!("{:.3e} dof-steps (unknowns × time steps)", self.dof_steps),
@@ -274,7 +279,12 @@ pub fn box_run(
 ) -> Estimate {
     let shape = box_shape(problem, n_axis);
     let steps = steps(problem.horizon, shape.h, ratio);
-    let per_step = 2.0 + if problem.obstacle_gap.is_some() { 5.0 } else { 0.0 };
+    let per_step = 2.0
+        + if problem.obstacle_gap.is_some() {
+            5.0
+        } else {
+            0.0
+        };
     let snapshots = snapshots as f64;
     let (files, snapshot_bytes) = if writes_files && snapshots > 0.0 {
         (3.0 + snapshots, 10.0 * shape.nodes * BYTES_PER_STORED_VALUE)
@@ -328,7 +338,9 @@ pub fn box_study(
     runs_per_level: usize,
 ) -> Estimate {
     let levels_estimate = study_of(
-        levels.iter().map(|&nx| box_run(problem, nx, ratio, 0, false)),
+        levels
+            .iter()
+            .map(|&nx| box_run(problem, nx, ratio, 0, false)),
         runs_per_level as f64,
     );
     let reference = box_run(problem, reference_level, ratio, 0, false);

@@ -25,9 +25,7 @@ pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
-use crate::harness::run::{
-    drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings,
-};
+use crate::harness::run::{drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -30,6 +30,7 @@ use crate::harness::run::Observables;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
+use crate::harness::error::printable;
 pub use crate::harness::error::SceneError;
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
@@ -356,25 +357,11 @@ struct ObservablesFile {
     fields_at: Vec<f64>,
 }
 
-/// `text` with its control characters (terminal escape sequences among them) escaped as
-/// `\u{1b}`, so that printing a scene's name, description or values cannot drive the terminal.
-pub fn printable(text: &str) -> String {
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_unicode().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
-}
-
 fn invalid(path: &Path, field: &str, value: impl fmt::Display, allowed: &str) -> SceneError {
     SceneError::Invalid {
         path: path.to_path_buf(),
         field: field.to_string(),
-        value: printable(&value.to_string()),
+        value: value.to_string(),
         allowed: allowed.to_string(),
     }
 }
@@ -492,9 +479,17 @@ impl SceneFile {
             Profile::Affine { at_start, at_end } => vec![at_start, at_end],
         };
         let mut signed: Vec<(&str, f64)> = Vec::new();
-        signed.extend(self.material.lame_lambda.map(|l| ("material.lame_lambda", l)));
+        signed.extend(
+            self.material
+                .lame_lambda
+                .map(|l| ("material.lame_lambda", l)),
+        );
         signed.extend(self.obstacle.as_ref().map(|o| ("obstacle.gap", o.gap)));
-        signed.extend(self.body_force.as_ref().map(|b| ("body_force.density", b.density)));
+        signed.extend(
+            self.body_force
+                .as_ref()
+                .map(|b| ("body_force.density", b.density)),
+        );
         signed.extend(
             profile(self.initial.displacement)
                 .into_iter()

@@ -226,7 +226,8 @@ pub fn drive<M: AxialMesh>(
     require_positive("horizon", horizon)?;
     let scheme = scheme.validate()?;
     let h = discretisation.mesh.axial_element_size();
-    if !(horizon * ratio / h >= 1.0 - 1e-9) {
+    let steps_per_horizon = horizon * ratio / h;
+    if steps_per_horizon.is_nan() || steps_per_horizon < 1.0 - 1e-9 {
         return Err(ParameterError::new(
             "ratio",
             format!(

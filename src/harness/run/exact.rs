@@ -5,10 +5,10 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{ContactHistory, EnergyHistory, FieldSnapshot, MultiplierVariation, PointHistory};
+use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::schemes::energy_balance::BalanceMonitor;
-use crate::engine::error::StateField;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
@@ -98,7 +98,13 @@ impl Observer for MultiplierErrors<'_> {
         let lambda_h = m.value.first().copied().unwrap_or(0.0);
         let lambda = self.exact.contact_multiplier(m.time);
         let error = lambda_h - lambda;
-        push_finite(&mut self.error, state, StateField::MultiplierError, m.time, error)?;
+        push_finite(
+            &mut self.error,
+            state,
+            StateField::MultiplierError,
+            m.time,
+            error,
+        )?;
         match self.last {
             Some((t0, _, _)) if m.time <= t0 => {}
             Some((_, h0, e0)) => {
@@ -134,7 +140,13 @@ impl Observer for EnergyErrors<'_> {
         let e = state.energy();
         let value = finite(state, StateField::Energy, e.value)?;
         let error = value - self.exact.energy(e.time);
-        push_finite(&mut self.error, state, StateField::EnergyError, e.time, error)
+        push_finite(
+            &mut self.error,
+            state,
+            StateField::EnergyError,
+            e.time,
+            error,
+        )
     }
 }
 
