@@ -273,12 +273,19 @@ pub struct ReferenceArgs {
     /// Where the references are cached.
     #[arg(long, default_value = "reports/data/references")]
     pub cache: PathBuf,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
 /// parameters match the scene's, says which differ otherwise, and recomputes it.
 pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
-    let ReferenceArgs { scenes, cache } = args;
+    let ReferenceArgs {
+        scenes,
+        cache,
+        limits,
+    } = args;
     for path in scenes {
         let scene = Scene::load(&path)?;
         let Problem::Box(problem) = scene.problem() else {
@@ -288,6 +295,13 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
             )));
         };
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
+        limits.check(budget::box_study(
+            &problem,
+            &config.levels,
+            config.reference_level,
+            config.ratio,
+            0,
+        ))?;
         let mut computed = false;
         let reference = obtain_reference(&problem, &config, &cache, &mut |why| {
             computed = true;

@@ -327,9 +327,10 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, cases: usize
     study_of(levels.iter().map(|&nx| runs(nx)), cases as f64)
 }
 
-/// A box study: `runs_per_level` runs at each of `levels` (cases × ensemble members), its
-/// fine-mesh reference at `reference_level` (counted as computed) and the reference's
-/// displacement samples at every step of the finest level.
+/// A box study: `runs_per_level` runs at each of `levels` (cases × ensemble members; 0 for the
+/// reference alone, `signorini reference`), its fine-mesh reference at `reference_level`
+/// (counted as computed) and the reference's displacement samples at every step of the finest
+/// level.
 pub fn box_study(
     problem: &BoxProblem,
     levels: &[usize],
@@ -357,7 +358,7 @@ pub fn box_study(
 }
 
 /// `per_level` runs at each level of `levels`: memory for as many at once as rayon has
-/// threads (each the size of the largest), the work of all.
+/// threads (each the size of the largest; none for no run), the work of all.
 fn study_of(levels: impl Iterator<Item = Estimate>, per_level: f64) -> Estimate {
     let mut largest = 0.0_f64;
     let mut work = 0.0;
@@ -368,7 +369,11 @@ fn study_of(levels: impl Iterator<Item = Estimate>, per_level: f64) -> Estimate 
         count += per_level;
     }
     Estimate {
-        memory_bytes: concurrent(count) * largest,
+        memory_bytes: if count > 0.0 {
+            concurrent(count) * largest
+        } else {
+            0.0
+        },
         files: 0.0,
         dof_steps: work,
     }

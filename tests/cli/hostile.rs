@@ -130,6 +130,21 @@ fn hostile_boxes_too_large_to_mesh_are_refused_before_allocating() {
     let s = write_scene(&dir, "slab.json", &b);
     refused(&run(&s, &["--nx", "10"]), 2, &["estimated memory"]);
     refused(&["study", &s], 2, &["estimated memory"]);
+    let cache = dir.join("cache");
+    let c = cache.to_string_lossy().into_owned();
+    refused(
+        &[
+            "reference",
+            "scenes/bar3d.json",
+            "--max-memory",
+            "100M",
+            "--cache",
+            &c,
+        ],
+        2,
+        &["estimated memory", "100.0 MiB (--max-memory)"],
+    );
+    assert!(!cache.exists());
     std::fs::remove_dir_all(dir).unwrap();
 }
 
