@@ -211,9 +211,9 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 /// every state to each of `observers` in order. The first non-finite displacement, velocity
 /// or multiplier (the initial state's included), a non-finite value an observer computes
 /// ([`finite`]), or a contact solve that does not converge, stops the run with that
-/// [`RunStatus`]; a `ratio` that makes `Δt` longer than the horizon is refused; a failure to set the scheme up (a parameter, the CFL bound, a
-/// factorisation) is an error. `started` is when the run's setup began (its discretisation
-/// included).
+/// [`RunStatus`]. A `ratio` that makes `Δt` longer than the horizon is refused; a failure to
+/// set the scheme up (a parameter, the CFL bound, a factorisation) is an error. `started` is
+/// when the run's setup began (its discretisation included).
 pub fn drive<M: AxialMesh>(
     discretisation: &Discretisation<M>,
     horizon: f64,
