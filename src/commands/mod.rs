@@ -15,6 +15,7 @@ macro_rules! out {
 }
 
 mod getfem;
+mod limits;
 mod list;
 mod reports;
 mod run;
@@ -22,6 +23,7 @@ mod study;
 mod verify;
 
 pub use getfem::{getfem, GetfemArgs};
+pub use limits::LimitArgs;
 pub use list::{list, ListArgs};
 pub use reports::{
     experiment, figures, golden, report, stability, ExperimentArgs, FiguresArgs, GoldenArgs,
@@ -87,6 +89,14 @@ fn parse_conventions(s: &str) -> Result<Conventions, String> {
 
 fn parse_start(s: &str) -> Result<Start, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
+}
+
+/// Prints on stderr why each of `schemes` whose parameters make it unstable is so
+/// ([`Scheme::warning`]); the run goes on.
+pub(crate) fn warn_schemes(schemes: &[Scheme]) {
+    for w in schemes.iter().filter_map(|s| s.warning()) {
+        eprintln!("warning: {w}");
+    }
 }
 
 pub(crate) fn parse_mass(s: &str) -> Result<MassVariant, String> {

@@ -5,12 +5,16 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{parse_contact, parse_mass, parse_scheme, write_output, ConventionArgs, Failure};
+use super::{
+    parse_contact, parse_mass, parse_scheme, warn_schemes, write_output, ConventionArgs, Failure,
+    LimitArgs,
+};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::engine::schemes::Scheme;
+use crate::harness::budget;
 use crate::harness::elastic::run_box;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::run::{run, Observables, RunConfig};
@@ -53,6 +57,9 @@ pub struct RunArgs {
     /// The schemes' implementation choices.
     #[command(flatten)]
     pub conventions: ConventionArgs,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// One run of a scene: the requested error norms on the terminal; with --out, run.json
@@ -69,8 +76,10 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         contact,
         check_balance,
         conventions,
+        limits,
     } = args;
     let scene = Scene::load(&scene)?;
+    warn_schemes(&[scheme]);
     let Some(nx) = nx.or(scene.discretisation.levels.last().copied()) else {
         return Err(Failure::usage(format!(
             "scene {}: no --nx and no discretisation.levels to take the finest from",
@@ -87,6 +96,17 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
             }
             problem.contact = contact.unwrap_or(problem.contact);
             problem.conventions = conventions.over(problem.conventions);
+            let snapshots = out
+                .as_ref()
+                .map_or(0, |_| scene.observables.fields_at.len());
+            let ratio_used = ratio.unwrap_or(scene.discretisation.ratio);
+            limits.check(budget::box_run(
+                &problem,
+                nx,
+                ratio_used,
+                snapshots,
+                out.is_some(),
+            ))?;
             return run_box_scene(&scene, &problem, scheme, mass, nx, ratio, out);
         }
         Problem::Bar(problem) => problem,
@@ -108,6 +128,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         mass,
         observables,
     };
+    limits.check(budget::bar_run(&problem, &config, out.is_some()))?;
     let staged = stage(out.as_deref())?;
     let result = run(&problem, &config)?.completed()?;
     out!(

@@ -7,12 +7,14 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{
-    parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, ConventionArgs, Failure,
+    parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
+    ConventionArgs, Failure, LimitArgs,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::Scheme;
+use crate::harness::budget;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::output_dir::{Replace, StagedDir};
@@ -68,6 +70,23 @@ pub struct StudyArgs {
     /// The schemes' implementation choices.
     #[command(flatten)]
     pub conventions: ConventionArgs,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// `values` without repetitions, in their order; each repeated one is named on stderr
+/// (`--mass standard,standard` runs the case once).
+fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> Vec<T> {
+    let mut kept: Vec<T> = Vec::with_capacity(values.len());
+    for v in values {
+        if kept.contains(&v) {
+            eprintln!("note: {option} {v} is given more than once; its cases run once");
+        } else {
+            kept.push(v);
+        }
+    }
+    kept
 }
 
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
@@ -86,7 +105,10 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         cache,
         contact,
         conventions,
+        limits,
     } = args;
+    let scheme = distinct("--scheme", scheme);
+    let mass = distinct("--mass", mass);
     let scene = Scene::load(&scene)?;
     let mut problem = match scene.problem() {
         Problem::Box(mut problem) => {
@@ -118,6 +140,15 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
                 (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
                 (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
             };
+            warn_schemes(&config.cases.iter().map(|c| c.scheme).collect::<Vec<_>>());
+            let members = config.sensitivity.map_or(0, |e| e.members);
+            limits.check(budget::box_study(
+                &problem,
+                &config.levels,
+                config.reference_level,
+                config.ratio,
+                config.cases.len().saturating_mul(members.saturating_add(1)),
+            ))?;
             return elastic_study(&problem, &config, out, &cache, json);
         }
         Problem::Bar(problem) => problem,
@@ -152,6 +183,13 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
     if let Some(r) = ratio {
         config.ratio = r;
     }
+    warn_schemes(&schemes);
+    limits.check(budget::bar_study(
+        &problem,
+        &config.levels,
+        config.ratio,
+        cases.len(),
+    ))?;
     let bar = progress_bar(study_size(&cases, &config));
     problem.contact = contact.unwrap_or(problem.contact);
     problem.conventions = conventions.over(problem.conventions);
@@ -246,12 +284,19 @@ pub struct ReferenceArgs {
     /// Where the references are cached.
     #[arg(long, default_value = REPORT_REFERENCES)]
     pub cache: PathBuf,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
 /// parameters match the scene's, says which differ otherwise, and recomputes it.
 pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
-    let ReferenceArgs { scenes, cache } = args;
+    let ReferenceArgs {
+        scenes,
+        cache,
+        limits,
+    } = args;
     for path in scenes {
         let scene = Scene::load(&path)?;
         let Problem::Box(problem) = scene.problem() else {
@@ -261,6 +306,13 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
             )));
         };
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
+        limits.check(budget::box_study(
+            &problem,
+            &config.levels,
+            config.reference_level,
+            config.ratio,
+            0,
+        ))?;
         let mut computed = false;
         let store = ReferenceCache::ReadWrite(cache.clone());
         let reference = obtain_reference(&problem, &config, &store, &mut |why| {

@@ -27,6 +27,16 @@ impl ParameterError {
             allowed,
         }
     }
+
+    /// The error of the parameter `key` given more than once in the string `value` of `name`
+    /// (`newmark(beta=0.3,beta=0.4)`): refused rather than letting the last one win.
+    pub fn repeated(name: &'static str, value: &str, key: &str) -> Self {
+        Self::new(
+            name,
+            format!("{value} ({key} is given more than once)"),
+            "each parameter at most once",
+        )
+    }
 }
 
 /// Checks `value` is finite and strictly positive.
@@ -100,7 +110,7 @@ pub enum SolveError {
     },
 }
 
-/// A part of a scheme's state at a step.
+/// A part of a scheme's state at a step, or a quantity a run observes from it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum StateField {
@@ -110,6 +120,18 @@ pub enum StateField {
     Velocity,
     /// `λ^n`.
     Multiplier,
+    /// The discrete energy `E_h(t_n)`.
+    Energy,
+    /// The space norms of the displacement error `u_h − u` at `t_n`, or their sum over time.
+    DisplacementError,
+    /// The multiplier error `λ_h − λ`, or its sum over time.
+    MultiplierError,
+    /// The energy error `E_h − E`, or its sum over time.
+    EnergyError,
+    /// The strain `∂x u_h` of a field snapshot.
+    Strain,
+    /// The von Mises stress of a box snapshot.
+    VonMises,
 }
 
 impl std::fmt::Display for StateField {
@@ -118,6 +140,12 @@ impl std::fmt::Display for StateField {
             StateField::Displacement => "displacement",
             StateField::Velocity => "velocity",
             StateField::Multiplier => "multiplier",
+            StateField::Energy => "energy",
+            StateField::DisplacementError => "displacement error",
+            StateField::MultiplierError => "multiplier error",
+            StateField::EnergyError => "energy error",
+            StateField::Strain => "strain",
+            StateField::VonMises => "von Mises stress",
         })
     }
 }

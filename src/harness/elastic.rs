@@ -19,12 +19,13 @@ use vtkio::model::{
 };
 
 use crate::engine::contact::ContactSet;
+use crate::engine::error::StateField;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
-use crate::harness::run::{drive, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
+use crate::harness::run::{drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -96,7 +97,8 @@ struct EnergyTrace {
 
 impl Observer for EnergyTrace {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        self.energy.push((state.time(), state.energy().value));
+        let energy = finite(state, StateField::Energy, state.energy().value)?;
+        self.energy.push((state.time(), energy));
         Ok(())
     }
 }
@@ -144,10 +146,12 @@ impl Observer for FaceRecorder {
         self.set.gaps_of(state.displacement(), gaps);
         let h = &mut self.history;
         h.time.push(state.time());
+        let mean_gap = gaps.iter().sum::<f64>() / gaps.len() as f64;
         h.mean_gap
-            .push(gaps.iter().sum::<f64>() / gaps.len() as f64);
+            .push(finite(state, StateField::Displacement, mean_gap)?);
         h.centre_gap.push(gaps[self.centre]);
-        h.total_force.push(lambda.iter().sum());
+        h.total_force
+            .push(finite(state, StateField::Multiplier, lambda.iter().sum())?);
         h.centre_multiplier.push(lambda[self.centre]);
         Ok(())
     }
@@ -174,7 +178,8 @@ impl Observer for VtkSnapshots<'_> {
 }
 
 /// Runs a box problem through the one time loop ([`drive`]) with the built-in observers of
-/// [`run_box`] followed by `observers`; their time counts as observation.
+/// [`run_box`] followed by `observers`; their time counts as observation. A run that does not
+/// complete removes the VTK snapshots it wrote: they are no result.
 pub fn run_box_observed(
     problem: &BoxProblem,
     config: &RunConfig,
@@ -213,6 +218,11 @@ pub fn run_box_observed(
             started,
         )?
     };
+    if !stepped.status.is_completed() {
+        for f in vtk.files.drain(..) {
+            std::fs::remove_file(&f).map_err(Error::write(&f))?;
+        }
+    }
     Ok(BoxRunResult {
         status: stepped.status,
         elements: mesh.counts().to_vec(),
@@ -249,6 +259,9 @@ pub fn write_vtu(
         CellType::Quad
     };
     let von_mises = mesh.von_mises(state.displacement(), elasticity);
+    if let Some(&bad) = von_mises.iter().find(|v| !v.is_finite()) {
+        finite(state, StateField::VonMises, bad)?;
+    }
     let vtk = Vtk {
         version: Version::new(),
         title: format!("signorini t = {}", state.time()),

@@ -160,11 +160,28 @@ impl fmt::Display for SceneError {
                 allowed,
             } => write!(
                 f,
-                "scene file {}: invalid {field} = {value}; allowed: {allowed}",
-                path.display()
+                "scene file {}: invalid {field} = {}; allowed: {}",
+                path.display(),
+                printable(value),
+                printable(allowed)
             ),
         }
     }
+}
+
+/// `text` with its control characters (terminal escape sequences among them) escaped as
+/// `\u{1b}`, so that printing what a file holds (a scene's name, description or values)
+/// cannot drive the terminal.
+pub fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 impl SceneError {

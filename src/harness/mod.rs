@@ -3,6 +3,7 @@
 //! figures. It drives the engine and knows nothing of any particular study.
 
 pub mod artifacts;
+pub mod budget;
 pub mod elastic;
 pub mod error;
 pub mod external;

@@ -56,7 +56,7 @@ pub fn convergence_tables(study: &Study) -> String {
 
 /// One series of levels under the heading `heading`: the errors of every norm per level with
 /// the observed order, then the least-squares rate over all levels (95 % interval) and over the
-/// last three.
+/// last three (the row says it fits all of them when there are three or fewer).
 pub fn convergence_table(heading: &str, levels: &[LevelRecord], rates: &[NormRates]) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "#### {heading}\n");
@@ -79,7 +79,11 @@ pub fn convergence_table(heading: &str, levels: &[LevelRecord], rates: &[NormRat
         let _ = write!(out, " {} | |", fmt_fit(r.fit));
     }
     let _ = writeln!(out);
-    let _ = write!(out, "| fit, last three levels | | |");
+    let last = match levels.len() {
+        n if n > 3 => "fit, last three levels".to_string(),
+        n => format!("fit, last {n} levels (all of them)"),
+    };
+    let _ = write!(out, "| {last} | | |");
     for r in rates {
         let _ = write!(out, " {} | |", fmt_fit(r.fit_last_three));
     }

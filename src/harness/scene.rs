@@ -9,6 +9,7 @@
 
 use std::collections::BTreeSet;
 use std::fmt;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -29,6 +30,7 @@ use crate::harness::run::Observables;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
+use crate::harness::error::printable;
 pub use crate::harness::error::SceneError;
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
@@ -78,6 +80,15 @@ pub struct SceneObservables {
     pub fields_at: Vec<f64>,
 }
 
+/// The largest scene file read: 16 MiB (the committed scenes are under 2 kB; 10⁵ field times
+/// are under 1 MB).
+pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
+
+/// The largest magnitude of any number of a scene, and the smallest of a positive one (a
+/// length, density, wave speed, `μ`, horizon, ratio): within `[1e-50, 1e50]`, products of a few
+/// of them (an energy, a squared error integrated over the horizon) stay finite in `f64`.
+pub const MAX_MAGNITUDE: f64 = 1e50;
+
 /// The names of the exact solutions a scene can refer to.
 pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-rest, bouncing-bar";
 
@@ -86,17 +97,43 @@ pub const EXACT_SOLUTIONS: &str = "signorini-dirichlet, clamped-free-mode, at-re
 const INITIAL_DATA_SAMPLES: usize = 256;
 
 impl Scene {
-    /// Reads and validates a scene file.
+    /// Reads and validates a scene file: a regular file (not a device or a FIFO, which could
+    /// be endless or block) of at most [`MAX_SCENE_BYTES`].
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let io = |source| SceneError::Io {
             path: path.to_path_buf(),
             source,
+        };
+        let meta = std::fs::metadata(path).map_err(io)?;
+        let allowed = "a regular file of at most 16 MiB (MAX_SCENE_BYTES)";
+        if !meta.is_file() {
+            let kind = if meta.is_dir() {
+                "a directory"
+            } else {
+                "not a regular file (a device, FIFO or socket)"
+            };
+            return Err(invalid(path, "file", kind, allowed));
+        }
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_SCENE_BYTES {
+            return Err(invalid(path, "file", "larger than 16 MiB", allowed));
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            io(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("not UTF-8 ({e})"),
+            ))
         })?;
         Self::parse(&text, path)
     }
 
-    /// Parses and validates scene text; `path` is used in messages.
+    /// Parses and validates scene text; `path` is used in messages. A leading UTF-8 byte
+    /// order mark is skipped.
     pub fn parse(text: &str, path: &Path) -> Result<Self, SceneError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let file: SceneFile = serde_json::from_str(text).map_err(|e| SceneError::Json {
             path: path.to_path_buf(),
             line: e.line(),
@@ -348,6 +385,7 @@ type Checked<P> = (P, Option<Vec<Scheme>>, BTreeSet<Norm>);
 impl SceneFile {
     /// Checks every field and parses the names: the typed scene, or the first invalid field.
     fn into_scene(self, path: &Path) -> Result<Scene, SceneError> {
+        self.check_magnitudes(path)?;
         positive(path, "material.density", self.material.density)?;
         positive(path, "horizon", self.horizon)?;
         positive(path, "discretisation.ratio", self.discretisation.ratio)?;
@@ -394,8 +432,8 @@ impl SceneFile {
             ..
         } = self.observables;
         Ok(Scene {
-            name: self.name,
-            description: self.description,
+            name: printable(&self.name),
+            description: printable(&self.description),
             problem,
             discretisation: Discretisation {
                 levels,
@@ -412,6 +450,66 @@ impl SceneFile {
                 fields_at,
             },
         })
+    }
+
+    /// Every number of the scene within [`MAX_MAGNITUDE`] (positive ones at least its
+    /// inverse); NaN and infinities are left to the checks of each field.
+    fn check_magnitudes(&self, path: &Path) -> Result<(), SceneError> {
+        let allowed_positive = "a number in [1e-50, 1e50] (MAX_MAGNITUDE: larger or smaller \
+                                values overflow the run's energies and norms)";
+        let allowed = "a number of magnitude at most 1e50 (MAX_MAGNITUDE: larger values overflow \
+                       the run's energies and norms)";
+        let mut positives: Vec<(&str, f64)> = vec![
+            ("material.density", self.material.density),
+            ("horizon", self.horizon),
+            ("discretisation.ratio", self.discretisation.ratio),
+        ];
+        positives.extend(self.material.wave_speed.map(|c| ("material.wave_speed", c)));
+        positives.extend(self.material.lame_mu.map(|m| ("material.lame_mu", m)));
+        match &self.geometry {
+            Geometry::Bar1d { length } => positives.push(("geometry.length", *length)),
+            Geometry::Box { lengths } => {
+                positives.extend(lengths.iter().map(|&l| ("geometry.lengths", l)))
+            }
+        }
+        for (field, v) in positives {
+            if v.is_finite() && v > 0.0 && !(1.0 / MAX_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
+                return Err(invalid(path, field, format!("{v:e}"), allowed_positive));
+            }
+        }
+        let profile = |p: Profile| match p {
+            Profile::Reference => vec![],
+            Profile::Constant(c) => vec![c],
+            Profile::Affine { at_start, at_end } => vec![at_start, at_end],
+        };
+        let mut signed: Vec<(&str, f64)> = Vec::new();
+        signed.extend(
+            self.material
+                .lame_lambda
+                .map(|l| ("material.lame_lambda", l)),
+        );
+        signed.extend(self.obstacle.as_ref().map(|o| ("obstacle.gap", o.gap)));
+        signed.extend(
+            self.body_force
+                .as_ref()
+                .map(|b| ("body_force.density", b.density)),
+        );
+        signed.extend(
+            profile(self.initial.displacement)
+                .into_iter()
+                .map(|v| ("initial.displacement", v)),
+        );
+        signed.extend(
+            profile(self.initial.velocity)
+                .into_iter()
+                .map(|v| ("initial.velocity", v)),
+        );
+        for (field, v) in signed {
+            if v.is_finite() && v.abs() > MAX_MAGNITUDE {
+                return Err(invalid(path, field, format!("{v:e}"), allowed));
+            }
+        }
+        Ok(())
     }
 
     /// A bar1d scene's checks and its problem.

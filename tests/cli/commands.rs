@@ -371,7 +371,7 @@ fn bad_scene_files_exit_2_naming_the_problem() {
         ),
         (
             AT_REST_FROM,
-            "\"velocity\": {\"constant\": 1e160} },\n  \"horizon\": 3.0,\n  \"reference\": { \"exact\": \"at-rest\" }",
+            "\"velocity\": {\"constant\": 1e3} },\n  \"horizon\": 3.0,\n  \"reference\": { \"exact\": \"at-rest\" }",
             &["initial.velocity", "at-rest"],
         ),
     ];

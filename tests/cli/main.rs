@@ -10,6 +10,7 @@ mod commands;
 mod elastic;
 mod figures;
 mod getfem;
+mod hostile;
 mod outputs;
 mod report_figures;
 mod scenes;

@@ -205,3 +205,28 @@ fn broken_run_files_exit_2_naming_the_field() {
         &["bar1d scene with an exact solution"],
     );
 }
+
+/// A diverged run's energy overflows the energy error: those norms are not computed (with the
+/// sample where it overflows), the others are, and no number stands for them.
+#[test]
+fn a_diverged_runs_overflowing_norms_are_not_computed() {
+    let dir = scratch("diverged");
+    let file = broken(
+        &dir,
+        "diverged.csv",
+        TRACE4,
+        "0.75,0.01778,0,0.0372",
+        "0.75,0.01778,0,1e200",
+    );
+    let stdout = success_stdout(&signorini(&["verify", SCENE, &file]));
+    assert!(
+        stdout.contains("`energy_Linf`, `energy_L2` not computed")
+            && stdout.contains("no finite energy error (it overflows at sample 3"),
+        "{stdout}"
+    );
+    let non_finite = stdout
+        .split(['|', ' ', '\n'])
+        .any(|cell| ["inf", "-inf", "NaN"].contains(&cell));
+    assert!(!non_finite, "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -102,6 +102,9 @@ fn parse_params(name: &str, body: &str, keys: &[&str]) -> Result<Vec<f64>, Param
             .iter()
             .position(|&key| key == k.trim())
             .ok_or_else(bad)?;
+        if !values[slot].is_nan() {
+            return Err(ParameterError::repeated("contact", name, keys[slot]));
+        }
         values[slot] = v.trim().parse().map_err(|_| bad())?;
     }
     if values.iter().any(|v| v.is_nan()) {

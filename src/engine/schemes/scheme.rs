@@ -128,6 +128,20 @@ impl Scheme {
         PRESETS.into_iter()
     }
 
+    /// Why the scheme, valid but with γ < ½ (implicit Newmark), is a poor choice: its energy
+    /// balance, eq. (33), gains `(½ − γ)ΔUᵀSΔU ≥ 0` at every step (negative numerical
+    /// dissipation), so the energy grows and the scheme is unstable. `None` otherwise.
+    pub fn warning(&self) -> Option<String> {
+        match *self {
+            Scheme::Newmark { beta, gamma } if beta > 0.0 && gamma < 0.5 => Some(format!(
+                "{self}: gamma = {gamma} < 1/2 makes implicit Newmark unstable: its energy \
+                 balance, eq. (33), gains (1/2 - gamma) dU^T S dU >= 0 at every step (negative \
+                 numerical dissipation), so the energy grows; use gamma >= 1/2"
+            )),
+            _ => None,
+        }
+    }
+
     /// Checks the parameter ranges; errors name the parameter.
     pub fn validate(self) -> Result<Self, ParameterError> {
         match self {
@@ -213,6 +227,9 @@ fn parse_params(name: &str, body: &str, keys: &[&str]) -> Result<Vec<f64>, Param
             .iter()
             .position(|&key| key == k.trim())
             .ok_or_else(|| ParameterError::new("scheme", name, SCHEME_NAMES))?;
+        if !values[slot].is_nan() {
+            return Err(ParameterError::repeated("scheme", name, keys[slot]));
+        }
         values[slot] = v
             .trim()
             .parse()

@@ -12,6 +12,7 @@ use super::error::ExternalError;
 use super::format::{Code, ExternalRun};
 use super::load::load;
 use super::replay::{replay, TimeNorms};
+use crate::engine::error::{SolveError, StateField};
 use crate::engine::fem::Bar1d;
 use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::error::Error;
@@ -121,6 +122,22 @@ fn missing_data(run: &ExternalRun, norm: Norm) -> Option<&'static str> {
     }
 }
 
+/// Whether `norm` is a norm of the error `quantity`.
+fn of_error(norm: Norm, quantity: StateField) -> bool {
+    match quantity {
+        StateField::DisplacementError => matches!(
+            norm,
+            Norm::DisplacementLinfH
+                | Norm::DisplacementL2H
+                | Norm::DisplacementLinfV
+                | Norm::DisplacementL2V
+        ),
+        StateField::MultiplierError => norm == Norm::MultiplierL2,
+        StateField::EnergyError => matches!(norm, Norm::EnergyLinf | Norm::EnergyL2),
+        _ => false,
+    }
+}
+
 /// One file's results, before the files are grouped.
 struct Level {
     label: String,
@@ -128,7 +145,7 @@ struct Level {
     record: RunRecord,
     level: LevelRecord,
     errors: BTreeMap<Norm, f64>,
-    lacks: BTreeMap<Norm, &'static str>,
+    lacks: BTreeMap<Norm, String>,
 }
 
 /// Reads, checks and replays one file against `problem` for the norms `norms`.
@@ -147,16 +164,35 @@ fn verify_file(
         problem.far_end,
     )
     .map_err(Error::from)?;
-    let lacks: BTreeMap<Norm, &'static str> = norms
+    let mut lacks: BTreeMap<Norm, String> = norms
         .iter()
-        .filter_map(|&n| missing_data(&run, n).map(|what| (n, what)))
+        .filter_map(|&n| missing_data(&run, n).map(|what| (n, what.to_string())))
         .collect();
-    let allowed: BTreeSet<Norm> = norms
-        .iter()
-        .copied()
-        .filter(|n| !lacks.contains_key(n))
-        .collect();
-    let replayed = replay(&run, &bar, problem.exact.as_ref(), &allowed)?;
+    // A diverged run's errors overflow: the norms of that error are not computed, the others
+    // are replayed again without them.
+    let replayed = loop {
+        let allowed: BTreeSet<Norm> = norms
+            .iter()
+            .copied()
+            .filter(|n| !lacks.contains_key(n))
+            .collect();
+        match replay(&run, &bar, problem.exact.as_ref(), &allowed) {
+            Ok(replayed) => break replayed,
+            Err(Error::Solve(SolveError::NonFinite { step, quantity, .. }))
+                if allowed.iter().any(|&n| of_error(n, quantity)) =>
+            {
+                for n in allowed.into_iter().filter(|&n| of_error(n, quantity)) {
+                    lacks.insert(
+                        n,
+                        format!(
+                            "finite {quantity} (it overflows at sample {step}: the run diverged)"
+                        ),
+                    );
+                }
+            }
+            Err(e) => return Err(e.into()),
+        }
+    };
     let spacing = run.time.windows(2).map(|w| w[1] - w[0]);
     let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
     let dt_max = spacing.fold(0.0, f64::max);

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::error::{require_positive, SolveError, StateField};
+use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
@@ -171,6 +171,22 @@ impl SnapshotTimes {
     }
 }
 
+/// `value`, observed as `quantity` from `state`, when finite; otherwise the error that stops
+/// the run at `state`'s step ([`RunStatus::Diverged`]). Observers check what they compute with
+/// it, so that no non-finite value reaches a result.
+pub fn finite(state: &dyn TimeIntegrator, quantity: StateField, value: f64) -> Result<f64, Error> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(SolveError::NonFinite {
+            step: state.step_index(),
+            time: state.time(),
+            quantity,
+        }
+        .into())
+    }
+}
+
 /// The first non-finite value of the state, as the error that stops the run.
 fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
     let fields: [(StateField, &[f64]); 3] = [
@@ -193,10 +209,11 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 /// Steps `discretisation` from its initial dofs to `horizon` with `scheme` and
 /// `Δt = T / ⌈T ratio / Δx⌉` ([`time_grid`], `Δx` the element size along the axis), handing
 /// every state to each of `observers` in order. The first non-finite displacement, velocity
-/// or multiplier, or a contact solve that does not converge, stops the run with that
-/// [`RunStatus`]; a failure to set the scheme up (a parameter, the CFL bound, a
-/// factorisation) is an error. `started` is when the run's setup began (its discretisation
-/// included).
+/// or multiplier (the initial state's included), a non-finite value an observer computes
+/// ([`finite`]), or a contact solve that does not converge, stops the run with that
+/// [`RunStatus`]. A `ratio` that makes `Δt` longer than the horizon is refused; a failure to
+/// set the scheme up (a parameter, the CFL bound, a factorisation) is an error. `started` is
+/// when the run's setup began (its discretisation included).
 pub fn drive<M: AxialMesh>(
     discretisation: &Discretisation<M>,
     horizon: f64,
@@ -209,6 +226,20 @@ pub fn drive<M: AxialMesh>(
     require_positive("horizon", horizon)?;
     let scheme = scheme.validate()?;
     let h = discretisation.mesh.axial_element_size();
+    let steps_per_horizon = horizon * ratio / h;
+    if steps_per_horizon.is_nan() || steps_per_horizon < 1.0 - 1e-9 {
+        return Err(ParameterError::new(
+            "ratio",
+            format!(
+                "{ratio}: Δt = Δx/ratio = {:.3e} is longer than the horizon T = {horizon} \
+                 (Δx = {h:.3e}; the smallest ratio is Δx/T = {:.3e})",
+                h / ratio,
+                h / horizon
+            ),
+            "Δx/Δt >= Δx/T, at least one time step",
+        )
+        .into());
+    }
     let (steps, dt) = time_grid(horizon, h, ratio);
     let mut integ = integrator(
         &discretisation.model,
@@ -222,19 +253,31 @@ pub fn drive<M: AxialMesh>(
 
     let (mut stepping, mut observe) = (0.0, 0.0);
     let mut status = RunStatus::Completed;
-    for step in 0..=steps {
-        if step > 0 {
-            let clock = Instant::now();
-            let stepped = integ.advance().and_then(|()| check_finite(integ.as_ref()));
-            stepping += clock.elapsed().as_secs_f64();
-            if let Err(e) = stepped {
-                status = RunStatus::of(&e).ok_or(e)?;
-                break;
-            }
+    'steps: for step in 0..=steps {
+        let clock = Instant::now();
+        let stepped = if step > 0 {
+            integ.advance().and_then(|()| check_finite(integ.as_ref()))
+        } else {
+            check_finite(integ.as_ref())
+        };
+        stepping += clock.elapsed().as_secs_f64();
+        if let Err(e) = stepped {
+            status = RunStatus::of(&e).ok_or(e)?;
+            break;
         }
         let clock = Instant::now();
         for o in observers.iter_mut() {
-            o.observe(integ.as_ref())?;
+            match o.observe(integ.as_ref()) {
+                Ok(()) => {}
+                Err(Error::Solve(e)) => match RunStatus::of(&e) {
+                    Some(stopped) => {
+                        status = stopped;
+                        break 'steps;
+                    }
+                    None => return Err(e.into()),
+                },
+                Err(e) => return Err(e),
+            }
         }
         observe += clock.elapsed().as_secs_f64();
     }

@@ -5,13 +5,27 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{ContactHistory, EnergyHistory, FieldSnapshot, MultiplierVariation, PointHistory};
+use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::schemes::energy_balance::BalanceMonitor;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
-use crate::harness::run::driver::{Observer, SnapshotTimes};
+use crate::harness::run::driver::{finite, Observer, SnapshotTimes};
+
+/// Adds the sample `value` of `state` to `norm`, both the sample and the norm so far finite
+/// ([`finite`]): a norm that overflows stops the run as `quantity` instead of being reported.
+fn push_finite(
+    norm: &mut TimeSeriesNorm,
+    state: &dyn TimeIntegrator,
+    quantity: StateField,
+    time: f64,
+    value: f64,
+) -> Result<(), Error> {
+    norm.push(time, finite(state, quantity, value)?);
+    finite(state, quantity, norm.l2()).map(|_| ())
+}
 
 /// The space norms of the displacement error `u_h(t_n) − u(t_n)` (L² and H¹ in space),
 /// accumulated in time as the `u_*_H` and `u_*_V` norms.
@@ -47,9 +61,8 @@ impl Observer for DisplacementErrors<'_> {
         let e = self
             .space
             .errors(self.bar, state.displacement(), self.exact, t);
-        self.l2.push(t, e.l2);
-        self.h1.push(t, e.h1);
-        Ok(())
+        push_finite(&mut self.l2, state, StateField::DisplacementError, t, e.l2)?;
+        push_finite(&mut self.h1, state, StateField::DisplacementError, t, e.h1)
     }
 }
 
@@ -84,7 +97,14 @@ impl Observer for MultiplierErrors<'_> {
         let m = state.multiplier();
         let lambda_h = m.value.first().copied().unwrap_or(0.0);
         let lambda = self.exact.contact_multiplier(m.time);
-        self.error.push(m.time, lambda_h - lambda);
+        let error = lambda_h - lambda;
+        push_finite(
+            &mut self.error,
+            state,
+            StateField::MultiplierError,
+            m.time,
+            error,
+        )?;
         match self.last {
             Some((t0, _, _)) if m.time <= t0 => {}
             Some((_, h0, e0)) => {
@@ -95,7 +115,7 @@ impl Observer for MultiplierErrors<'_> {
             None => self.last = Some((m.time, lambda_h, lambda)),
         }
         self.variation.max_abs = self.variation.max_abs.max(lambda_h.abs());
-        Ok(())
+        finite(state, StateField::Multiplier, self.variation.discrete).map(|_| ())
     }
 }
 
@@ -118,8 +138,15 @@ impl<'a> EnergyErrors<'a> {
 impl Observer for EnergyErrors<'_> {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
         let e = state.energy();
-        self.error.push(e.time, e.value - self.exact.energy(e.time));
-        Ok(())
+        let value = finite(state, StateField::Energy, e.value)?;
+        let error = value - self.exact.energy(e.time);
+        push_finite(
+            &mut self.error,
+            state,
+            StateField::EnergyError,
+            e.time,
+            error,
+        )
     }
 }
 
@@ -255,7 +282,7 @@ impl Observer for EnergyRecorder<'_> {
         let h = &mut self.history;
         if h.time.last().is_none_or(|&last| e.time > last) {
             h.time.push(e.time);
-            h.energy.push(e.value);
+            h.energy.push(finite(state, StateField::Energy, e.value)?);
             h.energy_exact.push(self.exact.energy(e.time));
         }
         Ok(())
@@ -292,7 +319,8 @@ impl Observer for PointRecorder<'_> {
         let p = &mut self.history;
         p.time.push(t);
         for (k, &x) in p.x.iter().enumerate() {
-            p.displacement[k].push(self.bar.value_at(state.displacement(), x));
+            let u = self.bar.value_at(state.displacement(), x);
+            p.displacement[k].push(finite(state, StateField::Displacement, u)?);
             p.displacement_exact[k].push(self.exact.eval(x, t).u);
         }
         Ok(())
@@ -328,14 +356,18 @@ impl Observer for FieldRecorder<'_> {
             let bar = self.bar;
             let nodes: Vec<f64> = (0..=bar.nx()).map(|i| bar.node(i)).collect();
             let mids: Vec<f64> = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+            let strain: Vec<f64> = (0..bar.nx())
+                .map(|e| (bar.nodal_value(u, e + 1) - bar.nodal_value(u, e)) / bar.h())
+                .collect();
+            if let Some(&bad) = strain.iter().find(|v| !v.is_finite()) {
+                finite(state, StateField::Strain, bad)?;
+            }
             self.snapshots.push(FieldSnapshot {
                 requested_time: wanted,
                 time: t,
                 displacement: (0..=bar.nx()).map(|i| bar.nodal_value(u, i)).collect(),
                 displacement_exact: nodes.iter().map(|&x| self.exact.eval(x, t).u).collect(),
-                strain: (0..bar.nx())
-                    .map(|e| (bar.nodal_value(u, e + 1) - bar.nodal_value(u, e)) / bar.h())
-                    .collect(),
+                strain,
                 strain_exact: mids.iter().map(|&x| self.exact.eval(x, t).ux).collect(),
                 x: nodes,
                 x_mid: mids,

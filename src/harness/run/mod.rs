@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 mod driver;
 pub mod exact;
 
-pub use driver::{drive, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
+pub use driver::{drive, finite, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
 
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;

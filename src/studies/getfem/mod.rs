@@ -23,6 +23,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::engine::contact::ContactTreatment;
+use crate::engine::error::SolveError;
 use crate::engine::fem::Bar1d;
 use crate::engine::fem::{MassVariant, SymmetricMatrix};
 use crate::engine::linalg::SpdSolver;
@@ -144,7 +145,7 @@ pub struct Reproduction {
     /// The harness's Tables 1–2 norms of its run.
     pub harness_norms: BTreeMap<Norm, f64>,
     /// The harness's [`trace::TRACE_NORMS`] of GetFEM's own contact trace; `None` for a run
-    /// that is not finite.
+    /// that is not finite or whose norms overflow (the demo's blown-up Nitsche run).
     pub getfem_trace_norms: Option<BTreeMap<Norm, f64>>,
     /// The demo's largest energy (its run blows up when this is huge or not finite).
     pub demo_peak_energy: f64,
@@ -349,9 +350,12 @@ pub fn reproduce(root: &Path, path: &Path, run: &DemoRun) -> Result<Reproduction
     let before_impact = &trace.stress[..trace.stress.len().min(first_impact + 1)];
     let mut stress_before_impact = Difference::between(before_impact, &series.s0, 1);
     stress_before_impact.max /= stress_scale;
-    let getfem_trace_norms = contact_trace(path, run)
-        .map(|t| trace_norms(root, &t))
-        .transpose()?;
+    let getfem_trace_norms = match contact_trace(path, run).map(|t| trace_norms(root, &t)) {
+        Some(Ok(norms)) => Some(norms),
+        // The demo's blown-up run: not finite, or finite with an energy error that overflows.
+        None | Some(Err(Error::Solve(SolveError::NonFinite { .. }))) => None,
+        Some(Err(e)) => return Err(e),
+    };
     Ok(Reproduction {
         config: config.clone(),
         expectation: Expectation::of(config),

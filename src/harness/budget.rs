@@ -1,0 +1,380 @@
+//! What a run or a study will cost, estimated from the problem and the options before anything
+//! is allocated, and the limits it is held to: memory (the machine's available memory unless
+//! `--max-memory` says otherwise), files written (`--max-files`) and work (`--max-dof-steps`).
+//!
+//! Every count is computed in `f64`, so that no input (a box `1e308` long, `--nx 1e9`, a horizon
+//! of `1e12`) can overflow an integer here. The memory model is an upper bound measured on this
+//! crate's runs (Crank–Nicolson, peak resident size):
+//!
+//! - a bar: [`BAR_BYTES_PER_DOF`] per unknown (measured 423–444 at NX = 10⁶ and 4·10⁶);
+//! - a 2D box: `300 log₂(dofs)` bytes per unknown (the Cholesky factor's fill grows like
+//!   `log n`; measured 2.4 kB at 83 200 unknowns on a 64 × 640 bar, 4.3 kB at 180 600 on a
+//!   300 × 300 square, against 4.9 kB and 5.2 kB here);
+//! - a 3D box: `600 dofs^⅓` bytes per unknown (fill like `n^⅓` per unknown: measured 16.4 kB at
+//!   26 460 unknowns on a 20³ cube, 10 kB at 19 440 on an 8 × 8 × 80 bar, against 17.9 and
+//!   16.2 kB here), plus the dense Delassus operator of the contact face;
+//! - every value a run stores per step or per snapshot (histories, fields), [`BYTES_PER_STORED_VALUE`]
+//!   for the value and the text it becomes in `run.json` and the CSV files;
+//! - a study: as many runs at once as rayon has threads, each the size of its largest run; a box
+//!   study also holds its fine-mesh reference and the reference's samples.
+//!
+//! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
+//! set-up counts one solve per contact node as a step).
+
+use std::fmt;
+
+use crate::engine::fem::MassVariant;
+use crate::engine::problem::{BoxProblem, Problem1d};
+use crate::engine::schemes::Scheme;
+use crate::harness::run::RunConfig;
+
+/// Peak bytes per unknown of a bar run (an upper bound of the measured 423–444).
+pub const BAR_BYTES_PER_DOF: f64 = 600.0;
+/// Bytes per value a run stores and writes (8 in memory, its text in JSON and CSV).
+pub const BYTES_PER_STORED_VALUE: f64 = 56.0;
+/// The memory every run needs whatever its size (the binary, its libraries, its threads).
+pub const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+/// The memory assumed available where `/proc/meminfo` cannot be read (not Linux): 4 GiB.
+pub const FALLBACK_MEMORY_BYTES: u64 = 4 << 30;
+/// Most files one command writes unless `--max-files` says otherwise.
+pub const DEFAULT_MAX_FILES: u64 = 1000;
+/// Largest work one command takes on unless `--max-dof-steps` says otherwise: 10¹², about seven
+/// hours of a bar run at the measured 4·10⁷ dof-steps per second.
+pub const DEFAULT_MAX_DOF_STEPS: f64 = 1e12;
+
+/// The limits a command is held to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Bytes of memory.
+    pub memory_bytes: f64,
+    /// Where the memory limit comes from (`--max-memory`, or the machine's available memory).
+    pub memory_source: &'static str,
+    /// Files written.
+    pub files: f64,
+    /// Dof-steps of work.
+    pub dof_steps: f64,
+}
+
+impl Limits {
+    /// The limits given, the defaults for the others: the machine's available memory
+    /// ([`available_memory`]), [`DEFAULT_MAX_FILES`], [`DEFAULT_MAX_DOF_STEPS`].
+    pub fn or_defaults(memory: Option<u64>, files: Option<u64>, dof_steps: Option<f64>) -> Self {
+        Self {
+            memory_bytes: memory.unwrap_or_else(available_memory) as f64,
+            memory_source: if memory.is_some() {
+                "--max-memory"
+            } else {
+                "the machine's available memory"
+            },
+            files: files.unwrap_or(DEFAULT_MAX_FILES) as f64,
+            dof_steps: dof_steps.unwrap_or(DEFAULT_MAX_DOF_STEPS),
+        }
+    }
+}
+
+/// The memory available to a new process: `MemAvailable` of `/proc/meminfo`, or
+/// [`FALLBACK_MEMORY_BYTES`] where that cannot be read.
+pub fn available_memory() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find_map(|line| line.strip_prefix("MemAvailable:"))
+                .and_then(|rest| rest.trim().strip_suffix("kB"))
+                .and_then(|kb| kb.trim().parse::<u64>().ok())
+        })
+        .map_or(FALLBACK_MEMORY_BYTES, |kb| kb.saturating_mul(1024))
+}
+
+/// What a run or a study is estimated to cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Estimate {
+    /// Peak bytes of memory.
+    pub memory_bytes: f64,
+    /// Files written.
+    pub files: f64,
+    /// Dof-steps of work.
+    pub dof_steps: f64,
+}
+
+/// An estimate over a limit.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BudgetError {
+    /// The estimate of `resource` exceeds its limit.
+    OverLimit {
+        /// What is estimated (`memory`, `files written`, `work`).
+        resource: &'static str,
+        /// The estimate, with its unit.
+        estimate: String,
+        /// The limit, with its unit and where it comes from.
+        limit: String,
+        /// The option that raises it.
+        option: &'static str,
+    },
+}
+
+impl fmt::Display for BudgetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BudgetError::OverLimit {
+                resource,
+                estimate,
+                limit,
+                option,
+            } => write!(
+                f,
+                "refused before starting: the estimated {resource} is {estimate}, over the \
+                 limit of {limit}; use fewer elements, steps or output times, or raise the \
+                 limit with {option}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for BudgetError {}
+
+/// `bytes` for a person: `3.2 GiB`.
+fn human_bytes(bytes: f64) -> String {
+    const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut value = bytes;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    match UNITS.get(unit) {
+        Some(name) if value < 1e6 => format!("{value:.1} {name}"),
+        _ => format!("{bytes:.3e} B"),
+    }
+}
+
+/// `estimate` at most `limit`; a NaN estimate is not.
+fn within(estimate: f64, limit: f64) -> bool {
+    estimate <= limit
+}
+
+impl Estimate {
+    /// `Ok` when every part is within `limits`; otherwise the first part over its limit.
+    pub fn check(&self, limits: &Limits) -> Result<(), BudgetError> {
+        if !within(self.memory_bytes, limits.memory_bytes) {
+            return Err(BudgetError::OverLimit {
+                resource: "memory",
+                estimate: human_bytes(self.memory_bytes),
+                limit: format!(
+                    "{} ({})",
+                    human_bytes(limits.memory_bytes),
+                    limits.memory_source
+                ),
+                option: "--max-memory",
+            });
+        }
+        if !within(self.files, limits.files) {
+            return Err(BudgetError::OverLimit {
+                resource: "number of files written",
+                estimate: format!("{:.0} files", self.files),
+                limit: format!("{:.0} files", limits.files),
+                option: "--max-files",
+            });
+        }
+        if !within(self.dof_steps, limits.dof_steps) {
+            return Err(BudgetError::OverLimit {
+                resource: "work",
+                estimate: format!("{:.3e} dof-steps (unknowns × time steps)", self.dof_steps),
+                limit: format!("{:.3e} dof-steps", limits.dof_steps),
+                option: "--max-dof-steps",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The number of time steps of a run with element size `h` ([`crate::harness::run::time_grid`]
+/// in `f64`: no cast can overflow).
+fn steps(horizon: f64, h: f64, ratio: f64) -> f64 {
+    (horizon * ratio / h - 1e-9).ceil().max(1.0)
+}
+
+/// A bar run of `config` on `problem`; `writes_files`: the run writes `run.json` and its
+/// histories (`run --out`), which it then also keeps in memory.
+pub fn bar_run(problem: &Problem1d, config: &RunConfig, writes_files: bool) -> Estimate {
+    let nx = (config.nx as f64).max(1.0);
+    let dofs = nx + 1.0;
+    let steps = steps(problem.horizon, problem.length / nx, config.ratio);
+    let o = &config.observables;
+    let mut files = 0.0;
+    let mut stored = 0.0;
+    if writes_files {
+        files = 1.0;
+        if o.contact_history && problem.obstacle_gap.is_some() {
+            stored += 6.0 * (steps + 1.0);
+            files += 2.0;
+        }
+        if o.energy_history {
+            stored += 3.0 * (steps + 1.0);
+            files += 1.0;
+        }
+        if !o.points.is_empty() {
+            stored += (1.0 + 2.0 * o.points.len() as f64) * (steps + 1.0);
+            files += 1.0;
+        }
+        let snapshots = o.fields_at.len() as f64;
+        stored += 6.0 * dofs * snapshots;
+        files += 2.0 * snapshots;
+    }
+    Estimate {
+        memory_bytes: BASE_BYTES + BAR_BYTES_PER_DOF * dofs + BYTES_PER_STORED_VALUE * stored,
+        files,
+        dof_steps: dofs * steps,
+    }
+}
+
+/// The shape of a box mesh with `n_axis` elements along the axis, as [`crate::engine::problem::box_mesh`]
+/// builds it: unknowns, contact nodes, element size along the axis.
+struct BoxShape {
+    dofs: f64,
+    contact_nodes: f64,
+    h: f64,
+    nodes: f64,
+}
+
+fn box_shape(problem: &BoxProblem, n_axis: usize) -> BoxShape {
+    let d = problem.lengths.len().max(1);
+    let n_axis = (n_axis as f64).max(1.0);
+    let h = problem.lengths.last().copied().unwrap_or(1.0) / n_axis;
+    let lateral: f64 = problem
+        .lengths
+        .iter()
+        .take(d - 1)
+        .map(|l| (l / h).round().max(1.0) + 1.0)
+        .product();
+    let nodes = lateral * (n_axis + 1.0);
+    BoxShape {
+        dofs: d as f64 * nodes,
+        contact_nodes: lateral,
+        h,
+        nodes,
+    }
+}
+
+/// Peak bytes of the matrices and factor of a box run with `dofs` unknowns in `dim`
+/// dimensions and `contact_nodes` contact constraints.
+fn box_matrix_bytes(dim: usize, dofs: f64, contact_nodes: f64) -> f64 {
+    let per_dof = if dim == 3 {
+        600.0 * dofs.cbrt()
+    } else {
+        300.0 * dofs.max(2.0).log2()
+    };
+    per_dof * dofs + 3.0 * 8.0 * contact_nodes * contact_nodes
+}
+
+/// A box run of `problem` with `n_axis` elements along the axis and `Δx/Δt = ratio`;
+/// `writes_files`: the run writes `run.json`, its CSV histories and `snapshots` VTK files
+/// (`run --out`).
+pub fn box_run(
+    problem: &BoxProblem,
+    n_axis: usize,
+    ratio: f64,
+    snapshots: usize,
+    writes_files: bool,
+) -> Estimate {
+    let shape = box_shape(problem, n_axis);
+    let steps = steps(problem.horizon, shape.h, ratio);
+    let per_step = 2.0
+        + if problem.obstacle_gap.is_some() {
+            5.0
+        } else {
+            0.0
+        };
+    let snapshots = snapshots as f64;
+    let (files, snapshot_bytes) = if writes_files && snapshots > 0.0 {
+        (3.0 + snapshots, 10.0 * shape.nodes * BYTES_PER_STORED_VALUE)
+    } else if writes_files {
+        (3.0, 0.0)
+    } else {
+        (0.0, 0.0)
+    };
+    Estimate {
+        memory_bytes: BASE_BYTES
+            + box_matrix_bytes(problem.lengths.len(), shape.dofs, shape.contact_nodes)
+            + BYTES_PER_STORED_VALUE * per_step * (steps + 1.0)
+            + snapshot_bytes,
+        files,
+        dof_steps: shape.dofs * (steps + shape.contact_nodes),
+    }
+}
+
+/// Runs at once in a study: rayon's threads, at most `runs`.
+fn concurrent(runs: f64) -> f64 {
+    (rayon::current_num_threads() as f64).min(runs).max(1.0)
+}
+
+/// A study of `cases` cases over `levels` of a bar (norms only, nothing written): as many runs
+/// at once as rayon has threads, the work of every run.
+pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, cases: usize) -> Estimate {
+    let runs = |nx: usize| {
+        bar_run(
+            problem,
+            &RunConfig {
+                nx,
+                ratio,
+                scheme: Scheme::CRANK_NICOLSON,
+                mass: MassVariant::Standard,
+                observables: Default::default(),
+            },
+            false,
+        )
+    };
+    study_of(levels.iter().map(|&nx| runs(nx)), cases as f64)
+}
+
+/// A box study: `runs_per_level` runs at each of `levels` (cases × ensemble members; 0 for the
+/// reference alone, `signorini reference`), its fine-mesh reference at `reference_level`
+/// (counted as computed) and the reference's displacement samples at every step of the finest
+/// level.
+pub fn box_study(
+    problem: &BoxProblem,
+    levels: &[usize],
+    reference_level: usize,
+    ratio: f64,
+    runs_per_level: usize,
+) -> Estimate {
+    let levels_estimate = study_of(
+        levels
+            .iter()
+            .map(|&nx| box_run(problem, nx, ratio, 0, false)),
+        runs_per_level as f64,
+    );
+    let reference = box_run(problem, reference_level, ratio, 0, false);
+    let fine = box_shape(problem, reference_level);
+    let finest = box_shape(problem, levels.last().copied().unwrap_or(1));
+    let samples = steps(problem.horizon, finest.h, ratio) + 1.0;
+    Estimate {
+        memory_bytes: levels_estimate.memory_bytes
+            + reference.memory_bytes
+            + 8.0 * fine.dofs * samples,
+        files: 0.0,
+        dof_steps: levels_estimate.dof_steps + reference.dof_steps,
+    }
+}
+
+/// `per_level` runs at each level of `levels`: memory for as many at once as rayon has
+/// threads (each the size of the largest; none for no run), the work of all.
+fn study_of(levels: impl Iterator<Item = Estimate>, per_level: f64) -> Estimate {
+    let mut largest = 0.0_f64;
+    let mut work = 0.0;
+    let mut count = 0.0;
+    for e in levels {
+        largest = largest.max(e.memory_bytes);
+        work += per_level * e.dof_steps;
+        count += per_level;
+    }
+    Estimate {
+        memory_bytes: if count > 0.0 {
+            concurrent(count) * largest
+        } else {
+            0.0
+        },
+        files: 0.0,
+        dof_steps: work,
+    }
+}
