@@ -21,6 +21,16 @@ pub fn oscillates(indicator: f64) -> bool {
     indicator >= OSCILLATES_FROM
 }
 
+/// The oscillation indicator `r` as a table shows it: three decimals, or in scientific notation
+/// from `10⁶` on (a diverged run's total variation is astronomically large).
+pub fn oscillation_ratio_text(ratio: f64) -> String {
+    if ratio.abs() < 1e6 {
+        format!("{ratio:.3}")
+    } else {
+        format!("{ratio:.3e}")
+    }
+}
+
 /// The word for the oscillation indicator `r` (see the module): `No`, `Small`, `Yes` or `Big`.
 pub fn oscillation_word(ratio: f64) -> &'static str {
     if ratio < OSCILLATES_FROM {

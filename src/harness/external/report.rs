@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use super::verify::{Series, Verification};
 use crate::harness::norms::Norm;
 use crate::harness::report::convergence_table;
-use crate::harness::verdicts::oscillation_word;
+use crate::harness::verdicts::{oscillation_ratio_text, oscillation_word};
 
 /// The columns of Table 1 (displacement).
 const TABLE1: [Norm; 4] = [
@@ -64,7 +64,7 @@ pub fn render(v: &Verification) -> String {
     let _ = writeln!(out, "|---|---|---|---|---|---|");
     for s in &v.series {
         let osc = s.oscillation_indicator().map_or("—".to_string(), |r| {
-            format!("{} ({r:.3})", oscillation_word(r))
+            format!("{} ({})", oscillation_word(r), oscillation_ratio_text(r))
         });
         let _ = writeln!(
             out,

@@ -9,7 +9,7 @@ use crate::harness::rates::RateFit;
 use crate::harness::report::{chaotic_rate, chaotic_spread, fmt_fit};
 use crate::harness::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, Study};
-use crate::harness::verdicts::oscillation_word;
+use crate::harness::verdicts::{oscillation_ratio_text, oscillation_word};
 
 /// The columns of Table 1 (displacement).
 pub const TABLE1: [Norm; 4] = [
@@ -96,9 +96,9 @@ pub fn paper_tables(
         let row = paper.row(&c.case);
         let osc = match c.oscillation_indicator() {
             Some(r) => format!(
-                "{} ({:.3}; {})",
+                "{} ({}; {})",
                 oscillation_word(r),
-                r,
+                oscillation_ratio_text(r),
                 row.map_or("—", |r| r.oscillations.as_str())
             ),
             None => "—".to_string(),
