@@ -50,7 +50,8 @@ impl Model {
         }
     }
 
-    /// The model with its step matrices solved as `choice` says (default: [`LinearSolver::Auto`]).
+    /// The model with its step matrices solved as `choice` says (default: [`LinearSolver::Auto`],
+    /// which is `direct` outside a box).
     pub fn with_linear_solver(mut self, choice: LinearSolver) -> Self {
         self.linear_solver = choice;
         self

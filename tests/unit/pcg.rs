@@ -6,7 +6,9 @@ use std::path::Path;
 
 use signorini::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::fem::{MassVariant, SparseAssembler};
-use signorini::linalg::{LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, DEFAULT_TOLERANCE};
+use signorini::linalg::{
+    LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, AUTO_CG_FROM_DOFS, DEFAULT_TOLERANCE,
+};
 use signorini::problem::Problem;
 use signorini::run::{Observables, RunConfig};
 use signorini::scene::Scene;
@@ -87,6 +89,16 @@ fn linear_solver_names_round_trip_and_errors_name_the_option() {
     let err = "lu".parse::<LinearSolver>().unwrap_err();
     assert_eq!(err.name, "linear-solver");
     assert!(err.to_string().contains("direct, cg, auto"), "{err}");
+}
+
+#[test]
+fn auto_chooses_cg_on_large_3d_boxes_only() {
+    use LinearSolver::{Auto, Cg, Direct};
+    assert_eq!(Auto.for_box(3, AUTO_CG_FROM_DOFS), Cg);
+    assert_eq!(Auto.for_box(3, AUTO_CG_FROM_DOFS - 1), Direct);
+    assert_eq!(Auto.for_box(2, 100 * AUTO_CG_FROM_DOFS), Direct);
+    assert_eq!(Cg.for_box(2, 10), Cg);
+    assert_eq!(Direct.for_box(3, 100 * AUTO_CG_FROM_DOFS), Direct);
 }
 
 fn box_problem(scene: &str, solver: LinearSolver) -> BoxProblem {

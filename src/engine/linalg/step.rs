@@ -5,7 +5,8 @@
 //!   solves per step: exact to round-off, but its fill grows like `n^{4/3}` in 3D.
 //! * `cg`: Jacobi-preconditioned conjugate gradients ([`Pcg`]) on the assembled matrix, warm
 //!   started from the scheme's extrapolation of the previous steps; memory `O(n)`.
-//! * `auto` (the default): `cg` from [`AUTO_CG_FROM_DOFS`] unknowns on, `direct` below.
+//! * `auto` (the default): on a box, `cg` in 3D from [`AUTO_CG_FROM_DOFS`] unknowns on and
+//!   `direct` otherwise ([`LinearSolver::for_box`]); `direct` for every other model.
 //!
 //! A matrix of bandwidth one (every 1D bar) always takes the direct (tridiagonal) solver.
 
@@ -19,10 +20,10 @@ use super::SpdSolver;
 use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::fem::SymmetricMatrix;
 
-/// The size from which `auto` chooses `cg`: at and above it CG was faster than the sparse
-/// Cholesky on the 3D boxes of the note (measured on 2 cores, README "2D and 3D bars"), below
-/// it the factorisation is cheap and the direct solver keeps the regression gate's numbers.
-pub const AUTO_CG_FROM_DOFS: usize = 10_000;
+/// The size from which `auto` chooses `cg` on a 3D box. Below it the sparse Cholesky was faster
+/// on this 2-core machine (README "2D and 3D bars": 2.3 times at 19 440 unknowns, level 80);
+/// the regression gate's boxes are far smaller and keep the direct solver.
+pub const AUTO_CG_FROM_DOFS: usize = 100_000;
 
 /// Which step solver a run uses (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -31,7 +32,7 @@ pub enum LinearSolver {
     Direct,
     /// Jacobi-preconditioned conjugate gradients.
     Cg,
-    /// `cg` from [`AUTO_CG_FROM_DOFS`] unknowns on, `direct` below.
+    /// On a box, [`LinearSolver::for_box`]; on any other model, `direct`.
     #[default]
     Auto,
 }
@@ -49,14 +50,24 @@ impl LinearSolver {
         }
     }
 
-    /// Whether a matrix of dimension `n` and `bandwidth` is solved by CG under this choice.
-    fn uses_cg(self, n: usize, bandwidth: usize) -> bool {
-        bandwidth > 1
-            && match self {
-                LinearSolver::Direct => false,
-                LinearSolver::Cg => true,
-                LinearSolver::Auto => n >= AUTO_CG_FROM_DOFS,
+    /// The choice for a box of `dimension` with `unknowns` dofs: `auto` becomes `cg` in 3D from
+    /// [`AUTO_CG_FROM_DOFS`] unknowns on and `direct` otherwise (in 2D the Cholesky factor's
+    /// fill stays nearly linear and the direct solver was faster at every measured size);
+    /// `direct` and `cg` stay as given.
+    pub fn for_box(self, dimension: usize, unknowns: usize) -> LinearSolver {
+        match self {
+            LinearSolver::Auto if dimension >= 3 && unknowns >= AUTO_CG_FROM_DOFS => {
+                LinearSolver::Cg
             }
+            LinearSolver::Auto => LinearSolver::Direct,
+            chosen => chosen,
+        }
+    }
+
+    /// Whether a matrix of `bandwidth` is solved by CG under this choice (never a tridiagonal
+    /// one).
+    fn uses_cg(self, bandwidth: usize) -> bool {
+        self == LinearSolver::Cg && bandwidth > 1
     }
 }
 
@@ -102,7 +113,7 @@ impl StepSolver {
         name: &'static str,
     ) -> Result<Self, SolveError> {
         let n = a.dim();
-        if choice.uses_cg(n, a.bandwidth()) {
+        if choice.uses_cg(a.bandwidth()) {
             Ok(StepSolver::Cg {
                 pcg: Pcg::new(&a, DEFAULT_TOLERANCE, name)?,
                 x: vec![0.0; n],

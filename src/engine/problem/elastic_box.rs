@@ -95,9 +95,10 @@ impl BoxProblem {
         self.elasticity.validate(mesh.dim())?;
         mesh.check_mass(mass)?;
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
-        let model = Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap)
-            .with_contact_law(law)
-            .with_linear_solver(self.linear_solver);
+        let model =
+            Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap).with_contact_law(law);
+        let solver = self.linear_solver.for_box(mesh.dim(), model.n_dofs());
+        let model = model.with_linear_solver(solver);
         let (displacement, velocity) = initial_dofs(self, &mesh);
         Ok(Discretisation {
             mesh,
