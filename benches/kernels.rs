@@ -5,7 +5,10 @@
 //! * the whole Tables 1–2 study (14 cases, NX 10–640, all norms), wall seconds (target ≤ 15);
 //! * the peak memory of that study run by the binary, from `/usr/bin/time -v` (target ≤ 200 MB);
 //! * the 1D round-off sensitivity study (14 cases × 7 levels × 16 members), wall seconds, one
-//!   run (target ≤ 60, issue 15).
+//!   run (target ≤ 60, issue 15);
+//! * the 3D level-80 run of `scenes/bar3d.json` (Crank–Nicolson, redistributed mass, T = 2) with
+//!   each step solver, `direct` and `cg`: setup and stepping seconds, one run each (reported, no
+//!   target yet: issue 19 asks for ≤ 2 s).
 //!
 //! Each figure is the median of several repetitions (9 for the kernels). The process exits with status 1 when a
 //! target is missed, so `make bench` checks them.
@@ -15,9 +18,13 @@ use std::path::Path;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
+use signorini::elastic::{run_box, BoxProblem};
 use signorini::fem::MassVariant;
+use signorini::linalg::LinearSolver;
 use signorini::norms::Norm;
+use signorini::problem::Problem;
 use signorini::run::{run, Observables, RunConfig, RunResult};
+use signorini::scene::Scene;
 use signorini::schemes::Scheme;
 use signorini::studies::benchmark::dirichlet;
 use signorini::studies::tables::{tables_sensitivity, tables_study};
@@ -59,6 +66,27 @@ fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, Ru
         last = Some(r);
     }
     (median(samples), last.expect("nine runs"))
+}
+
+/// The 3D level-80 run with `solver`: (setup, stepping) seconds.
+fn box_3d_level_80(solver: LinearSolver) -> (f64, f64) {
+    let scene = Scene::load(&root().join("scenes/bar3d.json")).expect("the 3D scene");
+    let Problem::Box(problem) = scene.problem() else {
+        panic!("scenes/bar3d.json is a box scene")
+    };
+    let problem = BoxProblem {
+        linear_solver: solver,
+        ..problem
+    };
+    let config = RunConfig {
+        nx: 80,
+        ratio: 2.0,
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Redistributed,
+        observables: Observables::default(),
+    };
+    let r = run_box(&problem, &config).expect("3D level-80 run");
+    (r.timings.setup, r.timings.stepping)
 }
 
 fn peak_memory_mb() -> Option<f64> {
@@ -145,6 +173,13 @@ fn main() -> ExitCode {
         "1D sensitivity study (14 cases × 7 levels × 16 members): {wall:.1} s wall (target ≤ {SENSITIVITY_SECONDS_TARGET} s) {}",
         verdict(ok)
     );
+
+    for solver in [LinearSolver::Direct, LinearSolver::Cg] {
+        let (setup, stepping) = box_3d_level_80(solver);
+        println!(
+            "3D level 80 (19 440 unknowns, 320 steps, CN, redistributed), --linear-solver {solver}: setup {setup:.2} s, stepping {stepping:.2} s (issue 19 target: ≤ 2 s in all; reported only)"
+        );
+    }
 
     match peak_memory_mb() {
         Some(mb) => {

@@ -42,6 +42,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
+use crate::engine::linalg::LinearSolver;
 use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
@@ -81,6 +82,21 @@ impl ConventionArgs {
         }
         c
     }
+}
+
+/// The step solver of the implicit schemes on a box scene ([`LinearSolver`]); 1D bars always
+/// use the tridiagonal solver.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct LinearSolverArgs {
+    /// Step solver on 2D/3D boxes: direct (sparse Cholesky), cg (Jacobi-preconditioned
+    /// conjugate gradients) or auto (cg on 3D boxes from 100 000 unknowns on, direct
+    /// otherwise). 1D bars always use the tridiagonal solver.
+    #[arg(long, value_parser = parse_linear_solver, default_value = "auto")]
+    pub linear_solver: LinearSolver,
+}
+
+fn parse_linear_solver(s: &str) -> Result<LinearSolver, String> {
+    s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
 fn parse_conventions(s: &str) -> Result<Conventions, String> {

@@ -7,7 +7,7 @@ use clap::Args;
 
 use super::{
     parse_contact, parse_mass, parse_scheme, warn_schemes, write_output, ConventionArgs, Failure,
-    LimitArgs,
+    LimitArgs, LinearSolverArgs,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
@@ -57,6 +57,9 @@ pub struct RunArgs {
     /// The schemes' implementation choices.
     #[command(flatten)]
     pub conventions: ConventionArgs,
+    /// The step solver of a box scene.
+    #[command(flatten)]
+    pub solver: LinearSolverArgs,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
@@ -76,6 +79,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         contact,
         check_balance,
         conventions,
+        solver,
         limits,
     } = args;
     let scene = Scene::load(&scene)?;
@@ -96,6 +100,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
             }
             problem.contact = contact.unwrap_or(problem.contact);
             problem.conventions = conventions.over(problem.conventions);
+            problem.linear_solver = solver.linear_solver;
             let snapshots = out
                 .as_ref()
                 .map_or(0, |_| scene.observables.fields_at.len());

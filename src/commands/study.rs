@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::{
     parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
-    ConventionArgs, Failure, LimitArgs,
+    ConventionArgs, Failure, LimitArgs, LinearSolverArgs,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
@@ -70,6 +70,9 @@ pub struct StudyArgs {
     /// The schemes' implementation choices.
     #[command(flatten)]
     pub conventions: ConventionArgs,
+    /// The step solver of a box scene.
+    #[command(flatten)]
+    pub solver: LinearSolverArgs,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
@@ -105,6 +108,7 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         cache,
         contact,
         conventions,
+        solver,
         limits,
     } = args;
     let scheme = distinct("--scheme", scheme);
@@ -114,6 +118,7 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         Problem::Box(mut problem) => {
             problem.contact = contact.unwrap_or(problem.contact);
             problem.conventions = conventions.over(problem.conventions);
+            problem.linear_solver = solver.linear_solver;
             let mut config =
                 ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
             if !levels.is_empty() {
@@ -284,6 +289,9 @@ pub struct ReferenceArgs {
     /// Where the references are cached.
     #[arg(long, default_value = REPORT_REFERENCES)]
     pub cache: PathBuf,
+    /// The step solver.
+    #[command(flatten)]
+    pub solver: LinearSolverArgs,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
@@ -295,16 +303,18 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
     let ReferenceArgs {
         scenes,
         cache,
+        solver,
         limits,
     } = args;
     for path in scenes {
         let scene = Scene::load(&path)?;
-        let Problem::Box(problem) = scene.problem() else {
+        let Problem::Box(mut problem) = scene.problem() else {
             return Err(Failure::usage(format!(
                 "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
                 scene.name
             )));
         };
+        problem.linear_solver = solver.linear_solver;
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
         limits.check(budget::box_study(
             &problem,

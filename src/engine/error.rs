@@ -98,6 +98,16 @@ pub enum SolveError {
         /// Newmark's γ.
         gamma: f64,
     },
+    /// An iterative linear solver did not reach its tolerance.
+    #[error("the {solver} solver did not converge in {iterations} iterations (relative residual {residual:e})")]
+    NotConverged {
+        /// Which solver.
+        solver: &'static str,
+        /// Iterations spent.
+        iterations: usize,
+        /// The relative residual reached.
+        residual: f64,
+    },
     /// A state value became NaN or infinite.
     #[error("non-finite {quantity} at step {step} (t = {time})")]
     NonFinite {

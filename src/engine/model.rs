@@ -8,6 +8,7 @@ pub use crate::engine::contact::ContactSet;
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::{Bar1d, MassVariant, SparseAssembler, SymmetricMatrix};
+use crate::engine::linalg::LinearSolver;
 
 /// Matrices, load and constraints of one spatial discretisation.
 #[derive(Debug, Clone)]
@@ -18,6 +19,7 @@ pub struct Model {
     contact: Option<ContactSet>,
     law: ContactLaw,
     massless: Vec<usize>,
+    linear_solver: LinearSolver,
 }
 
 impl Model {
@@ -44,7 +46,20 @@ impl Model {
             contact,
             law,
             massless,
+            linear_solver: LinearSolver::default(),
         }
+    }
+
+    /// The model with its step matrices solved as `choice` says (default: [`LinearSolver::Auto`],
+    /// which is `direct` outside a box).
+    pub fn with_linear_solver(mut self, choice: LinearSolver) -> Self {
+        self.linear_solver = choice;
+        self
+    }
+
+    /// How the implicit schemes solve their step matrices.
+    pub fn linear_solver(&self) -> LinearSolver {
+        self.linear_solver
     }
 
     /// The model with the contact treated by `law` instead of the multiplier. For Nitsche the

@@ -22,6 +22,7 @@ use crate::engine::exact::{
 };
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
+use crate::engine::linalg::LinearSolver;
 use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
 use crate::engine::schemes::Conventions;
 use crate::engine::schemes::{Scheme, SCHEME_NAMES};
@@ -847,6 +848,7 @@ impl SceneFile {
             contact,
             velocity_perturbation: None,
             conventions,
+            linear_solver: LinearSolver::default(),
         };
         Ok((problem, schemes, BTreeSet::new()))
     }

@@ -164,3 +164,43 @@ fn bad_box_input_is_rejected_naming_the_field() {
         "nothing cached on bad input"
     );
 }
+
+/// `--linear-solver` chooses the step solver of a box run; an unknown one is a usage error
+/// naming the option and the allowed values.
+#[test]
+fn the_linear_solver_is_chosen_on_the_command_line() {
+    let args = |solver: &'static str| {
+        [
+            "run",
+            "scenes/bar3d.json",
+            "--scheme",
+            "crank-nicolson",
+            "--mass",
+            "redistributed",
+            "--nx",
+            "10",
+            "--linear-solver",
+            solver,
+        ]
+    };
+    // The energies and the largest force to 7 digits (the complementarity residual that follows
+    // is round-off and differs).
+    let energy = |stdout: String| {
+        stdout
+            .lines()
+            .find_map(|l| {
+                l.split("; complementarity")
+                    .next()
+                    .filter(|_| l.contains("energy"))
+            })
+            .map(str::to_owned)
+            .unwrap()
+    };
+    let direct = energy(success_stdout(&signorini(&args("direct"))));
+    assert_eq!(energy(success_stdout(&signorini(&args("cg")))), direct);
+    expect_error(
+        &args("lu"),
+        2,
+        &["--linear-solver", "lu", "direct, cg, auto"],
+    );
+}

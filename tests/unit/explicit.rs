@@ -12,6 +12,7 @@ use signorini::elastic::{run_box, BoxProblem};
 use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
+use signorini::linalg::LinearSolver;
 use signorini::model::Model;
 use signorini::run::{Observables, RunConfig};
 use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
@@ -243,6 +244,7 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         contact: ContactTreatment::Multiplier,
         velocity_perturbation: None,
         conventions: Conventions::HARNESS,
+        linear_solver: LinearSolver::Direct,
     };
     let config = |ratio: f64, mass| RunConfig {
         nx: 10,

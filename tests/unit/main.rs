@@ -23,6 +23,7 @@ mod fem;
 mod getfem_demo;
 mod getfem_roundoff;
 mod mass_variants;
+mod pcg;
 mod perturbation;
 mod run;
 mod run_status;

@@ -6,7 +6,7 @@ use super::law::{sparse_dot, ConstraintRow};
 use super::{default_solver, ContactSolver, ContactStatus};
 use crate::engine::contact::ContactSet;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SpdSolver;
+use crate::engine::linalg::StepSolver;
 
 /// `K⁻¹f_j` (one column per constraint) and `W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij` (row-major); for the
 /// multiplier `W = B K⁻¹ Bᵀ`.
@@ -17,19 +17,24 @@ pub struct Delassus {
 }
 
 impl Delassus {
-    /// Computes `K⁻¹ f_j` for every constraint (one solve each) and `W`.
-    pub fn new(system: &SpdSolver, n_dofs: usize, rows: &[ConstraintRow]) -> Self {
-        let columns: Vec<Vec<f64>> = rows
+    /// Computes `K⁻¹ f_j` for every constraint (one solve each, [`StepSolver::solve_columns`])
+    /// and `W`.
+    pub fn new(
+        system: &StepSolver,
+        n_dofs: usize,
+        rows: &[ConstraintRow],
+    ) -> Result<Self, SolveError> {
+        let mut columns: Vec<Vec<f64>> = rows
             .iter()
             .map(|row| {
                 let mut col = vec![0.0; n_dofs];
                 for &(k, c) in &row.force {
                     col[k] = c;
                 }
-                system.solve_in_place(&mut col);
                 col
             })
             .collect();
+        system.solve_columns(&mut columns)?;
         let nc = columns.len();
         let mut matrix = vec![0.0; nc * nc];
         for (i, row) in rows.iter().enumerate() {
@@ -40,7 +45,7 @@ impl Delassus {
                 matrix[i * nc + i] += row.compliance;
             }
         }
-        Self { columns, matrix }
+        Ok(Self { columns, matrix })
     }
 
     /// `W` row-major.
@@ -79,11 +84,11 @@ impl ContactStep {
     pub fn new(
         set: &ContactSet,
         rows: &[ConstraintRow],
-        system: &SpdSolver,
+        system: &StepSolver,
         n_dofs: usize,
     ) -> Result<Self, SolveError> {
         let n = set.len();
-        let delassus = Delassus::new(system, n_dofs, rows);
+        let delassus = Delassus::new(system, n_dofs, rows)?;
         let not_positive = |w: f64| w.is_nan() || w <= 0.0;
         if let Some(i) = (0..n).find(|&i| not_positive(delassus.matrix()[i * n + i])) {
             return Err(SolveError::Factorization {

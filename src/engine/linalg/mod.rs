@@ -1,7 +1,11 @@
 //! Linear solvers for the symmetric positive definite systems of the implicit schemes.
 
+mod pcg;
 mod spd;
+mod step;
 mod tridiagonal;
 
+pub use pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use spd::SpdSolver;
+pub use step::{LinearSolver, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
 pub use tridiagonal::TridiagonalLdlt;

@@ -7,6 +7,7 @@ use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::MassVariant;
+use crate::engine::linalg::LinearSolver;
 use crate::engine::model::Model;
 use crate::engine::schemes::Conventions;
 
@@ -33,6 +34,8 @@ pub struct BoxProblem {
     pub velocity_perturbation: Option<Perturbation>,
     /// The implementation choices of the schemes (the start, …; default: the harness's).
     pub conventions: Conventions,
+    /// How the implicit schemes solve their step matrices (default: by size).
+    pub linear_solver: LinearSolver,
 }
 
 /// The mesh of a run: `n_axis` elements along the axis, square elements across.
@@ -94,6 +97,8 @@ impl BoxProblem {
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
         let model =
             Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap).with_contact_law(law);
+        let solver = self.linear_solver.for_box(mesh.dim(), model.n_dofs());
+        let model = model.with_linear_solver(solver);
         let (displacement, velocity) = initial_dofs(self, &mesh);
         Ok(Discretisation {
             mesh,

@@ -15,14 +15,14 @@ use super::residual_force;
 use crate::engine::contact::law::{ConstraintRow, SparseVector};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SpdSolver;
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::{ContactSet, Model};
 
 /// `S_ZZ` factorised, with the contact correction of the contact dofs in `Z`.
 #[derive(Debug)]
 pub struct QuasiStatic {
     massless: Vec<usize>,
-    solver: SpdSolver,
+    solver: StepSolver,
     /// The contact constraints whose force acts on `Z`: their index in the model's set.
     local: Vec<usize>,
     /// The part of each local constraint's measure on the dofs with mass.
@@ -31,6 +31,7 @@ pub struct QuasiStatic {
     without_z: Vec<f64>,
     residual: Vec<f64>,
     u_z: Vec<f64>,
+    guess_z: Vec<f64>,
     lambda_z: Vec<f64>,
 }
 
@@ -42,7 +43,11 @@ impl QuasiStatic {
             return Ok(None);
         }
         let s_zz = model.stiffness().principal_submatrix(&massless);
-        let solver = SpdSolver::factor(&s_zz, "stiffness on the massless dofs")?;
+        let solver = StepSolver::new(
+            s_zz,
+            model.linear_solver(),
+            "stiffness on the massless dofs",
+        )?;
         let on_z = |v: &[(usize, f64)]| -> SparseVector {
             v.iter()
                 .filter_map(|&(k, c)| massless.binary_search(&k).ok().map(|z| (z, c)))
@@ -90,6 +95,7 @@ impl QuasiStatic {
             without_z: vec![0.0; n],
             residual: vec![0.0; n],
             u_z: vec![0.0; massless.len()],
+            guess_z: vec![0.0; massless.len()],
             lambda_z: vec![0.0; local.len()],
             local,
             fixed,
@@ -111,10 +117,16 @@ impl QuasiStatic {
             self.without_z[z] = 0.0;
         }
         residual_force(model, &self.without_z, &mut self.residual);
-        for (uz, &z) in self.u_z.iter_mut().zip(&self.massless) {
+        for ((uz, gz), &z) in self
+            .u_z
+            .iter_mut()
+            .zip(&mut self.guess_z)
+            .zip(&self.massless)
+        {
             *uz = -self.residual[z];
+            *gz = u[z];
         }
-        self.solver.solve_in_place(&mut self.u_z);
+        self.solver.solve(&mut self.u_z, &self.guess_z)?;
         if let Some(contact) = self.contact.as_mut() {
             let fixed: Vec<f64> = self
                 .fixed

@@ -81,7 +81,7 @@ use super::massless::QuasiStatic;
 use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SpdSolver;
+use crate::engine::linalg::{SpdSolver, StepSolver};
 use crate::engine::model::{ContactSet, Model};
 
 impl StepCoefficients {
@@ -152,9 +152,9 @@ pub fn initial_state(
     let mut acceleration = vec![0.0; n];
     if !with_mass.is_empty() {
         let m_rr = model.mass().principal_submatrix(&with_mass);
-        let solver = SpdSolver::factor(&m_rr, "mass (dofs with inertia)")?;
+        let mut solver = StepSolver::new(m_rr, model.linear_solver(), "mass (dofs with inertia)")?;
         let mut a_r: Vec<f64> = with_mass.iter().map(|&i| rhs[i]).collect();
-        solver.solve_in_place(&mut a_r);
+        solver.solve(&mut a_r, &vec![0.0; with_mass.len()])?;
         for (&i, a) in with_mass.iter().zip(a_r) {
             acceleration[i] = a;
         }

@@ -29,7 +29,7 @@ use super::{InitialState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SpdSolver;
+use crate::engine::linalg::{SpdSolver, StepSolver};
 use crate::engine::model::Model;
 
 /// The coefficients `(a, b, c, d)` of the one-step form; Newmark's (eq. 32) are built in
@@ -101,7 +101,7 @@ pub struct OneStepScheme<'m> {
     model: &'m Model,
     coef: StepCoefficients,
     dt: f64,
-    system: SpdSolver,
+    system: StepSolver,
     contact: Option<ContactStep>,
     elastic_acceleration: Option<ElasticAcceleration>,
     step: usize,
@@ -111,6 +111,7 @@ pub struct OneStepScheme<'m> {
     lambda: Vec<f64>,
     predictor: Vec<f64>,
     scratch: Vec<f64>,
+    guess: Vec<f64>,
 }
 
 impl<'m> OneStepScheme<'m> {
@@ -126,7 +127,11 @@ impl<'m> OneStepScheme<'m> {
         let k = model
             .mass()
             .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
-        let system = SpdSolver::factor(&k, "one-step scheme system M/(bΔt²) + S")?;
+        let system = StepSolver::new(
+            k,
+            model.linear_solver(),
+            "one-step scheme system M/(bΔt²) + S",
+        )?;
         let n = model.n_dofs();
         let contact = model
             .contact()
@@ -146,6 +151,7 @@ impl<'m> OneStepScheme<'m> {
             lambda: start.multiplier,
             predictor: vec![0.0; n],
             scratch: vec![0.0; n],
+            guess: vec![0.0; n],
         })
     }
 
@@ -203,7 +209,13 @@ impl OneStepScheme<'_> {
         if let Some(f) = self.model.load() {
             self.scratch.iter_mut().zip(f).for_each(|(r, fi)| *r += fi);
         }
-        self.system.solve_in_place(&mut self.scratch);
+        // The iterative solver starts from `P + bΔt²A^n`, the displacement of an unchanged
+        // acceleration.
+        let b_dt2 = b * dt * dt;
+        for ((g, p), acc) in self.guess.iter_mut().zip(&self.predictor).zip(&self.a) {
+            *g = p + b_dt2 * acc;
+        }
+        self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
             contact.enforce(self.step + 1, &mut self.scratch, shift, &mut self.lambda)?;
         }

@@ -26,7 +26,7 @@ use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcc
 use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SpdSolver;
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::Model;
 
 /// `V^{n−½} = (U^n − U^{n−1})/Δt` into `velocity` and `Ū = (U^n + U^{n−1})/2` into `mean`, from
@@ -90,7 +90,7 @@ pub struct PaoliSchatzman<'m> {
     /// `β (Bᵀλ^0)_z` on the massless dofs `z` of the three-level rows, added to the force of
     /// the first two-step; `None` when the rows are projected.
     three_level_start: Option<Vec<(usize, f64)>>,
-    system: SpdSolver,
+    system: StepSolver,
     contact: Option<ContactStep>,
     start_contact_solves: usize,
     start_contact_seconds: f64,
@@ -124,7 +124,11 @@ impl<'m> PaoliSchatzman<'m> {
         let k = model
             .mass()
             .linear_combination(1.0 / (dt * dt), model.stiffness(), beta);
-        let system = SpdSolver::factor(&k, "Paoli–Schatzman system M/Δt² + βS")?;
+        let system = StepSolver::new(
+            k,
+            model.linear_solver(),
+            "Paoli–Schatzman system M/Δt² + βS",
+        )?;
         let n = model.n_dofs();
         let contact = model
             .contact()
@@ -255,7 +259,11 @@ impl<'m> PaoliSchatzman<'m> {
                 .zip(f)
                 .for_each(|(r, fi)| *r += beta * fi);
         }
-        self.system.solve_in_place(&mut self.next);
+        // The linear extrapolation 2U^n − U^{n−1} is the iterative solver's initial guess.
+        for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
+            *w = 2.0 * u - up;
+        }
+        self.system.solve(&mut self.next, &self.work)?;
         if let (Some(contact), Some(set)) = (self.contact.as_mut(), self.model.contact()) {
             let u_prev = &self.u_prev;
             contact.enforce(

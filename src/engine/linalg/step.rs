@@ -1,0 +1,161 @@
+//! The solver of an implicit scheme's step matrix (`M/(bΔt²) + S`, or `M/Δt² + βS` for
+//! Paoli–Schatzman), direct or iterative, and the rule that chooses between them.
+//!
+//! * `direct`: one sparse Cholesky factorisation per run ([`SpdSolver`]), then two triangular
+//!   solves per step: exact to round-off, but its fill grows like `n^{4/3}` in 3D.
+//! * `cg`: Jacobi-preconditioned conjugate gradients ([`Pcg`]) on the assembled matrix, warm
+//!   started from the scheme's extrapolation of the previous steps; memory `O(n)`.
+//! * `auto` (the default): on a box, `cg` in 3D from [`AUTO_CG_FROM_DOFS`] unknowns on and
+//!   `direct` otherwise ([`LinearSolver::for_box`]); `direct` for every other model.
+//!
+//! A matrix of bandwidth one (every 1D bar) always takes the direct (tridiagonal) solver.
+
+use std::fmt;
+use std::str::FromStr;
+
+use rayon::prelude::*;
+
+use super::pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
+use super::SpdSolver;
+use crate::engine::error::{ParameterError, SolveError};
+use crate::engine::fem::SymmetricMatrix;
+
+/// The size from which `auto` chooses `cg` on a 3D box, between two measurements on this 2-core
+/// machine (README "2D and 3D bars"): the sparse Cholesky was 2.3 times faster at 19 440
+/// unknowns (level 80), CG 1.18 times faster with half the memory at 138 720 (level 160). The
+/// regression gate's boxes are far smaller and keep the direct solver.
+pub const AUTO_CG_FROM_DOFS: usize = 100_000;
+
+/// Which step solver a run uses (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum LinearSolver {
+    /// Sparse Cholesky.
+    Direct,
+    /// Jacobi-preconditioned conjugate gradients.
+    Cg,
+    /// On a box, [`LinearSolver::for_box`]; on any other model, `direct`.
+    #[default]
+    Auto,
+}
+
+/// What a linear solver may be, for error messages.
+pub const LINEAR_SOLVER_NAMES: &str = "one of: direct, cg, auto";
+
+impl LinearSolver {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            LinearSolver::Direct => "direct",
+            LinearSolver::Cg => "cg",
+            LinearSolver::Auto => "auto",
+        }
+    }
+
+    /// The choice for a box of `dimension` with `unknowns` dofs: `auto` becomes `cg` in 3D from
+    /// [`AUTO_CG_FROM_DOFS`] unknowns on and `direct` otherwise (in 2D the Cholesky factor's
+    /// fill stays nearly linear and the direct solver was faster at every measured size);
+    /// `direct` and `cg` stay as given.
+    pub fn for_box(self, dimension: usize, unknowns: usize) -> LinearSolver {
+        match self {
+            LinearSolver::Auto if dimension >= 3 && unknowns >= AUTO_CG_FROM_DOFS => {
+                LinearSolver::Cg
+            }
+            LinearSolver::Auto => LinearSolver::Direct,
+            chosen => chosen,
+        }
+    }
+
+    /// Whether a matrix of `bandwidth` is solved by CG under this choice (never a tridiagonal
+    /// one).
+    fn uses_cg(self, bandwidth: usize) -> bool {
+        self == LinearSolver::Cg && bandwidth > 1
+    }
+}
+
+impl fmt::Display for LinearSolver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for LinearSolver {
+    type Err = ParameterError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        [LinearSolver::Direct, LinearSolver::Cg, LinearSolver::Auto]
+            .into_iter()
+            .find(|v| v.name() == s)
+            .ok_or_else(|| ParameterError::new("linear-solver", s, LINEAR_SOLVER_NAMES))
+    }
+}
+
+/// A step matrix ready to be solved with, by the solver its [`LinearSolver`] chose.
+#[derive(Debug)]
+pub enum StepSolver {
+    /// Factorised.
+    Direct(SpdSolver),
+    /// Prepared for CG, with the work vectors of the per-step solve.
+    Cg {
+        /// The matrix and its preconditioner.
+        pcg: Pcg,
+        /// The solution buffer.
+        x: Vec<f64>,
+        /// `r`, `z`, `p`, `K p`.
+        work: PcgWork,
+    },
+}
+
+impl StepSolver {
+    /// Prepares `a` (factorised, or kept for CG) as `choice` decides; `name` says which matrix
+    /// this is in error messages.
+    pub fn new(
+        a: SymmetricMatrix,
+        choice: LinearSolver,
+        name: &'static str,
+    ) -> Result<Self, SolveError> {
+        let n = a.dim();
+        if choice.uses_cg(a.bandwidth()) {
+            Ok(StepSolver::Cg {
+                pcg: Pcg::new(&a, DEFAULT_TOLERANCE, name)?,
+                x: vec![0.0; n],
+                work: PcgWork::new(n),
+            })
+        } else {
+            SpdSolver::factor(&a, name).map(StepSolver::Direct)
+        }
+    }
+
+    /// Solves `K x = b`: `rhs` holds `b` on entry and `x` on exit. `guess` is CG's initial
+    /// guess (the direct solver ignores it).
+    pub fn solve(&mut self, rhs: &mut [f64], guess: &[f64]) -> Result<(), SolveError> {
+        match self {
+            StepSolver::Direct(solver) => solver.solve_in_place(rhs),
+            StepSolver::Cg { pcg, x, work } => {
+                x.copy_from_slice(guess);
+                pcg.solve(rhs, x, work)?;
+                rhs.copy_from_slice(x);
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `K x_j = b_j` for every column (each holding `b_j` on entry and `x_j` on exit),
+    /// in order with the direct solver, in parallel from a zero guess with CG.
+    pub fn solve_columns(&self, columns: &mut [Vec<f64>]) -> Result<(), SolveError> {
+        match self {
+            StepSolver::Direct(solver) => {
+                columns.iter_mut().for_each(|c| solver.solve_in_place(c));
+                Ok(())
+            }
+            StepSolver::Cg { pcg, .. } => columns.par_iter_mut().try_for_each_init(
+                || (PcgWork::new(pcg.dim()), vec![0.0; pcg.dim()]),
+                |(work, x), column| {
+                    x.fill(0.0);
+                    pcg.solve(column, x, work)?;
+                    column.copy_from_slice(x);
+                    Ok(())
+                },
+            ),
+        }
+    }
+}
