@@ -40,11 +40,16 @@ pub struct Problem1d {
 }
 
 impl Problem1d {
+    /// The problem's bar meshed with `nx` elements.
+    pub fn bar(&self, nx: usize) -> Result<Bar1d, ParameterError> {
+        Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)
+    }
+
     /// The mesh with `nx` elements and the model assembled from what the problem declares:
     /// a contact set (with the problem's contact treatment) only with an obstacle, a load
     /// vector only with a body force. A treatment other than the multiplier needs an obstacle.
     pub fn model(&self, nx: usize, mass: MassVariant) -> Result<(Bar1d, Model), ParameterError> {
-        let bar = Bar1d::new(self.length, nx, self.density, self.wave_speed, self.far_end)?;
+        let bar = self.bar(nx)?;
         bar.check_mass(mass)?;
         let mut model = Model::bar1d(&bar, mass, self.obstacle_gap, self.body_force);
         if self.contact != ContactTreatment::Multiplier {

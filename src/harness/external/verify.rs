@@ -13,7 +13,6 @@ use super::format::{Code, ExternalRun};
 use super::load::load;
 use super::replay::{replay, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
-use crate::engine::fem::Bar1d;
 use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -122,19 +121,15 @@ fn missing_data(run: &ExternalRun, norm: Norm) -> Option<&'static str> {
     }
 }
 
-/// Whether `norm` is a norm of the error `quantity`.
-fn of_error(norm: Norm, quantity: StateField) -> bool {
-    match quantity {
-        StateField::DisplacementError => matches!(
-            norm,
-            Norm::DisplacementLinfH
-                | Norm::DisplacementL2H
-                | Norm::DisplacementLinfV
-                | Norm::DisplacementL2V
-        ),
-        StateField::MultiplierError => norm == Norm::MultiplierL2,
-        StateField::EnergyError => matches!(norm, Norm::EnergyLinf | Norm::EnergyL2),
-        _ => false,
+/// The error whose norm `norm` is (the quantity its observer names when it overflows).
+fn error_of(norm: Norm) -> StateField {
+    match norm {
+        Norm::DisplacementLinfH
+        | Norm::DisplacementL2H
+        | Norm::DisplacementLinfV
+        | Norm::DisplacementL2V => StateField::DisplacementError,
+        Norm::MultiplierL2 => StateField::MultiplierError,
+        Norm::EnergyLinf | Norm::EnergyL2 => StateField::EnergyError,
     }
 }
 
@@ -156,14 +151,7 @@ fn verify_file(
     norms: &BTreeSet<Norm>,
 ) -> Result<Level, ExternalError> {
     let run = load(path, scene, problem)?;
-    let bar = Bar1d::new(
-        problem.length,
-        run.nx(),
-        problem.density,
-        problem.wave_speed,
-        problem.far_end,
-    )
-    .map_err(Error::from)?;
+    let bar = problem.bar(run.nx()).map_err(Error::from)?;
     let mut lacks: BTreeMap<Norm, String> = norms
         .iter()
         .filter_map(|&n| missing_data(&run, n).map(|what| (n, what.to_string())))
@@ -179,9 +167,9 @@ fn verify_file(
         match replay(&run, &bar, problem.exact.as_ref(), &allowed) {
             Ok(replayed) => break replayed,
             Err(Error::Solve(SolveError::NonFinite { step, quantity, .. }))
-                if allowed.iter().any(|&n| of_error(n, quantity)) =>
+                if allowed.iter().any(|&n| error_of(n) == quantity) =>
             {
-                for n in allowed.into_iter().filter(|&n| of_error(n, quantity)) {
+                for n in allowed.into_iter().filter(|&n| error_of(n) == quantity) {
                     lacks.insert(
                         n,
                         format!(

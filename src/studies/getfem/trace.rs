@@ -7,7 +7,6 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::engine::fem::Bar1d;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::{DemoRunError, Error};
 use crate::harness::external::format::{Code, ExternalRun, SampleOrigin};
@@ -83,13 +82,7 @@ pub fn trace_norms(root: &Path, trace: &ExternalRun) -> Result<BTreeMap<Norm, f6
             found: e.to_string(),
             expected: format!("a contact trace of the scene {SCENE}"),
         })?;
-    let bar = Bar1d::new(
-        problem.length,
-        trace.nx(),
-        problem.density,
-        problem.wave_speed,
-        problem.far_end,
-    )?;
+    let bar = problem.bar(trace.nx())?;
     let norms: BTreeSet<Norm> = TRACE_NORMS.into_iter().collect();
     Ok(replay(&trace, &bar, problem.exact.as_ref(), &norms)?.errors)
 }
@@ -106,11 +99,10 @@ fn trace_csv(trace: &ExternalRun) -> String {
         trace.label,
         nodes.join(", ")
     );
-    let column = |c: &Option<Vec<f64>>| c.as_deref().unwrap_or_default().to_vec();
     let (u0, lambda, energy) = (
-        column(&trace.contact_displacement),
-        column(&trace.lambda),
-        column(&trace.energy),
+        trace.contact_displacement.as_deref().unwrap_or_default(),
+        trace.lambda.as_deref().unwrap_or_default(),
+        trace.energy.as_deref().unwrap_or_default(),
     );
     for (n, t) in trace.time.iter().enumerate() {
         let _ = writeln!(csv, "{t:?},{:?},{:?},{:?}", u0[n], lambda[n], energy[n]);
