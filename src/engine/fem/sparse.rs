@@ -98,6 +98,15 @@ impl SymmetricMatrix {
         self.inner.get(i, j).copied().unwrap_or(0.0)
     }
 
+    /// Calls `f(j, A_ij)` for every stored entry of row `i` (column `i`, by symmetry).
+    pub fn for_each_in_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
+        let sym = self.inner.symbolic();
+        let range = sym.col_ptr()[i]..sym.col_ptr()[i + 1];
+        for (&j, &v) in sym.row_idx()[range.clone()].iter().zip(&self.inner.val()[range]) {
+            f(j, v);
+        }
+    }
+
     /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         if let Some(t) = &self.tridiagonal {

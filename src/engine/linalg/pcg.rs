@@ -89,6 +89,7 @@ impl Csr {
 /// A symmetric positive definite matrix prepared for Jacobi-preconditioned CG.
 #[derive(Debug, Clone)]
 pub struct Pcg {
+    source: SymmetricMatrix,
     matrix: Csr,
     inverse_diagonal: Vec<f64>,
     tolerance: f64,
@@ -146,10 +147,16 @@ impl Pcg {
             detail: format!("{} unknowns, more than 2³² − 1", a.dim()),
         })?;
         Ok(Self {
+            source: a.clone(),
             matrix,
             inverse_diagonal,
             tolerance,
         })
+    }
+
+    /// The matrix `K`.
+    pub fn matrix(&self) -> &SymmetricMatrix {
+        &self.source
     }
 
     /// The dimension.

@@ -125,6 +125,15 @@ impl StepSolver {
         }
     }
 
+    /// The step matrix, kept by the iterative solver (`None` for the direct one, which keeps
+    /// only its factor).
+    pub fn matrix(&self) -> Option<&SymmetricMatrix> {
+        match self {
+            StepSolver::Direct(_) => None,
+            StepSolver::Cg { pcg, .. } => Some(pcg.matrix()),
+        }
+    }
+
     /// Solves `K x = b`: `rhs` holds `b` on entry and `x` on exit. `guess` is CG's initial
     /// guess (the direct solver ignores it).
     pub fn solve(&mut self, rhs: &mut [f64], guess: &[f64]) -> Result<(), SolveError> {
