@@ -97,7 +97,7 @@ pub enum StepSolver {
     /// Prepared for CG, with the work vectors of the per-step solve.
     Cg {
         /// The matrix and its preconditioner.
-        pcg: Pcg,
+        pcg: Box<Pcg>,
         /// The solution buffer.
         x: Vec<f64>,
         /// `r`, `z`, `p`, `K p`.
@@ -116,7 +116,7 @@ impl StepSolver {
         let n = a.dim();
         if choice.uses_cg(a.bandwidth()) {
             Ok(StepSolver::Cg {
-                pcg: Pcg::new(&a, DEFAULT_TOLERANCE, name)?,
+                pcg: Box::new(Pcg::new(&a, DEFAULT_TOLERANCE, name)?),
                 x: vec![0.0; n],
                 work: PcgWork::new(n),
             })
