@@ -232,6 +232,17 @@ fn run_box_scene(
         "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
         r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
     );
+    let counts = r.step_solves;
+    if counts.solves > 0 && counts.iterations > 0 {
+        out!(
+            "  step solver {}: {} solves, {:.1} CG iterations per solve",
+            r.linear_solver,
+            counts.solves,
+            counts.iterations as f64 / counts.solves as f64
+        );
+    } else {
+        out!("  step solver {}", r.linear_solver);
+    }
     out!(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
         r.complementarity_violation

@@ -31,13 +31,7 @@ impl Model {
         load: Option<Vec<f64>>,
         contact: Option<ContactSet>,
     ) -> Self {
-        let massless = (0..mass.dim())
-            .filter(|&i| {
-                let a = mass.as_faer();
-                let range = a.symbolic().col_ptr()[i]..a.symbolic().col_ptr()[i + 1];
-                a.val()[range].iter().all(|&v| v == 0.0)
-            })
-            .collect();
+        let massless = (0..mass.dim()).filter(|&i| mass.row_is_zero(i)).collect();
         let law = ContactLaw::multiplier(contact.as_ref().map_or(0, ContactSet::len));
         Self {
             mass,
@@ -96,6 +90,24 @@ impl Model {
             None,
             obstacle_gap.map(|g| ContactSet::on_box_face(mesh, g)),
         )
+    }
+
+    /// The model of [`Model::of_box`] with its mass and stiffness stored matrix-free
+    /// ([`BoxMesh::mass_stencil`], [`BoxMesh::stiffness_stencil`]): `O(n)` memory and products
+    /// that read only the vectors, for the iterative step solver. `None` for a mass variant
+    /// that exists only assembled.
+    pub fn of_box_matrix_free(
+        mesh: &BoxMesh,
+        elasticity: &Elasticity,
+        mass_variant: MassVariant,
+        obstacle_gap: Option<f64>,
+    ) -> Option<Self> {
+        Some(Self::new(
+            mesh.mass_stencil(mass_variant, elasticity.density)?,
+            mesh.stiffness_stencil(elasticity),
+            None,
+            obstacle_gap.map(|g| ContactSet::on_box_face(mesh, g)),
+        ))
     }
 
     /// The 1D bar with the obstacle at `x = 0` (gap `obstacle_gap`, `None` for no obstacle)

@@ -21,6 +21,7 @@ use vtkio::model::{
 use crate::engine::contact::ContactSet;
 use crate::engine::error::StateField;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
+use crate::engine::linalg::SolveCounts;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::artifacts::write_atomic;
@@ -64,6 +65,10 @@ pub struct BoxRunResult {
     pub contact_solves: usize,
     /// Largest complementarity violation.
     pub complementarity_violation: f64,
+    /// The step solver used (`direct` or `cg`, [`LinearSolver`]).
+    pub linear_solver: String,
+    /// Its per-step solves and their CG iterations (0 for `direct`).
+    pub step_solves: SolveCounts,
     /// `(t, E_h)` per step, eq. (6).
     pub energy: Vec<(f64, f64)>,
     /// Contact history.
@@ -233,6 +238,8 @@ pub fn run_box_observed(
         timings: stepped.timings,
         contact_solves: stepped.contact_solves,
         complementarity_violation: stepped.complementarity_violation,
+        linear_solver: model.linear_solver().name().to_string(),
+        step_solves: stepped.step_solves,
         energy: energy.energy,
         contact: face.map(|f| f.history).unwrap_or_default(),
         vtk_files: vtk.files,

@@ -421,7 +421,7 @@ fn patch_test_affine_fields_are_in_equilibrium_inside() {
         let vanishing =
             mesh.interpolate(|x| std::array::from_fn(|i| b[i] * (x[x.len() - 1] - l_d)));
         let quadratic = mesh.interpolate(|x| std::array::from_fn(|i| a[i][0] * x[0] * x[0]));
-        let scale = s.as_faer().val().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = s.to_faer().val().iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let (r_affine, r_vanishing, r_quadratic) = (
             sparse_mul(&s, &affine),
             sparse_mul(&s, &vanishing),
@@ -751,7 +751,7 @@ fn assembly_timing_of_the_8x8x80_hex_mesh() {
         println!(
             "8x8x80 hex: {} dofs, {} stiffness nonzeros; stiffness {:.3} s, mass {:.3} s, model (M^mod + S + contact) {:.3} s",
             mesh.n_dofs(),
-            s.as_faer().val().len(),
+            s.to_faer().val().len(),
             t_s,
             t_m,
             t_model

@@ -28,3 +28,4 @@ mod perturbation;
 mod run;
 mod run_status;
 mod signorini_dirichlet;
+mod stencil;

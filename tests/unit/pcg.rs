@@ -45,7 +45,7 @@ fn pcg_matches_cholesky_on_a_random_spd_system() {
     SpdSolver::factor(&a, "random")
         .unwrap()
         .solve_in_place(&mut direct);
-    let pcg = Pcg::new(&a, DEFAULT_TOLERANCE, "random").unwrap();
+    let pcg = Pcg::new(a.clone(), DEFAULT_TOLERANCE, "random").unwrap();
     let mut work = PcgWork::new(n);
     let scale = direct.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     for guess in [vec![0.0; n], (0..n).map(|_| rng.f64()).collect()] {
@@ -77,7 +77,7 @@ fn pcg_refuses_a_non_positive_diagonal() {
     let mut asm = SparseAssembler::new(2);
     asm.add(0, 0, 1.0);
     asm.add(1, 1, -1.0);
-    let err = Pcg::new(&asm.finish(), DEFAULT_TOLERANCE, "test").unwrap_err();
+    let err = Pcg::new(asm.finish(), DEFAULT_TOLERANCE, "test").unwrap_err();
     assert!(err.to_string().contains("diagonal entry 1"), "{err}");
 }
 

@@ -23,6 +23,8 @@
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
+use super::separable::{AxisMatrix, SeparablePart};
+use super::stencil::Stencil;
 use super::{MassVariant, SymmetricMatrix};
 use crate::engine::error::{require_positive, ParameterError};
 
@@ -612,6 +614,116 @@ impl BoxMesh {
                     .collect(),
             )
         })
+    }
+
+    /// The mass matrix of [`BoxMesh::mass`] stored matrix-free ([`Stencil`]), for the variants
+    /// built element by element (`standard`, `redistributed`, `lumped`); `None` for the
+    /// extended ones, which edit the assembled matrix.
+    pub fn mass_stencil(&self, variant: MassVariant, density: f64) -> Option<SymmetricMatrix> {
+        if variant.contact_extension().is_some() {
+            return None;
+        }
+        let without_first_layer = !variant.includes_element(true);
+        let stencil = match self.dim {
+            2 => {
+                let m = variant.element_matrix(quad_mass(&self.element_coords(0), density));
+                Stencil::from_element(self, |p, q| m[(p, q)], without_first_layer)
+            }
+            _ => {
+                let m = variant.element_matrix(hex_mass(&self.element_coords(0), density));
+                Stencil::from_element(self, |p, q| m[(p, q)], without_first_layer)
+            }
+        };
+        Some(SymmetricMatrix::from_stencil(match variant {
+            MassVariant::Lumped => stencil,
+            _ => {
+                stencil.with_separable_part(self.mass_separable_part(density, without_first_layer))
+            }
+        }))
+    }
+
+    /// The 1D factors `M_k` of the consistent mass ([`AxisMatrix::p1_mass`]), the first axis
+    /// first: free ends on the faces across the axis; along it a free end on `Γ_Sig` and both
+    /// elements at the last kept layer (the next is eliminated). For `M^mod`
+    /// (`without_first_layer`) the axial factor leaves out the first element: zero on `Γ_Sig`.
+    fn mass_axes(&self, without_first_layer: bool) -> Vec<AxisMatrix> {
+        let d = self.dim;
+        let sizes = self.element_sizes();
+        (0..d)
+            .map(|k| {
+                let (n, h) = (self.counts[k], sizes[k]);
+                if k + 1 < d {
+                    return AxisMatrix::p1_mass(n + 1, h, true, true);
+                }
+                let mut axis = AxisMatrix::p1_mass(n, h, true, false);
+                if without_first_layer {
+                    axis.diag[0] = 0.0;
+                    if n > 1 {
+                        axis.diag[1] = h / 3.0;
+                        axis.off[0] = 0.0;
+                    }
+                }
+                axis
+            })
+            .collect()
+    }
+
+    /// The separable part of the mass (`ρ ⊗ M_k`, [`SeparablePart`]).
+    fn mass_separable_part(&self, density: f64, without_first_layer: bool) -> SeparablePart {
+        SeparablePart {
+            components: self.dim,
+            mass_scale: density,
+            mass_axes: self.mass_axes(without_first_layer),
+            coefficients: Vec::new(),
+            stiffness_axes: Vec::new(),
+        }
+    }
+
+    /// The separable part of the stiffness: `E_cc = λ + 2μ`, `E_ck = μ` with the 1D
+    /// stiffnesses ([`AxisMatrix::p1_stiffness`], free ends where the mass has them).
+    fn stiffness_separable_part(&self, e: &Elasticity) -> SeparablePart {
+        let d = self.dim;
+        let sizes = self.element_sizes();
+        let stiffness_axes = (0..d)
+            .map(|k| {
+                let last = k + 1 == d;
+                let nodes = self.counts[k] + usize::from(!last);
+                AxisMatrix::p1_stiffness(nodes, sizes[k], true, !last)
+            })
+            .collect();
+        let coefficients = (0..d * d)
+            .map(|ck| {
+                if ck / d == ck % d {
+                    e.lame_lambda + 2.0 * e.lame_mu
+                } else {
+                    e.lame_mu
+                }
+            })
+            .collect();
+        SeparablePart {
+            components: d,
+            mass_scale: 0.0,
+            mass_axes: self.mass_axes(false),
+            coefficients,
+            stiffness_axes,
+        }
+    }
+
+    /// The stiffness matrix of [`BoxMesh::stiffness`] stored matrix-free ([`Stencil`]).
+    pub fn stiffness_stencil(&self, elasticity: &Elasticity) -> SymmetricMatrix {
+        let stencil = match self.dim {
+            2 => {
+                let k = quad_stiffness(&self.element_coords(0), elasticity);
+                Stencil::from_element(self, |p, q| k[(p, q)], false)
+            }
+            _ => {
+                let k = hex_stiffness(&self.element_coords(0), elasticity);
+                Stencil::from_element(self, |p, q| k[(p, q)], false)
+            }
+        };
+        SymmetricMatrix::from_stencil(
+            stencil.with_separable_part(self.stiffness_separable_part(elasticity)),
+        )
     }
 
     /// Whether `variant` is defined on this mesh ([`MassVariant::check_layers`] with the

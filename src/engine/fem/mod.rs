@@ -9,7 +9,9 @@ pub mod bar1d;
 pub mod box_mesh;
 pub mod mass;
 pub mod prolongation;
+pub mod separable;
 pub mod sparse;
+pub mod stencil;
 
 pub use bar1d::{Bar1d, EndCondition};
 pub use box_mesh::{BoxMesh, Elasticity};

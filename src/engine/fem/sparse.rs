@@ -1,8 +1,16 @@
-//! Sparse symmetric matrices: assembly from element contributions and allocation-free products.
+//! Sparse symmetric matrices (assembled, or matrix-free on a structured box): assembly from
+//! element contributions and allocation-free products.
 
-use faer::sparse::{SparseColMat, Triplet};
+use std::borrow::Cow;
 
-/// A symmetric sparse matrix stored with both triangles (faer CSC).
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
+use rayon::prelude::*;
+
+use super::separable::SeparablePart;
+use super::stencil::Stencil;
+
+/// A symmetric sparse matrix: assembled with both triangles (faer CSC), or matrix-free on a
+/// structured box ([`Stencil`]).
 ///
 /// Both triangles are stored because faer's Cholesky silently returns a wrong answer when the
 /// stored triangle does not match the requested side (DEPENDENCIES.md, faer gotchas). A matrix
@@ -10,9 +18,24 @@ use faer::sparse::{SparseColMat, Triplet};
 /// the time loop run as contiguous loops instead of indexed gathers.
 #[derive(Debug, Clone)]
 pub struct SymmetricMatrix {
-    inner: SparseColMat<usize, f64>,
-    tridiagonal: Option<Tridiagonal>,
+    storage: Storage,
 }
+
+/// How a [`SymmetricMatrix`] is stored.
+#[derive(Debug, Clone)]
+enum Storage {
+    /// Every entry, with the two diagonals again when the bandwidth is one.
+    Assembled {
+        inner: SparseColMat<usize, f64>,
+        tridiagonal: Option<Tridiagonal>,
+    },
+    /// The blocks of each node class of a structured box.
+    Stencil(Stencil),
+}
+
+/// Rows per parallel task of an assembled product; the partial sums of a reduction are added in
+/// task order, so results do not depend on the number of threads.
+const ROWS_PER_TASK: usize = 4096;
 
 /// The diagonal `d` and the sub-diagonal `l[i] = A[i+1, i]` of a symmetric tridiagonal matrix.
 #[derive(Debug, Clone)]
@@ -80,49 +103,118 @@ impl SymmetricMatrix {
     pub fn from_faer(inner: SparseColMat<usize, f64>) -> Self {
         debug_assert_eq!(inner.nrows(), inner.ncols());
         let tridiagonal = Tridiagonal::of(&inner);
-        Self { inner, tridiagonal }
+        Self {
+            storage: Storage::Assembled { inner, tridiagonal },
+        }
+    }
+
+    /// The matrix-free operator `stencil`.
+    pub fn from_stencil(stencil: Stencil) -> Self {
+        Self {
+            storage: Storage::Stencil(stencil),
+        }
+    }
+
+    /// Whether the matrix is stored as a stencil (matrix-free) rather than assembled.
+    pub fn is_stencil(&self) -> bool {
+        matches!(self.storage, Storage::Stencil(_))
     }
 
     /// The number of rows (= columns).
     pub fn dim(&self) -> usize {
-        self.inner.nrows()
+        match &self.storage {
+            Storage::Assembled { inner, .. } => inner.nrows(),
+            Storage::Stencil(s) => s.dim(),
+        }
     }
 
-    /// The faer matrix.
-    pub fn as_faer(&self) -> &SparseColMat<usize, f64> {
-        &self.inner
+    /// The faer matrix: borrowed when assembled, assembled from the stencil otherwise (`O(nnz)`
+    /// memory: for the direct solver and the rare dense operations, never in a time loop).
+    pub fn to_faer(&self) -> Cow<'_, SparseColMat<usize, f64>> {
+        match &self.storage {
+            Storage::Assembled { inner, .. } => Cow::Borrowed(inner),
+            Storage::Stencil(_) => {
+                let n = self.dim();
+                let mut col_ptr = Vec::with_capacity(n + 1);
+                let mut row_idx = Vec::new();
+                let mut val = Vec::new();
+                col_ptr.push(0);
+                for j in 0..n {
+                    self.for_each_in_row(j, |i, v| {
+                        row_idx.push(i);
+                        val.push(v);
+                    });
+                    col_ptr.push(row_idx.len());
+                }
+                let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+                Cow::Owned(SparseColMat::new(symbolic, val))
+            }
+        }
     }
 
     /// Entry `(i, j)`, zero when not stored.
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        self.inner.get(i, j).copied().unwrap_or(0.0)
+        match &self.storage {
+            Storage::Assembled { inner, .. } => inner.get(i, j).copied().unwrap_or(0.0),
+            Storage::Stencil(s) => s.get(i, j),
+        }
     }
 
-    /// Calls `f(j, A_ij)` for every stored entry of row `i` (column `i`, by symmetry).
+    /// Calls `f(j, A_ij)` for every stored entry of row `i` (column `i`, by symmetry), in
+    /// increasing `j`.
     pub fn for_each_in_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
-        let sym = self.inner.symbolic();
-        let range = sym.col_ptr()[i]..sym.col_ptr()[i + 1];
-        for (&j, &v) in sym.row_idx()[range.clone()].iter().zip(&self.inner.val()[range]) {
-            f(j, v);
+        match &self.storage {
+            Storage::Assembled { inner, .. } => {
+                let sym = inner.symbolic();
+                let range = sym.col_ptr()[i]..sym.col_ptr()[i + 1];
+                for (&j, &v) in sym.row_idx()[range.clone()].iter().zip(&inner.val()[range]) {
+                    f(j, v);
+                }
+            }
+            Storage::Stencil(s) => s.for_each_in_row(i, f),
         }
     }
 
     /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
-        if let Some(t) = &self.tridiagonal {
-            return t.mul_into(x, y);
-        }
-        let sym = self.inner.symbolic();
-        let col_ptr = sym.col_ptr();
-        let row_idx = sym.row_idx();
-        let val = self.inner.val();
-        for (i, yi) in y.iter_mut().enumerate() {
-            let range = col_ptr[i]..col_ptr[i + 1];
-            *yi = row_idx[range.clone()]
-                .iter()
-                .zip(&val[range])
-                .map(|(&r, &v)| v * x[r])
-                .sum();
+        self.mul_dot(x, y);
+    }
+
+    /// `y = A x`, returning `xᵀ y`: rows in parallel tasks (whose partial sums are added in a
+    /// fixed order) for every matrix but a tridiagonal one.
+    pub fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        match &self.storage {
+            Storage::Assembled {
+                tridiagonal: Some(t),
+                ..
+            } => {
+                t.mul_into(x, y);
+                x.iter().zip(y.iter()).map(|(a, b)| a * b).sum()
+            }
+            Storage::Assembled { inner, .. } => {
+                let sym = inner.symbolic();
+                let (col_ptr, row_idx, val) = (sym.col_ptr(), sym.row_idx(), inner.val());
+                let partial: Vec<f64> = y
+                    .par_chunks_mut(ROWS_PER_TASK)
+                    .enumerate()
+                    .map(|(task, ys)| {
+                        let first = task * ROWS_PER_TASK;
+                        let mut xy = 0.0;
+                        for (k, yi) in ys.iter_mut().enumerate() {
+                            let range = col_ptr[first + k]..col_ptr[first + k + 1];
+                            *yi = row_idx[range.clone()]
+                                .iter()
+                                .zip(&val[range])
+                                .map(|(&r, &v)| v * x[r])
+                                .sum();
+                            xy += x[first + k] * *yi;
+                        }
+                        xy
+                    })
+                    .collect();
+                partial.iter().sum()
+            }
+            Storage::Stencil(s) => s.mul_dot(x, y),
         }
     }
 
@@ -133,13 +225,17 @@ impl SymmetricMatrix {
 
     /// The bilinear form `xᵀ A y`.
     pub fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
-        if let Some(t) = &self.tridiagonal {
+        let (inner, tridiagonal) = match &self.storage {
+            Storage::Assembled { inner, tridiagonal } => (inner, tridiagonal),
+            Storage::Stencil(s) => return s.bilinear_form(x, y),
+        };
+        if let Some(t) = tridiagonal {
             return t.bilinear_form(x, y);
         }
-        let sym = self.inner.symbolic();
+        let sym = inner.symbolic();
         let col_ptr = sym.col_ptr();
         let row_idx = sym.row_idx();
-        let val = self.inner.val();
+        let val = inner.val();
         let mut total = 0.0;
         for (j, &yj) in y.iter().enumerate() {
             if yj == 0.0 {
@@ -156,8 +252,14 @@ impl SymmetricMatrix {
         total
     }
 
-    /// `a·self + b·other`, on the union of both sparsity patterns.
+    /// `a·self + b·other`, on the union of both sparsity patterns (blockwise for two stencils
+    /// of one mesh, which stay matrix-free).
     pub fn linear_combination(&self, a: f64, other: &SymmetricMatrix, b: f64) -> SymmetricMatrix {
+        if let (Storage::Stencil(p), Storage::Stencil(q)) = (&self.storage, &other.storage) {
+            if let Some(sum) = p.linear_combination(a, q, b) {
+                return SymmetricMatrix::from_stencil(sum);
+            }
+        }
         let mut assembler = SparseAssembler::new(self.dim());
         assembler.add_scaled(self, a);
         assembler.add_scaled(other, b);
@@ -166,7 +268,11 @@ impl SymmetricMatrix {
 
     /// The largest `|i - j|` over stored entries.
     pub fn bandwidth(&self) -> usize {
-        let sym = self.inner.symbolic();
+        let inner = match &self.storage {
+            Storage::Assembled { inner, .. } => inner,
+            Storage::Stencil(s) => return s.bandwidth(),
+        };
+        let sym = inner.symbolic();
         (0..self.dim())
             .flat_map(|j| {
                 sym.row_idx()[sym.col_ptr()[j]..sym.col_ptr()[j + 1]]
@@ -179,7 +285,31 @@ impl SymmetricMatrix {
 
     /// Sum of all entries (for a mass matrix with ρ = 1: the measure of the body).
     pub fn sum_of_entries(&self) -> f64 {
-        self.inner.val().iter().sum()
+        match &self.storage {
+            Storage::Assembled { inner, .. } => inner.val().iter().sum(),
+            Storage::Stencil(_) => {
+                let mut total = 0.0;
+                for i in 0..self.dim() {
+                    self.for_each_in_row(i, |_, v| total += v);
+                }
+                total
+            }
+        }
+    }
+
+    /// The separable part a matrix-free operator carries ([`Stencil::with_separable_part`]).
+    pub fn separable_part(&self) -> Option<&SeparablePart> {
+        match &self.storage {
+            Storage::Stencil(s) => s.separable_part(),
+            Storage::Assembled { .. } => None,
+        }
+    }
+
+    /// Whether row `i` has no non-zero entry.
+    pub fn row_is_zero(&self, i: usize) -> bool {
+        let mut zero = true;
+        self.for_each_in_row(i, |_, v| zero &= v == 0.0);
+        zero
     }
 }
 
@@ -222,13 +352,8 @@ impl SparseAssembler {
 
     /// Adds `scale · m`.
     pub fn add_scaled(&mut self, m: &SymmetricMatrix, scale: f64) {
-        let a = m.as_faer();
-        let sym = a.symbolic();
         for j in 0..m.dim() {
-            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
-            for (&i, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
-                self.add(i, j, scale * v);
-            }
+            m.for_each_in_row(j, |i, v| self.add(i, j, scale * v));
         }
     }
 
@@ -246,12 +371,9 @@ impl SymmetricMatrix {
     /// summed in a fixed order and mirrored, so the result is exactly symmetric.
     pub fn congruence(&self, rows: &[Vec<(usize, f64)>]) -> SymmetricMatrix {
         let n = self.dim();
-        let a = self.as_faer();
-        let sym = a.symbolic();
         let mut upper: Vec<(usize, f64)> = Vec::new();
         for (b, row_b) in rows.iter().enumerate() {
-            let range = sym.col_ptr()[b]..sym.col_ptr()[b + 1];
-            for (&ra, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+            self.for_each_in_row(b, |ra, v| {
                 for &(i, wi) in &rows[ra] {
                     for &(j, wj) in row_b {
                         if i <= j {
@@ -259,7 +381,7 @@ impl SymmetricMatrix {
                         }
                     }
                 }
-            }
+            });
         }
         SymmetricMatrix::from_upper_contributions(n, upper)
     }
@@ -290,17 +412,27 @@ impl SymmetricMatrix {
         for (k, &i) in indices.iter().enumerate() {
             local[i] = k;
         }
-        let a = self.as_faer();
-        let sym = a.symbolic();
-        let mut asm = SparseAssembler::new(indices.len());
-        for (kj, &j) in indices.iter().enumerate() {
-            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
-            for (&i, &v) in sym.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+        let mut col_ptr = Vec::with_capacity(indices.len() + 1);
+        let mut entries: Vec<(usize, f64)> = Vec::new();
+        let mut row_idx = Vec::new();
+        let mut val = Vec::new();
+        col_ptr.push(0);
+        for &j in indices {
+            entries.clear();
+            self.for_each_in_row(j, |i, v| {
                 if local[i] != usize::MAX {
-                    asm.add(local[i], kj, v);
+                    entries.push((local[i], v));
                 }
+            });
+            entries.sort_by_key(|&(i, _)| i);
+            for &(i, v) in &entries {
+                row_idx.push(i);
+                val.push(v);
             }
+            col_ptr.push(row_idx.len());
         }
-        asm.finish()
+        let m = indices.len();
+        let symbolic = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
+        SymmetricMatrix::from_faer(SparseColMat::new(symbolic, val))
     }
 }

@@ -7,5 +7,5 @@ mod tridiagonal;
 
 pub use pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use spd::SpdSolver;
-pub use step::{LinearSolver, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
-pub use tridiagonal::TridiagonalLdlt;
+pub use step::{LinearSolver, SolveCounts, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
+pub use tridiagonal::{solve_interleaved_rows, TridiagonalLdlt};

@@ -3,7 +3,7 @@
 //! At `Δx/Δt` fixed the step matrix `K = M/(bΔt²) + S` is mass-dominated: `Δt² S` and `M` scale
 //! alike with `h`, so the condition number of `D^{-1/2} K D^{-1/2}` (`D = diag K`) is bounded
 //! independently of the mesh and CG converges in a fixed number of iterations. Memory is the
-//! matrix itself (no fill) and four work vectors.
+//! matrix itself (no fill; nothing per entry when it is a [`Stencil`](crate::engine::fem::stencil::Stencil)) and four work vectors.
 //!
 //! The algorithm (Saad, *Iterative Methods for Sparse Linear Systems*, Alg. 9.1), from the
 //! initial guess `x₀`:
@@ -15,9 +15,8 @@
 //! stopping when `‖r_k‖₂ ≤ tol ‖b‖₂` (relative to the right-hand side, not to `r₀`, so that a
 //! good initial guess saves iterations instead of tightening the test).
 
-use rayon::prelude::*;
-
 use crate::engine::error::SolveError;
+use crate::engine::fem::separable::{ProductPreconditioner, SeparablePart};
 use crate::engine::fem::SymmetricMatrix;
 
 /// The relative residual `‖b − Kx‖₂ / ‖b‖₂` at which [`Pcg`] stops by default. With it, the
@@ -31,68 +30,35 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-13;
 /// it means the matrix is not what this solver is for.
 const MAX_ITERATIONS: usize = 2000;
 
-/// Rows per parallel task of the matrix-vector product. The partial sums are added in row order,
-/// so the result does not depend on the number of threads.
-const ROWS_PER_TASK: usize = 4096;
-
-/// `K` in compressed rows with 32-bit column indices: 12 bytes per entry instead of the 16 of
-/// faer's `usize` indices, which matters because the product is bound by memory bandwidth.
-#[derive(Debug, Clone)]
-struct Csr {
-    row_ptr: Vec<usize>,
-    col: Vec<u32>,
-    val: Vec<f64>,
-}
-
-impl Csr {
-    /// The rows of the symmetric `a` (its columns); `None` beyond 2³² unknowns.
-    fn of(a: &SymmetricMatrix) -> Option<Self> {
-        let inner = a.as_faer();
-        let sym = inner.symbolic();
-        let col = sym
-            .row_idx()
-            .iter()
-            .map(|&i| u32::try_from(i).ok())
-            .collect::<Option<Vec<u32>>>()?;
-        Some(Self {
-            row_ptr: sym.col_ptr().to_vec(),
-            col,
-            val: inner.val().to_vec(),
-        })
-    }
-
-    /// `y = K x`, returning `xᵀ y`; rows in parallel blocks of [`ROWS_PER_TASK`].
-    fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
-        let partial: Vec<f64> = y
-            .par_chunks_mut(ROWS_PER_TASK)
-            .enumerate()
-            .map(|(block, ys)| {
-                let first = block * ROWS_PER_TASK;
-                let mut xy = 0.0;
-                for (k, yi) in ys.iter_mut().enumerate() {
-                    let i = first + k;
-                    let range = self.row_ptr[i]..self.row_ptr[i + 1];
-                    *yi = self.col[range.clone()]
-                        .iter()
-                        .zip(&self.val[range])
-                        .map(|(&j, &v)| v * x[j as usize])
-                        .sum();
-                    xy += x[i] * *yi;
-                }
-                xy
-            })
-            .collect();
-        partial.iter().sum()
-    }
-}
-
-/// A symmetric positive definite matrix prepared for Jacobi-preconditioned CG.
+/// A symmetric positive definite matrix prepared for preconditioned CG.
 #[derive(Debug, Clone)]
 pub struct Pcg {
-    source: SymmetricMatrix,
-    matrix: Csr,
-    inverse_diagonal: Vec<f64>,
+    matrix: SymmetricMatrix,
+    preconditioner: Preconditioner,
     tolerance: f64,
+}
+
+/// `P⁻¹` of the preconditioned iteration.
+#[derive(Debug, Clone)]
+enum Preconditioner {
+    /// `D⁻¹`, `D = diag K`.
+    Jacobi(Vec<f64>),
+    /// The product preconditioner of the matrix's separable part
+    /// ([`SeparablePart::preconditioner`]).
+    Product(ProductPreconditioner),
+}
+
+impl Preconditioner {
+    /// `z = P⁻¹ r`, returning `rᵀz`.
+    fn apply(&self, r: &[f64], z: &mut [f64]) -> f64 {
+        match self {
+            Preconditioner::Jacobi(inverse_diagonal) => jacobi(inverse_diagonal, r, z),
+            Preconditioner::Product(p) => {
+                p.solve_into(r, z);
+                dot(r, z)
+            }
+        }
+    }
 }
 
 /// The work vectors of one solve (`r`, `z`, `p`, `K p`), reusable across solves of one size.
@@ -116,19 +82,24 @@ impl PcgWork {
     }
 }
 
+/// `z = D⁻¹ r`, returning `rᵀz`.
+fn jacobi(inverse_diagonal: &[f64], r: &[f64], z: &mut [f64]) -> f64 {
+    let mut rz = 0.0;
+    for ((zi, ri), di) in z.iter_mut().zip(r).zip(inverse_diagonal) {
+        *zi = ri * di;
+        rz += ri * *zi;
+    }
+    rz
+}
+
 fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
 impl Pcg {
     /// Prepares `a` with the relative residual `tolerance`; fails (naming `name`) when a
-    /// diagonal entry is not positive, which no symmetric positive definite matrix has, or
-    /// when `a` has 2³² unknowns or more.
-    pub fn new(
-        a: &SymmetricMatrix,
-        tolerance: f64,
-        name: &'static str,
-    ) -> Result<Self, SolveError> {
+    /// diagonal entry is not positive, which no symmetric positive definite matrix has.
+    pub fn new(a: SymmetricMatrix, tolerance: f64, name: &'static str) -> Result<Self, SolveError> {
         let inverse_diagonal = (0..a.dim())
             .map(|i| {
                 let d = a.get(i, i);
@@ -142,26 +113,29 @@ impl Pcg {
                 }
             })
             .collect::<Result<Vec<f64>, SolveError>>()?;
-        let matrix = Csr::of(a).ok_or_else(|| SolveError::Factorization {
-            matrix: name,
-            detail: format!("{} unknowns, more than 2³² − 1", a.dim()),
-        })?;
+        let product = a
+            .separable_part()
+            .and_then(SeparablePart::preconditioner)
+            .filter(|p| p.dim() == a.dim());
+        let preconditioner = match product {
+            Some(p) => Preconditioner::Product(p),
+            None => Preconditioner::Jacobi(inverse_diagonal),
+        };
         Ok(Self {
-            source: a.clone(),
-            matrix,
-            inverse_diagonal,
+            matrix: a,
+            preconditioner,
             tolerance,
         })
     }
 
     /// The matrix `K`.
     pub fn matrix(&self) -> &SymmetricMatrix {
-        &self.source
+        &self.matrix
     }
 
     /// The dimension.
     pub fn dim(&self) -> usize {
-        self.inverse_diagonal.len()
+        self.matrix.dim()
     }
 
     /// Solves `K x = b` from the initial guess in `x`, overwriting it with the solution, and
@@ -177,15 +151,8 @@ impl Pcg {
         if residual <= target {
             return Ok(0);
         }
-        for ((zi, pi), (ri, di)) in z
-            .iter_mut()
-            .zip(p.iter_mut())
-            .zip(r.iter().zip(&self.inverse_diagonal))
-        {
-            *zi = ri * di;
-            *pi = *zi;
-        }
-        let mut rz = dot(r, z);
+        let mut rz = self.preconditioner.apply(r, z);
+        p.copy_from_slice(z);
         for iteration in 1..=MAX_ITERATIONS {
             let alpha = rz / self.matrix.mul_dot(p, q);
             let mut rr = 0.0;
@@ -198,11 +165,7 @@ impl Pcg {
             if residual <= target {
                 return Ok(iteration);
             }
-            let mut rz_next = 0.0;
-            for ((zi, ri), di) in z.iter_mut().zip(r.iter()).zip(&self.inverse_diagonal) {
-                *zi = ri * di;
-                rz_next += *ri * *zi;
-            }
+            let rz_next = self.preconditioner.apply(r, z);
             let beta = rz_next / rz;
             rz = rz_next;
             p.iter_mut()

@@ -32,7 +32,7 @@ impl SpdSolver {
                     detail: format!("non-positive pivot at row {pivot}"),
                 })
         } else {
-            a.as_faer()
+            a.to_faer()
                 .sp_cholesky(Side::Lower)
                 .map(SpdSolver::Cholesky)
                 .map_err(|e| SolveError::Factorization {

@@ -14,6 +14,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use super::pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
 use super::SpdSolver;
@@ -102,7 +103,19 @@ pub enum StepSolver {
         x: Vec<f64>,
         /// `r`, `z`, `p`, `K p`.
         work: PcgWork,
+        /// The solves so far and their iterations.
+        counts: SolveCounts,
     },
+}
+
+/// How many systems a step solver solved and, for CG, the iterations they took in all (0 for
+/// the direct solver).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SolveCounts {
+    /// Systems solved (one per step and per start).
+    pub solves: usize,
+    /// CG iterations over all of them.
+    pub iterations: usize,
 }
 
 impl StepSolver {
@@ -116,12 +129,21 @@ impl StepSolver {
         let n = a.dim();
         if choice.uses_cg(a.bandwidth()) {
             Ok(StepSolver::Cg {
-                pcg: Box::new(Pcg::new(&a, DEFAULT_TOLERANCE, name)?),
+                pcg: Box::new(Pcg::new(a, DEFAULT_TOLERANCE, name)?),
                 x: vec![0.0; n],
                 work: PcgWork::new(n),
+                counts: SolveCounts::default(),
             })
         } else {
             SpdSolver::factor(&a, name).map(StepSolver::Direct)
+        }
+    }
+
+    /// The per-step solves so far (`solve`, not `solve_columns`) and their CG iterations.
+    pub fn counts(&self) -> SolveCounts {
+        match self {
+            StepSolver::Direct(_) => SolveCounts::default(),
+            StepSolver::Cg { counts, .. } => *counts,
         }
     }
 
@@ -139,9 +161,15 @@ impl StepSolver {
     pub fn solve(&mut self, rhs: &mut [f64], guess: &[f64]) -> Result<(), SolveError> {
         match self {
             StepSolver::Direct(solver) => solver.solve_in_place(rhs),
-            StepSolver::Cg { pcg, x, work } => {
+            StepSolver::Cg {
+                pcg,
+                x,
+                work,
+                counts,
+            } => {
                 x.copy_from_slice(guess);
-                pcg.solve(rhs, x, work)?;
+                counts.iterations += pcg.solve(rhs, x, work)?;
+                counts.solves += 1;
                 rhs.copy_from_slice(x);
             }
         }

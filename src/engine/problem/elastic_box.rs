@@ -84,8 +84,10 @@ pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>
 
 impl BoxProblem {
     /// The discretisation with `n_axis` elements along the axis ([`box_mesh`]) and the mass
-    /// matrix `mass`: the mesh, the model with the problem's contact treatment
-    /// ([`Model::of_box`]) and the initial dofs ([`initial_dofs`]).
+    /// matrix `mass`: the mesh, the model with the problem's contact treatment and the initial
+    /// dofs ([`initial_dofs`]). The model is matrix-free ([`Model::of_box_matrix_free`]) when
+    /// its step solver is `cg` and the mass has a matrix-free form, assembled
+    /// ([`Model::of_box`]) otherwise: the direct solver needs the entries.
     pub fn discretise(
         &self,
         n_axis: usize,
@@ -95,10 +97,14 @@ impl BoxProblem {
         self.elasticity.validate(mesh.dim())?;
         mesh.check_mass(mass)?;
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
-        let model =
-            Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap).with_contact_law(law);
-        let solver = self.linear_solver.for_box(mesh.dim(), model.n_dofs());
-        let model = model.with_linear_solver(solver);
+        let solver = self.linear_solver.for_box(mesh.dim(), mesh.n_dofs());
+        let matrix_free = (solver == LinearSolver::Cg)
+            .then(|| Model::of_box_matrix_free(&mesh, &self.elasticity, mass, self.obstacle_gap))
+            .flatten();
+        let model = matrix_free
+            .unwrap_or_else(|| Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap))
+            .with_contact_law(law)
+            .with_linear_solver(solver);
         let (displacement, velocity) = initial_dofs(self, &mesh);
         Ok(Discretisation {
             mesh,

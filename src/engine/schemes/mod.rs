@@ -37,6 +37,7 @@ pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
 
 use crate::engine::error::SolveError;
+use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
 
 /// A value with the time it approximates.
@@ -105,4 +106,9 @@ pub trait TimeIntegrator: Send {
     /// The largest complementarity violation of any step so far (on the constrained quantity
     /// of the scheme: `u^{n+1}`, or `(u^{n+1} + e u^{n−1})/(1 + e)` for Paoli–Schatzman).
     fn complementarity_violation(&self) -> f64;
+    /// The step matrix's solves so far and their CG iterations (none for a scheme without
+    /// one, or that solves directly).
+    fn step_solves(&self) -> SolveCounts {
+        SolveCounts::default()
+    }
 }

@@ -29,7 +29,7 @@ use super::{InitialState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::{SpdSolver, StepSolver};
+use crate::engine::linalg::{SolveCounts, SpdSolver, StepSolver};
 use crate::engine::model::Model;
 
 /// The coefficients `(a, b, c, d)` of the one-step form; Newmark's (eq. 32) are built in
@@ -290,6 +290,10 @@ impl TimeIntegrator for OneStepScheme<'_> {
 
     fn contact_seconds(&self) -> f64 {
         self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
+
+    fn step_solves(&self) -> SolveCounts {
+        self.system.counts()
     }
 
     fn complementarity_violation(&self) -> f64 {

@@ -26,7 +26,7 @@ use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcc
 use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::StepSolver;
+use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
 
 /// `V^{n−½} = (U^n − U^{n−1})/Δt` into `velocity` and `Ū = (U^n + U^{n−1})/2` into `mean`, from
@@ -345,6 +345,10 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
 
     fn contact_seconds(&self) -> f64 {
         self.start_contact_seconds + self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
+
+    fn step_solves(&self) -> SolveCounts {
+        self.system.counts()
     }
 
     fn complementarity_violation(&self) -> f64 {

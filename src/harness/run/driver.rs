@@ -7,6 +7,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
+use crate::engine::linalg::SolveCounts;
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
@@ -141,6 +142,8 @@ pub struct Stepped {
     pub contact_solves: usize,
     /// Largest complementarity violation.
     pub complementarity_violation: f64,
+    /// The step matrix's solves and their CG iterations.
+    pub step_solves: SolveCounts,
     /// Wall-clock split; `setup` counts from `started`.
     pub timings: Timings,
 }
@@ -287,6 +290,7 @@ pub fn drive<M: AxialMesh>(
         dt,
         contact_solves: integ.contact_solves(),
         complementarity_violation: integ.complementarity_violation(),
+        step_solves: integ.step_solves(),
         timings: Timings {
             setup,
             stepping: stepping - integ.contact_seconds(),

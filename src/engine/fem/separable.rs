@@ -1,0 +1,203 @@
+//! The separable (tensor-product) part of the box operators, and the product preconditioner it
+//! gives the step matrices: `O(n)` to build and to apply.
+//!
+//! On a box of identical Q1 elements (2×2(×2) Gauss points, exact) the mass and the
+//! component-diagonal blocks of the stiffness are sums of Kronecker products of 1D P1 matrices
+//! along the axes (node-major dofs, the first axis fastest):
+//! ```text
+//! M    = ρ (M_d ⊗ … ⊗ M_1) ⊗ I_d
+//! S_cc = Σ_k E_ck (M_d ⊗ … ⊗ K_k ⊗ … ⊗ M_1),   E_cc = λ + 2μ,  E_ck = μ (k ≠ c)
+//! ```
+//! with `M_k = h_k/6 · tridiag(1, 4, 1)`, `K_k = 1/h_k · tridiag(−1, 2, −1)` (halved diagonal
+//! at a free end). The coupling blocks `S_cd` (`c ≠ d`, the `(λ + μ) ∂_c ∂_d` terms) are not
+//! separable and are left out.
+//!
+//! The step matrix `K = αM + S` is preconditioned, component by component, by the product
+//! ```text
+//! P_c = ⊗_k (a M_k + b_ck K_k),   a = (αρ)^{1/d},   b_ck = E_ck / a^{d−1}
+//! ```
+//! whose expansion is `αρ M_⊗ + Σ_k E_ck (… ⊗ K_k ⊗ …)`, the separable part of `K`, plus
+//! positive semi-definite cross terms `a^{d−2} b b (K ⊗ K ⊗ M)`, … that are small where the
+//! mass dominates. `P_c⁻¹` is one tridiagonal solve per axis ([`solve_interleaved_rows`]). At
+//! `Δx/Δt` fixed both `αM` and `S` scale alike with `h`, so `κ(P⁻¹K)` is bounded independently
+//! of the mesh; the measured iteration counts are in the README ("2D and 3D bars").
+
+use rayon::prelude::*;
+
+use crate::engine::linalg::{solve_interleaved_rows, TridiagonalLdlt};
+
+/// A symmetric tridiagonal matrix: its diagonal and its off-diagonal `off[i] = A[i+1, i]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisMatrix {
+    /// The diagonal.
+    pub diag: Vec<f64>,
+    /// The off-diagonal.
+    pub off: Vec<f64>,
+}
+
+impl AxisMatrix {
+    /// The 1D P1 mass `∫ φ_i φ_j` on `nodes` nodes `h` apart: `h/6 · tridiag(1, 4, 1)`, with
+    /// `h/3` on the diagonal at a free end (`first_free`, `last_free`: the node has an element
+    /// on one side only; a node next to an eliminated one keeps both elements).
+    pub fn p1_mass(nodes: usize, h: f64, first_free: bool, last_free: bool) -> Self {
+        Self::p1(nodes, [2.0 * h / 3.0, h / 6.0], first_free, last_free)
+    }
+
+    /// The 1D P1 stiffness `∫ φ_i' φ_j'`: `1/h · tridiag(−1, 2, −1)`, `1/h` on the diagonal at a
+    /// free end.
+    pub fn p1_stiffness(nodes: usize, h: f64, first_free: bool, last_free: bool) -> Self {
+        Self::p1(nodes, [2.0 / h, -1.0 / h], first_free, last_free)
+    }
+
+    fn p1(nodes: usize, [diag, off]: [f64; 2], first_free: bool, last_free: bool) -> Self {
+        let mut d = vec![diag; nodes];
+        if first_free {
+            d[0] = 0.5 * diag;
+        }
+        if last_free {
+            d[nodes - 1] = 0.5 * diag;
+        }
+        Self {
+            diag: d,
+            off: vec![off; nodes.saturating_sub(1)],
+        }
+    }
+
+    /// `a·self + b·other`.
+    fn combine(&self, a: f64, other: &AxisMatrix, b: f64) -> AxisMatrix {
+        let mix = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| a * p + b * q).collect();
+        AxisMatrix {
+            diag: mix(&self.diag, &other.diag),
+            off: mix(&self.off, &other.off),
+        }
+    }
+}
+
+/// The separable part of a box operator (module documentation):
+/// `mass_scale · (⊗_k mass_axes[k]) ⊗ I + Σ_c Σ_k E_ck (⊗_{j≠k} M_j ⊗ stiffness_axes[k]) e_c e_cᵀ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeparablePart {
+    /// Components per node `d`.
+    pub components: usize,
+    /// The mass's scale (`ρ`; 0 for the stiffness alone).
+    pub mass_scale: f64,
+    /// The mass's 1D factors, the first axis first (for `M^mod`, the axial one leaves out the
+    /// first element).
+    pub mass_axes: Vec<AxisMatrix>,
+    /// `E_ck` row-major (`component · d + axis`); empty for the mass alone.
+    pub coefficients: Vec<f64>,
+    /// The 1D stiffnesses `K_k`; empty for the mass alone.
+    pub stiffness_axes: Vec<AxisMatrix>,
+}
+
+impl SeparablePart {
+    /// `a·p + b·q` when at most one of them has a mass and at most one a stiffness (a step
+    /// matrix `αM + S`); `None` otherwise.
+    pub fn combine(p: &SeparablePart, a: f64, q: &SeparablePart, b: f64) -> Option<Self> {
+        let has_mass = |s: &SeparablePart| s.mass_scale != 0.0;
+        let has_stiffness = |s: &SeparablePart| !s.coefficients.is_empty();
+        if p.components != q.components
+            || (has_mass(p) && has_mass(q))
+            || (has_stiffness(p) && has_stiffness(q))
+        {
+            return None;
+        }
+        let (mass, mass_factor) = if has_mass(q) { (q, b) } else { (p, a) };
+        let (stiffness, stiffness_factor) = if has_stiffness(q) { (q, b) } else { (p, a) };
+        Some(Self {
+            components: p.components,
+            mass_scale: mass_factor * mass.mass_scale,
+            mass_axes: mass.mass_axes.clone(),
+            coefficients: (stiffness.coefficients.iter())
+                .map(|e| stiffness_factor * e)
+                .collect(),
+            stiffness_axes: stiffness.stiffness_axes.clone(),
+        })
+    }
+
+    /// The product preconditioner `P_c = ⊗_k (a M_k + b_ck K_k)` (module documentation);
+    /// `None` without a positive mass and a stiffness, or when a factor is not positive
+    /// definite.
+    pub fn preconditioner(&self) -> Option<ProductPreconditioner> {
+        let d = self.components;
+        let axes = self.mass_axes.len();
+        let complete = self.mass_scale.is_finite()
+            && self.mass_scale > 0.0
+            && self.coefficients.len() == d * axes
+            && self.stiffness_axes.len() == axes;
+        if !complete {
+            return None;
+        }
+        let a = self.mass_scale.powf(1.0 / axes as f64);
+        let b_scale = a.powi(axes as i32 - 1);
+        let mut factors = Vec::with_capacity(axes);
+        for k in 0..axes {
+            let per_component = (0..d)
+                .map(|c| {
+                    let b = self.coefficients[c * axes + k] / b_scale;
+                    let mass = with_massless_weight(&self.mass_axes[k]);
+                    let m = mass.combine(a, &self.stiffness_axes[k], b);
+                    TridiagonalLdlt::factor(&m.diag, &m.off).ok()
+                })
+                .collect::<Option<Vec<_>>>()?;
+            factors.push(per_component);
+        }
+        Some(ProductPreconditioner {
+            components: d,
+            nodes_per_axis: self.mass_axes.iter().map(|m| m.diag.len()).collect(),
+            factors,
+        })
+    }
+}
+
+/// The weight, relative to its neighbour's, that the preconditioner gives a massless node of a
+/// mass factor (`M^mod`'s `Γ_Sig` plane): the product then stands for the plane's lateral
+/// stiffness, which the true `M_z` weights, not `M_z^mod`. Measured on the 3D bar at level 40
+/// (CG iterations per solve, Crank–Nicolson / backward Euler): weight 0 → 26.9 / 25.9,
+/// 0.1 → 20.8 / 23.6, 0.25 → 19.5 / 21.6, 0.5 → 20.8 / 20.2, 1 → 24.5 / 20.7.
+const MASSLESS_WEIGHT: f64 = 0.25;
+
+/// `m` with each zero diagonal entry replaced by [`MASSLESS_WEIGHT`] times its neighbour's.
+fn with_massless_weight(m: &AxisMatrix) -> AxisMatrix {
+    let mut weighted = m.clone();
+    let n = m.diag.len();
+    for i in (0..n).filter(|&i| m.diag[i] == 0.0) {
+        let neighbour = if i + 1 < n {
+            m.diag[i + 1]
+        } else {
+            m.diag[i.saturating_sub(1)]
+        };
+        weighted.diag[i] = MASSLESS_WEIGHT * neighbour;
+    }
+    weighted
+}
+
+/// `blockdiag_c(⊗_k F_ck)⁻¹` on node-major `d`-component dofs, each `F_ck` factorised.
+#[derive(Debug, Clone)]
+pub struct ProductPreconditioner {
+    components: usize,
+    nodes_per_axis: Vec<usize>,
+    /// `factors[k][c]`.
+    factors: Vec<Vec<TridiagonalLdlt>>,
+}
+
+impl ProductPreconditioner {
+    /// The number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.components * self.nodes_per_axis.iter().product::<usize>()
+    }
+
+    /// `z = P⁻¹ r`: one interleaved tridiagonal solve along each axis, the independent blocks
+    /// of an axis in parallel.
+    pub fn solve_into(&self, r: &[f64], z: &mut [f64]) {
+        z.copy_from_slice(r);
+        // Along axis k the rows are `width` entries apart (the faster axes and the components),
+        // and the array is a sequence of independent blocks of `nodes_k · width` entries.
+        let mut width = self.components;
+        for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
+            z.par_chunks_exact_mut(nodes * width)
+                .for_each(|block| solve_interleaved_rows(factors, block, width));
+            width *= nodes;
+        }
+    }
+}

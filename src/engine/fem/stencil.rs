@@ -1,0 +1,387 @@
+//! Matrix-free storage of a symmetric operator on a structured box mesh: every element of the
+//! box is the same, so the assembled matrix `A = Σ_e P_eᵀ A_e P_e` is a constant-coefficient
+//! stencil away from the faces. Row block `i` (node `i`, `d` dofs) is
+//! ```text
+//! (A x)_i = Σ_{o ∈ {−1,0,1}^d} B_{c(i)}(o) x_{i+o},   B_c(o) = Σ_{e ∋ i, i+o} A_e[a_e(i), a_e(i+o)]
+//! ```
+//! where the `d × d` blocks `B_c` depend only on the node's *class* `c(i)`: which of the `2^d`
+//! elements around it exist (and enter the integral) and whether its neighbours above are on the
+//! eliminated Dirichlet face. A 3D box has at most a few dozen classes of 27 blocks, so the
+//! operator costs `O(n)` memory for the class of each node and nothing per entry, and a product
+//! reads only the two vectors: at 1 M unknowns the assembled matrix (81 entries per row) would
+//! take 1.3 GB and be read whole at every product.
+//!
+//! The blocks are sums of one element matrix (element 0's: the elements are translates of each
+//! other), so the stencil equals the assembled matrix to round-off, not bit for bit: the
+//! assembled one sums each element's own matrix in another order.
+
+use rayon::prelude::*;
+
+use super::box_mesh::BoxMesh;
+use super::separable::SeparablePart;
+
+/// Nodes per parallel task of a product. The partial sums of a reduction are added in task
+/// order, so results do not depend on the number of threads.
+const NODES_PER_TASK: usize = 2048;
+
+/// The blocks of one node class: `(node offset, block)` for every neighbour with a non-zero
+/// block, the block `d × d` row-major in the first `d²` entries.
+#[derive(Debug, Clone, PartialEq)]
+struct NodeClass {
+    blocks: Vec<(isize, [f64; 9])>,
+}
+
+/// A symmetric operator on the dofs of a [`BoxMesh`] (node-major, `d` components per node, the
+/// Dirichlet layer eliminated), stored as the blocks of each node class.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stencil {
+    dim: usize,
+    /// Kept nodes per axis: `n_k + 1`, and `n_d` along the last (the face `x_d = L_d` is
+    /// eliminated).
+    nodes_per_axis: [usize; 3],
+    class_of: Vec<u16>,
+    classes: Vec<NodeClass>,
+    /// The separable part of this operator ([`Stencil::with_separable_part`]).
+    separable: Option<SeparablePart>,
+}
+
+/// The local corner index of an element corner given by its bits (bit `k` set: the corner's
+/// coordinate `k` is the element's upper one), in the corner order of the element matrices.
+fn corner_of_bits(dim: usize, bits: usize) -> usize {
+    let order: &[usize] = if dim == 2 {
+        &[0b00, 0b01, 0b11, 0b10]
+    } else {
+        &[0b000, 0b001, 0b011, 0b010, 0b100, 0b101, 0b111, 0b110]
+    };
+    order
+        .iter()
+        .position(|&b| b == bits)
+        .expect("bits below 2^d")
+}
+
+impl Stencil {
+    /// The operator `Σ_e P_eᵀ A_e P_e` over the elements of `mesh`, where `entry(p, q)` is the
+    /// entry of the (common) element matrix at local dofs `p = a·d + r`, `q = b·d + c`, and
+    /// the first element layer (the elements touching `Γ_Sig`) is left out when
+    /// `without_first_layer` (the note's `M^mod`, eq. 7).
+    pub fn from_element(
+        mesh: &BoxMesh,
+        entry: impl Fn(usize, usize) -> f64,
+        without_first_layer: bool,
+    ) -> Self {
+        let dim = mesh.dim();
+        let counts = mesh.counts();
+        let mut nodes_per_axis = [1usize; 3];
+        for k in 0..dim {
+            nodes_per_axis[k] = counts[k] + usize::from(k + 1 < dim);
+        }
+        let n_nodes: usize = nodes_per_axis.iter().product();
+        let mut keys: Vec<u16> = Vec::new();
+        let mut classes = Vec::new();
+        let mut class_of = Vec::with_capacity(n_nodes);
+        for node in 0..n_nodes {
+            let index = unflatten(node, &nodes_per_axis);
+            let key = class_key(dim, counts, &index);
+            let class = match keys.iter().position(|&k| k == key) {
+                Some(c) => c,
+                None => {
+                    keys.push(key);
+                    classes.push(node_class(
+                        dim,
+                        counts,
+                        &nodes_per_axis,
+                        &index,
+                        &entry,
+                        without_first_layer,
+                    ));
+                    keys.len() - 1
+                }
+            };
+            class_of.push(u16::try_from(class).expect("at most 4^6 classes"));
+        }
+        Self {
+            dim,
+            nodes_per_axis,
+            class_of,
+            classes,
+            separable: None,
+        }
+    }
+
+    /// The operator carrying `part`, its separable part (the mass, or the stiffness's
+    /// component-diagonal blocks), from which CG's preconditioner is built.
+    pub fn with_separable_part(mut self, part: SeparablePart) -> Self {
+        self.separable = Some(part);
+        self
+    }
+
+    /// The separable part this operator carries, if any.
+    pub fn separable_part(&self) -> Option<&SeparablePart> {
+        self.separable.as_ref()
+    }
+
+    /// The number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.class_of.len() * self.dim
+    }
+
+    /// Entry `(i, j)`.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let d = self.dim;
+        let (node, r) = (i / d, i % d);
+        let (other, c) = (j / d, j % d);
+        let delta = other as isize - node as isize;
+        self.classes[usize::from(self.class_of[node])]
+            .blocks
+            .iter()
+            .find(|(o, _)| *o == delta)
+            .map_or(0.0, |(_, b)| b[r * d + c])
+    }
+
+    /// Calls `f(j, A_ij)` for every entry of row `i` in a non-zero block.
+    pub fn for_each_in_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
+        let d = self.dim;
+        let (node, r) = (i / d, i % d);
+        for (delta, b) in &self.classes[usize::from(self.class_of[node])].blocks {
+            let first = (node as isize + delta) as usize * d;
+            for c in 0..d {
+                f(first + c, b[r * d + c]);
+            }
+        }
+    }
+
+    /// The largest `|i − j|` over the non-zero blocks.
+    pub fn bandwidth(&self) -> usize {
+        let d = self.dim;
+        self.classes
+            .iter()
+            .flat_map(|c| c.blocks.iter().map(|(o, _)| o.unsigned_abs() * d + d - 1))
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// `a·self + b·other` for two stencils on one mesh (blockwise), with the combined
+    /// separable part ([`SeparablePart::combine`]); `None` when the meshes differ.
+    pub fn linear_combination(&self, a: f64, other: &Stencil, b: f64) -> Option<Stencil> {
+        if self.dim != other.dim || self.nodes_per_axis != other.nodes_per_axis {
+            return None;
+        }
+        let mut pairs: Vec<(u16, u16)> = Vec::new();
+        let mut class_of = Vec::with_capacity(self.class_of.len());
+        let mut classes = Vec::new();
+        for (&p, &q) in self.class_of.iter().zip(&other.class_of) {
+            let class = match pairs.iter().position(|&k| k == (p, q)) {
+                Some(c) => c,
+                None => {
+                    pairs.push((p, q));
+                    classes.push(combine(
+                        &self.classes[usize::from(p)],
+                        a,
+                        &other.classes[usize::from(q)],
+                        b,
+                    ));
+                    pairs.len() - 1
+                }
+            };
+            class_of.push(u16::try_from(class).ok()?);
+        }
+        let separable = match (&self.separable, &other.separable) {
+            (Some(p), Some(q)) => SeparablePart::combine(p, a, q, b),
+            _ => None,
+        };
+        Some(Stencil {
+            dim: self.dim,
+            nodes_per_axis: self.nodes_per_axis,
+            class_of,
+            classes,
+            separable,
+        })
+    }
+
+    /// Calls `sink(node, (A x)_node)` for every node of `nodes`, in order.
+    fn rows<const D: usize>(
+        &self,
+        x: &[f64],
+        nodes: std::ops::Range<usize>,
+        mut sink: impl FnMut(usize, [f64; D]),
+    ) {
+        for node in nodes {
+            let class = &self.classes[usize::from(self.class_of[node])];
+            let mut acc = [0.0; D];
+            for (delta, b) in class.blocks.iter() {
+                let first = (node as isize + delta) as usize * D;
+                let xs: [f64; D] = std::array::from_fn(|c| x[first + c]);
+                for (r, a) in acc.iter_mut().enumerate() {
+                    let row = &b[r * D..r * D + D];
+                    *a += row.iter().zip(&xs).map(|(p, q)| p * q).sum::<f64>();
+                }
+            }
+            sink(node, acc);
+        }
+    }
+
+    /// `y = A x`, returning `xᵀ y`; nodes in parallel tasks of [`NODES_PER_TASK`].
+    pub fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        match self.dim {
+            2 => self.mul_dot_of::<2>(x, y),
+            _ => self.mul_dot_of::<3>(x, y),
+        }
+    }
+
+    fn mul_dot_of<const D: usize>(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        let partial: Vec<f64> = y
+            .par_chunks_mut(NODES_PER_TASK * D)
+            .enumerate()
+            .map(|(task, ys)| {
+                let first = task * NODES_PER_TASK;
+                let mut xy = 0.0;
+                self.rows::<D>(x, first..first + ys.len() / D, |node, row| {
+                    let k = (node - first) * D;
+                    ys[k..k + D].copy_from_slice(&row);
+                    xy += row
+                        .iter()
+                        .zip(&x[node * D..])
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>();
+                });
+                xy
+            })
+            .collect();
+        partial.iter().sum()
+    }
+
+    /// The bilinear form `xᵀ A y`, without allocation.
+    pub fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
+        match self.dim {
+            2 => self.bilinear_form_of::<2>(x, y),
+            _ => self.bilinear_form_of::<3>(x, y),
+        }
+    }
+
+    fn bilinear_form_of<const D: usize>(&self, x: &[f64], y: &[f64]) -> f64 {
+        let n_nodes = self.class_of.len();
+        let partial: Vec<f64> = (0..n_nodes.div_ceil(NODES_PER_TASK))
+            .into_par_iter()
+            .map(|task| {
+                let first = task * NODES_PER_TASK;
+                let mut total = 0.0;
+                let nodes = first..(first + NODES_PER_TASK).min(n_nodes);
+                self.rows::<D>(y, nodes, |node, row| {
+                    total += row
+                        .iter()
+                        .zip(&x[node * D..])
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>();
+                });
+                total
+            })
+            .collect();
+        partial.iter().sum()
+    }
+}
+
+/// The class key of the kept node at grid `index`: per axis, whether it is the first node,
+/// the last (for the last axis: the last kept, below the eliminated face) and, along the last
+/// axis, the second (its element below is the first layer, which `M^mod` leaves out). Nodes
+/// with one key have the same blocks.
+fn class_key(dim: usize, counts: &[usize], index: &[usize; 3]) -> u16 {
+    let mut key = 0u16;
+    for k in 0..dim {
+        let last = k + 1 == dim;
+        let top = if last { counts[k] - 1 } else { counts[k] };
+        let flags = u16::from(index[k] == 0)
+            | u16::from(index[k] == top) << 1
+            | u16::from(last && index[k] == 1) << 2;
+        key |= flags << (3 * k);
+    }
+    key
+}
+
+/// The blocks of the node at grid `index`, summed over the elements around it.
+fn node_class(
+    dim: usize,
+    counts: &[usize],
+    nodes_per_axis: &[usize; 3],
+    index: &[usize; 3],
+    entry: &impl Fn(usize, usize) -> f64,
+    without_first_layer: bool,
+) -> NodeClass {
+    let mut blocks: Vec<(isize, [f64; 9])> = Vec::new();
+    let stride = |k: usize| nodes_per_axis[..k].iter().product::<usize>() as isize;
+    // Side bit `k` set: the element above the node along axis `k` (the node is its lower
+    // corner there); clear: the element below (the node is its upper corner).
+    for side in 0..1usize << dim {
+        let exists = (0..dim).all(|k| {
+            let above = side >> k & 1 == 1;
+            let layer_ok = if above {
+                index[k] < counts[k]
+            } else {
+                index[k] > 0
+            };
+            let layer = if above {
+                index[k]
+            } else {
+                index[k].wrapping_sub(1)
+            };
+            layer_ok && !(k + 1 == dim && without_first_layer && layer == 0)
+        });
+        if !exists {
+            continue;
+        }
+        let own_bits = !side & ((1 << dim) - 1);
+        let a = corner_of_bits(dim, own_bits);
+        for other_bits in 0..1usize << dim {
+            let offset: Vec<isize> = (0..dim)
+                .map(|k| (other_bits >> k & 1) as isize - (own_bits >> k & 1) as isize)
+                .collect();
+            // The neighbour above the last kept layer is on the eliminated face.
+            if offset[dim - 1] == 1 && index[dim - 1] + 1 == counts[dim - 1] {
+                continue;
+            }
+            let delta: isize = (0..dim).map(|k| offset[k] * stride(k)).sum();
+            let b = corner_of_bits(dim, other_bits);
+            let slot = match blocks.iter().position(|(o, _)| *o == delta) {
+                Some(s) => s,
+                None => {
+                    blocks.push((delta, [0.0; 9]));
+                    blocks.len() - 1
+                }
+            };
+            for r in 0..dim {
+                for c in 0..dim {
+                    blocks[slot].1[r * dim + c] += entry(a * dim + r, b * dim + c);
+                }
+            }
+        }
+    }
+    blocks.retain(|(_, b)| b.iter().any(|&v| v != 0.0));
+    blocks.sort_by_key(|(o, _)| *o);
+    NodeClass { blocks }
+}
+
+/// `a·p + b·q` blockwise.
+fn combine(p: &NodeClass, a: f64, q: &NodeClass, b: f64) -> NodeClass {
+    let mut blocks: Vec<(isize, [f64; 9])> = p
+        .blocks
+        .iter()
+        .map(|(o, block)| (*o, block.map(|v| a * v)))
+        .collect();
+    for (o, block) in &q.blocks {
+        match blocks.iter_mut().find(|(p_o, _)| p_o == o) {
+            Some((_, sum)) => sum.iter_mut().zip(block).for_each(|(s, v)| *s += b * v),
+            None => blocks.push((*o, block.map(|v| b * v))),
+        }
+    }
+    blocks.sort_by_key(|(o, _)| *o);
+    NodeClass { blocks }
+}
+
+/// The grid point of a lexicographic node index (first coordinate fastest).
+fn unflatten(mut flat: usize, sizes: &[usize; 3]) -> [usize; 3] {
+    let mut index = [0; 3];
+    for (k, &n) in sizes.iter().enumerate() {
+        index[k] = flat % n;
+        flat /= n;
+    }
+    index
+}
