@@ -42,7 +42,8 @@ enum Command {
     /// One run of a scene: the requested error norms on the terminal; with --out, run.json
     /// plus the histories the scene asks for (contact.csv, multiplier.csv, energy.csv,
     /// points.csv, field-t<T>.csv, strain-t<T>.csv; a box: energy.csv, contact.csv,
-    /// field-t<T>.vtu), the directory written whole or not at all.
+    /// field-t<T>.vtu, and with them obstacle.vtu, the obstacle plane, and fields.pvd, their
+    /// collection for ParaView), the directory written whole or not at all.
     Run(RunArgs),
     /// A refinement study of a scene: the rate table of the selected cases and norms, as
     /// markdown or JSON. Nothing outside the selection is computed.

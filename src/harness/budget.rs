@@ -268,8 +268,9 @@ fn box_matrix_bytes(dim: usize, dofs: f64, contact_nodes: f64) -> f64 {
 }
 
 /// A box run of `problem` with `n_axis` elements along the axis and `Δx/Δt = ratio`;
-/// `writes_files`: the run writes `run.json`, its CSV histories and `snapshots` VTK files
-/// (`run --out`).
+/// `writes_files`: the run writes `run.json`, its CSV histories and `snapshots` VTK files,
+/// with, when there are snapshots, their collection `fields.pvd` and the obstacle's
+/// `obstacle.vtu` (`run --out`).
 pub fn box_run(
     problem: &BoxProblem,
     n_axis: usize,
@@ -286,8 +287,16 @@ pub fn box_run(
             0.0
         };
     let snapshots = snapshots as f64;
+    let paraview = if problem.obstacle_gap.is_some() {
+        2.0
+    } else {
+        1.0
+    };
     let (files, snapshot_bytes) = if writes_files && snapshots > 0.0 {
-        (3.0 + snapshots, 10.0 * shape.nodes * BYTES_PER_STORED_VALUE)
+        (
+            3.0 + snapshots + paraview,
+            10.0 * shape.nodes * BYTES_PER_STORED_VALUE,
+        )
     } else if writes_files {
         (3.0, 0.0)
     } else {

@@ -1,7 +1,7 @@
 //! Runs of the 2D/3D bars of the note (§3): a box of Q1 elements, its face `x_d = 0` on the
 //! obstacle side, its face `x_d = L_d` held fixed, any scheme and mass variant, with the
 //! energy (eq. 6), the contact history and VTK snapshots of displacement, velocity and von
-//! Mises stress.
+//! Mises stress, with the obstacle and their collection for ParaView ([`paraview`]).
 //!
 //! Reading of the note's set-up (it writes `u(x₁, 1, t) = 0.2` for an undeformed bar 0.2
 //! above the obstacle): displacements are measured from the initial configuration, the top
@@ -26,6 +26,7 @@ pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
+use crate::harness::paraview;
 use crate::harness::run::{drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.
@@ -73,7 +74,8 @@ pub struct BoxRunResult {
     pub energy: Vec<(f64, f64)>,
     /// Contact history.
     pub contact: BoxContactHistory,
-    /// VTK files written.
+    /// VTK files written: the snapshots in increasing time, then, when there are any, the
+    /// obstacle (`obstacle.vtu`, with an obstacle) and their collection (`fields.pvd`).
     pub vtk_files: Vec<PathBuf>,
     /// The contact treatment's name.
     pub contact_treatment: String,
@@ -168,23 +170,62 @@ struct VtkSnapshots<'a> {
     elasticity: &'a Elasticity,
     dir: &'a Path,
     pending: SnapshotTimes,
-    files: Vec<PathBuf>,
+    /// The snapshots written in `dir`, each with its requested time, in increasing time.
+    written: Vec<paraview::Snapshot>,
 }
 
 impl Observer for VtkSnapshots<'_> {
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
         while let Some(wanted) = self.pending.next_due(state) {
-            let path = self.dir.join(format!("field-t{wanted}.vtu"));
-            write_vtu(self.mesh, self.elasticity, state, &path)?;
-            self.files.push(path);
+            let file = format!("field-t{wanted}.vtu");
+            if self.written.last().is_some_and(|last| last.file == file) {
+                continue;
+            }
+            write_vtu(self.mesh, self.elasticity, state, &self.dir.join(&file))?;
+            self.written.push(paraview::Snapshot { time: wanted, file });
+        }
+        Ok(())
+    }
+}
+
+impl VtkSnapshots<'_> {
+    /// The files of a completed run: the snapshots and, when there are any, the obstacle
+    /// `obstacle_gap` below the box (when there is one) and the collection `fields.pvd` of them
+    /// all ([`paraview`]), written beside them.
+    fn finish(self, obstacle_gap: Option<f64>) -> Result<Vec<PathBuf>, Error> {
+        let mut files: Vec<PathBuf> = self
+            .written
+            .iter()
+            .map(|s| self.dir.join(&s.file))
+            .collect();
+        if files.is_empty() {
+            return Ok(files);
+        }
+        let obstacle = match obstacle_gap {
+            Some(gap) => paraview::write_obstacle(self.dir, self.mesh.lengths(), gap)?,
+            None => None,
+        };
+        let obstacle_file = obstacle.as_ref().map(|_| paraview::OBSTACLE_FILE);
+        let collection = paraview::write_collection(self.dir, &self.written, obstacle_file)?;
+        files.extend(obstacle);
+        files.push(collection);
+        Ok(files)
+    }
+
+    /// Removes the snapshots of a run that did not complete: they are no result.
+    fn discard(self) -> Result<(), Error> {
+        for s in &self.written {
+            let f = self.dir.join(&s.file);
+            std::fs::remove_file(&f).map_err(Error::write(&f))?;
         }
         Ok(())
     }
 }
 
 /// Runs a box problem through the one time loop ([`drive`]) with the built-in observers of
-/// [`run_box`] followed by `observers`; their time counts as observation. A run that does not
-/// complete removes the VTK snapshots it wrote: they are no result.
+/// [`run_box`] followed by `observers`; their time counts as observation. A completed run with
+/// snapshots adds the obstacle and the collection of ParaView ([`VtkSnapshots::finish`]); a run
+/// that does not complete removes the VTK snapshots it wrote: they are no result.
 pub fn run_box_observed(
     problem: &BoxProblem,
     config: &RunConfig,
@@ -205,7 +246,7 @@ pub fn run_box_observed(
             .as_deref()
             .unwrap_or(Path::new(".")),
         pending: SnapshotTimes::new(&config.observables.fields_at),
-        files: Vec::new(),
+        written: Vec::new(),
     };
     let stepped = {
         let mut all: Vec<&mut dyn Observer> = vec![&mut energy];
@@ -223,11 +264,12 @@ pub fn run_box_observed(
             started,
         )?
     };
-    if !stepped.status.is_completed() {
-        for f in vtk.files.drain(..) {
-            std::fs::remove_file(&f).map_err(Error::write(&f))?;
-        }
-    }
+    let vtk_files = if stepped.status.is_completed() {
+        vtk.finish(problem.obstacle_gap)?
+    } else {
+        vtk.discard()?;
+        Vec::new()
+    };
     Ok(BoxRunResult {
         status: stepped.status,
         elements: mesh.counts().to_vec(),
@@ -242,7 +284,7 @@ pub fn run_box_observed(
         step_solves: stepped.step_solves,
         energy: energy.energy,
         contact: face.map(|f| f.history).unwrap_or_default(),
-        vtk_files: vtk.files,
+        vtk_files,
         contact_treatment: problem.contact.name(),
     })
 }

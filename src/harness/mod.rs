@@ -12,6 +12,7 @@ pub mod getfem;
 pub mod golden;
 pub mod norms;
 pub mod output_dir;
+pub mod paraview;
 pub mod rates;
 pub mod report;
 pub mod run;

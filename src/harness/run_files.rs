@@ -1,7 +1,8 @@
 //! The files of one run, what `signorini run --out DIR` writes: `run.json` (the whole result)
 //! and the histories the scene asks for as CSV. A 1D run writes `contact.csv`,
 //! `multiplier.csv`, `points.csv`, `field-t<T>.csv`, `strain-t<T>.csv` and `energy.csv`; a 2D/3D
-//! box run `energy.csv` and `contact.csv` (its own columns). The gravity benchmark's figure data
+//! box run `energy.csv` and `contact.csv` (its own columns), and its VTK files
+//! (`crate::harness::elastic`, `crate::harness::paraview`). The gravity benchmark's figure data
 //! (`crate::studies::gravity`) reuse the point and strain tables.
 
 use crate::harness::artifacts::csv;
@@ -11,10 +12,11 @@ use crate::harness::run::{FieldSnapshot, PointHistory, RunResult};
 /// The whole result of a run, as JSON ([`RunResult`] or [`BoxRunResult`]).
 pub const RUN_JSON: &str = "run.json";
 
-/// Whether `name` is a file `signorini run --out` writes: `run.json`, a CSV history or a VTK
-/// snapshot (what an existing output directory may hold to be replaced by a new run's).
+/// Whether `name` is a file `signorini run --out` writes: `run.json`, a CSV history, a VTK
+/// snapshot or obstacle, or the collection of the snapshots (`.pvd`) (what an existing output
+/// directory may hold to be replaced by a new run's).
 pub fn is_run_file(name: &str) -> bool {
-    name == RUN_JSON || name.ends_with(".csv") || name.ends_with(".vtu")
+    name == RUN_JSON || [".csv", ".vtu", ".pvd"].iter().any(|e| name.ends_with(e))
 }
 
 /// The digits after the point of every number in a run's CSV files (all of an `f64`).

@@ -1,5 +1,6 @@
 //! What the user meets: the `signorini` binary end to end (exit codes, messages, whole files),
-//! the committed scene files, the box scenes' VTK output, and the SVG figures and their index.
+//! the committed scene files, the box scenes' VTK output and its ParaView collection, and the
+//! SVG figures and their index.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -12,6 +13,7 @@ mod figures;
 mod getfem;
 mod hostile;
 mod outputs;
+mod paraview;
 mod report_figures;
 mod scenes;
 mod verify;

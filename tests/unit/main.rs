@@ -2,7 +2,7 @@
 //! independent solver rather than read back from the code under test: the P1 and Q1 assembly
 //! and the mass variants, the exact solutions of the benchmarks, complementarity and the contact
 //! treatments, explicit Newmark, the initial-data perturbation, and the discrete energy
-//! balances (all of them in `energy_balance.rs`).
+//! balances (all of them in `energy_balance.rs`); and the ParaView files of a box run.
 
 #[path = "../common/benchmarks.rs"]
 mod benchmarks;
@@ -23,6 +23,7 @@ mod fem;
 mod getfem_demo;
 mod getfem_roundoff;
 mod mass_variants;
+mod paraview;
 mod pcg;
 mod perturbation;
 mod run;
