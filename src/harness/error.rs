@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::engine::error::{self as engine, ParameterError, SolveError};
+use crate::harness::shard::ShardError;
 
 /// Any error of a harness run or study.
 #[derive(Debug, Error)]
@@ -64,6 +65,9 @@ pub enum Error {
     /// A scene file could not be read or is not valid.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A shard could not be run or shards could not be merged.
+    #[error(transparent)]
+    Shard(#[from] ShardError),
 }
 
 impl Error {

@@ -102,7 +102,10 @@ impl SymmetricMatrix {
     pub fn for_each_in_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
         let sym = self.inner.symbolic();
         let range = sym.col_ptr()[i]..sym.col_ptr()[i + 1];
-        for (&j, &v) in sym.row_idx()[range.clone()].iter().zip(&self.inner.val()[range]) {
+        for (&j, &v) in sym.row_idx()[range.clone()]
+            .iter()
+            .zip(&self.inner.val()[range])
+        {
             f(j, v);
         }
     }
