@@ -14,4 +14,5 @@ mod hostile;
 mod outputs;
 mod report_figures;
 mod scenes;
+mod shards;
 mod verify;
