@@ -24,6 +24,7 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
             return Err(ShardError::Format {
                 path: path.clone(),
                 found: s.format.clone(),
+                expected: SHARD_FORMAT,
             });
         }
     }
