@@ -237,9 +237,11 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
     problem.contact = contact.unwrap_or(problem.contact);
     problem.conventions = conventions.over(problem.conventions);
     if let Some((spec, out)) = shard {
-        return write_shard(&invocation, spec, &out, || {
+        let written = write_shard(&invocation, spec, &out, || {
             run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))
         });
+        bar.finish_and_clear();
+        return written;
     }
     let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
     bar.finish_and_clear();

@@ -169,9 +169,9 @@ fn without_wall_time(md: &str) -> String {
     format!("{head}study wall time … s {rest}")
 }
 
-#[test]
-fn the_merge_of_a_box_study_writes_the_unsharded_reports() {
-    let dir = scratch("box");
+/// bar2d.json without its round-off ensemble, on levels 10 and 20 against a reference on 80
+/// elements, named `name`, in `dir`: its path.
+fn small_box_scene(dir: &Path, name: &str) -> String {
     let scene =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
             .unwrap();
@@ -182,10 +182,18 @@ fn the_merge_of_a_box_study_writes_the_unsharded_reports() {
     );
     let small = scene
         .replacen(ensemble, "", 1)
+        .replacen("\"name\": \"bar2d\"", &format!("\"name\": \"{name}\""), 1)
         .replacen("\"levels\": [10, 20, 40, 80]", "\"levels\": [10, 20]", 1)
         .replacen("\"reference_level\": 640", "\"reference_level\": 80", 1);
-    let scene = text(&dir.join("bar2d-small.json"));
-    std::fs::write(&scene, small).unwrap();
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, small).unwrap();
+    text(&path)
+}
+
+#[test]
+fn the_merge_of_a_box_study_writes_the_unsharded_reports() {
+    let dir = scratch("box");
+    let scene = small_box_scene(&dir, "bar2d-small");
     let cache = text(&dir.join("refs"));
     let (out, kept) = (dir.join("out"), dir.join("unsharded"));
     let out_text = text(&out);
@@ -226,5 +234,49 @@ fn the_merge_of_a_box_study_writes_the_unsharded_reports() {
         ],
         2,
         &["--shard", "round-off ensemble"],
+    );
+}
+
+#[test]
+fn reference_shards_fill_one_cache_that_the_merge_reuses() {
+    let dir = scratch("reference");
+    let scenes = [
+        small_box_scene(&dir, "box-a"),
+        small_box_scene(&dir, "box-b"),
+    ];
+    // Another gap: another reference (the cache is keyed by the parameters, not the name).
+    let b = std::fs::read_to_string(&scenes[1]).unwrap();
+    assert!(b.contains("\"gap\": 0.2"));
+    std::fs::write(&scenes[1], b.replacen("\"gap\": 0.2", "\"gap\": 0.25", 1)).unwrap();
+    let cache = text(&dir.join("refs"));
+    let files: Vec<String> = (1..=2)
+        .map(|k| {
+            let out = text(&dir.join(format!("s{k}")));
+            let spec = format!("{k}/2");
+            let stdout = success_stdout(&signorini(&[
+                "reference",
+                &scenes[0],
+                &scenes[1],
+                "--cache",
+                &cache,
+                "--shard",
+                &spec,
+                "--out",
+                &out,
+            ]));
+            assert_eq!(stdout.matches("computed and cached").count(), 1, "{stdout}");
+            format!("{out}/shard-reference-{k}-of-2.json")
+        })
+        .collect();
+    let stdout = merged(&files);
+    assert_eq!(
+        stdout.matches("the cache matches").count(),
+        2,
+        "the merge finds both references: {stdout}"
+    );
+    expect_error(
+        &["reference", &scenes[0], "--out", &cache],
+        2,
+        &["--out", "--shard"],
     );
 }
