@@ -20,7 +20,7 @@ pub struct MergeArgs {
     /// command's; a 1D study prints its tables).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// The partial result files of the n shards (shard-<command>-<k>-of-<n>.json).
+    /// The partial result files of the n shards (`shard-<command>-<k>-of-<n>.json`).
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
 }

@@ -16,7 +16,7 @@ use crate::harness::shard::{shard_file_name, Invocation, ShardSpec};
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct ShardArgs {
     /// Run only shard K of N of the study's jobs (1 <= K <= N) and write its partial result
-    /// file shard-<command>-<K>-of-<N>.json into --out; `signorini merge` makes the reports
+    /// file `shard-<command>-<K>-of-<N>.json` into --out; `signorini merge` makes the reports
     /// from the N files.
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     pub shard: Option<ShardSpec>,

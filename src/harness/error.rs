@@ -324,7 +324,7 @@ pub enum DemoRunError {
 #[derive(Debug, Error)]
 pub enum ShardError {
     /// Not a failure: the shard's jobs are done and recorded, and the study stops before its
-    /// reports ([`plan::record_share`] catches it).
+    /// reports ([`crate::harness::shard::plan::record_share`] catches it).
     #[error("this shard's jobs are recorded; the study stops before its reports")]
     Recorded,
     /// The command ran no job list through the runner, so there is nothing to shard.

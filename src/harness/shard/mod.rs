@@ -1,6 +1,6 @@
 //! Sharding a study over several machines: `--shard k/n` runs one deterministic share of a
 //! study's job list ([`ShardSpec::share`], after the runner's largest-first ordering) and writes
-//! the results into a partial result file ([`file`]); `signorini merge` checks the shards are
+//! the results into a partial result file ([`mod@file`]); `signorini merge` checks the shards are
 //! one invocation's and complete ([`merge`]) and runs the command again with every job's result
 //! taken from them ([`plan::replay`]), so that it writes the very reports the unsharded
 //! command writes.
