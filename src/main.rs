@@ -9,8 +9,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GoldenArgs, ListArgs, ReferenceArgs,
-    ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
+    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GoldenArgs, ListArgs, MergeArgs,
+    ReferenceArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -23,6 +23,8 @@ Examples:
   signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --mass standard,redistributed --norm u_Linf_H,energy_L2
   signorini study scenes/bar1d-free.json --scheme crank-nicolson --mass standard --json
   signorini verify scenes/bar1d-dirichlet.json runs/mycode-nx*.csv --out verified/
+  signorini study scenes/bar1d-dirichlet.json --scheme crank-nicolson --shard 2/4 --out shard-2/
+  signorini merge shard-*/shard-study-*-of-4.json
   signorini report
 
 Exit codes: 0 success, 2 usage error (arguments or scene file), 1 failure.";
@@ -78,6 +80,10 @@ enum Command {
     Getfem(GetfemArgs),
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List(ListArgs),
+    /// The reports of a command run as shards (`--shard k/n` on study, stability, sensitivity
+    /// or reference) from the shards' partial result files: checks they are the n shards of
+    /// one invocation and writes, or prints, what the unsharded command does.
+    Merge(MergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -94,6 +100,7 @@ fn main() -> ExitCode {
         Command::Verify(args) => commands::verify_runs(args),
         Command::Getfem(args) => commands::getfem(args),
         Command::List(args) => commands::list(args),
+        Command::Merge(args) => commands::merge(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

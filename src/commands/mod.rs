@@ -17,19 +17,23 @@ macro_rules! out {
 mod getfem;
 mod limits;
 mod list;
+mod merge;
 mod reports;
 mod run;
+mod sharding;
 mod study;
 mod verify;
 
 pub use getfem::{getfem, GetfemArgs};
 pub use limits::LimitArgs;
 pub use list::{list, ListArgs};
+pub use merge::{merge, MergeArgs};
 pub use reports::{
     experiment, figures, golden, report, stability, ExperimentArgs, FiguresArgs, GoldenArgs,
     ReportArgs, StabilityArgs,
 };
 pub use run::{run_scene, RunArgs};
+pub use sharding::ShardArgs;
 pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
 pub use verify::{verify_runs, VerifyArgs};
 
@@ -166,6 +170,8 @@ impl From<Error> for Failure {
             | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
             Error::DemoRun(e) => Self::usage(e),
+            Error::Shard(e) if e.is_usage() => Self::usage(e),
+            Error::Shard(e) => Self::runtime(e),
         }
     }
 }

@@ -5,15 +5,18 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use super::sharding::{this_invocation, write_shard, ShardArgs};
 use super::{write_output, Failure};
 use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::study::Case;
+use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::experiment::write_defaults_experiment;
 use crate::studies::extended::write_extended_report;
 use crate::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
 use crate::studies::golden::write_golden;
 use crate::studies::gravity::write_gravity_report;
 use crate::studies::report::write_report;
-use crate::studies::stability::write_stability;
+use crate::studies::stability::{hard_cases, run_suite, write_stability};
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Args)]
@@ -109,12 +112,35 @@ pub struct StabilityArgs {
     /// Only the fast subset that CI guards.
     #[arg(long)]
     pub ci_subset: bool,
+    /// Run one shard of the suite's runs.
+    #[command(flatten)]
+    pub shard: ShardArgs,
+}
+
+impl StabilityArgs {
+    /// The files the suite reads: the Signorini–Dirichlet scene.
+    pub(crate) fn inputs(&self) -> Vec<PathBuf> {
+        vec![PathBuf::from(DIRICHLET_SCENE)]
+    }
 }
 
 /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
 /// verdict each; writes stability.md and stability.json.
 pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
-    let StabilityArgs { out, ci_subset } = args;
+    let invocation = this_invocation("stability", args.inputs());
+    let StabilityArgs {
+        out,
+        ci_subset,
+        shard,
+    } = args;
+    if let Some(spec) = shard.shard {
+        return write_shard(&invocation, spec, &out, || {
+            run_suite(
+                &hard_cases(Path::new("."), ci_subset)?,
+                &Case::paper_matrix(),
+            )
+        });
+    }
     let staged = StagedDir::begin("--out", &out, Replace::Files)?;
     let records =
         write_stability(Path::new("."), staged.path(), ci_subset).map_err(Failure::runtime)?;

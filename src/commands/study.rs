@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::sharding::{this_invocation, write_shard, write_share, ShardArgs};
 use super::{
     parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
     ConventionArgs, Failure, LimitArgs, LinearSolverArgs,
@@ -21,6 +22,7 @@ use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
+use crate::harness::shard::plan::{EncodedResult, Share};
 use crate::harness::study::{run_study_with_progress, study_size, Case};
 use crate::studies::elastic_study::files::{write_elastic_report, REFERENCE_CACHE};
 use crate::studies::elastic_study::reference::ReferenceCache;
@@ -76,6 +78,16 @@ pub struct StudyArgs {
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
+    /// Run one shard of the study's jobs (with --out: where its partial result file goes).
+    #[command(flatten)]
+    pub shard: ShardArgs,
+}
+
+impl StudyArgs {
+    /// The files the study reads: its scene.
+    pub(crate) fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.scene.clone()]
+    }
 }
 
 /// `values` without repetitions, in their order; each repeated one is named on stderr
@@ -95,6 +107,12 @@ fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> V
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
 /// markdown or JSON. Nothing outside the selection is computed.
 pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
+    study_scene_as(args, &invocation())
+}
+
+/// [`study_scene`], whose box report says it was made by `command_line`.
+pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), Failure> {
+    let invocation = this_invocation("study", args.inputs());
     let StudyArgs {
         scene,
         scheme,
@@ -110,7 +128,13 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
         conventions,
         solver,
         limits,
+        shard,
     } = args;
+    let shard = match (shard.shard, &out) {
+        (Some(spec), Some(out)) => Some((spec, out.clone())),
+        (Some(_), None) => return Err(Failure::usage(SHARD_NEEDS_OUT)),
+        (None, _) => None,
+    };
     let scheme = distinct("--scheme", scheme);
     let mass = distinct("--mass", mass);
     let scene = Scene::load(&scene)?;
@@ -154,14 +178,28 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
                 config.ratio,
                 config.cases.len().saturating_mul(members.saturating_add(1)),
             ))?;
-            return elastic_study(&problem, &config, out, &cache, json);
+            if let Some((spec, out)) = shard {
+                if config.sensitivity.is_some() {
+                    return Err(Failure::usage(format!(
+                        "--shard: scene {} has a round-off ensemble (discretisation.sensitivity), \
+                         a second job list that needs the study's results: it cannot be sharded",
+                        scene.name
+                    )));
+                }
+                let mut note = |why: String| eprintln!("{why}; computing the reference");
+                return write_shard(&invocation, spec, &out, || {
+                    run_elastic_study(&problem, &config, &cache, &mut note)
+                });
+            }
+            return elastic_study(&problem, &config, out, &cache, json, command_line);
         }
         Problem::Bar(problem) => problem,
     };
-    if reference_level.is_some() || out.is_some() {
+    if reference_level.is_some() || (out.is_some() && shard.is_none()) {
         return Err(Failure::usage(format!(
             "scene {}: --reference-level and --out are for box scenes (a bar1d study \
-             compares with the exact solution and prints its tables)",
+             compares with the exact solution and prints its tables; --out takes a shard's \
+             file with --shard)",
             scene.name
         )));
     }
@@ -198,6 +236,13 @@ pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
     let bar = progress_bar(study_size(&cases, &config));
     problem.contact = contact.unwrap_or(problem.contact);
     problem.conventions = conventions.over(problem.conventions);
+    if let Some((spec, out)) = shard {
+        let written = write_shard(&invocation, spec, &out, || {
+            run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))
+        });
+        bar.finish_and_clear();
+        return written;
+    }
     let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
     bar.finish_and_clear();
     if json {
@@ -232,17 +277,29 @@ pub struct SensitivityArgs {
     /// Output directory.
     #[arg(long, default_value = "reports")]
     pub out: PathBuf,
+    /// Run one shard of the ensemble's case × level jobs.
+    #[command(flatten)]
+    pub shard: ShardArgs,
+}
+
+impl SensitivityArgs {
+    /// The files the ensemble reads: its scene.
+    pub(crate) fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.scene.clone()]
+    }
 }
 
 /// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
 /// as an ensemble of members with seeded noise of relative size A on the initial
 /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
 pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
+    let invocation = this_invocation("sensitivity", args.inputs());
     let SensitivityArgs {
         scene,
         members,
         amplitude,
         out,
+        shard,
     } = args;
     let scene = Scene::load(&scene)?;
     let Problem::Bar(problem) = scene.problem() else {
@@ -254,14 +311,14 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
     };
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
+    let norms = &scene.observables.norms;
+    if let Some(spec) = shard.shard {
+        return write_shard(&invocation, spec, &out, || {
+            run_sensitivity(&problem, &cases, norms, &scene.study_config(), ensemble)
+        });
+    }
     let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let s = run_sensitivity(
-        &problem,
-        &cases,
-        &scene.observables.norms,
-        &scene.study_config(),
-        ensemble,
-    )?;
+    let s = run_sensitivity(&problem, &cases, norms, &scene.study_config(), ensemble)?;
     write_sensitivity_files(&s, staged.path())
         .map_err(|e| Failure::runtime(format!("cannot write into {}: {e}", out.display())))?;
     staged.commit()?;
@@ -289,23 +346,62 @@ pub struct ReferenceArgs {
     /// Where the references are cached.
     #[arg(long, default_value = REPORT_REFERENCES)]
     pub cache: PathBuf,
+    /// With --shard: the directory the shard's partial result file goes into (the references
+    /// themselves go into --cache).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// The step solver.
     #[command(flatten)]
     pub solver: LinearSolverArgs,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
+    /// Compute only shard K of N of the scenes' references (the largest first).
+    #[command(flatten)]
+    pub shard: ShardArgs,
+}
+
+impl ReferenceArgs {
+    /// The files the command reads: its scenes.
+    pub(crate) fn inputs(&self) -> Vec<PathBuf> {
+        self.scenes.clone()
+    }
+}
+
+/// A box scene whose reference is to be obtained, with its study configuration.
+struct ReferenceJob {
+    scene: Scene,
+    problem: BoxProblem,
+    config: ElasticStudyConfig,
 }
 
 /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
-/// parameters match the scene's, says which differ otherwise, and recomputes it.
+/// parameters match the scene's, says which differ otherwise, and recomputes it. Under
+/// `--shard k/n` only that shard's share of the scenes (the most work first), whose job results
+/// are the scenes' names: the references are in the cache.
 pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
+    let invocation = this_invocation("reference", args.inputs());
     let ReferenceArgs {
         scenes,
         cache,
+        out,
         solver,
         limits,
+        shard,
     } = args;
+    let shard = match (shard.shard, out) {
+        (Some(spec), Some(out)) => Some((spec, out)),
+        (Some(_), None) => return Err(Failure::usage(SHARD_NEEDS_OUT)),
+        (None, Some(_)) => {
+            return Err(Failure::usage(
+                "--out is where a shard's file goes: it takes --shard K/N (the references \
+                 go into --cache)",
+            ))
+        }
+        (None, None) => None,
+    };
+    let mut jobs = Vec::with_capacity(scenes.len());
+    let mut work = Vec::with_capacity(scenes.len());
     for path in scenes {
         let scene = Scene::load(&path)?;
         let Problem::Box(mut problem) = scene.problem() else {
@@ -316,34 +412,68 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
         };
         problem.linear_solver = solver.linear_solver;
         let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
-        limits.check(budget::box_study(
+        let estimate = budget::box_study(
             &problem,
             &config.levels,
             config.reference_level,
             config.ratio,
             0,
-        ))?;
-        let mut computed = false;
-        let store = ReferenceCache::ReadWrite(cache.clone());
-        let reference = obtain_reference(&problem, &config, &store, &mut |why| {
-            computed = true;
-            eprintln!("{why}; computing it");
-        })?;
-        out!(
-            "{}: reference {} on {:?} elements, {} unknowns, {} samples: {} ({:.1} s)",
-            scene.name,
-            reference.histories.key.scheme,
-            reference.mesh.counts(),
-            reference.histories.dofs,
-            reference.samples(),
-            if computed {
-                "computed and cached"
-            } else {
-                "the cache matches the scene's parameters"
-            },
-            reference.histories.seconds
         );
+        work.push(estimate.dof_steps);
+        limits.check(estimate)?;
+        jobs.push(ReferenceJob {
+            scene,
+            problem,
+            config,
+        });
     }
+    let Some((spec, out)) = shard else {
+        return jobs
+            .iter()
+            .try_for_each(|job| obtain_and_report(job, &cache));
+    };
+    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by(|&a, &b| work[b].total_cmp(&work[a]).then(a.cmp(&b)));
+    let mut results = Vec::new();
+    for index in spec.share(&order) {
+        obtain_and_report(&jobs[index], &cache)?;
+        results.push(EncodedResult {
+            index,
+            result: jobs[index].scene.name.clone(),
+        });
+    }
+    results.sort_by_key(|r| r.index);
+    let share = Share {
+        jobs: jobs.len(),
+        results,
+    };
+    write_share(&invocation, spec, &out, staged, share)
+}
+
+/// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
+/// not match) and says which it was.
+fn obtain_and_report(job: &ReferenceJob, cache: &std::path::Path) -> Result<(), Failure> {
+    let mut computed = false;
+    let store = ReferenceCache::ReadWrite(cache.to_path_buf());
+    let reference = obtain_reference(&job.problem, &job.config, &store, &mut |why| {
+        computed = true;
+        eprintln!("{why}; computing it");
+    })?;
+    out!(
+        "{}: reference {} on {:?} elements, {} unknowns, {} samples: {} ({:.1} s)",
+        job.scene.name,
+        reference.histories.key.scheme,
+        reference.mesh.counts(),
+        reference.histories.dofs,
+        reference.samples(),
+        if computed {
+            "computed and cached"
+        } else {
+            "the cache matches the scene's parameters"
+        },
+        reference.histories.seconds
+    );
     Ok(())
 }
 
@@ -354,14 +484,13 @@ fn elastic_study(
     out: Option<PathBuf>,
     cache: &ReferenceCache,
     json: bool,
+    command: &str,
 ) -> Result<(), Failure> {
     let mut note = |why: String| eprintln!("{why}; computing the reference");
-    let command = invocation();
     if let Some(dir) = out {
         let staged = StagedDir::begin("--out", &dir, Replace::Files)?;
-        let study =
-            write_elastic_report(problem, config, staged.path(), cache, &command, &mut note)
-                .map_err(Failure::runtime)?;
+        let study = write_elastic_report(problem, config, staged.path(), cache, command, &mut note)
+            .map_err(Failure::runtime)?;
         staged.commit()?;
         out!(
             "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
@@ -392,17 +521,21 @@ fn elastic_study(
     } else {
         out!(
             "{}",
-            crate::studies::elastic_study::report::render(&study, &command).trim_end()
+            crate::studies::elastic_study::report::render(&study, command).trim_end()
         );
     }
     Ok(())
 }
 
+/// Why `--shard` without `--out` is refused.
+const SHARD_NEEDS_OUT: &str =
+    "--shard needs --out DIR: the directory its partial result file goes into";
+
 /// The references `make report` keeps, relative to the repository root.
 const REPORT_REFERENCES: &str = "reports/data/references";
 
 /// This process's command line as a user types it: `signorini` and the arguments.
-fn invocation() -> String {
+pub(crate) fn invocation() -> String {
     std::iter::once("signorini".to_string())
         .chain(std::env::args().skip(1))
         .collect::<Vec<_>>()

@@ -19,5 +19,6 @@ pub mod run;
 pub mod run_files;
 pub mod scene;
 pub mod sensitivity;
+pub mod shard;
 pub mod study;
 pub mod verdicts;

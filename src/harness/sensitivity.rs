@@ -149,7 +149,7 @@ impl Spread {
 
 /// How one member's contact-node displacement parts from the unperturbed run's (the box
 /// ensembles of `crate::studies::elastic_study::sensitivity` measure it on the centre contact node).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Separation {
     /// The first step at which `|u_m(0, t_n) − u(0, t_n)| > PARTING`.
     pub parting_step: Option<usize>,
@@ -380,6 +380,7 @@ fn largest_separation(separations: &[Separation]) -> f64 {
 }
 
 /// What one (case, level) job measured: every member's errors and separation.
+#[derive(Serialize, Deserialize)]
 pub(crate) struct LevelEnsemble {
     /// Member by member, the error of every norm.
     pub(crate) errors: Vec<BTreeMap<Norm, f64>>,

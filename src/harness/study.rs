@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use rayon::prelude::*;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::ParameterError;
@@ -14,6 +15,8 @@ use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, Timings};
+use crate::harness::shard::codec;
+use crate::harness::shard::plan::{self, EncodedResult, Schedule};
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -258,26 +261,55 @@ pub fn run_study_with_progress(
 
 /// Runs `job` on every item of `jobs` in parallel, the largest by `size` first (they take
 /// longest; ties in the order of `jobs`), and returns the results in the order of `jobs`. The
-/// first error stops the rest. Every study's case × level runs are scheduled here.
-pub fn run_largest_first<J: Sync, T: Send>(
+/// first error stops the rest. Every study's case × level runs are scheduled here, and so are
+/// shards ([`crate::harness::shard`]): under `--shard k/n` only that shard's share of the
+/// largest-first order runs, its results are recorded and the study stops; under a merge the
+/// results are read from the shards instead of run.
+pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned>(
     jobs: &[J],
     size: impl Fn(&J) -> usize,
     job: impl Fn(&J) -> Result<T, Error> + Sync,
 ) -> Result<Vec<T>, Error> {
     let mut order: Vec<usize> = (0..jobs.len()).collect();
     order.sort_by_key(|&k| (std::cmp::Reverse(size(&jobs[k])), k));
-    let mut results: Vec<(usize, T)> = order
-        .par_iter()
-        .map(|&k| job(&jobs[k]).map(|r| (k, r)))
-        .collect::<Result<_, _>>()?;
-    results.sort_by_key(|&(k, _)| k);
-    Ok(results.into_iter().map(|(_, r)| r).collect())
+    let run_all = |order: &[usize]| -> Result<Vec<(usize, T)>, Error> {
+        order
+            .par_iter()
+            .map(|&k| job(&jobs[k]).map(|r| (k, r)))
+            .collect()
+    };
+    match plan::next_list(jobs.len())? {
+        Schedule::All => {
+            let mut results = run_all(&order)?;
+            results.sort_by_key(|&(k, _)| k);
+            Ok(results.into_iter().map(|(_, r)| r).collect())
+        }
+        Schedule::Share(spec) => {
+            let mut results = run_all(&spec.share(&order))?;
+            results.sort_by_key(|&(k, _)| k);
+            let encoded = results
+                .iter()
+                .map(|(index, r)| {
+                    codec::encode(r).map(|result| EncodedResult {
+                        index: *index,
+                        result,
+                    })
+                })
+                .collect::<Result<_, _>>()?;
+            Err(plan::finish_share(jobs.len(), encoded))
+        }
+        Schedule::Replay(results) => results
+            .iter()
+            .enumerate()
+            .map(|(index, text)| codec::decode(index, text).map_err(Error::from))
+            .collect(),
+    }
 }
 
 /// Runs `job(case, level)` for every case index below `n_cases` and every level index of
 /// `levels` ([`run_largest_first`]: the largest levels first), and returns each case's results
 /// in level order.
-pub fn run_case_levels<T: Send>(
+pub fn run_case_levels<T: Send + Serialize + DeserializeOwned>(
     n_cases: usize,
     levels: &[usize],
     job: impl Fn(usize, usize) -> Result<T, Error> + Sync,

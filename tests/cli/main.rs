@@ -16,4 +16,5 @@ mod outputs;
 mod paraview;
 mod report_figures;
 mod scenes;
+mod shards;
 mod verify;

@@ -3,13 +3,18 @@
 //! known energy growth of Crank–Nicolson with the standard mass.
 
 use crate::benchmarks;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use signorini::fem::MassVariant;
+use signorini::harness::shard::merge::merge;
+use signorini::harness::shard::plan::{record_share, replay};
+use signorini::harness::shard::{Invocation, ShardSpec};
 use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::SensitivityClass;
-use signorini::stability::{hard_cases, judge, HardCase, Verdict, STABILITY_ENSEMBLE};
+use signorini::stability::{
+    hard_cases, judge, render, run_suite, HardCase, Verdict, STABILITY_ENSEMBLE,
+};
 use signorini::study::Case;
 
 fn long_horizon() -> HardCase {
@@ -193,4 +198,39 @@ fn stays_stable_needs_every_member_and_no_chaos() {
     let mut unmeasured = calm;
     unmeasured.sensitivity = None;
     assert!(!unmeasured.stays_stable());
+}
+
+#[test]
+fn the_merge_of_three_shards_of_the_suite_equals_the_unsharded_suite() {
+    // Two fast hard cases (few, large steps) × the 14 cases, as `stability --shard k/3` and
+    // `merge` run them: the records equal bit for bit, so do stability.md and stability.json.
+    let hard: Vec<HardCase> = hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), false)
+        .unwrap()
+        .into_iter()
+        .filter(|h| ["ratio-0.5", "ratio-1"].contains(&h.name))
+        .collect();
+    assert_eq!(hard.len(), 2);
+    let cases = Case::paper_matrix();
+    let full = run_suite(&hard, &cases).unwrap();
+    let invocation = Invocation {
+        command: "stability".into(),
+        arguments: vec![],
+        inputs: vec![],
+    };
+    let shards = (1..=3)
+        .map(|k| {
+            let spec = ShardSpec { k, n: 3 };
+            let share = record_share(spec, || run_suite(&hard, &cases)).unwrap();
+            let file = invocation.shard_file(spec, share).unwrap();
+            (PathBuf::from(format!("shard-{k}")), file)
+        })
+        .collect();
+    let merged = merge(shards).unwrap();
+    let records = replay(merged.results, || run_suite(&hard, &cases)).unwrap();
+    assert_eq!(format!("{records:?}"), format!("{full:?}"));
+    assert_eq!(render(&hard, &records), render(&hard, &full));
+    assert_eq!(
+        serde_json::to_string_pretty(&records).unwrap(),
+        serde_json::to_string_pretty(&full).unwrap()
+    );
 }

@@ -256,6 +256,7 @@ pub struct ElasticHistories {
 }
 
 /// What one run measured.
+#[derive(Serialize, Deserialize)]
 struct LevelOutcome {
     record: LevelRecord,
     errors: BTreeMap<Norm, f64>,

@@ -1,0 +1,174 @@
+//! The partial result file a shard writes, `shard-<command>-<k>-of-<n>.json` (format
+//! [`SHARD_FORMAT`]), and the identity that tells whether shards are of one invocation.
+//!
+//! Fields (stable within a format version; a new version is a new `format` string):
+//!
+//! | field | what |
+//! | --- | --- |
+//! | `format` | `"signorini-shard/1"` |
+//! | `signorini` | the version of the binary that ran the shard |
+//! | `command` | the subcommand: `study`, `stability`, `sensitivity` or `reference` |
+//! | `arguments` | its arguments as typed, less `--shard` and `--out` (the merge gives its own `--out`) |
+//! | `inputs` | the files the command reads (scene files), whose contents the identity covers |
+//! | `identity` | 16 hexadecimal digits: FNV-1a (64 bits) of `signorini`, `command`, `arguments` and the contents of `inputs` |
+//! | `k`, `n` | shard `k` of `n` |
+//! | `jobs` | the number of jobs in the whole job list |
+//! | `results` | this shard's jobs: `index` (the job's place in the list), `result` |
+//!
+//! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
+//! `reference` command it is the scene's name, the reference itself being in the cache.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::plan::{EncodedResult, Share};
+use super::ShardSpec;
+use crate::harness::error::Error;
+
+/// The `format` of the files this version writes and reads.
+pub const SHARD_FORMAT: &str = "signorini-shard/1";
+
+/// One shard's partial result file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShardFile {
+    /// [`SHARD_FORMAT`].
+    pub format: String,
+    /// The version of the binary that ran the shard.
+    pub signorini: String,
+    /// The subcommand.
+    pub command: String,
+    /// Its arguments, less `--shard` and `--out`.
+    pub arguments: Vec<String>,
+    /// The files it reads.
+    pub inputs: Vec<PathBuf>,
+    /// [`Invocation::identity`].
+    pub identity: String,
+    /// This shard's number, from 1.
+    pub k: usize,
+    /// The number of shards.
+    pub n: usize,
+    /// The number of jobs in the whole list.
+    pub jobs: usize,
+    /// This shard's jobs.
+    pub results: Vec<JobResult>,
+}
+
+/// One job of a shard file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobResult {
+    /// The job's index in its list.
+    pub index: usize,
+    /// The job's result (see the module's documentation).
+    pub result: String,
+}
+
+/// A command as the shards and the merge see it: what must be equal for shards to merge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Invocation {
+    /// The subcommand.
+    pub command: String,
+    /// Its arguments, less `--shard` and `--out`.
+    pub arguments: Vec<String>,
+    /// The files it reads.
+    pub inputs: Vec<PathBuf>,
+}
+
+impl Invocation {
+    /// FNV-1a (64 bits, as 16 hexadecimal digits) of this binary's version, the command, its
+    /// arguments and the contents of its inputs, each part preceded by its length.
+    pub fn identity(&self) -> Result<String, Error> {
+        let mut hash = Fnv1a::default();
+        hash.part(env!("CARGO_PKG_VERSION").as_bytes());
+        hash.part(self.command.as_bytes());
+        for a in &self.arguments {
+            hash.part(a.as_bytes());
+        }
+        for path in &self.inputs {
+            hash.part(path.to_string_lossy().as_bytes());
+            hash.part(&fs::read(path).map_err(Error::read(path))?);
+        }
+        Ok(format!("{:016x}", hash.0))
+    }
+
+    /// The file of shard `spec` of this invocation with the results of its `share`.
+    pub fn shard_file(&self, spec: ShardSpec, share: Share) -> Result<ShardFile, Error> {
+        Ok(ShardFile {
+            format: SHARD_FORMAT.to_string(),
+            signorini: env!("CARGO_PKG_VERSION").to_string(),
+            command: self.command.clone(),
+            arguments: self.arguments.clone(),
+            inputs: self.inputs.clone(),
+            identity: self.identity()?,
+            k: spec.k,
+            n: spec.n,
+            jobs: share.jobs,
+            results: share
+                .results
+                .into_iter()
+                .map(|EncodedResult { index, result }| JobResult { index, result })
+                .collect(),
+        })
+    }
+}
+
+/// The name of shard `spec`'s file of `command` in its `--out` directory.
+pub fn shard_file_name(command: &str, spec: ShardSpec) -> String {
+    format!("shard-{command}-{}-of-{}.json", spec.k, spec.n)
+}
+
+/// Where `dir`'s shard file of `command` goes.
+pub fn shard_file_path(dir: &Path, command: &str, spec: ShardSpec) -> PathBuf {
+    dir.join(shard_file_name(command, spec))
+}
+
+/// FNV-1a, 64 bits: a hash that every build and platform computes alike.
+struct Fnv1a(u64);
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv1a {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    fn part(&mut self, bytes: &[u8]) {
+        self.bytes(&(bytes.len() as u64).to_le_bytes());
+        self.bytes(bytes);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a_matches_its_reference_values() {
+        let mut h = Fnv1a::default();
+        h.bytes(b"a");
+        assert_eq!(h.0, 0xaf63_dc4c_8601_ec8c);
+    }
+
+    #[test]
+    fn the_identity_tells_arguments_apart() {
+        let a = Invocation {
+            command: "study".into(),
+            arguments: vec!["x".into(), "y".into()],
+            inputs: vec![],
+        };
+        let b = Invocation {
+            arguments: vec!["xy".into()],
+            ..a.clone()
+        };
+        assert_ne!(a.identity().unwrap(), b.identity().unwrap());
+    }
+}

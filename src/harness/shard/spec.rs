@@ -1,0 +1,79 @@
+//! `--shard k/n`: which share of a job list one machine runs.
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::engine::error::ParameterError;
+
+/// Shard `k` of `n` (`1 ≤ k ≤ n`): the jobs at positions `k − 1`, `k − 1 + n`, `k − 1 + 2n`, …
+/// of a job list in its largest-first order, so that every shard gets a fair part of the large
+/// jobs and the `n` shards together run each job exactly once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShardSpec {
+    /// This shard's number, from 1.
+    pub k: usize,
+    /// The number of shards.
+    pub n: usize,
+}
+
+/// What `--shard` accepts, for its error messages.
+const ALLOWED: &str = "k/n with integers 1 <= k <= n (e.g. 2/4: the second of four shards)";
+
+impl ShardSpec {
+    /// The jobs of this shard out of `order`, the job indices in their largest-first order.
+    pub fn share(&self, order: &[usize]) -> Vec<usize> {
+        order
+            .iter()
+            .skip(self.k - 1)
+            .step_by(self.n)
+            .copied()
+            .collect()
+    }
+}
+
+impl FromStr for ShardSpec {
+    type Err = ParameterError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let invalid = || ParameterError::new("--shard", s, ALLOWED);
+        let (k, n) = s.split_once('/').ok_or_else(invalid)?;
+        let k: usize = k.trim().parse().map_err(|_| invalid())?;
+        let n: usize = n.trim().parse().map_err(|_| invalid())?;
+        if k == 0 || k > n {
+            return Err(invalid());
+        }
+        Ok(Self { k, n })
+    }
+}
+
+impl fmt::Display for ShardSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_k_of_n_and_refuses_the_rest() {
+        assert_eq!("2/4".parse(), Ok(ShardSpec { k: 2, n: 4 }));
+        assert_eq!("1/1".parse(), Ok(ShardSpec { k: 1, n: 1 }));
+        for bad in ["0/3", "4/3", "3", "a/3", "1/0", "-1/3", "1/3/4", ""] {
+            let e = bad.parse::<ShardSpec>().unwrap_err();
+            assert_eq!(e.name, "--shard", "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_shares_partition_the_order() {
+        let order = [4, 0, 3, 1, 2, 5, 6];
+        let mut all: Vec<usize> = (1..=3)
+            .flat_map(|k| ShardSpec { k, n: 3 }.share(&order))
+            .collect();
+        assert_eq!(ShardSpec { k: 1, n: 3 }.share(&order), vec![4, 1, 6]);
+        all.sort_unstable();
+        assert_eq!(all, (0..7).collect::<Vec<_>>());
+    }
+}

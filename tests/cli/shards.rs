@@ -1,0 +1,282 @@
+//! `--shard k/n` and `signorini merge`: the merge of a study's shards prints or writes what
+//! the unsharded study does, byte for byte but for the wall-clock fields (the last line of the
+//! markdown, `wall_seconds` and each level's `timings` in the JSON); and every wrong set of
+//! shards or `--shard` value is a usage error (exit 2) that names what is wrong.
+
+use crate::common;
+
+use std::path::{Path, PathBuf};
+
+use common::{expect_error, signorini, success_stdout};
+
+const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";
+
+/// A small, fast study: every paper case on three levels.
+const LEVELS: [&str; 2] = ["--levels", "10,20,40"];
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("signorini-shards-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(p: &Path) -> String {
+    p.to_string_lossy().into_owned()
+}
+
+/// Runs shard `k` of `n` of `study <scene> <extra>` into `dir/s<k>` and returns its file.
+fn shard(dir: &Path, scene: &str, extra: &[&str], k: usize, n: usize) -> String {
+    let out = dir.join(format!("s{k}"));
+    let spec = format!("{k}/{n}");
+    let mut args = vec!["study", scene];
+    args.extend_from_slice(extra);
+    args.extend(["--shard", &spec, "--out"]);
+    let out_text = text(&out);
+    args.push(&out_text);
+    let stdout = success_stdout(&signorini(&args));
+    assert!(stdout.contains(&format!("shard {spec}")), "{stdout}");
+    text(&out.join(format!("shard-study-{k}-of-{n}.json")))
+}
+
+/// The stdout of `merge` of `files`.
+fn merged(files: &[String]) -> String {
+    let mut args = vec!["merge"];
+    args.extend(files.iter().map(String::as_str));
+    success_stdout(&signorini(&args))
+}
+
+/// `json` less its wall-clock fields.
+fn without_timings(json: &str) -> serde_json::Value {
+    let mut v: serde_json::Value = serde_json::from_str(json).unwrap();
+    v.as_object_mut().unwrap().remove("wall_seconds").unwrap();
+    for case in v["cases"].as_array_mut().unwrap() {
+        for level in case["levels"].as_array_mut().unwrap() {
+            level.as_object_mut().unwrap().remove("timings").unwrap();
+        }
+    }
+    v
+}
+
+#[test]
+fn the_merge_of_three_shards_prints_the_unsharded_study() {
+    let dir = scratch("1d");
+    let full = success_stdout(&signorini(&["study", DIRICHLET, LEVELS[0], LEVELS[1]]));
+    let files: Vec<String> = (1..=3)
+        .map(|k| shard(&dir, DIRICHLET, &LEVELS, k, 3))
+        .collect();
+    let merged_md = merged(&files);
+    let (full_tables, full_wall) = full.trim_end().rsplit_once('\n').unwrap();
+    let (merged_tables, merged_wall) = merged_md.trim_end().rsplit_once('\n').unwrap();
+    assert_eq!(merged_tables, full_tables);
+    let summary = |line: &str| line.split(", ").next().unwrap().to_string();
+    assert_eq!(summary(merged_wall), summary(full_wall));
+    assert!(full_wall.ends_with(" s wall"), "{full_wall}");
+
+    let json_args = [LEVELS[0], LEVELS[1], "--json"];
+    let full = success_stdout(&signorini(&[
+        "study",
+        DIRICHLET,
+        json_args[0],
+        json_args[1],
+        "--json",
+    ]));
+    let files: Vec<String> = (1..=3)
+        .map(|k| shard(&dir.join("json"), DIRICHLET, &json_args, k, 3))
+        .collect();
+    // The shards in another order: the merge puts the jobs back in job order.
+    let reversed: Vec<String> = files.iter().rev().cloned().collect();
+    assert_eq!(without_timings(&merged(&reversed)), without_timings(&full));
+}
+
+#[test]
+fn bad_shard_values_are_usage_errors_naming_the_option() {
+    let dir = scratch("values");
+    let out = text(&dir.join("out"));
+    for bad in ["0/3", "4/3", "3", "a/b"] {
+        expect_error(
+            &["study", DIRICHLET, "--shard", bad, "--out", &out],
+            2,
+            &["--shard", "k/n", "1 <= k <= n"],
+        );
+    }
+    expect_error(
+        &["study", DIRICHLET, "--shard", "1/2"],
+        2,
+        &["--shard needs --out"],
+    );
+    assert!(!dir.join("out").exists(), "a refused shard writes nothing");
+}
+
+#[test]
+fn merge_refuses_incomplete_or_foreign_shards() {
+    let dir = scratch("refused");
+    let s1 = shard(&dir, DIRICHLET, &LEVELS, 1, 3);
+    let s3 = shard(&dir, DIRICHLET, &LEVELS, 3, 3);
+    expect_error(&["merge", &s1, &s3], 2, &["missing shard 2/3"]);
+    expect_error(
+        &["merge", &s1, &s1, &s3],
+        2,
+        &["shard 1/3 is given more than once"],
+    );
+    let other = dir.join("other");
+    let foreign = shard(&other, DIRICHLET, &["--levels", "10,20"], 2, 3);
+    expect_error(
+        &["merge", &s1, &foreign, &s3],
+        2,
+        &["different invocations", "arguments"],
+    );
+    let not_a_shard = text(&dir.join("s1"));
+    expect_error(&["merge", &not_a_shard], 2, &["cannot read"]);
+}
+
+#[test]
+fn merge_refuses_shards_of_a_scene_file_changed_since() {
+    let dir = scratch("changed");
+    let scene = dir.join("scene.json");
+    let original =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(DIRICHLET)).unwrap();
+    std::fs::write(&scene, &original).unwrap();
+    let scene = text(&scene);
+    let files: Vec<String> = (1..=2)
+        .map(|k| shard(&dir, &scene, &LEVELS, k, 2))
+        .collect();
+    std::fs::write(&scene, original.replacen("3.0", "3.5", 1)).unwrap();
+    expect_error(
+        &["merge", &files[0], &files[1]],
+        2,
+        &["other inputs", &scene],
+    );
+}
+
+/// `value` less every `timings` and `wall_seconds` field, at any depth.
+fn without_timing_fields(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Object(map) => {
+            map.remove("timings");
+            map.remove("wall_seconds");
+            map.values_mut().for_each(without_timing_fields);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(without_timing_fields),
+        _ => {}
+    }
+}
+
+/// `md` with the wall time of its study masked (`study wall time 0.1 s`).
+fn without_wall_time(md: &str) -> String {
+    let (head, tail) = md.split_once("study wall time ").unwrap();
+    let (_, rest) = tail.split_once(" s ").unwrap();
+    format!("{head}study wall time … s {rest}")
+}
+
+/// bar2d.json without its round-off ensemble, on levels 10 and 20 against a reference on 80
+/// elements, named `name`, in `dir`: its path.
+fn small_box_scene(dir: &Path, name: &str) -> String {
+    let scene =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
+            .unwrap();
+    let ensemble = ", \"sensitivity\": { \"members\": 16, \"amplitude\": 1e-13 }";
+    assert!(
+        scene.contains(ensemble),
+        "bar2d.json no longer has its ensemble"
+    );
+    let small = scene
+        .replacen(ensemble, "", 1)
+        .replacen("\"name\": \"bar2d\"", &format!("\"name\": \"{name}\""), 1)
+        .replacen("\"levels\": [10, 20, 40, 80]", "\"levels\": [10, 20]", 1)
+        .replacen("\"reference_level\": 640", "\"reference_level\": 80", 1);
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, small).unwrap();
+    text(&path)
+}
+
+#[test]
+fn the_merge_of_a_box_study_writes_the_unsharded_reports() {
+    let dir = scratch("box");
+    let scene = small_box_scene(&dir, "bar2d-small");
+    let cache = text(&dir.join("refs"));
+    let (out, kept) = (dir.join("out"), dir.join("unsharded"));
+    let out_text = text(&out);
+    let study = ["--cache", &cache];
+    success_stdout(&signorini(&["reference", &scene, "--cache", &cache]));
+    let mut full = vec!["study", &scene];
+    full.extend(study);
+    full.extend(["--out", &out_text]);
+    success_stdout(&signorini(&full));
+    std::fs::rename(&out, &kept).unwrap();
+    let files: Vec<String> = (1..=3).map(|k| shard(&dir, &scene, &study, k, 3)).collect();
+    let mut args = vec!["merge", "--out", &out_text];
+    args.extend(files.iter().map(String::as_str));
+    success_stdout(&signorini(&args));
+    let read = |d: &Path, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    assert_eq!(
+        read(&out, "data/elastic-2d-histories.json"),
+        read(&kept, "data/elastic-2d-histories.json")
+    );
+    assert_eq!(
+        without_wall_time(&read(&out, "elastic-2d.md")),
+        without_wall_time(&read(&kept, "elastic-2d.md"))
+    );
+    let json = |d: &Path| {
+        let mut v: serde_json::Value = serde_json::from_str(&read(d, "elastic-2d.json")).unwrap();
+        without_timing_fields(&mut v);
+        v
+    };
+    assert_eq!(json(&out), json(&kept));
+    expect_error(
+        &[
+            "study",
+            "scenes/bar2d.json",
+            "--shard",
+            "1/2",
+            "--out",
+            &out_text,
+        ],
+        2,
+        &["--shard", "round-off ensemble"],
+    );
+}
+
+#[test]
+fn reference_shards_fill_one_cache_that_the_merge_reuses() {
+    let dir = scratch("reference");
+    let scenes = [
+        small_box_scene(&dir, "box-a"),
+        small_box_scene(&dir, "box-b"),
+    ];
+    // Another gap: another reference (the cache is keyed by the parameters, not the name).
+    let b = std::fs::read_to_string(&scenes[1]).unwrap();
+    assert!(b.contains("\"gap\": 0.2"));
+    std::fs::write(&scenes[1], b.replacen("\"gap\": 0.2", "\"gap\": 0.25", 1)).unwrap();
+    let cache = text(&dir.join("refs"));
+    let files: Vec<String> = (1..=2)
+        .map(|k| {
+            let out = text(&dir.join(format!("s{k}")));
+            let spec = format!("{k}/2");
+            let stdout = success_stdout(&signorini(&[
+                "reference",
+                &scenes[0],
+                &scenes[1],
+                "--cache",
+                &cache,
+                "--shard",
+                &spec,
+                "--out",
+                &out,
+            ]));
+            assert_eq!(stdout.matches("computed and cached").count(), 1, "{stdout}");
+            format!("{out}/shard-reference-{k}-of-2.json")
+        })
+        .collect();
+    let stdout = merged(&files);
+    assert_eq!(
+        stdout.matches("the cache matches").count(),
+        2,
+        "the merge finds both references: {stdout}"
+    );
+    expect_error(
+        &["reference", &scenes[0], "--out", &cache],
+        2,
+        &["--out", "--shard"],
+    );
+}
