@@ -18,7 +18,7 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
-use crate::engine::contact::ContactSet;
+use crate::engine::contact::{ContactSet, Truncation};
 use crate::engine::error::StateField;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
@@ -64,6 +64,10 @@ pub struct BoxRunResult {
     pub contact_solves: usize,
     /// Largest complementarity violation.
     pub complementarity_violation: f64,
+    /// The slab of the local contact operator (`L`, truncation ratio, size); absent with the
+    /// full operator.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_slab: Option<Truncation>,
     /// `(t, E_h)` per step, eq. (6).
     pub energy: Vec<(f64, f64)>,
     /// Contact history.
@@ -233,6 +237,7 @@ pub fn run_box_observed(
         timings: stepped.timings,
         contact_solves: stepped.contact_solves,
         complementarity_violation: stepped.complementarity_violation,
+        contact_slab: stepped.contact_truncation,
         energy: energy.energy,
         contact: face.map(|f| f.history).unwrap_or_default(),
         vtk_files: vtk.files,

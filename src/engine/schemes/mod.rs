@@ -36,6 +36,7 @@ pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
 
+use crate::engine::contact::Truncation;
 use crate::engine::error::SolveError;
 use crate::engine::model::Model;
 
@@ -105,4 +106,9 @@ pub trait TimeIntegrator: Send {
     /// The largest complementarity violation of any step so far (on the constrained quantity
     /// of the scheme: `u^{n+1}`, or `(u^{n+1} + e u^{n−1})/(1 + e)` for Paoli–Schatzman).
     fn complementarity_violation(&self) -> f64;
+    /// The slab of the local contact operator ([`crate::engine::contact::local`]); `None` with
+    /// the full operator or without contact.
+    fn contact_truncation(&self) -> Option<Truncation> {
+        None
+    }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::engine::contact::Truncation;
 use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
@@ -141,6 +142,8 @@ pub struct Stepped {
     pub contact_solves: usize,
     /// Largest complementarity violation.
     pub complementarity_violation: f64,
+    /// The slab of the local contact operator, if one was used.
+    pub contact_truncation: Option<Truncation>,
     /// Wall-clock split; `setup` counts from `started`.
     pub timings: Timings,
 }
@@ -287,6 +290,7 @@ pub fn drive<M: AxialMesh>(
         dt,
         contact_solves: integ.contact_solves(),
         complementarity_violation: integ.complementarity_violation(),
+        contact_truncation: integ.contact_truncation(),
         timings: Timings {
             setup,
             stepping: stepping - integ.contact_seconds(),
