@@ -247,6 +247,19 @@ fn run_box_scene(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
         r.complementarity_violation
     );
+    if let Some(slab) = r.contact_slab {
+        out!(
+            "  local contact operator: {} layers, {} slab dofs{}, truncation ratio {:.1e}",
+            slab.layers,
+            slab.slab_dofs,
+            if slab.whole {
+                " (the whole system)"
+            } else {
+                ""
+            },
+            slab.ratio
+        );
+    }
     if let (Some(dir), Some(staged)) = (out, staged) {
         r.vtk_files = r.vtk_files.iter().map(|f| staged.final_path(f)).collect();
         let json = serde_json::to_string_pretty(&r).map_err(Failure::runtime)?;

@@ -5,7 +5,7 @@
 //! [`ContactLaw`] (see [`crate::engine::contact::law`]).
 
 pub use crate::engine::contact::ContactSet;
-use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::contact::{ContactLaw, ContactOperator, ContactTreatment};
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::{Bar1d, MassVariant, SparseAssembler, SymmetricMatrix};
 use crate::engine::linalg::LinearSolver;
@@ -20,6 +20,7 @@ pub struct Model {
     law: ContactLaw,
     massless: Vec<usize>,
     linear_solver: LinearSolver,
+    contact_operator: ContactOperator,
 }
 
 impl Model {
@@ -41,6 +42,7 @@ impl Model {
             law,
             massless,
             linear_solver: LinearSolver::default(),
+            contact_operator: ContactOperator::default(),
         }
     }
 
@@ -54,6 +56,18 @@ impl Model {
     /// How the implicit schemes solve their step matrices.
     pub fn linear_solver(&self) -> LinearSolver {
         self.linear_solver
+    }
+
+    /// The model with the contact steps using the Delassus operator `choice` selects (default:
+    /// [`ContactOperator::Auto`]).
+    pub fn with_contact_operator(mut self, choice: ContactOperator) -> Self {
+        self.contact_operator = choice;
+        self
+    }
+
+    /// Which Delassus operator the contact steps use.
+    pub fn contact_operator(&self) -> ContactOperator {
+        self.contact_operator
     }
 
     /// The model with the contact treated by `law` instead of the multiplier. For Nitsche the

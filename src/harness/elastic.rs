@@ -18,7 +18,7 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
-use crate::engine::contact::ContactSet;
+use crate::engine::contact::{ContactSet, Truncation};
 use crate::engine::error::StateField;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
 use crate::engine::linalg::SolveCounts;
@@ -70,6 +70,10 @@ pub struct BoxRunResult {
     pub linear_solver: String,
     /// Its per-step solves and their CG iterations (0 for `direct`).
     pub step_solves: SolveCounts,
+    /// The slab of the local contact operator (`L`, truncation ratio, size); absent with the
+    /// full operator.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_slab: Option<Truncation>,
     /// `(t, E_h)` per step, eq. (6).
     pub energy: Vec<(f64, f64)>,
     /// Contact history.
@@ -282,6 +286,7 @@ pub fn run_box_observed(
         complementarity_violation: stepped.complementarity_violation,
         linear_solver: model.linear_solver().name().to_string(),
         step_solves: stepped.step_solves,
+        contact_slab: stepped.contact_truncation,
         energy: energy.energy,
         contact: face.map(|f| f.history).unwrap_or_default(),
         vtk_files,

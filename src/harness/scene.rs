@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::engine::contact::{ContactTreatment, TREATMENT_NAMES};
+use crate::engine::contact::{ContactOperator, ContactTreatment, TREATMENT_NAMES};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::{
     AtRest, BouncingBar, ClampedFreeMode, ExactSolution, Pointwise, SignoriniDirichlet,
@@ -849,6 +849,7 @@ impl SceneFile {
             velocity_perturbation: None,
             conventions,
             linear_solver: LinearSolver::default(),
+            contact_operator: ContactOperator::default(),
         };
         Ok((problem, schemes, BTreeSet::new()))
     }

@@ -7,7 +7,7 @@ use crate::common;
 use signorini::engine::schemes::Conventions;
 
 use nalgebra::DMatrix;
-use signorini::contact::ContactTreatment;
+use signorini::contact::{ContactOperator, ContactTreatment};
 use signorini::elastic::{run_box, BoxProblem};
 use signorini::error::{EngineError, Error, SolveError};
 use signorini::exact::{ExactSolution, SignoriniDirichlet};
@@ -245,6 +245,7 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         velocity_perturbation: None,
         conventions: Conventions::HARNESS,
         linear_solver: LinearSolver::Direct,
+        contact_operator: ContactOperator::Full,
     };
     let config = |ratio: f64, mass| RunConfig {
         nx: 10,

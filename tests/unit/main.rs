@@ -22,6 +22,7 @@ mod external;
 mod fem;
 mod getfem_demo;
 mod getfem_roundoff;
+mod local_contact;
 mod mass_variants;
 mod paraview;
 mod pcg;

@@ -1,8 +1,10 @@
 //! The Delassus operator `W = B K⁻¹ Bᵀ` of a factorised system, shifted by the compliance of a
 //! regularised treatment (`W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij`, see [`super::law`]), and the contact
-//! correction of one step.
+//! correction of one step, with the full operator ([`Delassus`]) or the local one
+//! ([`LocalDelassus`]) as the [`ContactOperator`] rule chooses.
 
 use super::law::{sparse_dot, ConstraintRow};
+use super::local::{ContactOperator, LocalDelassus, Truncation};
 use super::{default_solver, ContactSolver, ContactStatus};
 use crate::engine::contact::ContactSet;
 use crate::engine::error::SolveError;
@@ -63,12 +65,35 @@ impl Delassus {
     }
 }
 
+/// The operator a contact step was prepared with.
+#[derive(Debug)]
+enum Operator {
+    Full(Delassus),
+    Local(LocalDelassus),
+}
+
+impl Operator {
+    fn matrix(&self) -> &[f64] {
+        match self {
+            Operator::Full(d) => d.matrix(),
+            Operator::Local(d) => d.matrix(),
+        }
+    }
+
+    fn apply_correction(&mut self, mu: &[f64], u: &mut [f64]) {
+        match self {
+            Operator::Full(d) => d.apply_correction(mu, u),
+            Operator::Local(d) => d.apply_correction(mu, u),
+        }
+    }
+}
+
 /// Everything one scheme needs to impose the contact condition at each step.
 #[derive(Debug)]
 pub struct ContactStep {
     set: ContactSet,
     rows: Vec<ConstraintRow>,
-    delassus: Delassus,
+    delassus: Operator,
     solver: Box<dyn ContactSolver>,
     free_gaps: Vec<f64>,
     mu: Vec<f64>,
@@ -78,17 +103,25 @@ pub struct ContactStep {
 }
 
 impl ContactStep {
-    /// Prepares the contact correction of the constraints `rows` of `set` for the factorised
-    /// step matrix `system`. Fails when a diagonal entry of the (shifted) Delassus operator is
+    /// Prepares the contact correction of the constraints `rows` of `set` for the step matrix
+    /// of `system` with the operator `choice` selects ([`ContactOperator::is_local_for`]).
+    /// Fails when a local operator is asked for without the step matrix (the direct solver
+    /// keeps only its factor), or when a diagonal entry of the (shifted) Delassus operator is
     /// not positive: the step's complementarity problem would not be well posed.
     pub fn new(
         set: &ContactSet,
         rows: &[ConstraintRow],
         system: &StepSolver,
         n_dofs: usize,
+        choice: ContactOperator,
     ) -> Result<Self, SolveError> {
         let n = set.len();
-        let delassus = Delassus::new(system, n_dofs, rows)?;
+        let delassus = if choice.is_local_for(system) {
+            let k = system.matrix().ok_or(SolveError::LocalContactNeedsMatrix)?;
+            Operator::Local(LocalDelassus::new(k, rows, choice.layers())?)
+        } else {
+            Operator::Full(Delassus::new(system, n_dofs, rows)?)
+        };
         let not_positive = |w: f64| w.is_nan() || w <= 0.0;
         if let Some(i) = (0..n).find(|&i| not_positive(delassus.matrix()[i * n + i])) {
             return Err(SolveError::Factorization {
@@ -116,6 +149,14 @@ impl ContactStep {
     pub fn with_solver(mut self, solver: Box<dyn ContactSolver>) -> Self {
         self.solver = solver;
         self
+    }
+
+    /// The slab of the local operator (`None` for the full one).
+    pub fn truncation(&self) -> Option<Truncation> {
+        match &self.delassus {
+            Operator::Full(_) => None,
+            Operator::Local(d) => Some(d.truncation()),
+        }
     }
 
     /// The number of complementarity problems solved so far (steps where some constraint was

@@ -5,6 +5,10 @@
 //! Delassus operator, computed once per factorisation). What remains is the linear
 //! complementarity problem `0 ≤ μ ⟂ g_free + W μ ≥ 0`, solved by a [`ContactSolver`].
 //!
+//! `W` and the correction `K⁻¹Bᵀμ` come from one solve per constraint ([`Delassus`]) or from
+//! a slab of dofs around the contact face ([`local`]): the local operator with the iterative
+//! step solver, the full one with the direct solver ([`ContactOperator`]).
+//!
 //! The penalty and Nitsche treatments ([`ContactTreatment`]) lead to the same problem with a
 //! shifted operator (see [`law`]), so the same solvers serve every treatment.
 
@@ -12,6 +16,7 @@ mod active_set;
 mod closed_form;
 mod delassus;
 pub mod law;
+pub mod local;
 mod qp;
 mod set;
 mod treatment;
@@ -20,6 +25,7 @@ pub use active_set::PrimalDualActiveSet;
 pub use closed_form::ClosedFormContact;
 pub use delassus::{ContactStep, Delassus};
 pub use law::{ConstraintRow, ContactLaw};
+pub use local::{ContactOperator, LocalDelassus, Truncation};
 pub use qp::ClarabelContact;
 pub use set::ContactSet;
 pub use treatment::{ContactTreatment, TREATMENT_LIST, TREATMENT_NAMES};

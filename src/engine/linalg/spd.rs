@@ -42,6 +42,22 @@ impl SpdSolver {
         }
     }
 
+    /// Solves `A X = B` in place for the columns of `B`, stored one after the other, each of
+    /// length `n` (several right-hand sides read the factor once).
+    pub fn solve_columns_in_place(&self, b: &mut [f64], n: usize) {
+        match self {
+            SpdSolver::Tridiagonal(f) => b
+                .chunks_exact_mut(n.max(1))
+                .for_each(|c| f.solve_in_place(c)),
+            SpdSolver::Cholesky(llt) => {
+                use faer::linalg::solvers::SolveCore;
+                let columns = b.len() / n.max(1);
+                let mat = faer::MatMut::from_column_major_slice_mut(b, n, columns);
+                llt.solve_in_place_with_conj(faer::Conj::No, mat);
+            }
+        }
+    }
+
     /// Solves `A x = b` in place.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         match self {

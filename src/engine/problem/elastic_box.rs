@@ -3,7 +3,7 @@
 //! velocity.
 
 use super::{Discretisation, Perturbation};
-use crate::engine::contact::{ContactLaw, ContactTreatment};
+use crate::engine::contact::{ContactLaw, ContactOperator, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::MassVariant;
@@ -36,6 +36,8 @@ pub struct BoxProblem {
     pub conventions: Conventions,
     /// How the implicit schemes solve their step matrices (default: by size).
     pub linear_solver: LinearSolver,
+    /// Which Delassus operator the contact steps use (default: by step solver).
+    pub contact_operator: ContactOperator,
 }
 
 /// The mesh of a run: `n_axis` elements along the axis, square elements across.
@@ -104,7 +106,8 @@ impl BoxProblem {
         let model = matrix_free
             .unwrap_or_else(|| Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .with_contact_law(law)
-            .with_linear_solver(solver);
+            .with_linear_solver(solver)
+            .with_contact_operator(self.contact_operator);
         let (displacement, velocity) = initial_dofs(self, &mesh);
         Ok(Discretisation {
             mesh,

@@ -86,7 +86,13 @@ impl QuasiStatic {
         let contact = if local.is_empty() {
             None
         } else {
-            Some(ContactStep::new(&set, &rows, &solver, massless.len())?)
+            Some(ContactStep::new(
+                &set,
+                &rows,
+                &solver,
+                massless.len(),
+                model.contact_operator(),
+            )?)
         };
         let n = model.n_dofs();
         Ok(Some(Self {

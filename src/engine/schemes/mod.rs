@@ -36,6 +36,7 @@ pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
 
+use crate::engine::contact::Truncation;
 use crate::engine::error::SolveError;
 use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
@@ -110,5 +111,11 @@ pub trait TimeIntegrator: Send {
     /// one, or that solves directly).
     fn step_solves(&self) -> SolveCounts {
         SolveCounts::default()
+    }
+
+    /// The slab of the local contact operator ([`crate::engine::contact::local`]); `None` with
+    /// the full operator or without contact.
+    fn contact_truncation(&self) -> Option<Truncation> {
+        None
     }
 }

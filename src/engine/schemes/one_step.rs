@@ -27,7 +27,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use super::conventions::NitscheAcceleration;
 use super::{InitialState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
-use crate::engine::contact::ContactStep;
+use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{SolveCounts, SpdSolver, StepSolver};
 use crate::engine::model::Model;
@@ -135,7 +135,10 @@ impl<'m> OneStepScheme<'m> {
         let n = model.n_dofs();
         let contact = model
             .contact()
-            .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
+            .map(|c| {
+                let rows = model.contact_law().rows(c);
+                ContactStep::new(c, &rows, &system, n, model.contact_operator())
+            })
             .transpose()?;
         Ok(Self {
             model,
@@ -300,5 +303,9 @@ impl TimeIntegrator for OneStepScheme<'_> {
         self.contact
             .as_ref()
             .map_or(0.0, ContactStep::max_violation)
+    }
+
+    fn contact_truncation(&self) -> Option<Truncation> {
+        self.contact.as_ref().and_then(ContactStep::truncation)
     }
 }

@@ -24,7 +24,7 @@
 
 use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcceleration};
 use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
-use crate::engine::contact::ContactStep;
+use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
@@ -132,7 +132,10 @@ impl<'m> PaoliSchatzman<'m> {
         let n = model.n_dofs();
         let contact = model
             .contact()
-            .map(|c| ContactStep::new(c, &model.contact_law().rows(c), &system, n))
+            .map(|c| {
+                let rows = model.contact_law().rows(c);
+                ContactStep::new(c, &rows, &system, n, model.contact_operator())
+            })
             .transpose()?;
         let energy_at_start = model.energy(&start.displacement, &start.velocity);
         let three_level = conventions.paoli_schatzman_massless_rows == MasslessRows::ThreeLevel;
@@ -357,5 +360,9 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             .as_ref()
             .map_or(0.0, ContactStep::max_violation);
         self.start_violation.max(own)
+    }
+
+    fn contact_truncation(&self) -> Option<Truncation> {
+        self.contact.as_ref().and_then(ContactStep::truncation)
     }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::engine::contact::Truncation;
 use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
 use crate::engine::linalg::SolveCounts;
 use crate::engine::problem::{AxialMesh, Discretisation};
@@ -144,6 +145,8 @@ pub struct Stepped {
     pub complementarity_violation: f64,
     /// The step matrix's solves and their CG iterations.
     pub step_solves: SolveCounts,
+    /// The slab of the local contact operator, if one was used.
+    pub contact_truncation: Option<Truncation>,
     /// Wall-clock split; `setup` counts from `started`.
     pub timings: Timings,
 }
@@ -291,6 +294,7 @@ pub fn drive<M: AxialMesh>(
         contact_solves: integ.contact_solves(),
         complementarity_violation: integ.complementarity_violation(),
         step_solves: integ.step_solves(),
+        contact_truncation: integ.contact_truncation(),
         timings: Timings {
             setup,
             stepping: stepping - integ.contact_seconds(),

@@ -1,0 +1,305 @@
+//! The local Delassus operator: `W` and the contact correction from a slab of dofs around the
+//! contact face instead of one full solve per constraint (issue 19, item 2).
+//!
+//! At `Δx/Δt` fixed the step matrix `K = M/(bΔt²) + S` is mass-dominated and `K⁻¹f_j` decays
+//! exponentially with the graph distance from the dofs of `f_j`. The slab `Ω_L` is the set of
+//! dofs within `L` layers of the dofs the constraint rows touch (breadth-first search on the
+//! sparsity graph of `K`), `E` the extension by zero from `Ω_L` and `K_L = EᵀKE` the principal
+//! submatrix (zero displacement beyond the slab's cut), factorised once. Then
+//! ```text
+//! W_ij = m_iᵀ E K_L⁻¹ Eᵀ f_j + ε_i δ_ij,      u ← u + E K_L⁻¹ Eᵀ Σ_j μ_j f_j,
+//! ```
+//! that is `n_c` triangular solve pairs on the slab for `W` and one per contact step for the
+//! correction, with no column stored. When `Ω_L` holds every dof reachable from the
+//! constraints (the others are decoupled: `K⁻¹f_j` vanishes there) this is the full operator.
+//!
+//! **The number of layers.** From [`INITIAL_LAYERS`], `L` is doubled until the largest entry on
+//! the outermost layer (`dist = L`) of each representative column `K_L⁻¹f_j` (the first, middle
+//! and last constraints) is at most [`TRUNCATION_TOLERANCE`] times that column's largest entry,
+//! or the slab is the whole reachable system. The ratio reached and `L` are kept
+//! ([`Truncation`]).
+//!
+//! **The selection rule** ([`ContactOperator`]): `auto` takes the local operator when the step
+//! solver is iterative (it keeps the step matrix, [`StepSolver::matrix`]; the full operator
+//! would cost `n_c` CG solves and `n_c · n` stored values) and the full operator with the direct
+//! solver (one factor, `n_c` triangular solve pairs).
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::law::{sparse_dot, ConstraintRow, SparseVector};
+use crate::engine::error::SolveError;
+use crate::engine::fem::SymmetricMatrix;
+use crate::engine::linalg::{SpdSolver, StepSolver};
+
+/// Columns of `W` solved together (one pass over the slab's factor per block).
+const BLOCK: usize = 32;
+
+/// The slab's first number of layers.
+pub const INITIAL_LAYERS: usize = 4;
+
+/// The largest ratio of a representative column's outermost-layer entry to its largest entry
+/// at which the slab stops growing.
+pub const TRUNCATION_TOLERANCE: f64 = 1e-14;
+
+/// Which Delassus operator a contact step uses (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactOperator {
+    /// One solve of the step matrix per constraint, every column stored
+    /// ([`super::Delassus`]).
+    Full,
+    /// The slab operator with `L` chosen adaptively; needs the step matrix (the iterative step
+    /// solver).
+    Local,
+    /// The slab operator with exactly this many layers, unchecked (to study the truncation).
+    LocalLayers(usize),
+    /// `Local` with an iterative step solver, `Full` with the direct one.
+    #[default]
+    Auto,
+}
+
+/// The slab a local operator was built on.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Truncation {
+    /// `L`: the slab's number of graph layers around the constrained dofs.
+    pub layers: usize,
+    /// The largest ratio, over the representative columns, of the column's largest entry on the
+    /// outermost layer to its largest entry.
+    pub ratio: f64,
+    /// The number of dofs in the slab.
+    pub slab_dofs: usize,
+    /// Whether the slab holds every dof reachable from the constraints (the operator is then
+    /// the full one).
+    pub whole: bool,
+}
+
+/// `W` and the correction on the slab `Ω_L` (see the module documentation).
+#[derive(Debug)]
+pub struct LocalDelassus {
+    dofs: Vec<usize>,
+    forces: Vec<SparseVector>,
+    factor: SpdSolver,
+    matrix: Vec<f64>,
+    work: Vec<f64>,
+    truncation: Truncation,
+}
+
+/// The graph distance of every dof from the dofs `rows` touch (`usize::MAX` when unreachable).
+fn distances(k: &SymmetricMatrix, rows: &[ConstraintRow]) -> Vec<usize> {
+    let mut dist = vec![usize::MAX; k.dim()];
+    let mut front: Vec<usize> = Vec::new();
+    for row in rows {
+        for &(i, _) in row.measure.iter().chain(&row.force) {
+            if dist[i] == usize::MAX {
+                dist[i] = 0;
+                front.push(i);
+            }
+        }
+    }
+    let mut layer = 0;
+    while !front.is_empty() {
+        layer += 1;
+        let mut next = Vec::new();
+        for &i in &front {
+            k.for_each_in_row(i, |j, _| {
+                if dist[j] == usize::MAX {
+                    dist[j] = layer;
+                    next.push(j);
+                }
+            });
+        }
+        front = next;
+    }
+    dist
+}
+
+/// `v` in the slab's numbering (`local[i]` is the slab index of dof `i`).
+fn to_slab(v: &[(usize, f64)], local: &[usize]) -> SparseVector {
+    v.iter().map(|&(i, c)| (local[i], c)).collect()
+}
+
+/// The dofs within `l` layers, `K_L` factorised and the rows in the slab's numbering.
+struct Slab {
+    dofs: Vec<usize>,
+    forces: Vec<SparseVector>,
+    measures: Vec<SparseVector>,
+    factor: SpdSolver,
+    truncation: Truncation,
+}
+
+impl Slab {
+    /// The slab of the `l` layers of `dist`, with the truncation of its representative columns
+    /// (the first, middle and last constraints).
+    fn new(
+        k: &SymmetricMatrix,
+        rows: &[ConstraintRow],
+        dist: &[usize],
+        l: usize,
+    ) -> Result<Self, SolveError> {
+        let dofs: Vec<usize> = (0..k.dim()).filter(|&i| dist[i] <= l).collect();
+        let mut local = vec![usize::MAX; k.dim()];
+        for (s, &i) in dofs.iter().enumerate() {
+            local[i] = s;
+        }
+        let factor = SpdSolver::factor(
+            &k.principal_submatrix(&dofs),
+            "contact slab (local Delassus operator)",
+        )?;
+        let mut slab = Self {
+            truncation: Truncation {
+                layers: l,
+                ratio: 0.0,
+                slab_dofs: dofs.len(),
+                whole: dist.iter().all(|&d| d <= l || d == usize::MAX),
+            },
+            forces: rows.iter().map(|r| to_slab(&r.force, &local)).collect(),
+            measures: rows.iter().map(|r| to_slab(&r.measure, &local)).collect(),
+            dofs,
+            factor,
+        };
+        let outer: Vec<usize> = (0..slab.dofs.len())
+            .filter(|&s| dist[slab.dofs[s]] == l)
+            .collect();
+        let nc = rows.len();
+        let mut representative = vec![0, nc / 2, nc.saturating_sub(1)];
+        representative.dedup();
+        let mut x = vec![0.0; slab.dofs.len()];
+        for j in representative.into_iter().filter(|&j| j < nc) {
+            slab.solve(j, &mut x);
+            let largest = x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+            let edge = outer.iter().fold(0.0_f64, |a, &s| a.max(x[s].abs()));
+            slab.truncation.ratio = slab.truncation.ratio.max(edge / largest);
+        }
+        Ok(slab)
+    }
+
+    /// `x = K_L⁻¹ Eᵀ f_j`.
+    fn solve(&self, j: usize, x: &mut [f64]) {
+        x.fill(0.0);
+        for &(s, c) in &self.forces[j] {
+            x[s] += c;
+        }
+        self.factor.solve_in_place(x);
+    }
+
+    /// Whether the truncation is within [`TRUNCATION_TOLERANCE`] (or there is none).
+    fn accepted(&self) -> bool {
+        self.truncation.whole || self.truncation.ratio <= TRUNCATION_TOLERANCE
+    }
+}
+
+impl LocalDelassus {
+    /// The local operator of the step matrix `k` for `rows`, with `layers` graph layers or,
+    /// when `None`, the adaptive number (see the module documentation). Fails when a slab's
+    /// matrix is not positive definite.
+    pub fn new(
+        k: &SymmetricMatrix,
+        rows: &[ConstraintRow],
+        layers: Option<usize>,
+    ) -> Result<Self, SolveError> {
+        let dist = distances(k, rows);
+        let deepest = dist
+            .iter()
+            .copied()
+            .filter(|&d| d != usize::MAX)
+            .max()
+            .unwrap_or(0);
+        let mut l = layers.unwrap_or(INITIAL_LAYERS).min(deepest);
+        let mut slab = Slab::new(k, rows, &dist, l)?;
+        while layers.is_none() && !slab.accepted() {
+            l = (2 * l).max(1).min(deepest);
+            slab = Slab::new(k, rows, &dist, l)?;
+        }
+        Ok(Self::on(slab, rows))
+    }
+
+    /// `W_ij = m_iᵀ E K_L⁻¹ Eᵀ f_j + ε_i δ_ij`: slab solves in blocks of [`BLOCK`] columns, the
+    /// blocks in parallel.
+    fn on(slab: Slab, rows: &[ConstraintRow]) -> Self {
+        let nc = rows.len();
+        let ns = slab.dofs.len().max(1);
+        let constraints: Vec<usize> = (0..nc).collect();
+        let columns: Vec<Vec<f64>> = constraints
+            .par_chunks(BLOCK)
+            .flat_map_iter(|block| {
+                let mut x = vec![0.0; ns * block.len()];
+                for (column, &j) in x.chunks_exact_mut(ns).zip(block) {
+                    for &(s, c) in &slab.forces[j] {
+                        column[s] += c;
+                    }
+                }
+                slab.factor.solve_columns_in_place(&mut x, ns);
+                x.chunks_exact(ns)
+                    .map(|column| {
+                        slab.measures
+                            .iter()
+                            .map(|m| sparse_dot(m, column))
+                            .collect()
+                    })
+                    .collect::<Vec<Vec<f64>>>()
+            })
+            .collect();
+        let mut matrix = vec![0.0; nc * nc];
+        for (j, column) in columns.into_iter().enumerate() {
+            for (i, wij) in column.into_iter().enumerate() {
+                matrix[i * nc + j] = wij;
+            }
+        }
+        for (i, row) in rows.iter().enumerate() {
+            matrix[i * nc + i] += row.compliance;
+        }
+        Self {
+            work: vec![0.0; slab.dofs.len()],
+            truncation: slab.truncation,
+            dofs: slab.dofs,
+            forces: slab.forces,
+            factor: slab.factor,
+            matrix,
+        }
+    }
+
+    /// `W` row-major.
+    pub fn matrix(&self) -> &[f64] {
+        &self.matrix
+    }
+
+    /// The slab this operator was built on.
+    pub fn truncation(&self) -> Truncation {
+        self.truncation
+    }
+
+    /// `u += E K_L⁻¹ Eᵀ Σ_j μ_j f_j`: one solve pair on the slab.
+    pub fn apply_correction(&mut self, mu: &[f64], u: &mut [f64]) {
+        self.work.fill(0.0);
+        for (f, &m) in self.forces.iter().zip(mu) {
+            for &(s, c) in f {
+                self.work[s] += m * c;
+            }
+        }
+        self.factor.solve_in_place(&mut self.work);
+        for (&i, &x) in self.dofs.iter().zip(&self.work) {
+            u[i] += x;
+        }
+    }
+}
+
+impl ContactOperator {
+    /// Whether a contact step on `system` builds the local operator: `Local` and
+    /// `LocalLayers` always (an error without the step matrix), `Auto` when the step solver is
+    /// iterative.
+    pub fn is_local_for(self, system: &StepSolver) -> bool {
+        match self {
+            ContactOperator::Full => false,
+            ContactOperator::Local | ContactOperator::LocalLayers(_) => true,
+            ContactOperator::Auto => system.matrix().is_some(),
+        }
+    }
+
+    /// The fixed number of layers, `None` when adaptive.
+    pub fn layers(self) -> Option<usize> {
+        match self {
+            ContactOperator::LocalLayers(l) => Some(l),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! The local Delassus operator (issue 19, item 2): on a slab that covers the whole system it is
+//! today's full operator; on 2D/3D box runs with the CG step solver, where the adaptive slab is
+//! a strict part of the system, it reproduces the full operator's histories to 1e-8 of each
+//! history's scale with complementarity at 1e-10, and a one-layer slab does not.
+
+use std::path::Path;
+
+use signorini::contact::{ContactOperator, ContactTreatment, Delassus, LocalDelassus};
+use signorini::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::fem::{MassVariant, SymmetricMatrix};
+use signorini::linalg::{LinearSolver, StepSolver};
+use signorini::problem::Problem;
+use signorini::run::{Observables, RunConfig};
+use signorini::scene::Scene;
+use signorini::schemes::Scheme;
+
+fn box_problem(scene: &str, contact: ContactTreatment, operator: ContactOperator) -> BoxProblem {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
+    let Problem::Box(problem) = Scene::load(&path).unwrap().problem() else {
+        panic!("{scene} is not a box scene")
+    };
+    BoxProblem {
+        contact,
+        linear_solver: LinearSolver::Cg,
+        contact_operator: operator,
+        ..problem
+    }
+}
+
+/// The step matrix `M/(bΔt²) + S` of `scene` at level `nx` with `Δt = h/2`, and the
+/// constraint rows of `contact`.
+fn step_matrix(
+    scene: &str,
+    nx: usize,
+    b: f64,
+    contact: ContactTreatment,
+) -> (SymmetricMatrix, Vec<signorini::contact::ConstraintRow>) {
+    let problem = box_problem(scene, contact, ContactOperator::Auto);
+    let d = problem.discretise(nx, MassVariant::Standard).unwrap();
+    let dt = problem.lengths.last().unwrap() / nx as f64 / 2.0;
+    let model = &d.model;
+    let k = model
+        .mass()
+        .linear_combination(1.0 / (b * dt * dt), model.stiffness(), 1.0);
+    let rows = model.contact_law().rows(model.contact().unwrap());
+    (k, rows)
+}
+
+#[test]
+fn a_slab_covering_the_system_is_the_full_operator() {
+    let penalty = ContactTreatment::Penalty { gamma0: 10.0 };
+    for (scene, nx) in [("scenes/bar2d.json", 20), ("scenes/bar3d.json", 10)] {
+        for contact in [ContactTreatment::Multiplier, penalty] {
+            let (k, rows) = step_matrix(scene, nx, 0.25, contact);
+            let n = k.dim();
+            let direct = StepSolver::new(k.clone(), LinearSolver::Direct, "step").unwrap();
+            let full = Delassus::new(&direct, n, &rows).unwrap();
+            let mut local = LocalDelassus::new(&k, &rows, Some(usize::MAX)).unwrap();
+            let slab = local.truncation();
+            assert!(slab.whole, "{scene}: {slab:?}");
+            assert_eq!(slab.slab_dofs, n, "{scene}");
+            assert_eq!(
+                local.matrix(),
+                full.matrix(),
+                "{scene} {contact}: W differs"
+            );
+            let mu: Vec<f64> = (0..rows.len()).map(|j| 1.0 + j as f64).collect();
+            let (mut u_full, mut u_local) = (vec![0.5; n], vec![0.5; n]);
+            full.apply_correction(&mu, &mut u_full);
+            local.apply_correction(&mu, &mut u_local);
+            let scale = u_full.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            for (a, b) in u_local.iter().zip(&u_full) {
+                assert!((a - b).abs() <= 1e-14 * scale, "{scene}: {a:e} vs {b:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_adaptive_slab_stops_at_the_truncation_tolerance() {
+    for b in [0.25, 1.0] {
+        let (k, rows) = step_matrix("scenes/bar3d.json", 40, b, ContactTreatment::Multiplier);
+        let slab = LocalDelassus::new(&k, &rows, None).unwrap().truncation();
+        assert!(!slab.whole && slab.slab_dofs < k.dim(), "b = {b}: {slab:?}");
+        assert!(slab.ratio <= 1e-14, "b = {b}: {slab:?}");
+        let half = LocalDelassus::new(&k, &rows, Some(slab.layers / 2))
+            .unwrap()
+            .truncation();
+        assert!(
+            half.ratio > 1e-14,
+            "b = {b}: {half:?} would have been enough"
+        );
+    }
+}
+
+#[test]
+fn a_local_operator_needs_the_step_matrix() {
+    let problem = BoxProblem {
+        linear_solver: LinearSolver::Direct,
+        ..box_problem(
+            "scenes/bar2d.json",
+            ContactTreatment::Multiplier,
+            ContactOperator::Local,
+        )
+    };
+    let err = run_box(
+        &problem,
+        &config(10, Scheme::CRANK_NICOLSON, MassVariant::Standard),
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("needs the step matrix"), "{err}");
+}
+
+fn config(nx: usize, scheme: Scheme, mass: MassVariant) -> RunConfig {
+    RunConfig {
+        nx,
+        ratio: 2.0,
+        scheme,
+        mass,
+        observables: Observables::default(),
+    }
+}
+
+/// The largest `|a_k − b_k| / max_k |b_k|` over the energy, the mean and centre gaps, the total
+/// force and the centre multiplier (relative to each series' scale: the contact force is
+/// exactly zero between impacts).
+fn worst_deviation(a: &BoxRunResult, b: &BoxRunResult) -> f64 {
+    let energy = |r: &BoxRunResult| r.energy.iter().map(|e| e.1).collect::<Vec<_>>();
+    let series = [
+        (energy(a), energy(b)),
+        (a.contact.mean_gap.clone(), b.contact.mean_gap.clone()),
+        (a.contact.centre_gap.clone(), b.contact.centre_gap.clone()),
+        (a.contact.total_force.clone(), b.contact.total_force.clone()),
+        (
+            a.contact.centre_multiplier.clone(),
+            b.contact.centre_multiplier.clone(),
+        ),
+    ];
+    series
+        .iter()
+        .map(|(x, y)| {
+            assert_eq!(x.len(), y.len());
+            let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            x.iter()
+                .zip(y)
+                .map(|(p, q)| (p - q).abs() / scale)
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Every scheme, mass and treatment of the cross-check on `scene` at level `nx`: the local
+/// operator (a strict part of the system) within 1e-8 of the full one, one layer not.
+fn cross_check(scene: &str, nx: usize) {
+    let penalty = ContactTreatment::Penalty { gamma0: 10.0 };
+    for contact in [ContactTreatment::Multiplier, penalty] {
+        let run = |operator, scheme, mass| {
+            let problem = box_problem(scene, contact, operator);
+            run_box(&problem, &config(nx, scheme, mass))
+                .unwrap()
+                .completed()
+                .unwrap()
+        };
+        for scheme in [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER] {
+            for mass in [MassVariant::Standard, MassVariant::Redistributed] {
+                let what = format!("{scene} {contact} {scheme} {mass}");
+                let full = run(ContactOperator::Full, scheme, mass);
+                let local = run(ContactOperator::Auto, scheme, mass);
+                assert!(full.contact_solves > 0, "{what}: no impact");
+                assert!(full.contact_slab.is_none(), "{what}");
+                let slab = local.contact_slab.expect("cg selects the local operator");
+                assert!(!slab.whole && slab.ratio <= 1e-14, "{what}: {slab:?}");
+                assert!(local.complementarity_violation <= 1e-10, "{what}");
+                let deviation = worst_deviation(&local, &full);
+                assert!(deviation <= 1e-8, "{what}: deviation {deviation:e}");
+                let thin = run(ContactOperator::LocalLayers(1), scheme, mass);
+                let deviation = worst_deviation(&thin, &full);
+                assert!(
+                    deviation > 1e-8,
+                    "{what}: one layer agrees to {deviation:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn box_2d_runs_with_the_local_operator_match_the_full_one() {
+    cross_check("scenes/bar2d.json", 80);
+}
+
+#[test]
+fn box_3d_runs_with_the_local_operator_match_the_full_one() {
+    cross_check("scenes/bar3d.json", 40);
+}
