@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench stability figures reference verify-getfem
+.PHONY: report test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -54,10 +54,16 @@ verify-getfem: build
 	$(BIN) verify scenes/bar1d-dirichlet.json target/getfem-runs/*.csv --out reports/getfem-verify
 
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
-## peak memory (/usr/bin/time -v, from Debian's `time` package). Exits non-zero on a miss.
+## peak memory, the 3D level-80 and level-160 runs (/usr/bin/time -v, from Debian's `time`
+## package). Exits non-zero on a miss.
 bench:
 	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
 	$(CARGO) bench --bench kernels
+
+## `make bench` and the 3D level-320 run (issue 19: ≤ 15 min, ≤ 6 GB; about half an hour).
+bench-fine:
+	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
+	$(CARGO) bench --bench kernels -- --fine
 
 build:
 	$(CARGO) build --release

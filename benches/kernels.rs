@@ -6,9 +6,10 @@
 //! * the peak memory of that study run by the binary, from `/usr/bin/time -v` (target ≤ 200 MB);
 //! * the 1D round-off sensitivity study (14 cases × 7 levels × 16 members), wall seconds, one
 //!   run (target ≤ 60, issue 15);
-//! * the 3D level-80 run of `scenes/bar3d.json` (Crank–Nicolson, redistributed mass, T = 2) with
-//!   each step solver, `direct` and `cg`: setup and stepping seconds, one run each (reported, no
-//!   target yet: issue 19 asks for ≤ 2 s).
+//! * the 3D runs of `scenes/bar3d.json` (Crank–Nicolson, redistributed mass, T = 2, the
+//!   default step solver) of issue 19, wall seconds and peak memory, one run each: level 80
+//!   (target ≤ 2 s), level 160, the size of the 3D study's reference (target ≤ 60 s), and with
+//!   `--fine` (`make bench-fine`) level 320 (target ≤ 15 min and ≤ 6 GB).
 //!
 //! Each figure is the median of several repetitions (9 for the kernels). The process exits with status 1 when a
 //! target is missed, so `make bench` checks them.
@@ -18,13 +19,9 @@ use std::path::Path;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
-use signorini::elastic::{run_box, BoxProblem};
 use signorini::fem::MassVariant;
-use signorini::linalg::LinearSolver;
 use signorini::norms::Norm;
-use signorini::problem::Problem;
 use signorini::run::{run, Observables, RunConfig, RunResult};
-use signorini::scene::Scene;
 use signorini::schemes::Scheme;
 use signorini::studies::benchmark::dirichlet;
 use signorini::studies::tables::{tables_sensitivity, tables_study};
@@ -34,6 +31,10 @@ const NS_PER_DOF_STEP_TARGET: f64 = 25.0;
 const STUDY_SECONDS_TARGET: f64 = 15.0;
 const PEAK_MEMORY_MB_TARGET: f64 = 200.0;
 const SENSITIVITY_SECONDS_TARGET: f64 = 60.0;
+/// Issue 19's 3D targets: `(level, wall seconds, peak MB)`; level 320 only with `--fine`
+/// (`make bench-fine`).
+const BOX_3D_TARGETS: [(usize, f64, f64); 3] =
+    [(80, 2.0, 1024.0), (160, 60.0, 6144.0), (320, 900.0, 6144.0)];
 
 /// The repository root: the benchmark is its scene file.
 fn root() -> &'static Path {
@@ -68,25 +69,39 @@ fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, Ru
     (median(samples), last.expect("nine runs"))
 }
 
-/// The 3D level-80 run with `solver`: (setup, stepping) seconds.
-fn box_3d_level_80(solver: LinearSolver) -> (f64, f64) {
-    let scene = Scene::load(&root().join("scenes/bar3d.json")).expect("the 3D scene");
-    let Problem::Box(problem) = scene.problem() else {
-        panic!("scenes/bar3d.json is a box scene")
-    };
-    let problem = BoxProblem {
-        linear_solver: solver,
-        ..problem
-    };
-    let config = RunConfig {
-        nx: 80,
-        ratio: 2.0,
-        scheme: Scheme::CRANK_NICOLSON,
-        mass: MassVariant::Redistributed,
-        observables: Observables::default(),
-    };
-    let r = run_box(&problem, &config).expect("3D level-80 run");
-    (r.timings.setup, r.timings.stepping)
+/// One 3D run of `scenes/bar3d.json` (Crank–Nicolson, `M^mod`, T = 2, the default step
+/// solver) on `nx` elements along the axis, by the binary under `/usr/bin/time -v`: wall
+/// seconds and peak resident megabytes.
+fn box_3d_run(nx: usize) -> Option<(f64, f64)> {
+    let started = Instant::now();
+    let out = Command::new("/usr/bin/time")
+        .arg("-v")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .args(["run", "scenes/bar3d.json", "--scheme", "crank-nicolson"])
+        .args(["--mass", "redistributed", "--nx", &nx.to_string()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CI", "true")
+        .output()
+        .ok()?;
+    let wall = started.elapsed().as_secs_f64();
+    out.status.success().then_some(())?;
+    Some((
+        wall,
+        max_resident_mb(&String::from_utf8_lossy(&out.stderr))?,
+    ))
+}
+
+/// The peak resident size in `/usr/bin/time -v`'s report, in MB.
+fn max_resident_mb(report: &str) -> Option<f64> {
+    let kb: f64 = report
+        .lines()
+        .find(|l| l.contains("Maximum resident set size"))?
+        .rsplit(':')
+        .next()?
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
 }
 
 fn peak_memory_mb() -> Option<f64> {
@@ -98,16 +113,7 @@ fn peak_memory_mb() -> Option<f64> {
         .env("CI", "true")
         .output()
         .ok()?;
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let kb: f64 = stderr
-        .lines()
-        .find(|l| l.contains("Maximum resident set size"))?
-        .rsplit(':')
-        .next()?
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kb / 1024.0)
+    max_resident_mb(&String::from_utf8_lossy(&out.stderr))
 }
 
 fn verdict(ok: bool) -> &'static str {
@@ -174,11 +180,22 @@ fn main() -> ExitCode {
         verdict(ok)
     );
 
-    for solver in [LinearSolver::Direct, LinearSolver::Cg] {
-        let (setup, stepping) = box_3d_level_80(solver);
-        println!(
-            "3D level 80 (19 440 unknowns, 320 steps, CN, redistributed), --linear-solver {solver}: setup {setup:.2} s, stepping {stepping:.2} s (issue 19 target: ≤ 2 s in all; reported only)"
-        );
+    let fine = std::env::args().any(|a| a == "--fine");
+    for &(nx, seconds, megabytes) in BOX_3D_TARGETS.iter().filter(|t| fine || t.0 < 320) {
+        match box_3d_run(nx) {
+            Some((wall, mb)) => {
+                let ok = wall <= seconds && mb <= megabytes;
+                all_ok &= ok;
+                println!(
+                    "3D level {nx} run (CN, redistributed, T = 2, the default step solver): {wall:.1} s wall, {mb:.0} MB peak (target ≤ {seconds} s, ≤ {megabytes} MB) {}",
+                    verdict(ok)
+                );
+            }
+            None => {
+                all_ok = false;
+                println!("3D level {nx} run: failed, or /usr/bin/time -v unavailable");
+            }
+        }
     }
 
     match peak_memory_mb() {

@@ -627,11 +627,11 @@ impl BoxMesh {
         let stencil = match self.dim {
             2 => {
                 let m = variant.element_matrix(quad_mass(&self.element_coords(0), density));
-                Stencil::from_element(self, |p, q| m[(p, q)], without_first_layer)
+                Stencil::from_element(&self.counts, |p, q| m[(p, q)], without_first_layer)
             }
             _ => {
                 let m = variant.element_matrix(hex_mass(&self.element_coords(0), density));
-                Stencil::from_element(self, |p, q| m[(p, q)], without_first_layer)
+                Stencil::from_element(&self.counts, |p, q| m[(p, q)], without_first_layer)
             }
         };
         Some(SymmetricMatrix::from_stencil(match variant {
@@ -714,11 +714,11 @@ impl BoxMesh {
         let stencil = match self.dim {
             2 => {
                 let k = quad_stiffness(&self.element_coords(0), elasticity);
-                Stencil::from_element(self, |p, q| k[(p, q)], false)
+                Stencil::from_element(&self.counts, |p, q| k[(p, q)], false)
             }
             _ => {
                 let k = hex_stiffness(&self.element_coords(0), elasticity);
-                Stencil::from_element(self, |p, q| k[(p, q)], false)
+                Stencil::from_element(&self.counts, |p, q| k[(p, q)], false)
             }
         };
         SymmetricMatrix::from_stencil(

@@ -1,5 +1,5 @@
-//! The separable (tensor-product) part of the box operators, and the product preconditioner it
-//! gives the step matrices: `O(n)` to build and to apply.
+//! The separable (tensor-product) part of the box operators, from which
+//! [`crate::engine::linalg`] builds the step matrices' product preconditioner.
 //!
 //! On a box of identical Q1 elements (2×2(×2) Gauss points, exact) the mass and the
 //! component-diagonal blocks of the stiffness are sums of Kronecker products of 1D P1 matrices
@@ -18,13 +18,10 @@
 //! ```
 //! whose expansion is `αρ M_⊗ + Σ_k E_ck (… ⊗ K_k ⊗ …)`, the separable part of `K`, plus
 //! positive semi-definite cross terms `a^{d−2} b b (K ⊗ K ⊗ M)`, … that are small where the
-//! mass dominates. `P_c⁻¹` is one tridiagonal solve per axis ([`solve_interleaved_rows`]). At
+//! mass dominates. `P_c⁻¹` is one tridiagonal solve per axis
+//! ([`crate::engine::linalg::ProductPreconditioner`]). At
 //! `Δx/Δt` fixed both `αM` and `S` scale alike with `h`, so `κ(P⁻¹K)` is bounded independently
 //! of the mesh; the measured iteration counts are in the README ("2D and 3D bars").
-
-use rayon::prelude::*;
-
-use crate::engine::linalg::{solve_interleaved_rows, TridiagonalLdlt};
 
 /// A symmetric tridiagonal matrix: its diagonal and its off-diagonal `off[i] = A[i+1, i]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,7 +61,7 @@ impl AxisMatrix {
     }
 
     /// `a·self + b·other`.
-    fn combine(&self, a: f64, other: &AxisMatrix, b: f64) -> AxisMatrix {
+    pub fn combine(&self, a: f64, other: &AxisMatrix, b: f64) -> AxisMatrix {
         let mix = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| a * p + b * q).collect();
         AxisMatrix {
             diag: mix(&self.diag, &other.diag),
@@ -113,91 +110,5 @@ impl SeparablePart {
                 .collect(),
             stiffness_axes: stiffness.stiffness_axes.clone(),
         })
-    }
-
-    /// The product preconditioner `P_c = ⊗_k (a M_k + b_ck K_k)` (module documentation);
-    /// `None` without a positive mass and a stiffness, or when a factor is not positive
-    /// definite.
-    pub fn preconditioner(&self) -> Option<ProductPreconditioner> {
-        let d = self.components;
-        let axes = self.mass_axes.len();
-        let complete = self.mass_scale.is_finite()
-            && self.mass_scale > 0.0
-            && self.coefficients.len() == d * axes
-            && self.stiffness_axes.len() == axes;
-        if !complete {
-            return None;
-        }
-        let a = self.mass_scale.powf(1.0 / axes as f64);
-        let b_scale = a.powi(axes as i32 - 1);
-        let mut factors = Vec::with_capacity(axes);
-        for k in 0..axes {
-            let per_component = (0..d)
-                .map(|c| {
-                    let b = self.coefficients[c * axes + k] / b_scale;
-                    let mass = with_massless_weight(&self.mass_axes[k]);
-                    let m = mass.combine(a, &self.stiffness_axes[k], b);
-                    TridiagonalLdlt::factor(&m.diag, &m.off).ok()
-                })
-                .collect::<Option<Vec<_>>>()?;
-            factors.push(per_component);
-        }
-        Some(ProductPreconditioner {
-            components: d,
-            nodes_per_axis: self.mass_axes.iter().map(|m| m.diag.len()).collect(),
-            factors,
-        })
-    }
-}
-
-/// The weight, relative to its neighbour's, that the preconditioner gives a massless node of a
-/// mass factor (`M^mod`'s `Γ_Sig` plane): the product then stands for the plane's lateral
-/// stiffness, which the true `M_z` weights, not `M_z^mod`. Measured on the 3D bar at level 40
-/// (CG iterations per solve, Crank–Nicolson / backward Euler): weight 0 → 26.9 / 25.9,
-/// 0.1 → 20.8 / 23.6, 0.25 → 19.5 / 21.6, 0.5 → 20.8 / 20.2, 1 → 24.5 / 20.7.
-const MASSLESS_WEIGHT: f64 = 0.25;
-
-/// `m` with each zero diagonal entry replaced by [`MASSLESS_WEIGHT`] times its neighbour's.
-fn with_massless_weight(m: &AxisMatrix) -> AxisMatrix {
-    let mut weighted = m.clone();
-    let n = m.diag.len();
-    for i in (0..n).filter(|&i| m.diag[i] == 0.0) {
-        let neighbour = if i + 1 < n {
-            m.diag[i + 1]
-        } else {
-            m.diag[i.saturating_sub(1)]
-        };
-        weighted.diag[i] = MASSLESS_WEIGHT * neighbour;
-    }
-    weighted
-}
-
-/// `blockdiag_c(⊗_k F_ck)⁻¹` on node-major `d`-component dofs, each `F_ck` factorised.
-#[derive(Debug, Clone)]
-pub struct ProductPreconditioner {
-    components: usize,
-    nodes_per_axis: Vec<usize>,
-    /// `factors[k][c]`.
-    factors: Vec<Vec<TridiagonalLdlt>>,
-}
-
-impl ProductPreconditioner {
-    /// The number of unknowns.
-    pub fn dim(&self) -> usize {
-        self.components * self.nodes_per_axis.iter().product::<usize>()
-    }
-
-    /// `z = P⁻¹ r`: one interleaved tridiagonal solve along each axis, the independent blocks
-    /// of an axis in parallel.
-    pub fn solve_into(&self, r: &[f64], z: &mut [f64]) {
-        z.copy_from_slice(r);
-        // Along axis k the rows are `width` entries apart (the faster axes and the components),
-        // and the array is a sequence of independent blocks of `nodes_k · width` entries.
-        let mut width = self.components;
-        for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
-            z.par_chunks_exact_mut(nodes * width)
-                .for_each(|block| solve_interleaved_rows(factors, block, width));
-            width *= nodes;
-        }
     }
 }

@@ -17,7 +17,6 @@
 
 use rayon::prelude::*;
 
-use super::box_mesh::BoxMesh;
 use super::separable::SeparablePart;
 
 /// Nodes per parallel task of a product. The partial sums of a reduction are added in task
@@ -60,17 +59,17 @@ fn corner_of_bits(dim: usize, bits: usize) -> usize {
 }
 
 impl Stencil {
-    /// The operator `Σ_e P_eᵀ A_e P_e` over the elements of `mesh`, where `entry(p, q)` is the
-    /// entry of the (common) element matrix at local dofs `p = a·d + r`, `q = b·d + c`, and
-    /// the first element layer (the elements touching `Γ_Sig`) is left out when
-    /// `without_first_layer` (the note's `M^mod`, eq. 7).
+    /// The operator `Σ_e P_eᵀ A_e P_e` over the elements of a box mesh with `counts[k]`
+    /// elements along axis `k` (a [`BoxMesh`](super::BoxMesh)'s numbering, its last layer of
+    /// nodes eliminated), where `entry(p, q)` is the entry of the (common) element matrix at
+    /// local dofs `p = a·d + r`, `q = b·d + c`, and the first element layer (the elements
+    /// touching `Γ_Sig`) is left out when `without_first_layer` (the note's `M^mod`, eq. 7).
     pub fn from_element(
-        mesh: &BoxMesh,
+        counts: &[usize],
         entry: impl Fn(usize, usize) -> f64,
         without_first_layer: bool,
     ) -> Self {
-        let dim = mesh.dim();
-        let counts = mesh.counts();
+        let dim = counts.len();
         let mut nodes_per_axis = [1usize; 3];
         for k in 0..dim {
             nodes_per_axis[k] = counts[k] + usize::from(k + 1 < dim);

@@ -1,11 +1,13 @@
 //! Linear solvers for the symmetric positive definite systems of the implicit schemes.
 
 mod pcg;
+mod product;
 mod spd;
 mod step;
 mod tridiagonal;
 
 pub use pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
+pub use product::ProductPreconditioner;
 pub use spd::SpdSolver;
 pub use step::{LinearSolver, SolveCounts, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
 pub use tridiagonal::{solve_interleaved_rows, TridiagonalLdlt};

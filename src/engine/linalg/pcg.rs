@@ -1,29 +1,32 @@
-//! Jacobi-preconditioned conjugate gradients for the step matrices of the 2D/3D boxes.
+//! Preconditioned conjugate gradients for the step matrices of the 2D/3D boxes.
 //!
 //! At `Δx/Δt` fixed the step matrix `K = M/(bΔt²) + S` is mass-dominated: `Δt² S` and `M` scale
-//! alike with `h`, so the condition number of `D^{-1/2} K D^{-1/2}` (`D = diag K`) is bounded
-//! independently of the mesh and CG converges in a fixed number of iterations. Memory is the
-//! matrix itself (no fill; nothing per entry when it is a [`Stencil`](crate::engine::fem::stencil::Stencil)) and four work vectors.
+//! alike with `h`, so the condition number of `P^{-1/2} K P^{-1/2}` is bounded independently of
+//! the mesh and CG converges in a fixed number of iterations. `P` is the product preconditioner
+//! of the separable part a matrix-free box matrix carries
+//! ([`ProductPreconditioner::of`]), `D = diag K` (Jacobi) for any other matrix. Memory is
+//! the matrix itself (no fill; nothing per entry when it is a
+//! [`Stencil`](crate::engine::fem::stencil::Stencil)) and four work vectors.
 //!
 //! The algorithm (Saad, *Iterative Methods for Sparse Linear Systems*, Alg. 9.1), from the
 //! initial guess `x₀`:
 //! ```text
-//! r₀ = b − K x₀,  z₀ = D⁻¹ r₀,  p₀ = z₀
+//! r₀ = b − K x₀,  z₀ = P⁻¹ r₀,  p₀ = z₀
 //! α_k = r_kᵀz_k / p_kᵀK p_k,  x_{k+1} = x_k + α_k p_k,  r_{k+1} = r_k − α_k K p_k
-//! z_{k+1} = D⁻¹ r_{k+1},  β_k = r_{k+1}ᵀz_{k+1} / r_kᵀz_k,  p_{k+1} = z_{k+1} + β_k p_k
+//! z_{k+1} = P⁻¹ r_{k+1},  β_k = r_{k+1}ᵀz_{k+1} / r_kᵀz_k,  p_{k+1} = z_{k+1} + β_k p_k
 //! ```
 //! stopping when `‖r_k‖₂ ≤ tol ‖b‖₂` (relative to the right-hand side, not to `r₀`, so that a
 //! good initial guess saves iterations instead of tightening the test).
 
+use super::ProductPreconditioner;
 use crate::engine::error::SolveError;
-use crate::engine::fem::separable::{ProductPreconditioner, SeparablePart};
 use crate::engine::fem::SymmetricMatrix;
 
 /// The relative residual `‖b − Kx‖₂ / ‖b‖₂` at which [`Pcg`] stops by default. With it, the
 /// energies, gaps and contact forces of 2D and 3D box runs agree with the direct solver's to
 /// 9e-10 of each history's scale at every step; at 1e-12 the contact force differed by up to
 /// 1e-8, so 1e-13 is the loosest power of ten with a tenfold margin under 1e-8
-/// (`tests/unit/pcg.rs`). Each decade costs about three iterations at Δx/Δt = 2.
+/// (`tests/unit/pcg.rs`).
 pub const DEFAULT_TOLERANCE: f64 = 1e-13;
 
 /// The iteration limit: far above the few tens a bounded condition number needs, so reaching
@@ -44,7 +47,7 @@ enum Preconditioner {
     /// `D⁻¹`, `D = diag K`.
     Jacobi(Vec<f64>),
     /// The product preconditioner of the matrix's separable part
-    /// ([`SeparablePart::preconditioner`]).
+    /// ([`ProductPreconditioner::of`]).
     Product(ProductPreconditioner),
 }
 
@@ -115,7 +118,7 @@ impl Pcg {
             .collect::<Result<Vec<f64>, SolveError>>()?;
         let product = a
             .separable_part()
-            .and_then(SeparablePart::preconditioner)
+            .and_then(ProductPreconditioner::of)
             .filter(|p| p.dim() == a.dim());
         let preconditioner = match product {
             Some(p) => Preconditioner::Product(p),

@@ -3,8 +3,10 @@
 //!
 //! * `direct`: one sparse Cholesky factorisation per run ([`SpdSolver`]), then two triangular
 //!   solves per step: exact to round-off, but its fill grows like `n^{4/3}` in 3D.
-//! * `cg`: Jacobi-preconditioned conjugate gradients ([`Pcg`]) on the assembled matrix, warm
-//!   started from the scheme's extrapolation of the previous steps; memory `O(n)`.
+//! * `cg`: preconditioned conjugate gradients ([`Pcg`]), warm started from the scheme's
+//!   extrapolation of the previous steps; memory `O(n)`. On a box the matrices are matrix-free
+//!   ([`crate::engine::fem::stencil`]) and the preconditioner is the product of the separable
+//!   part ([`crate::engine::fem::separable`]); Jacobi otherwise.
 //! * `auto` (the default): on a box, `cg` in 3D from [`AUTO_CG_FROM_DOFS`] unknowns on and
 //!   `direct` otherwise ([`LinearSolver::for_box`]); `direct` for every other model.
 //!
@@ -22,17 +24,18 @@ use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::fem::SymmetricMatrix;
 
 /// The size from which `auto` chooses `cg` on a 3D box, between two measurements on this 2-core
-/// machine (README "2D and 3D bars"): the sparse Cholesky was 2.3 times faster at 19 440
-/// unknowns (level 80), CG 1.18 times faster with half the memory at 138 720 (level 160). The
-/// regression gate's boxes are far smaller and keep the direct solver.
-pub const AUTO_CG_FROM_DOFS: usize = 100_000;
+/// machine (README "2D and 3D bars"; Crank–Nicolson, `M^mod`, T = 2): the sparse Cholesky was
+/// 2.5 times faster at 3 000 unknowns (level 40: 0.33 s against 0.84 s), matrix-free CG 1.5
+/// times faster with a sixth of the memory at 19 440 (level 80: 7.5 s and 31 MB against 11.2 s
+/// and 203 MB). The regression gate's boxes are smaller and keep the direct solver.
+pub const AUTO_CG_FROM_DOFS: usize = 10_000;
 
 /// Which step solver a run uses (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum LinearSolver {
     /// Sparse Cholesky.
     Direct,
-    /// Jacobi-preconditioned conjugate gradients.
+    /// Preconditioned conjugate gradients.
     Cg,
     /// On a box, [`LinearSolver::for_box`]; on any other model, `direct`.
     #[default]

@@ -1,0 +1,95 @@
+//! The product preconditioner of a box step matrix `αM + S` from its separable part
+//! ([`crate::engine::fem::separable`], where the construction is explained):
+//! `P_c = ⊗_k (a M_k + b_ck K_k)` per component, factorised axis by axis and applied as one
+//! tridiagonal solve per axis.
+
+use rayon::prelude::*;
+
+use super::{solve_interleaved_rows, TridiagonalLdlt};
+use crate::engine::fem::separable::{AxisMatrix, SeparablePart};
+
+/// The weight, relative to its neighbour's, that the preconditioner gives a massless node of a
+/// mass factor (`M^mod`'s `Γ_Sig` plane): the product then stands for the plane's lateral
+/// stiffness, which the true `M_z` weights, not `M_z^mod`. Measured on the 3D bar at level 40
+/// (CG iterations per solve, Crank–Nicolson / backward Euler): weight 0 → 26.9 / 25.9,
+/// 0.1 → 20.8 / 23.6, 0.25 → 19.5 / 21.6, 0.5 → 20.8 / 20.2, 1 → 24.5 / 20.7.
+const MASSLESS_WEIGHT: f64 = 0.25;
+
+/// `m` with each zero diagonal entry replaced by [`MASSLESS_WEIGHT`] times its neighbour's.
+fn with_massless_weight(m: &AxisMatrix) -> AxisMatrix {
+    let mut weighted = m.clone();
+    let n = m.diag.len();
+    for i in (0..n).filter(|&i| m.diag[i] == 0.0) {
+        let neighbour = if i + 1 < n {
+            m.diag[i + 1]
+        } else {
+            m.diag[i.saturating_sub(1)]
+        };
+        weighted.diag[i] = MASSLESS_WEIGHT * neighbour;
+    }
+    weighted
+}
+
+/// `blockdiag_c(⊗_k F_ck)⁻¹` on node-major `d`-component dofs, each `F_ck` factorised.
+#[derive(Debug, Clone)]
+pub struct ProductPreconditioner {
+    components: usize,
+    nodes_per_axis: Vec<usize>,
+    /// `factors[k][c]`.
+    factors: Vec<Vec<TridiagonalLdlt>>,
+}
+
+impl ProductPreconditioner {
+    /// The product preconditioner `P_c = ⊗_k (a M_k + b_ck K_k)` of `part`
+    /// ([`crate::engine::fem::separable`]); `None` without a positive mass and a stiffness, or
+    /// when a factor is not positive definite.
+    pub fn of(part: &SeparablePart) -> Option<ProductPreconditioner> {
+        let d = part.components;
+        let axes = part.mass_axes.len();
+        let complete = part.mass_scale.is_finite()
+            && part.mass_scale > 0.0
+            && part.coefficients.len() == d * axes
+            && part.stiffness_axes.len() == axes;
+        if !complete {
+            return None;
+        }
+        let a = part.mass_scale.powf(1.0 / axes as f64);
+        let b_scale = a.powi(axes as i32 - 1);
+        let mut factors = Vec::with_capacity(axes);
+        for k in 0..axes {
+            let per_component = (0..d)
+                .map(|c| {
+                    let b = part.coefficients[c * axes + k] / b_scale;
+                    let mass = with_massless_weight(&part.mass_axes[k]);
+                    let m = mass.combine(a, &part.stiffness_axes[k], b);
+                    TridiagonalLdlt::factor(&m.diag, &m.off).ok()
+                })
+                .collect::<Option<Vec<_>>>()?;
+            factors.push(per_component);
+        }
+        Some(ProductPreconditioner {
+            components: d,
+            nodes_per_axis: part.mass_axes.iter().map(|m| m.diag.len()).collect(),
+            factors,
+        })
+    }
+
+    /// The number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.components * self.nodes_per_axis.iter().product::<usize>()
+    }
+
+    /// `z = P⁻¹ r`: one interleaved tridiagonal solve along each axis, the independent blocks
+    /// of an axis in parallel.
+    pub fn solve_into(&self, r: &[f64], z: &mut [f64]) {
+        z.copy_from_slice(r);
+        // Along axis k the rows are `width` entries apart (the faster axes and the components),
+        // and the array is a sequence of independent blocks of `nodes_k · width` entries.
+        let mut width = self.components;
+        for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
+            z.par_chunks_exact_mut(nodes * width)
+                .for_each(|block| solve_interleaved_rows(factors, block, width));
+            width *= nodes;
+        }
+    }
+}
