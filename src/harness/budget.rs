@@ -12,7 +12,9 @@
 //!   300 × 300 square, against 4.9 kB and 5.2 kB here);
 //! - a 3D box: `600 dofs^⅓` bytes per unknown (fill like `n^⅓` per unknown: measured 16.4 kB at
 //!   26 460 unknowns on a 20³ cube, 10 kB at 19 440 on an 8 × 8 × 80 bar, against 17.9 and
-//!   16.2 kB here), plus the dense Delassus operator of the contact face;
+//!   16.2 kB here), plus the dense Delassus operator of the contact face; with the `cg` step
+//!   solver (matrix-free, the `auto` choice in 3D from 10 000 unknowns) a constant
+//!   [`CG_BOX_BYTES_PER_DOF`] instead (measured 3.2–4.3 kB);
 //! - every value a run stores per step or per snapshot (histories, fields), [`BYTES_PER_STORED_VALUE`]
 //!   for the value and the text it becomes in `run.json` and the CSV files;
 //! - a study: as many runs at once as rayon has threads, each the size of its largest run; a box
@@ -24,6 +26,7 @@
 use std::fmt;
 
 use crate::engine::fem::MassVariant;
+use crate::engine::linalg::LinearSolver;
 use crate::engine::problem::{BoxProblem, Problem1d};
 use crate::engine::schemes::Scheme;
 use crate::harness::run::RunConfig;
@@ -256,13 +259,26 @@ fn box_shape(problem: &BoxProblem, n_axis: usize) -> BoxShape {
     }
 }
 
-/// Peak bytes of the matrices and factor of a box run with `dofs` unknowns in `dim`
-/// dimensions and `contact_nodes` contact constraints.
-fn box_matrix_bytes(dim: usize, dofs: f64, contact_nodes: f64) -> f64 {
-    let per_dof = if dim == 3 {
-        600.0 * dofs.cbrt()
+/// Peak bytes per unknown of a box run whose step solver is `cg` (matrix-free, local contact
+/// operator): an upper bound of the measured 3.2 kB (3D level 160, 439 MB) and 4.3 kB (level
+/// 80, 83 MB), which include the transient assembly of the start's mass block and the local
+/// operator's factorised slab.
+const CG_BOX_BYTES_PER_DOF: f64 = 4500.0;
+
+/// Peak bytes of the matrices and factor of a box run of `problem` with `dofs` unknowns and
+/// `contact_nodes` contact constraints: the step solver `problem.linear_solver` chooses
+/// ([`LinearSolver::for_box`]) decides between the matrix-free model and the Cholesky fill's.
+fn box_matrix_bytes(problem: &BoxProblem, dofs: f64, contact_nodes: f64) -> f64 {
+    let dim = problem.lengths.len();
+    let unknowns = if dofs < 1e15 {
+        dofs as usize
     } else {
-        300.0 * dofs.max(2.0).log2()
+        usize::MAX
+    };
+    let per_dof = match problem.linear_solver.for_box(dim, unknowns) {
+        LinearSolver::Cg => CG_BOX_BYTES_PER_DOF,
+        _ if dim == 3 => 600.0 * dofs.cbrt(),
+        _ => 300.0 * dofs.max(2.0).log2(),
     };
     per_dof * dofs + 3.0 * 8.0 * contact_nodes * contact_nodes
 }
@@ -304,7 +320,7 @@ pub fn box_run(
     };
     Estimate {
         memory_bytes: BASE_BYTES
-            + box_matrix_bytes(problem.lengths.len(), shape.dofs, shape.contact_nodes)
+            + box_matrix_bytes(problem, shape.dofs, shape.contact_nodes)
             + BYTES_PER_STORED_VALUE * per_step * (steps + 1.0)
             + snapshot_bytes,
         files,

@@ -12,6 +12,7 @@ mod common;
 mod external_runs;
 
 mod bouncing_bar;
+mod box_budget;
 mod box_mesh;
 mod complementarity;
 mod contact_cross_check;
