@@ -625,14 +625,14 @@ impl BoxMesh {
         }
         let without_first_layer = !variant.includes_element(true);
         let stencil = match self.dim {
-            2 => {
-                let m = variant.element_matrix(quad_mass(&self.element_coords(0), density));
-                Stencil::from_element(&self.counts, |p, q| m[(p, q)], without_first_layer)
-            }
-            _ => {
-                let m = variant.element_matrix(hex_mass(&self.element_coords(0), density));
-                Stencil::from_element(&self.counts, |p, q| m[(p, q)], without_first_layer)
-            }
+            2 => self.stencil_of(
+                &variant.element_matrix(quad_mass(&self.element_coords(0), density)),
+                without_first_layer,
+            ),
+            _ => self.stencil_of(
+                &variant.element_matrix(hex_mass(&self.element_coords(0), density)),
+                without_first_layer,
+            ),
         };
         Some(SymmetricMatrix::from_stencil(match variant {
             MassVariant::Lumped => stencil,
@@ -640,6 +640,16 @@ impl BoxMesh {
                 stencil.with_separable_part(self.mass_separable_part(density, without_first_layer))
             }
         }))
+    }
+
+    /// The matrix-free operator of the element matrix `element` (every element's: they are
+    /// translates of element 0), the first element layer left out when `without_first_layer`.
+    fn stencil_of<const ND: usize>(
+        &self,
+        element: &SMatrix<f64, ND, ND>,
+        without_first_layer: bool,
+    ) -> Stencil {
+        Stencil::from_element(&self.counts, |p, q| element[(p, q)], without_first_layer)
     }
 
     /// The 1D factors `M_k` of the consistent mass ([`AxisMatrix::p1_mass`]), the first axis
@@ -712,14 +722,8 @@ impl BoxMesh {
     /// The stiffness matrix of [`BoxMesh::stiffness`] stored matrix-free ([`Stencil`]).
     pub fn stiffness_stencil(&self, elasticity: &Elasticity) -> SymmetricMatrix {
         let stencil = match self.dim {
-            2 => {
-                let k = quad_stiffness(&self.element_coords(0), elasticity);
-                Stencil::from_element(&self.counts, |p, q| k[(p, q)], false)
-            }
-            _ => {
-                let k = hex_stiffness(&self.element_coords(0), elasticity);
-                Stencil::from_element(&self.counts, |p, q| k[(p, q)], false)
-            }
+            2 => self.stencil_of(&quad_stiffness(&self.element_coords(0), elasticity), false),
+            _ => self.stencil_of(&hex_stiffness(&self.element_coords(0), elasticity), false),
         };
         SymmetricMatrix::from_stencil(
             stencil.with_separable_part(self.stiffness_separable_part(elasticity)),

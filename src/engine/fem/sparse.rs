@@ -177,11 +177,21 @@ impl SymmetricMatrix {
 
     /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
-        self.mul_dot(x, y);
+        match &self.storage {
+            Storage::Assembled {
+                tridiagonal: Some(t),
+                ..
+            } => t.mul_into(x, y),
+            _ => {
+                self.mul_dot(x, y);
+            }
+        }
     }
 
     /// `y = A x`, returning `xᵀ y`: rows in parallel tasks (whose partial sums are added in a
-    /// fixed order) for every matrix but a tridiagonal one.
+    /// fixed order) for every matrix but a tridiagonal one. [`SymmetricMatrix::mul_into`] is
+    /// this without the dot product where it would be a second pass (a tridiagonal matrix, the
+    /// 1D time loop's).
     pub fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
         match &self.storage {
             Storage::Assembled {

@@ -60,14 +60,6 @@ impl SpdSolver {
 
     /// Solves `A x = b` in place.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        match self {
-            SpdSolver::Tridiagonal(f) => f.solve_in_place(b),
-            SpdSolver::Cholesky(llt) => {
-                use faer::linalg::solvers::SolveCore;
-                let n = b.len();
-                let mat = faer::MatMut::from_column_major_slice_mut(b, n, 1);
-                llt.solve_in_place_with_conj(faer::Conj::No, mat);
-            }
-        }
+        self.solve_columns_in_place(b, b.len());
     }
 }
