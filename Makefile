@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem
+.PHONY: report report-fine test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -13,6 +13,15 @@ report: build
 	$(BIN) study scenes/bar3d.json --out reports
 	$(BIN) getfem --out reports
 	$(BIN) figures --reports reports
+
+## The finer 2D/3D studies (issue 19) into reports/fine/: 2D levels 10–160 against a reference on
+## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
+## references are cached in reports/fine/data/references/ (computing them takes most of the time:
+## see the README, "2D and 3D convergence against a fine-mesh reference").
+report-fine: build
+	$(BIN) study scenes/bar2d-fine.json --out reports/fine
+	$(BIN) study scenes/bar3d-fine.json --out reports/fine
+	$(BIN) figures --reports reports/fine
 
 ## The fine-mesh references of the 2D/3D studies (reports/data/references/): the cache is kept
 ## when its parameters match the scenes', recomputed otherwise (make report does the same).

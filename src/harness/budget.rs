@@ -353,9 +353,11 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, cases: usize
 }
 
 /// A box study: `runs_per_level` runs at each of `levels` (cases × ensemble members; 0 for the
-/// reference alone, `signorini reference`), its fine-mesh reference at `reference_level`
-/// (counted as computed) and the reference's displacement samples at every step of the finest
-/// level.
+/// reference alone, `signorini reference`) and its fine-mesh reference at `reference_level`
+/// (counted as computed): the reference run, the check run one level coarser beside it, the
+/// reference's projections on every level (`2 (dofs_ℓ + 1)` values per step of level ℓ), the
+/// finest level's prolongation into the reference mesh (at most `2^d` weights and indices per
+/// fine unknown) and the five fine work vectors of the projections and the check.
 pub fn box_study(
     problem: &BoxProblem,
     levels: &[usize],
@@ -370,15 +372,24 @@ pub fn box_study(
         runs_per_level as f64,
     );
     let reference = box_run(problem, reference_level, ratio, 0, false);
+    let check = box_run(problem, reference_level / 2, ratio, 0, false);
     let fine = box_shape(problem, reference_level);
-    let finest = box_shape(problem, levels.last().copied().unwrap_or(1));
-    let samples = steps(problem.horizon, finest.h, ratio) + 1.0;
+    let projections: f64 = levels
+        .iter()
+        .map(|&nx| {
+            let level = box_shape(problem, nx);
+            16.0 * (level.dofs + 1.0) * (steps(problem.horizon, level.h, ratio) + 1.0)
+        })
+        .sum();
+    let corners = f64::from(1u32 << problem.lengths.len().min(3));
     Estimate {
         memory_bytes: levels_estimate.memory_bytes
             + reference.memory_bytes
-            + 8.0 * fine.dofs * samples,
+            + check.memory_bytes
+            + projections
+            + (16.0 * corners + 40.0) * fine.dofs,
         files: 0.0,
-        dof_steps: levels_estimate.dof_steps + reference.dof_steps,
+        dof_steps: levels_estimate.dof_steps + reference.dof_steps + check.dof_steps,
     }
 }
 

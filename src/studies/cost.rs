@@ -188,7 +188,49 @@ pub fn render(study: &Study, costs: &[CostToTarget]) -> String {
     md
 }
 
-/// `work-precision.md` and `work-precision.json` of `study` into `out_dir`.
+/// The sections other studies keep in `work-precision.md` (the 2D and 3D boxes' costs), each
+/// between the lines `<!-- NAME -->` and `<!-- /NAME -->`.
+const KEPT_SECTIONS: [&str; 2] = ["box-2d", "box-3d"];
+
+/// The opening and closing marker lines of section `name`.
+fn markers(name: &str) -> (String, String) {
+    (format!("<!-- {name} -->"), format!("<!-- /{name} -->"))
+}
+
+/// Section `name` of `text` with its markers, when there is one.
+fn section<'t>(text: &'t str, name: &str) -> Option<&'t str> {
+    let (open, close) = markers(name);
+    let start = text.find(&open)?;
+    let end = start + text[start..].find(&close)? + close.len();
+    Some(&text[start..end])
+}
+
+/// The content of section `name` of `text`, without its markers.
+fn section_body<'t>(text: &'t str, name: &str) -> Option<&'t str> {
+    let (open, close) = markers(name);
+    Some(section(text, name)?[open.len()..].trim_end_matches(close.as_str()))
+}
+
+/// `text` with section `name` replaced by `body` (appended when absent).
+pub fn splice_section(text: &str, name: &str, body: &str) -> String {
+    let (open, close) = markers(name);
+    let new = format!("{open}\n{}\n{close}", body.trim());
+    match section(text, name) {
+        Some(old) => text.replacen(old, &new, 1),
+        None => format!("{}\n\n{new}\n", text.trim_end()),
+    }
+}
+
+/// Replaces section `name` of `out_dir/work-precision.md` by `body` (the file is created when
+/// missing; the rest of it is kept).
+pub fn write_work_precision_section(out_dir: &Path, name: &str, body: &str) -> Result<(), Error> {
+    let path = out_dir.join(WORK_PRECISION_MD);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    write_atomic(&path, splice_section(&text, name, body).as_bytes())
+}
+
+/// `work-precision.md` and `work-precision.json` of `study` into `out_dir`; the
+/// [`KEPT_SECTIONS`] of an existing `work-precision.md` are kept.
 pub fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Error> {
     let costs = costs_to_targets(study, COST_NORM);
     let file = WorkPrecisionFile {
@@ -198,10 +240,38 @@ pub fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Error> 
         cost_to_target_norm: COST_NORM,
         cost_to_target: costs,
     };
-    write_atomic(
-        &out_dir.join(WORK_PRECISION_MD),
-        render(study, &file.cost_to_target).as_bytes(),
-    )?;
+    let path = out_dir.join(WORK_PRECISION_MD);
+    let previous = std::fs::read_to_string(&path).unwrap_or_default();
+    let text = KEPT_SECTIONS
+        .iter()
+        .filter_map(|name| Some((name, section_body(&previous, name)?)))
+        .fold(render(study, &file.cost_to_target), |text, (name, kept)| {
+            splice_section(&text, name, kept)
+        });
+    write_atomic(&path, text.as_bytes())?;
     write_json(&out_dir.join(WORK_PRECISION_JSON), &file)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_section_is_replaced_in_place_and_appended_when_absent() {
+        let text = splice_section("# Costs\n\n1D table", "box-2d", "2D table");
+        assert_eq!(
+            text,
+            "# Costs\n\n1D table\n\n<!-- box-2d -->\n2D table\n<!-- /box-2d -->\n"
+        );
+        let text = splice_section(&text, "box-3d", "3D table");
+        let text = splice_section(&text, "box-2d", "new 2D table");
+        assert!(text.contains("<!-- box-2d -->\nnew 2D table\n<!-- /box-2d -->"));
+        assert!(!text.contains("\n2D table"));
+        assert!(text.ends_with("<!-- box-3d -->\n3D table\n<!-- /box-3d -->\n"));
+        assert_eq!(
+            section_body(&text, "box-3d").map(str::trim),
+            Some("3D table")
+        );
+    }
 }

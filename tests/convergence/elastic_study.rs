@@ -227,27 +227,80 @@ fn reference_command_rejects_a_bar_scene() {
     );
 }
 
-#[test]
-fn a_reference_twice_the_finest_level_reuses_that_level_as_its_check() {
-    let cache = temp("cache-twice");
+/// The `--json` study of `scenes/bar2d.json` on `levels` against a reference on `reference`
+/// elements, its reference cached under `name`.
+fn small_study(levels: &str, reference: &str, name: &str) -> serde_json::Value {
+    let cache = temp(name);
     let out = signorini(&[
         "study",
         "scenes/bar2d.json",
         "--levels",
-        "1,2",
+        levels,
         "--reference-level",
-        "4",
+        reference,
         "--cache",
         cache.to_str().unwrap(),
         "--json",
     ]);
-    let json: serde_json::Value = serde_json::from_str(&success_stdout(&out)).unwrap();
+    let _ = std::fs::remove_dir_all(&cache);
+    serde_json::from_str(&success_stdout(&out)).unwrap()
+}
+
+/// The errors of `case` (its index in the study) at the level of index `level`, by norm key.
+fn level_errors(study: &serde_json::Value, case: usize, level: usize) -> Vec<(String, f64)> {
+    study["study"]["cases"][case]["rates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            let norm = r["norm"].as_str().unwrap().to_string();
+            (norm, r["errors"][level].as_f64().unwrap())
+        })
+        .collect()
+}
+
+fn assert_close(what: &str, a: f64, b: f64) {
+    assert!(
+        (a - b).abs() <= 1e-12 * a.abs().max(b.abs()),
+        "{what}: {a} vs {b}"
+    );
+}
+
+/// Two routes to one number: with the reference twice the finest level, the check run is the
+/// finest level's run of the reference case. The check compares it in the fine space
+/// (prolongation, fine mass and stiffness); the study through the reference's projections on
+/// the level (coarse quantities only). They must agree to round-off in every norm.
+#[test]
+fn the_fine_space_check_equals_the_projected_error_of_the_same_run() {
+    let json = small_study("1,2", "4", "cache-twice");
     assert_eq!(json["reference"]["next_coarser"], 2);
-    let fitted = &json["study"]["cases"][1]["rates"][0]["errors"][1];
     assert_eq!(
         json["study"]["cases"][1]["case"]["mass"], "redistributed",
         "case order"
     );
-    assert_eq!(&json["reference"]["distance"]["u_Linf_H"], fitted);
-    let _ = std::fs::remove_dir_all(&cache);
+    let projected = level_errors(&json, 1, 1);
+    assert_eq!(projected.len(), 7);
+    for (norm, error) in projected {
+        let distance = json["reference"]["distance"][&norm].as_f64().unwrap();
+        assert_close(&norm, distance, error);
+    }
+}
+
+/// The projections on a level are restricted through the chain of the finer fitted levels:
+/// level 2 against a reference on 8 elements measures the same errors whether it is projected
+/// directly (levels 1, 2) or through level 4 (levels 2, 4).
+#[test]
+fn a_level_projected_through_finer_levels_has_the_errors_of_a_direct_projection() {
+    let direct = small_study("1,2", "8", "cache-direct");
+    let chained = small_study("2,4", "8", "cache-chained");
+    for case in 0..4 {
+        let (a, b) = (
+            level_errors(&direct, case, 1),
+            level_errors(&chained, case, 0),
+        );
+        assert_eq!(a.len(), 7);
+        for ((norm, x), (_, y)) in a.iter().zip(&b) {
+            assert_close(&format!("case {case}, {norm}"), *x, *y);
+        }
+    }
 }

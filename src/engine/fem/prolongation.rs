@@ -134,6 +134,20 @@ impl Prolongation {
                 .sum();
         }
     }
+
+    /// `out = Pᵀ v`: the restriction of a fine functional to the coarse space (with `v = M_h u`,
+    /// `(Pᵀ v)_j = ∫ ρ u φ^H_j`, the coarse load vector of the fine field).
+    pub fn restrict_into(&self, v: &[f64], out: &mut [f64]) {
+        assert_eq!(v.len(), self.fine_dofs(), "fine dof vector length");
+        assert_eq!(out.len(), self.coarse_dofs, "coarse dof vector length");
+        out.fill(0.0);
+        for (i, vi) in v.iter().enumerate() {
+            let range = self.row_start[i]..self.row_start[i + 1];
+            for (&j, w) in self.columns[range.clone()].iter().zip(&self.weights[range]) {
+                out[j] += w * vi;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -179,6 +193,26 @@ mod tests {
         for (a, b) in out.iter().zip(&expected) {
             assert!((a - b).abs() < 1e-14, "{a} vs {b}");
         }
+    }
+
+    /// `(P u)ᵀ v = uᵀ (Pᵀ v)` for every `u`, `v`: the restriction is the prolongation's
+    /// transpose.
+    #[test]
+    fn restriction_is_the_transpose_of_the_prolongation() {
+        let coarse = BoxMesh::new(&[0.1, 0.1, 1.0], &[1, 1, 3]).unwrap();
+        let fine = BoxMesh::new(&[0.1, 0.1, 1.0], &[2, 2, 6]).unwrap();
+        let p = Prolongation::new(&coarse, &fine).unwrap();
+        let u: Vec<f64> = (0..p.coarse_dofs()).map(|i| (i as f64).sin()).collect();
+        let v: Vec<f64> = (0..p.fine_dofs()).map(|i| (i as f64 * 0.7).cos()).collect();
+        let (mut pu, mut ptv) = (vec![0.0; p.fine_dofs()], vec![0.0; p.coarse_dofs()]);
+        p.apply_into(&u, &mut pu);
+        p.restrict_into(&v, &mut ptv);
+        let lhs: f64 = pu.iter().zip(&v).map(|(a, b)| a * b).sum();
+        let rhs: f64 = u.iter().zip(&ptv).map(|(a, b)| a * b).sum();
+        assert!(
+            (lhs - rhs).abs() < 1e-13 * lhs.abs().max(1.0),
+            "{lhs} vs {rhs}"
+        );
     }
 
     #[test]

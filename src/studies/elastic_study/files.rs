@@ -2,6 +2,8 @@
 //! ([`ElasticStudy`]: the study, the reference check and the findings) and
 //! `data/elastic-<d>d-histories.json` ([`super::ElasticHistories`], the figure data), which
 //! `make figures` reads back; the fine-mesh references are cached under [`REFERENCE_CACHE`].
+//! The study's cost per dof-step goes into its section of `work-precision.md`
+//! ([`super::report::cost_section`]).
 
 use std::path::Path;
 
@@ -10,6 +12,7 @@ use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
+use crate::studies::cost::write_work_precision_section;
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
 pub const REFERENCE_CACHE: &str = "data/references";
@@ -48,6 +51,11 @@ pub fn write_elastic_report(
         super::report::render(&study, command).as_bytes(),
     )?;
     write_json(&out_dir.join(study_file(d)), &study)?;
+    write_work_precision_section(
+        out_dir,
+        &format!("box-{d}d"),
+        &super::report::cost_section(&study),
+    )?;
     write_json_compact(&out_dir.join(histories_file(d)), &histories)?;
     Ok(study)
 }

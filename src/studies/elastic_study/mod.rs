@@ -5,22 +5,28 @@
 //! (square or cubic elements, `Δx/Δt` fixed), and each run is compared at each of its steps with
 //! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
 //! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
-//! solution is compared with the fine one exactly, by prolongation, at common times.
+//! solution is compared with the fine one exactly, at common times: through the reference's
+//! projections on each level ([`projection`]), recorded while the reference runs, so that no
+//! trajectory of the reference is stored.
 //!
 //! The reference is Crank–Nicolson with the redistributed mass (the combination the note finds
 //! convergent and energy-conserving). Whether it is fine enough is measured, not assumed: the
-//! same case one level coarser than the reference is compared with it, and that distance is
-//! reported next to the smallest error that enters a fit ([`ReferenceCheck`]).
+//! same case one level coarser than the reference runs beside it and is compared with it
+//! ([`check`]), and that distance is reported next to the smallest error that enters a fit
+//! ([`ReferenceCheck`]).
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
 //! convergence figures apply unchanged), the reference check, the note's findings as tested
 //! verdicts ([`findings`]), the round-off sensitivity of every case when the config asks for an
 //! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
+pub mod check;
 pub mod comparison;
+pub mod error_series;
 pub mod files;
 pub mod findings;
 pub mod gate;
+pub mod projection;
 pub mod reference;
 pub mod report;
 pub mod sensitivity;
@@ -31,7 +37,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::ParameterError;
-use crate::engine::fem::{MassVariant, Prolongation};
+use crate::engine::fem::MassVariant;
 use crate::engine::schemes::{Scheme, TimeIntegrator};
 use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
@@ -43,8 +49,9 @@ use crate::harness::run::{Observables, Observer, RunConfig};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
-use comparison::{FineNorms, ReferenceComparison};
+use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
+use projection::NormMatrices;
 use reference::{Reference, ReferenceCache, ReferenceKey};
 
 /// Number of time samples of the von Mises space–time map (Figures 4–5).
@@ -264,53 +271,44 @@ struct LevelOutcome {
     histories: Option<CaseHistories>,
 }
 
-/// The reference of a study with what comparing a run with it takes: the fine-mesh norms and
-/// the prolongation from every level that is compared.
+/// The reference of a study with what comparing a run with it takes: the norm matrices of every
+/// fitted level.
 struct Comparator {
     reference: Reference,
-    fine_norms: FineNorms,
-    prolongations: BTreeMap<usize, Prolongation>,
+    norms: BTreeMap<usize, NormMatrices>,
     finest: usize,
 }
 
 impl Comparator {
-    /// The comparator of `reference` for runs on each of `levels` elements along the axis,
-    /// sampled at the time step of the level `finest`.
-    fn new(
-        problem: &BoxProblem,
-        reference: Reference,
-        levels: &[usize],
-        finest: usize,
-    ) -> Result<Self, ParameterError> {
-        let fine_norms = FineNorms {
-            mass: reference
-                .mesh
-                .mass(MassVariant::Standard, problem.elasticity.density),
-            stiffness: reference.mesh.stiffness(&problem.elasticity),
-        };
-        let prolongations = levels
+    /// The comparator of `reference` for runs on each of its projected levels, the finest
+    /// being `finest`.
+    fn new(problem: &BoxProblem, reference: Reference, finest: usize) -> Result<Self, Error> {
+        let norms = reference
+            .projections
             .iter()
-            .map(|&n| {
-                let coarse = box_mesh(problem, n)?;
-                Ok((n, Prolongation::new(&coarse, &reference.mesh)?))
+            .map(|p| {
+                let mesh = box_mesh(problem, p.level)?;
+                let matrices =
+                    NormMatrices::of(&mesh, problem.elasticity.density, &problem.elasticity);
+                Ok((p.level, matrices))
             })
-            .collect::<Result<_, ParameterError>>()?;
+            .collect::<Result<_, Error>>()?;
         Ok(Self {
             reference,
-            fine_norms,
-            prolongations,
+            norms,
             finest,
         })
     }
 
-    /// A fresh comparison for a run on `level` elements along the axis.
+    /// A fresh comparison for a run on `level` elements along the axis (a fitted level).
     fn comparison(&self, level: usize) -> ReferenceComparison<'_> {
         ReferenceComparison::new(
-            &self.reference,
-            &self.fine_norms,
-            &self.prolongations[&level],
-            level,
-            self.finest,
+            &self.reference.histories,
+            self.reference
+                .projections_on(level)
+                .expect("the reference is projected on every fitted level"),
+            &self.norms[&level],
+            self.finest / level,
         )
     }
 }
@@ -337,20 +335,13 @@ pub fn run_elastic_study(
         .transpose()?;
     let clock = Instant::now();
     let reference = obtain_reference(problem, config, cache, note)?;
-    let check_level = config.reference_level / 2;
-    let mut all_levels = config.levels.clone();
-    all_levels.push(check_level);
-    let comparator = Comparator::new(problem, reference, &all_levels, finest)?;
+    let comparator = Comparator::new(problem, reference, finest)?;
 
-    let reference_case = ElasticStudyConfig::reference_case();
-    let mut jobs: Vec<(Case, usize)> = config
+    let jobs: Vec<(Case, usize)> = config
         .cases
         .iter()
         .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
         .collect();
-    if !jobs.contains(&(reference_case, check_level)) {
-        jobs.push((reference_case, check_level));
-    }
     let outcomes = run_largest_first(
         &jobs,
         |&(_, n)| n,
@@ -371,11 +362,6 @@ pub fn run_elastic_study(
         .zip(outcomes)
         .collect();
 
-    let check_errors = by_job
-        .get(&(reference_case.id(), check_level))
-        .expect("the check ran")
-        .errors
-        .clone();
     let mut histories = Vec::new();
     let mut contacts: Vec<Vec<BoxContactHistory>> = Vec::new();
     let cases: Vec<CaseStudy> = config
@@ -409,8 +395,9 @@ pub fn run_elastic_study(
         wall_seconds: clock.elapsed().as_secs_f64(),
     };
     let reference = &comparator.reference;
+    let check = &reference.histories.check;
     let mut reference_check = ReferenceCheck {
-        case: reference_case.id(),
+        case: ElasticStudyConfig::reference_case().id(),
         level: config.reference_level,
         elements: reference.mesh.counts().to_vec(),
         dofs: reference.histories.dofs,
@@ -418,11 +405,8 @@ pub fn run_elastic_study(
         dt: reference.histories.dt,
         seconds: reference.histories.seconds,
         from_cache: reference.from_cache,
-        next_coarser: check_level,
-        distance: check_errors
-            .iter()
-            .map(|(n, e)| (n.key().to_string(), *e))
-            .collect(),
+        next_coarser: check.level,
+        distance: check.distance.clone(),
         smallest_fitted_error: Norm::ALL
             .iter()
             .map(|n| {
@@ -528,8 +512,8 @@ pub fn obtain_reference(
         problem,
         config.reference_level,
         config.ratio,
-        case.scheme,
-        case.mass,
+        (case.scheme, case.mass),
+        &config.levels,
         config.reference_level / finest,
     );
     Reference::obtain(problem, cache, key, note)

@@ -1,31 +1,42 @@
 //! The fine-mesh reference of a 2D/3D study (the note §3 has no exact solution: "(U, λ) can be
 //! approximated by (U_h^n, λ^n) by taking Δt and Δx very small"), and its cache.
 //!
-//! A reference is one run on the finest nested mesh, sampled every `sample_every` fine steps:
-//! the displacement dofs, the energy (eq. 6), the total normal contact force `Σ λ_i` and the
-//! contact-face centre node's displacement and multiplier. The cache is two files under a
-//! directory: `<stem>.json` (the [`ReferenceKey`], the scalar histories) and `<stem>.bin` (the
-//! displacement samples, little-endian `f64`, sample after sample). The stem names the key
+//! A reference is one run on the finest nested mesh. It keeps, every `sample_every` fine steps,
+//! the energy (eq. 6), the total normal contact force `Σ λ_i` and the contact-face centre node's
+//! displacement and multiplier; for each fitted level, at each of that level's steps, the
+//! reference's projections on the level ([`super::projection`]), which is all a coarse run's
+//! displacement errors need; and the distance to it of the reference case one level coarser,
+//! run beside it in lockstep ([`super::check`]). Its trajectory is never stored: memory is the
+//! run's own and the projections (about 100 MB for the 3D levels 10–80).
+//!
+//! The cache is two files under a directory: `<stem>.json` (the [`ReferenceKey`], the scalar
+//! histories, the check) and `<stem>.bin` (the projections, little-endian `f64`, level after
+//! level in [`LevelProjections::values`] order). The stem names the key
 //! ([`ReferenceKey::stem`]), so references of different parameters live side by side and none
 //! evicts another. A cache is used only when its key equals the key of the reference asked for,
 //! field by field; otherwise it is recomputed. A [`ReferenceCache`] says whether the run may
 //! write the directory.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use super::check::{CheckComparison, CheckSender};
+use super::projection::{LevelProjections, NormMatrices, ProjectionRecorder};
 use crate::engine::error::ParameterError;
-use crate::engine::fem::{BoxMesh, MassVariant};
-use crate::engine::schemes::{Scheme, TimeIntegrator};
+use crate::engine::fem::{BoxMesh, MassVariant, Prolongation};
+use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
 use crate::harness::error::Error;
 use crate::harness::run::{Observables, RunConfig};
 
-/// Layout version of the cache files; bump it when their content changes meaning.
-const CACHE_FORMAT: u32 = 1;
+/// Layout version of the cache files; bump it when their content changes meaning (2: the
+/// projections on the fitted levels and the lockstep check replace the displacement samples).
+const CACHE_FORMAT: u32 = 2;
 
 /// Everything that determines a reference run: the cache is valid only for an equal key.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -59,6 +70,8 @@ pub struct ReferenceKey {
     pub mass: String,
     /// Fine steps per stored sample.
     pub sample_every: usize,
+    /// The fitted levels the reference is projected on.
+    pub levels: Vec<usize>,
     /// Cache layout version.
     pub format: u32,
     /// The crate version that computed it.
@@ -66,15 +79,17 @@ pub struct ReferenceKey {
 }
 
 impl ReferenceKey {
-    /// The key of a reference run of `problem`.
+    /// The key of a reference run of `problem` on `n_axis` elements along the axis, projected on
+    /// the fitted `levels`, with its scalar histories every `sample_every` fine steps.
     pub fn new(
         problem: &BoxProblem,
         n_axis: usize,
         ratio: f64,
-        scheme: Scheme,
-        mass: MassVariant,
+        case: (Scheme, MassVariant),
+        levels: &[usize],
         sample_every: usize,
     ) -> Self {
+        let (scheme, mass) = case;
         Self {
             lengths: problem.lengths.clone(),
             density: problem.elasticity.density,
@@ -90,6 +105,7 @@ impl ReferenceKey {
             scheme: scheme.name(),
             mass: mass.name().to_string(),
             sample_every,
+            levels: levels.to_vec(),
             format: CACHE_FORMAT,
             signorini_version: env!("CARGO_PKG_VERSION").to_string(),
         }
@@ -144,15 +160,45 @@ pub struct ReferenceHistories {
     pub centre_displacement: Vec<f64>,
     /// Multiplier of that node.
     pub centre_multiplier: Vec<f64>,
+    /// The layout of the projections in the `.bin` file, coarsest level first.
+    pub projections: Vec<ProjectionLayout>,
+    /// The reference case one level coarser, compared with the reference.
+    pub check: CheckOutcome,
 }
 
-/// A reference: the histories and the displacement samples, with its mesh.
+/// Where one level's projections are in the `.bin` file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProjectionLayout {
+    /// Elements along the axis.
+    pub level: usize,
+    /// Unknowns of the level.
+    pub dofs: usize,
+    /// Steps recorded.
+    pub samples: usize,
+}
+
+/// The run of the reference case one level coarser than the reference, and its distance to it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckOutcome {
+    /// Elements along the axis (half the reference's).
+    pub level: usize,
+    /// Unknowns.
+    pub dofs: usize,
+    /// Steps.
+    pub steps: usize,
+    /// Norm key → distance to the reference over the common samples.
+    pub distance: BTreeMap<String, f64>,
+}
+
+/// A reference: the histories and the projections on the fitted levels, with its mesh.
 #[derive(Debug, Clone)]
 pub struct Reference {
-    /// The scalar histories and the key.
+    /// The scalar histories, the key and the check.
     pub histories: ReferenceHistories,
-    /// `displacement[k·dofs..(k+1)·dofs]` is `U_h(t_k)`.
-    pub displacement: Vec<f64>,
+    /// The projections on each fitted level, coarsest first.
+    pub projections: Vec<LevelProjections>,
     /// The fine mesh.
     pub mesh: BoxMesh,
     /// Whether it was read from the cache.
@@ -160,7 +206,8 @@ pub struct Reference {
 }
 
 impl Reference {
-    /// Runs the reference and keeps every `key.sample_every`-th step.
+    /// Runs the reference, projecting it on `key.levels` as it goes, with the check run one
+    /// level coarser beside it, and keeps the scalar histories every `key.sample_every`-th step.
     pub fn compute(problem: &BoxProblem, key: ReferenceKey) -> Result<Self, Error> {
         let clock = Instant::now();
         let scheme: Scheme = key.scheme.parse()?;
@@ -173,16 +220,37 @@ impl Reference {
             observables: Observables::default(),
         };
         let every = key.sample_every.max(1);
-        let mut displacement = Vec::new();
-        let mut step = 0usize;
-        let mut keep = |state: &dyn TimeIntegrator| -> Result<(), Error> {
-            if step % every == 0 {
-                displacement.extend_from_slice(state.displacement());
-            }
-            step += 1;
-            Ok(())
+        let (density, elasticity) = (problem.elasticity.density, &problem.elasticity);
+        let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
+        let mut recorder =
+            ProjectionRecorder::new(&key.levels, key.n_axis, &mesh_of, density, elasticity)?;
+        let mesh = box_mesh(problem, key.n_axis)?;
+        let fine_norms = NormMatrices::of(&mesh, density, elasticity);
+        let check_config = RunConfig {
+            nx: key.n_axis / 2,
+            ..config.clone()
         };
-        let run = run_box_observed(problem, &config, &mut [&mut keep])?.completed()?;
+        let check_prolongation = Prolongation::new(&box_mesh(problem, check_config.nx)?, &mesh)?;
+        // The check run's steps per sample: it has half the reference's steps.
+        let check_stride = (every / 2).max(1);
+        let (sender, receiver) = sync_channel(1);
+        let (run, distance, check_run) = std::thread::scope(|scope| {
+            let check = scope.spawn(|| {
+                let mut send = CheckSender::new(sender, check_stride);
+                run_box_observed(problem, &check_config, &mut [&mut send])
+            });
+            let mut comparison =
+                CheckComparison::new(receiver, &fine_norms, check_prolongation, every);
+            let run = run_box_observed(problem, &config, &mut [&mut recorder, &mut comparison]);
+            let distance = comparison.finish();
+            let check_run = check
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (run, distance, check_run)
+        });
+        let run = run?.completed()?;
+        let check_run = check_run?.completed()?;
+        let projections = recorder.finish();
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
         let centre_displacement: Vec<f64> =
@@ -198,25 +266,41 @@ impl Reference {
             total_force: pick(&run.contact.total_force),
             centre_displacement: pick(&centre_displacement),
             centre_multiplier: pick(&run.contact.centre_multiplier),
+            projections: projections
+                .iter()
+                .map(|p| ProjectionLayout {
+                    level: p.level,
+                    dofs: p.dofs,
+                    samples: p.samples(),
+                })
+                .collect(),
+            check: CheckOutcome {
+                level: check_config.nx,
+                dofs: check_run.dofs,
+                steps: check_run.steps,
+                distance: distance
+                    .into_iter()
+                    .map(|(norm, d)| (norm.key().to_string(), d))
+                    .collect(),
+            },
             key,
         };
         Ok(Self {
-            mesh: box_mesh(problem, histories.key.n_axis)?,
+            mesh,
             histories,
-            displacement,
+            projections,
             from_cache: false,
         })
     }
 
-    /// Number of samples.
+    /// Number of samples of the scalar histories.
     pub fn samples(&self) -> usize {
         self.histories.time.len()
     }
 
-    /// `U_h(t_k)`.
-    pub fn displacement_at(&self, k: usize) -> &[f64] {
-        let n = self.histories.dofs;
-        &self.displacement[k * n..(k + 1) * n]
+    /// The projections on the level of `n_axis` elements along the axis.
+    pub fn projections_on(&self, n_axis: usize) -> Option<&LevelProjections> {
+        self.projections.iter().find(|p| p.level == n_axis)
     }
 
     /// The cache file paths `<dir>/<stem>.json` and `<dir>/<stem>.bin`.
@@ -232,9 +316,10 @@ impl Reference {
     pub fn save(&self, dir: &Path, stem: &str) -> Result<(), Error> {
         let (json, bin) = Self::cache_paths(dir, stem);
         let bytes: Vec<u8> = self
-            .displacement
+            .projections
             .iter()
-            .flat_map(|x| x.to_le_bytes())
+            .flat_map(LevelProjections::values)
+            .flat_map(f64::to_le_bytes)
             .collect();
         write_atomic(&bin, &bytes)?;
         let text = serde_json::to_string(&self.histories).map_err(Error::encode(&json))?;
@@ -261,7 +346,11 @@ impl Reference {
             return Ok(CacheLookup::Stale(differences));
         }
         let bytes = std::fs::read(&bin).map_err(Error::read(&bin))?;
-        let expected = histories.dofs * histories.time.len() * 8;
+        let layout = &histories.projections;
+        let expected: usize = layout
+            .iter()
+            .map(|l| LevelProjections::value_count(l.dofs, l.samples) * 8)
+            .sum();
         if bytes.len() != expected {
             return Ok(CacheLookup::Stale(vec![format!(
                 "{} has {} bytes, expected {expected}",
@@ -269,14 +358,24 @@ impl Reference {
                 bytes.len()
             )]));
         }
-        let displacement = bytes
+        let values: Vec<f64> = bytes
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+            .collect();
+        let mut rest = values.as_slice();
+        let projections = layout
+            .iter()
+            .map(|l| {
+                let (mine, others) =
+                    rest.split_at(LevelProjections::value_count(l.dofs, l.samples));
+                rest = others;
+                LevelProjections::from_values(l.level, l.dofs, l.samples, mine)
+            })
             .collect();
         Ok(CacheLookup::Hit(Box::new(Self {
             mesh: box_mesh(problem, histories.key.n_axis)?,
             histories,
-            displacement,
+            projections,
             from_cache: true,
         })))
     }

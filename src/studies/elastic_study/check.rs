@@ -1,0 +1,148 @@
+//! Is the reference fine enough? The reference case one level coarser runs beside the reference,
+//! in lockstep, and is compared with it in the fine space at the reference's samples: the
+//! distance that bounds the reference's own error (for a converging reference) without storing
+//! either trajectory.
+//!
+//! The check run is a second thread. At each sample its observer ([`CheckSender`]) sends the
+//! displacement, energy and total contact force through a channel of one slot; the reference's
+//! observer ([`CheckComparison`]) receives them at the same sample, prolongates the displacement
+//! and measures the error as [`super::comparison`] does. Memory is one coarse displacement in
+//! flight; the two runs advance together, the faster waiting for the slower.
+
+use std::collections::BTreeMap;
+use std::sync::mpsc::{Receiver, SyncSender};
+
+use super::error_series::ErrorSeries;
+use super::projection::NormMatrices;
+use crate::engine::fem::Prolongation;
+use crate::engine::schemes::TimeIntegrator;
+use crate::harness::error::Error;
+use crate::harness::norms::Norm;
+use crate::harness::run::Observer;
+
+/// What the check run sends at a sample.
+#[derive(Debug)]
+pub struct CheckSample {
+    displacement: Vec<f64>,
+    energy: f64,
+    total_force: f64,
+}
+
+/// The check run's observer: sends its state every `stride` steps while the reference listens.
+#[derive(Debug)]
+pub struct CheckSender {
+    channel: Option<SyncSender<CheckSample>>,
+    stride: usize,
+    step: usize,
+}
+
+impl CheckSender {
+    /// Sends every `stride`-th step (from step 0) into `channel`.
+    pub fn new(channel: SyncSender<CheckSample>, stride: usize) -> Self {
+        Self {
+            channel: Some(channel),
+            stride,
+            step: 0,
+        }
+    }
+}
+
+impl Observer for CheckSender {
+    /// Sends the state at a sample; once the reference has stopped listening (it has finished,
+    /// or failed and reports why), the run goes on without sending.
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let step = self.step;
+        self.step += 1;
+        if step % self.stride != 0 {
+            return Ok(());
+        }
+        let Some(channel) = &self.channel else {
+            return Ok(());
+        };
+        let sample = CheckSample {
+            displacement: state.displacement().to_vec(),
+            energy: state.energy().value,
+            total_force: state.multiplier().value.iter().sum(),
+        };
+        if channel.send(sample).is_err() {
+            self.channel = None;
+        }
+        Ok(())
+    }
+}
+
+/// The reference run's observer: receives the check run's sample every `stride` steps and
+/// measures its distance to the reference state.
+pub struct CheckComparison<'a> {
+    channel: Option<Receiver<CheckSample>>,
+    norms: &'a NormMatrices,
+    prolongation: Prolongation,
+    stride: usize,
+    step: usize,
+    series: ErrorSeries,
+    error: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+impl<'a> CheckComparison<'a> {
+    /// Receives from `channel` every `stride`-th step; `prolongation` maps the check level into
+    /// the reference mesh, whose norm matrices are `norms`.
+    pub fn new(
+        channel: Receiver<CheckSample>,
+        norms: &'a NormMatrices,
+        prolongation: Prolongation,
+        stride: usize,
+    ) -> Self {
+        let n = prolongation.fine_dofs();
+        Self {
+            channel: Some(channel),
+            norms,
+            prolongation,
+            stride,
+            step: 0,
+            series: ErrorSeries::default(),
+            error: vec![0.0; n],
+            scratch: vec![0.0; n],
+        }
+    }
+
+    /// The distance in every norm over the samples both runs reached. Stops listening (the
+    /// check run's sends then return at once).
+    pub fn finish(mut self) -> BTreeMap<Norm, f64> {
+        self.channel = None;
+        self.series.errors()
+    }
+}
+
+impl Observer for CheckComparison<'_> {
+    /// At a sample, waits for the check run's state at the same time and compares; once the
+    /// check run has ended (its error, if any, is reported when it is joined), compares no more.
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        let step = self.step;
+        self.step += 1;
+        if step % self.stride != 0 {
+            return Ok(());
+        }
+        let Some(channel) = &self.channel else {
+            return Ok(());
+        };
+        let Ok(sample) = channel.recv() else {
+            self.channel = None;
+            return Ok(());
+        };
+        self.prolongation
+            .apply_into(&sample.displacement, &mut self.error);
+        for (e, u) in self.error.iter_mut().zip(state.displacement()) {
+            *e -= u;
+        }
+        let squared = self.norms.squared(&self.error, &mut self.scratch);
+        let force: f64 = state.multiplier().value.iter().sum();
+        self.series.push(
+            state.time(),
+            squared,
+            sample.total_force - force,
+            sample.energy - state.energy().value,
+        );
+        Ok(())
+    }
+}
