@@ -24,10 +24,39 @@ use super::separable::SeparablePart;
 const NODES_PER_TASK: usize = 2048;
 
 /// The blocks of one node class: `(node offset, block)` for every neighbour with a non-zero
-/// block, the block `d × d` row-major in the first `d²` entries.
+/// block, the block `d × d` row-major in the first `d²` entries, and the same blocks by
+/// columns for the product ([`NodeClass::columns`]).
 #[derive(Debug, Clone, PartialEq)]
 struct NodeClass {
     blocks: Vec<(isize, [f64; 9])>,
+    /// The node offsets of `blocks`, in order.
+    offsets: Vec<isize>,
+    /// Column `c` of block `b` at `[(b·d + c)·LANES ..][.. LANES]`, zero below row `d`.
+    columns: Vec<f64>,
+}
+
+/// The entries a block column is padded to: one 256-bit vector, so that a column times one
+/// entry of `x` is one vector multiply and add (`d ≤ 3`).
+const LANES: usize = 4;
+
+impl NodeClass {
+    /// The class of `blocks` (sorted by offset), with their columns.
+    fn new(dim: usize, blocks: Vec<(isize, [f64; 9])>) -> Self {
+        let offsets = blocks.iter().map(|(o, _)| *o).collect();
+        let mut columns = vec![0.0; blocks.len() * dim * LANES];
+        for ((_, block), per_block) in blocks.iter().zip(columns.chunks_exact_mut(dim * LANES)) {
+            for (c, column) in per_block.chunks_exact_mut(LANES).enumerate() {
+                for (r, entry) in column.iter_mut().take(dim).enumerate() {
+                    *entry = block[r * dim + c];
+                }
+            }
+        }
+        Self {
+            blocks,
+            offsets,
+            columns,
+        }
+    }
 }
 
 /// A symmetric operator on the dofs of a [`BoxMesh`] (node-major, `d` components per node, the
@@ -174,6 +203,7 @@ impl Stencil {
                 None => {
                     pairs.push((p, q));
                     classes.push(combine(
+                        self.dim,
                         &self.classes[usize::from(p)],
                         a,
                         &other.classes[usize::from(q)],
@@ -197,25 +227,43 @@ impl Stencil {
         })
     }
 
-    /// Calls `sink(node, (A x)_node)` for every node of `nodes`, in order.
+    /// Calls `sink(node, (A x)_node)` for every node of `nodes`, in order, the row block
+    /// summed column by column into `2·D` independent accumulators (so that the additions do
+    /// not wait on each other): `acc[b mod 2][c] += B(o_b)[:, c] · x_{node+o_b, c}` over the
+    /// blocks `b` and the columns `c`, each a [`LANES`]-wide multiply and add (entries `D..`
+    /// are zero), then `Σ_c (acc[0][c] + acc[1][c])`.
+    #[inline(always)]
     fn rows<const D: usize>(
         &self,
         x: &[f64],
         nodes: std::ops::Range<usize>,
-        mut sink: impl FnMut(usize, [f64; D]),
+        mut sink: impl FnMut(usize, [f64; LANES]),
     ) {
         for node in nodes {
             let class = &self.classes[usize::from(self.class_of[node])];
-            let mut acc = [0.0; D];
-            for (delta, b) in class.blocks.iter() {
-                let first = (node as isize + delta) as usize * D;
-                let xs: [f64; D] = std::array::from_fn(|c| x[first + c]);
-                for (r, a) in acc.iter_mut().enumerate() {
-                    let row = &b[r * D..r * D + D];
-                    *a += row.iter().zip(&xs).map(|(p, q)| p * q).sum::<f64>();
+            let mut acc = [[[0.0; LANES]; D]; 2];
+            let x_of = |delta: isize| {
+                let first = node.wrapping_add_signed(delta) * D;
+                &x[first..first + D]
+            };
+            let mut blocks = class
+                .offsets
+                .iter()
+                .zip(class.columns.chunks_exact(D * LANES));
+            while let Some((&even, columns)) = blocks.next() {
+                add_block(&mut acc[0], x_of(even), columns);
+                match blocks.next() {
+                    Some((&odd, columns)) => add_block(&mut acc[1], x_of(odd), columns),
+                    None => break,
                 }
             }
-            sink(node, acc);
+            let mut row = [0.0; LANES];
+            for (even, odd) in acc[0].iter().zip(&acc[1]) {
+                for ((r, e), o) in row.iter_mut().zip(even).zip(odd) {
+                    *r += e + o;
+                }
+            }
+            sink(node, row);
         }
     }
 
@@ -231,22 +279,49 @@ impl Stencil {
         let partial: Vec<f64> = y
             .par_chunks_mut(NODES_PER_TASK * D)
             .enumerate()
-            .map(|(task, ys)| {
-                let first = task * NODES_PER_TASK;
-                let mut xy = 0.0;
-                self.rows::<D>(x, first..first + ys.len() / D, |node, row| {
-                    let k = (node - first) * D;
-                    ys[k..k + D].copy_from_slice(&row);
-                    xy += row
-                        .iter()
-                        .zip(&x[node * D..])
-                        .map(|(a, b)| a * b)
-                        .sum::<f64>();
-                });
-                xy
-            })
+            .map(|(task, ys)| self.mul_dot_task::<D>(x, task * NODES_PER_TASK, ys))
             .collect();
         partial.iter().sum()
+    }
+
+    /// [`Stencil::mul_dot_task_portable`], compiled for AVX2 when the processor has it: the
+    /// same multiplies and adds in the same order (no fused multiply-add), so the result is
+    /// the same bit for bit, four lanes at a time instead of two.
+    fn mul_dot_task<const D: usize>(&self, x: &[f64], first: usize, ys: &mut [f64]) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `mul_dot_task_avx2` only requires AVX2, which the processor has (checked
+            // just above).
+            return unsafe { self.mul_dot_task_avx2::<D>(x, first, ys) };
+        }
+        self.mul_dot_task_portable::<D>(x, first, ys)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn mul_dot_task_avx2<const D: usize>(&self, x: &[f64], first: usize, ys: &mut [f64]) -> f64 {
+        self.mul_dot_task_portable::<D>(x, first, ys)
+    }
+
+    /// `y = A x` on the nodes from `first` (`ys` their rows), returning their part of `xᵀ y`.
+    #[inline(always)]
+    fn mul_dot_task_portable<const D: usize>(
+        &self,
+        x: &[f64],
+        first: usize,
+        ys: &mut [f64],
+    ) -> f64 {
+        let mut xy = 0.0;
+        self.rows::<D>(x, first..first + ys.len() / D, |node, row| {
+            let k = (node - first) * D;
+            ys[k..k + D].copy_from_slice(&row[..D]);
+            xy += row[..D]
+                .iter()
+                .zip(&x[node * D..])
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
+        });
+        xy
     }
 
     /// The bilinear form `xᵀ A y`, without allocation.
@@ -266,7 +341,7 @@ impl Stencil {
                 let mut total = 0.0;
                 let nodes = first..(first + NODES_PER_TASK).min(n_nodes);
                 self.rows::<D>(y, nodes, |node, row| {
-                    total += row
+                    total += row[..D]
                         .iter()
                         .zip(&x[node * D..])
                         .map(|(a, b)| a * b)
@@ -276,6 +351,16 @@ impl Stencil {
             })
             .collect();
         partial.iter().sum()
+    }
+}
+
+/// `sum[c] += B[:, c] · x_c` for the columns `c` of one block (`columns`, [`LANES`] apart).
+#[inline(always)]
+fn add_block<const D: usize>(sum: &mut [[f64; LANES]; D], xs: &[f64], columns: &[f64]) {
+    for ((&xc, column), sum) in xs.iter().zip(columns.chunks_exact(LANES)).zip(sum) {
+        for (a, entry) in sum.iter_mut().zip(column) {
+            *a += entry * xc;
+        }
     }
 }
 
@@ -355,11 +440,11 @@ fn node_class(
     }
     blocks.retain(|(_, b)| b.iter().any(|&v| v != 0.0));
     blocks.sort_by_key(|(o, _)| *o);
-    NodeClass { blocks }
+    NodeClass::new(dim, blocks)
 }
 
-/// `a·p + b·q` blockwise.
-fn combine(p: &NodeClass, a: f64, q: &NodeClass, b: f64) -> NodeClass {
+/// `a·p + b·q` blockwise, for `dim` components.
+fn combine(dim: usize, p: &NodeClass, a: f64, q: &NodeClass, b: f64) -> NodeClass {
     let mut blocks: Vec<(isize, [f64; 9])> = p
         .blocks
         .iter()
@@ -372,7 +457,7 @@ fn combine(p: &NodeClass, a: f64, q: &NodeClass, b: f64) -> NodeClass {
         }
     }
     blocks.sort_by_key(|(o, _)| *o);
-    NodeClass { blocks }
+    NodeClass::new(dim, blocks)
 }
 
 /// The grid point of a lexicographic node index (first coordinate fastest).

@@ -15,6 +15,10 @@ use crate::engine::fem::separable::{AxisMatrix, SeparablePart};
 /// 0.1 → 20.8 / 23.6, 0.25 → 19.5 / 21.6, 0.5 → 20.8 / 20.2, 1 → 24.5 / 20.7.
 const MASSLESS_WEIGHT: f64 = 0.25;
 
+/// Entries per parallel task of a solve: the independent blocks of an axis are grouped so that
+/// a task is worth its scheduling (along the first axis a block is one line of nodes).
+const ENTRIES_PER_TASK: usize = 6144;
+
 /// `m` with each zero diagonal entry replaced by [`MASSLESS_WEIGHT`] times its neighbour's.
 fn with_massless_weight(m: &AxisMatrix) -> AxisMatrix {
     let mut weighted = m.clone();
@@ -87,8 +91,13 @@ impl ProductPreconditioner {
         // and the array is a sequence of independent blocks of `nodes_k · width` entries.
         let mut width = self.components;
         for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
-            z.par_chunks_exact_mut(nodes * width)
-                .for_each(|block| solve_interleaved_rows(factors, block, width));
+            let block = nodes * width;
+            let per_task = (ENTRIES_PER_TASK / block).max(1) * block;
+            z.par_chunks_mut(per_task).for_each(|blocks| {
+                blocks
+                    .chunks_exact_mut(block)
+                    .for_each(|b| solve_interleaved_rows(factors, b, width));
+            });
             width *= nodes;
         }
     }

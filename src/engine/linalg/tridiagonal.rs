@@ -62,51 +62,102 @@ impl TridiagonalLdlt {
 /// row. Solving along one axis of a node-major grid of `d`-component vectors stored with that
 /// axis outermost is this with `width` the product of the faster axes times `d`.
 pub fn solve_interleaved_rows(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
-    let d = factors.len();
-    assert!((1..=3).contains(&d), "1 to 3 interleaved systems");
+    match factors.len() {
+        1 => solve_rows_dispatch::<1>(factors, rows, width),
+        2 => solve_rows_dispatch::<2>(factors, rows, width),
+        3 => solve_rows_dispatch::<3>(factors, rows, width),
+        _ => panic!("1 to 3 interleaved systems"),
+    }
+}
+
+/// [`solve_rows`], compiled for AVX2 when the processor has it: the same multiplies and
+/// subtractions in the same order (no fused multiply-add), so the same result bit for bit.
+fn solve_rows_dispatch<const D: usize>(
+    factors: &[TridiagonalLdlt],
+    rows: &mut [f64],
+    width: usize,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: `solve_rows_avx2` only requires AVX2, which the processor has (checked just
+        // above).
+        return unsafe { solve_rows_avx2::<D>(factors, rows, width) };
+    }
+    solve_rows::<D>(factors, rows, width);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn solve_rows_avx2<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
+    solve_rows::<D>(factors, rows, width);
+}
+
+/// Entries per inner-loop chunk of a row: a multiple of every `D ≤ 3` and of the four lanes of
+/// a 256-bit vector, so that a chunk's coefficients are the same for every chunk.
+const CHUNK: usize = 12;
+
+/// The per-entry coefficients of a row chunk of `D` interleaved systems: `pick(factor c)` at
+/// the entries `j ≡ c (mod D)`.
+#[inline(always)]
+fn chunk_coefficients<const D: usize>(
+    factors: &[TridiagonalLdlt],
+    pick: impl Fn(&TridiagonalLdlt) -> f64,
+) -> [f64; CHUNK] {
+    std::array::from_fn(|j| pick(&factors[j % D]))
+}
+
+/// `b_j ← f(b_j, c_j, e_j, o_j)` along a row `b` with the coefficients `c`, `e` (periodic,
+/// [`CHUNK`]) and the entries `o` of another row, chunk by chunk, then entry by entry on the
+/// remainder (which starts at a multiple of `D`, so the coefficients stay aligned).
+#[inline(always)]
+fn update_row(
+    b: &mut [f64],
+    [c, e]: [&[f64; CHUNK]; 2],
+    o: &[f64],
+    f: impl Fn(f64, f64, f64, f64) -> f64,
+) {
+    let mut chunks = b.chunks_exact_mut(CHUNK);
+    let mut others = o.chunks_exact(CHUNK);
+    for (bs, os) in (&mut chunks).zip(&mut others) {
+        for (((bj, cj), ej), oj) in bs.iter_mut().zip(c).zip(e).zip(os) {
+            *bj = f(*bj, *cj, *ej, *oj);
+        }
+    }
+    let rest = chunks.into_remainder();
+    for (((bj, cj), ej), oj) in rest.iter_mut().zip(c).zip(e).zip(others.remainder()) {
+        *bj = f(*bj, *cj, *ej, *oj);
+    }
+}
+
+/// [`solve_interleaved_rows`] for `D` systems: `L y = b` row by row downwards, then
+/// `x_{n−1} = D⁻¹ y_{n−1}` and `x_i = D⁻¹ y_i − l_{i+1} x_{i+1}` upwards.
+#[inline(always)]
+fn solve_rows<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
     let n = factors[0].inv_diag.len();
     if n == 0 || width == 0 {
         return;
     }
     debug_assert_eq!(rows.len(), n * width);
-    debug_assert_eq!(width % d, 0);
-    let coefficient = |pick: &dyn Fn(&TridiagonalLdlt) -> f64| {
-        let mut c = [0.0; 3];
-        for (ci, f) in c.iter_mut().zip(factors) {
-            *ci = pick(f);
-        }
-        c
-    };
+    debug_assert_eq!(width % D, 0);
     for i in 1..n {
         let (before, from) = rows.split_at_mut(i * width);
-        let l = coefficient(&|f| f.lower[i]);
+        let l = chunk_coefficients::<D>(factors, |f| f.lower[i]);
         let previous = &before[(i - 1) * width..];
-        for (b, p) in from[..width]
-            .chunks_exact_mut(d)
-            .zip(previous.chunks_exact(d))
-        {
-            for c in 0..d {
-                b[c] -= l[c] * p[c];
-            }
-        }
+        update_row(&mut from[..width], [&l, &l], previous, |b, l, _, p| {
+            b - l * p
+        });
     }
-    let last = coefficient(&|f| f.inv_diag[n - 1]);
-    for b in rows[(n - 1) * width..].chunks_exact_mut(d) {
-        for c in 0..d {
-            b[c] *= last[c];
-        }
+    let last = chunk_coefficients::<D>(factors, |f| f.inv_diag[n - 1]);
+    for bs in rows[(n - 1) * width..].chunks_mut(CHUNK) {
+        bs.iter_mut().zip(&last).for_each(|(b, d)| *b *= d);
     }
     for i in (0..n - 1).rev() {
         let (upto, after) = rows.split_at_mut((i + 1) * width);
-        let l = coefficient(&|f| f.lower[i + 1]);
-        let inv = coefficient(&|f| f.inv_diag[i]);
-        for (b, x) in upto[i * width..]
-            .chunks_exact_mut(d)
-            .zip(after[..width].chunks_exact(d))
-        {
-            for c in 0..d {
-                b[c] = b[c] * inv[c] - l[c] * x[c];
-            }
-        }
+        let l = chunk_coefficients::<D>(factors, |f| f.lower[i + 1]);
+        let inv = chunk_coefficients::<D>(factors, |f| f.inv_diag[i]);
+        let next = &after[..width];
+        update_row(&mut upto[i * width..], [&inv, &l], next, |b, inv, l, x| {
+            b * inv - l * x
+        });
     }
 }
