@@ -37,7 +37,12 @@ pub fn report(args: ReportArgs) -> Result<(), Failure> {
         out.display(),
         gravity.cases.len()
     );
-    let study = write_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    let study = write_report(
+        Path::new("."),
+        staged.path(),
+        &staged.final_path(staged.path()),
+    )
+    .map_err(Failure::runtime)?;
     out!(
         "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
         out.display(),

@@ -489,8 +489,16 @@ fn elastic_study(
     let mut note = |why: String| eprintln!("{why}; computing the reference");
     if let Some(dir) = out {
         let staged = StagedDir::begin("--out", &dir, Replace::Files)?;
-        let study = write_elastic_report(problem, config, staged.path(), cache, command, &mut note)
-            .map_err(Failure::runtime)?;
+        let study = write_elastic_report(
+            problem,
+            config,
+            staged.path(),
+            &staged.final_path(staged.path()),
+            cache,
+            command,
+            &mut note,
+        )
+        .map_err(Failure::runtime)?;
         staged.commit()?;
         out!(
             "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \

@@ -221,17 +221,26 @@ pub fn splice_section(text: &str, name: &str, body: &str) -> String {
     }
 }
 
-/// Replaces section `name` of `out_dir/work-precision.md` by `body` (the file is created when
-/// missing; the rest of it is kept).
-pub fn write_work_precision_section(out_dir: &Path, name: &str, body: &str) -> Result<(), Error> {
-    let path = out_dir.join(WORK_PRECISION_MD);
-    let text = std::fs::read_to_string(&path).unwrap_or_default();
-    write_atomic(&path, splice_section(&text, name, body).as_bytes())
+/// Writes `out_dir/work-precision.md` as `kept_from/work-precision.md` (the reports directory a
+/// staged `out_dir` will replace files of) with section `name` replaced by `body`; a missing
+/// file is started empty.
+pub fn write_work_precision_section(
+    out_dir: &Path,
+    kept_from: &Path,
+    name: &str,
+    body: &str,
+) -> Result<(), Error> {
+    let text = std::fs::read_to_string(kept_from.join(WORK_PRECISION_MD)).unwrap_or_default();
+    write_atomic(
+        &out_dir.join(WORK_PRECISION_MD),
+        splice_section(&text, name, body).as_bytes(),
+    )
 }
 
-/// `work-precision.md` and `work-precision.json` of `study` into `out_dir`; the
-/// [`KEPT_SECTIONS`] of an existing `work-precision.md` are kept.
-pub fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Error> {
+/// `work-precision.md` and `work-precision.json` of `study` into `out_dir`, keeping the
+/// [`KEPT_SECTIONS`] of `kept_from/work-precision.md` (the reports directory a staged `out_dir`
+/// will replace files of).
+pub fn write_work_precision(study: &Study, out_dir: &Path, kept_from: &Path) -> Result<(), Error> {
     let costs = costs_to_targets(study, COST_NORM);
     let file = WorkPrecisionFile {
         signorini_version: env!("CARGO_PKG_VERSION").to_string(),
@@ -241,7 +250,7 @@ pub fn write_work_precision(study: &Study, out_dir: &Path) -> Result<(), Error> 
         cost_to_target: costs,
     };
     let path = out_dir.join(WORK_PRECISION_MD);
-    let previous = std::fs::read_to_string(&path).unwrap_or_default();
+    let previous = std::fs::read_to_string(kept_from.join(WORK_PRECISION_MD)).unwrap_or_default();
     let text = KEPT_SECTIONS
         .iter()
         .filter_map(|name| Some((name, section_body(&previous, name)?)))

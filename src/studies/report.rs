@@ -16,14 +16,15 @@ use crate::studies::tables::{
 /// sensitivity (`sensitivity.md`, `sensitivity.json`), the tables beside the paper's
 /// (`tables.md`, `rates.json`), what accuracy costs (`work-precision.md`,
 /// `work-precision.json`) and the histories of the figures (`data/histories/`); returns the
-/// study.
-pub fn write_report(root: &Path, out_dir: &Path) -> Result<Study, Error> {
+/// study. `kept_from` is the reports directory a staged `out_dir` will replace files of: the
+/// 2D/3D sections of its `work-precision.md` are kept.
+pub fn write_report(root: &Path, out_dir: &Path, kept_from: &Path) -> Result<Study, Error> {
     let study = tables_study(root)?;
     let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
     let sensitivity = tables_sensitivity(root, &cases)?;
     write_sensitivity_files(&sensitivity, out_dir)?;
     write_tables(root, &study, &sensitivity, out_dir)?;
-    write_work_precision(&study, out_dir)?;
+    write_work_precision(&study, out_dir, kept_from)?;
     write_histories(root, out_dir, &HISTORY_LEVELS)?;
     Ok(study)
 }

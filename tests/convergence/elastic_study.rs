@@ -85,6 +85,12 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
         "--out",
         &o,
     ];
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(
+        out.join("work-precision.md"),
+        "# What accuracy costs\n\n1D table\n",
+    )
+    .unwrap();
     let first = signorini(&args);
     let stdout = success_stdout(&first);
     assert!(stdout.contains("elastic-2d.md"), "{stdout}");
@@ -121,6 +127,17 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
 
     let second = signorini(&args);
     success_stdout(&second);
+    // The study's cost section joins the 1D one in work-precision.md, once however often it runs.
+    let costs = std::fs::read_to_string(out.join("work-precision.md")).unwrap();
+    assert!(
+        costs.starts_with("# What accuracy costs\n\n1D table"),
+        "{costs}"
+    );
+    assert_eq!(costs.matches("<!-- box-2d -->").count(), 1, "{costs}");
+    assert!(
+        costs.contains("## 2D bar (note §3): cost per dof-step"),
+        "{costs}"
+    );
     let stderr = String::from_utf8_lossy(&second.stderr);
     assert!(
         !stderr.contains("reference"),

@@ -33,13 +33,15 @@ pub fn histories_file(dimension: usize) -> String {
     format!("data/elastic-{dimension}d-histories.json")
 }
 
-/// Runs a 2D/3D study and writes its report, the study and the figure data into `out_dir`;
-/// the reference is looked up (and kept) in `cache`; the report says it was made by
-/// `command`.
+/// Runs a 2D/3D study and writes its report, the study and the figure data into `out_dir`,
+/// and `work-precision.md` as `kept_from`'s (the reports directory a staged `out_dir` will
+/// replace files of) with the study's cost section; the reference is looked up (and kept) in
+/// `cache`; the report says it was made by `command`.
 pub fn write_elastic_report(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
     out_dir: &Path,
+    kept_from: &Path,
     cache: &ReferenceCache,
     command: &str,
     note: &mut dyn FnMut(String),
@@ -53,6 +55,7 @@ pub fn write_elastic_report(
     write_json(&out_dir.join(study_file(d)), &study)?;
     write_work_precision_section(
         out_dir,
+        kept_from,
         &format!("box-{d}d"),
         &super::report::cost_section(&study),
     )?;
