@@ -93,7 +93,7 @@ pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
     let FiguresArgs { reports } = args;
     let staged = StagedDir::begin("--reports", &reports, Replace::Files)?;
     let (names, missing) = write_figures(&reports, staged.path()).map_err(Failure::runtime)?;
-    let index = reports_index(&names);
+    let index = reports_index(&names, &|file| reports.join(file).is_file());
     write_output(&staged.path().join(REPORTS_INDEX), index.as_bytes())?;
     staged.commit()?;
     out!(

@@ -399,9 +399,16 @@ fn the_index_links_every_figure_with_a_sentence() {
     ]
     .map(String::from)
     .to_vec();
-    let index = reports_index(&names);
+    let index = reports_index(&names, &|_| true);
     for n in &names {
         assert!(index.contains(&format!("(figures/{n})")), "{n} not linked");
     }
     assert!(index.contains("[tables.md](tables.md)"));
+    // A directory with the 2D/3D studies only (reports/fine/) lists only what it has.
+    let fine = reports_index(&names, &|file| file.starts_with("elastic-"));
+    assert!(fine.contains("[elastic-3d.md](elastic-3d.md)"));
+    assert!(
+        !fine.contains("tables.md") && !fine.contains("stability.md"),
+        "{fine}"
+    );
 }
