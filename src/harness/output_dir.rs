@@ -33,7 +33,7 @@
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, Read, Write};
+use std::io::{self, Read, Seek, SeekFrom, Write};
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -432,10 +432,7 @@ fn lock(path: &Path) -> io::Result<Result<File, String>> {
             if e != rustix::io::Errno::WOULDBLOCK {
                 return Err(e.into());
             }
-            let mut pid = String::new();
-            let _ = file.read_to_string(&mut pid);
-            let pid = pid.trim();
-            return Ok(Err(if pid.is_empty() { "unknown" } else { pid }.to_string()));
+            return Ok(Err(holder_pid(&mut file)));
         }
         // The previous holder unlinks the file before it releases the lock: a lock taken on an
         // unlinked file is taken again on the path's new file.
@@ -447,6 +444,24 @@ fn lock(path: &Path) -> io::Result<Result<File, String>> {
             return Ok(Ok(file));
         }
     }
+}
+
+/// The process id the holder of a lock wrote into it. The holder writes it just after taking the
+/// lock, so a refused process can find the file still empty: it reads again for up to 100 ms
+/// before calling the holder unknown.
+fn holder_pid(file: &mut File) -> String {
+    for _ in 0..50 {
+        let mut pid = String::new();
+        let read = file
+            .seek(SeekFrom::Start(0))
+            .and_then(|_| file.read_to_string(&mut pid));
+        let pid = pid.trim();
+        if read.is_ok() && !pid.is_empty() {
+            return pid.to_string();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    "unknown".to_string()
 }
 
 /// Removes the staging and replaced directories of `name` left by other processes: the caller
