@@ -29,7 +29,8 @@ const NODES_PER_TASK: usize = 2048;
 #[derive(Debug, Clone, PartialEq)]
 struct NodeClass {
     blocks: Vec<(isize, [f64; 9])>,
-    /// The node offsets of `blocks`, in order.
+    /// The node offsets of `blocks`, in order, kept apart from them so that the product reads
+    /// them contiguously instead of striding over the row-major blocks.
     offsets: Vec<isize>,
     /// Column `c` of block `b` at `[(b·d + c)·LANES ..][.. LANES]`, zero below row `d`.
     columns: Vec<f64>,

@@ -28,12 +28,27 @@ pub struct CheckSample {
     total_force: f64,
 }
 
+/// Counts an observer's steps and says which are samples: every `stride`-th from step 0.
+#[derive(Debug)]
+struct Samples {
+    stride: usize,
+    step: usize,
+}
+
+impl Samples {
+    /// Whether the step being observed is a sample (called once per step).
+    fn next_is_sample(&mut self) -> bool {
+        let step = self.step;
+        self.step += 1;
+        step % self.stride == 0
+    }
+}
+
 /// The check run's observer: sends its state every `stride` steps while the reference listens.
 #[derive(Debug)]
 pub struct CheckSender {
     channel: Option<SyncSender<CheckSample>>,
-    stride: usize,
-    step: usize,
+    samples: Samples,
 }
 
 impl CheckSender {
@@ -41,8 +56,7 @@ impl CheckSender {
     pub fn new(channel: SyncSender<CheckSample>, stride: usize) -> Self {
         Self {
             channel: Some(channel),
-            stride,
-            step: 0,
+            samples: Samples { stride, step: 0 },
         }
     }
 }
@@ -51,12 +65,7 @@ impl Observer for CheckSender {
     /// Sends the state at a sample; once the reference has stopped listening (it has finished,
     /// or failed and reports why), the run goes on without sending.
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        let step = self.step;
-        self.step += 1;
-        if step % self.stride != 0 {
-            return Ok(());
-        }
-        let Some(channel) = &self.channel else {
+        let (true, Some(channel)) = (self.samples.next_is_sample(), &self.channel) else {
             return Ok(());
         };
         let sample = CheckSample {
@@ -77,8 +86,7 @@ pub struct CheckComparison<'a> {
     channel: Option<Receiver<CheckSample>>,
     norms: &'a NormMatrices,
     prolongation: Prolongation,
-    stride: usize,
-    step: usize,
+    samples: Samples,
     series: ErrorSeries,
     error: Vec<f64>,
     scratch: Vec<f64>,
@@ -98,8 +106,7 @@ impl<'a> CheckComparison<'a> {
             channel: Some(channel),
             norms,
             prolongation,
-            stride,
-            step: 0,
+            samples: Samples { stride, step: 0 },
             series: ErrorSeries::default(),
             error: vec![0.0; n],
             scratch: vec![0.0; n],
@@ -118,12 +125,7 @@ impl Observer for CheckComparison<'_> {
     /// At a sample, waits for the check run's state at the same time and compares; once the
     /// check run has ended (its error, if any, is reported when it is joined), compares no more.
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        let step = self.step;
-        self.step += 1;
-        if step % self.stride != 0 {
-            return Ok(());
-        }
-        let Some(channel) = &self.channel else {
+        let (true, Some(channel)) = (self.samples.next_is_sample(), &self.channel) else {
             return Ok(());
         };
         let Ok(sample) = channel.recv() else {

@@ -288,8 +288,7 @@ impl Comparator {
             .iter()
             .map(|p| {
                 let mesh = box_mesh(problem, p.level)?;
-                let matrices =
-                    NormMatrices::of(&mesh, problem.elasticity.density, &problem.elasticity);
+                let matrices = NormMatrices::of(&mesh, &problem.elasticity);
                 Ok((p.level, matrices))
             })
             .collect::<Result<_, Error>>()?;

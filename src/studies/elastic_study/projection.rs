@@ -39,22 +39,30 @@ pub struct NormMatrices {
 }
 
 impl NormMatrices {
-    /// The norm matrices of `mesh` with `density` and `elasticity`.
-    pub fn of(mesh: &BoxMesh, density: f64, elasticity: &Elasticity) -> Self {
+    /// The norm matrices of `mesh` with the density and the Lamé coefficients of `elasticity`.
+    pub fn of(mesh: &BoxMesh, elasticity: &Elasticity) -> Self {
         Self {
             mass: mesh
-                .mass_stencil(MassVariant::Standard, density)
+                .mass_stencil(MassVariant::Standard, elasticity.density)
                 .expect("the standard mass is built element by element"),
             stiffness: mesh.stiffness_stencil(elasticity),
         }
     }
 
-    /// `(eᵀ M e, eᵀ M e + eᵀ S e)`: the squared `H` and `V` norms of `e` (`scratch` has `e`'s
-    /// length).
+    /// `‖e‖²_H = eᵀ M e` (`scratch` has `e`'s length).
+    pub fn h_squared(&self, e: &[f64], scratch: &mut [f64]) -> f64 {
+        self.mass.mul_dot(e, scratch)
+    }
+
+    /// `‖e‖²_V = eᵀ M e + eᵀ S e`.
+    pub fn v_squared(&self, e: &[f64], scratch: &mut [f64]) -> f64 {
+        self.h_squared(e, scratch) + self.stiffness.mul_dot(e, scratch)
+    }
+
+    /// `(‖e‖²_H, ‖e‖²_V)` of one `e`, the mass product done once.
     pub fn squared(&self, e: &[f64], scratch: &mut [f64]) -> (f64, f64) {
-        let h2 = self.mass.mul_dot(e, scratch);
-        let a2 = self.stiffness.mul_dot(e, scratch);
-        (h2, h2 + a2)
+        let h2 = self.h_squared(e, scratch);
+        (h2, h2 + self.stiffness.mul_dot(e, scratch))
     }
 }
 
@@ -96,14 +104,15 @@ impl LevelProjections {
         }
         let n = self.dofs;
         let [e, work] = scratch;
-        let mut distance = |projection: &[f64]| {
+        let difference = |e: &mut [f64], projection: &[f64]| {
             for ((ei, ui), wi) in e.iter_mut().zip(u).zip(&projection[k * n..(k + 1) * n]) {
                 *ei = ui - wi;
             }
-            norms.squared(e, work)
         };
-        let (h2, _) = distance(&self.h_projection);
-        let (_, v2) = distance(&self.v_projection);
+        difference(e, &self.h_projection);
+        let h2 = norms.h_squared(e, work);
+        difference(e, &self.v_projection);
+        let v2 = norms.v_squared(e, work);
         Some((h2 + self.h_remainder[k], v2 + self.v_remainder[k]))
     }
 
@@ -156,8 +165,8 @@ struct LevelRecorder {
 /// Records the [`LevelProjections`] of every level while the reference runs (an observer of
 /// the reference run). The levels form a chain of nested prolongations, coarsest first, so only
 /// the finest level's prolongation has the reference's size.
-pub struct ProjectionRecorder {
-    fine: NormMatrices,
+pub struct ProjectionRecorder<'a> {
+    fine: &'a NormMatrices,
     levels: Vec<LevelRecorder>,
     step: usize,
     mass_u: Vec<f64>,
@@ -167,32 +176,31 @@ pub struct ProjectionRecorder {
     scratch: Vec<f64>,
 }
 
-impl ProjectionRecorder {
-    /// A recorder for a reference on `reference` elements along the axis and the nested
-    /// `levels` (increasing, each dividing the next and `reference`); `mesh_of(n)` is the mesh
-    /// on `n` elements along the axis.
+impl<'a> ProjectionRecorder<'a> {
+    /// A recorder for the nested `levels` (increasing, each dividing the next and the
+    /// reference's count along the axis) of the reference mesh `reference`, whose norm
+    /// matrices are `fine`; `mesh_of(n)` is the mesh on `n` elements along the axis.
     pub fn new(
         levels: &[usize],
-        reference: usize,
+        reference: &BoxMesh,
+        fine: &'a NormMatrices,
         mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
-        density: f64,
         elasticity: &Elasticity,
     ) -> Result<Self, Error> {
-        let fine_mesh = mesh_of(reference)?;
+        let n_axis = reference.counts()[reference.dim() - 1];
+        let meshes = (levels.iter())
+            .map(|&n| mesh_of(n))
+            .collect::<Result<Vec<BoxMesh>, Error>>()?;
         let mut recorders = Vec::with_capacity(levels.len());
         let mut up = Vec::with_capacity(levels.len());
-        for (i, &level) in levels.iter().enumerate() {
-            let mesh = mesh_of(level)?;
-            let finer = match levels.get(i + 1) {
-                Some(&next) => mesh_of(next)?,
-                None => fine_mesh.clone(),
-            };
-            let norms = NormMatrices::of(&mesh, density, elasticity);
+        for (i, (mesh, &level)) in meshes.iter().zip(levels).enumerate() {
+            let finer = meshes.get(i + 1).unwrap_or(reference);
+            let norms = NormMatrices::of(mesh, elasticity);
             let energy_matrix = norms.mass.linear_combination(1.0, &norms.stiffness, 1.0);
             let dofs = mesh.n_dofs();
             recorders.push(LevelRecorder {
-                stride: reference / level,
-                prolongation: Prolongation::new(&mesh, &finer)?,
+                stride: n_axis / level,
+                prolongation: Prolongation::new(mesh, finer)?,
                 mass: SpdSolver::factor(&norms.mass, "coarse mass of a norm")?,
                 energy: SpdSolver::factor(&energy_matrix, "coarse M + S of a norm")?,
                 h_load: vec![0.0; dofs],
@@ -208,9 +216,9 @@ impl ProjectionRecorder {
             });
             up.push(vec![0.0; finer.n_dofs()]);
         }
-        let n = fine_mesh.n_dofs();
+        let n = reference.n_dofs();
         Ok(Self {
-            fine: NormMatrices::of(&fine_mesh, density, elasticity),
+            fine,
             levels: recorders,
             step: 0,
             mass_u: vec![0.0; n],
@@ -247,41 +255,33 @@ impl ProjectionRecorder {
         for ((r, ui), pi) in self.residual.iter_mut().zip(u).zip(pw) {
             *r = ui - pi;
         }
-        let h2 = self.fine.mass.mul_dot(&self.residual, &mut self.scratch);
         if energy {
-            h2 + self
-                .fine
-                .stiffness
-                .mul_dot(&self.residual, &mut self.scratch)
+            self.fine.v_squared(&self.residual, &mut self.scratch)
         } else {
-            h2
+            self.fine.h_squared(&self.residual, &mut self.scratch)
         }
     }
 }
 
-impl Observer for ProjectionRecorder {
+impl Observer for ProjectionRecorder<'_> {
     /// At each reference step that is a step of some level: `M u` and `(M + S) u` once,
     /// restricted down the chain to every level due, then each level's `w_H`, `w_V` and
-    /// remainders.
+    /// remainders. A coarser level's stride is a multiple of a finer one's, so the levels due
+    /// are the finest ones from the coarsest due on.
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
         let step = self.step;
         self.step += 1;
-        let Some(finest) = self.levels.len().checked_sub(1) else {
+        let Some(first) = self.levels.iter().position(|l| step % l.stride == 0) else {
             return Ok(());
         };
-        if step % self.levels[finest].stride != 0 {
-            return Ok(());
-        }
+        let due = first..self.levels.len();
         let u = state.displacement();
         self.fine.mass.mul_into(u, &mut self.mass_u);
         self.fine.stiffness.mul_into(u, &mut self.energy_u);
         for (e, m) in self.energy_u.iter_mut().zip(&self.mass_u) {
             *e += m;
         }
-        for i in (0..=finest).rev() {
-            if step % self.levels[i].stride != 0 {
-                break;
-            }
+        for i in due.clone().rev() {
             let (coarser, finer) = self.levels.split_at_mut(i + 1);
             let level = &mut coarser[i];
             let (h_from, v_from) = match finer.first() {
@@ -291,21 +291,21 @@ impl Observer for ProjectionRecorder {
             level.prolongation.restrict_into(h_from, &mut level.h_load);
             level.prolongation.restrict_into(v_from, &mut level.v_load);
         }
-        for i in (0..=finest).rev() {
-            if step % self.levels[i].stride != 0 {
-                break;
-            }
-            let mut w_h = self.levels[i].h_load.clone();
-            let mut w_v = self.levels[i].v_load.clone();
+        for i in due {
+            // The loads are spent (every coarser level has been restricted from them): solve
+            // in place, and give the buffers back for the next step.
+            let mut w_h = std::mem::take(&mut self.levels[i].h_load);
+            let mut w_v = std::mem::take(&mut self.levels[i].v_load);
             self.levels[i].mass.solve_in_place(&mut w_h);
             self.levels[i].energy.solve_in_place(&mut w_v);
             let h_remainder = self.remainder(i, u, &w_h, false);
             let v_remainder = self.remainder(i, u, &w_v, true);
-            let recorded = &mut self.levels[i].recorded;
-            recorded.h_projection.extend_from_slice(&w_h);
-            recorded.v_projection.extend_from_slice(&w_v);
-            recorded.h_remainder.push(h_remainder);
-            recorded.v_remainder.push(v_remainder);
+            let level = &mut self.levels[i];
+            level.recorded.h_projection.extend_from_slice(&w_h);
+            level.recorded.v_projection.extend_from_slice(&w_v);
+            level.recorded.h_remainder.push(h_remainder);
+            level.recorded.v_remainder.push(v_remainder);
+            (level.h_load, level.v_load) = (w_h, w_v);
         }
         Ok(())
     }

@@ -220,12 +220,16 @@ impl Reference {
             observables: Observables::default(),
         };
         let every = key.sample_every.max(1);
-        let (density, elasticity) = (problem.elasticity.density, &problem.elasticity);
-        let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
-        let mut recorder =
-            ProjectionRecorder::new(&key.levels, key.n_axis, &mesh_of, density, elasticity)?;
         let mesh = box_mesh(problem, key.n_axis)?;
-        let fine_norms = NormMatrices::of(&mesh, density, elasticity);
+        let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
+        let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
+        let mut recorder = ProjectionRecorder::new(
+            &key.levels,
+            &mesh,
+            &fine_norms,
+            &mesh_of,
+            &problem.elasticity,
+        )?;
         let check_config = RunConfig {
             nx: key.n_axis / 2,
             ..config.clone()
