@@ -60,6 +60,14 @@ impl AxisMatrix {
         }
     }
 
+    /// The matrix without its first row and column.
+    pub fn without_first_node(&self) -> AxisMatrix {
+        AxisMatrix {
+            diag: self.diag[1..].to_vec(),
+            off: self.off[1..].to_vec(),
+        }
+    }
+
     /// `a·self + b·other`.
     pub fn combine(&self, a: f64, other: &AxisMatrix, b: f64) -> AxisMatrix {
         let mix = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| a * p + b * q).collect();
@@ -88,6 +96,34 @@ pub struct SeparablePart {
 }
 
 impl SeparablePart {
+    /// The separable part on the nodes off the first layer of the last axis: the interior of a
+    /// box whose `Γ_Sig` plane is condensed ([`crate::engine::linalg::CondensedPlane`]). The
+    /// interior's first node keeps both elements' stiffness (the plane's share, which the
+    /// Schur complement reduces by an amount that depends on the lateral frequency, is left
+    /// in): on the 3D bar at level 80 this took 10.3 CG iterations per Crank–Nicolson solve and
+    /// 14.1 per backward Euler one, the free-end value `1/h` 10.9 and 15.1.
+    pub fn without_first_layer(&self) -> SeparablePart {
+        let trim = |axes: &[AxisMatrix]| -> Vec<AxisMatrix> {
+            let last = axes.len().saturating_sub(1);
+            (axes.iter().enumerate())
+                .map(|(k, m)| {
+                    if k == last {
+                        m.without_first_node()
+                    } else {
+                        m.clone()
+                    }
+                })
+                .collect()
+        };
+        SeparablePart {
+            components: self.components,
+            mass_scale: self.mass_scale,
+            mass_axes: trim(&self.mass_axes),
+            coefficients: self.coefficients.clone(),
+            stiffness_axes: trim(&self.stiffness_axes),
+        }
+    }
+
     /// `a·p + b·q` when at most one of them has a mass and at most one a stiffness (a step
     /// matrix `αM + S`); `None` otherwise.
     pub fn combine(p: &SeparablePart, a: f64, q: &SeparablePart, b: f64) -> Option<Self> {

@@ -15,6 +15,8 @@
 //! other), so the stencil equals the assembled matrix to round-off, not bit for bit: the
 //! assembled one sums each element's own matrix in another order.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use super::separable::SeparablePart;
@@ -339,19 +341,52 @@ impl Stencil {
             .into_par_iter()
             .map(|task| {
                 let first = task * NODES_PER_TASK;
-                let mut total = 0.0;
-                let nodes = first..(first + NODES_PER_TASK).min(n_nodes);
-                self.rows::<D>(y, nodes, |node, row| {
-                    total += row[..D]
-                        .iter()
-                        .zip(&x[node * D..])
-                        .map(|(a, b)| a * b)
-                        .sum::<f64>();
-                });
-                total
+                self.bilinear_form_task::<D>(x, y, first..(first + NODES_PER_TASK).min(n_nodes))
             })
             .collect();
         partial.iter().sum()
+    }
+
+    /// [`Stencil::bilinear_form_task_portable`], compiled for AVX2 when the processor has it
+    /// (the same operations in the same order, as [`Stencil::mul_dot_task`]).
+    fn bilinear_form_task<const D: usize>(&self, x: &[f64], y: &[f64], nodes: Range<usize>) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `bilinear_form_task_avx2` only requires AVX2, which the processor has
+            // (checked just above).
+            return unsafe { self.bilinear_form_task_avx2::<D>(x, y, nodes) };
+        }
+        self.bilinear_form_task_portable::<D>(x, y, nodes)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn bilinear_form_task_avx2<const D: usize>(
+        &self,
+        x: &[f64],
+        y: &[f64],
+        nodes: Range<usize>,
+    ) -> f64 {
+        self.bilinear_form_task_portable::<D>(x, y, nodes)
+    }
+
+    /// The part of `xᵀ A y` of the rows of `nodes`.
+    #[inline(always)]
+    fn bilinear_form_task_portable<const D: usize>(
+        &self,
+        x: &[f64],
+        y: &[f64],
+        nodes: Range<usize>,
+    ) -> f64 {
+        let mut total = 0.0;
+        self.rows::<D>(y, nodes, |node, row| {
+            total += row[..D]
+                .iter()
+                .zip(&x[node * D..])
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
+        });
+        total
     }
 }
 

@@ -1,11 +1,13 @@
 //! Linear solvers for the symmetric positive definite systems of the implicit schemes.
 
+mod condensed;
 mod pcg;
 mod product;
 mod spd;
 mod step;
 mod tridiagonal;
 
+pub use condensed::CondensedPlane;
 pub use pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use product::ProductPreconditioner;
 pub use spd::SpdSolver;

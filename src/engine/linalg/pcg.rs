@@ -4,7 +4,8 @@
 //! alike with `h`, so the condition number of `P^{-1/2} K P^{-1/2}` is bounded independently of
 //! the mesh and CG converges in a fixed number of iterations. `P` is the product preconditioner
 //! of the separable part a matrix-free box matrix carries
-//! ([`ProductPreconditioner::of`]), `D = diag K` (Jacobi) for any other matrix. Memory is
+//! ([`ProductPreconditioner::of`]), with `M^mod`'s massless `Γ_Sig` plane condensed exactly
+//! ([`CondensedPlane`]), and `D = diag K` (Jacobi) for any other matrix. Memory is
 //! the matrix itself (no fill; nothing per entry when it is a
 //! [`Stencil`](crate::engine::fem::stencil::Stencil)) and four work vectors.
 //!
@@ -18,7 +19,7 @@
 //! stopping when `‖r_k‖₂ ≤ tol ‖b‖₂` (relative to the right-hand side, not to `r₀`, so that a
 //! good initial guess saves iterations instead of tightening the test).
 
-use super::ProductPreconditioner;
+use super::{CondensedPlane, ProductPreconditioner};
 use crate::engine::error::SolveError;
 use crate::engine::fem::SymmetricMatrix;
 
@@ -34,7 +35,7 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-13;
 const MAX_ITERATIONS: usize = 2000;
 
 /// A symmetric positive definite matrix prepared for preconditioned CG.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Pcg {
     matrix: SymmetricMatrix,
     preconditioner: Preconditioner,
@@ -42,13 +43,16 @@ pub struct Pcg {
 }
 
 /// `P⁻¹` of the preconditioned iteration.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 enum Preconditioner {
     /// `D⁻¹`, `D = diag K`.
     Jacobi(Vec<f64>),
     /// The product preconditioner of the matrix's separable part
     /// ([`ProductPreconditioner::of`]).
     Product(ProductPreconditioner),
+    /// The massless plane condensed, the product preconditioner on the interior
+    /// ([`CondensedPlane`]).
+    Condensed(Box<CondensedPlane>),
 }
 
 impl Preconditioner {
@@ -57,6 +61,10 @@ impl Preconditioner {
         match self {
             Preconditioner::Jacobi(inverse_diagonal) => jacobi(inverse_diagonal, r, z),
             Preconditioner::Product(p) => {
+                p.solve_into(r, z);
+                dot(r, z)
+            }
+            Preconditioner::Condensed(p) => {
                 p.solve_into(r, z);
                 dot(r, z)
             }
@@ -116,14 +124,16 @@ impl Pcg {
                 }
             })
             .collect::<Result<Vec<f64>, SolveError>>()?;
-        let product = a
-            .separable_part()
-            .and_then(ProductPreconditioner::of)
-            .filter(|p| p.dim() == a.dim());
-        let preconditioner = match product {
-            Some(p) => Preconditioner::Product(p),
-            None => Preconditioner::Jacobi(inverse_diagonal),
-        };
+        let preconditioner = match a.separable_part() {
+            Some(part) if CondensedPlane::applies_to(part) => {
+                CondensedPlane::of(&a, part).map(|c| Preconditioner::Condensed(Box::new(c)))
+            }
+            Some(part) => ProductPreconditioner::of(part)
+                .filter(|p| p.dim() == a.dim())
+                .map(Preconditioner::Product),
+            None => None,
+        }
+        .unwrap_or(Preconditioner::Jacobi(inverse_diagonal));
         Ok(Self {
             matrix: a,
             preconditioner,

@@ -6,33 +6,11 @@
 use rayon::prelude::*;
 
 use super::{solve_interleaved_rows, TridiagonalLdlt};
-use crate::engine::fem::separable::{AxisMatrix, SeparablePart};
-
-/// The weight, relative to its neighbour's, that the preconditioner gives a massless node of a
-/// mass factor (`M^mod`'s `Γ_Sig` plane): the product then stands for the plane's lateral
-/// stiffness, which the true `M_z` weights, not `M_z^mod`. Measured on the 3D bar at level 40
-/// (CG iterations per solve, Crank–Nicolson / backward Euler): weight 0 → 26.9 / 25.9,
-/// 0.1 → 20.8 / 23.6, 0.25 → 19.5 / 21.6, 0.5 → 20.8 / 20.2, 1 → 24.5 / 20.7.
-const MASSLESS_WEIGHT: f64 = 0.25;
+use crate::engine::fem::separable::SeparablePart;
 
 /// Entries per parallel task of a solve: the independent blocks of an axis are grouped so that
 /// a task is worth its scheduling (along the first axis a block is one line of nodes).
 const ENTRIES_PER_TASK: usize = 6144;
-
-/// `m` with each zero diagonal entry replaced by [`MASSLESS_WEIGHT`] times its neighbour's.
-fn with_massless_weight(m: &AxisMatrix) -> AxisMatrix {
-    let mut weighted = m.clone();
-    let n = m.diag.len();
-    for i in (0..n).filter(|&i| m.diag[i] == 0.0) {
-        let neighbour = if i + 1 < n {
-            m.diag[i + 1]
-        } else {
-            m.diag[i.saturating_sub(1)]
-        };
-        weighted.diag[i] = MASSLESS_WEIGHT * neighbour;
-    }
-    weighted
-}
 
 /// `blockdiag_c(⊗_k F_ck)⁻¹` on node-major `d`-component dofs, each `F_ck` factorised.
 #[derive(Debug, Clone)]
@@ -64,8 +42,7 @@ impl ProductPreconditioner {
             let per_component = (0..d)
                 .map(|c| {
                     let b = part.coefficients[c * axes + k] / b_scale;
-                    let mass = with_massless_weight(&part.mass_axes[k]);
-                    let m = mass.combine(a, &part.stiffness_axes[k], b);
+                    let m = part.mass_axes[k].combine(a, &part.stiffness_axes[k], b);
                     TridiagonalLdlt::factor(&m.diag, &m.off).ok()
                 })
                 .collect::<Option<Vec<_>>>()?;
@@ -87,6 +64,11 @@ impl ProductPreconditioner {
     /// of an axis in parallel.
     pub fn solve_into(&self, r: &[f64], z: &mut [f64]) {
         z.copy_from_slice(r);
+        self.solve_in_place(z);
+    }
+
+    /// `z ← P⁻¹ z` ([`ProductPreconditioner::solve_into`] in place).
+    pub fn solve_in_place(&self, z: &mut [f64]) {
         // Along axis k the rows are `width` entries apart (the faster axes and the components),
         // and the array is a sequence of independent blocks of `nodes_k · width` entries.
         let mut width = self.components;
