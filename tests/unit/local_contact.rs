@@ -83,12 +83,14 @@ fn the_adaptive_slab_stops_at_the_truncation_tolerance() {
         let slab = LocalDelassus::new(&k, &rows, None).unwrap().truncation();
         assert!(!slab.whole && slab.slab_dofs < k.dim(), "b = {b}: {slab:?}");
         assert!(slab.ratio <= 1e-14, "b = {b}: {slab:?}");
-        let half = LocalDelassus::new(&k, &rows, Some(slab.layers / 2))
+        // The predicted number of layers overshoots the smallest sufficient one by less than a
+        // quarter (doubling stopped at 32 where about 19 suffice).
+        let fewer = LocalDelassus::new(&k, &rows, Some(slab.layers * 4 / 5))
             .unwrap()
             .truncation();
         assert!(
-            half.ratio > 1e-14,
-            "b = {b}: {half:?} would have been enough"
+            fewer.ratio > 1e-14,
+            "b = {b}: {fewer:?} would have been enough"
         );
     }
 }
