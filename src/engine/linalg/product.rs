@@ -74,7 +74,10 @@ impl ProductPreconditioner {
         let mut width = self.components;
         for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
             let block = nodes * width;
-            let per_task = (ENTRIES_PER_TASK / block).max(1) * block;
+            // The fewest tasks of about ENTRIES_PER_TASK entries, given equal numbers of blocks.
+            let blocks = z.len() / block.max(1);
+            let tasks = z.len().div_ceil(ENTRIES_PER_TASK).clamp(1, blocks.max(1));
+            let per_task = blocks.div_ceil(tasks).max(1) * block;
             z.par_chunks_mut(per_task).for_each(|blocks| {
                 blocks
                     .chunks_exact_mut(block)

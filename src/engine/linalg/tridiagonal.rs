@@ -139,6 +139,9 @@ fn solve_rows<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], wid
     }
     debug_assert_eq!(rows.len(), n * width);
     debug_assert_eq!(width % D, 0);
+    if width == D {
+        return solve_line::<D>(factors, rows);
+    }
     for i in 1..n {
         let (before, from) = rows.split_at_mut(i * width);
         let l = chunk_coefficients::<D>(factors, |f| f.lower[i]);
@@ -159,5 +162,27 @@ fn solve_rows<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], wid
         update_row(&mut upto[i * width..], [&inv, &l], next, |b, inv, l, x| {
             b * inv - l * x
         });
+    }
+}
+
+/// [`solve_rows`] for rows of exactly `D` entries (one node per row: the first axis of a grid),
+/// where building a [`CHUNK`] of coefficients per row would cost more than the row: the same
+/// operations in the same order, entry by entry.
+#[inline(always)]
+fn solve_line<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64]) {
+    let n = factors[0].inv_diag.len();
+    for i in 1..n {
+        for (c, f) in factors.iter().enumerate().take(D) {
+            rows[i * D + c] -= f.lower[i] * rows[(i - 1) * D + c];
+        }
+    }
+    for (c, f) in factors.iter().enumerate().take(D) {
+        rows[(n - 1) * D + c] *= f.inv_diag[n - 1];
+    }
+    for i in (0..n - 1).rev() {
+        for (c, f) in factors.iter().enumerate().take(D) {
+            rows[i * D + c] =
+                rows[i * D + c] * f.inv_diag[i] - f.lower[i + 1] * rows[(i + 1) * D + c];
+        }
     }
 }
