@@ -93,8 +93,8 @@ impl ConventionArgs {
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct LinearSolverArgs {
     /// Step solver on 2D/3D boxes: direct (sparse Cholesky), cg (matrix-free conjugate
-    /// gradients with the product preconditioner) or auto (cg on 3D boxes from 10 000 unknowns
-    /// on, direct otherwise). 1D bars always use the tridiagonal solver.
+    /// gradients with the product preconditioner) or auto (cg on 2D/3D boxes from 10 000
+    /// unknowns on, direct below). 1D bars always use the tridiagonal solver.
     #[arg(long, value_parser = parse_linear_solver, default_value = "auto")]
     pub linear_solver: LinearSolver,
 }

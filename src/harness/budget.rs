@@ -13,7 +13,7 @@
 //! - a 3D box: `600 dofs^⅓` bytes per unknown (fill like `n^⅓` per unknown: measured 16.4 kB at
 //!   26 460 unknowns on a 20³ cube, 10 kB at 19 440 on an 8 × 8 × 80 bar, against 17.9 and
 //!   16.2 kB here), plus the dense Delassus operator of the contact face; with the `cg` step
-//!   solver (matrix-free, the `auto` choice in 3D from 10 000 unknowns) a constant
+//!   solver (matrix-free, the `auto` choice from 10 000 unknowns) a constant
 //!   [`CG_BOX_BYTES_PER_DOF`] instead (measured 3.2–4.3 kB);
 //! - every value a run stores per step or per snapshot (histories, fields), [`BYTES_PER_STORED_VALUE`]
 //!   for the value and the text it becomes in `run.json` and the CSV files;
@@ -275,7 +275,7 @@ fn box_matrix_bytes(problem: &BoxProblem, dofs: f64, contact_nodes: f64) -> f64 
     } else {
         usize::MAX
     };
-    let per_dof = match problem.linear_solver.for_box(dim, unknowns) {
+    let per_dof = match problem.linear_solver.for_box(unknowns) {
         LinearSolver::Cg => CG_BOX_BYTES_PER_DOF,
         _ if dim == 3 => 600.0 * dofs.cbrt(),
         _ => 300.0 * dofs.max(2.0).log2(),

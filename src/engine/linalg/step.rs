@@ -7,8 +7,8 @@
 //!   extrapolation of the previous steps; memory `O(n)`. On a box the matrices are matrix-free
 //!   ([`crate::engine::fem::stencil`]) and the preconditioner is the product of the separable
 //!   part ([`crate::engine::fem::separable`]); Jacobi otherwise.
-//! * `auto` (the default): on a box, `cg` in 3D from [`AUTO_CG_FROM_DOFS`] unknowns on and
-//!   `direct` otherwise ([`LinearSolver::for_box`]); `direct` for every other model.
+//! * `auto` (the default): on a box, `cg` from [`AUTO_CG_FROM_DOFS`] unknowns on and `direct`
+//!   below ([`LinearSolver::for_box`]); `direct` for every other model.
 //!
 //! A matrix of bandwidth one (every 1D bar) always takes the direct (tridiagonal) solver.
 
@@ -23,11 +23,13 @@ use super::SpdSolver;
 use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::fem::SymmetricMatrix;
 
-/// The size from which `auto` chooses `cg` on a 3D box, between two measurements on this 2-core
-/// machine (README "2D and 3D bars"; Crank–Nicolson, `M^mod`, T = 2): the sparse Cholesky was
-/// 2.5 times faster at 3 000 unknowns (level 40: 0.33 s against 0.84 s), matrix-free CG 1.5
-/// times faster with a sixth of the memory at 19 440 (level 80: 7.5 s and 31 MB against 11.2 s
-/// and 203 MB). The regression gate's boxes are smaller and keep the direct solver.
+/// The size from which `auto` chooses `cg` on a box, in 2D and 3D, between measurements on this
+/// 2-core machine (README "2D and 3D bars"; Crank–Nicolson, `M^mod`, T = 2, wall time): in 2D
+/// the sparse Cholesky was faster at 5 440 unknowns (level 160: 0.44 s against 0.70 s) and
+/// matrix-free CG at 21 120 (level 320: 3.7 s against 4.9 s; level 640, 83 200 unknowns: 26 s
+/// and 41 MB against 58 s and 201 MB); in 3D they were even at 3 000 (level 40: 0.16 s
+/// against 0.20 s) and CG far ahead from 19 440 (level 80: 1.7 s against 9.7 s). The regression
+/// gate's boxes are smaller and keep the direct solver.
 pub const AUTO_CG_FROM_DOFS: usize = 10_000;
 
 /// Which step solver a run uses (see the module documentation).
@@ -55,15 +57,11 @@ impl LinearSolver {
         }
     }
 
-    /// The choice for a box of `dimension` with `unknowns` dofs: `auto` becomes `cg` in 3D from
-    /// [`AUTO_CG_FROM_DOFS`] unknowns on and `direct` otherwise (in 2D the Cholesky factor's
-    /// fill stays nearly linear and the direct solver was faster at every measured size);
-    /// `direct` and `cg` stay as given.
-    pub fn for_box(self, dimension: usize, unknowns: usize) -> LinearSolver {
+    /// The choice for a box with `unknowns` dofs: `auto` becomes `cg` from
+    /// [`AUTO_CG_FROM_DOFS`] unknowns on and `direct` below; `direct` and `cg` stay as given.
+    pub fn for_box(self, unknowns: usize) -> LinearSolver {
         match self {
-            LinearSolver::Auto if dimension >= 3 && unknowns >= AUTO_CG_FROM_DOFS => {
-                LinearSolver::Cg
-            }
+            LinearSolver::Auto if unknowns >= AUTO_CG_FROM_DOFS => LinearSolver::Cg,
             LinearSolver::Auto => LinearSolver::Direct,
             chosen => chosen,
         }

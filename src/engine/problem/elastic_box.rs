@@ -99,7 +99,7 @@ impl BoxProblem {
         self.elasticity.validate(mesh.dim())?;
         mesh.check_mass(mass)?;
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
-        let solver = self.linear_solver.for_box(mesh.dim(), mesh.n_dofs());
+        let solver = self.linear_solver.for_box(mesh.n_dofs());
         let matrix_free = (solver == LinearSolver::Cg)
             .then(|| Model::of_box_matrix_free(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .flatten();
