@@ -17,6 +17,9 @@ use crate::harness::study::{CaseStudy, Study};
 /// The work–precision table and the cost to reach the targets, under a reports directory.
 pub const WORK_PRECISION_MD: &str = "work-precision.md";
 
+/// The title of `work-precision.md`.
+const WORK_PRECISION_TITLE: &str = "# What accuracy costs";
+
 /// [`WorkPrecisionFile`], under a reports directory.
 pub const WORK_PRECISION_JSON: &str = "work-precision.json";
 
@@ -158,7 +161,7 @@ pub struct WorkPrecisionFile {
 pub fn render(study: &Study, costs: &[CostToTarget]) -> String {
     let norm = COST_NORM;
     let mut md = format!(
-        "# What accuracy costs\n\nTables 1–2 study (`make report`), {TIMING_NOTE}. Error in {} \
+        "{WORK_PRECISION_TITLE}\n\nTables 1–2 study (`make report`), {TIMING_NOTE}. Error in {} \
          against wall time; the other norms are in `work-precision.json`.\n\n\
          | case | NX | dof-steps | wall s | ns per dof-step | {} |\n|---|---|---|---|---|---|\n",
         norm.label(),
@@ -223,14 +226,15 @@ pub fn splice_section(text: &str, name: &str, body: &str) -> String {
 
 /// Writes `out_dir/work-precision.md` as `kept_from/work-precision.md` (the reports directory a
 /// staged `out_dir` will replace files of) with section `name` replaced by `body`; a missing
-/// file is started empty.
+/// file is started with its title (`make report-fine`'s directory has no Tables study).
 pub fn write_work_precision_section(
     out_dir: &Path,
     kept_from: &Path,
     name: &str,
     body: &str,
 ) -> Result<(), Error> {
-    let text = std::fs::read_to_string(kept_from.join(WORK_PRECISION_MD)).unwrap_or_default();
+    let text = std::fs::read_to_string(kept_from.join(WORK_PRECISION_MD))
+        .unwrap_or_else(|_| WORK_PRECISION_TITLE.to_string());
     write_atomic(
         &out_dir.join(WORK_PRECISION_MD),
         splice_section(&text, name, body).as_bytes(),

@@ -321,3 +321,19 @@ fn a_level_projected_through_finer_levels_has_the_errors_of_a_direct_projection(
         }
     }
 }
+
+/// A cost section written where no `work-precision.md` exists yet (`make report-fine`'s
+/// directory, which has no Tables study) starts the file with its title.
+#[test]
+fn a_cost_section_starts_a_missing_work_precision_file_with_its_title() {
+    let out = temp("cost-section");
+    std::fs::create_dir_all(&out).unwrap();
+    signorini::cost::write_work_precision_section(&out, &out, "box-3d", "## 3D bar\n\nrows")
+        .unwrap();
+    let text = std::fs::read_to_string(out.join("work-precision.md")).unwrap();
+    std::fs::remove_dir_all(&out).unwrap();
+    assert!(
+        text.starts_with("# What accuracy costs\n\n<!-- box-3d -->\n## 3D bar"),
+        "{text}"
+    );
+}
