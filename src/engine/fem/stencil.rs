@@ -328,11 +328,7 @@ impl Stencil {
         self.rows::<D>(x, first..first + ys.len() / D, |node, row| {
             let k = (node - first) * D;
             ys[k..k + D].copy_from_slice(&row[..D]);
-            xy += row[..D]
-                .iter()
-                .zip(&x[node * D..])
-                .map(|(a, b)| a * b)
-                .sum::<f64>();
+            xy += row_dot::<D>(&row, x, node);
         });
         xy
     }
@@ -390,15 +386,20 @@ impl Stencil {
         nodes: Range<usize>,
     ) -> f64 {
         let mut total = 0.0;
-        self.rows::<D>(y, nodes, |node, row| {
-            total += row[..D]
-                .iter()
-                .zip(&x[node * D..])
-                .map(|(a, b)| a * b)
-                .sum::<f64>();
-        });
+        self.rows::<D>(y, nodes, |node, row| total += row_dot::<D>(&row, x, node));
         total
     }
+}
+
+/// `(A y)_node · x_node`: the first `D` entries of a row block (`row`) against node `node`'s
+/// entries of `x`.
+#[inline(always)]
+fn row_dot<const D: usize>(row: &[f64; LANES], x: &[f64], node: usize) -> f64 {
+    row[..D]
+        .iter()
+        .zip(&x[node * D..])
+        .map(|(a, b)| a * b)
+        .sum::<f64>()
 }
 
 /// `sum[c] += B[:, c] · x_c` for the columns `c` of one block (`columns`, [`LANES`] apart).

@@ -59,16 +59,11 @@ impl Preconditioner {
     /// `z = P⁻¹ r`, returning `rᵀz`.
     fn apply(&self, r: &[f64], z: &mut [f64]) -> f64 {
         match self {
-            Preconditioner::Jacobi(inverse_diagonal) => jacobi(inverse_diagonal, r, z),
-            Preconditioner::Product(p) => {
-                p.solve_into(r, z);
-                dot(r, z)
-            }
-            Preconditioner::Condensed(p) => {
-                p.solve_into(r, z);
-                dot(r, z)
-            }
+            Preconditioner::Jacobi(inverse_diagonal) => return jacobi(inverse_diagonal, r, z),
+            Preconditioner::Product(p) => p.solve_into(r, z),
+            Preconditioner::Condensed(p) => p.solve_into(r, z),
         }
+        dot(r, z)
     }
 }
 
