@@ -179,13 +179,6 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
                 config.cases.len().saturating_mul(members.saturating_add(1)),
             ))?;
             if let Some((spec, out)) = shard {
-                if config.sensitivity.is_some() {
-                    return Err(Failure::usage(format!(
-                        "--shard: scene {} has a round-off ensemble (discretisation.sensitivity), \
-                         a second job list that needs the study's results: it cannot be sharded",
-                        scene.name
-                    )));
-                }
                 let mut note = |why: String| eprintln!("{why}; computing the reference");
                 return write_shard(&invocation, spec, &out, || {
                     run_elastic_study(&problem, &config, &cache, &mut note)

@@ -457,13 +457,19 @@ pub fn run_sensitivity(
         .map(|&nx| problem.length / nx as f64)
         .collect();
     Ok(classify_cases(
-        cases, config, &h, norms, ensemble, per_case, clock,
+        cases,
+        config,
+        &h,
+        norms,
+        ensemble,
+        per_case,
+        clock.elapsed().as_secs_f64(),
     ))
 }
 
 /// The sensitivity study from the level ensembles of every case (`per_case[c][l]`: case `c` at
-/// level `l`, element sizes `h`), each case classified by the module's rules; the wall time is
-/// read from `clock` when done.
+/// level `l`, element sizes `h`), each case classified by the module's rules; `wall_seconds` is
+/// what the study reports as its time.
 pub(crate) fn classify_cases(
     cases: &[Case],
     config: &StudyConfig,
@@ -471,7 +477,7 @@ pub(crate) fn classify_cases(
     norms: &BTreeSet<Norm>,
     ensemble: EnsembleConfig,
     per_case: Vec<Vec<LevelEnsemble>>,
-    clock: Instant,
+    wall_seconds: f64,
 ) -> Sensitivity {
     let cases = cases
         .iter()
@@ -482,7 +488,7 @@ pub(crate) fn classify_cases(
         ensemble,
         config: config.clone(),
         cases,
-        wall_seconds: clock.elapsed().as_secs_f64(),
+        wall_seconds,
     }
 }
 

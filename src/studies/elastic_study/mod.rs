@@ -47,7 +47,7 @@ use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
 use crate::harness::run::{Observables, Observer, RunConfig};
 use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{EnsembleConfig, Sensitivity};
+use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
 use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
@@ -262,13 +262,15 @@ pub struct ElasticHistories {
     pub cases: Vec<CaseHistories>,
 }
 
-/// What one run measured.
+/// What one (case, level) job measured: its unperturbed run and, when the study has one, its
+/// round-off ensemble with the members' run time in seconds.
 #[derive(Serialize, Deserialize)]
 struct LevelOutcome {
     record: LevelRecord,
     errors: BTreeMap<Norm, f64>,
-    contact: BoxContactHistory,
     histories: Option<CaseHistories>,
+    ensemble: Option<LevelEnsemble>,
+    ensemble_seconds: f64,
 }
 
 /// The reference of a study with what comparing a run with it takes: the norm matrices of every
@@ -317,7 +319,8 @@ fn axial_element_size(problem: &BoxProblem, n_axis: usize) -> f64 {
     problem.lengths[problem.lengths.len() - 1] / n_axis as f64
 }
 
-/// Runs the study, then (when `config.sensitivity` asks for it) its round-off ensemble. The
+/// Runs the study: one job per case × level, which also runs that level's round-off ensemble
+/// when `config.sensitivity` asks for one ([`sensitivity::run_members`]). The
 /// reference is read from `cache` when its key matches, computed otherwise (and saved when
 /// `cache` may be written); `note` hears why a cache was not used.
 pub fn run_elastic_study(
@@ -330,7 +333,9 @@ pub fn run_elastic_study(
     // An ensemble the problem cannot carry is refused before anything runs.
     let ensemble = config
         .sensitivity
-        .map(|e| sensitivity::noise_scale(problem).map(|scale| (e, scale)))
+        .map(|ensemble| {
+            sensitivity::noise_scale(problem).map(|scale| sensitivity::Noise { ensemble, scale })
+        })
         .transpose()?;
     let clock = Instant::now();
     let reference = obtain_reference(problem, config, cache, note)?;
@@ -345,14 +350,28 @@ pub fn run_elastic_study(
         &jobs,
         |&(_, n)| n,
         |&(case, n)| {
-            run_level(
+            let (mut outcome, base) = run_level(
                 problem,
                 config.ratio,
                 case,
                 n,
                 n == finest,
                 comparator.comparison(n),
-            )
+            )?;
+            if let Some(noise) = ensemble {
+                let members = Instant::now();
+                outcome.ensemble = Some(sensitivity::run_members(
+                    problem,
+                    config.ratio,
+                    case,
+                    n,
+                    &comparator,
+                    &base,
+                    noise,
+                )?);
+                outcome.ensemble_seconds = members.elapsed().as_secs_f64();
+            }
+            Ok(outcome)
         },
     )?;
     let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
@@ -362,14 +381,15 @@ pub fn run_elastic_study(
         .collect();
 
     let mut histories = Vec::new();
-    let mut contacts: Vec<Vec<BoxContactHistory>> = Vec::new();
+    let mut ensembles: Vec<Vec<LevelEnsemble>> = Vec::new();
+    let mut ensemble_seconds = 0.0;
     let cases: Vec<CaseStudy> = config
         .cases
         .iter()
         .map(|case| {
             let mut records = Vec::new();
             let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
-            let mut case_contacts = Vec::new();
+            let mut case_ensembles = Vec::new();
             for &n in &config.levels {
                 let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
                 for (norm, e) in outcome.errors {
@@ -377,9 +397,10 @@ pub fn run_elastic_study(
                 }
                 records.push(outcome.record);
                 histories.extend(outcome.histories);
-                case_contacts.push(outcome.contact);
+                case_ensembles.extend(outcome.ensemble);
+                ensemble_seconds += outcome.ensemble_seconds;
             }
-            contacts.push(case_contacts);
+            ensembles.push(case_ensembles);
             CaseStudy::from_levels(*case, records, errors)
         })
         .collect();
@@ -449,11 +470,9 @@ pub fn run_elastic_study(
             .copied()
             .unwrap_or(f64::INFINITY)
     });
-    let sensitivity = ensemble
-        .map(|(ensemble, scale)| {
-            sensitivity::run_ensembles(problem, config, &comparator, &contacts, ensemble, scale)
-        })
-        .transpose()?;
+    let sensitivity = ensemble.map(|noise| {
+        sensitivity::classify(problem, config, noise.ensemble, ensembles, ensemble_seconds)
+    });
     Ok((
         ElasticStudy {
             dimension: problem.lengths.len(),
@@ -542,7 +561,8 @@ fn run_compared(
     run_box_observed(problem, &config, &mut all)?.completed()
 }
 
-/// One case at one level, compared with the reference at every step.
+/// One case at one level, compared with the reference at every step: what it measured (no
+/// ensemble yet) and its contact history.
 fn run_level(
     problem: &BoxProblem,
     ratio: f64,
@@ -550,7 +570,7 @@ fn run_level(
     n_axis: usize,
     keep_histories: bool,
     mut comparison: ReferenceComparison<'_>,
-) -> Result<LevelOutcome, Error> {
+) -> Result<(LevelOutcome, BoxContactHistory), Error> {
     // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
     let h = axial_element_size(problem, n_axis);
     let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, ratio);
@@ -583,7 +603,7 @@ fn run_level(
         &mut comparison,
         &mut [&mut sample_stress],
     )?;
-    Ok(LevelOutcome {
+    let outcome = LevelOutcome {
         record: LevelRecord {
             nx: n_axis,
             h,
@@ -602,6 +622,8 @@ fn run_level(
             energy: result.energy,
             stress,
         }),
-        contact: result.contact,
-    })
+        ensemble: None,
+        ensemble_seconds: 0.0,
+    };
+    Ok((outcome, result.contact))
 }

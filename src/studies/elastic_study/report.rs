@@ -64,13 +64,14 @@ fn sensitivity_section(s: &Sensitivity) -> String {
          noise of relative size {:e}: every velocity dof (the contact face's included) moves by \
          a uniform amount in ±A·max|v⁰|, the displacement is untouched. Each member is compared \
          with the same (unperturbed) reference; its separation from the unperturbed run is taken \
-         on the centre contact node's normal displacement. {} Ensemble wall time {:.1} s on \
-         this machine ({} runs).\n\n",
+         on the centre contact node's normal displacement. {} The members ran inside the \
+         study's (case, level) jobs, after each job's unperturbed run: {} runs, {:.1} s of run \
+         time summed over the jobs on this machine.\n\n",
         s.ensemble.members,
         s.ensemble.amplitude,
         class_rules(),
-        s.wall_seconds,
-        s.cases.len() * s.config.levels.len() * s.ensemble.members
+        s.cases.len() * s.config.levels.len() * s.ensemble.members,
+        s.wall_seconds
     );
     md.push_str(&class_table(s, finest));
     md.push('\n');

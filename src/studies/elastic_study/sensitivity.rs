@@ -19,11 +19,12 @@
 //!   the constant gap) that every box run records (`BoxContactHistory::centre_gap`), with the 1D
 //!   thresholds ([`crate::harness::sensitivity::PARTING`], [`crate::harness::sensitivity::RUNAWAY`]): the box
 //!   falls 0.2 at speed 0.5, displacements of the size of the 1D benchmark's.
-//! - **Members stream.** A (case, level) job holds the study's unperturbed contact history and
-//!   one member's run at a time, so memory does not grow with members × steps.
+//! - **Members run in their job.** A (case, level) job of the study runs the unperturbed run,
+//!   then its members one after the other ([`run_members`]), holding the unperturbed contact
+//!   history and one member's run at a time, so memory does not grow with members × steps. The
+//!   study is one job list, so it shards like any other (`--shard k/n`, `signorini merge`).
 
 use std::collections::BTreeSet;
-use std::time::Instant;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
 use crate::engine::error::ParameterError;
@@ -34,7 +35,7 @@ use crate::harness::norms::Norm;
 use crate::harness::sensitivity::{
     classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
 };
-use crate::harness::study::{run_case_levels, StudyConfig};
+use crate::harness::study::{Case, StudyConfig};
 
 /// The velocity scale of the noise, `max|v⁰| = |initial_velocity|`. Refuses a problem that
 /// cannot carry an ensemble: one at rest (no velocity scale), one without obstacle (no contact
@@ -60,54 +61,66 @@ pub fn noise_scale(problem: &BoxProblem) -> Result<f64, ParameterError> {
     Ok(scale)
 }
 
-/// The ensembles of every case × level of `config` (in parallel over case × level, largest
-/// levels first), `base[c][l]` being the study's unperturbed contact history of case `c` at
-/// level `l`, with noise of size `ensemble.amplitude · scale`; each case classified. A job runs
-/// its members one after the other: each one's errors against the reference and its separation
-/// from `base[c][l]`.
-pub(super) fn run_ensembles(
+/// A study's round-off ensemble with the velocity scale of its noise ([`noise_scale`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Noise {
+    /// Members and relative amplitude.
+    pub(super) ensemble: EnsembleConfig,
+    /// `max|v⁰|`.
+    pub(super) scale: f64,
+}
+
+/// The round-off ensemble of `case` on `n_axis` elements, run inside that (case, level) job of
+/// the study right after its unperturbed run, whose contact history is `base`: member
+/// `m = 1..=K` with noise of size `amplitude · scale` and seed `m`, one after the
+/// other, each compared with the reference and measured for its separation from `base`. A
+/// member depends only on its job, so the ensemble shards with the study's one job list.
+pub(super) fn run_members(
+    problem: &BoxProblem,
+    ratio: f64,
+    case: Case,
+    n_axis: usize,
+    comparator: &Comparator,
+    base: &BoxContactHistory,
+    noise: Noise,
+) -> Result<LevelEnsemble, Error> {
+    let Noise { ensemble, scale } = noise;
+    let mut errors = Vec::with_capacity(ensemble.members);
+    let mut separations = Vec::with_capacity(ensemble.members);
+    for member in 1..=ensemble.members {
+        let perturbed = BoxProblem {
+            velocity_perturbation: Some(Perturbation {
+                amplitude: ensemble.amplitude * scale,
+                seed: member as u64,
+            }),
+            ..problem.clone()
+        };
+        let mut comparison = comparator.comparison(n_axis);
+        let run = run_compared(&perturbed, ratio, case, n_axis, &mut comparison, &mut [])?;
+        separations.push(Separation::between(
+            &base.time,
+            &base.centre_gap,
+            &run.contact.centre_gap,
+        ));
+        errors.push(comparison.errors());
+    }
+    Ok(LevelEnsemble {
+        errors,
+        separations,
+    })
+}
+
+/// The sensitivity of every case of `config` from its level ensembles (`per_case[c][l]`: case
+/// `c` at level `l`), each case classified by the 1D rules; `seconds` is the members' run time
+/// summed over the jobs.
+pub(super) fn classify(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
-    comparator: &Comparator,
-    base: &[Vec<BoxContactHistory>],
     ensemble: EnsembleConfig,
-    scale: f64,
-) -> Result<Sensitivity, Error> {
-    let clock = Instant::now();
+    per_case: Vec<Vec<LevelEnsemble>>,
+    seconds: f64,
+) -> Sensitivity {
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    let per_case = run_case_levels(config.cases.len(), &config.levels, |c, l| {
-        let (case, n_axis) = (config.cases[c], config.levels[l]);
-        let mut errors = Vec::with_capacity(ensemble.members);
-        let mut separations = Vec::with_capacity(ensemble.members);
-        for member in 1..=ensemble.members {
-            let perturbed = BoxProblem {
-                velocity_perturbation: Some(Perturbation {
-                    amplitude: ensemble.amplitude * scale,
-                    seed: member as u64,
-                }),
-                ..problem.clone()
-            };
-            let mut comparison = comparator.comparison(n_axis);
-            let run = run_compared(
-                &perturbed,
-                config.ratio,
-                case,
-                n_axis,
-                &mut comparison,
-                &mut [],
-            )?;
-            separations.push(Separation::between(
-                &base[c][l].time,
-                &base[c][l].centre_gap,
-                &run.contact.centre_gap,
-            ));
-            errors.push(comparison.errors());
-        }
-        Ok(LevelEnsemble {
-            errors,
-            separations,
-        })
-    })?;
     let h: Vec<f64> = config
         .levels
         .iter()
@@ -118,13 +131,13 @@ pub(super) fn run_ensembles(
         ratio: config.ratio,
         horizon: problem.horizon,
     };
-    Ok(classify_cases(
+    classify_cases(
         &config.cases,
         &study_config,
         &h,
         &norms,
         ensemble,
         per_case,
-        clock,
-    ))
+        seconds,
+    )
 }
