@@ -506,7 +506,8 @@ fn elastic_study(
                 out!("  {:36} {}", c.case, c.class.name());
             }
             out!(
-                "round-off ensemble: {} members per case and level, {:.1} s wall",
+                "round-off ensemble: {} members per case and level, run in the study's jobs \
+                 ({:.1} s of run time summed over them)",
                 s.ensemble.members,
                 s.wall_seconds
             );
