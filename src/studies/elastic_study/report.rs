@@ -189,8 +189,9 @@ fn robustness_summary(study: &ElasticStudy) -> String {
     format!(
         "\nRobust with the reference on {} elements: {}. Holding but not robust: {}; these would \
          need a reference one level finer ({} elements along the axis, about {:.1e} unknowns and \
-         {} steps) to shrink the rate-bias bounds they fail on, which is a sharded or multi-machine \
-         run (README, *Running a study on several machines*).\n",
+         {} steps) to shrink the rate-bias bounds they fail on. That reference is one run, which \
+         `--shard` cannot split: only the study's other jobs shard (README, *Running a study on \
+         several machines*, and *What a finer reference would take*).\n",
         r.level,
         list(&robust),
         list(&fragile),
