@@ -22,7 +22,8 @@ use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
-use crate::harness::shard::plan::{EncodedResult, Share};
+use crate::harness::shard::plan::{self, EncodedResult, Share};
+use crate::harness::shard::ShardSpec;
 use crate::harness::study::{run_study_with_progress, study_size, Case};
 use crate::studies::elastic_study::files::{write_elastic_report, REFERENCE_CACHE};
 use crate::studies::elastic_study::reference::ReferenceCache;
@@ -104,6 +105,17 @@ fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> V
     kept
 }
 
+/// The case × level jobs per level that this invocation computes, for its budget: the study's,
+/// its share under `--shard` ([`budget::jobs_per_level`]), none under a merge (which reads
+/// them from the shards).
+fn jobs_to_run(levels: &[usize], cases: usize, shard: Option<ShardSpec>) -> Vec<f64> {
+    if plan::replaying() {
+        vec![0.0; levels.len()]
+    } else {
+        budget::jobs_per_level(levels, cases, shard)
+    }
+}
+
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
 /// markdown or JSON. Nothing outside the selection is computed.
 pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
@@ -176,7 +188,12 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
                 &config.levels,
                 config.reference_level,
                 config.ratio,
-                config.cases.len().saturating_mul(members.saturating_add(1)),
+                &jobs_to_run(
+                    &config.levels,
+                    config.cases.len(),
+                    shard.as_ref().map(|(spec, _)| *spec),
+                ),
+                members.saturating_add(1),
             ))?;
             if let Some((spec, out)) = shard {
                 let mut note = |why: String| eprintln!("{why}; computing the reference");
@@ -224,7 +241,11 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
         &problem,
         &config.levels,
         config.ratio,
-        cases.len(),
+        &jobs_to_run(
+            &config.levels,
+            cases.len(),
+            shard.as_ref().map(|(spec, _)| *spec),
+        ),
     ))?;
     let bar = progress_bar(study_size(&cases, &config));
     problem.contact = contact.unwrap_or(problem.contact);
@@ -410,6 +431,7 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
             &config.levels,
             config.reference_level,
             config.ratio,
+            &[],
             0,
         );
         work.push(estimate.dof_steps);

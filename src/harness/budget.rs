@@ -30,6 +30,8 @@ use crate::engine::linalg::LinearSolver;
 use crate::engine::problem::{BoxProblem, Problem1d};
 use crate::engine::schemes::Scheme;
 use crate::harness::run::RunConfig;
+use crate::harness::shard::ShardSpec;
+use crate::harness::study::largest_first;
 
 /// Peak bytes per unknown of a bar run (an upper bound of the measured 423–444).
 pub const BAR_BYTES_PER_DOF: f64 = 600.0;
@@ -333,9 +335,24 @@ fn concurrent(runs: f64) -> f64 {
     (rayon::current_num_threads() as f64).min(runs).max(1.0)
 }
 
-/// A study of `cases` cases over `levels` of a bar (norms only, nothing written): as many runs
-/// at once as rayon has threads, the work of every run.
-pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, cases: usize) -> Estimate {
+/// How many of a study's case × level jobs each of `levels` holds: `cases` each for the whole
+/// study; under `--shard` (`shard`), the jobs of that level in the shard's share of the runner's
+/// largest-first order ([`largest_first`], [`ShardSpec::share`]; the jobs listed case by case,
+/// as the studies list them), so that a shard is held to its own work, not the study's.
+pub fn jobs_per_level(levels: &[usize], cases: usize, shard: Option<ShardSpec>) -> Vec<f64> {
+    let sizes: Vec<usize> = (0..cases).flat_map(|_| levels.iter().copied()).collect();
+    let order = largest_first(&sizes);
+    let share = shard.map_or(order.clone(), |spec| spec.share(&order));
+    let mut counts = vec![0.0; levels.len()];
+    for k in share {
+        counts[k % levels.len()] += 1.0;
+    }
+    counts
+}
+
+/// A study over `levels` of a bar with `jobs[l]` runs at level `l` ([`jobs_per_level`]; norms
+/// only, nothing written): as many runs at once as rayon has threads, the work of every run.
+pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]) -> Estimate {
     let runs = |nx: usize| {
         bar_run(
             problem,
@@ -349,11 +366,12 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, cases: usize
             false,
         )
     };
-    study_of(levels.iter().map(|&nx| runs(nx)), cases as f64)
+    study_of(levels.iter().map(|&nx| runs(nx)).zip(jobs.iter().copied()))
 }
 
-/// A box study: `runs_per_level` runs at each of `levels` (cases × ensemble members; 0 for the
-/// reference alone, `signorini reference`) and its fine-mesh reference at `reference_level`
+/// A box study: `jobs[l]` case × level jobs at level `l` of `levels` ([`jobs_per_level`]; none
+/// for the reference alone, `signorini reference`), each of `runs_per_job` runs (the
+/// unperturbed run and the ensemble's members), and its fine-mesh reference at `reference_level`
 /// (counted as computed): the reference run, the check run one level coarser beside it, the
 /// reference's projections on every level (`2 (dofs_ℓ + 1)` values per step of level ℓ), the
 /// finest level's prolongation into the reference mesh (at most `2^d` weights and indices per
@@ -363,13 +381,14 @@ pub fn box_study(
     levels: &[usize],
     reference_level: usize,
     ratio: f64,
-    runs_per_level: usize,
+    jobs: &[f64],
+    runs_per_job: usize,
 ) -> Estimate {
     let levels_estimate = study_of(
         levels
             .iter()
-            .map(|&nx| box_run(problem, nx, ratio, 0, false)),
-        runs_per_level as f64,
+            .map(|&nx| box_run(problem, nx, ratio, 0, false))
+            .zip(jobs.iter().map(|&j| j * runs_per_job as f64)),
     );
     let reference = box_run(problem, reference_level, ratio, 0, false);
     let check = box_run(problem, reference_level / 2, ratio, 0, false);
@@ -393,16 +412,16 @@ pub fn box_study(
     }
 }
 
-/// `per_level` runs at each level of `levels`: memory for as many at once as rayon has
-/// threads (each the size of the largest; none for no run), the work of all.
-fn study_of(levels: impl Iterator<Item = Estimate>, per_level: f64) -> Estimate {
+/// Runs at each level, given as (one run's estimate, how many): memory for as many at once as
+/// rayon has threads (each the size of the largest that runs; none for no run), the work of all.
+fn study_of(levels: impl Iterator<Item = (Estimate, f64)>) -> Estimate {
     let mut largest = 0.0_f64;
     let mut work = 0.0;
     let mut count = 0.0;
-    for e in levels {
+    for (e, runs) in levels.filter(|&(_, runs)| runs > 0.0) {
         largest = largest.max(e.memory_bytes);
-        work += per_level * e.dof_steps;
-        count += per_level;
+        work += runs * e.dof_steps;
+        count += runs;
     }
     Estimate {
         memory_bytes: if count > 0.0 {

@@ -259,6 +259,15 @@ pub fn run_study_with_progress(
     })
 }
 
+/// The order in which [`run_largest_first`] starts jobs of sizes `sizes`: their indices, the
+/// largest first, ties in index order. A shard runs its share of this order
+/// ([`crate::harness::shard::ShardSpec::share`]).
+pub fn largest_first(sizes: &[usize]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..sizes.len()).collect();
+    order.sort_by_key(|&k| (std::cmp::Reverse(sizes[k]), k));
+    order
+}
+
 /// Runs `job` on every item of `jobs` in parallel, the largest by `size` first (they take
 /// longest; ties in the order of `jobs`), and returns the results in the order of `jobs`. The
 /// first error stops the rest. Every study's case × level runs are scheduled here, and so are
@@ -270,8 +279,8 @@ pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned>(
     size: impl Fn(&J) -> usize,
     job: impl Fn(&J) -> Result<T, Error> + Sync,
 ) -> Result<Vec<T>, Error> {
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by_key(|&k| (std::cmp::Reverse(size(&jobs[k])), k));
+    let sizes: Vec<usize> = jobs.iter().map(size).collect();
+    let order = largest_first(&sizes);
     let run_all = |order: &[usize]| -> Result<Vec<(usize, T)>, Error> {
         order
             .par_iter()

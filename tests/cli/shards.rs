@@ -283,3 +283,34 @@ fn reference_shards_fill_one_cache_that_the_merge_reuses() {
         &["--out", "--shard"],
     );
 }
+
+/// A shard is held to its own work, not the study's: a `--max-dof-steps` between a quarter and
+/// the whole of the study's estimate refuses the study and lets its shards of four run; their
+/// merge, which runs none of the jobs, passes it too.
+#[test]
+fn a_shard_is_held_to_its_own_work() {
+    let dir = scratch("budget");
+    let out = signorini(&[
+        "study",
+        DIRICHLET,
+        LEVELS[0],
+        LEVELS[1],
+        "--max-dof-steps",
+        "1",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let whole: f64 = stderr
+        .split_once("the estimated work is ")
+        .and_then(|(_, rest)| rest.split_once(' '))
+        .and_then(|(number, _)| number.parse().ok())
+        .unwrap_or_else(|| panic!("no estimate in {stderr}"));
+    let limit = format!("{:e}", 0.6 * whole);
+    let limited = [LEVELS[0], LEVELS[1], "--max-dof-steps", limit.as_str()];
+    let mut unsharded = vec!["study", DIRICHLET];
+    unsharded.extend(limited);
+    expect_error(&unsharded, 2, &["estimated work", "--max-dof-steps"]);
+    let files: Vec<String> = (1..=4)
+        .map(|k| shard(&dir, DIRICHLET, &limited, k, 4))
+        .collect();
+    assert!(merged(&files).contains("Crank–Nicolson — standard"));
+}

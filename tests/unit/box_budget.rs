@@ -39,3 +39,40 @@ fn a_box_runs_memory_estimate_follows_its_step_solver() {
     assert!(gib(LinearSolver::Auto, 80) * 1024.0 > 83.0);
     assert!(gib(LinearSolver::Auto, 160) * 1024.0 > 439.0);
 }
+
+/// A shard's budget is its share's (issue 19, item 4): the shards' job counts per level add up
+/// to the whole study's, each level's jobs go round the shards from the largest level down, and
+/// a shard's work is a fraction of the study's.
+#[test]
+fn a_shard_is_budgeted_for_its_own_jobs() {
+    use signorini::harness::shard::ShardSpec;
+
+    let levels = [10, 20, 40, 80];
+    let whole = budget::jobs_per_level(&levels, 4, None);
+    assert_eq!(whole, [4.0; 4]);
+    let shards: Vec<Vec<f64>> = (1..=3)
+        .map(|k| budget::jobs_per_level(&levels, 4, Some(ShardSpec { k, n: 3 })))
+        .collect();
+    for l in 0..levels.len() {
+        let sum: f64 = shards.iter().map(|s| s[l]).sum();
+        assert_eq!(sum, 4.0, "level {}", levels[l]);
+    }
+    // The largest-first order deals level 80's four jobs to shards 1, 2, 3, 1.
+    assert_eq!(shards[0][3], 2.0);
+    assert_eq!(shards[1][3], 1.0);
+    let problem = bar3d(LinearSolver::Auto);
+    let work = |jobs: &[f64]| budget::box_study(&problem, &levels[..3], 80, 2.0, jobs, 9).dof_steps;
+    let reference = work(&[0.0; 3]);
+    let (all, one) = (
+        work(&budget::jobs_per_level(&levels[..3], 4, None)),
+        work(&budget::jobs_per_level(
+            &levels[..3],
+            4,
+            Some(ShardSpec { k: 1, n: 4 }),
+        )),
+    );
+    assert!(
+        one - reference < 0.5 * (all - reference),
+        "a quarter of the jobs: {one} of {all} dof-steps, the reference's {reference}"
+    );
+}

@@ -110,6 +110,12 @@ pub fn replay<T, E: From<ShardError>>(
     }
 }
 
+/// Whether a merge is replaying its shards' results on this thread: the study it runs computes
+/// none of its jobs.
+pub fn replaying() -> bool {
+    PLAN.with(|p| matches!(&*p.borrow(), Plan::Replaying { .. }))
+}
+
 /// How to schedule a job list of `jobs` jobs given on this thread.
 pub fn next_list(jobs: usize) -> Result<Schedule, Error> {
     PLAN.with(|p| match &mut *p.borrow_mut() {
