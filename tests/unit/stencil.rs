@@ -297,3 +297,37 @@ fn the_massless_plane_costs_no_extra_cg_iterations() {
         }
     }
 }
+
+/// A stencil cut after its first `m` node layers along the axis is the principal submatrix on
+/// those nodes (the contact slab's matrix, solved by CG from the local operator): every entry,
+/// both masses, 2D and 3D; the cut keeps a separable part for the preconditioner, and cuts
+/// that would change the first two layers' blocks or keep everything are refused.
+#[test]
+fn a_stencil_cut_after_its_first_layers_is_the_principal_submatrix() {
+    for mesh in [
+        BoxMesh::new(&[0.3, 1.0], &[3, 7]).unwrap(),
+        BoxMesh::new(&[0.2, 0.3, 1.0], &[2, 3, 6]).unwrap(),
+    ] {
+        let axial = mesh.counts()[mesh.dim() - 1];
+        for variant in [MassVariant::Standard, MassVariant::Redistributed] {
+            let k = step_stencil(&mesh, variant, 0.25);
+            assert!(k.first_layers(2).is_none() && k.first_layers(axial).is_none());
+            for m in 3..axial {
+                let cut = k.first_layers(m).unwrap();
+                assert!(cut.separable_part().is_some());
+                let n = cut.dim();
+                assert_eq!(n * axial, k.dim() * m, "{:?} m = {m}", mesh.counts());
+                for i in 0..n {
+                    for j in 0..n {
+                        assert_eq!(
+                            cut.get(i, j),
+                            k.get(i, j),
+                            "{:?} {variant:?} m = {m}: entry ({i}, {j})",
+                            mesh.counts()
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

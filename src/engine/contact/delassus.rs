@@ -80,9 +80,12 @@ impl Operator {
         }
     }
 
-    fn apply_correction(&mut self, mu: &[f64], u: &mut [f64]) {
+    fn apply_correction(&mut self, mu: &[f64], u: &mut [f64]) -> Result<(), SolveError> {
         match self {
-            Operator::Full(d) => d.apply_correction(mu, u),
+            Operator::Full(d) => {
+                d.apply_correction(mu, u);
+                Ok(())
+            }
             Operator::Local(d) => d.apply_correction(mu, u),
         }
     }
@@ -208,7 +211,7 @@ impl ContactStep {
                 return Err(SolveError::ContactNotConverged { step, iterations })
             }
         }
-        self.delassus.apply_correction(&self.mu, u);
+        self.delassus.apply_correction(&self.mu, u)?;
         for (i, (row, &g)) in self.rows.iter().zip(&self.set.gaps).enumerate() {
             let gap = sparse_dot(&row.measure, u) + shift(i, g) + row.compliance * self.mu[i];
             let violation = (-gap).max(self.mu[i] * gap.abs());

@@ -25,7 +25,7 @@ pub use active_set::PrimalDualActiveSet;
 pub use closed_form::ClosedFormContact;
 pub use delassus::{ContactStep, Delassus};
 pub use law::{ConstraintRow, ContactLaw};
-pub use local::{ContactOperator, LocalDelassus, Truncation};
+pub use local::{ContactOperator, LocalDelassus, SlabSolve, Truncation, CG_SLAB_FROM_DOFS};
 pub use qp::ClarabelContact;
 pub use set::ContactSet;
 pub use treatment::{ContactTreatment, TREATMENT_LIST, TREATMENT_NAMES};

@@ -68,6 +68,15 @@ impl AxisMatrix {
         }
     }
 
+    /// The leading `nodes × nodes` block: the matrix on the first `nodes` nodes, the last of
+    /// which keeps both elements' entries (the principal submatrix, as at a cut).
+    pub fn first_nodes(&self, nodes: usize) -> AxisMatrix {
+        AxisMatrix {
+            diag: self.diag[..nodes].to_vec(),
+            off: self.off[..nodes.saturating_sub(1)].to_vec(),
+        }
+    }
+
     /// `a·self + b·other`.
     pub fn combine(&self, a: f64, other: &AxisMatrix, b: f64) -> AxisMatrix {
         let mix = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| a * p + b * q).collect();
@@ -121,6 +130,31 @@ impl SeparablePart {
             mass_axes: trim(&self.mass_axes),
             coefficients: self.coefficients.clone(),
             stiffness_axes: trim(&self.stiffness_axes),
+        }
+    }
+
+    /// The separable part on the first `layers` node layers of the last axis: the principal
+    /// submatrix of the operator on those nodes (the last axis's factors cut to their leading
+    /// blocks, [`AxisMatrix::first_nodes`]).
+    pub fn first_layers(&self, layers: usize) -> SeparablePart {
+        let cut = |axes: &[AxisMatrix]| -> Vec<AxisMatrix> {
+            let last = axes.len().saturating_sub(1);
+            (axes.iter().enumerate())
+                .map(|(k, m)| {
+                    if k == last {
+                        m.first_nodes(layers)
+                    } else {
+                        m.clone()
+                    }
+                })
+                .collect()
+        };
+        SeparablePart {
+            components: self.components,
+            mass_scale: self.mass_scale,
+            mass_axes: cut(&self.mass_axes),
+            coefficients: self.coefficients.clone(),
+            stiffness_axes: cut(&self.stiffness_axes),
         }
     }
 

@@ -115,6 +115,16 @@ impl SymmetricMatrix {
         }
     }
 
+    /// A stencil's principal submatrix on its first `layers` node layers along the last axis
+    /// ([`Stencil::first_layers`]), matrix-free; `None` for an assembled matrix or a cut the
+    /// stencil cannot make.
+    pub fn first_layers(&self, layers: usize) -> Option<SymmetricMatrix> {
+        match &self.storage {
+            Storage::Stencil(s) => s.first_layers(layers).map(Self::from_stencil),
+            Storage::Assembled { .. } => None,
+        }
+    }
+
     /// Whether the matrix is stored as a stencil (matrix-free) rather than assembled.
     pub fn is_stencil(&self) -> bool {
         matches!(self.storage, Storage::Stencil(_))

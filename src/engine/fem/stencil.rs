@@ -165,6 +165,35 @@ impl Stencil {
         self.class_of.len() * self.dim
     }
 
+    /// The principal submatrix on the first `layers` node layers along the last axis (the
+    /// nodes next to `Γ_Sig` first, a prefix of the numbering): the operator of the same box
+    /// cut after `layers` layers, with zero displacement beyond the cut. Every kept node keeps
+    /// its blocks but the last layer's, which lose their couplings beyond the cut: those are
+    /// the blocks of the box's last layer (next to its eliminated face), whose elements are the
+    /// same. `None` unless `3 ≤ layers <` the box's layers (the first two layers have blocks
+    /// of their own).
+    pub fn first_layers(&self, layers: usize) -> Option<Stencil> {
+        let axis = self.dim - 1;
+        let all = self.nodes_per_axis[axis];
+        if layers < 3 || layers >= all {
+            return None;
+        }
+        let per_layer: usize = self.nodes_per_axis[..axis].iter().product();
+        let kept = (layers - 1) * per_layer;
+        let last = (all - 1) * per_layer;
+        let mut class_of = self.class_of[..kept].to_vec();
+        class_of.extend_from_slice(&self.class_of[last..last + per_layer]);
+        let mut nodes_per_axis = self.nodes_per_axis;
+        nodes_per_axis[axis] = layers;
+        Some(Stencil {
+            dim: self.dim,
+            nodes_per_axis,
+            class_of,
+            classes: self.classes.clone(),
+            separable: self.separable.as_ref().map(|p| p.first_layers(layers)),
+        })
+    }
+
     /// Entry `(i, j)`.
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let d = self.dim;
