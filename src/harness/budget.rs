@@ -13,8 +13,8 @@
 //! - a 3D box: `600 dofs^⅓` bytes per unknown (fill like `n^⅓` per unknown: measured 16.4 kB at
 //!   26 460 unknowns on a 20³ cube, 10 kB at 19 440 on an 8 × 8 × 80 bar, against 17.9 and
 //!   16.2 kB here), plus the dense Delassus operator of the contact face; with the `cg` step
-//!   solver (matrix-free, the `auto` choice from 10 000 unknowns) a constant
-//!   [`CG_BOX_BYTES_PER_DOF`] instead (measured 3.2–4.3 kB);
+//!   solver (matrix-free, the `auto` choice from 10 000 unknowns) [`CG_BOX_FIXED_BYTES`] and
+//!   [`CG_BOX_BYTES_PER_DOF`] per unknown instead (measured 0.25 kB per unknown at 1 M);
 //! - every value a run stores per step or per snapshot (histories, fields), [`BYTES_PER_STORED_VALUE`]
 //!   for the value and the text it becomes in `run.json` and the CSV files;
 //! - a study: as many runs at once as rayon has threads, each the size of its largest run; a box
@@ -262,10 +262,17 @@ fn box_shape(problem: &BoxProblem, n_axis: usize) -> BoxShape {
 }
 
 /// Peak bytes per unknown of a box run whose step solver is `cg` (matrix-free, local contact
-/// operator): an upper bound of the measured 3.2 kB (3D level 160, 439 MB) and 4.3 kB (level
-/// 80, 83 MB), which include the transient assembly of the start's mass block and the local
-/// operator's factorised slab.
-const CG_BOX_BYTES_PER_DOF: f64 = 4500.0;
+/// operator solved by CG on its slab, the mass's dofs with inertia kept matrix-free): with
+/// [`CG_BOX_FIXED_BYTES`] and [`BASE_BYTES`], an upper bound of the measured peaks of the 3D
+/// bar (CN `M^mod`, `run`): 55.6 MB at level 80 (19 440 unknowns), 89.5 MB at level 160
+/// (138 720), 273 MB at level 320 (1.05 M), against 72, 119 and 495 MB estimated. Before the
+/// slab's CG and the matrix-free start they were 66 MB, 333 MB and 1.93 GB.
+const CG_BOX_BYTES_PER_DOF: f64 = 400.0;
+
+/// The memory a `cg` box run needs beyond [`BASE_BYTES`] whatever its size (its threads' work
+/// vectors, the slab's and the plane's small factors): the level-80 run's 55.6 MB are mostly
+/// this.
+const CG_BOX_FIXED_BYTES: f64 = 48.0 * 1024.0 * 1024.0;
 
 /// Peak bytes of the matrices and factor of a box run of `problem` with `dofs` unknowns and
 /// `contact_nodes` contact constraints: the step solver `problem.linear_solver` chooses
@@ -277,12 +284,12 @@ fn box_matrix_bytes(problem: &BoxProblem, dofs: f64, contact_nodes: f64) -> f64 
     } else {
         usize::MAX
     };
-    let per_dof = match problem.linear_solver.for_box(unknowns) {
-        LinearSolver::Cg => CG_BOX_BYTES_PER_DOF,
-        _ if dim == 3 => 600.0 * dofs.cbrt(),
-        _ => 300.0 * dofs.max(2.0).log2(),
+    let matrices = match problem.linear_solver.for_box(unknowns) {
+        LinearSolver::Cg => CG_BOX_FIXED_BYTES + CG_BOX_BYTES_PER_DOF * dofs,
+        _ if dim == 3 => 600.0 * dofs.cbrt() * dofs,
+        _ => 300.0 * dofs.max(2.0).log2() * dofs,
     };
-    per_dof * dofs + 3.0 * 8.0 * contact_nodes * contact_nodes
+    matrices + 3.0 * 8.0 * contact_nodes * contact_nodes
 }
 
 /// A box run of `problem` with `n_axis` elements along the axis and `Δx/Δt = ratio`;

@@ -331,3 +331,39 @@ fn a_stencil_cut_after_its_first_layers_is_the_principal_submatrix() {
         }
     }
 }
+
+/// The principal submatrix of a stencil on all its dofs, or on those off the first layer
+/// (`M^mod`'s dofs with mass, whose initial acceleration it solves), stays matrix-free and has
+/// the stencil's entries; other index sets are assembled.
+#[test]
+fn a_stencil_off_its_first_layer_is_the_principal_submatrix() {
+    for mesh in [
+        BoxMesh::new(&[0.3, 1.0], &[3, 7]).unwrap(),
+        BoxMesh::new(&[0.2, 0.3, 1.0], &[2, 3, 6]).unwrap(),
+    ] {
+        for variant in [MassVariant::Standard, MassVariant::Redistributed] {
+            let mass = mesh.mass_stencil(variant, 1.0).unwrap();
+            for k in [mass, step_stencil(&mesh, variant, 0.25)] {
+                let n = k.dim();
+                let first = n / mesh.counts()[mesh.dim() - 1];
+                let all: Vec<usize> = (0..n).collect();
+                assert!(k.principal_submatrix(&all).is_stencil());
+                let off = k.principal_submatrix(&all[first..]);
+                assert!(off.is_stencil(), "{:?} {variant:?}", mesh.counts());
+                assert!(off.separable_part().is_some());
+                assert_eq!(off.dim(), n - first);
+                for i in 0..off.dim() {
+                    for j in 0..off.dim() {
+                        assert_eq!(
+                            off.get(i, j),
+                            k.get(first + i, first + j),
+                            "{:?} {variant:?}: entry ({i}, {j})",
+                            mesh.counts()
+                        );
+                    }
+                }
+                assert!(!k.principal_submatrix(&all[1..]).is_stencil());
+            }
+        }
+    }
+}

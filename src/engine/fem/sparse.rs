@@ -426,8 +426,26 @@ impl SymmetricMatrix {
         asm.finish()
     }
 
-    /// The principal submatrix on `indices` (in that order).
+    /// The principal submatrix on `indices` (in that order). A stencil's whole and its part off
+    /// the first layer (a suffix: `M^mod`'s dofs with mass) stay matrix-free
+    /// ([`Stencil::without_first_layer`]); everything else is assembled.
     pub fn principal_submatrix(&self, indices: &[usize]) -> SymmetricMatrix {
+        if let Storage::Stencil(stencil) = &self.storage {
+            let n = self.dim();
+            let suffix = indices
+                .first()
+                .is_some_and(|&first| first + indices.len() == n)
+                && indices.windows(2).all(|w| w[1] == w[0] + 1);
+            if suffix && indices.len() == n {
+                return self.clone();
+            }
+            if let Some(cut) = stencil
+                .without_first_layer()
+                .filter(|cut| suffix && cut.dim() == indices.len())
+            {
+                return Self::from_stencil(cut);
+            }
+        }
         let mut local = vec![usize::MAX; self.dim()];
         for (k, &i) in indices.iter().enumerate() {
             local[i] = k;

@@ -165,6 +165,50 @@ impl Stencil {
         self.class_of.len() * self.dim
     }
 
+    /// The principal submatrix on the nodes off the first layer along the last axis (off
+    /// `Γ_Sig`: a suffix of the numbering), matrix-free: the nodes of the second layer lose
+    /// their blocks with the first, the others keep theirs, and the separable part loses the
+    /// last axis's first node ([`SeparablePart::without_first_layer`]). What `M^mod`'s dofs
+    /// with mass need for the initial acceleration without assembling the mass. `None` for a
+    /// box of fewer than two layers.
+    pub fn without_first_layer(&self) -> Option<Stencil> {
+        let axis = self.dim - 1;
+        let all = self.nodes_per_axis[axis];
+        if all < 2 {
+            return None;
+        }
+        let per_layer: usize = self.nodes_per_axis[..axis].iter().product();
+        let mut classes = self.classes.clone();
+        let mut cut_class: Vec<Option<u16>> = vec![None; self.classes.len()];
+        let mut class_of = self.class_of[per_layer..].to_vec();
+        for (node, class) in class_of.iter_mut().take(per_layer).enumerate() {
+            let original = usize::from(*class);
+            let cut = *cut_class[original].get_or_insert_with(|| {
+                let blocks = self.classes[original]
+                    .blocks
+                    .iter()
+                    .filter(|(offset, _)| node as isize + offset >= 0)
+                    .copied()
+                    .collect();
+                classes.push(NodeClass::new(self.dim, blocks));
+                u16::try_from(classes.len() - 1).expect("at most 4^6 classes")
+            });
+            *class = cut;
+        }
+        let mut nodes_per_axis = self.nodes_per_axis;
+        nodes_per_axis[axis] = all - 1;
+        Some(Stencil {
+            dim: self.dim,
+            nodes_per_axis,
+            class_of,
+            classes,
+            separable: self
+                .separable
+                .as_ref()
+                .map(SeparablePart::without_first_layer),
+        })
+    }
+
     /// The principal submatrix on the first `layers` node layers along the last axis (the
     /// nodes next to `Γ_Sig` first, a prefix of the numbering): the operator of the same box
     /// cut after `layers` layers, with zero displacement beyond the cut. Every kept node keeps
