@@ -18,7 +18,8 @@
 //! - every value a run stores per step or per snapshot (histories, fields), [`BYTES_PER_STORED_VALUE`]
 //!   for the value and the text it becomes in `run.json` and the CSV files;
 //! - a study: as many runs at once as rayon has threads, each the size of its largest run; a box
-//!   study also holds its fine-mesh reference and the reference's samples.
+//!   study also holds its fine-mesh reference, the reference's samples and, for the projections
+//!   on each fitted level, two Cholesky factors of that level's size.
 //!
 //! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
 //! set-up counts one solve per contact node as a step).
@@ -286,10 +287,20 @@ fn box_matrix_bytes(problem: &BoxProblem, dofs: f64, contact_nodes: f64) -> f64 
     };
     let matrices = match problem.linear_solver.for_box(unknowns) {
         LinearSolver::Cg => CG_BOX_FIXED_BYTES + CG_BOX_BYTES_PER_DOF * dofs,
-        _ if dim == 3 => 600.0 * dofs.cbrt() * dofs,
-        _ => 300.0 * dofs.max(2.0).log2() * dofs,
+        _ => cholesky_bytes(dim, dofs),
     };
     matrices + 3.0 * 8.0 * contact_nodes * contact_nodes
+}
+
+/// Bytes of a sparse Cholesky factor of a box matrix on `dofs` unknowns in dimension `dim`
+/// (nested-dissection fill): `600 n^{4/3}` in 3D, `300 n log₂ n` in 2D, upper bounds of the
+/// measured peaks of `direct` box runs, whose step matrix has every box matrix's pattern.
+fn cholesky_bytes(dim: usize, dofs: f64) -> f64 {
+    if dim == 3 {
+        600.0 * dofs.cbrt() * dofs
+    } else {
+        300.0 * dofs.max(2.0).log2() * dofs
+    }
 }
 
 /// A box run of `problem` with `n_axis` elements along the axis and `Δx/Δt = ratio`;
@@ -380,7 +391,8 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]
 /// for the reference alone, `signorini reference`), each of `runs_per_job` runs (the
 /// unperturbed run and the ensemble's members), and its fine-mesh reference at `reference_level`
 /// (counted as computed): the reference run, the check run one level coarser beside it, the
-/// reference's projections on every level (`2 (dofs_ℓ + 1)` values per step of level ℓ), the
+/// reference's projections on every level (`2 (dofs_ℓ + 1)` values per step of level ℓ) with
+/// the two Cholesky factors per level they solve with (the level's `M` and `M + S`), the
 /// finest level's prolongation into the reference mesh (at most `2^d` weights and indices per
 /// fine unknown) and the five fine work vectors of the projections and the check.
 pub fn box_study(
@@ -405,6 +417,7 @@ pub fn box_study(
         .map(|&nx| {
             let level = box_shape(problem, nx);
             16.0 * (level.dofs + 1.0) * (steps(problem.horizon, level.h, ratio) + 1.0)
+                + 2.0 * cholesky_bytes(problem.lengths.len(), level.dofs)
         })
         .sum();
     let corners = f64::from(1u32 << problem.lengths.len().min(3));

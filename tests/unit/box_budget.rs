@@ -78,3 +78,24 @@ fn a_shard_is_budgeted_for_its_own_jobs() {
         "a quarter of the jobs: {one} of {all} dof-steps, the reference's {reference}"
     );
 }
+
+/// A box study's memory estimate holds its measured peak (`/usr/bin/time`, the reference
+/// computed, 4 cases × 9 runs per level): 159 MB for `scenes/bar3d.json` (levels 10–40 against
+/// 160) and 9.12 GB for `scenes/bar3d-finest.json` (10–160 against 640, 2026-11-26), whose
+/// projections hold two Cholesky factors of the level-160 norm matrices: without them the
+/// estimate was 6.9 GiB.
+#[test]
+fn a_box_studys_memory_estimate_holds_its_measured_peak() {
+    let problem = bar3d(LinearSolver::Auto);
+    for (levels, reference, measured_kb) in [
+        (&[10, 20, 40][..], 160, 159_116.0),
+        (&[10, 20, 40, 80, 160][..], 640, 9_115_872.0),
+    ] {
+        let jobs = budget::jobs_per_level(levels, 4, None);
+        let estimate = budget::box_study(&problem, levels, reference, 2.0, &jobs, 9).memory_bytes;
+        assert!(
+            estimate > 1024.0 * measured_kb,
+            "levels {levels:?} against {reference}: estimated {estimate} bytes, measured {measured_kb} kB"
+        );
+    }
+}
