@@ -24,9 +24,10 @@ report-fine: build
 	$(BIN) figures --reports reports/fine
 
 ## The finest 3D study (issue 19, item 3) into reports/finest/: levels 10–160 against a reference
-## on 640 elements along the axis (8.4 M unknowns, 2 560 steps), with the round-off ensembles and
-## figures. The reference takes most of the time (about an hour and a half on 2 cores, 7 GB; see
-## the README, "What a finer reference would take"); it is cached in reports/finest/data/references/.
+## on 640 elements along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and
+## figures. The reference takes most of the time (measured 2026-11-26: 63 of 71 minutes on 2 cores,
+## 9.12 GB peak; see the README, "What a finer reference would take"); it is cached in
+## reports/finest/data/references/.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
 	$(BIN) figures --reports reports/finest
