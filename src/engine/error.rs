@@ -115,6 +115,17 @@ pub enum SolveError {
         /// The relative residual reached.
         residual: f64,
     },
+    /// A step whose solve cannot be trusted: the step solver missed its tolerance, or the
+    /// scheme's discrete energy balance is violated beyond round-off.
+    #[error("inaccurate solve at step {step} (t = {time}): {detail}")]
+    Inaccurate {
+        /// Time step index.
+        step: usize,
+        /// Time of the step.
+        time: f64,
+        /// What missed its bound, with the value and the bound.
+        detail: String,
+    },
     /// A state value became NaN or infinite.
     #[error("non-finite {quantity} at step {step} (t = {time})")]
     NonFinite {

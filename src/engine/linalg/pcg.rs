@@ -17,7 +17,9 @@
 //! z_{k+1} = P⁻¹ r_{k+1},  β_k = r_{k+1}ᵀz_{k+1} / r_kᵀz_k,  p_{k+1} = z_{k+1} + β_k p_k
 //! ```
 //! stopping when `‖r_k‖₂ ≤ tol ‖b‖₂` (relative to the right-hand side, not to `r₀`, so that a
-//! good initial guess saves iterations instead of tightening the test).
+//! good initial guess saves iterations instead of tightening the test) and the true residual
+//! `‖b − K x_k‖₂` meets the same test ([`Pcg::solve`]: the recurrence's `r_k` can drift from
+//! it by round-off, and a solve is never taken for one on the recurrence's word alone).
 
 use super::{CondensedPlane, ProductPreconditioner};
 use crate::engine::error::SolveError;
@@ -33,6 +35,11 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-13;
 /// The iteration limit: far above the few tens a bounded condition number needs, so reaching
 /// it means the matrix is not what this solver is for.
 const MAX_ITERATIONS: usize = 2000;
+
+/// How much a restart from the true residual ([`Pcg::solve`]) must reduce it to be followed by
+/// another: a true residual that no longer halves is round-off the iteration cannot go below
+/// (the matrix is too ill-conditioned for the tolerance), and the solve fails.
+const RESTART_PROGRESS: f64 = 2.0;
 
 /// A symmetric positive definite matrix prepared for preconditioned CG.
 #[derive(Debug)]
@@ -147,42 +154,67 @@ impl Pcg {
     }
 
     /// Solves `K x = b` from the initial guess in `x`, overwriting it with the solution, and
-    /// returns the iterations spent (0 when the guess already satisfies the tolerance). Fails
-    /// when the tolerance is not reached within the iteration limit.
+    /// returns the iterations spent (0 when the guess already satisfies the tolerance).
+    ///
+    /// The iteration's residual `r_k` is updated by recurrence, which drifts from the true
+    /// residual `b − K x_k` by round-off (much more so on an ill-conditioned `K`). So when `r_k`
+    /// meets the tolerance the true residual is computed, and the solve ends only when it meets
+    /// the tolerance too; otherwise the iteration restarts from `x_k` with the true residual
+    /// (residual replacement, van der Vorst and Ye, SIAM J. Sci. Comput. 22, 2000) for as long
+    /// as each restart reduces it by [`RESTART_PROGRESS`]. Fails, with the true relative
+    /// residual reached, when the tolerance is not met within the iteration limit or the
+    /// restarts stagnate: the caller must not take `x` for a solution.
     pub fn solve(&self, b: &[f64], x: &mut [f64], work: &mut PcgWork) -> Result<usize, SolveError> {
         let PcgWork { r, z, p, q } = work;
         let b_norm = dot(b, b).sqrt();
         let target = self.tolerance * b_norm;
-        self.matrix.mul_dot(x, r);
-        r.iter_mut().zip(b).for_each(|(ri, bi)| *ri = bi - *ri);
-        let mut residual = dot(r, r).sqrt();
-        if residual <= target {
-            return Ok(0);
-        }
-        let mut rz = self.preconditioner.apply(r, z);
-        p.copy_from_slice(z);
-        for iteration in 1..=MAX_ITERATIONS {
-            let alpha = rz / self.matrix.mul_dot(p, q);
-            let mut rr = 0.0;
-            for (((xi, ri), pi), qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-                *xi += alpha * pi;
-                *ri -= alpha * qi;
-                rr += *ri * *ri;
-            }
-            residual = rr.sqrt();
+        let true_residual = |x: &[f64], r: &mut [f64]| {
+            self.matrix.mul_dot(x, r);
+            r.iter_mut().zip(b).for_each(|(ri, bi)| *ri = bi - *ri);
+            dot(r, r).sqrt()
+        };
+        let mut residual = true_residual(x, r);
+        let mut iteration = 0;
+        loop {
             if residual <= target {
                 return Ok(iteration);
             }
-            let rz_next = self.preconditioner.apply(r, z);
-            let beta = rz_next / rz;
-            rz = rz_next;
-            p.iter_mut()
-                .zip(z.iter())
-                .for_each(|(pi, zi)| *pi = zi + beta * *pi);
+            let restarted_from = residual;
+            let mut rz = self.preconditioner.apply(r, z);
+            p.copy_from_slice(z);
+            while iteration < MAX_ITERATIONS {
+                iteration += 1;
+                let alpha = rz / self.matrix.mul_dot(p, q);
+                let mut rr = 0.0;
+                for (((xi, ri), pi), qi) in
+                    x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter())
+                {
+                    *xi += alpha * pi;
+                    *ri -= alpha * qi;
+                    rr += *ri * *ri;
+                }
+                if rr.sqrt() <= target || !rr.is_finite() {
+                    break;
+                }
+                let rz_next = self.preconditioner.apply(r, z);
+                let beta = rz_next / rz;
+                rz = rz_next;
+                p.iter_mut()
+                    .zip(z.iter())
+                    .for_each(|(pi, zi)| *pi = zi + beta * *pi);
+            }
+            residual = true_residual(x, r);
+            let progressed = residual * RESTART_PROGRESS <= restarted_from;
+            if residual <= target {
+                return Ok(iteration);
+            }
+            if iteration >= MAX_ITERATIONS || !progressed {
+                break;
+            }
         }
         Err(SolveError::NotConverged {
             solver: "conjugate gradient",
-            iterations: MAX_ITERATIONS,
+            iterations: iteration,
             residual: residual / b_norm,
         })
     }

@@ -59,7 +59,9 @@ use super::newmark::staggered_energy;
 use super::paoli_schatzman::HalfStep;
 use super::{residual_force, Scheme, TimeIntegrator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
+use crate::engine::contact::ContactTreatment;
 use crate::engine::model::Model;
+use crate::engine::schemes::conventions::{Conventions, Start};
 
 /// The largest relative per-step residual ([`BalanceMonitor::largest_residual`]) that
 /// `signorini run --check-balance` accepts. Round-off leaves about 10⁻¹⁴ on the Dirichlet
@@ -146,14 +148,6 @@ fn contact_work(rows: &[ConstraintRow], x: &[f64], weights: impl Fn(usize) -> f6
         .sum()
 }
 
-fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x - y).collect()
-}
-
-fn sum(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x + y).collect()
-}
-
 /// `Fᵀx` (0 without a load).
 fn load_work(model: &Model, x: &[f64]) -> f64 {
     model
@@ -161,18 +155,51 @@ fn load_work(model: &Model, x: &[f64]) -> f64 {
         .map_or(0.0, |f| f.iter().zip(x).map(|(a, b)| a * b).sum())
 }
 
+/// `c · form()`, the form not evaluated when `c = 0` (a term the scheme's parameters cancel,
+/// e.g. every `S`-term of Crank–Nicolson's eq. 33).
+fn term(c: f64, form: impl FnOnce() -> f64) -> f64 {
+    if c == 0.0 {
+        0.0
+    } else {
+        c * form()
+    }
+}
+
+/// What the balances need beyond the states, kept from step to step by [`BalanceMonitor`] so
+/// that a step allocates nothing: the constraint rows (constant for a model) and the vectors
+/// `a − b` and `a + b` of two levels.
+#[derive(Debug, Default)]
+struct Workspace {
+    rows: Option<Vec<ConstraintRow>>,
+    difference: [Vec<f64>; 2],
+    sum: [Vec<f64>; 2],
+}
+
+impl Workspace {
+    /// Prepares a one-step balance of `model` from `before` to `after`: the constraint rows
+    /// (built on first use), `ΔU`, `U^{n+1} + U^n` (pair 0) and `ΔV`, `V^{n+1} + V^n` (pair 1).
+    fn prepare(&mut self, model: &Model, before: &Level, after: &Level) {
+        self.rows.get_or_insert_with(|| constraints(model));
+        self.pair(0, after.displacement, before.displacement);
+        self.pair(1, after.velocity, before.velocity);
+    }
+
+    /// Fills difference `k` with `a − b` and sum `k` with `a + b`.
+    fn pair(&mut self, k: usize, a: &[f64], b: &[f64]) {
+        let (d, s) = (&mut self.difference[k], &mut self.sum[k]);
+        d.clear();
+        s.clear();
+        d.extend(a.iter().zip(b).map(|(x, y)| x - y));
+        s.extend(a.iter().zip(b).map(|(x, y)| x + y));
+    }
+}
+
 /// `E_h(after) − E_h(before)` in the form of eq. (43) with the load:
-/// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`.
-fn mechanical_energy_change(
-    model: &Model,
-    before: &Level,
-    after: &Level,
-    du: &[f64],
-    dv: &[f64],
-) -> f64 {
-    let u_sum = sum(after.displacement, before.displacement);
-    let v_sum = sum(after.velocity, before.velocity);
-    0.5 * model.mass().bilinear_form(dv, &v_sum) + 0.5 * model.stiffness().bilinear_form(du, &u_sum)
+/// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`, with `ΔU`, `U^{n+1} + U^n` in
+/// the workspace's pair 0 and the velocities' in pair 1.
+fn mechanical_energy_change(model: &Model, ws: &Workspace) -> f64 {
+    let ([du, dv], [u_sum, v_sum]) = (&ws.difference, &ws.sum);
+    0.5 * model.mass().bilinear_form(dv, v_sum) + 0.5 * model.stiffness().bilinear_form(du, u_sum)
         - load_work(model, du)
 }
 
@@ -187,39 +214,72 @@ pub fn newmark(
     before: &Level,
     after: &Level,
 ) -> StepBalance {
-    let du = difference(after.displacement, before.displacement);
-    let dv = difference(after.velocity, before.velocity);
-    let s = model.stiffness();
-    let rows = constraints(model);
-    let (l0, l1) = (before.multiplier, after.multiplier);
-    let work = contact_work(&rows, &du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
-    let impulse_change = contact_work(&rows, &dv, |i| l1[i] - l0[i]);
+    let (change, predicted_change) = newmark_in(
+        &mut Workspace::default(),
+        model,
+        (beta, gamma),
+        dt,
+        (before, after),
+    );
     StepBalance {
         energy_before: mechanical_energy(model, before),
         energy_after: mechanical_energy(model, after),
-        change: mechanical_energy_change(model, before, after, &du, &dv),
-        predicted_change: (0.5 - gamma) * s.quadratic_form(&du) - work
-            + dt * (beta - 0.5 * gamma) * s.bilinear_form(&dv, &du)
-            + dt * (beta - 0.5 * gamma) * impulse_change,
+        change,
+        predicted_change,
     }
+}
+
+/// [`newmark`]'s change and predicted change, in `ws`.
+fn newmark_in(
+    ws: &mut Workspace,
+    model: &Model,
+    (beta, gamma): (f64, f64),
+    dt: f64,
+    (before, after): (&Level, &Level),
+) -> (f64, f64) {
+    ws.prepare(model, before, after);
+    let (l0, l1) = (before.multiplier, after.multiplier);
+    let rows = ws.rows.as_deref().unwrap_or_default();
+    let [du, dv] = &ws.difference;
+    let work = contact_work(rows, du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
+    let impulse_change = contact_work(rows, dv, |i| l1[i] - l0[i]);
+    let s = model.stiffness();
+    let skew = dt * (beta - 0.5 * gamma);
+    let predicted = term(0.5 - gamma, || s.quadratic_form(du)) - work
+        + term(skew, || s.bilinear_form(dv, du))
+        + skew * impulse_change;
+    (mechanical_energy_change(model, ws), predicted)
 }
 
 /// The θ-method balance over one step, eq. (35): `ΔE` against
 /// `(½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀΛ_θ`.
 pub fn theta(model: &Model, theta: f64, before: &Level, after: &Level) -> StepBalance {
-    let du = difference(after.displacement, before.displacement);
-    let dv = difference(after.velocity, before.velocity);
-    let rows = constraints(model);
-    let (l0, l1) = (before.multiplier, after.multiplier);
-    let work = contact_work(&rows, &du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
+    let (change, predicted_change) =
+        theta_in(&mut Workspace::default(), model, theta, (before, after));
     StepBalance {
         energy_before: mechanical_energy(model, before),
         energy_after: mechanical_energy(model, after),
-        change: mechanical_energy_change(model, before, after, &du, &dv),
-        predicted_change: (0.5 - theta) * model.mass().quadratic_form(&dv)
-            + (0.5 - theta) * model.stiffness().quadratic_form(&du)
-            - work,
+        change,
+        predicted_change,
     }
+}
+
+/// [`theta`]'s change and predicted change, in `ws`.
+fn theta_in(
+    ws: &mut Workspace,
+    model: &Model,
+    theta: f64,
+    (before, after): (&Level, &Level),
+) -> (f64, f64) {
+    ws.prepare(model, before, after);
+    let (l0, l1) = (before.multiplier, after.multiplier);
+    let rows = ws.rows.as_deref().unwrap_or_default();
+    let [du, dv] = &ws.difference;
+    let work = contact_work(rows, du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
+    let predicted = term(0.5 - theta, || model.mass().quadratic_form(dv))
+        + term(0.5 - theta, || model.stiffness().quadratic_form(du))
+        - work;
+    (mechanical_energy_change(model, ws), predicted)
 }
 
 /// The Paoli–Schatzman(β) balance over the step from `U^n` to `U^{n+1}`, `λ^n` the multiplier
@@ -293,6 +353,29 @@ pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepB
     }
 }
 
+fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+fn sum(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
+}
+
+/// Whether the balances of this module are identities of the runs of `model` with
+/// `conventions`: they are derived for the harness's conventions. GetFEM's Nitsche acceleration
+/// (the elastic stiffness) and its Paoli–Schatzman rows and first step change the schemes'
+/// equations, and its start gives a penalty or Nitsche run the implicit multiplier instead of
+/// the law's, so those runs satisfy other identities, which are not checked.
+pub fn holds_under(conventions: &Conventions, model: &Model) -> bool {
+    let start_ok = conventions.start == Start::Static
+        || model.contact_law().treatment() == ContactTreatment::Multiplier;
+    start_ok
+        && conventions.nitsche_acceleration == Conventions::HARNESS.nitsche_acceleration
+        && conventions.paoli_schatzman_massless_rows
+            == Conventions::HARNESS.paoli_schatzman_massless_rows
+        && conventions.paoli_schatzman_first_step == Conventions::HARNESS.paoli_schatzman_first_step
+}
+
 /// The paper's equation of `scheme`'s balance: `(33)` for Newmark (β = 0 included), `(35)` for
 /// the θ-method, `(37)` for Paoli–Schatzman.
 pub fn equation(scheme: Scheme) -> &'static str {
@@ -324,6 +407,10 @@ pub struct BalanceMonitor<'m> {
     multiplier: Vec<f64>,
     balanced_steps: usize,
     largest: f64,
+    last: f64,
+    workspace: Workspace,
+    /// `E_h` of the last observed level (the next step's `E^n`), once computed.
+    energy: Option<f64>,
 }
 
 impl<'m> BalanceMonitor<'m> {
@@ -341,6 +428,9 @@ impl<'m> BalanceMonitor<'m> {
             multiplier: Vec::new(),
             balanced_steps: 0,
             largest: 0.0,
+            last: 0.0,
+            workspace: Workspace::default(),
+            energy: None,
         }
     }
 
@@ -356,6 +446,7 @@ impl<'m> BalanceMonitor<'m> {
             if self.step.is_none() {
                 self.initial_energy = integrator.energy().value.abs();
             }
+            self.energy = None;
             None
         };
         if follows {
@@ -374,24 +465,41 @@ impl<'m> BalanceMonitor<'m> {
             .max(b.energy_after.abs());
         let relative = b.residual().abs() / if scale > 0.0 { scale } else { 1.0 };
         self.balanced_steps += 1;
+        self.last = relative;
         if relative > self.largest || relative.is_nan() {
             self.largest = relative;
         }
         Some(b)
     }
 
-    fn balance(&self, integrator: &dyn TimeIntegrator, step: usize) -> Option<StepBalance> {
+    fn balance(&mut self, integrator: &dyn TimeIntegrator, step: usize) -> Option<StepBalance> {
         let before = Level {
             displacement: &self.displacement,
             velocity: &self.velocity,
             multiplier: &self.multiplier,
         };
         let after = Level::of(integrator);
-        match self.scheme {
-            Scheme::Newmark { beta, gamma } => {
-                Some(newmark(self.model, beta, gamma, self.dt, &before, &after))
+        let ws = &mut self.workspace;
+        let one_step = |(change, predicted_change): (f64, f64), energy: Option<f64>| {
+            // The energy only scales the residual: `E^n + ΔE` is `E^{n+1}` up to round-off,
+            // without the two products that computing it afresh would take.
+            let energy_before = energy.unwrap_or_else(|| mechanical_energy(self.model, &before));
+            StepBalance {
+                energy_before,
+                energy_after: energy_before + change,
+                change,
+                predicted_change,
             }
-            Scheme::Theta { theta: t } => Some(theta(self.model, t, &before, &after)),
+        };
+        let balance = match self.scheme {
+            Scheme::Newmark { beta, gamma } => Some(one_step(
+                newmark_in(ws, self.model, (beta, gamma), self.dt, (&before, &after)),
+                self.energy,
+            )),
+            Scheme::Theta { theta: t } => Some(one_step(
+                theta_in(ws, self.model, t, (&before, &after)),
+                self.energy,
+            )),
             Scheme::PaoliSchatzman { beta, .. } => {
                 (step >= 2 && !self.earlier.is_empty()).then(|| {
                     let levels = ThreeLevels {
@@ -403,13 +511,20 @@ impl<'m> BalanceMonitor<'m> {
                     paoli_schatzman(self.model, beta, self.dt, &levels)
                 })
             }
-        }
+        };
+        self.energy = balance.map(|b| b.energy_after);
+        balance
     }
 
     /// The largest relative residual of the steps balanced so far (0 before any; NaN once a
     /// residual was NaN).
     pub fn largest_residual(&self) -> f64 {
         self.largest
+    }
+
+    /// The relative residual of the last step balanced (0 before any; NaN when it was NaN).
+    pub fn last_residual(&self) -> f64 {
+        self.last
     }
 
     /// How many steps were balanced.

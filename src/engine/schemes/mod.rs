@@ -113,6 +113,14 @@ pub trait TimeIntegrator: Send {
         SolveCounts::default()
     }
 
+    /// Whether the scheme's discrete energy balance (1D paper eqs. 33, 35, 37;
+    /// [`energy_balance`]) is an identity of the last step: false for a step of explicit
+    /// Newmark that stopped a contact dof with mass by a Taylor–Flanagan impulse, which takes
+    /// kinetic energy outside the balance.
+    fn balance_holds(&self) -> bool {
+        true
+    }
+
     /// The slab of the local contact operator ([`crate::engine::contact::local`]); `None` with
     /// the full operator or without contact.
     fn contact_truncation(&self) -> Option<Truncation> {

@@ -223,7 +223,7 @@ impl TaylorFlanagan {
         next: &mut [f64],
         velocity: &mut [f64],
         lambda: &mut [f64],
-    ) -> Result<(), SolveError> {
+    ) -> Result<bool, SolveError> {
         let active: Vec<usize> = (0..self.dofs.len())
             .filter(|&i| {
                 let (k, d) = self.dofs[i];
@@ -234,7 +234,7 @@ impl TaylorFlanagan {
             lambda[k] = 0.0;
         }
         if active.is_empty() {
-            return Ok(());
+            return Ok(false);
         }
         let columns: Vec<Vec<f64>> = active
             .iter()
@@ -265,7 +265,7 @@ impl TaylorFlanagan {
         for (&i, &s) in active.iter().zip(impulse.iter()) {
             lambda[self.dofs[i].0] = s;
         }
-        Ok(())
+        Ok(true)
     }
 }
 
@@ -279,6 +279,8 @@ pub struct ExplicitNewmark<'m> {
     mass_solver: Option<SpdSolver>,
     statics: Option<QuasiStatic>,
     taylor_flanagan: Option<TaylorFlanagan>,
+    /// Whether the last step applied a Taylor–Flanagan impulse.
+    impulse: bool,
     stable_dt: f64,
     step: usize,
     u_prev: Vec<f64>,
@@ -327,6 +329,7 @@ impl<'m> ExplicitNewmark<'m> {
             mass_solver,
             statics: QuasiStatic::new(model)?,
             taylor_flanagan: TaylorFlanagan::new(model, &with_mass),
+            impulse: false,
             stable_dt,
             step: 0,
             u_prev: start.displacement.clone(),
@@ -375,7 +378,7 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
                 *f = self.v[i];
             }
             let lambda = &mut self.lambda;
-            tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
+            self.impulse = tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
             for (&i, &v) in self.with_mass.iter().zip(&self.force_r) {
                 self.v[i] = v;
             }
@@ -444,6 +447,10 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
 
     fn contact_seconds(&self) -> f64 {
         self.statics.as_ref().map_or(0.0, |s| s.contact_work().1)
+    }
+
+    fn balance_holds(&self) -> bool {
+        !self.impulse
     }
 
     fn complementarity_violation(&self) -> f64 {

@@ -10,6 +10,7 @@ use crate::engine::contact::Truncation;
 use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
 use crate::engine::linalg::SolveCounts;
 use crate::engine::problem::{AxialMesh, Discretisation};
+use crate::engine::schemes::energy_balance::{self, BalanceMonitor, BALANCE_TOLERANCE};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
 use crate::harness::error::Error;
 
@@ -78,6 +79,17 @@ pub enum RunStatus {
         /// Iterations spent.
         iterations: usize,
     },
+    /// The step at `step` cannot be trusted: its linear solve missed its tolerance (the true
+    /// residual checked), or the scheme's discrete energy balance (1D paper eqs. 33, 35, 37)
+    /// is violated beyond [`BALANCE_TOLERANCE`]. The run stopped there.
+    SolverInaccurate {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+        /// What missed its bound, with the value and the bound.
+        detail: String,
+    },
 }
 
 impl RunStatus {
@@ -106,6 +118,11 @@ impl RunStatus {
                     iterations: *iterations,
                 })
             }
+            RunStatus::SolverInaccurate { step, time, detail } => Err(SolveError::Inaccurate {
+                step: *step,
+                time: *time,
+                detail: detail.clone(),
+            }),
         }
     }
 
@@ -125,6 +142,15 @@ impl RunStatus {
             SolveError::ContactNotConverged { step, iterations } => {
                 Some(RunStatus::ContactNotConverged { step, iterations })
             }
+            SolveError::Inaccurate {
+                step,
+                time,
+                ref detail,
+            } => Some(RunStatus::SolverInaccurate {
+                step,
+                time,
+                detail: detail.clone(),
+            }),
             _ => None,
         }
     }
@@ -147,6 +173,10 @@ pub struct Stepped {
     pub step_solves: SolveCounts,
     /// The slab of the local contact operator, if one was used.
     pub contact_truncation: Option<Truncation>,
+    /// The largest per-step residual of the scheme's energy balance relative to the energy
+    /// scale ([`BalanceMonitor::largest_residual`]) over the steps taken; `None` where the
+    /// balances are not identities of the run ([`energy_balance::holds_under`]).
+    pub max_balance_residual: Option<f64>,
     /// Wall-clock split; `setup` counts from `started`.
     pub timings: Timings,
 }
@@ -191,6 +221,53 @@ pub fn finite(state: &dyn TimeIntegrator, quantity: StateField, value: f64) -> R
         }
         .into())
     }
+}
+
+/// A step solve that missed its tolerance ([`SolveError::NotConverged`]) as the inaccurate
+/// solve that stops the run at `step` (time `time`); any other error as it is.
+fn inaccurate_solve(error: SolveError, step: usize, time: f64) -> SolveError {
+    match error {
+        SolveError::NotConverged {
+            solver,
+            iterations,
+            residual,
+        } => SolveError::Inaccurate {
+            step,
+            time,
+            detail: format!(
+                "the step solve ({solver}) reached a true relative residual of {residual:.3e} \
+                 in {iterations} iterations, above its tolerance"
+            ),
+        },
+        other => other,
+    }
+}
+
+/// Takes the state into `monitor` and checks the step's energy balance (1D paper eqs. 33, 35,
+/// 37): a relative residual above [`BALANCE_TOLERANCE`] (or NaN) is returned as the inaccurate
+/// solve that the run ends with, unless the run diverges first (a growing unstable mode takes
+/// the balance's round-off with it before the state overflows: the run is then diverged, not
+/// inaccurate). A step the scheme takes outside its balance
+/// ([`TimeIntegrator::balance_holds`]) is recorded, not checked.
+fn balance_violation(
+    monitor: &mut BalanceMonitor,
+    state: &dyn TimeIntegrator,
+    scheme: Scheme,
+) -> Option<SolveError> {
+    monitor.observe(state)?;
+    let residual = monitor.last_residual();
+    if residual <= BALANCE_TOLERANCE || !state.balance_holds() {
+        return None;
+    }
+    Some(SolveError::Inaccurate {
+        step: state.step_index(),
+        time: state.time(),
+        detail: format!(
+            "the energy balance eq. {} is violated: its residual is {residual:.3e} of the \
+             energy, above the round-off bound {BALANCE_TOLERANCE:e}",
+            energy_balance::equation(scheme)
+        ),
+    })
 }
 
 /// The first non-finite value of the state, as the error that stops the run.
@@ -259,13 +336,23 @@ pub fn drive<M: AxialMesh>(
 
     let (mut stepping, mut observe) = (0.0, 0.0);
     let mut status = RunStatus::Completed;
+    let model = &discretisation.model;
+    let mut balance = energy_balance::holds_under(&discretisation.conventions, model)
+        .then(|| BalanceMonitor::new(model, scheme, dt));
+    let mut violation = None;
     'steps: for step in 0..=steps {
         let clock = Instant::now();
         let stepped = if step > 0 {
-            integ.advance().and_then(|()| check_finite(integ.as_ref()))
+            integ
+                .advance()
+                .map_err(|e| inaccurate_solve(e, step, step as f64 * dt))
+                .and_then(|()| check_finite(integ.as_ref()))
         } else {
             check_finite(integ.as_ref())
         };
+        if let (Ok(()), Some(monitor), None) = (&stepped, balance.as_mut(), &violation) {
+            violation = balance_violation(monitor, integ.as_ref(), scheme);
+        }
         stepping += clock.elapsed().as_secs_f64();
         if let Err(e) = stepped {
             status = RunStatus::of(&e).ok_or(e)?;
@@ -287,6 +374,9 @@ pub fn drive<M: AxialMesh>(
         }
         observe += clock.elapsed().as_secs_f64();
     }
+    if let (RunStatus::Completed, Some(e)) = (&status, violation) {
+        status = RunStatus::of(&e).ok_or(e)?;
+    }
     Ok(Stepped {
         status,
         steps,
@@ -295,6 +385,7 @@ pub fn drive<M: AxialMesh>(
         complementarity_violation: integ.complementarity_violation(),
         step_solves: integ.step_solves(),
         contact_truncation: integ.contact_truncation(),
+        max_balance_residual: balance.as_ref().map(BalanceMonitor::largest_residual),
         timings: Timings {
             setup,
             stepping: stepping - integ.contact_seconds(),

@@ -8,7 +8,6 @@ use super::{ContactHistory, EnergyHistory, FieldSnapshot, MultiplierVariation, P
 use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
-use crate::engine::schemes::energy_balance::BalanceMonitor;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
@@ -373,14 +372,6 @@ impl Observer for FieldRecorder<'_> {
                 x_mid: mids,
             });
         }
-        Ok(())
-    }
-}
-
-/// The scheme's discrete energy balance (1D paper eqs. 33, 35, 37), step by step.
-impl Observer for BalanceMonitor<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        BalanceMonitor::observe(self, state);
         Ok(())
     }
 }
