@@ -31,10 +31,7 @@ pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
     let GetfemArgs { runs, out, export } = args;
     let staged_out = StagedDir::begin("--out", &out, Replace::Files)?;
     if let Some(dir) = export {
-        let replace = Replace::Whole {
-            owns: |name| name.ends_with(".csv"),
-        };
-        let staged = StagedDir::begin("--export", &dir, replace)?;
+        let staged = StagedDir::begin("--export", &dir, Replace::Whole)?;
         let written = export_runs(&runs, staged.path())?;
         staged.commit()?;
         out!(

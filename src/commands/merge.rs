@@ -11,7 +11,7 @@ use super::{Failure, StudyArgs};
 use crate::harness::artifacts::read_json;
 use crate::harness::shard::merge::{merge as merge_shards, Merged};
 use crate::harness::shard::plan::replay;
-use crate::harness::shard::{Invocation, ShardError, ShardFile};
+use crate::harness::shard::{Invocation, ShardError, ShardFile, SHARD_FILE};
 
 /// The arguments of `signorini merge`.
 #[derive(Debug, Args)]
@@ -61,7 +61,7 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
     let files = shards
         .into_iter()
         .map(|path| {
-            read_json::<ShardFile>(&path)
+            read_json::<ShardFile>(&path, SHARD_FILE)
                 .map(|file| (path, file))
                 .map_err(Failure::usage)
         })

@@ -170,6 +170,7 @@ impl From<Error> for Failure {
             | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
             Error::DemoRun(e) => Self::usage(e),
+            e @ (Error::Input(_) | Error::NotRegularOutput { .. }) => Self::usage(e),
             Error::Shard(e) if e.is_usage() => Self::usage(e),
             Error::Shard(e) => Self::runtime(e),
         }
@@ -187,7 +188,7 @@ impl From<OutputDirError> for Failure {
 }
 
 fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, contents).map_err(Failure::runtime)
+    write_atomic(path, contents).map_err(Failure::from)
 }
 
 fn progress_bar(len: usize) -> ProgressBar {

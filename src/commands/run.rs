@@ -18,7 +18,7 @@ use crate::harness::budget;
 use crate::harness::elastic::run_box;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::run::{run, Observables, RunConfig};
-use crate::harness::run_files::{box_history_csv, history_csv, is_run_file, RUN_JSON};
+use crate::harness::run_files::{box_history_csv, history_csv, RUN_JSON};
 use crate::harness::scene::Scene;
 
 /// The arguments of `signorini run`.
@@ -276,11 +276,10 @@ fn run_box_scene(
     Ok(())
 }
 
-/// The staged `--out` directory of a run, replaced whole at the end when it holds only a run's
-/// files ([`is_run_file`]).
+/// The staged `--out` directory of a run: refused when it holds files the harness did not
+/// write, its old files replaced by the run's at the end.
 fn stage(out: Option<&Path>) -> Result<Option<StagedDir>, Failure> {
-    let replace = Replace::Whole { owns: is_run_file };
     Ok(out
-        .map(|dir| StagedDir::begin("--out", dir, replace))
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
         .transpose()?)
 }

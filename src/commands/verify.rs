@@ -7,10 +7,11 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{write_output, Failure};
-use crate::harness::artifacts::{read_json, write_json};
+use crate::harness::artifacts::{read_json, writable, write_json};
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify, ExternalError, VerifyGolden};
 use crate::harness::golden::render_drifts;
+use crate::harness::input::GOLDEN_FILE;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::scene::Scene;
 
@@ -60,18 +61,18 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         out,
     } = args;
     let scene = Scene::load(&scene)?;
-    let replace = Replace::Whole {
-        owns: |name| name == VERIFY_JSON || name == VERIFY_MD,
-    };
+    if let Some(path) = &write_golden {
+        writable(path)?;
+    }
     let staged = out
         .as_deref()
-        .map(|dir| StagedDir::begin("--out", dir, replace))
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
         .transpose()?;
     let verification = verify(&scene, &runs)?;
     let markdown = render(&verification);
     out!("{}", markdown.trim_end());
     if let (Some(dir), Some(staged)) = (&out, staged) {
-        write_json(&staged.path().join(VERIFY_JSON), &verification).map_err(Failure::runtime)?;
+        write_json(&staged.path().join(VERIFY_JSON), &verification).map_err(Failure::from)?;
         write_output(&staged.path().join(VERIFY_MD), markdown.as_bytes())?;
         staged.commit()?;
         out!(
@@ -82,11 +83,11 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
     }
     if let Some(path) = write_golden {
         let golden = VerifyGolden::from_verification(&verification)?;
-        write_json(&path, &golden).map_err(Failure::runtime)?;
+        write_json(&path, &golden).map_err(Failure::from)?;
         out!("wrote the golden file {}", path.display());
     }
     if let Some(path) = golden {
-        let golden: VerifyGolden = read_json(&path).map_err(Failure::usage)?;
+        let golden: VerifyGolden = read_json(&path, GOLDEN_FILE).map_err(Failure::usage)?;
         let drifts = compare(&golden, &verification);
         if !drifts.is_empty() {
             return Err(Failure::runtime(format!(

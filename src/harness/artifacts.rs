@@ -13,10 +13,32 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use crate::harness::error::Error;
+use crate::harness::input::{self, Limit};
 
-/// Writes `contents` to `path` atomically, creating the parent directory.
+/// Writes `contents` to `path` atomically, creating the parent directory. A symbolic link is
+/// followed (its target is written); an existing path that is not a regular file (a FIFO, a
+/// device, a directory) is refused, never replaced.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Error> {
-    write_whole(path, contents).map_err(Error::write(path))
+    let path = writable(path)?;
+    write_whole(&path, contents).map_err(Error::write(&path))
+}
+
+/// Where [`write_atomic`] writes `path`: `path`, or the target of the symbolic link it is; an error
+/// when that exists and is not a regular file.
+pub fn writable(path: &Path) -> Result<std::path::PathBuf, Error> {
+    let is_link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    let resolved = if is_link {
+        fs::canonicalize(path).map_err(Error::write(path))?
+    } else {
+        path.to_path_buf()
+    };
+    match fs::metadata(&resolved) {
+        Ok(meta) if !meta.is_file() => Err(Error::NotRegularOutput {
+            path: path.to_path_buf(),
+            found: input::kind_of(meta.file_type()),
+        }),
+        _ => Ok(resolved),
+    }
 }
 
 /// Taken shared by every write in flight and by a directory's commit; taken exclusively by the
@@ -74,13 +96,9 @@ pub fn write_json_compact<T: Serialize + ?Sized>(path: &Path, value: &T) -> Resu
     write_atomic(path, text.as_bytes())
 }
 
-/// Reads the JSON file `path` into a `T`.
-pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
-    let text = fs::read_to_string(path).map_err(Error::read(path))?;
-    serde_json::from_str(&text).map_err(|source| Error::Decode {
-        path: path.to_path_buf(),
-        source,
-    })
+/// Reads the JSON file `path`, a file of kind `limit`, into a `T` ([`input::read_json`]).
+pub fn read_json<T: DeserializeOwned>(path: &Path, limit: Limit) -> Result<T, Error> {
+    Ok(input::read_json(path, limit)?)
 }
 
 /// A CSV table: the `header` line, then one row per index of the `columns` (of equal length),

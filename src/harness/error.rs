@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::engine::error::{self as engine, ParameterError, SolveError};
+pub use crate::harness::input::printable;
+use crate::harness::input::{InputError, JsonError, Shown};
 
 /// Any error of a harness run or study.
 #[derive(Debug, Error)]
@@ -67,6 +69,30 @@ pub enum Error {
     /// A shard could not be run or shards could not be merged.
     #[error(transparent)]
     Shard(#[from] ShardError),
+    /// An input file is missing, not a regular file or over its size limit.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// A file to write exists and is not a regular file (a FIFO, a device, a directory).
+    #[error(
+        "{} is {found}; allowed: a regular file or a new name (nothing but a regular file is \
+         replaced)",
+        Shown(path)
+    )]
+    NotRegularOutput {
+        /// The file.
+        path: PathBuf,
+        /// What it is.
+        found: &'static str,
+    },
+}
+
+impl From<JsonError> for Error {
+    fn from(e: JsonError) -> Self {
+        match e {
+            JsonError::Input(e) => Error::Input(e),
+            JsonError::Decode { path, source, .. } => Error::Decode { path, source },
+        }
+    }
 }
 
 impl Error {
@@ -109,13 +135,8 @@ impl From<engine::Error> for Error {
 /// A scene that could not be read or is not valid.
 #[derive(Debug)]
 pub enum SceneError {
-    /// The file cannot be read.
-    Io {
-        /// The scene file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
+    /// The file cannot be read, is not a regular file or is too large.
+    Input(InputError),
     /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
     Json {
         /// The scene file.
@@ -143,9 +164,7 @@ pub enum SceneError {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SceneError::Io { path, source } => {
-                write!(f, "cannot read scene file {}: {source}", path.display())
-            }
+            SceneError::Input(e) => e.fmt(f),
             SceneError::Json {
                 path,
                 line,
@@ -170,21 +189,6 @@ impl fmt::Display for SceneError {
             ),
         }
     }
-}
-
-/// `text` with its control characters (terminal escape sequences among them) escaped as
-/// `\u{1b}`, so that printing what a file holds (a scene's name, description or values)
-/// cannot drive the terminal.
-pub fn printable(text: &str) -> String {
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_unicode().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
 }
 
 impl SceneError {
@@ -214,7 +218,7 @@ impl SceneError {
 impl std::error::Error for SceneError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            SceneError::Io { source, .. } => Some(source),
+            SceneError::Input(e) => Some(e),
             _ => None,
         }
     }
@@ -265,6 +269,9 @@ pub enum DemoRunError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file.
+    #[error(transparent)]
+    Input(InputError),
     /// The file, or the JSON it inflates to, is larger than the reader accepts.
     #[error("GetFEM demo run {}: the {what} exceeds {limit} bytes", path.display())]
     TooLarge {
@@ -362,7 +369,12 @@ pub enum ShardError {
     #[error("no shard file given: merge takes the n files of one sharded command")]
     NoShards,
     /// A file of another format.
-    #[error("{}: format {found:?}, expected {expected:?}", path.display())]
+    #[error(
+        "{}: format {}, expected {expected:?} (a shard file of another version of signorini: \
+         run the shards again with this one)",
+        Shown(path),
+        printable(&format!("{found:?}"))
+    )]
     Format {
         /// The file.
         path: PathBuf,
@@ -410,7 +422,7 @@ pub enum ShardError {
     #[error(
         "missing shard{} {} (all n = {n} shards of the command are needed)",
         if missing.len() == 1 { "" } else { "s" },
-        missing.iter().map(|k| format!("{k}/{n}")).collect::<Vec<_>>().join(", ")
+        ranges(missing, *n)
     )]
     Missing {
         /// The `k` of each missing shard.
@@ -430,6 +442,36 @@ pub enum ShardError {
         index: usize,
         /// The number of jobs.
         jobs: usize,
+    },
+    /// A shard file whose content is not what its shard wrote (its checksum differs).
+    #[error(
+        "{}: its checksum does not match its content: the file was changed or damaged after \
+         its shard wrote it; run that shard again",
+        Shown(path)
+    )]
+    Checksum {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A count in a shard file over what a merge accepts.
+    #[error("{}: {field} = {value}; allowed: at most {max}", Shown(path))]
+    TooMany {
+        /// The file.
+        path: PathBuf,
+        /// The field (`n`, `jobs`).
+        field: &'static str,
+        /// Its value.
+        value: usize,
+        /// The largest accepted.
+        max: usize,
+    },
+    /// A job result whose values are not a result's (non-finite, or out of their range).
+    #[error("the result of job {index} in the shards is out of range: {why}")]
+    OutOfRange {
+        /// The job's index.
+        index: usize,
+        /// The value and its range.
+        why: String,
     },
     /// A job no shard holds.
     #[error("no shard holds job {index}: the shard files are incomplete")]
@@ -460,6 +502,34 @@ impl ShardError {
             Self::Recorded | Self::NoJobList | Self::SecondJobList | Self::Encode(_)
         )
     }
+}
+
+/// The shard numbers `ks` (ascending) of `n` as ranges, `2/8, 4/8–6/8`, the first ten ranges
+/// and how many more: a message stays one short line whatever `n` is.
+fn ranges(ks: &[usize], n: usize) -> String {
+    const SHOWN: usize = 10;
+    let mut spans: Vec<(usize, usize)> = Vec::new();
+    for &k in ks {
+        match spans.last_mut() {
+            Some((_, last)) if *last + 1 == k => *last = k,
+            _ => spans.push((k, k)),
+        }
+    }
+    let mut text: Vec<String> = spans
+        .iter()
+        .take(SHOWN)
+        .map(|&(a, b)| {
+            if a == b {
+                format!("{a}/{n}")
+            } else {
+                format!("{a}/{n}–{b}/{n}")
+            }
+        })
+        .collect();
+    if spans.len() > SHOWN {
+        text.push(format!("and {} more ranges", spans.len() - SHOWN));
+    }
+    text.join(", ")
 }
 
 /// `paths`, separated by commas.

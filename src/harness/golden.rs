@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::artifacts::read_json;
 use crate::harness::error::Error;
+use crate::harness::input::GOLDEN_FILE;
 use crate::harness::sensitivity::{Sensitivity, SensitivityClass, Spread};
 use crate::harness::study::{Case, NormRates, Study};
 
@@ -163,7 +164,7 @@ pub struct Golden {
 
 /// Reads a golden file.
 pub fn read_golden(path: &Path) -> Result<Golden, Error> {
-    read_json(path)
+    read_json(path, GOLDEN_FILE)
 }
 
 /// A fitted rate, or NaN when the study could not fit one: no value, as in [`Drift::missing`].

@@ -10,6 +10,8 @@ pub mod external;
 pub mod figures;
 pub mod getfem;
 pub mod golden;
+pub mod input;
+pub mod manifest;
 pub mod norms;
 pub mod output_dir;
 pub mod paraview;

@@ -7,22 +7,30 @@
 //! end; a staged directory dropped without commit (a failed or refused run) is removed, and so is
 //! every parent directory its start created.
 //!
+//! What is the command's own is what it can prove it wrote: the manifest it keeps in the
+//! directory ([`crate::harness::manifest`]) lists every file it put there with the SHA-256 of
+//! its content, and the directory's identity when the command created it. Nothing else is ever
+//! removed or replaced, whatever its name.
+//!
 //! - **Per-run directories** ([`Replace::Whole`]: `run --out`, `verify --out`, `getfem
-//!   --export`): the staging directory is renamed to `DIR`. An existing `DIR` is replaced whole,
-//!   so that no file of an earlier run stays beside the new ones, but only when each of its
-//!   entries is a file the command writes (its `owns`): a directory holding anything else is
-//!   refused before the run starts, and nothing of the user's is ever deleted. Between the two
-//!   renames of a replacement `DIR` is absent for an instant, never mixed.
+//!   --export`): an existing `DIR` is accepted only when each of its files is the harness's
+//!   own; one holding anything else is refused before the run starts, naming what it holds. At
+//!   the end the old files give way to the new ones: a `DIR` the harness created is replaced
+//!   whole by the staging directory (absent for an instant between two renames, never mixed);
+//!   any other (one the user made, `.`, the working directory or one of its ancestors, a path
+//!   reached through a symbolic link) is written in place, the directory itself kept.
 //! - **Shared directories** ([`Replace::Files`]: `reports/`, where several commands write their
 //!   files beside committed ones): each staged file is renamed onto its namesake in `DIR` at the
-//!   end and every other file of `DIR` is kept. A `DIR` that does not exist yet is renamed into
-//!   place whole.
+//!   end and every other file of `DIR` is kept; a namesake that is not the harness's own (a
+//!   user's file, or one edited since) is not replaced: the commit is refused, naming it, and
+//!   nothing moves. A `DIR` that does not exist yet is renamed into place whole.
 //!
 //! Two commands cannot write one `DIR` at once: [`StagedDir::begin`] takes an exclusive lock
 //! (`flock`) on `.DIR.lock` beside it, holding the pid for the message of the one refused. The
 //! kernel releases the lock when its process ends, however it ends, so a lock never goes stale;
 //! and whoever holds it knows that every other `.DIR.staging-<pid>` (or `.DIR.old-<pid>`, a
-//! replaced directory) belongs to a process that is gone (a killed one), and removes it.
+//! replaced directory) belongs to a process that is gone (a killed one), and removes it when its
+//! manifest shows the harness created it.
 //!
 //! SIGINT and SIGTERM: the first begin installs a handler thread (`signal-hook`) that waits for
 //! the writes and commits in flight ([`crate::harness::artifacts::stop_writes`]), removes every
@@ -45,16 +53,16 @@ use signal_hook::low_level::emulate_default_handler;
 use thiserror::Error;
 
 use crate::harness::artifacts::{hold_writes, stop_writes};
+use crate::harness::error::printable;
+use crate::harness::input::Shown;
+use crate::harness::manifest::{entries, DirIdentity, Manifest, MANIFEST_FORMAT};
 
 /// How the staged files reach the target directory (see the module's documentation).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Replace {
-    /// A per-run directory, replaced whole; an existing one only when `owns` accepts the name of
-    /// each of its entries (all files).
-    Whole {
-        /// Whether a file name is one the command writes.
-        owns: fn(&str) -> bool,
-    },
+    /// A per-run directory, whose files are all the harness's own: its old files give way to
+    /// the new ones.
+    Whole,
     /// A shared directory: each staged file replaces its namesake, the other files are kept.
     Files,
 }
@@ -63,32 +71,38 @@ pub enum Replace {
 #[derive(Debug, Error)]
 pub enum OutputDirError {
     /// The target exists and is not a directory.
-    #[error("{option} {} is a file, not a directory", dir.display())]
+    #[error("{option} {} is a file, not a directory", Shown(dir))]
     NotADirectory {
         /// The command-line option naming the directory.
         option: &'static str,
         /// The directory.
         dir: PathBuf,
     },
-    /// A per-run directory holds something the command does not write.
+    /// The directory holds files the harness did not write (by its manifest) that the command
+    /// would remove or replace.
     #[error(
-        "{option} {}: holds {entry}, which this command does not write, and would be replaced \
-         whole; remove it or choose another directory",
-        dir.display()
+        "{option} {}: holds {}, which signorini did not write (or which changed since), and \
+         would {}; move {} away or choose another directory",
+        Shown(dir),
+        listed(entries),
+        if *whole { "be removed with the run's old files" } else { "be replaced" },
+        if entries.len() == 1 { "it" } else { "them" }
     )]
     Foreign {
         /// The command-line option naming the directory.
         option: &'static str,
         /// The directory.
         dir: PathBuf,
-        /// The entry the command does not write.
-        entry: String,
+        /// The entries not the harness's, relative to the directory.
+        entries: Vec<String>,
+        /// Whether the directory is a per-run one ([`Replace::Whole`]).
+        whole: bool,
     },
     /// Another process is writing the directory.
     #[error(
         "{option} {}: being written by another signorini process (pid {pid}); wait for it to \
          finish or choose another directory",
-        dir.display()
+        Shown(dir)
     )]
     Busy {
         /// The command-line option naming the directory.
@@ -99,7 +113,7 @@ pub enum OutputDirError {
         pid: String,
     },
     /// The staging directory, its lock or a parent could not be created.
-    #[error("cannot create {option} {}: {source}", dir.display())]
+    #[error("cannot create {option} {}: {source}", Shown(dir))]
     Create {
         /// The command-line option naming the directory.
         option: &'static str,
@@ -110,7 +124,7 @@ pub enum OutputDirError {
         source: io::Error,
     },
     /// The staged files could not be moved into place.
-    #[error("cannot write {option} {}: {source}", dir.display())]
+    #[error("cannot write {option} {}: {source}", Shown(dir))]
     Commit {
         /// The command-line option naming the directory.
         option: &'static str,
@@ -127,6 +141,16 @@ impl OutputDirError {
     /// the directory, or a directory holding files the command would delete.
     pub fn is_usage(&self) -> bool {
         matches!(self, Self::NotADirectory { .. } | Self::Foreign { .. })
+    }
+}
+
+/// The first few of `entries`, and how many more.
+fn listed(entries: &[String]) -> String {
+    const SHOWN: usize = 5;
+    let names: Vec<String> = entries.iter().take(SHOWN).map(|e| printable(e)).collect();
+    match entries.len().checked_sub(SHOWN) {
+        Some(more) if more > 0 => format!("{} and {more} more", names.join(", ")),
+        _ => names.join(", "),
     }
 }
 
@@ -179,15 +203,38 @@ pub struct StagedDir {
     dir: PathBuf,
     staging: PathBuf,
     replace: Replace,
+    in_place: bool,
     id: u64,
     _lock: File,
 }
 
+/// Where a command writes when given the path `target`: the directory itself (a symbolic link
+/// resolved), and whether it must be kept (written in place, never swapped): a link's target,
+/// the working directory and its ancestors.
+fn resolve(target: &Path) -> io::Result<(PathBuf, bool)> {
+    let is_link = fs::symlink_metadata(target).is_ok_and(|m| m.file_type().is_symlink());
+    if is_link {
+        return Ok((fs::canonicalize(target)?, true));
+    }
+    let Ok(real) = fs::canonicalize(target) else {
+        return Ok((target.to_path_buf(), false));
+    };
+    let holds_cwd = std::env::current_dir()
+        .and_then(fs::canonicalize)
+        .is_ok_and(|cwd| cwd.starts_with(&real));
+    let dir = if target.file_name().is_some() {
+        target.to_path_buf()
+    } else {
+        real
+    };
+    Ok((dir, holds_cwd))
+}
+
 impl StagedDir {
     /// Starts writing the directory `target`, named by the command-line option `option`:
-    /// refuses a file, a per-run directory with foreign entries and a directory another
-    /// process writes; creates the missing parents, takes the lock, removes the staging
-    /// directories of dead processes and creates this one's.
+    /// refuses a file, a per-run directory holding files the harness did not write and a
+    /// directory another process writes; creates the missing parents, takes the lock, removes
+    /// the staging directories of dead processes and creates this one's.
     pub fn begin(
         option: &'static str,
         target: &Path,
@@ -203,7 +250,8 @@ impl StagedDir {
             install_signal_cleanup().map_err(create)?;
             registry.signals_installed = true;
         }
-        let (parent, name) = split(target).map_err(create)?;
+        let (dir, in_place) = resolve(target).map_err(create)?;
+        let (parent, name) = split(&dir).map_err(create)?;
         let dir = parent.join(&name);
         if fs::metadata(&dir).is_ok_and(|m| !m.is_dir()) {
             return Err(OutputDirError::NotADirectory {
@@ -211,8 +259,8 @@ impl StagedDir {
                 dir: target.to_path_buf(),
             });
         }
-        if let Replace::Whole { owns } = replace {
-            check_owned(&dir, owns, option, target)?;
+        if replace == Replace::Whole {
+            check_owned(&dir, option, target)?;
         }
         let id = registry.next_id;
         registry.next_id += 1;
@@ -240,6 +288,9 @@ impl StagedDir {
             let staging = parent.join(hidden(&name, &format!("staging-{}", std::process::id())));
             fs::create_dir(&staging).map_err(create)?;
             leftovers.staging = Some(staging.clone());
+            Manifest::new(Some(DirIdentity::of(&staging).map_err(create)?))
+                .write(&staging)
+                .map_err(create)?;
             Ok((lock, staging))
         })();
         match started {
@@ -251,6 +302,7 @@ impl StagedDir {
                     dir,
                     staging,
                     replace,
+                    in_place,
                     id,
                     _lock: lock,
                 })
@@ -274,17 +326,16 @@ impl StagedDir {
             .map_or_else(|_| staged.to_path_buf(), |rel| self.target.join(rel))
     }
 
-    /// Moves the staged files into place (see [`Replace`]), then removes the staging directory
-    /// and the lock. SIGINT and SIGTERM wait for it to finish.
+    /// Moves the staged files into place (see [`Replace`]) with the manifest that proves them
+    /// the harness's, then removes the staging directory and the lock. SIGINT and SIGTERM wait
+    /// for it to finish.
     pub fn commit(self) -> Result<(), OutputDirError> {
         let _writes = hold_writes();
         let mut registry = registry();
-        let moved = match self.replace {
-            Replace::Whole { owns } => {
-                check_owned(&self.dir, owns, self.option, &self.target)?;
-                self.swap()
-            }
-            Replace::Files => self.move_files(),
+        let staged = self.staged_manifest();
+        let moved = match staged {
+            Err(source) => Err(source),
+            Ok(staged) => self.place(staged)?,
         };
         let mut leftovers = take(&mut registry, self.id);
         if moved.is_ok() {
@@ -298,12 +349,72 @@ impl StagedDir {
         })
     }
 
-    /// [`Replace::Whole`]: the staging directory becomes the target; an existing target is
-    /// renamed aside first and removed after.
-    fn swap(&self) -> io::Result<()> {
-        if !self.dir.exists() {
-            return fs::rename(&self.staging, &self.dir);
+    /// The staging directory's manifest, completed with every staged file.
+    fn staged_manifest(&self) -> io::Result<Manifest> {
+        let mut manifest = Manifest::of(&self.staging);
+        for (rel, path, _) in entries(&self.staging)? {
+            manifest.record(rel, &path)?;
         }
+        Ok(manifest)
+    }
+
+    /// Puts the staged files in place: the staging directory renamed to a new target or swapped
+    /// with one the harness created; otherwise each file moved in, after the ownership checks
+    /// (a refusal is the outer error, an I/O failure the inner one).
+    fn place(&self, staged: Manifest) -> Result<io::Result<()>, OutputDirError> {
+        if !self.dir.exists() {
+            return Ok(staged
+                .write(&self.staging)
+                .and_then(|()| fs::rename(&self.staging, &self.dir)));
+        }
+        let existing = Manifest::of(&self.dir);
+        if self.replace == Replace::Whole {
+            check_owned(&self.dir, self.option, &self.target)?;
+            if existing.created(&self.dir) && !self.in_place {
+                return Ok(staged.write(&self.staging).and_then(|()| self.swap()));
+            }
+        } else {
+            let foreign: Vec<String> = staged
+                .files
+                .keys()
+                .filter(|rel| {
+                    fs::symlink_metadata(self.dir.join(rel)).is_ok()
+                        && !existing.owns(&self.dir, rel)
+                })
+                .cloned()
+                .collect();
+            if !foreign.is_empty() {
+                return Err(OutputDirError::Foreign {
+                    option: self.option,
+                    dir: self.target.clone(),
+                    entries: foreign,
+                    whole: false,
+                });
+            }
+        }
+        Ok(self.move_in(existing, staged))
+    }
+
+    /// Moves every staged file onto its namesake in the existing target and records it in the
+    /// target's manifest; for [`Replace::Whole`] the old files not replaced are removed first.
+    fn move_in(&self, mut existing: Manifest, staged: Manifest) -> io::Result<()> {
+        if self.replace == Replace::Whole {
+            for rel in existing.files.keys() {
+                if !staged.files.contains_key(rel) && existing.owns(&self.dir, rel) {
+                    fs::remove_file(self.dir.join(rel))?;
+                }
+            }
+            existing.files.clear();
+        }
+        move_tree(&self.staging, &self.dir)?;
+        existing.format = MANIFEST_FORMAT.to_string();
+        existing.files.extend(staged.files);
+        existing.write(&self.dir)
+    }
+
+    /// [`Replace::Whole`] on a directory the harness created: the staging directory becomes the
+    /// target; the old target is renamed aside first and removed after.
+    fn swap(&self) -> io::Result<()> {
         let (parent, name) = split(&self.dir)?;
         let old = parent.join(hidden(&name, &format!("old-{}", std::process::id())));
         fs::rename(&self.dir, &old)?;
@@ -312,14 +423,6 @@ impl StagedDir {
             return Err(e);
         }
         fs::remove_dir_all(&old)
-    }
-
-    /// [`Replace::Files`]: every staged file onto its namesake under the target.
-    fn move_files(&self) -> io::Result<()> {
-        if !self.dir.exists() {
-            return fs::rename(&self.staging, &self.dir);
-        }
-        move_tree(&self.staging, &self.dir)
     }
 }
 
@@ -346,7 +449,7 @@ fn split(target: &Path) -> io::Result<(PathBuf, OsString)> {
     };
     let name = target
         .file_name()
-        .ok_or_else(|| io::Error::other(format!("{} has no directory name", target.display())))?;
+        .ok_or_else(|| io::Error::other(format!("{} has no directory name", Shown(&target))))?;
     let parent = target
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -359,39 +462,32 @@ fn hidden(name: &OsString, suffix: &str) -> String {
     format!(".{}.{suffix}", name.to_string_lossy())
 }
 
-/// Refuses a per-run directory `dir` that holds an entry `owns` does not accept.
-fn check_owned(
-    dir: &Path,
-    owns: fn(&str) -> bool,
-    option: &'static str,
-    target: &Path,
-) -> Result<(), OutputDirError> {
-    let Ok(entries) = fs::read_dir(dir) else {
+/// Refuses a per-run directory `dir` that holds an entry its manifest does not prove the
+/// harness's.
+fn check_owned(dir: &Path, option: &'static str, target: &Path) -> Result<(), OutputDirError> {
+    if !dir.is_dir() {
         return Ok(());
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
-        if !is_file || !(owns(&name) || owned_temporary(&name, owns)) {
-            return Err(OutputDirError::Foreign {
-                option,
-                dir: target.to_path_buf(),
-                entry: name,
-            });
-        }
     }
-    Ok(())
-}
-
-/// Whether `name` is the temporary file of an owned file, `.<name>.tmp-<pid>` as
-/// [`crate::harness::artifacts::write_atomic`] names it, left by a run killed before this
-/// module staged its files.
-fn owned_temporary(name: &str, owns: fn(&str) -> bool) -> bool {
-    name.strip_prefix('.')
-        .and_then(|rest| rest.rsplit_once(".tmp-"))
-        .is_some_and(|(file, pid)| {
-            owns(file) && !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit())
-        })
+    let manifest = Manifest::of(dir);
+    let found = entries(dir).map_err(|source| OutputDirError::Create {
+        option,
+        dir: target.to_path_buf(),
+        source,
+    })?;
+    let foreign: Vec<String> = found
+        .into_iter()
+        .filter(|(rel, _, regular)| !(*regular && manifest.owns(dir, rel)))
+        .map(|(rel, _, _)| rel)
+        .collect();
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    Err(OutputDirError::Foreign {
+        option,
+        dir: target.to_path_buf(),
+        entries: foreign,
+        whole: true,
+    })
 }
 
 /// Creates `dir` and its missing parents; returns those created, deepest first.
@@ -454,10 +550,10 @@ fn holder_pid(file: &mut File) -> String {
         let mut pid = String::new();
         let read = file
             .seek(SeekFrom::Start(0))
-            .and_then(|_| file.read_to_string(&mut pid));
+            .and_then(|_| file.take(32).read_to_string(&mut pid));
         let pid = pid.trim();
         if read.is_ok() && !pid.is_empty() {
-            return pid.to_string();
+            return printable(pid);
         }
         std::thread::sleep(std::time::Duration::from_millis(2));
     }
@@ -465,7 +561,8 @@ fn holder_pid(file: &mut File) -> String {
 }
 
 /// Removes the staging and replaced directories of `name` left by other processes: the caller
-/// holds the lock, so their processes are gone.
+/// holds the lock, so their processes are gone. Only a directory whose manifest shows the
+/// harness created it is removed.
 fn remove_stale(parent: &Path, name: &OsString) -> io::Result<()> {
     let prefixes = [hidden(name, "staging-"), hidden(name, "old-")];
     for entry in fs::read_dir(parent)?.flatten() {
@@ -475,27 +572,25 @@ fn remove_stale(parent: &Path, name: &OsString) -> io::Result<()> {
                 .strip_prefix(p.as_str())
                 .is_some_and(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
         });
-        if stale {
-            fs::remove_dir_all(entry.path())?;
+        let path = entry.path();
+        let ours = fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir())
+            && Manifest::of(&path).created(&path);
+        if stale && ours {
+            fs::remove_dir_all(path)?;
         }
     }
     Ok(())
 }
 
 /// Renames every file under `from` onto the same relative path under `to`, creating the
-/// directories missing there.
+/// directories missing there; `from`'s manifest stays where it is.
 fn move_tree(from: &Path, to: &Path) -> io::Result<()> {
-    for entry in fs::read_dir(from)? {
-        let entry = entry?;
-        let target = to.join(entry.file_name());
-        if entry.file_type()?.is_dir() {
-            if !target.is_dir() {
-                fs::create_dir(&target)?;
-            }
-            move_tree(&entry.path(), &target)?;
-        } else {
-            fs::rename(entry.path(), &target)?;
+    for (rel, path, _) in entries(from)? {
+        let target = to.join(&rel);
+        if let Some(parent) = target.parent() {
+            fs::create_dir_all(parent)?;
         }
+        fs::rename(path, &target)?;
     }
     Ok(())
 }

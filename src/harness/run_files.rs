@@ -12,13 +12,6 @@ use crate::harness::run::{FieldSnapshot, PointHistory, RunResult};
 /// The whole result of a run, as JSON ([`RunResult`] or [`BoxRunResult`]).
 pub const RUN_JSON: &str = "run.json";
 
-/// Whether `name` is a file `signorini run --out` writes: `run.json`, a CSV history, a VTK
-/// snapshot or obstacle, or the collection of the snapshots (`.pvd`) (what an existing output
-/// directory may hold to be replaced by a new run's).
-pub fn is_run_file(name: &str) -> bool {
-    name == RUN_JSON || [".csv", ".vtu", ".pvd"].iter().any(|e| name.ends_with(e))
-}
-
 /// The digits after the point of every number in a run's CSV files (all of an `f64`).
 pub const RUN_CSV_DIGITS: usize = 17;
 

@@ -9,7 +9,6 @@
 
 use std::collections::BTreeSet;
 use std::fmt;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -33,6 +32,7 @@ use crate::harness::study::StudyConfig;
 
 use crate::harness::error::printable;
 pub use crate::harness::error::SceneError;
+use crate::harness::input::{self, SCENE_FILE};
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
 /// checked and typed when the file is read ([`Scene::load`]).
@@ -83,7 +83,7 @@ pub struct SceneObservables {
 
 /// The largest scene file read: 16 MiB (the committed scenes are under 2 kB; 10⁵ field times
 /// are under 1 MB).
-pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
+pub const MAX_SCENE_BYTES: u64 = SCENE_FILE.max_bytes;
 
 /// The largest magnitude of any number of a scene, and the smallest of a positive one (a
 /// length, density, wave speed, `μ`, horizon, ratio): within `[1e-50, 1e50]`, products of a few
@@ -99,35 +99,9 @@ const INITIAL_DATA_SAMPLES: usize = 256;
 
 impl Scene {
     /// Reads and validates a scene file: a regular file (not a device or a FIFO, which could
-    /// be endless or block) of at most [`MAX_SCENE_BYTES`].
+    /// be endless or block) of at most [`MAX_SCENE_BYTES`], read by [`input::read_text`].
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let io = |source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let meta = std::fs::metadata(path).map_err(io)?;
-        let allowed = "a regular file of at most 16 MiB (MAX_SCENE_BYTES)";
-        if !meta.is_file() {
-            let kind = if meta.is_dir() {
-                "a directory"
-            } else {
-                "not a regular file (a device, FIFO or socket)"
-            };
-            return Err(invalid(path, "file", kind, allowed));
-        }
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(io)?;
-        if bytes.len() as u64 > MAX_SCENE_BYTES {
-            return Err(invalid(path, "file", "larger than 16 MiB", allowed));
-        }
-        let text = String::from_utf8(bytes).map_err(|e| {
-            io(std::io::Error::new(
-                std::io::ErrorKind::InvalidData,
-                format!("not UTF-8 ({e})"),
-            ))
-        })?;
+        let text = input::read_text(path, SCENE_FILE).map_err(SceneError::Input)?;
         Self::parse(&text, path)
     }
 

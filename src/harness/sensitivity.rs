@@ -28,6 +28,8 @@ use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, least_squares_slope};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use crate::harness::shard::range::{errors_out_of_range, not_negative};
+use crate::harness::shard::InRange;
 use crate::harness::study::{run_case_levels, Case, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
@@ -386,6 +388,19 @@ pub(crate) struct LevelEnsemble {
     pub(crate) errors: Vec<BTreeMap<Norm, f64>>,
     /// Member by member, its separation from the unperturbed run.
     pub(crate) separations: Vec<Separation>,
+}
+
+impl InRange for LevelEnsemble {
+    fn out_of_range(&self) -> Option<String> {
+        self.errors
+            .iter()
+            .find_map(errors_out_of_range)
+            .or_else(|| {
+                self.separations
+                    .iter()
+                    .find_map(|s| not_negative("separation", s.largest))
+            })
+    }
 }
 
 fn level_ensemble(

@@ -15,8 +15,9 @@ use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, Timings};
-use crate::harness::shard::codec;
 use crate::harness::shard::plan::{self, EncodedResult, Schedule};
+use crate::harness::shard::range::{errors_out_of_range, positive};
+use crate::harness::shard::{codec, InRange, ShardError};
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -274,7 +275,7 @@ pub fn largest_first(sizes: &[usize]) -> Vec<usize> {
 /// shards ([`crate::harness::shard`]): under `--shard k/n` only that shard's share of the
 /// largest-first order runs, its results are recorded and the study stops; under a merge the
 /// results are read from the shards instead of run.
-pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned>(
+pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned + InRange>(
     jobs: &[J],
     size: impl Fn(&J) -> usize,
     job: impl Fn(&J) -> Result<T, Error> + Sync,
@@ -310,7 +311,13 @@ pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned>(
         Schedule::Replay(results) => results
             .iter()
             .enumerate()
-            .map(|(index, text)| codec::decode(index, text).map_err(Error::from))
+            .map(|(index, text)| {
+                let result: T = codec::decode(index, text)?;
+                match result.out_of_range() {
+                    Some(why) => Err(ShardError::OutOfRange { index, why }.into()),
+                    None => Ok(result),
+                }
+            })
             .collect(),
     }
 }
@@ -318,7 +325,7 @@ pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned>(
 /// Runs `job(case, level)` for every case index below `n_cases` and every level index of
 /// `levels` ([`run_largest_first`]: the largest levels first), and returns each case's results
 /// in level order.
-pub fn run_case_levels<T: Send + Serialize + DeserializeOwned>(
+pub fn run_case_levels<T: Send + Serialize + DeserializeOwned + InRange>(
     n_cases: usize,
     levels: &[usize],
     job: impl Fn(usize, usize) -> Result<T, Error> + Sync,
@@ -351,4 +358,12 @@ fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStu
         })
         .collect();
     CaseStudy::from_levels(case, levels, errors)
+}
+
+impl InRange for RunResult {
+    fn out_of_range(&self) -> Option<String> {
+        positive("h", self.h)
+            .or_else(|| positive("dt", self.dt))
+            .or_else(|| errors_out_of_range(&self.errors))
+    }
 }

@@ -18,6 +18,7 @@ use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::golden::{Golden, Tolerances};
+use crate::harness::input::GOLDEN_FILE;
 use crate::harness::norms::Norm;
 use crate::harness::run::Problem1d;
 use crate::harness::sensitivity::{
@@ -614,7 +615,7 @@ impl ExtendedGolden {
 
 /// Reads the extended table's golden file.
 pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Error> {
-    read_json(path)
+    read_json(path, GOLDEN_FILE)
 }
 
 #[cfg(test)]

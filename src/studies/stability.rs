@@ -31,6 +31,8 @@ use crate::harness::error::Error;
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
+use crate::harness::shard::range::not_negative;
+use crate::harness::shard::InRange;
 use crate::harness::study::{run_largest_first, Case};
 use crate::harness::verdicts::OSCILLATION_YES_FROM;
 use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
@@ -397,6 +399,14 @@ fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
             .map(|(&t, &e)| (t, e))
             .collect(),
         ..unmeasured(hard, case)
+    }
+}
+
+impl InRange for StabilityRecord {
+    fn out_of_range(&self) -> Option<String> {
+        not_negative("complementarity_violation", self.complementarity_violation)
+            .or_else(|| not_negative("oscillation_indicator", self.oscillation_indicator))
+            .or_else(|| not_negative("max_multiplier", self.max_multiplier))
     }
 }
 

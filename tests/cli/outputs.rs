@@ -12,6 +12,9 @@ use rustix::process::{kill_process, Pid, Signal};
 
 use crate::common::{expect_error, signorini, success_stdout};
 
+/// The manifest of an output directory (`harness::manifest::MANIFEST`).
+const MANIFEST: &str = ".signorini-manifest.json";
+
 const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";
 
 /// A fresh scratch directory.
@@ -68,12 +71,19 @@ fn names(dir: &Path) -> Vec<String> {
 /// Asserts that `out` holds exactly one run's files, each complete and agreeing with
 /// `run.json`: the histories' last values are the JSON's.
 fn assert_whole(out: &Path) {
-    assert_eq!(
-        names(out),
-        ["contact.csv", "energy.csv", "multiplier.csv", "run.json"],
-        "{}",
-        out.display()
-    );
+    let files = ["contact.csv", "energy.csv", "multiplier.csv", "run.json"];
+    let mut expected = vec![MANIFEST.to_string()];
+    expected.extend(files.map(String::from));
+    assert_eq!(names(out), expected, "{}", out.display());
+    let manifest: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join(MANIFEST)).unwrap()).unwrap();
+    let listed: Vec<&str> = manifest["files"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(listed, files, "the manifest lists the run's files");
     let json: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
     let steps = json["steps"].as_u64().unwrap() as usize;
@@ -224,21 +234,38 @@ fn an_out_that_is_a_file_or_holds_other_files_is_refused_with_exit_2() {
 
 #[test]
 fn a_new_run_replaces_an_earlier_one_whole_and_removes_what_a_killed_one_left() {
+    // The earlier run wrote points.csv (a scene with observed points); the new one does not,
+    // so points.csv goes with the earlier run's files. A killed run's staging directory (its
+    // manifest shows signorini created it) is removed; a directory of the user's with a name
+    // like it is kept.
     let dir = scratch("replace");
     let out = dir.join("out");
-    fs::create_dir(&out).unwrap();
-    fs::write(out.join("points.csv"), "an earlier run's").unwrap();
-    fs::write(out.join("run.json"), "{}").unwrap();
-    fs::write(out.join(".contact.csv.tmp-4000000"), "an older version's").unwrap();
-    let stale = dir.join(".out.staging-4000000");
-    fs::create_dir(&stale).unwrap();
-    fs::write(stale.join("run.json"), "half").unwrap();
+    let points = dir.join("points.json");
+    let mut scene: serde_json::Value = serde_json::from_str(
+        &fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(DIRICHLET)).unwrap(),
+    )
+    .unwrap();
+    scene["observables"]["points"] = serde_json::json!([0.5]);
+    fs::write(&points, scene.to_string()).unwrap();
+    let mut earlier = run_args("standard", "10", &out);
+    earlier[1] = points.to_string_lossy().into_owned();
+    let earlier: Vec<&str> = earlier.iter().map(String::as_str).collect();
+    success_stdout(&signorini(&earlier));
+    assert!(out.join("points.csv").is_file());
+    let killed = dir.join(".out.staging-4000000");
+    let staged_by_killed = run_args("standard", "10", &killed);
+    let staged_by_killed: Vec<&str> = staged_by_killed.iter().map(String::as_str).collect();
+    success_stdout(&signorini(&staged_by_killed));
+    let users = dir.join(".out.staging-4000001");
+    fs::create_dir(&users).unwrap();
+    fs::write(users.join("notes.txt"), "mine").unwrap();
     fs::write(dir.join(".out.lock"), "4000000").unwrap();
     let args = run_args("standard", "10", &out);
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     success_stdout(&signorini(&args));
     assert_whole(&out);
-    assert_eq!(names(&dir), ["out"]);
+    assert_eq!(names(&dir), [".out.staging-4000001", "out", "points.json"]);
+    assert_eq!(fs::read_to_string(users.join("notes.txt")).unwrap(), "mine");
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -252,7 +279,7 @@ fn a_shared_directory_keeps_its_other_files() {
     fs::write(reports.join("tables.md"), "committed").unwrap();
     let r = reports.to_string_lossy().into_owned();
     success_stdout(&signorini(&["figures", "--reports", &r]));
-    assert_eq!(names(&reports), ["README.md", "tables.md"]);
+    assert_eq!(names(&reports), [MANIFEST, "README.md", "tables.md"]);
     assert_eq!(
         fs::read_to_string(reports.join("tables.md")).unwrap(),
         "committed"

@@ -127,7 +127,7 @@ fn merge_refuses_incomplete_or_foreign_shards() {
         &["different invocations", "arguments"],
     );
     let not_a_shard = text(&dir.join("s1"));
-    expect_error(&["merge", &not_a_shard], 2, &["cannot read"]);
+    expect_error(&["merge", &not_a_shard], 2, &["is a directory"]);
 }
 
 #[test]

@@ -10,6 +10,7 @@ use std::path::Path;
 use common::{expect_error, signorini, success_stdout};
 
 use signorini::golden::{compare, gate, read_golden, render_drifts};
+use signorini::harness::manifest::Manifest;
 use signorini::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
 };
@@ -91,6 +92,12 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
         "# What accuracy costs\n\n1D table\n",
     )
     .unwrap();
+    // As a 1D report's run would have left it: the file in the directory's manifest.
+    let mut manifest = Manifest::new(None);
+    manifest
+        .record("work-precision.md".into(), &out.join("work-precision.md"))
+        .unwrap();
+    manifest.write(&out).unwrap();
     let first = signorini(&args);
     let stdout = success_stdout(&first);
     assert!(stdout.contains("elastic-2d.md"), "{stdout}");

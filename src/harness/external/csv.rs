@@ -1,14 +1,19 @@
 //! The CSV form of an external run: `# key: value` metadata lines, a header row of named
 //! columns (`time`, `u0…uNX`, `v0…vNX`, `lambda`, `lambda_time`, `contact_displacement`,
 //! `energy`, `energy_time`, in any order), then one row of numbers per sample. Read line by
-//! line, so a file never needs more memory than its numbers.
+//! line ([`input::Lines`], each line at most [`MAX_LINE_BYTES`]), so a file never needs more
+//! memory than its numbers and one line; the header is checked in time linear in its columns.
 
-use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
+use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 
 use super::error::ExternalError;
-use super::format::{check_size, Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES};
+use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
+use crate::harness::input::{self, InputError};
+
+/// The longest line read, in bytes (64 MiB: a row of a million nodes' displacement and
+/// velocity at 32 characters a number).
+pub const MAX_LINE_BYTES: usize = 64 * 1024 * 1024;
 
 /// The metadata keys, all required.
 pub const METADATA_KEYS: [&str; 6] = [
@@ -30,8 +35,11 @@ pub const SCALAR_COLUMNS: [&str; 6] = [
     "energy_time",
 ];
 
+/// How many cells beyond the header's a row's error message counts.
+const MAX_REPORTED_CELLS: usize = 1000;
+
 /// What a header column holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 enum Column {
     /// One of [`SCALAR_COLUMNS`], by index.
     Scalar(usize),
@@ -57,12 +65,8 @@ impl Column {
 
 /// Reads the CSV run file `path` (at most [`super::format::MAX_FILE_BYTES`]).
 pub fn read(path: &Path) -> Result<ExternalRun, ExternalError> {
-    check_size(path)?;
-    let file = std::fs::File::open(path).map_err(|source| ExternalError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    Reader::new(path).read(BufReader::new(file))
+    let lines = input::Lines::open(path, RUN_FILE, MAX_LINE_BYTES)?;
+    Reader::new(path).read(lines)
 }
 
 /// The state of one file's reading.
@@ -89,14 +93,10 @@ impl<'a> Reader<'a> {
         ExternalError::invalid(self.path, field, Some(at), value, allowed)
     }
 
-    fn read(mut self, input: impl BufRead) -> Result<ExternalRun, ExternalError> {
-        let mut lines = input.lines().enumerate().map(|(k, line)| {
-            line.map(|l| (k + 1, l.trim_end_matches('\r').to_string()))
-                .map_err(|source| ExternalError::Io {
-                    path: self.path.to_path_buf(),
-                    source,
-                })
-        });
+    fn read(
+        mut self,
+        mut lines: impl Iterator<Item = Result<(usize, String), InputError>>,
+    ) -> Result<ExternalRun, ExternalError> {
         let (header_line, header) = loop {
             let Some(line) = lines.next() else {
                 return Err(ExternalError::invalid(
@@ -187,16 +187,11 @@ impl<'a> Reader<'a> {
                 v.resize(v.len() + n, 0.0);
             }
             let row = time.len();
-            let cells: Vec<&str> = text.split(',').collect();
-            if cells.len() != columns.len() {
-                return Err(self.invalid(
-                    "row",
-                    format!("line {number}"),
-                    format!("{} values", cells.len()),
-                    format!("{} values, one per header column", columns.len()),
-                ));
-            }
-            for (c, (&column, cell)) in columns.iter().zip(cells).enumerate() {
+            let mut cells = text.split(',');
+            for (c, &column) in columns.iter().enumerate() {
+                let Some(cell) = cells.next() else {
+                    return Err(self.wrong_width(number, c, columns.len()));
+                };
                 let x = self.number(names[c], number, c, cell)?;
                 match column {
                     Column::Scalar(0) => time.push(x),
@@ -208,6 +203,10 @@ impl<'a> Reader<'a> {
                     Column::Displacement(i) => u[row * n + i] = x,
                     Column::Velocity(i) => v[row * n + i] = x,
                 }
+            }
+            if cells.next().is_some() {
+                let more = columns.len() + 1 + cells.take(MAX_REPORTED_CELLS).count();
+                return Err(self.wrong_width(number, more, columns.len()));
             }
         }
         let [lambda, lambda_time, contact_displacement, energy, energy_time] = scalars;
@@ -231,6 +230,22 @@ impl<'a> Reader<'a> {
         })
     }
 
+    /// A row of `found` values where the header has `columns` (`found` beyond
+    /// [`MAX_REPORTED_CELLS`] extra cells is not counted further).
+    fn wrong_width(&self, number: usize, found: usize, columns: usize) -> ExternalError {
+        let found = if found > columns + MAX_REPORTED_CELLS {
+            format!("more than {} values", columns + MAX_REPORTED_CELLS)
+        } else {
+            format!("{found} values")
+        };
+        self.invalid(
+            "row",
+            format!("line {number}"),
+            found,
+            format!("{columns} values, one per header column"),
+        )
+    }
+
     /// Takes in the metadata line `# key: value` (the text after `#`) at line `number`.
     fn metadata_line(&mut self, number: usize, meta: &str) -> Result<(), ExternalError> {
         let allowed = format!(
@@ -252,6 +267,14 @@ impl<'a> Reader<'a> {
 
     /// The positions of `# mesh.nodes: x0, x1, …`.
     fn nodes(&self, text: &str) -> Result<Vec<f64>, ExternalError> {
+        if text.split(',').nth(MAX_VALUES).is_some() {
+            return Err(self.invalid(
+                "mesh.nodes",
+                "its line".to_string(),
+                format!("more than {MAX_VALUES} nodes"),
+                format!("at most {MAX_VALUES} values in one file"),
+            ));
+        }
         text.split(',')
             .enumerate()
             .map(|(i, x)| {
@@ -277,7 +300,8 @@ impl<'a> Reader<'a> {
             SCALAR_COLUMNS.join(", "),
             last = n - 1
         );
-        let mut columns = Vec::new();
+        let mut columns = Vec::with_capacity(names.len());
+        let mut seen = HashSet::with_capacity(names.len());
         for (c, &name) in names.iter().enumerate() {
             let at = format!("line {line}, column {}", c + 1);
             let column = Column::parse(name)
@@ -288,21 +312,21 @@ impl<'a> Reader<'a> {
                 .ok_or_else(|| {
                     self.invalid("columns", at.clone(), format!("{name:?}"), &allowed)
                 })?;
-            if columns.contains(&column) {
+            if !seen.insert(column) {
                 return Err(self.invalid("columns", at, format!("{name:?} again"), &allowed));
             }
             columns.push(column);
         }
-        if !columns.contains(&Column::Scalar(0)) {
+        if !seen.contains(&Column::Scalar(0)) {
             return Err(self.invalid("time", format!("line {line}"), "missing", "a `time` column"));
         }
         for (prefix, field) in [
             ("u", Column::Displacement as fn(usize) -> Column),
             ("v", Column::Velocity),
         ] {
-            let count = (0..n).filter(|&i| columns.contains(&field(i))).count();
+            let count = (0..n).filter(|&i| seen.contains(&field(i))).count();
             if count > 0 && count < n {
-                let missing = (0..n).find(|&i| !columns.contains(&field(i))).unwrap_or(0);
+                let missing = (0..n).find(|&i| !seen.contains(&field(i))).unwrap_or(0);
                 return Err(self.invalid(
                     format!("{prefix}{missing}"),
                     format!("line {line}"),

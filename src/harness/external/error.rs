@@ -6,20 +6,16 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 use crate::harness::error::Error;
+use crate::harness::input::InputError;
 
 /// A run file that cannot be read, or whose content is not a valid run of the scene; a series
 /// of runs that cannot be fitted; or an error of the harness while verifying.
 #[derive(Debug, Error)]
 pub enum ExternalError {
-    /// The file cannot be read (it is missing, or not readable).
-    #[error("cannot read run file {}: {source}", path.display())]
-    Io {
-        /// The run file.
-        path: PathBuf,
-        /// What the system reported.
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file cannot be read: missing, unreadable, not a regular file, over its size limit
+    /// or with a line too long.
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
     #[error(
         "run file {} is not a valid run (line {line}, column {column}): {message}",

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::error::ExternalError;
 use crate::engine::fem::EndCondition;
 use crate::engine::problem::Problem1d;
+use crate::harness::input::Limit;
 
 /// The format's name and version, the first thing a file states (`format`).
 pub const FORMAT: &str = "signorini-external/1";
@@ -17,8 +18,15 @@ pub const FORMAT: &str = "signorini-external/1";
 /// The largest run file read, in bytes (256 MiB): a larger one is refused before it is read.
 pub const MAX_FILE_BYTES: u64 = 256 * 1024 * 1024;
 
-/// The most numbers one file may hold (2²⁵, 256 MiB as `f64`): samples × values per sample.
-pub const MAX_VALUES: usize = 1 << 25;
+/// The most numbers one file may hold (2²⁴, 128 MiB as `f64`): mesh nodes plus samples × values
+/// per sample. Reading a file takes at most three times that (the arrays grow by doubling).
+pub const MAX_VALUES: usize = 1 << 24;
+
+/// A run file, as [`crate::harness::input`] reads it.
+pub const RUN_FILE: Limit = Limit {
+    what: "run file",
+    max_bytes: MAX_FILE_BYTES,
+};
 
 /// How far a node may be from `i L/NX`, relative to `L/NX` (uniformity and span of the mesh).
 pub const MESH_TOLERANCE: f64 = 1e-9;
@@ -358,26 +366,6 @@ fn read_reported_times(
         }
         *t = t.min(horizon);
         previous = *t;
-    }
-    Ok(())
-}
-
-/// `path`'s size, refused above [`MAX_FILE_BYTES`] before anything is read.
-pub fn check_size(path: &Path) -> Result<(), ExternalError> {
-    let bytes = std::fs::metadata(path)
-        .map_err(|source| ExternalError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .len();
-    if bytes > MAX_FILE_BYTES {
-        return Err(ExternalError::invalid(
-            path,
-            "file size",
-            None,
-            format!("{bytes} bytes"),
-            format!("at most {MAX_FILE_BYTES} bytes (256 MiB): sample fewer times or levels"),
-        ));
     }
     Ok(())
 }

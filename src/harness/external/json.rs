@@ -1,237 +1,460 @@
-//! The JSON form of an external run: the file's serde types (unknown fields refused) and their
-//! conversion into an [`ExternalRun`], with every number checked finite and every sample checked
-//! to carry the same fields, each of the mesh's length.
+//! The JSON form of an external run, read as a stream: every number goes from the file
+//! straight into the flat arrays of the [`ExternalRun`] (no sample, row or text is held
+//! whole), each checked finite as it comes and counted against [`MAX_VALUES`], every sample
+//! checked to carry the fields sample 0 carries, each row as long as sample 0's (and, at the
+//! end, as the mesh). Unknown and duplicate fields are refused.
+//!
+//! Memory: the arrays, at most [`MAX_VALUES`] numbers of 8 bytes, grow by doubling, so reading
+//! takes at most three times their final size, 384 MiB, whatever the file holds.
 
+use std::fmt;
 use std::path::Path;
 
-use serde::{Deserialize, Deserializer};
+use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
 
 use super::error::ExternalError;
-use super::format::{check_size, Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES};
+use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
+use crate::harness::input::{self, JsonError};
 
-/// A number as written; `null` (how JSON writers store NaN and infinity) is kept as NaN so that
-/// the conversion can refuse it by name.
-#[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(from = "Option<f64>")]
-struct Number(f64);
-
-impl From<Option<f64>> for Number {
-    fn from(v: Option<f64>) -> Self {
-        Number(v.unwrap_or(f64::NAN))
-    }
+/// The top-level fields.
+#[derive(Deserialize)]
+#[serde(field_identifier, rename_all = "snake_case")]
+enum Field {
+    Format,
+    Scene,
+    Code,
+    Label,
+    Mesh,
+    Samples,
 }
 
-/// An optional field that is present as soon as its key is, even as `null`.
-fn present<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
-    T::deserialize(d).map(Some)
+/// The fields of `mesh`.
+#[derive(Deserialize)]
+#[serde(field_identifier, rename_all = "snake_case")]
+enum MeshField {
+    Nodes,
 }
 
-/// A run file as written.
-#[derive(Debug, Deserialize)]
-#[serde(rename = "ExternalRun", deny_unknown_fields)]
-struct RunFile {
-    /// [`FORMAT`].
-    format: String,
-    /// The scene's name.
-    scene: String,
-    /// The code and its version.
-    code: Code,
-    /// The configuration's label.
-    label: String,
-    /// The mesh.
-    mesh: MeshFile,
-    /// One entry per time sample.
-    samples: Vec<SampleFile>,
+/// The fields of a sample, in the order of [`SAMPLE_FIELDS`].
+#[derive(Deserialize, Clone, Copy)]
+#[serde(field_identifier, rename_all = "snake_case")]
+enum SampleField {
+    Time,
+    Displacement,
+    Velocity,
+    Lambda,
+    LambdaTime,
+    ContactDisplacement,
+    Energy,
+    EnergyTime,
 }
 
-/// The mesh as written.
-#[derive(Debug, Deserialize)]
-#[serde(rename = "Mesh", deny_unknown_fields)]
-struct MeshFile {
-    /// Node positions, ascending.
-    nodes: Vec<Number>,
-}
+/// The per-sample scalar fields besides `time`, in [`ExternalRun`]'s order.
+const SCALARS: [&str; 5] = [
+    "lambda",
+    "lambda_time",
+    "contact_displacement",
+    "energy",
+    "energy_time",
+];
 
-/// One sample as written.
-#[derive(Debug, Deserialize)]
-#[serde(rename = "Sample", deny_unknown_fields)]
-struct SampleFile {
-    time: Number,
-    #[serde(default, deserialize_with = "present")]
-    displacement: Option<Vec<Number>>,
-    #[serde(default, deserialize_with = "present")]
-    velocity: Option<Vec<Number>>,
-    #[serde(default, deserialize_with = "present")]
-    lambda: Option<Number>,
-    #[serde(default, deserialize_with = "present")]
-    lambda_time: Option<Number>,
-    #[serde(default, deserialize_with = "present")]
-    contact_displacement: Option<Number>,
-    #[serde(default, deserialize_with = "present")]
-    energy: Option<Number>,
-    #[serde(default, deserialize_with = "present")]
-    energy_time: Option<Number>,
-}
+/// The nodal fields.
+const FIELDS: [&str; 2] = ["displacement", "velocity"];
 
-/// `v` when finite; otherwise the error naming `field` at `at`.
-fn finite(
-    path: &Path,
-    field: &str,
-    at: impl Fn() -> String,
-    v: Number,
-) -> Result<f64, ExternalError> {
-    if v.0.is_finite() {
-        Ok(v.0)
-    } else {
-        Err(ExternalError::invalid(
-            path,
-            field,
-            Some(at()),
-            "null (not a finite number)",
-            "a finite number: a run that went non-finite has no error norm",
-        ))
-    }
-}
+/// The names of [`SampleField`]'s fields, in its order.
+const SAMPLE_FIELDS: [&str; 8] = [
+    "time",
+    "displacement",
+    "velocity",
+    "lambda",
+    "lambda_time",
+    "contact_displacement",
+    "energy",
+    "energy_time",
+];
 
 /// Reads the JSON run file `path` (at most [`super::format::MAX_FILE_BYTES`]).
 pub fn read(path: &Path) -> Result<ExternalRun, ExternalError> {
-    check_size(path)?;
-    let text = std::fs::read_to_string(path).map_err(|source| ExternalError::Io {
-        path: path.to_path_buf(),
-        source,
+    let mut arrays = Arrays::new(path);
+    let parsed = input::read_json_seed(path, RUN_FILE, RunSeed(&mut arrays));
+    if let Some(problem) = arrays.problem.take() {
+        return Err(problem);
+    }
+    let head = parsed.map_err(|e| match e {
+        JsonError::Input(e) => ExternalError::Input(e),
+        JsonError::Decode { source, .. } => ExternalError::Json {
+            path: path.to_path_buf(),
+            line: source.line(),
+            column: source.column(),
+            message: source.to_string(),
+        },
     })?;
-    let file: RunFile = serde_json::from_str(&text).map_err(|e| ExternalError::Json {
-        path: path.to_path_buf(),
-        line: e.line(),
-        column: e.column(),
-        message: e.to_string(),
-    })?;
-    drop(text);
-    convert(path, file)
+    arrays.finish(head)
 }
 
-/// The per-sample scalar fields: their names and how to get each from a sample.
-type Scalar = (&'static str, fn(&SampleFile) -> Option<Number>);
+/// What the file says besides its samples.
+struct Head {
+    format: String,
+    scene: String,
+    code: Code,
+    label: String,
+    nodes: Vec<f64>,
+}
 
-const SCALARS: [Scalar; 5] = [
-    ("lambda", |s| s.lambda),
-    ("lambda_time", |s| s.lambda_time),
-    ("contact_displacement", |s| s.contact_displacement),
-    ("energy", |s| s.energy),
-    ("energy_time", |s| s.energy_time),
-];
+/// The numbers read so far, and the first problem found (a serde error stops the parse, and
+/// [`read`] reports this instead of it).
+struct Arrays<'a> {
+    path: &'a Path,
+    values: usize,
+    time: Vec<f64>,
+    fields: [Option<Vec<f64>>; 2],
+    row_len: [Option<usize>; 2],
+    scalars: [Option<Vec<f64>>; 5],
+    /// Which of [`SAMPLE_FIELDS`] sample 0 carries.
+    first_sample: Option<[bool; 8]>,
+    problem: Option<ExternalError>,
+}
 
-fn convert(path: &Path, file: RunFile) -> Result<ExternalRun, ExternalError> {
-    if file.format != FORMAT {
-        return Err(ExternalError::invalid(
+impl<'a> Arrays<'a> {
+    fn new(path: &'a Path) -> Self {
+        Self {
             path,
-            "format",
-            None,
-            format!("{:?}", file.format),
-            format!("{FORMAT:?}"),
-        ));
+            values: 0,
+            time: Vec::new(),
+            fields: [None, None],
+            row_len: [None, None],
+            scalars: Default::default(),
+            first_sample: None,
+            problem: None,
+        }
     }
-    let nodes = file
-        .mesh
-        .nodes
-        .iter()
-        .enumerate()
-        .map(|(i, &x)| finite(path, "mesh.nodes", || format!("node {i}"), x))
-        .collect::<Result<Vec<f64>, _>>()?;
-    let n = nodes.len();
-    let samples = &file.samples;
-    let first = samples.first();
-    let has_u = first.is_some_and(|s| s.displacement.is_some());
-    let has_v = first.is_some_and(|s| s.velocity.is_some());
-    let per_sample = 1 + n * (usize::from(has_u) + usize::from(has_v)) + SCALARS.len();
-    if samples.len().saturating_mul(per_sample) > MAX_VALUES {
-        return Err(ExternalError::invalid(
-            path,
-            "samples",
-            None,
-            format!("{} samples of {per_sample} values", samples.len()),
-            format!("at most {MAX_VALUES} values in one file"),
-        ));
+
+    /// Records `problem` and returns the serde error that stops the parse.
+    fn stop<E: de::Error>(&mut self, problem: ExternalError) -> E {
+        self.problem.get_or_insert(problem);
+        E::custom("stopped")
     }
-    let at = |k: usize| SampleOrigin::Json.at(k);
-    let mut time = Vec::with_capacity(samples.len());
-    let (mut u, mut v) = (Vec::new(), Vec::new());
-    let mut scalars = SCALARS.map(|(_, get)| {
-        first
-            .and_then(get)
-            .map(|_| Vec::with_capacity(samples.len()))
-    });
-    for (k, s) in samples.iter().enumerate() {
-        time.push(finite(path, "time", || at(k), s.time)?);
-        push_row(
-            path,
-            "displacement",
-            k,
-            has_u,
-            s.displacement.as_deref(),
-            n,
-            &mut u,
-        )?;
-        push_row(path, "velocity", k, has_v, s.velocity.as_deref(), n, &mut v)?;
-        for ((name, get), out) in SCALARS.iter().zip(&mut scalars) {
-            match (get(s), out) {
-                (Some(x), Some(out)) => out.push(finite(path, name, || at(k), x)?),
-                (None, None) => {}
-                (x, _) => return Err(inconsistent(path, name, k, x.is_some())),
+
+    /// Counts one more number against [`MAX_VALUES`].
+    fn count<E: de::Error>(&mut self, at: impl Fn() -> String) -> Result<(), E> {
+        self.values += 1;
+        if self.values > MAX_VALUES {
+            let problem = ExternalError::invalid(
+                self.path,
+                "samples",
+                Some(at()),
+                format!("more than {MAX_VALUES} values"),
+                format!("at most {MAX_VALUES} values in one file: sample fewer times or levels"),
+            );
+            return Err(self.stop(problem));
+        }
+        Ok(())
+    }
+
+    /// `x` when finite; otherwise the error naming `field` at `at`.
+    fn finite<E: de::Error>(
+        &mut self,
+        field: &str,
+        at: impl Fn() -> String,
+        x: Option<f64>,
+    ) -> Result<f64, E> {
+        match x {
+            Some(x) if x.is_finite() => Ok(x),
+            _ => {
+                let problem = ExternalError::invalid(
+                    self.path,
+                    field,
+                    Some(at()),
+                    "null (not a finite number)",
+                    "a finite number: a run that went non-finite has no error norm",
+                );
+                Err(self.stop(problem))
             }
         }
     }
-    let [lambda, lambda_time, contact_displacement, energy, energy_time] = scalars;
-    Ok(ExternalRun {
-        path: path.to_path_buf(),
-        origin: SampleOrigin::Json,
-        scene: file.scene,
-        code: file.code,
-        label: file.label,
-        nodes,
-        time,
-        displacement: has_u.then_some(u),
-        velocity: has_v.then_some(v),
-        lambda,
-        lambda_time,
-        contact_displacement,
-        energy,
-        energy_time,
-    })
+
+    /// The run: the head, the arrays, each row as long as the mesh.
+    fn finish(self, head: Head) -> Result<ExternalRun, ExternalError> {
+        let path = self.path;
+        if head.format != FORMAT {
+            return Err(ExternalError::invalid(
+                path,
+                "format",
+                None,
+                format!("{:?}", head.format),
+                format!("{FORMAT:?}"),
+            ));
+        }
+        if self.time.is_empty() {
+            return Err(ExternalError::invalid(
+                path,
+                "samples",
+                None,
+                "none",
+                "one sample per time step from t = 0 to the horizon",
+            ));
+        }
+        let n = head.nodes.len();
+        for (field, len) in FIELDS.iter().zip(self.row_len) {
+            if let Some(len) = len.filter(|&len| len != n) {
+                return Err(ExternalError::invalid(
+                    path,
+                    *field,
+                    Some(SampleOrigin::Json.at(0)),
+                    format!("{len} values"),
+                    format!("one value per mesh node ({n})"),
+                ));
+            }
+        }
+        let [displacement, velocity] = self.fields;
+        let [lambda, lambda_time, contact_displacement, energy, energy_time] = self.scalars;
+        Ok(ExternalRun {
+            path: path.to_path_buf(),
+            origin: SampleOrigin::Json,
+            scene: head.scene,
+            code: head.code,
+            label: head.label,
+            nodes: head.nodes,
+            time: self.time,
+            displacement,
+            velocity,
+            lambda,
+            lambda_time,
+            contact_displacement,
+            energy,
+            energy_time,
+        })
+    }
 }
 
-/// Appends sample `k`'s nodal values `row` of `field` to `out`: present exactly when sample 0's
-/// are (`expected`), `n` of them, each finite.
-fn push_row(
-    path: &Path,
-    field: &str,
+/// The whole file: its head returned, its samples into the [`Arrays`].
+struct RunSeed<'s, 'a>(&'s mut Arrays<'a>);
+
+impl<'de> DeserializeSeed<'de> for RunSeed<'_, '_> {
+    type Value = Head;
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<Head, D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for RunSeed<'_, '_> {
+    type Value = Head;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an external run: format, scene, code, label, mesh and samples")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Head, A::Error> {
+        let arrays = self.0;
+        let (mut format, mut scene, mut code, mut label, mut nodes) =
+            (None, None, None, None, None);
+        let mut samples = false;
+        fn once<T, E: de::Error>(slot: &mut Option<T>, name: &'static str, v: T) -> Result<(), E> {
+            match slot.replace(v) {
+                Some(_) => Err(E::duplicate_field(name)),
+                None => Ok(()),
+            }
+        }
+        while let Some(key) = map.next_key::<Field>()? {
+            match key {
+                Field::Format => once(&mut format, "format", map.next_value()?)?,
+                Field::Scene => once(&mut scene, "scene", map.next_value()?)?,
+                Field::Code => once(&mut code, "code", map.next_value()?)?,
+                Field::Label => once(&mut label, "label", map.next_value()?)?,
+                Field::Mesh => once(&mut nodes, "mesh", map.next_value_seed(MeshSeed(arrays))?)?,
+                Field::Samples => {
+                    if samples {
+                        return Err(de::Error::duplicate_field("samples"));
+                    }
+                    samples = true;
+                    map.next_value_seed(SamplesSeed(arrays))?;
+                }
+            }
+        }
+        if !samples {
+            return Err(de::Error::missing_field("samples"));
+        }
+        Ok(Head {
+            format: format.ok_or_else(|| de::Error::missing_field("format"))?,
+            scene: scene.ok_or_else(|| de::Error::missing_field("scene"))?,
+            code: code.ok_or_else(|| de::Error::missing_field("code"))?,
+            label: label.ok_or_else(|| de::Error::missing_field("label"))?,
+            nodes: nodes.ok_or_else(|| de::Error::missing_field("mesh"))?,
+        })
+    }
+}
+
+/// `mesh`: `{"nodes": [...]}`.
+struct MeshSeed<'s, 'a>(&'s mut Arrays<'a>);
+
+impl<'de> DeserializeSeed<'de> for MeshSeed<'_, '_> {
+    type Value = Vec<f64>;
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<Vec<f64>, D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for MeshSeed<'_, '_> {
+    type Value = Vec<f64>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a mesh: {\"nodes\": [x0, x1, …]}")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Vec<f64>, A::Error> {
+        let arrays = self.0;
+        let mut nodes = None;
+        while let Some(MeshField::Nodes) = map.next_key::<MeshField>()? {
+            if nodes.is_some() {
+                return Err(de::Error::duplicate_field("nodes"));
+            }
+            let mut row = Vec::new();
+            map.next_value_seed(RowSeed {
+                arrays: &mut *arrays,
+                field: "mesh.nodes",
+                sample: None,
+                out: &mut row,
+            })?;
+            nodes = Some(row);
+        }
+        nodes.ok_or_else(|| de::Error::missing_field("nodes"))
+    }
+}
+
+/// `samples`: the array, each sample into the [`Arrays`].
+struct SamplesSeed<'s, 'a>(&'s mut Arrays<'a>);
+
+impl<'de> DeserializeSeed<'de> for SamplesSeed<'_, '_> {
+    type Value = ();
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for SamplesSeed<'_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array of samples")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let arrays = self.0;
+        let mut k = 0;
+        while seq
+            .next_element_seed(SampleSeed {
+                arrays: &mut *arrays,
+                k,
+            })?
+            .is_some()
+        {
+            k += 1;
+        }
+        Ok(())
+    }
+}
+
+/// Sample `k`: its numbers appended to the [`Arrays`].
+struct SampleSeed<'s, 'a> {
+    arrays: &'s mut Arrays<'a>,
     k: usize,
-    expected: bool,
-    row: Option<&[Number]>,
-    n: usize,
-    out: &mut Vec<f64>,
-) -> Result<(), ExternalError> {
-    match (row, expected) {
-        (None, false) => Ok(()),
-        (Some(row), true) if row.len() == n => {
-            for (i, &x) in row.iter().enumerate() {
-                let at = || format!("{}, node {i}", SampleOrigin::Json.at(k));
-                out.push(finite(path, field, at, x)?);
-            }
-            Ok(())
-        }
-        (Some(row), true) => Err(ExternalError::invalid(
-            path,
-            field,
-            Some(SampleOrigin::Json.at(k)),
-            format!("{} values", row.len()),
-            format!("one value per mesh node ({n})"),
-        )),
-        (row, _) => Err(inconsistent(path, field, k, row.is_some())),
+}
+
+impl<'de> DeserializeSeed<'de> for SampleSeed<'_, '_> {
+    type Value = ();
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
     }
 }
 
-/// A field that sample `k` has and sample 0 lacks, or the other way round.
+impl<'de> Visitor<'de> for SampleSeed<'_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a sample: {\"time\": t, …}")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let (arrays, k) = (self.arrays, self.k);
+        let at = || SampleOrigin::Json.at(k);
+        let mut seen = [false; 8];
+        while let Some(field) = map.next_key::<SampleField>()? {
+            let index = field as usize;
+            if std::mem::replace(&mut seen[index], true) {
+                return Err(de::Error::custom(format!(
+                    "duplicate field in {}",
+                    SampleOrigin::Json.at(k)
+                )));
+            }
+            match field {
+                SampleField::Time => {
+                    let x = map.next_value::<Option<f64>>()?;
+                    arrays.count(at)?;
+                    let x = arrays.finite("time", at, x)?;
+                    arrays.time.push(x);
+                }
+                SampleField::Displacement | SampleField::Velocity => {
+                    let f = index - 1;
+                    let mut row = arrays.fields[f].take().unwrap_or_default();
+                    let before = row.len();
+                    let appended = map.next_value_seed(RowSeed {
+                        arrays: &mut *arrays,
+                        field: FIELDS[f],
+                        sample: Some(k),
+                        out: &mut row,
+                    });
+                    let len = row.len() - before;
+                    arrays.fields[f] = Some(row);
+                    appended?;
+                    match arrays.row_len[f] {
+                        None if k == 0 => arrays.row_len[f] = Some(len),
+                        Some(first) if first != len => {
+                            let problem = ExternalError::invalid(
+                                arrays.path,
+                                FIELDS[f],
+                                Some(at()),
+                                format!("{len} values"),
+                                format!("one value per mesh node ({first}): as many as samples[0]"),
+                            );
+                            return Err(arrays.stop(problem));
+                        }
+                        _ => {}
+                    }
+                }
+                _ => {
+                    let s = index - 3;
+                    let x = map.next_value::<Option<f64>>()?;
+                    arrays.count(at)?;
+                    let x = arrays.finite(SCALARS[s], at, x)?;
+                    arrays.scalars[s].get_or_insert_with(Vec::new).push(x);
+                }
+            }
+        }
+        if !seen[0] {
+            return Err(de::Error::custom(format!(
+                "missing field `time` in {}",
+                SampleOrigin::Json.at(k)
+            )));
+        }
+        match arrays.first_sample {
+            None => arrays.first_sample = Some(seen),
+            Some(first) => {
+                if let Some(i) = (1..seen.len()).find(|&i| seen[i] != first[i]) {
+                    let problem = inconsistent(arrays.path, SAMPLE_FIELDS[i], k, seen[i]);
+                    return Err(arrays.stop(problem));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A field that sample `k` has and sample 0 lacks (`here`), or the other way round.
 fn inconsistent(path: &Path, field: &str, k: usize, here: bool) -> ExternalError {
     let (value, allowed) = if here {
         (
@@ -245,4 +468,44 @@ fn inconsistent(path: &Path, field: &str, k: usize, here: bool) -> ExternalError
         )
     };
     ExternalError::invalid(path, field, Some(SampleOrigin::Json.at(k)), value, allowed)
+}
+
+/// An array of numbers appended to `out`, each counted and checked finite.
+struct RowSeed<'s, 'a, 'o> {
+    arrays: &'s mut Arrays<'a>,
+    field: &'static str,
+    sample: Option<usize>,
+    out: &'o mut Vec<f64>,
+}
+
+impl<'de> DeserializeSeed<'de> for RowSeed<'_, '_, '_> {
+    type Value = ();
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for RowSeed<'_, '_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "an array of numbers ({})", self.field)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let (arrays, field, sample) = (self.arrays, self.field, self.sample);
+        let mut i = 0;
+        while let Some(x) = seq.next_element::<Option<f64>>()? {
+            let at = || match sample {
+                Some(k) => format!("{}, node {i}", SampleOrigin::Json.at(k)),
+                None => format!("node {i}"),
+            };
+            arrays.count(at)?;
+            let x = arrays.finite(field, at, x)?;
+            self.out.push(x);
+            i += 1;
+        }
+        Ok(())
+    }
 }

@@ -16,7 +16,7 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::fs::File;
+
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
@@ -27,12 +27,19 @@ use serde_json::{Map, Value};
 
 use super::norms::{DemoErrorNorms, DemoSeries};
 use crate::harness::error::DemoRunError;
+use crate::harness::input::{self, InputError, Limit};
 
 /// The largest run file accepted, in bytes (compressed).
 pub const MAX_COMPRESSED_BYTES: u64 = 8 << 20;
 
 /// The largest JSON text a run file may inflate to, in bytes.
 pub const MAX_JSON_BYTES: u64 = 32 << 20;
+
+/// A GetFEM demo run file, as [`input`] reads it.
+const DEMO_RUN_FILE: Limit = Limit {
+    what: "GetFEM demo run",
+    max_bytes: MAX_COMPRESSED_BYTES,
+};
 
 /// The demo's `version`: how contact is treated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -409,14 +416,15 @@ fn inflate(path: &Path) -> Result<Vec<u8>, DemoRunError> {
         path: path.to_path_buf(),
         source,
     };
-    let file = File::open(path).map_err(io)?;
-    if file.metadata().map_err(io)?.len() > MAX_COMPRESSED_BYTES {
-        return Err(DemoRunError::TooLarge {
+    let file = input::open(path, DEMO_RUN_FILE).map_err(|e| match e {
+        InputError::TooLarge { .. } => DemoRunError::TooLarge {
             path: path.to_path_buf(),
             what: "compressed file",
             limit: MAX_COMPRESSED_BYTES,
-        });
-    }
+        },
+        InputError::Io { source, .. } => io(source),
+        other => DemoRunError::Input(other),
+    })?;
     let mut text = Vec::new();
     GzDecoder::new(file)
         .take(MAX_JSON_BYTES + 1)

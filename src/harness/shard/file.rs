@@ -5,7 +5,7 @@
 //!
 //! | field | what |
 //! | --- | --- |
-//! | `format` | `"signorini-shard/1"` |
+//! | `format` | `"signorini-shard/2"` |
 //! | `signorini` | the version of the binary that ran the shard |
 //! | `command` | the subcommand: `study`, `stability`, `sensitivity` or `reference` |
 //! | `arguments` | its arguments as typed, less `--shard` and `--out` (the merge gives its own `--out`) |
@@ -14,11 +14,15 @@
 //! | `k`, `n` | shard `k` of `n` |
 //! | `jobs` | the number of jobs in the whole job list |
 //! | `results` | this shard's jobs: `index` (the job's place in the list), `result` |
+//! | `checksum` | 64 hexadecimal digits: SHA-256 of the file's compact JSON with `checksum` empty |
+//!
+//! The checksum covers every other field (the parameters through `identity`, and the results):
+//! a file changed or damaged after its shard wrote it is refused by the merge
+//! ([`ShardFile::verify`]). Version 1 files (no checksum) are refused with the reason.
 //!
 //! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
 //! `reference` command it is the scene's name, the reference itself being in the cache.
 
-use std::fs;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -26,9 +30,19 @@ use serde::{Deserialize, Serialize};
 use super::plan::{EncodedResult, Share};
 use super::ShardSpec;
 use crate::harness::error::Error;
+use crate::harness::input::{self, Limit, SCENE_FILE};
+use crate::harness::manifest::sha256;
+
+/// A shard file, as [`crate::harness::input`] reads it: at most 64 MiB. Its strings are held
+/// as read, so the file takes at most about eight times its size in memory (a list of empty
+/// strings, 3 bytes each in the file and 24 in memory), 512 MiB.
+pub const SHARD_FILE: Limit = Limit {
+    what: "shard file",
+    max_bytes: 64 * 1024 * 1024,
+};
 
 /// The `format` of the files this version writes and reads.
-pub const SHARD_FORMAT: &str = "signorini-shard/1";
+pub const SHARD_FORMAT: &str = "signorini-shard/2";
 
 /// One shard's partial result file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,6 +68,31 @@ pub struct ShardFile {
     pub jobs: usize,
     /// This shard's jobs.
     pub results: Vec<JobResult>,
+    /// SHA-256 of the file with this field empty ([`ShardFile::checksum_of`]).
+    #[serde(default)]
+    pub checksum: String,
+}
+
+impl ShardFile {
+    /// The SHA-256 of this file's compact JSON with `checksum` empty, as 64 hexadecimal digits.
+    pub fn checksum_of(&self) -> String {
+        let blank = ShardFile {
+            checksum: String::new(),
+            ..self.clone()
+        };
+        sha256(serde_json::to_string(&blank).unwrap_or_default().as_bytes())
+    }
+
+    /// The file with its checksum set.
+    pub fn sealed(mut self) -> Self {
+        self.checksum = self.checksum_of();
+        self
+    }
+
+    /// Whether the checksum is the content's.
+    pub fn verify(&self) -> bool {
+        self.checksum == self.checksum_of()
+    }
 }
 
 /// One job of a shard file.
@@ -89,7 +128,7 @@ impl Invocation {
         }
         for path in &self.inputs {
             hash.part(path.to_string_lossy().as_bytes());
-            hash.part(&fs::read(path).map_err(Error::read(path))?);
+            hash.part(&input::read_bytes(path, SCENE_FILE)?);
         }
         Ok(format!("{:016x}", hash.0))
     }
@@ -111,7 +150,9 @@ impl Invocation {
                 .into_iter()
                 .map(|EncodedResult { index, result }| JobResult { index, result })
                 .collect(),
-        })
+            checksum: String::new(),
+        }
+        .sealed())
     }
 }
 

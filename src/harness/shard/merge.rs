@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use super::file::{Invocation, ShardFile, SHARD_FORMAT};
+use super::spec::{MAX_JOBS, MAX_SHARDS};
 use super::ShardError;
 
 /// The shards of one invocation put back together.
@@ -26,6 +27,19 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
                 found: s.format.clone(),
                 expected: SHARD_FORMAT,
             });
+        }
+        if !s.verify() {
+            return Err(ShardError::Checksum { path: path.clone() });
+        }
+        for (field, value, max) in [("n", s.n, MAX_SHARDS), ("jobs", s.jobs, MAX_JOBS)] {
+            if value > max {
+                return Err(ShardError::TooMany {
+                    path: path.clone(),
+                    field,
+                    value,
+                    max,
+                });
+            }
         }
     }
     let Some((first_path, first)) = shards.first() else {
@@ -118,6 +132,7 @@ mod tests {
             k,
             n,
             jobs: 4,
+            checksum: String::new(),
             results: indices
                 .iter()
                 .map(|&index| JobResult {
@@ -125,7 +140,8 @@ mod tests {
                     result: format!("r{index}"),
                 })
                 .collect(),
-        };
+        }
+        .sealed();
         (PathBuf::from(format!("s{k}.json")), file)
     }
 
@@ -144,9 +160,22 @@ mod tests {
     }
 
     #[test]
+    fn refuses_a_changed_file_and_absurd_counts() {
+        let (p, mut changed) = shard(2, 2, &[2, 3]);
+        changed.results[0].result = "r9".into();
+        let e = merge(vec![shard(1, 2, &[0, 1]), (p.clone(), changed)]).unwrap_err();
+        assert!(matches!(e, ShardError::Checksum { .. }), "{e}");
+        let (_, mut huge) = shard(1, 1, &[0]);
+        huge.n = MAX_SHARDS + 1;
+        let e = merge(vec![(p, huge.sealed())]).unwrap_err();
+        assert!(e.to_string().contains("n = 10001"), "{e}");
+    }
+
+    #[test]
     fn refuses_shards_of_other_invocations_and_lost_jobs() {
         let (p, mut other) = shard(2, 2, &[2, 3]);
         other.arguments.push("--levels".into());
+        let other = other.sealed();
         let e = merge(vec![shard(1, 2, &[0, 1]), (p, other)]).unwrap_err();
         assert!(e.to_string().contains("arguments"), "{e}");
         let e = merge(vec![shard(1, 2, &[0, 1]), shard(2, 2, &[2])]).unwrap_err();

@@ -15,9 +15,13 @@ pub mod codec;
 pub mod file;
 pub mod merge;
 pub mod plan;
+pub mod range;
 pub mod spec;
 
-pub use file::{shard_file_name, shard_file_path, Invocation, JobResult, ShardFile, SHARD_FORMAT};
+pub use file::{
+    shard_file_name, shard_file_path, Invocation, JobResult, ShardFile, SHARD_FILE, SHARD_FORMAT,
+};
+pub use range::InRange;
 pub use spec::ShardSpec;
 
 pub use crate::harness::error::ShardError;

@@ -5,6 +5,14 @@ use std::str::FromStr;
 
 use crate::engine::error::ParameterError;
 
+/// The most shards one command may be split into (`--shard k/n`, and `n` in a shard file): a
+/// GitHub Actions matrix holds 256 jobs, a Slurm array 1 001 by default.
+pub const MAX_SHARDS: usize = 10_000;
+
+/// The most jobs a shard file may say its command's job list has (`jobs`): the largest study
+/// has a few hundred.
+pub const MAX_JOBS: usize = 1_000_000;
+
 /// Shard `k` of `n` (`1 ≤ k ≤ n`): the jobs at positions `k − 1`, `k − 1 + n`, `k − 1 + 2n`, …
 /// of a job list in its largest-first order, so that every shard gets a fair part of the large
 /// jobs and the `n` shards together run each job exactly once.
@@ -17,7 +25,8 @@ pub struct ShardSpec {
 }
 
 /// What `--shard` accepts, for its error messages.
-const ALLOWED: &str = "k/n with integers 1 <= k <= n (e.g. 2/4: the second of four shards)";
+const ALLOWED: &str =
+    "k/n with integers 1 <= k <= n <= 10000 (e.g. 2/4: the second of four shards)";
 
 impl ShardSpec {
     /// The jobs of this shard out of `order`, the job indices in their largest-first order.
@@ -39,7 +48,7 @@ impl FromStr for ShardSpec {
         let (k, n) = s.split_once('/').ok_or_else(invalid)?;
         let k: usize = k.trim().parse().map_err(|_| invalid())?;
         let n: usize = n.trim().parse().map_err(|_| invalid())?;
-        if k == 0 || k > n {
+        if k == 0 || k > n || n > MAX_SHARDS {
             return Err(invalid());
         }
         Ok(Self { k, n })
@@ -60,7 +69,18 @@ mod tests {
     fn parses_k_of_n_and_refuses_the_rest() {
         assert_eq!("2/4".parse(), Ok(ShardSpec { k: 2, n: 4 }));
         assert_eq!("1/1".parse(), Ok(ShardSpec { k: 1, n: 1 }));
-        for bad in ["0/3", "4/3", "3", "a/3", "1/0", "-1/3", "1/3/4", ""] {
+        for bad in [
+            "0/3",
+            "4/3",
+            "3",
+            "a/3",
+            "1/0",
+            "-1/3",
+            "1/3/4",
+            "",
+            "1/10001",
+            "1/18446744073709551615",
+        ] {
             let e = bad.parse::<ShardSpec>().unwrap_err();
             assert_eq!(e.name, "--shard", "{bad}");
         }

@@ -48,6 +48,8 @@ use crate::harness::rates::fit_rate;
 use crate::harness::run::{Observables, Observer, RunConfig};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
+use crate::harness::shard::range::{errors_out_of_range, positive};
+use crate::harness::shard::InRange;
 use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
@@ -271,6 +273,15 @@ struct LevelOutcome {
     histories: Option<CaseHistories>,
     ensemble: Option<LevelEnsemble>,
     ensemble_seconds: f64,
+}
+
+impl InRange for LevelOutcome {
+    fn out_of_range(&self) -> Option<String> {
+        positive("h", self.record.h)
+            .or_else(|| positive("dt", self.record.dt))
+            .or_else(|| errors_out_of_range(&self.errors))
+            .or_else(|| self.ensemble.as_ref().and_then(InRange::out_of_range))
+    }
 }
 
 /// The reference of a study with what comparing a run with it takes: the norm matrices of every

@@ -116,7 +116,7 @@ impl LevelProjections {
         Some((h2 + self.h_remainder[k], v2 + self.v_remainder[k]))
     }
 
-    /// The numbers of the cache file, in the order [`LevelProjections::from_values`] reads.
+    /// The numbers of the cache file, in the order [`LevelProjections::read`] reads.
     pub fn values(&self) -> impl Iterator<Item = f64> + '_ {
         (self.h_projection.iter())
             .chain(&self.v_projection)
@@ -125,25 +125,33 @@ impl LevelProjections {
             .copied()
     }
 
-    /// The number of values of a level of `dofs` unknowns and `samples` steps.
-    pub fn value_count(dofs: usize, samples: usize) -> usize {
-        2 * samples * (dofs + 1)
+    /// The number of values of a level of `dofs` unknowns and `samples` steps (`None` past
+    /// `usize`).
+    pub fn value_count(dofs: usize, samples: usize) -> Option<usize> {
+        dofs.checked_add(1)?.checked_mul(samples)?.checked_mul(2)
     }
 
-    /// Reads back [`LevelProjections::values`] (`values` has
-    /// [`LevelProjections::value_count`] entries).
-    pub fn from_values(level: usize, dofs: usize, samples: usize, values: &[f64]) -> Self {
-        let (h, rest) = values.split_at(samples * dofs);
-        let (v, rest) = rest.split_at(samples * dofs);
-        let (h_remainder, v_remainder) = rest.split_at(samples);
-        Self {
+    /// Reads back [`LevelProjections::values`] from `next`, which yields the values in order:
+    /// `None` when it runs out first.
+    pub fn read(
+        level: usize,
+        dofs: usize,
+        samples: usize,
+        next: &mut impl FnMut(&mut [f64]) -> Option<()>,
+    ) -> Option<Self> {
+        let mut part = |len: usize| {
+            let mut v = vec![0.0; len];
+            next(&mut v).map(|()| v)
+        };
+        let field = samples.checked_mul(dofs)?;
+        Some(Self {
             level,
             dofs,
-            h_projection: h.to_vec(),
-            v_projection: v.to_vec(),
-            h_remainder: h_remainder.to_vec(),
-            v_remainder: v_remainder.to_vec(),
-        }
+            h_projection: part(field)?,
+            v_projection: part(field)?,
+            h_remainder: part(samples)?,
+            v_remainder: part(samples)?,
+        })
     }
 }
 

@@ -18,11 +18,13 @@
 //! write the directory.
 
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
 
 use super::check::{CheckComparison, CheckSender};
 use super::projection::{LevelProjections, NormMatrices, ProjectionRecorder};
@@ -32,11 +34,20 @@ use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
 use crate::harness::error::Error;
+use crate::harness::input::{self, InputError, JsonError, Limit};
+use crate::harness::manifest::hex;
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
-/// projections on the fitted levels and the lockstep check replace the displacement samples).
-const CACHE_FORMAT: u32 = 2;
+/// projections on the fitted levels and the lockstep check replace the displacement samples;
+/// 3: the checksum).
+const CACHE_FORMAT: u32 = 3;
+
+/// A cache's `.json` file, as [`input`] reads it (its histories have a few thousand samples).
+const REFERENCE_JSON: Limit = Limit {
+    what: "cached reference",
+    max_bytes: 64 * 1024 * 1024,
+};
 
 /// Everything that determines a reference run: the cache is valid only for an equal key.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -164,6 +175,51 @@ pub struct ReferenceHistories {
     pub projections: Vec<ProjectionLayout>,
     /// The reference case one level coarser, compared with the reference.
     pub check: CheckOutcome,
+    /// SHA-256 of this file's compact JSON with this field empty followed by the `.bin` file's
+    /// bytes ([`Reference::save`]): a cache changed since it was written is stale.
+    #[serde(default)]
+    pub checksum: String,
+}
+
+impl ReferenceHistories {
+    /// The first value that is not finite, named; `None` when all are.
+    fn non_finite(&self) -> Option<String> {
+        let series: [(&str, &[f64]); 5] = [
+            ("time", &self.time),
+            ("energy", &self.energy),
+            ("total_force", &self.total_force),
+            ("centre_displacement", &self.centre_displacement),
+            ("centre_multiplier", &self.centre_multiplier),
+        ];
+        let scalars = [("dt", self.dt)]
+            .into_iter()
+            .chain(self.check.distance.iter().map(|(k, d)| (k.as_str(), *d)));
+        series
+            .iter()
+            .find_map(|(name, v)| {
+                v.iter()
+                    .position(|x| !x.is_finite())
+                    .map(|k| format!("{name}[{k}] = {} is not finite", v[k]))
+            })
+            .or_else(|| {
+                scalars
+                    .filter(|(_, x)| !x.is_finite())
+                    .map(|(name, x)| format!("{name} = {x} is not finite"))
+                    .next()
+            })
+    }
+
+    /// The SHA-256 state of this file's compact JSON with `checksum` empty, to be completed
+    /// with the `.bin` file's bytes.
+    fn digest(&self) -> Result<Sha256, serde_json::Error> {
+        let blank = ReferenceHistories {
+            checksum: String::new(),
+            ..self.clone()
+        };
+        let mut digest = Sha256::new();
+        digest.update(serde_json::to_string(&blank)?.as_bytes());
+        Ok(digest)
+    }
 }
 
 /// Where one level's projections are in the `.bin` file.
@@ -288,6 +344,7 @@ impl Reference {
                     .collect(),
             },
             key,
+            checksum: String::new(),
         };
         Ok(Self {
             mesh,
@@ -316,7 +373,7 @@ impl Reference {
     }
 
     /// Writes the cache (each file atomically; the binary first, so a `.json` never describes
-    /// a missing or partial `.bin`).
+    /// a missing or partial `.bin`), the `.json` with the checksum of both.
     pub fn save(&self, dir: &Path, stem: &str) -> Result<(), Error> {
         let (json, bin) = Self::cache_paths(dir, stem);
         let bytes: Vec<u8> = self
@@ -326,11 +383,19 @@ impl Reference {
             .flat_map(f64::to_le_bytes)
             .collect();
         write_atomic(&bin, &bytes)?;
-        let text = serde_json::to_string(&self.histories).map_err(Error::encode(&json))?;
+        let mut digest = self.histories.digest().map_err(Error::encode(&json))?;
+        digest.update(&bytes);
+        let histories = ReferenceHistories {
+            checksum: hex(&digest.finalize()),
+            ..self.histories.clone()
+        };
+        let text = serde_json::to_string(&histories).map_err(Error::encode(&json))?;
         write_atomic(&json, text.as_bytes())
     }
 
-    /// Reads the cache if it exists and its key equals `key`.
+    /// Reads the cache if it exists and its key equals `key`: stale when the key differs, the
+    /// `.bin` file has another size than its layout says, the checksum does not match or a
+    /// value is not finite. A file that is not a regular one is an error.
     pub fn load(
         problem: &BoxProblem,
         dir: &Path,
@@ -338,44 +403,87 @@ impl Reference {
         key: &ReferenceKey,
     ) -> Result<CacheLookup, Error> {
         let (json, bin) = Self::cache_paths(dir, stem);
-        let Ok(text) = std::fs::read_to_string(&json) else {
-            return Ok(CacheLookup::Missing);
-        };
-        let histories: ReferenceHistories = match serde_json::from_str(&text) {
+        let stale = |why: String| Ok(CacheLookup::Stale(vec![why]));
+        let histories: ReferenceHistories = match input::read_json(&json, REFERENCE_JSON) {
             Ok(h) => h,
-            Err(e) => return Ok(CacheLookup::Stale(vec![format!("unreadable: {e}")])),
+            Err(JsonError::Input(InputError::Io { source, .. }))
+                if source.kind() == std::io::ErrorKind::NotFound =>
+            {
+                return Ok(CacheLookup::Missing)
+            }
+            Err(JsonError::Input(e @ InputError::NotRegular { .. })) => return Err(e.into()),
+            Err(e) => return stale(format!("unreadable: {e}")),
         };
         let differences = key.differences(&histories.key);
         if !differences.is_empty() {
             return Ok(CacheLookup::Stale(differences));
         }
-        let bytes = std::fs::read(&bin).map_err(Error::read(&bin))?;
-        let layout = &histories.projections;
-        let expected: usize = layout
-            .iter()
-            .map(|l| LevelProjections::value_count(l.dofs, l.samples) * 8)
-            .sum();
-        if bytes.len() != expected {
-            return Ok(CacheLookup::Stale(vec![format!(
-                "{} has {} bytes, expected {expected}",
-                bin.display(),
-                bytes.len()
-            )]));
+        if let Some(why) = histories.non_finite() {
+            return stale(format!("{}: {why}", json.display()));
         }
-        let values: Vec<f64> = bytes
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-            .collect();
-        let mut rest = values.as_slice();
-        let projections = layout
+        let expected = histories.projections.iter().try_fold(0_u64, |sum, l| {
+            let values = LevelProjections::value_count(l.dofs, l.samples)?;
+            sum.checked_add(u64::try_from(values).ok()?.checked_mul(8)?)
+        });
+        let Some(expected) = expected else {
+            return stale(format!("{}: its layout overflows", json.display()));
+        };
+        let limit = Limit {
+            what: "cached reference",
+            max_bytes: expected,
+        };
+        let mut file = match input::open(&bin, limit) {
+            Ok(file) if file.size() == expected => file,
+            Ok(file) => {
+                return stale(format!(
+                    "{} has {} bytes, expected {expected}",
+                    bin.display(),
+                    file.size()
+                ))
+            }
+            Err(e @ InputError::NotRegular { .. }) => return Err(e.into()),
+            Err(e) => return stale(e.to_string()),
+        };
+        let mut digest = histories.digest().map_err(Error::encode(&json))?;
+        let mut block = vec![0_u8; 1 << 16];
+        let mut next = |values: &mut [f64]| -> Option<()> {
+            for chunk in values.chunks_mut(block.len() / 8) {
+                let bytes = &mut block[..chunk.len() * 8];
+                file.read_exact(bytes).ok()?;
+                digest.update(&*bytes);
+                for (x, b) in chunk.iter_mut().zip(bytes.chunks_exact(8)) {
+                    *x = f64::from_le_bytes(b.try_into().expect("8 bytes"));
+                }
+            }
+            Some(())
+        };
+        let projections: Option<Vec<LevelProjections>> = histories
+            .projections
             .iter()
-            .map(|l| {
-                let (mine, others) =
-                    rest.split_at(LevelProjections::value_count(l.dofs, l.samples));
-                rest = others;
-                LevelProjections::from_values(l.level, l.dofs, l.samples, mine)
-            })
+            .map(|l| LevelProjections::read(l.level, l.dofs, l.samples, &mut next))
             .collect();
+        let Some(projections) = projections else {
+            return stale(format!("{} ended early", bin.display()));
+        };
+        if hex(&digest.finalize()) != histories.checksum {
+            return stale(format!(
+                "its checksum does not match {} and {}: changed since written",
+                json.display(),
+                bin.display()
+            ));
+        }
+        let non_finite = projections.iter().find_map(|p| {
+            p.values().position(|x| !x.is_finite()).map(|k| {
+                format!(
+                    "{}: value {k} of level {} is not finite",
+                    bin.display(),
+                    p.level
+                )
+            })
+        });
+        if let Some(why) = non_finite {
+            return stale(why);
+        }
         Ok(CacheLookup::Hit(Box::new(Self {
             mesh: box_mesh(problem, histories.key.n_axis)?,
             histories,
@@ -466,8 +574,8 @@ fn closest_other(dir: &Path, key: &ReferenceKey) -> Option<(String, Vec<String>)
             if !(name.starts_with(&prefix) && name.ends_with(".json")) {
                 return None;
             }
-            let text = std::fs::read_to_string(entry.path()).ok()?;
-            let histories: ReferenceHistories = serde_json::from_str(&text).ok()?;
+            let histories: ReferenceHistories =
+                input::read_json(&entry.path(), REFERENCE_JSON).ok()?;
             Some((name, key.differences(&histories.key)))
         })
         .min_by_key(|(_, fields)| fields.len())

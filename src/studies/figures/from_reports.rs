@@ -23,6 +23,7 @@ use crate::harness::figures::{
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
     WorkPrecisionSeries,
 };
+use crate::harness::input::REPORT_DATA;
 use crate::harness::norms::Norm;
 use crate::harness::run::RunResult;
 use crate::harness::sensitivity::Sensitivity;
@@ -259,11 +260,14 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
         missing.push(histories.display().to_string());
     }
     for f in files {
-        figures.extend(scheme_figures(&read_json::<SchemeHistories>(&f)?)?);
+        figures.extend(scheme_figures(&read_json::<SchemeHistories>(
+            &f,
+            REPORT_DATA,
+        )?)?);
     }
     let sensitivity_path = reports.join(SENSITIVITY_JSON);
     let sensitivity = if sensitivity_path.exists() {
-        Some(read_json::<Sensitivity>(&sensitivity_path)?)
+        Some(read_json::<Sensitivity>(&sensitivity_path, REPORT_DATA)?)
     } else {
         missing.push(format!(
             "{} (run `make report` first; chaotic cases are drawn from their one unperturbed run)",
@@ -271,35 +275,42 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
         ));
         None
     };
-    match read_json::<RatesFile>(&reports.join(RATES_JSON)) {
+    match read_json::<RatesFile>(&reports.join(RATES_JSON), REPORT_DATA) {
         Ok(r) => figures.extend(convergence_figures(&r.study, sensitivity.as_ref())?),
         Err(e) => missing.push(unreadable(&e)),
     }
     let gravity_dir = reports.join(gravity::GRAVITY_DIR);
     let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
         .iter()
-        .map(|&m| read_json::<RunResult>(&gravity_dir.join(gravity::run_file(m))).map(|r| (m, r)))
+        .map(|&m| {
+            read_json::<RunResult>(&gravity_dir.join(gravity::run_file(m)), REPORT_DATA)
+                .map(|r| (m, r))
+        })
         .collect();
     match (
-        read_json::<Study>(&gravity_dir.join(gravity::STUDY_JSON)),
+        read_json::<Study>(&gravity_dir.join(gravity::STUDY_JSON), REPORT_DATA),
         gravity_runs,
     ) {
         (Ok(study), Ok(runs)) => figures.extend(gravity_figures(&study, &runs)?),
         (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
     }
-    match read_json::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON)) {
+    match read_json::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON), REPORT_DATA) {
         Ok(w) => figures.extend(work_precision_figures(&w.work_precision)?),
         Err(e) => missing.push(unreadable(&e)),
     }
     for d in [2, 3] {
-        let study = read_json::<ElasticStudy>(&reports.join(elastic_files::study_file(d)));
-        let data = read_json::<ElasticHistories>(&reports.join(elastic_files::histories_file(d)));
+        let study =
+            read_json::<ElasticStudy>(&reports.join(elastic_files::study_file(d)), REPORT_DATA);
+        let data = read_json::<ElasticHistories>(
+            &reports.join(elastic_files::histories_file(d)),
+            REPORT_DATA,
+        );
         match (study, data) {
             (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
             (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
         }
     }
-    match read_json::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON)) {
+    match read_json::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON), REPORT_DATA) {
         Ok(s) => figures.extend(stability_figures(&s)?),
         Err(e) => missing.push(unreadable(&e)),
     }
