@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::Failure;
+use super::{Failure, LimitArgs};
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::studies::getfem::{
     export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
@@ -24,15 +24,24 @@ pub struct GetfemArgs {
     /// this directory, for `signorini verify`.
     #[arg(long)]
     pub export: Option<PathBuf>,
+    /// The resource limits (each run's work and memory, checked as it is read).
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// Reproduces every run and writes getfem.md.
 pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
-    let GetfemArgs { runs, out, export } = args;
+    let GetfemArgs {
+        runs,
+        out,
+        export,
+        limits,
+    } = args;
+    let limits = limits.limits();
     let staged_out = StagedDir::begin("--out", &out, Replace::Files)?;
     if let Some(dir) = export {
         let staged = StagedDir::begin("--export", &dir, Replace::Whole)?;
-        let written = export_runs(&runs, staged.path())?;
+        let written = export_runs(&runs, staged.path(), &limits)?;
         staged.commit()?;
         out!(
             "wrote {} external-run files to {}",
@@ -40,7 +49,7 @@ pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
             dir.display()
         );
     }
-    let all = write_getfem_report(Path::new("."), &runs, staged_out.path())?;
+    let all = write_getfem_report(Path::new("."), &runs, staged_out.path(), &limits)?;
     staged_out.commit()?;
     let reproducible = all
         .iter()

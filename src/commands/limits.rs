@@ -27,8 +27,12 @@ impl LimitArgs {
     /// `Ok` when `estimate` is within the limits; otherwise a usage error (exit code 2) that
     /// states the estimate and the limit.
     pub fn check(&self, estimate: Estimate) -> Result<(), Failure> {
-        let limits = Limits::or_defaults(self.max_memory, self.max_files, self.max_dof_steps);
-        estimate.check(&limits).map_err(Failure::from)
+        estimate.check(&self.limits()).map_err(Failure::from)
+    }
+
+    /// The limits given, the defaults for the others ([`Limits::or_defaults`]).
+    pub fn limits(&self) -> Limits {
+        Limits::or_defaults(self.max_memory, self.max_files, self.max_dof_steps)
     }
 }
 

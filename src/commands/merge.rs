@@ -7,11 +7,16 @@ use clap::{Args, Parser, Subcommand};
 
 use super::reports::{stability, StabilityArgs};
 use super::study::{reference, sensitivity, study_scene_as, ReferenceArgs, SensitivityArgs};
-use super::{Failure, StudyArgs};
+use super::{Failure, LimitArgs, StudyArgs};
 use crate::harness::artifacts::read_json;
+use crate::harness::budget;
 use crate::harness::shard::merge::{merge as merge_shards, Merged};
 use crate::harness::shard::plan::replay;
 use crate::harness::shard::{Invocation, ShardError, ShardFile, SHARD_FILE};
+
+/// The memory a shard file takes per byte of it ([`SHARD_FILE`]'s bound) and its results'
+/// decoding, at most half a byte per hexadecimal digit.
+const SHARD_MEMORY_PER_BYTE: f64 = 8.5;
 
 /// The arguments of `signorini merge`.
 #[derive(Debug, Args)]
@@ -23,6 +28,10 @@ pub struct MergeArgs {
     /// The partial result files of the n shards (`shard-<command>-<k>-of-<n>.json`).
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
+    /// The resource limits of reading the shards (the merged command keeps its own, recorded
+    /// with its arguments).
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// A command that can be sharded, parsed from the arguments its shards recorded.
@@ -57,7 +66,13 @@ impl Shardable {
 /// `--out`, when given) with every job's result taken from them: it writes, or prints, what the
 /// unsharded command does. A `reference` merge runs the command on the shared cache.
 pub fn merge(args: MergeArgs) -> Result<(), Failure> {
-    let MergeArgs { out, shards } = args;
+    let MergeArgs {
+        out,
+        shards,
+        limits,
+    } = args;
+    let bytes: f64 = budget::file_sizes(&shards).iter().sum();
+    limits.check(budget::reading(bytes, SHARD_MEMORY_PER_BYTE))?;
     let files = shards
         .into_iter()
         .map(|path| {

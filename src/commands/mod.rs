@@ -170,7 +170,10 @@ impl From<Error> for Failure {
             | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
             Error::DemoRun(e) => Self::usage(e),
-            e @ (Error::Input(_) | Error::NotRegularOutput { .. }) => Self::usage(e),
+            e @ (Error::Input(_)
+            | Error::NotRegularOutput { .. }
+            | Error::Budget(_)
+            | Error::OutOfRange { .. }) => Self::usage(e),
             Error::Shard(e) if e.is_usage() => Self::usage(e),
             Error::Shard(e) => Self::runtime(e),
         }

@@ -6,10 +6,12 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::sharding::{this_invocation, write_shard, ShardArgs};
-use super::{write_output, Failure};
+use super::{write_output, Failure, LimitArgs};
+use crate::harness::budget::Estimate;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::study::Case;
 use crate::studies::benchmark::DIRICHLET_SCENE;
+use crate::studies::estimate;
 use crate::studies::experiment::write_defaults_experiment;
 use crate::studies::extended::write_extended_report;
 use crate::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
@@ -24,11 +26,15 @@ pub struct ReportArgs {
     /// Output directory.
     #[arg(long, default_value = "reports")]
     pub out: PathBuf,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// What `make report` runs: Tables 1–2 beside the paper into reports/.
 pub fn report(args: ReportArgs) -> Result<(), Failure> {
-    let ReportArgs { out } = args;
+    let ReportArgs { out, limits } = args;
+    limits.check(estimate::report(Path::new("."))?)?;
     let staged = StagedDir::begin("--out", &out, Replace::Files)?;
     let gravity = write_gravity_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
     out!(
@@ -120,6 +126,9 @@ pub struct StabilityArgs {
     /// Run one shard of the suite's runs.
     #[command(flatten)]
     pub shard: ShardArgs,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 impl StabilityArgs {
@@ -137,13 +146,22 @@ pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
         out,
         ci_subset,
         shard,
+        limits,
     } = args;
+    let hard = hard_cases(Path::new("."), ci_subset)?;
+    let suite = estimate::stability(&hard);
+    // A shard runs its share of the jobs, at most the whole suite's memory.
+    let jobs: Vec<usize> = (0..hard.len() * Case::paper_matrix().len()).collect();
+    let share = shard.shard.map_or(1.0, |spec| {
+        spec.share(&jobs).len() as f64 / jobs.len().max(1) as f64
+    });
+    limits.check(Estimate {
+        dof_steps: suite.dof_steps * share,
+        ..suite
+    })?;
     if let Some(spec) = shard.shard {
         return write_shard(&invocation, spec, &out, || {
-            run_suite(
-                &hard_cases(Path::new("."), ci_subset)?,
-                &Case::paper_matrix(),
-            )
+            run_suite(&hard, &Case::paper_matrix())
         });
     }
     let staged = StagedDir::begin("--out", &out, Replace::Files)?;
@@ -175,13 +193,17 @@ pub struct GoldenArgs {
     /// The repository root (scenes/ and golden/ are under it).
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// Regenerate the golden rates of the gated studies with their round-off sensitivity (`make
 /// golden`; nothing else writes them): golden/rates-1d-dirichlet.json,
 /// rates-1d-gravity.json, rates-1d-extended.json and rates-2d.json.
 pub fn golden(args: GoldenArgs) -> Result<(), Failure> {
-    let GoldenArgs { root } = args;
+    let GoldenArgs { root, limits } = args;
+    limits.check(estimate::golden(&root)?.writing(4.0))?;
     for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
         out!("wrote {name} ({} cases)", golden.cases.len());
     }

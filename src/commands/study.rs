@@ -2,7 +2,7 @@
 //! round-off ensembles and the fine-mesh references of box scenes.
 
 use std::collections::BTreeSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
@@ -17,6 +17,7 @@ use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::Scheme;
 use crate::harness::budget;
 use crate::harness::error::Error;
+use crate::harness::input::Shown;
 use crate::harness::norms::Norm;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::report::convergence_tables;
@@ -181,6 +182,7 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
                 (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
                 (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
             };
+            cache_is_a_directory(cache.dir())?;
             warn_schemes(&config.cases.iter().map(|c| c.scheme).collect::<Vec<_>>());
             let members = config.sensitivity.map_or(0, |e| e.members);
             limits.check(budget::box_study(
@@ -294,6 +296,9 @@ pub struct SensitivityArgs {
     /// Run one shard of the ensemble's case × level jobs.
     #[command(flatten)]
     pub shard: ShardArgs,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 impl SensitivityArgs {
@@ -314,6 +319,7 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
         amplitude,
         out,
         shard,
+        limits,
     } = args;
     let scene = Scene::load(&scene)?;
     let Problem::Bar(problem) = scene.problem() else {
@@ -326,6 +332,16 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
     let norms = &scene.observables.norms;
+    let config = scene.study_config();
+    let runs_per_job = members as f64 + 1.0;
+    let jobs = budget::jobs_per_level(&config.levels, cases.len(), shard.shard);
+    let runs: Vec<f64> = jobs.iter().map(|j| j * runs_per_job).collect();
+    limits.check(budget::bar_study(
+        &problem,
+        &config.levels,
+        config.ratio,
+        &runs,
+    ))?;
     if let Some(spec) = shard.shard {
         return write_shard(&invocation, spec, &out, || {
             run_sensitivity(&problem, &cases, norms, &scene.study_config(), ensemble)
@@ -349,6 +365,18 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
         s.wall_seconds
     );
     Ok(())
+}
+
+/// Refuses a reference cache `dir` that exists and is not a directory, before anything is
+/// computed (its references could not be saved there).
+fn cache_is_a_directory(dir: &Path) -> Result<(), Failure> {
+    match std::fs::metadata(dir) {
+        Ok(meta) if !meta.is_dir() => Err(Failure::usage(format!(
+            "--cache {}: is not a directory; allowed: a directory, or a path to create one",
+            Shown(dir)
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The arguments of `signorini reference`.
@@ -414,6 +442,7 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
         }
         (None, None) => None,
     };
+    cache_is_a_directory(&cache)?;
     let mut jobs = Vec::with_capacity(scenes.len());
     let mut work = Vec::with_capacity(scenes.len());
     for path in scenes {

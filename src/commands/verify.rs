@@ -6,11 +6,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{write_output, Failure};
+use super::{write_output, Failure, LimitArgs};
 use crate::harness::artifacts::{read_json, writable, write_json};
+use crate::harness::budget::{self, Estimate};
+use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify, ExternalError, VerifyGolden};
-use crate::harness::golden::render_drifts;
+use crate::harness::golden::{check_values, render_drifts};
 use crate::harness::input::GOLDEN_FILE;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::scene::Scene;
@@ -39,6 +41,21 @@ pub struct VerifyArgs {
     /// Write verify.json (norms and rates) and verify.md (the tables) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// The resource limits (the run files are all held in memory while they are verified).
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// What reading and verifying the run files `runs` costs: each is held in memory at no more
+/// than its reader's bound (four bytes per byte of text, the arrays as `f64`, and never past
+/// three times [`MAX_VALUES`] numbers), one exact-solution evaluation per number.
+fn reading_cost(runs: &[PathBuf]) -> Estimate {
+    let cap = 3.0 * 8.0 * MAX_VALUES as f64;
+    let held: f64 = budget::file_sizes(runs)
+        .iter()
+        .map(|b| (4.0 * b).min(cap))
+        .sum();
+    budget::reading(held, 1.0)
 }
 
 impl From<ExternalError> for Failure {
@@ -59,8 +76,15 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         golden,
         write_golden,
         out,
+        limits,
     } = args;
     let scene = Scene::load(&scene)?;
+    let files = [(out.is_some(), 2.0), (write_golden.is_some(), 1.0)]
+        .iter()
+        .filter(|(given, _)| *given)
+        .map(|(_, n)| n)
+        .sum();
+    limits.check(reading_cost(&runs).writing(files))?;
     if let Some(path) = &write_golden {
         writable(path)?;
     }
@@ -88,6 +112,8 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
     }
     if let Some(path) = golden {
         let golden: VerifyGolden = read_json(&path, GOLDEN_FILE).map_err(Failure::usage)?;
+        let series = golden.series.iter().map(|s| (s.case.as_str(), &s.norms));
+        check_values(&path, &golden.tolerances, series)?;
         let drifts = compare(&golden, &verification);
         if !drifts.is_empty() {
             return Err(Failure::runtime(format!(

@@ -18,12 +18,29 @@ pub struct ParameterError {
     pub allowed: &'static str,
 }
 
+/// The longest number a message shows in positional notation: a longer one (`1e-300` is 302
+/// characters so) is shown in scientific notation.
+const LONGEST_POSITIONAL: usize = 24;
+
+/// `value` as a message shows it: a number whose positional form is longer than
+/// [`LONGEST_POSITIONAL`] characters in scientific notation (`1e-300`, not 300 zeros), any
+/// other text as it is.
+pub fn compact(value: String) -> String {
+    if value.len() <= LONGEST_POSITIONAL {
+        return value;
+    }
+    match value.trim().parse::<f64>() {
+        Ok(x) => format!("{x:e}"),
+        Err(_) => value,
+    }
+}
+
 impl ParameterError {
     /// A parameter error for `name` with the offending `value`.
     pub fn new(name: &'static str, value: impl ToString, allowed: &'static str) -> Self {
         Self {
             name,
-            value: value.to_string(),
+            value: compact(value.to_string()),
             allowed,
         }
     }

@@ -24,7 +24,7 @@
 //! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
 //! set-up counts one solve per contact node as a step).
 
-use std::fmt;
+pub use crate::harness::error::BudgetError;
 
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;
@@ -103,42 +103,6 @@ pub struct Estimate {
     pub dof_steps: f64,
 }
 
-/// An estimate over a limit.
-#[derive(Debug, Clone, PartialEq)]
-pub enum BudgetError {
-    /// The estimate of `resource` exceeds its limit.
-    OverLimit {
-        /// What is estimated (`memory`, `files written`, `work`).
-        resource: &'static str,
-        /// The estimate, with its unit.
-        estimate: String,
-        /// The limit, with its unit and where it comes from.
-        limit: String,
-        /// The option that raises it.
-        option: &'static str,
-    },
-}
-
-impl fmt::Display for BudgetError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            BudgetError::OverLimit {
-                resource,
-                estimate,
-                limit,
-                option,
-            } => write!(
-                f,
-                "refused before starting: the estimated {resource} is {estimate}, over the \
-                 limit of {limit}; use fewer elements, steps or output times, or raise the \
-                 limit with {option}"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for BudgetError {}
-
 /// `bytes` for a person: `3.2 GiB`.
 fn human_bytes(bytes: f64) -> String {
     const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
@@ -151,6 +115,73 @@ fn human_bytes(bytes: f64) -> String {
     match UNITS.get(unit) {
         Some(name) if value < 1e6 => format!("{value:.1} {name}"),
         _ => format!("{bytes:.3e} B"),
+    }
+}
+
+impl Estimate {
+    /// Running `self`, then `next`: the larger memory, the files and the work of both.
+    pub fn then(self, next: Estimate) -> Estimate {
+        Estimate {
+            memory_bytes: self.memory_bytes.max(next.memory_bytes),
+            files: self.files + next.files,
+            dof_steps: self.dof_steps + next.dof_steps,
+        }
+    }
+
+    /// The same estimate with `files` files written.
+    pub fn writing(self, files: f64) -> Estimate {
+        Estimate { files, ..self }
+    }
+}
+
+/// The size of each regular file of `paths` (0 for anything else, which its reader refuses):
+/// what a command that reads them all is estimated from before it reads any.
+pub fn file_sizes(paths: &[std::path::PathBuf]) -> Vec<f64> {
+    paths
+        .iter()
+        .map(|p| {
+            std::fs::metadata(p)
+                .ok()
+                .filter(std::fs::Metadata::is_file)
+                .map_or(0.0, |m| m.len() as f64)
+        })
+        .collect()
+}
+
+/// Reading input files of `bytes` bytes in all, each kept in memory at up to `per_byte` bytes
+/// per byte of file (its reader's stated bound), one unit of work per byte.
+pub fn reading(bytes: f64, per_byte: f64) -> Estimate {
+    Estimate {
+        memory_bytes: BASE_BYTES + per_byte * bytes,
+        files: 0.0,
+        dof_steps: bytes,
+    }
+}
+
+/// `count` bar runs of `problem` on `nx` elements with `Δx/Δt = ratio` (norms only), run as
+/// one job list with the others of `runs` ([`study_of`]).
+pub fn bar_runs<'p>(runs: impl Iterator<Item = (&'p Problem1d, usize, f64, f64)>) -> Estimate {
+    study_of(runs.map(|(problem, nx, ratio, count)| {
+        let config = RunConfig {
+            nx,
+            ratio,
+            scheme: Scheme::CRANK_NICOLSON,
+            mass: MassVariant::Standard,
+            observables: Default::default(),
+        };
+        (bar_run(problem, &config, false), count)
+    }))
+}
+
+/// A bar run of `dofs` unknowns and `steps` steps keeping `stored_per_step` values of history
+/// per step (GetFEM's demo runs, reproduced with their histories).
+pub fn bar_run_with_histories(dofs: f64, steps: f64, stored_per_step: f64) -> Estimate {
+    Estimate {
+        memory_bytes: BASE_BYTES
+            + BAR_BYTES_PER_DOF * dofs
+            + BYTES_PER_STORED_VALUE * stored_per_step * (steps + 1.0),
+        files: 0.0,
+        dof_steps: dofs * steps,
     }
 }
 

@@ -8,7 +8,7 @@ use thiserror::Error;
 
 use crate::engine::error::{self as engine, ParameterError, SolveError};
 pub use crate::harness::input::printable;
-use crate::harness::input::{InputError, JsonError, Shown};
+use crate::harness::input::{shown, InputError, JsonError, Shown};
 
 /// Any error of a harness run or study.
 #[derive(Debug, Error)]
@@ -20,7 +20,7 @@ pub enum Error {
     #[error(transparent)]
     Solve(#[from] SolveError),
     /// A file could not be read or written.
-    #[error("cannot {action} {}: {source}", path.display())]
+    #[error("cannot {action} {}: {source}", Shown(path))]
     Io {
         /// `read` or `write`.
         action: &'static str,
@@ -40,7 +40,7 @@ pub enum Error {
         source: serde_json::Error,
     },
     /// A JSON file is not what its reader expects.
-    #[error("{} is not a valid file of its kind: {source}", path.display())]
+    #[error("{} is not a valid file of its kind: {source}", Shown(path))]
     Decode {
         /// The file.
         path: PathBuf,
@@ -55,7 +55,7 @@ pub enum Error {
     #[error(transparent)]
     DemoRun(#[from] DemoRunError),
     /// A VTK file could not be written.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}: {source}", Shown(path))]
     Vtk {
         /// The file.
         path: PathBuf,
@@ -69,6 +69,21 @@ pub enum Error {
     /// A shard could not be run or shards could not be merged.
     #[error(transparent)]
     Shard(#[from] ShardError),
+    /// A value in a file out of its range (a negative tolerance or error, a non-finite rate).
+    #[error("{}: {field} = {value}; allowed: {allowed}", Shown(path))]
+    OutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// The field, dotted (`tolerances.rate_abs`, `cases[2].norms.u_L2_H.errors[1]`).
+        field: String,
+        /// Its value.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// The estimated cost is over a limit ([`crate::harness::budget`]).
+    #[error(transparent)]
+    Budget(#[from] BudgetError),
     /// An input file is missing, not a regular file or over its size limit.
     #[error(transparent)]
     Input(#[from] InputError),
@@ -99,7 +114,7 @@ impl Error {
     /// The error of encoding the content of `path`.
     pub fn encode(path: &Path) -> impl FnOnce(serde_json::Error) -> Self + '_ {
         move |source| Error::Encode {
-            what: path.display().to_string(),
+            what: shown(path),
             source,
         }
     }
@@ -173,7 +188,7 @@ impl fmt::Display for SceneError {
             } => write!(
                 f,
                 "scene file {} is not a valid scene (line {line}, column {column}): {message}",
-                path.display()
+                Shown(path)
             ),
             SceneError::Invalid {
                 path,
@@ -183,7 +198,7 @@ impl fmt::Display for SceneError {
             } => write!(
                 f,
                 "scene file {}: invalid {field} = {}; allowed: {}",
-                path.display(),
+                Shown(path),
                 printable(value),
                 printable(allowed)
             ),
@@ -261,7 +276,7 @@ pub enum FigureError {
 #[derive(Debug, Error)]
 pub enum DemoRunError {
     /// The file or directory cannot be read.
-    #[error("cannot read GetFEM demo run {}: {source}", path.display())]
+    #[error("cannot read GetFEM demo run {}: {source}", Shown(path))]
     Io {
         /// The file or directory.
         path: PathBuf,
@@ -273,7 +288,7 @@ pub enum DemoRunError {
     #[error(transparent)]
     Input(InputError),
     /// The file, or the JSON it inflates to, is larger than the reader accepts.
-    #[error("GetFEM demo run {}: the {what} exceeds {limit} bytes", path.display())]
+    #[error("GetFEM demo run {}: the {what} exceeds {limit} bytes", Shown(path))]
     TooLarge {
         /// The file.
         path: PathBuf,
@@ -283,7 +298,7 @@ pub enum DemoRunError {
         limit: u64,
     },
     /// The file is not valid gzip.
-    #[error("GetFEM demo run {} is not valid gzip: {source}", path.display())]
+    #[error("GetFEM demo run {} is not valid gzip: {source}", Shown(path))]
     Gzip {
         /// The file.
         path: PathBuf,
@@ -293,7 +308,7 @@ pub enum DemoRunError {
     },
     /// The JSON is malformed, a top-level section is missing, or an array holds something else
     /// than numbers and nulls (serde's message names the section or the array).
-    #[error("GetFEM demo run {} is not a valid run file: {source}", path.display())]
+    #[error("GetFEM demo run {} is not a valid run file: {source}", Shown(path))]
     Json {
         /// The file.
         path: PathBuf,
@@ -302,7 +317,10 @@ pub enum DemoRunError {
         source: serde_json::Error,
     },
     /// A field is missing, of the wrong type or out of range, or an array has the wrong length.
-    #[error("GetFEM demo run {}: {field} is {found}; expected {expected}", path.display())]
+    #[error(
+        "GetFEM demo run {}: {field} is {found}; expected {expected}",
+        Shown(path)
+    )]
     Field {
         /// The file.
         path: PathBuf,
@@ -317,7 +335,7 @@ pub enum DemoRunError {
     #[error(
         "{}: not a GetFEM demo run name \
          (getfem_v{{version}}_b{{beta}}_g{{gamma}}[_e{{e}}|_gP{{g}}|_gN{{g}}_tN{{theta}}][_lump]_m{{mass}}_nx{{NX}}[_k2].json.gz): {problem}",
-        path.display()
+        Shown(path)
     )]
     Name {
         /// The file.
@@ -387,8 +405,8 @@ pub enum ShardError {
     #[error(
         "{} and {} are shards of different invocations (their {field} differ): merge the \
          shards of one command line",
-        first.display(),
-        other.display()
+        Shown(first),
+        Shown(other)
     )]
     Mismatch {
         /// The field that differs.
@@ -399,7 +417,7 @@ pub enum ShardError {
         other: PathBuf,
     },
     /// A shard number out of `1..=n`.
-    #[error("{}: shard {k} of {n} is out of range (k from 1 to n)", path.display())]
+    #[error("{}: shard {k} of {n} is out of range (k from 1 to n)", Shown(path))]
     ShardNumber {
         /// The file.
         path: PathBuf,
@@ -433,7 +451,7 @@ pub enum ShardError {
     /// A job index out of the list or given twice.
     #[error(
         "{}: job {index} is out of the list of {jobs} jobs or in another shard too",
-        path.display()
+        Shown(path)
     )]
     JobIndex {
         /// The file.
@@ -483,7 +501,7 @@ pub enum ShardError {
     #[error(
         "the shards ran {command} on other inputs than the files here ({}): a scene file \
          changed since, or the merge runs in another directory than the shards",
-        inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        inputs.iter().map(|p| shown(p)).collect::<Vec<_>>().join(", ")
     )]
     InputsChanged {
         /// The command.
@@ -536,7 +554,43 @@ fn ranges(ks: &[usize], n: usize) -> String {
 fn path_list(paths: &[PathBuf]) -> String {
     paths
         .iter()
-        .map(|p| p.display().to_string())
+        .map(|p| shown(p))
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// An estimate over a limit.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BudgetError {
+    /// The estimate of `resource` exceeds its limit.
+    OverLimit {
+        /// What is estimated (`memory`, `files written`, `work`).
+        resource: &'static str,
+        /// The estimate, with its unit.
+        estimate: String,
+        /// The limit, with its unit and where it comes from.
+        limit: String,
+        /// The option that raises it.
+        option: &'static str,
+    },
+}
+
+impl fmt::Display for BudgetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BudgetError::OverLimit {
+                resource,
+                estimate,
+                limit,
+                option,
+            } => write!(
+                f,
+                "refused before starting: the estimated {resource} is {estimate}, over the \
+                 limit of {limit}; use fewer elements, steps or output times, or raise the \
+                 limit with {option}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for BudgetError {}

@@ -162,9 +162,75 @@ pub struct Golden {
     pub cases: Vec<GoldenCase>,
 }
 
-/// Reads a golden file.
+/// Reads a golden file, every tolerance and value in its range ([`check_values`]).
 pub fn read_golden(path: &Path) -> Result<Golden, Error> {
-    read_json(path, GOLDEN_FILE)
+    let golden: Golden = read_json(path, GOLDEN_FILE)?;
+    let cases = golden.cases.iter().map(|c| (c.case.as_str(), &c.norms));
+    check_values(path, &golden.tolerances, cases)?;
+    Ok(golden)
+}
+
+/// Refuses a golden file `path` whose tolerances are not finite numbers ≥ 0, or one of whose
+/// series (`(name, norms)`) has a rate that is not finite, or an error or tolerance that is not
+/// a finite number ≥ 0: such a file would gate nothing, or everything, and is not one the
+/// harness wrote.
+pub fn check_values<'a>(
+    path: &Path,
+    tolerances: &Tolerances,
+    series: impl Iterator<Item = (&'a str, &'a BTreeMap<String, GoldenNorm>)>,
+) -> Result<(), Error> {
+    const AT_LEAST_ZERO: &str = "a finite number >= 0";
+    let out = |field: String, value: f64, allowed| {
+        Err(Error::OutOfRange {
+            path: path.to_path_buf(),
+            field,
+            value,
+            allowed,
+        })
+    };
+    let non_negative = |x: f64| x.is_finite() && x >= 0.0;
+    if !non_negative(tolerances.rate_abs) {
+        return out(
+            "tolerances.rate_abs".into(),
+            tolerances.rate_abs,
+            AT_LEAST_ZERO,
+        );
+    }
+    if !non_negative(tolerances.error_rel) {
+        return out(
+            "tolerances.error_rel".into(),
+            tolerances.error_rel,
+            AT_LEAST_ZERO,
+        );
+    }
+    for (norm, &t) in &tolerances.rate_abs_per_norm {
+        if !non_negative(t) {
+            return out(
+                format!("tolerances.rate_abs_per_norm.{norm}"),
+                t,
+                AT_LEAST_ZERO,
+            );
+        }
+    }
+    for (name, norms) in series {
+        for (norm, g) in norms {
+            let at = |field: &str| format!("{name}.{norm}.{field}");
+            for (field, rate) in [("rate", g.rate), ("rate_last_three", g.rate_last_three)] {
+                if !rate.is_finite() {
+                    return out(at(field), rate, "a finite number");
+                }
+            }
+            if let Some(k) = g.errors.iter().position(|&e| !non_negative(e)) {
+                return out(at(&format!("errors[{k}]")), g.errors[k], AT_LEAST_ZERO);
+            }
+            for (field, t) in [("error_rel", g.error_rel), ("rate_abs", g.rate_abs)] {
+                if let Some(t) = t.filter(|&t| !non_negative(t)) {
+                    return out(at(field), t, AT_LEAST_ZERO);
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A fitted rate, or NaN when the study could not fit one: no value, as in [`Drift::missing`].

@@ -44,14 +44,35 @@ pub(crate) fn fmt_fit(f: Option<RateFit>) -> String {
 /// For every case, the errors of every norm per level with the observed order, then the
 /// least-squares rate over all levels (95 % interval) and over the last three.
 pub fn convergence_tables(study: &Study) -> String {
-    study
+    let tables: String = study
         .cases
         .iter()
         .map(|c| {
             let heading = format!("{} — {}", c.case.scheme.label(), c.case.mass.name());
             convergence_table(&heading, &c.levels, &c.rates)
         })
-        .collect()
+        .collect();
+    tables + &not_run_section(study)
+}
+
+/// The cases of `study` not run to completion, each with the level and the reason its run
+/// stopped; empty when there are none.
+pub fn not_run_section(study: &Study) -> String {
+    if study.not_run.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "#### Not run
+
+These cases have no errors or rates: a run of theirs stopped before the \
+         horizon, and a run that stopped has no norm.\n\n| case | level | why the run stopped |\n\
+         |---|---|---|\n",
+    );
+    for n in &study.not_run {
+        let _ = writeln!(out, "| {} | {} | {} |", n.case.id(), n.nx, n.reason());
+    }
+    out.push('\n');
+    out
 }
 
 /// One series of levels under the heading `heading`: the errors of every norm per level with

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use crate::engine::contact::{ContactOperator, ContactTreatment, TREATMENT_NAMES};
-use crate::engine::error::ParameterError;
+use crate::engine::error::{compact, ParameterError};
 use crate::engine::exact::{
     AtRest, BouncingBar, ClampedFreeMode, ExactSolution, Pointwise, SignoriniDirichlet,
 };
@@ -340,7 +340,7 @@ fn invalid(path: &Path, field: &str, value: impl fmt::Display, allowed: &str) ->
     SceneError::Invalid {
         path: path.to_path_buf(),
         field: field.to_string(),
-        value: value.to_string(),
+        value: compact(value.to_string()),
         allowed: allowed.to_string(),
     }
 }

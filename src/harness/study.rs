@@ -14,7 +14,7 @@ use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, observed_orders, RateFit};
-use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, Timings};
+use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus, Timings};
 use crate::harness::shard::plan::{self, EncodedResult, Schedule};
 use crate::harness::shard::range::{errors_out_of_range, positive};
 use crate::harness::shard::{codec, InRange, ShardError};
@@ -185,6 +185,43 @@ impl CaseStudy {
     }
 }
 
+/// A case a study could not run to completion: the first level (in the study's order) whose
+/// run stopped, and how it stopped. A stopped run has no error norm, so the case has no rate:
+/// the study reports it as not run, never with numbers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NotRun {
+    /// The case.
+    pub case: Case,
+    /// The level (`NX`, or elements along the axis) of the run that stopped.
+    pub nx: usize,
+    /// How it stopped (diverged, contact solver not converged, solver inaccurate).
+    pub status: RunStatus,
+}
+
+impl NotRun {
+    /// The first of `statuses` (one per level of `levels`) that is not completed, as the case's
+    /// record; `None` when every run completed.
+    pub fn first(case: Case, levels: &[usize], statuses: &[&RunStatus]) -> Option<Self> {
+        levels
+            .iter()
+            .zip(statuses)
+            .find(|(_, s)| !s.is_completed())
+            .map(|(&nx, s)| Self {
+                case,
+                nx,
+                status: (*s).clone(),
+            })
+    }
+
+    /// What stopped the run, in words.
+    pub fn reason(&self) -> String {
+        self.status
+            .completed()
+            .err()
+            .map_or_else(String::new, |e| e.to_string())
+    }
+}
+
 /// A whole study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Study {
@@ -192,8 +229,11 @@ pub struct Study {
     pub config: StudyConfig,
     /// The norms computed.
     pub norms: Vec<Norm>,
-    /// One entry per case, in the order given.
+    /// One entry per case run to completion at every level, in the order given.
     pub cases: Vec<CaseStudy>,
+    /// The cases not run to completion ([`NotRun`]); absent from the JSON when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_run: Vec<NotRun>,
     /// Wall-clock time of the whole study (parallel), seconds.
     pub wall_seconds: f64,
 }
@@ -243,19 +283,24 @@ pub fn run_study_with_progress(
             mass: cases[c].mass,
             observables: observables.clone(),
         };
-        let result = run(problem, &cfg).and_then(RunResult::completed);
+        let result = run(problem, &cfg);
         done();
         result
     })?;
-    let cases = cases
-        .iter()
-        .zip(per_case)
-        .map(|(case, runs)| case_study(*case, &runs, norms))
-        .collect();
+    let mut studied = Vec::new();
+    let mut not_run = Vec::new();
+    for (case, runs) in cases.iter().zip(per_case) {
+        let statuses: Vec<&RunStatus> = runs.iter().map(|r| &r.status).collect();
+        match NotRun::first(*case, &config.levels, &statuses) {
+            Some(stopped) => not_run.push(stopped),
+            None => studied.push(case_study(*case, &runs, norms)),
+        }
+    }
     Ok(Study {
         config: config.clone(),
         norms: norms.iter().copied().collect(),
-        cases,
+        cases: studied,
+        not_run,
         wall_seconds: clock.elapsed().as_secs_f64(),
     })
 }

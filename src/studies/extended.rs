@@ -17,7 +17,7 @@ use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
-use crate::harness::golden::{Golden, Tolerances};
+use crate::harness::golden::{check_values, Golden, Tolerances};
 use crate::harness::input::GOLDEN_FILE;
 use crate::harness::norms::Norm;
 use crate::harness::run::Problem1d;
@@ -615,7 +615,12 @@ impl ExtendedGolden {
 
 /// Reads the extended table's golden file.
 pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Error> {
-    read_json(path, GOLDEN_FILE)
+    let golden: ExtendedGolden = read_json(path, GOLDEN_FILE)?;
+    for t in &golden.treatments {
+        let cases = t.golden.cases.iter().map(|c| (c.case.as_str(), &c.norms));
+        check_values(path, &t.golden.tolerances, cases)?;
+    }
+    Ok(golden)
 }
 
 #[cfg(test)]

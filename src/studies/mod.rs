@@ -6,6 +6,7 @@
 pub mod benchmark;
 pub mod cost;
 pub mod elastic_study;
+pub mod estimate;
 pub mod experiment;
 pub mod extended;
 pub mod figures;

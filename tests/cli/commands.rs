@@ -230,19 +230,6 @@ fn usage_errors_in_arguments_exit_2() {
         &["levels", "increasing"],
     );
     expect_error(&["frobnicate"], 2, &["frobnicate"]);
-    expect_error(
-        &[
-            "run",
-            "scenes/bar2d.json",
-            "--scheme",
-            "crank-nicolson",
-            "--mass",
-            "standard",
-            "--check-balance",
-        ],
-        2,
-        &["--check-balance", "1D scenes only"],
-    );
 }
 
 /// `run --check-balance` prints the largest per-step residual of the scheme's balance (eq. 37
@@ -275,6 +262,32 @@ fn check_balance_reports_the_largest_residual_in_text_and_json() {
     let residual = json["max_balance_residual"].as_f64().expect("a number");
     assert!(
         residual > 0.0 && residual <= signorini::schemes::energy_balance::BALANCE_TOLERANCE,
+        "{residual:e}"
+    );
+    // A box run checks the same balance on the box's matrices (eq. 35 for backward Euler).
+    let box_out = dir.join("box");
+    let stdout = success_stdout(&signorini(&[
+        "run",
+        "scenes/bar2d.json",
+        "--scheme",
+        "backward-euler",
+        "--mass",
+        "redistributed",
+        "--nx",
+        "10",
+        "--check-balance",
+        "--out",
+        &box_out.to_string_lossy(),
+    ]));
+    assert!(
+        stdout.contains("energy balance eq. (35): largest per-step residual"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(box_out.join("run.json")).unwrap()).unwrap();
+    let residual = json["max_balance_residual"].as_f64().expect("a number");
+    assert!(
+        residual <= signorini::schemes::energy_balance::BALANCE_TOLERANCE,
         "{residual:e}"
     );
 }

@@ -222,9 +222,16 @@ impl BouncingBar {
     /// The most pieces `A` or `B` may hold (32 bytes each): the construction stops there.
     pub const MAX_PIECES: usize = 1 << 20;
 
+    /// The most windows of `2L` the construction advances through (each costs a few
+    /// operations even when it adds no piece): a horizon is at most `2L` times this, which
+    /// bounds the work of a bar much shorter than its flight (`L = 1e-10`), or falling from
+    /// very high or under a very weak gravity (`t₁ = √(2u⁰/g)` of `1e15`).
+    pub const MAX_WINDOWS: f64 = (1 << 20) as f64;
+
     /// The benchmark with length `L = length`, gravity `g = gravity` and drop height
     /// `u⁰ = initial_height`, built to the horizon `16(t₁ + L)` (four of the paper's nominal
-    /// periods; less if [`Self::MAX_PIECES`] is reached first). Each must be finite and > 0.
+    /// periods; less if [`Self::MAX_PIECES`] or [`Self::MAX_WINDOWS`] is reached first). Each
+    /// must be finite and > 0.
     pub fn new(length: f64, gravity: f64, initial_height: f64) -> Result<Self, ParameterError> {
         let length = require_positive("length", length)?;
         let gravity = require_positive("gravity", gravity)?;
@@ -253,8 +260,13 @@ impl BouncingBar {
             0.0,
             -0.25 * gravity,
         ]);
-        bar.extend_to(16.0 * (t1 + length));
+        bar.extend_to((16.0 * (t1 + length)).min(bar.reachable()));
         Ok(bar)
+    }
+
+    /// The longest horizon within [`Self::MAX_WINDOWS`] windows of `2L`.
+    fn reachable(&self) -> f64 {
+        2.0 * self.length * Self::MAX_WINDOWS
     }
 
     /// The parameters of §4.2: `L = 1`, `g = 0.11`, `u⁰ = 0.5`.
@@ -263,9 +275,21 @@ impl BouncingBar {
     }
 
     /// The same solution built up to at least `horizon` (never shortened). Fails if that
-    /// needs more than [`Self::MAX_PIECES`] pieces.
+    /// needs more than [`Self::MAX_WINDOWS`] windows or [`Self::MAX_PIECES`] pieces.
     pub fn with_horizon(mut self, horizon: f64) -> Result<Self, ParameterError> {
         let horizon = require_positive("horizon", horizon)?;
+        if horizon > self.reachable() {
+            return Err(ParameterError::new(
+                "horizon",
+                format!(
+                    "{horizon} (past {:.3e}, the end of 2^20 windows of 2 length = {:.3e})",
+                    self.reachable(),
+                    2.0 * self.length
+                ),
+                "a horizon the closed form reaches within BouncingBar::MAX_WINDOWS windows of \
+                 2 length (a longer bar, or a shorter horizon)",
+            ));
+        }
         if self.extend_to(horizon) {
             Ok(self)
         } else {

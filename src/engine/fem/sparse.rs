@@ -185,6 +185,21 @@ impl SymmetricMatrix {
         }
     }
 
+    /// `Σ_j |A_ij|` of every row `i`: with it `|x|ᵀ|A||y| ≤ (Σ r_i x_i² · Σ r_i y_i²)^½`
+    /// bounds the products a form `xᵀAy` sums, and so its round-off.
+    pub fn abs_row_sums(&self) -> Vec<f64> {
+        match &self.storage {
+            Storage::Stencil(s) => s.abs_row_sums(),
+            Storage::Assembled { .. } => (0..self.dim())
+                .map(|i| {
+                    let mut sum = 0.0;
+                    self.for_each_in_row(i, |_, v| sum += v.abs());
+                    sum
+                })
+                .collect(),
+        }
+    }
+
     /// `y = A x`, without allocation. Uses symmetry: row `i` of `A` is its column `i`.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         match &self.storage {

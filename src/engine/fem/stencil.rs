@@ -251,6 +251,30 @@ impl Stencil {
             .map_or(0.0, |(_, b)| b[r * d + c])
     }
 
+    /// `Σ_j |A_ij|` of every row, from the blocks of each node class (the same for every node
+    /// of a class).
+    pub fn abs_row_sums(&self) -> Vec<f64> {
+        let d = self.dim;
+        let per_class: Vec<Vec<f64>> = self
+            .classes
+            .iter()
+            .map(|class| {
+                (0..d)
+                    .map(|r| {
+                        let row = |b: &[f64; 9]| {
+                            b[r * d..(r + 1) * d].iter().map(|v| v.abs()).sum::<f64>()
+                        };
+                        class.blocks.iter().map(|(_, b)| row(b)).sum()
+                    })
+                    .collect()
+            })
+            .collect();
+        self.class_of
+            .iter()
+            .flat_map(|&c| per_class[usize::from(c)].iter().copied())
+            .collect()
+    }
+
     /// Calls `f(j, A_ij)` for every entry of row `i` in a non-zero block.
     pub fn for_each_in_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
         let d = self.dim;

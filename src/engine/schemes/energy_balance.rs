@@ -83,6 +83,11 @@ pub struct StepBalance {
     pub change: f64,
     /// The right-hand side of the balance law.
     pub predicted_change: f64,
+    /// An upper bound of the absolute products the two sides sum: over every form `c xᵀAy`
+    /// they hold, `|c| (Σ r_i x_i² · Σ r_i y_i²)^½` with `r_i = Σ_j |A_ij|` (which bounds
+    /// `|c| |x|ᵀ|A||y|`), plus the absolute load and contact works. Round-off leaves a residual
+    /// of a modest multiple of ε times it, however much the terms cancel.
+    pub magnitude: f64,
 }
 
 impl StepBalance {
@@ -155,6 +160,13 @@ fn load_work(model: &Model, x: &[f64]) -> f64 {
         .map_or(0.0, |f| f.iter().zip(x).map(|(a, b)| a * b).sum())
 }
 
+/// `Σ |F_i x_i|` (0 without a load): the products `Fᵀx` sums.
+fn load_magnitude(model: &Model, x: &[f64]) -> f64 {
+    model
+        .load()
+        .map_or(0.0, |f| f.iter().zip(x).map(|(a, b)| (a * b).abs()).sum())
+}
+
 /// `c · form()`, the form not evaluated when `c = 0` (a term the scheme's parameters cancel,
 /// e.g. every `S`-term of Crank–Nicolson's eq. 33).
 fn term(c: f64, form: impl FnOnce() -> f64) -> f64 {
@@ -165,21 +177,104 @@ fn term(c: f64, form: impl FnOnce() -> f64) -> f64 {
     }
 }
 
+/// The row sums of `|M|` and `|S|` of a model ([`SymmetricMatrix::abs_row_sums`]), which
+/// bound the products of the balances' forms ([`StepBalance::magnitude`]).
+#[derive(Debug)]
+struct RowSums {
+    mass: Vec<f64>,
+    stiffness: Vec<f64>,
+}
+
+impl RowSums {
+    fn of(model: &Model) -> Self {
+        Self {
+            mass: model.mass().abs_row_sums(),
+            stiffness: model.stiffness().abs_row_sums(),
+        }
+    }
+
+    /// `|c| (Σ r_i x_i² · Σ r_i y_i²)^½` for the row sums `r` (0 when `c = 0`), both sums in
+    /// one pass over independent lanes (a scale needs no particular order of summation, and
+    /// lanes let the compiler vectorise what a single running sum would serialise).
+    fn bound(r: &[f64], c: f64, x: &[f64], y: &[f64]) -> f64 {
+        const LANES: usize = 4;
+        if c == 0.0 {
+            return 0.0;
+        }
+        let (mut sx, mut sy) = ([0.0; LANES], [0.0; LANES]);
+        let chunks = r
+            .chunks_exact(LANES)
+            .zip(x.chunks_exact(LANES))
+            .zip(y.chunks_exact(LANES));
+        for ((r, x), y) in chunks {
+            for k in 0..LANES {
+                sx[k] += r[k] * x[k] * x[k];
+                sy[k] += r[k] * y[k] * y[k];
+            }
+        }
+        let tail = r.len() - r.len() % LANES;
+        for ((r, x), y) in r[tail..].iter().zip(&x[tail..]).zip(&y[tail..]) {
+            sx[0] += r * x * x;
+            sy[0] += r * y * y;
+        }
+        c.abs() * (sx.iter().sum::<f64>() * sy.iter().sum::<f64>()).sqrt()
+    }
+
+    /// [`RowSums::bound`] of a form of `M`.
+    fn mass(&self, c: f64, x: &[f64], y: &[f64]) -> f64 {
+        Self::bound(&self.mass, c, x, y)
+    }
+
+    /// [`RowSums::bound`] of a form of `S`.
+    fn stiffness(&self, c: f64, x: &[f64], y: &[f64]) -> f64 {
+        Self::bound(&self.stiffness, c, x, y)
+    }
+}
+
+/// The two sides of a step's balance and the magnitude of their products
+/// ([`StepBalance::magnitude`]), without the energies.
+#[derive(Debug, Clone, Copy)]
+struct Sides {
+    change: f64,
+    predicted_change: f64,
+    magnitude: f64,
+}
+
+impl Sides {
+    /// The step's balance with the energies at its two ends.
+    fn with_energies(self, energy_before: f64, energy_after: f64) -> StepBalance {
+        StepBalance {
+            energy_before,
+            energy_after,
+            change: self.change,
+            predicted_change: self.predicted_change,
+            magnitude: self.magnitude,
+        }
+    }
+}
+
 /// What the balances need beyond the states, kept from step to step by [`BalanceMonitor`] so
-/// that a step allocates nothing: the constraint rows (constant for a model) and the vectors
-/// `a − b` and `a + b` of two levels.
+/// that a step allocates nothing: the constraint rows and row sums (constant for a model) and
+/// the vectors `a − b` and `a + b` of two levels.
 #[derive(Debug, Default)]
 struct Workspace {
     rows: Option<Vec<ConstraintRow>>,
+    sums: Option<RowSums>,
     difference: [Vec<f64>; 2],
     sum: [Vec<f64>; 2],
 }
 
 impl Workspace {
-    /// Prepares a one-step balance of `model` from `before` to `after`: the constraint rows
-    /// (built on first use), `ΔU`, `U^{n+1} + U^n` (pair 0) and `ΔV`, `V^{n+1} + V^n` (pair 1).
-    fn prepare(&mut self, model: &Model, before: &Level, after: &Level) {
+    /// Builds the constraint rows and the row sums of `model` on first use.
+    fn constants(&mut self, model: &Model) {
         self.rows.get_or_insert_with(|| constraints(model));
+        self.sums.get_or_insert_with(|| RowSums::of(model));
+    }
+
+    /// Prepares a one-step balance of `model` from `before` to `after`: the constants, `ΔU`,
+    /// `U^{n+1} + U^n` (pair 0) and `ΔV`, `V^{n+1} + V^n` (pair 1).
+    fn prepare(&mut self, model: &Model, before: &Level, after: &Level) {
+        self.constants(model);
         self.pair(0, after.displacement, before.displacement);
         self.pair(1, after.velocity, before.velocity);
     }
@@ -196,11 +291,15 @@ impl Workspace {
 
 /// `E_h(after) − E_h(before)` in the form of eq. (43) with the load:
 /// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`, with `ΔU`, `U^{n+1} + U^n` in
-/// the workspace's pair 0 and the velocities' in pair 1.
-fn mechanical_energy_change(model: &Model, ws: &Workspace) -> f64 {
+/// the workspace's pair 0 and the velocities' in pair 1; and the magnitude of its products.
+fn mechanical_energy_change(model: &Model, ws: &Workspace, sums: &RowSums) -> (f64, f64) {
     let ([du, dv], [u_sum, v_sum]) = (&ws.difference, &ws.sum);
-    0.5 * model.mass().bilinear_form(dv, v_sum) + 0.5 * model.stiffness().bilinear_form(du, u_sum)
-        - load_work(model, du)
+    let change = 0.5 * model.mass().bilinear_form(dv, v_sum)
+        + 0.5 * model.stiffness().bilinear_form(du, u_sum)
+        - load_work(model, du);
+    let magnitude =
+        sums.mass(0.5, dv, v_sum) + sums.stiffness(0.5, du, u_sum) + load_magnitude(model, du);
+    (change, magnitude)
 }
 
 /// The Newmark(β, γ) balance over one step (eq. 33 for every (β, γ), see the module
@@ -214,72 +313,87 @@ pub fn newmark(
     before: &Level,
     after: &Level,
 ) -> StepBalance {
-    let (change, predicted_change) = newmark_in(
+    newmark_in(
         &mut Workspace::default(),
         model,
         (beta, gamma),
         dt,
         (before, after),
-    );
-    StepBalance {
-        energy_before: mechanical_energy(model, before),
-        energy_after: mechanical_energy(model, after),
-        change,
-        predicted_change,
-    }
+    )
+    .with_energies(
+        mechanical_energy(model, before),
+        mechanical_energy(model, after),
+    )
 }
 
-/// [`newmark`]'s change and predicted change, in `ws`.
+/// [`newmark`]'s sides, in `ws`.
 fn newmark_in(
     ws: &mut Workspace,
     model: &Model,
     (beta, gamma): (f64, f64),
     dt: f64,
     (before, after): (&Level, &Level),
-) -> (f64, f64) {
+) -> Sides {
     ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
-    let rows = ws.rows.as_deref().unwrap_or_default();
+    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
+        unreachable!("prepared");
+    };
     let [du, dv] = &ws.difference;
     let work = contact_work(rows, du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
     let impulse_change = contact_work(rows, dv, |i| l1[i] - l0[i]);
     let s = model.stiffness();
     let skew = dt * (beta - 0.5 * gamma);
-    let predicted = term(0.5 - gamma, || s.quadratic_form(du)) - work
+    let predicted_change = term(0.5 - gamma, || s.quadratic_form(du)) - work
         + term(skew, || s.bilinear_form(dv, du))
         + skew * impulse_change;
-    (mechanical_energy_change(model, ws), predicted)
+    let (change, magnitude) = mechanical_energy_change(model, ws, sums);
+    Sides {
+        change,
+        predicted_change,
+        magnitude: magnitude
+            + sums.stiffness(0.5 - gamma, du, du)
+            + sums.stiffness(skew, dv, du)
+            + work.abs()
+            + (skew * impulse_change).abs(),
+    }
 }
 
 /// The θ-method balance over one step, eq. (35): `ΔE` against
 /// `(½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀΛ_θ`.
 pub fn theta(model: &Model, theta: f64, before: &Level, after: &Level) -> StepBalance {
-    let (change, predicted_change) =
-        theta_in(&mut Workspace::default(), model, theta, (before, after));
-    StepBalance {
-        energy_before: mechanical_energy(model, before),
-        energy_after: mechanical_energy(model, after),
-        change,
-        predicted_change,
-    }
+    theta_in(&mut Workspace::default(), model, theta, (before, after)).with_energies(
+        mechanical_energy(model, before),
+        mechanical_energy(model, after),
+    )
 }
 
-/// [`theta`]'s change and predicted change, in `ws`.
+/// [`theta`]'s sides, in `ws`.
 fn theta_in(
     ws: &mut Workspace,
     model: &Model,
     theta: f64,
     (before, after): (&Level, &Level),
-) -> (f64, f64) {
+) -> Sides {
     ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
-    let rows = ws.rows.as_deref().unwrap_or_default();
+    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
+        unreachable!("prepared");
+    };
     let [du, dv] = &ws.difference;
     let work = contact_work(rows, du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
-    let predicted = term(0.5 - theta, || model.mass().quadratic_form(dv))
+    let predicted_change = term(0.5 - theta, || model.mass().quadratic_form(dv))
         + term(0.5 - theta, || model.stiffness().quadratic_form(du))
         - work;
-    (mechanical_energy_change(model, ws), predicted)
+    let (change, magnitude) = mechanical_energy_change(model, ws, sums);
+    Sides {
+        change,
+        predicted_change,
+        magnitude: magnitude
+            + sums.mass(0.5 - theta, dv, dv)
+            + sums.stiffness(0.5 - theta, du, du)
+            + work.abs(),
+    }
 }
 
 /// The Paoli–Schatzman(β) balance over the step from `U^n` to `U^{n+1}`, `λ^n` the multiplier
@@ -287,6 +401,31 @@ fn theta_in(
 /// documentation): `E^{n+½} − E^{n−½}` against
 /// `½ (U^{n+1} − U^{n−1})ᵀ [−Bᵀλ^n + Q((1 − 2β) R(U^n) + β R(U^{n−1}))]`.
 pub fn paoli_schatzman(model: &Model, beta: f64, dt: f64, levels: &ThreeLevels) -> StepBalance {
+    let (past, next) = half_steps(dt, levels);
+    paoli_schatzman_in(&mut Workspace::default(), model, beta, dt, levels)
+        .with_energies(past.energy(model, beta, dt), next.energy(model, beta, dt))
+}
+
+/// The half steps `n − ½` and `n + ½` of `levels`.
+fn half_steps(dt: f64, levels: &ThreeLevels) -> (HalfStep, HalfStep) {
+    (
+        HalfStep::between(dt, levels.earlier, levels.current),
+        HalfStep::between(dt, levels.current, levels.later),
+    )
+}
+
+/// [`paoli_schatzman`]'s sides, with the constants of `ws`.
+fn paoli_schatzman_in(
+    ws: &mut Workspace,
+    model: &Model,
+    beta: f64,
+    dt: f64,
+    levels: &ThreeLevels,
+) -> Sides {
+    ws.constants(model);
+    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
+        unreachable!("built");
+    };
     let n = levels.current.len();
     let mut bracket = vec![0.0; n];
     let massless = model.massless_dofs();
@@ -298,16 +437,13 @@ pub fn paoli_schatzman(model: &Model, beta: f64, dt: f64, levels: &ThreeLevels) 
             bracket[z] = (1.0 - 2.0 * beta) * r_now[z] + beta * r_prev[z];
         }
     }
-    for (row, l) in constraints(model).iter().zip(levels.multiplier) {
+    for (row, l) in rows.iter().zip(levels.multiplier) {
         for &(k, c) in &row.force {
             bracket[k] -= c * l;
         }
     }
     let span = difference(levels.later, levels.earlier);
-    let (past, next) = (
-        HalfStep::between(dt, levels.earlier, levels.current),
-        HalfStep::between(dt, levels.current, levels.later),
-    );
+    let (past, next) = half_steps(dt, levels);
     let (dv, v_sum) = (
         difference(&next.velocity, &past.velocity),
         sum(&next.velocity, &past.velocity),
@@ -317,14 +453,23 @@ pub fn paoli_schatzman(model: &Model, beta: f64, dt: f64, levels: &ThreeLevels) 
         sum(&next.mean, &past.mean),
     );
     let (m, s) = (model.mass(), model.stiffness());
-    StepBalance {
-        energy_before: past.energy(model, beta, dt),
-        energy_after: next.energy(model, beta, dt),
+    let stiff = 0.5 * (beta - 0.25) * dt * dt;
+    Sides {
         change: 0.5 * m.bilinear_form(&dv, &v_sum)
-            + 0.5 * (beta - 0.25) * dt * dt * s.bilinear_form(&dv, &v_sum)
+            + stiff * s.bilinear_form(&dv, &v_sum)
             + 0.5 * s.bilinear_form(&dm, &m_sum)
             - load_work(model, &dm),
         predicted_change: 0.5 * span.iter().zip(&bracket).map(|(a, b)| a * b).sum::<f64>(),
+        magnitude: sums.mass(0.5, &dv, &v_sum)
+            + sums.stiffness(stiff, &dv, &v_sum)
+            + sums.stiffness(0.5, &dm, &m_sum)
+            + load_magnitude(model, &dm)
+            + 0.5
+                * span
+                    .iter()
+                    .zip(&bracket)
+                    .map(|(a, b)| (a * b).abs())
+                    .sum::<f64>(),
     }
 }
 
@@ -340,16 +485,19 @@ pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepB
         velocity(levels.current, levels.earlier),
         velocity(levels.later, levels.current),
     );
+    let (dv, v_sum) = (difference(&next, &past), sum(&next, &past));
+    let sums = RowSums::of(model);
     StepBalance {
         energy_before: staggered_energy(model, dt, levels.earlier, levels.current),
         energy_after: staggered_energy(model, dt, levels.current, levels.later),
-        change: 0.5
-            * model
-                .mass()
-                .bilinear_form(&difference(&next, &past), &sum(&next, &past))
+        change: 0.5 * model.mass().bilinear_form(&dv, &v_sum)
             + 0.5 * model.stiffness().bilinear_form(levels.current, &span)
             - 0.5 * load_work(model, &span),
         predicted_change: -0.5 * work,
+        magnitude: sums.mass(0.5, &dv, &v_sum)
+            + sums.stiffness(0.5, levels.current, &span)
+            + 0.5 * load_magnitude(model, &span)
+            + 0.5 * work.abs(),
     }
 }
 
@@ -389,8 +537,13 @@ pub fn equation(scheme: Scheme) -> &'static str {
 /// Evaluates the balance of a scheme after every step of its integrator: [`newmark`] for every
 /// Newmark scheme (explicit ones included, with `E_h(U^n, V^n)`), [`theta`] for the θ-method,
 /// [`paoli_schatzman`] for Paoli–Schatzman from its second step on (the first is its Newmark
-/// start). Each step's residual is taken relative to the energy scale
-/// `max(|E^0|, |E_before|, |E_after|)` (absolute where all three vanish).
+/// start). Each step's residual is taken relative to the scale
+/// `max(|E^0|, |E_before|, |E_after|, magnitude)` (absolute where all vanish): the energies,
+/// and the size of the products whose round-off the residual carries
+/// ([`StepBalance::magnitude`]), which a small energy can hide (a bar translated far from its
+/// rest state; a velocity on `ker M` that an unstable scheme lets grow while no energy sees it).
+/// Within one run `E_after` is `E_before + ΔE` (equal up to round-off, without the products of
+/// a fresh evaluation).
 #[derive(Debug)]
 pub struct BalanceMonitor<'m> {
     model: &'m Model,
@@ -462,7 +615,8 @@ impl<'m> BalanceMonitor<'m> {
         let scale = self
             .initial_energy
             .max(b.energy_before.abs())
-            .max(b.energy_after.abs());
+            .max(b.energy_after.abs())
+            .max(b.magnitude);
         let relative = b.residual().abs() / if scale > 0.0 { scale } else { 1.0 };
         self.balanced_steps += 1;
         self.last = relative;
@@ -479,41 +633,39 @@ impl<'m> BalanceMonitor<'m> {
             multiplier: &self.multiplier,
         };
         let after = Level::of(integrator);
-        let ws = &mut self.workspace;
-        let one_step = |(change, predicted_change): (f64, f64), energy: Option<f64>| {
-            // The energy only scales the residual: `E^n + ΔE` is `E^{n+1}` up to round-off,
-            // without the two products that computing it afresh would take.
-            let energy_before = energy.unwrap_or_else(|| mechanical_energy(self.model, &before));
-            StepBalance {
-                energy_before,
-                energy_after: energy_before + change,
-                change,
-                predicted_change,
-            }
-        };
-        let balance = match self.scheme {
-            Scheme::Newmark { beta, gamma } => Some(one_step(
-                newmark_in(ws, self.model, (beta, gamma), self.dt, (&before, &after)),
-                self.energy,
-            )),
-            Scheme::Theta { theta: t } => Some(one_step(
-                theta_in(ws, self.model, t, (&before, &after)),
-                self.energy,
-            )),
+        let (model, dt, ws) = (self.model, self.dt, &mut self.workspace);
+        let (sides, energy_before) = match self.scheme {
+            Scheme::Newmark { beta, gamma } => (
+                newmark_in(ws, model, (beta, gamma), dt, (&before, &after)),
+                self.energy
+                    .unwrap_or_else(|| mechanical_energy(model, &before)),
+            ),
+            Scheme::Theta { theta: t } => (
+                theta_in(ws, model, t, (&before, &after)),
+                self.energy
+                    .unwrap_or_else(|| mechanical_energy(model, &before)),
+            ),
             Scheme::PaoliSchatzman { beta, .. } => {
-                (step >= 2 && !self.earlier.is_empty()).then(|| {
-                    let levels = ThreeLevels {
-                        earlier: &self.earlier,
-                        current: &self.displacement,
-                        later: integrator.displacement(),
-                        multiplier: integrator.scheme_multiplier(),
-                    };
-                    paoli_schatzman(self.model, beta, self.dt, &levels)
-                })
+                if step < 2 || self.earlier.is_empty() {
+                    return None;
+                }
+                let levels = ThreeLevels {
+                    earlier: &self.earlier,
+                    current: &self.displacement,
+                    later: integrator.displacement(),
+                    multiplier: integrator.scheme_multiplier(),
+                };
+                let energy = self
+                    .energy
+                    .unwrap_or_else(|| half_steps(dt, &levels).0.energy(model, beta, dt));
+                (paoli_schatzman_in(ws, model, beta, dt, &levels), energy)
             }
         };
-        self.energy = balance.map(|b| b.energy_after);
-        balance
+        // The energies only scale the residual: `E^n + ΔE` is `E^{n+1}` up to round-off,
+        // without the products that computing it afresh would take.
+        let balance = sides.with_energies(energy_before, energy_before + sides.change);
+        self.energy = Some(balance.energy_after);
+        Some(balance)
     }
 
     /// The largest relative residual of the steps balanced so far (0 before any; NaN once a

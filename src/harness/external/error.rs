@@ -5,8 +5,9 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
+use crate::engine::error::compact;
 use crate::harness::error::Error;
-use crate::harness::input::InputError;
+use crate::harness::input::{InputError, Shown};
 
 /// A run file that cannot be read, or whose content is not a valid run of the scene; a series
 /// of runs that cannot be fitted; or an error of the harness while verifying.
@@ -19,7 +20,7 @@ pub enum ExternalError {
     /// Malformed JSON, an unknown or missing field, or a value of the wrong type.
     #[error(
         "run file {} is not a valid run (line {line}, column {column}): {message}",
-        path.display()
+        Shown(path)
     )]
     Json {
         /// The run file.
@@ -33,7 +34,7 @@ pub enum ExternalError {
     },
     /// A value that is missing, out of range, of the wrong length or inconsistent with the
     /// scene or the rest of the file.
-    #[error("run file {}: invalid {field} = {value}{}; allowed: {allowed}", path.display(), at.as_ref().map(|a| format!(" (at {a})")).unwrap_or_default())]
+    #[error("run file {}: invalid {field} = {value}{}; allowed: {allowed}", Shown(path), at.as_ref().map(|a| format!(" (at {a})")).unwrap_or_default())]
     Invalid {
         /// The run file.
         path: PathBuf,
@@ -81,7 +82,7 @@ impl ExternalError {
             path: path.to_path_buf(),
             field: field.into(),
             at,
-            value: value.to_string(),
+            value: compact(value.to_string()),
             allowed: allowed.into(),
         }
     }

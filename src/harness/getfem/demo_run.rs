@@ -636,6 +636,19 @@ impl RawRun {
         if time.is_empty() {
             return Err(arrays.error("TT", "empty".into(), "at least one time point"));
         }
+        let steps = (config.horizon / config.dt).round();
+        if steps + 1.0 != time.len() as f64 {
+            return Err(params.error(
+                "T",
+                format!(
+                    "{} with dt = {}: {steps} steps, but arrays.TT has {} time points",
+                    config.horizon,
+                    config.dt,
+                    time.len()
+                ),
+                "T / dt + 1 time points in arrays.TT (the demo stores every step)",
+            ));
+        }
         let n = Some(time.len());
         let series = DemoSeries {
             time,

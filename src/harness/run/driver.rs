@@ -263,8 +263,9 @@ fn balance_violation(
         step: state.step_index(),
         time: state.time(),
         detail: format!(
-            "the energy balance eq. {} is violated: its residual is {residual:.3e} of the \
-             energy, above the round-off bound {BALANCE_TOLERANCE:e}",
+            "the energy balance eq. {} is violated: its residual is {residual:.3e} of its \
+             scale (the energy, or the size of the products it sums), above the round-off \
+             bound {BALANCE_TOLERANCE:e}",
             energy_balance::equation(scheme)
         ),
     })

@@ -263,6 +263,7 @@ mod tests {
                 synthetic(be, MassVariant::Standard, &|_| 0.5, 1.0),
                 synthetic(be, MassVariant::Redistributed, &|_| 0.6, 1.0),
             ],
+            not_run: Vec::new(),
             wall_seconds: 0.0,
         }
     }

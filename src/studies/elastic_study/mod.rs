@@ -45,12 +45,14 @@ use crate::harness::elastic::{
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
-use crate::harness::run::{Observables, Observer, RunConfig};
+use crate::harness::run::{Observables, Observer, RunConfig, RunStatus};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
 use crate::harness::shard::range::{errors_out_of_range, positive};
 use crate::harness::shard::InRange;
-use crate::harness::study::{run_largest_first, Case, CaseStudy, LevelRecord, Study, StudyConfig};
+use crate::harness::study::{
+    run_largest_first, Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig,
+};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
 use projection::NormMatrices;
@@ -171,9 +173,26 @@ pub struct ReferenceCheck {
     pub smallest_fitted_error: BTreeMap<String, f64>,
     /// Norm key → the largest change of any case's fitted rate when each of its errors moves
     /// by the distance (up on the coarse half of the levels, down on the fine half, and the
-    /// reverse): what a reference error of that size could do to the rates. Infinite when an
-    /// error is not larger than the distance.
-    pub rate_bias: BTreeMap<String, f64>,
+    /// reverse): what a reference error of that size could do to the rates. `null` (`None`)
+    /// when no bound can be formed: an error not larger than the distance could vanish.
+    pub rate_bias: BTreeMap<String, Option<f64>>,
+}
+
+impl ReferenceCheck {
+    /// The rate-bias bound of `norm`, infinite when none can be formed (no rate decision
+    /// survives it).
+    pub fn bias_or_infinite(&self, norm: &str) -> f64 {
+        self.rate_bias
+            .get(norm)
+            .copied()
+            .flatten()
+            .unwrap_or(f64::INFINITY)
+    }
+
+    /// Whether some norm has no rate-bias bound.
+    pub fn some_bias_unbounded(&self) -> bool {
+        self.rate_bias.values().any(Option::is_none)
+    }
 }
 
 impl ReferenceCheck {
@@ -268,6 +287,9 @@ pub struct ElasticHistories {
 /// round-off ensemble with the members' run time in seconds.
 #[derive(Serialize, Deserialize)]
 struct LevelOutcome {
+    /// How the run ended; a run that stopped has no errors, histories or ensemble.
+    #[serde(default)]
+    status: RunStatus,
     record: LevelRecord,
     errors: BTreeMap<Norm, f64>,
     histories: Option<CaseHistories>,
@@ -369,7 +391,7 @@ pub fn run_elastic_study(
                 n == finest,
                 comparator.comparison(n),
             )?;
-            if let Some(noise) = ensemble {
+            if let Some(noise) = ensemble.filter(|_| outcome.status.is_completed()) {
                 let members = Instant::now();
                 outcome.ensemble = Some(sensitivity::run_members(
                     problem,
@@ -394,8 +416,24 @@ pub fn run_elastic_study(
     let mut histories = Vec::new();
     let mut ensembles: Vec<Vec<LevelEnsemble>> = Vec::new();
     let mut ensemble_seconds = 0.0;
-    let cases: Vec<CaseStudy> = config
+    let mut not_run = Vec::new();
+    let run_cases: Vec<Case> = config
         .cases
+        .iter()
+        .copied()
+        .filter(|case| {
+            let statuses: Vec<&RunStatus> = config
+                .levels
+                .iter()
+                .map(|&n| &by_job[&(case.id(), n)].status)
+                .collect();
+            let stopped = NotRun::first(*case, &config.levels, &statuses);
+            let completed = stopped.is_none();
+            not_run.extend(stopped);
+            completed
+        })
+        .collect();
+    let cases: Vec<CaseStudy> = run_cases
         .iter()
         .map(|case| {
             let mut records = Vec::new();
@@ -423,6 +461,7 @@ pub fn run_elastic_study(
         },
         norms: Norm::ALL.to_vec(),
         cases,
+        not_run,
         wall_seconds: clock.elapsed().as_secs_f64(),
     };
     let reference = &comparator.reference;
@@ -461,7 +500,7 @@ pub fn run_elastic_study(
                 .iter()
                 .map(|c| rate_bias(c, n, delta))
                 .fold(0.0, f64::max);
-            (n.key().to_string(), worst)
+            (n.key().to_string(), worst.is_finite().then_some(worst))
         })
         .collect();
     let h = &reference.histories;
@@ -474,15 +513,19 @@ pub fn run_elastic_study(
         total_force: h.total_force.clone(),
         energy: h.energy.clone(),
     };
-    let findings = note_findings(&study, &|n| {
-        reference_check
-            .rate_bias
-            .get(n.key())
-            .copied()
-            .unwrap_or(f64::INFINITY)
-    });
+    let findings = note_findings(&study, &|n| reference_check.bias_or_infinite(n.key()));
+    let run_config = ElasticStudyConfig {
+        cases: run_cases,
+        ..config.clone()
+    };
     let sensitivity = ensemble.map(|noise| {
-        sensitivity::classify(problem, config, noise.ensemble, ensembles, ensemble_seconds)
+        sensitivity::classify(
+            problem,
+            &run_config,
+            noise.ensemble,
+            ensembles,
+            ensemble_seconds,
+        )
     });
     Ok((
         ElasticStudy {
@@ -569,7 +612,7 @@ fn run_compared(
     for o in observers.iter_mut() {
         all.push(&mut **o);
     }
-    run_box_observed(problem, &config, &mut all)?.completed()
+    run_box_observed(problem, &config, &mut all)
 }
 
 /// One case at one level, compared with the reference at every step: what it measured (no
@@ -614,7 +657,9 @@ fn run_level(
         &mut comparison,
         &mut [&mut sample_stress],
     )?;
+    let completed = result.status.is_completed();
     let outcome = LevelOutcome {
+        status: result.status.clone(),
         record: LevelRecord {
             nx: n_axis,
             h,
@@ -624,8 +669,12 @@ fn run_level(
             timings: result.timings,
             multiplier_variation_ratio: Some(comparison.variation_ratio()),
         },
-        errors: comparison.errors(),
-        histories: keep_histories.then(|| CaseHistories {
+        errors: if completed {
+            comparison.errors()
+        } else {
+            BTreeMap::new()
+        },
+        histories: (keep_histories && completed).then(|| CaseHistories {
             case: case.id(),
             level: n_axis,
             element_size: h,

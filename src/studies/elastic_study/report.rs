@@ -140,11 +140,7 @@ fn interval_section(study: &ElasticStudy) -> String {
     let _ = writeln!(md, "\n|---|{}", "---|".repeat(INTERVAL_NORMS.len()));
     let _ = write!(md, "| rate-bias bound |");
     for n in INTERVAL_NORMS {
-        let _ = write!(
-            md,
-            " ±{:.2} |",
-            bias.get(n.key()).copied().unwrap_or(f64::NAN)
-        );
+        let _ = write!(md, " {} |", bias_cell(bias.get(n.key()), "±"));
     }
     md.push('\n');
     for c in &study.study.cases {
@@ -163,7 +159,31 @@ fn interval_section(study: &ElasticStudy) -> String {
         }
         md.push('\n');
     }
+    md.push_str(&unbounded_note(&study.reference));
     md
+}
+
+/// A rate-bias bound as a table cell (after `sign`), or `none¹` where none can be formed
+/// ([`unbounded_note`] says why).
+fn bias_cell(bias: Option<&Option<f64>>, sign: &str) -> String {
+    match bias.copied().flatten() {
+        Some(b) => format!("{sign}{b:.2}"),
+        None => "none¹".to_string(),
+    }
+}
+
+/// The footnote of a `none¹` rate-bias bound; empty when every bound was formed.
+fn unbounded_note(r: &super::ReferenceCheck) -> String {
+    if !r.some_bias_unbounded() {
+        return String::new();
+    }
+    format!(
+        "\n¹ No bound: the distance of level {} to the reference is as large as an error a fit \
+         uses (level {} is itself fitted, or its error is that small), so moving the errors by \
+         it could make one vanish and the rate is not bounded. Fit only levels below {}, or \
+         compute the reference one level finer.\n",
+        r.next_coarser, r.next_coarser, r.next_coarser
+    )
 }
 
 /// Which findings are robust, and what the others would need: a reference one level finer
@@ -315,16 +335,19 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
         let key = n.key();
         let _ = writeln!(
             md,
-            "| {key} | {:.3e} | {:.3e} | {:.1} | {:.2} |",
+            "| {key} | {:.3e} | {:.3e} | {} | {} |",
             r.distance.get(key).copied().unwrap_or(f64::NAN),
             r.smallest_fitted_error
                 .get(key)
                 .copied()
                 .unwrap_or(f64::NAN),
-            r.margin(key).unwrap_or(f64::NAN),
-            r.rate_bias.get(key).copied().unwrap_or(f64::NAN)
+            r.margin(key)
+                .filter(|m| m.is_finite())
+                .map_or_else(|| "—".to_string(), |m| format!("{m:.1}")),
+            bias_cell(r.rate_bias.get(key), "")
         );
     }
+    md.push_str(&unbounded_note(r));
     let _ = writeln!(
         md,
         "\n## Errors per level\n\n{}",

@@ -11,8 +11,9 @@ use super::{
     AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
 };
 use crate::harness::artifacts::write_atomic;
+use crate::harness::budget::{self, Estimate, Limits};
 use crate::harness::error::Error;
-use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms};
+use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
 use crate::harness::norms::Norm;
 use crate::harness::rates::observed_orders;
 use crate::harness::sensitivity::EnsembleConfig;
@@ -44,10 +45,14 @@ pub fn write_getfem_report(
     root: &Path,
     runs: &Path,
     out: &Path,
+    limits: &Limits,
 ) -> Result<Vec<Reproduction>, Error> {
     let mut rows = Vec::new();
+    let mut total = Estimate::default().writing(1.0);
     for file in list_runs(runs)? {
         let run = read_run(&file.path)?;
+        total = total.then(reproduction_cost(&run));
+        total.check(limits)?;
         let reproduction = reproduce(root, &file.path, &run)?;
         let recomputed = run.series.norms().named();
         let stored_series = run
@@ -90,6 +95,20 @@ pub fn write_getfem_report(
     demo_norms(&mut md, &rows);
     write_atomic(&out.join(GETFEM_REPORT), md.as_bytes())?;
     Ok(rows.into_iter().map(|r| r.reproduction).collect())
+}
+
+/// What reproducing `run` costs: the run with the demo's series and the harness's trace beside
+/// it (about twenty values per step), and, should it be chaotic, the members of the ensemble at
+/// every amplitude of the sweep.
+pub fn reproduction_cost(run: &DemoRun) -> Estimate {
+    let dofs = run.config.nx as f64 + 1.0;
+    let steps = run.series.time.len().saturating_sub(1) as f64;
+    let one = budget::bar_run_with_histories(dofs, steps, 20.0);
+    let runs = 1.0 + (GETFEM_ENSEMBLE.members * AMPLITUDE_DECADES.len()) as f64;
+    Estimate {
+        dof_steps: one.dof_steps * runs,
+        ..one
+    }
 }
 
 /// The largest differences from the demo, run by run.

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::harness::artifacts::write_atomic;
+use crate::harness::budget::{Estimate, Limits};
 use crate::harness::error::{DemoRunError, Error};
 use crate::harness::external::format::{Code, ExternalRun, SampleOrigin};
 use crate::harness::external::replay::replay;
@@ -114,10 +115,13 @@ fn trace_csv(trace: &ExternalRun) -> String {
 /// as a CSV run file into `dir`, named after the run (`….csv`); runs of one configuration at
 /// several NX share a [`label`], so that `signorini verify` fits their rates. Returns the files
 /// written.
-pub fn export_runs(runs: &Path, dir: &Path) -> Result<Vec<PathBuf>, Error> {
+pub fn export_runs(runs: &Path, dir: &Path, limits: &Limits) -> Result<Vec<PathBuf>, Error> {
     let mut written = Vec::new();
     for file in list_runs(runs)? {
         let run = read_run(&file.path)?;
+        Estimate::default()
+            .writing(written.len() as f64 + 1.0)
+            .check(limits)?;
         let Some(trace) = contact_trace(&file.path, &run) else {
             continue;
         };
