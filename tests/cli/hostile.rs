@@ -8,9 +8,8 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
@@ -30,10 +29,7 @@ const PEAK_KB: u64 = 1024 * 1024;
 
 /// A fresh scratch directory of this process for the test `name`.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("signorini-hostile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::watched::scratch("hostile", name)
 }
 
 /// The committed scene `name` as JSON.
@@ -51,40 +47,10 @@ fn write_scene(dir: &Path, name: &str, scene: &Value) -> String {
     path.to_string_lossy().into_owned()
 }
 
-/// The peak resident size of process `pid` so far (kB), where `/proc` tells it.
-fn peak_kb(pid: u32) -> Option<u64> {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    line.split_whitespace().nth(1)?.parse().ok()
-}
-
-/// Runs the binary with `args` as [`common::signorini`] does, killed after [`SECONDS`]: its
-/// output, and asserts it finished in time, under [`PEAK_KB`] (watched through `/proc` on
-/// Linux) and without a panic.
+/// Runs the binary with `args` from the repository root, within [`SECONDS`] and [`PEAK_KB`]
+/// ([`common::watched`]).
 fn bounded(args: &[&str]) -> Output {
-    let started = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("CI", "true")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut peak = 0;
-    while child.try_wait().unwrap().is_none() {
-        peak = peak.max(peak_kb(child.id()).unwrap_or(0));
-        if started.elapsed() > Duration::from_secs(SECONDS) {
-            child.kill().unwrap();
-            panic!("{args:?} still running after {SECONDS} s");
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(peak <= PEAK_KB, "{args:?} peaked at {peak} kB");
-    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
-    out
+    crate::watched::watched(args, None, SECONDS, PEAK_KB)
 }
 
 /// [`bounded`], expecting exit code `code` and every needle in stderr.

@@ -6,6 +6,8 @@
 mod common;
 #[path = "../common/external.rs"]
 mod external_runs;
+#[path = "../common/watched.rs"]
+mod watched;
 
 mod commands;
 mod elastic;
@@ -14,6 +16,7 @@ mod getfem;
 mod hostile;
 mod outputs;
 mod paraview;
+mod reliability;
 mod report_figures;
 mod scenes;
 mod shards;
