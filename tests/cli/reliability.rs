@@ -407,6 +407,25 @@ fn a_bom_is_skipped_and_an_empty_run_says_so() {
 
 // Item 3: every size read from a file or flag is checked before it sizes anything.
 
+/// The one shard of a 1/1-sharded small study, written under `dir`: its file.
+fn one_shard(dir: &Path) -> PathBuf {
+    let out = dir.join("s");
+    succeeds(
+        None,
+        &[
+            "study",
+            DIRICHLET,
+            "--levels",
+            "10,20",
+            "--shard",
+            "1/1",
+            "--out",
+            &arg(&out),
+        ],
+    );
+    out.join("shard-study-1-of-1.json")
+}
+
 #[test]
 fn absurd_shard_counts_are_refused_on_the_command_line_and_in_files() {
     for n in ["18446744073709551615", "100000000000", "10001"] {
@@ -426,21 +445,7 @@ fn absurd_shard_counts_are_refused_on_the_command_line_and_in_files() {
         );
     }
     let dir = scratch("reliability", "shard-n");
-    let out = dir.join("s");
-    succeeds(
-        None,
-        &[
-            "study",
-            DIRICHLET,
-            "--levels",
-            "10,20",
-            "--shard",
-            "1/1",
-            "--out",
-            &arg(&out),
-        ],
-    );
-    let path = out.join("shard-study-1-of-1.json");
+    let path = one_shard(&dir);
     let mut file: ShardFile = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
     for (field, value) in [
         ("n", 1_000_000_000_000_000_usize),
@@ -530,21 +535,7 @@ fn getfem_checks_a_demo_file_and_its_work_before_running_it() {
 #[test]
 fn a_shard_changed_after_it_was_written_is_refused_naming_it() {
     let dir = scratch("reliability", "tamper");
-    let out = dir.join("s");
-    succeeds(
-        None,
-        &[
-            "study",
-            DIRICHLET,
-            "--levels",
-            "10,20",
-            "--shard",
-            "1/1",
-            "--out",
-            &arg(&out),
-        ],
-    );
-    let path = out.join("shard-study-1-of-1.json");
+    let path = one_shard(&dir);
     let original = fs::read_to_string(&path).unwrap();
     let file: ShardFile = serde_json::from_str(&original).unwrap();
     // A result edited by hand: one hexadecimal digit of its MessagePack changed.
@@ -954,21 +945,7 @@ fn corrupted_input_files_are_accepted_with_finite_results_or_refused() {
     let golden_arg = arg(&golden);
     write.extend(["--write-golden", &golden_arg]);
     succeeds(None, &write);
-    let shards = dir.join("s");
-    succeeds(
-        None,
-        &[
-            "study",
-            DIRICHLET,
-            "--levels",
-            "10,20",
-            "--shard",
-            "1/1",
-            "--out",
-            &arg(&shards),
-        ],
-    );
-    let shard = shards.join("shard-study-1-of-1.json");
+    let shard = one_shard(&dir);
     let cache = dir.join("cache");
     small_box_study(&cache, "1,2");
     let cached: Vec<PathBuf> = fs::read_dir(&cache)

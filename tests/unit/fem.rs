@@ -7,7 +7,7 @@
 //! differences or our own quadrature), never read back from the code under test.
 
 use approx::assert_abs_diff_eq;
-use signorini::fem::{Bar1d, EndCondition, MassVariant, SymmetricMatrix};
+use signorini::fem::{Bar1d, EndCondition, MassVariant, SparseAssembler, SymmetricMatrix};
 use signorini::model::Model;
 
 const END_CONDITIONS: [EndCondition; 2] = [EndCondition::Clamped, EndCondition::Free];
@@ -255,6 +255,49 @@ fn mass_and_stiffness_are_symmetric() {
                 }
             }
         }
+    }
+}
+
+/// `weighted_form` (the energy balance's terms and their round-off scale) equals the dense
+/// `xᵀAy`, `Σ r_i x_i²` and `Σ r_i y_i²` to round-off, on tridiagonal matrices of every size
+/// around its four lanes (1 to 9 rows, and 64) and on a banded one that is not tridiagonal.
+#[test]
+fn weighted_forms_equal_their_dense_sums() {
+    let vector = |n: usize, phase: f64| -> Vec<f64> {
+        (0..n)
+            .map(|i| (1.7 * i as f64 + phase).sin() + 0.1)
+            .collect()
+    };
+    let mut matrices = Vec::new();
+    for nx in (1..=9).chain([64]) {
+        let bar = Bar1d::new(1.3, nx, 2.0, 0.7, EndCondition::Free).unwrap();
+        matrices.push(bar.mass(MassVariant::Standard));
+        matrices.push(bar.stiffness());
+    }
+    let mut banded = SparseAssembler::new(11);
+    for i in 0..11 {
+        banded.add(i, i, 4.0 + i as f64);
+        for (k, v) in [(1, -1.5), (3, 0.25)] {
+            if i + k < 11 {
+                banded.add(i, i + k, v);
+                banded.add(i + k, i, v);
+            }
+        }
+    }
+    matrices.push(banded.finish());
+    for a in &matrices {
+        let n = a.dim();
+        let (x, y) = (vector(n, 0.3), vector(n, -1.1));
+        let r: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 / 3.0).collect();
+        let d = dense(a);
+        let ay = dense_mul(&d, &y);
+        let expected: f64 = x.iter().zip(&ay).map(|(a, b)| a * b).sum();
+        let squares = |v: &[f64]| -> f64 { v.iter().zip(&r).map(|(v, r)| r * v * v).sum() };
+        let scale: f64 = x.iter().zip(&ay).map(|(a, b)| (a * b).abs()).sum::<f64>() + 1.0;
+        let form = a.weighted_form(&x, &y, &r);
+        assert_abs_diff_eq!(form.value, expected, epsilon = 1e-14 * scale);
+        assert_abs_diff_eq!(form.x_squares, squares(&x), epsilon = 1e-14 * squares(&x));
+        assert_abs_diff_eq!(form.y_squares, squares(&y), epsilon = 1e-14 * squares(&y));
     }
 }
 

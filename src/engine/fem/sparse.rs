@@ -37,6 +37,44 @@ enum Storage {
 /// task order, so results do not depend on the number of threads.
 const ROWS_PER_TASK: usize = 4096;
 
+/// Independent partial sums of the reductions that need no particular order of summation
+/// ([`SymmetricMatrix::weighted_form`]): they let the compiler vectorise what a single running
+/// sum would serialise.
+const LANES: usize = 4;
+
+/// A bilinear form `xᵀAy` with the weighted squares `Σ r_i x_i²` and `Σ r_i y_i²` of its two
+/// vectors ([`SymmetricMatrix::weighted_form`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WeightedForm {
+    /// `xᵀAy`.
+    pub value: f64,
+    /// `Σ r_i x_i²`.
+    pub x_squares: f64,
+    /// `Σ r_i y_i²`.
+    pub y_squares: f64,
+}
+
+/// `(Σ r_i x_i², Σ r_i y_i²)` in one pass over [`LANES`] partial sums.
+fn weighted_squares(r: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
+    let (mut sx, mut sy) = ([0.0; LANES], [0.0; LANES]);
+    let chunks = r
+        .chunks_exact(LANES)
+        .zip(x.chunks_exact(LANES))
+        .zip(y.chunks_exact(LANES));
+    for ((r, x), y) in chunks {
+        for k in 0..LANES {
+            sx[k] += r[k] * x[k] * x[k];
+            sy[k] += r[k] * y[k] * y[k];
+        }
+    }
+    let tail = r.len() - r.len() % LANES;
+    for ((r, x), y) in r[tail..].iter().zip(&x[tail..]).zip(&y[tail..]) {
+        sx[0] += r * x * x;
+        sy[0] += r * y * y;
+    }
+    (sx.iter().sum(), sy.iter().sum())
+}
+
 /// The diagonal `d` and the sub-diagonal `l[i] = A[i+1, i]` of a symmetric tridiagonal matrix.
 #[derive(Debug, Clone)]
 struct Tridiagonal {
@@ -95,6 +133,65 @@ impl Tridiagonal {
             .map(|(l, (xw, yw))| l * (xw[0] * yw[1] + xw[1] * yw[0]))
             .sum();
         diag + off
+    }
+
+    /// [`SymmetricMatrix::weighted_form`] of a tridiagonal matrix: one pass, each sum over
+    /// [`LANES`] independent partial sums; compiled for AVX2 when the processor has it (the
+    /// same operations in the same order, four lanes at a time instead of two).
+    fn weighted_form(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `weighted_form_avx2` only requires AVX2, which the processor has
+            // (checked just above).
+            return unsafe { self.weighted_form_avx2(x, y, r) };
+        }
+        self.weighted_form_portable(x, y, r)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn weighted_form_avx2(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+        self.weighted_form_portable(x, y, r)
+    }
+
+    #[inline(always)]
+    fn weighted_form_portable(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+        let n = self.d.len();
+        assert!(x.len() == n && y.len() == n && r.len() == n);
+        let Some(m) = n.checked_sub(1) else {
+            return WeightedForm::default();
+        };
+        // Rows 0..m carry a diagonal and the entry right of it; row m only its diagonal.
+        let (d, l, w) = (&self.d[..m], &self.l[..m], &r[..m]);
+        let (x0, x1, y0, y1) = (&x[..m], &x[1..], &y[..m], &y[1..]);
+        let mut lanes = [[0.0; LANES]; 3];
+        let full = m - m % LANES;
+        for first in (0..full).step_by(LANES) {
+            let block = |s: &[f64]| -> [f64; LANES] {
+                s[first..first + LANES]
+                    .try_into()
+                    .expect("a block of LANES")
+            };
+            let (d, l, w) = (block(d), block(l), block(w));
+            let (x0, x1, y0, y1) = (block(x0), block(x1), block(y0), block(y1));
+            for k in 0..LANES {
+                let off = l[k] * (x0[k] * y1[k] + x1[k] * y0[k]);
+                lanes[0][k] += d[k] * x0[k] * y0[k] + off;
+                lanes[1][k] += w[k] * x0[k] * x0[k];
+                lanes[2][k] += w[k] * y0[k] * y0[k];
+            }
+        }
+        for i in full..m {
+            lanes[0][0] += d[i] * x0[i] * y0[i] + l[i] * (x0[i] * y1[i] + x1[i] * y0[i]);
+            lanes[1][0] += w[i] * x0[i] * x0[i];
+            lanes[2][0] += w[i] * y0[i] * y0[i];
+        }
+        let [value, x_squares, y_squares] = lanes.map(|l| l.iter().sum::<f64>());
+        WeightedForm {
+            value: value + self.d[m] * x[m] * y[m],
+            x_squares: x_squares + r[m] * x[m] * x[m],
+            y_squares: y_squares + r[m] * y[m] * y[m],
+        }
     }
 }
 
@@ -250,6 +347,27 @@ impl SymmetricMatrix {
                 partial.iter().sum()
             }
             Storage::Stencil(s) => s.mul_dot(x, y),
+        }
+    }
+
+    /// `xᵀAy` with `Σ r_i x_i²` and `Σ r_i y_i²`, for `r` the [row sums of `|A|`](Self::abs_row_sums)
+    /// a bound `(Σ r_i x_i² · Σ r_i y_i²)^½` of the products the form sums. A tridiagonal
+    /// matrix takes all three in one pass of independent partial sums, so its value may differ
+    /// from [`SymmetricMatrix::bilinear_form`]'s at round-off; the others take that form and
+    /// one pass for the squares.
+    pub fn weighted_form(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+        if let Storage::Assembled {
+            tridiagonal: Some(t),
+            ..
+        } = &self.storage
+        {
+            return t.weighted_form(x, y, r);
+        }
+        let (x_squares, y_squares) = weighted_squares(r, x, y);
+        WeightedForm {
+            value: self.bilinear_form(x, y),
+            x_squares,
+            y_squares,
         }
     }
 

@@ -57,9 +57,10 @@
 
 use super::newmark::staggered_energy;
 use super::paoli_schatzman::HalfStep;
-use super::{residual_force, Scheme, TimeIntegrator};
+use super::{Scheme, TimeIntegrator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactTreatment;
+use crate::engine::fem::sparse::SymmetricMatrix;
 use crate::engine::model::Model;
 use crate::engine::schemes::conventions::{Conventions, Start};
 
@@ -167,13 +168,26 @@ fn load_magnitude(model: &Model, x: &[f64]) -> f64 {
         .map_or(0.0, |f| f.iter().zip(x).map(|(a, b)| (a * b).abs()).sum())
 }
 
-/// `c · form()`, the form not evaluated when `c = 0` (a term the scheme's parameters cancel,
-/// e.g. every `S`-term of Crank–Nicolson's eq. 33).
-fn term(c: f64, form: impl FnOnce() -> f64) -> f64 {
-    if c == 0.0 {
-        0.0
-    } else {
-        c * form()
+/// A term `c xᵀAy` of a balance with the bound `|c| (Σ r_i x_i² · Σ r_i y_i²)^½` of the
+/// products it sums (`r` the row sums of `|A|`, see [`StepBalance::magnitude`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Term {
+    value: f64,
+    bound: f64,
+}
+
+impl Term {
+    /// `c xᵀAy` ([`SymmetricMatrix::weighted_form`]), not evaluated when `c = 0` (a term the
+    /// scheme's parameters cancel, e.g. every `S`-term of Crank–Nicolson's eq. 33).
+    fn form(a: &SymmetricMatrix, r: &[f64], c: f64, x: &[f64], y: &[f64]) -> Self {
+        if c == 0.0 {
+            return Self::default();
+        }
+        let f = a.weighted_form(x, y, r);
+        Self {
+            value: c * f.value,
+            bound: c.abs() * (f.x_squares * f.y_squares).sqrt(),
+        }
     }
 }
 
@@ -193,41 +207,14 @@ impl RowSums {
         }
     }
 
-    /// `|c| (Σ r_i x_i² · Σ r_i y_i²)^½` for the row sums `r` (0 when `c = 0`), both sums in
-    /// one pass over independent lanes (a scale needs no particular order of summation, and
-    /// lanes let the compiler vectorise what a single running sum would serialise).
-    fn bound(r: &[f64], c: f64, x: &[f64], y: &[f64]) -> f64 {
-        const LANES: usize = 4;
-        if c == 0.0 {
-            return 0.0;
-        }
-        let (mut sx, mut sy) = ([0.0; LANES], [0.0; LANES]);
-        let chunks = r
-            .chunks_exact(LANES)
-            .zip(x.chunks_exact(LANES))
-            .zip(y.chunks_exact(LANES));
-        for ((r, x), y) in chunks {
-            for k in 0..LANES {
-                sx[k] += r[k] * x[k] * x[k];
-                sy[k] += r[k] * y[k] * y[k];
-            }
-        }
-        let tail = r.len() - r.len() % LANES;
-        for ((r, x), y) in r[tail..].iter().zip(&x[tail..]).zip(&y[tail..]) {
-            sx[0] += r * x * x;
-            sy[0] += r * y * y;
-        }
-        c.abs() * (sx.iter().sum::<f64>() * sy.iter().sum::<f64>()).sqrt()
+    /// The term `c xᵀMy`.
+    fn mass(&self, model: &Model, c: f64, x: &[f64], y: &[f64]) -> Term {
+        Term::form(model.mass(), &self.mass, c, x, y)
     }
 
-    /// [`RowSums::bound`] of a form of `M`.
-    fn mass(&self, c: f64, x: &[f64], y: &[f64]) -> f64 {
-        Self::bound(&self.mass, c, x, y)
-    }
-
-    /// [`RowSums::bound`] of a form of `S`.
-    fn stiffness(&self, c: f64, x: &[f64], y: &[f64]) -> f64 {
-        Self::bound(&self.stiffness, c, x, y)
+    /// The term `c xᵀSy`.
+    fn stiffness(&self, model: &Model, c: f64, x: &[f64], y: &[f64]) -> Term {
+        Term::form(model.stiffness(), &self.stiffness, c, x, y)
     }
 }
 
@@ -254,18 +241,19 @@ impl Sides {
 }
 
 /// What the balances need beyond the states, kept from step to step by [`BalanceMonitor`] so
-/// that a step allocates nothing: the constraint rows and row sums (constant for a model) and
-/// the vectors `a − b` and `a + b` of two levels.
+/// that a step allocates nothing: the constraint rows and row sums (constant for a model), the
+/// vectors `a − b` and `a + b` of two levels, and the entries of a sparse vector.
 #[derive(Debug, Default)]
 struct Workspace {
     rows: Option<Vec<ConstraintRow>>,
     sums: Option<RowSums>,
     difference: [Vec<f64>; 2],
     sum: [Vec<f64>; 2],
+    entries: Vec<(usize, f64)>,
 }
 
 impl Workspace {
-    /// Builds the constraint rows and the row sums of `model` on first use.
+    /// The constraint rows and the row sums of `model`, built on first use.
     fn constants(&mut self, model: &Model) {
         self.rows.get_or_insert_with(|| constraints(model));
         self.sums.get_or_insert_with(|| RowSums::of(model));
@@ -273,33 +261,59 @@ impl Workspace {
 
     /// Prepares a one-step balance of `model` from `before` to `after`: the constants, `ΔU`,
     /// `U^{n+1} + U^n` (pair 0) and `ΔV`, `V^{n+1} + V^n` (pair 1).
-    fn prepare(&mut self, model: &Model, before: &Level, after: &Level) {
+    fn prepare(&mut self, model: &Model, before: &Level, after: &Level) -> Prepared<'_> {
         self.constants(model);
-        self.pair(0, after.displacement, before.displacement);
-        self.pair(1, after.velocity, before.velocity);
+        for (k, (a, b)) in [
+            (after.displacement, before.displacement),
+            (after.velocity, before.velocity),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            fill(&mut self.difference[k], a, b, |x, y| x - y);
+            fill(&mut self.sum[k], a, b, |x, y| x + y);
+        }
+        self.prepared()
     }
 
-    /// Fills difference `k` with `a − b` and sum `k` with `a + b`.
-    fn pair(&mut self, k: usize, a: &[f64], b: &[f64]) {
-        let (d, s) = (&mut self.difference[k], &mut self.sum[k]);
-        d.clear();
-        s.clear();
-        d.extend(a.iter().zip(b).map(|(x, y)| x - y));
-        s.extend(a.iter().zip(b).map(|(x, y)| x + y));
+    /// The constants and the pairs as they are.
+    fn prepared(&self) -> Prepared<'_> {
+        Prepared {
+            rows: self.rows.as_deref().unwrap_or_default(),
+            sums: self.sums.as_ref().expect("Workspace::constants ran first"),
+            difference: &self.difference,
+            sum: &self.sum,
+        }
     }
+}
+
+/// Fills `out` with `f(a_i, b_i)`.
+fn fill(out: &mut Vec<f64>, a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
+    out.clear();
+    out.extend(a.iter().zip(b).map(|(&x, &y)| f(x, y)));
+}
+
+/// A balance's inputs ([`Workspace::prepare`]).
+struct Prepared<'w> {
+    rows: &'w [ConstraintRow],
+    sums: &'w RowSums,
+    /// `[ΔU, ΔV]` of a one-step balance.
+    difference: &'w [Vec<f64>; 2],
+    /// `[U^{n+1} + U^n, V^{n+1} + V^n]` of a one-step balance.
+    sum: &'w [Vec<f64>; 2],
 }
 
 /// `E_h(after) − E_h(before)` in the form of eq. (43) with the load:
 /// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`, with `ΔU`, `U^{n+1} + U^n` in
-/// the workspace's pair 0 and the velocities' in pair 1; and the magnitude of its products.
-fn mechanical_energy_change(model: &Model, ws: &Workspace, sums: &RowSums) -> (f64, f64) {
-    let ([du, dv], [u_sum, v_sum]) = (&ws.difference, &ws.sum);
-    let change = 0.5 * model.mass().bilinear_form(dv, v_sum)
-        + 0.5 * model.stiffness().bilinear_form(du, u_sum)
-        - load_work(model, du);
-    let magnitude =
-        sums.mass(0.5, dv, v_sum) + sums.stiffness(0.5, du, u_sum) + load_magnitude(model, du);
-    (change, magnitude)
+/// `p`'s pair 0 and the velocities' in pair 1; and the magnitude of its products.
+fn mechanical_energy_change(model: &Model, p: &Prepared) -> (f64, f64) {
+    let ([du, dv], [u_sum, v_sum], sums) = (p.difference, p.sum, p.sums);
+    let kinetic = sums.mass(model, 0.5, dv, v_sum);
+    let elastic = sums.stiffness(model, 0.5, du, u_sum);
+    (
+        kinetic.value + elastic.value - load_work(model, du),
+        kinetic.bound + elastic.bound + load_magnitude(model, du),
+    )
 }
 
 /// The Newmark(β, γ) balance over one step (eq. 33 for every (β, γ), see the module
@@ -334,26 +348,21 @@ fn newmark_in(
     dt: f64,
     (before, after): (&Level, &Level),
 ) -> Sides {
-    ws.prepare(model, before, after);
+    let p = ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
-    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
-        unreachable!("prepared");
-    };
-    let [du, dv] = &ws.difference;
+    let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
     let work = contact_work(rows, du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
     let impulse_change = contact_work(rows, dv, |i| l1[i] - l0[i]);
-    let s = model.stiffness();
     let skew = dt * (beta - 0.5 * gamma);
-    let predicted_change = term(0.5 - gamma, || s.quadratic_form(du)) - work
-        + term(skew, || s.bilinear_form(dv, du))
-        + skew * impulse_change;
-    let (change, magnitude) = mechanical_energy_change(model, ws, sums);
+    let dissipated = sums.stiffness(model, 0.5 - gamma, du, du);
+    let skewed = sums.stiffness(model, skew, dv, du);
+    let (change, magnitude) = mechanical_energy_change(model, &p);
     Sides {
         change,
-        predicted_change,
+        predicted_change: dissipated.value - work + skewed.value + skew * impulse_change,
         magnitude: magnitude
-            + sums.stiffness(0.5 - gamma, du, du)
-            + sums.stiffness(skew, dv, du)
+            + dissipated.bound
+            + skewed.bound
             + work.abs()
             + (skew * impulse_change).abs(),
     }
@@ -375,24 +384,17 @@ fn theta_in(
     theta: f64,
     (before, after): (&Level, &Level),
 ) -> Sides {
-    ws.prepare(model, before, after);
+    let p = ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
-    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
-        unreachable!("prepared");
-    };
-    let [du, dv] = &ws.difference;
+    let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
     let work = contact_work(rows, du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
-    let predicted_change = term(0.5 - theta, || model.mass().quadratic_form(dv))
-        + term(0.5 - theta, || model.stiffness().quadratic_form(du))
-        - work;
-    let (change, magnitude) = mechanical_energy_change(model, ws, sums);
+    let kinetic = sums.mass(model, 0.5 - theta, dv, dv);
+    let elastic = sums.stiffness(model, 0.5 - theta, du, du);
+    let (change, magnitude) = mechanical_energy_change(model, &p);
     Sides {
         change,
-        predicted_change,
-        magnitude: magnitude
-            + sums.mass(0.5 - theta, dv, dv)
-            + sums.stiffness(0.5 - theta, du, du)
-            + work.abs(),
+        predicted_change: kinetic.value + elastic.value - work,
+        magnitude: magnitude + kinetic.bound + elastic.bound + work.abs(),
     }
 }
 
@@ -414,7 +416,10 @@ fn half_steps(dt: f64, levels: &ThreeLevels) -> (HalfStep, HalfStep) {
     )
 }
 
-/// [`paoli_schatzman`]'s sides, with the constants of `ws`.
+/// [`paoli_schatzman`]'s sides, in `ws`: pair 0 holds `V^{n+½} − V^{n−½}` and
+/// `V^{n+½} + V^{n−½}`, pair 1 the same of the means `Ū`; the bracket is sparse (the contact
+/// forces, and the projected residuals on the massless dofs), so its entries are kept as a
+/// list and its product with `U^{n+1} − U^{n−1}` summed over them.
 fn paoli_schatzman_in(
     ws: &mut Workspace,
     model: &Model,
@@ -423,90 +428,101 @@ fn paoli_schatzman_in(
     levels: &ThreeLevels,
 ) -> Sides {
     ws.constants(model);
-    let (Some(rows), Some(sums)) = (ws.rows.as_deref(), ws.sums.as_ref()) else {
-        unreachable!("built");
-    };
-    let n = levels.current.len();
-    let mut bracket = vec![0.0; n];
-    let massless = model.massless_dofs();
-    if !massless.is_empty() {
-        let (mut r_now, mut r_prev) = (vec![0.0; n], vec![0.0; n]);
-        residual_force(model, levels.current, &mut r_now);
-        residual_force(model, levels.earlier, &mut r_prev);
-        for &z in massless {
-            bracket[z] = (1.0 - 2.0 * beta) * r_now[z] + beta * r_prev[z];
-        }
+    let (earlier, current, later) = (levels.earlier, levels.current, levels.later);
+    let ([dv, dm], [v_sum, m_sum]) = (&mut ws.difference, &mut ws.sum);
+    let n = current.len();
+    for out in [&mut *dv, &mut *dm, &mut *v_sum, &mut *m_sum] {
+        out.resize(n, 0.0);
     }
-    for (row, l) in rows.iter().zip(levels.multiplier) {
-        for &(k, c) in &row.force {
-            bracket[k] -= c * l;
-        }
+    // `V^{n±½} = ±(U^{n±1} − U^n)/Δt` and `Ū^{n±½} = (U^{n±1} + U^n)/2`, combined.
+    let inverse = 1.0 / dt;
+    let outputs = dv
+        .iter_mut()
+        .zip(v_sum.iter_mut())
+        .zip(dm.iter_mut().zip(m_sum.iter_mut()));
+    let levels3 = earlier.iter().zip(current).zip(later);
+    for (((dv, vs), (dm, ms)), ((&a, &b), &c)) in outputs.zip(levels3) {
+        *dv = ((c - b) - (b - a)) * inverse;
+        *vs = (c - a) * inverse;
+        *dm = 0.5 * (c - a);
+        *ms = 0.5 * ((c + b) + (b + a));
     }
-    let span = difference(levels.later, levels.earlier);
-    let (past, next) = half_steps(dt, levels);
-    let (dv, v_sum) = (
-        difference(&next.velocity, &past.velocity),
-        sum(&next.velocity, &past.velocity),
-    );
-    let (dm, m_sum) = (
-        difference(&next.mean, &past.mean),
-        sum(&next.mean, &past.mean),
-    );
-    let (m, s) = (model.mass(), model.stiffness());
-    let stiff = 0.5 * (beta - 0.25) * dt * dt;
+    let entries = &mut ws.entries;
+    entries.clear();
+    entries.extend(model.massless_dofs().iter().map(|&z| {
+        let projected = (1.0 - 2.0 * beta) * row_residual(model, current, z)
+            + beta * row_residual(model, earlier, z);
+        (z, projected)
+    }));
+    let rows = ws.rows.as_deref().unwrap_or_default();
+    for (row, &l) in rows.iter().zip(levels.multiplier) {
+        entries.extend(row.force.iter().map(|&(k, c)| (k, -c * l)));
+    }
+    let (work, absolute_work) = entries.iter().fold((0.0, 0.0), |(sum, abs), &(k, b)| {
+        let product = (later[k] - earlier[k]) * b;
+        (sum + product, abs + product.abs())
+    });
+    let p = ws.prepared();
+    let ([dv, dm], [v_sum, m_sum], sums) = (p.difference, p.sum, p.sums);
+    let kinetic = sums.mass(model, 0.5, dv, v_sum);
+    let correction = sums.stiffness(model, 0.5 * (beta - 0.25) * dt * dt, dv, v_sum);
+    let elastic = sums.stiffness(model, 0.5, dm, m_sum);
     Sides {
-        change: 0.5 * m.bilinear_form(&dv, &v_sum)
-            + stiff * s.bilinear_form(&dv, &v_sum)
-            + 0.5 * s.bilinear_form(&dm, &m_sum)
-            - load_work(model, &dm),
-        predicted_change: 0.5 * span.iter().zip(&bracket).map(|(a, b)| a * b).sum::<f64>(),
-        magnitude: sums.mass(0.5, &dv, &v_sum)
-            + sums.stiffness(stiff, &dv, &v_sum)
-            + sums.stiffness(0.5, &dm, &m_sum)
-            + load_magnitude(model, &dm)
-            + 0.5
-                * span
-                    .iter()
-                    .zip(&bracket)
-                    .map(|(a, b)| (a * b).abs())
-                    .sum::<f64>(),
+        change: kinetic.value + correction.value + elastic.value - load_work(model, dm),
+        predicted_change: 0.5 * work,
+        magnitude: kinetic.bound
+            + correction.bound
+            + elastic.bound
+            + load_magnitude(model, dm)
+            + 0.5 * absolute_work,
     }
+}
+
+/// `R(U)_z = (SU)_z − F_z`, row `z` of [`super::residual_force`].
+fn row_residual(model: &Model, u: &[f64], z: usize) -> f64 {
+    let mut r = -model.load().map_or(0.0, |f| f[z]);
+    model.stiffness().for_each_in_row(z, |j, v| r += v * u[j]);
+    r
 }
 
 /// The balance of explicit Newmark(0, ½) for the staggered energy it reports, over the step
 /// from `U^n` to `U^{n+1}`: `E^{n+½} − E^{n−½}` against `−½ λ^nᵀ B (U^{n+1} − U^{n−1})` (see the
 /// module documentation).
 pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepBalance {
-    let span = difference(levels.later, levels.earlier);
+    let mut span = Vec::new();
+    fill(&mut span, levels.later, levels.earlier, |x, y| x - y);
     let work = contact_work(&constraints(model), &span, |i| levels.multiplier[i]);
-    let velocity =
-        |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| (x - y) / dt).collect() };
-    let (past, next) = (
-        velocity(levels.current, levels.earlier),
-        velocity(levels.later, levels.current),
+    let (mut dv, mut v_sum) = (Vec::new(), Vec::new());
+    let velocity = |a: f64, b: f64| (a - b) / dt;
+    let (past, next): (Vec<f64>, Vec<f64>) = (
+        levels
+            .current
+            .iter()
+            .zip(levels.earlier)
+            .map(|(&a, &b)| velocity(a, b))
+            .collect(),
+        levels
+            .later
+            .iter()
+            .zip(levels.current)
+            .map(|(&a, &b)| velocity(a, b))
+            .collect(),
     );
-    let (dv, v_sum) = (difference(&next, &past), sum(&next, &past));
+    fill(&mut dv, &next, &past, |x, y| x - y);
+    fill(&mut v_sum, &next, &past, |x, y| x + y);
     let sums = RowSums::of(model);
+    let kinetic = sums.mass(model, 0.5, &dv, &v_sum);
+    let elastic = sums.stiffness(model, 0.5, levels.current, &span);
     StepBalance {
         energy_before: staggered_energy(model, dt, levels.earlier, levels.current),
         energy_after: staggered_energy(model, dt, levels.current, levels.later),
-        change: 0.5 * model.mass().bilinear_form(&dv, &v_sum)
-            + 0.5 * model.stiffness().bilinear_form(levels.current, &span)
-            - 0.5 * load_work(model, &span),
+        change: kinetic.value + elastic.value - 0.5 * load_work(model, &span),
         predicted_change: -0.5 * work,
-        magnitude: sums.mass(0.5, &dv, &v_sum)
-            + sums.stiffness(0.5, levels.current, &span)
+        magnitude: kinetic.bound
+            + elastic.bound
             + 0.5 * load_magnitude(model, &span)
             + 0.5 * work.abs(),
     }
-}
-
-fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x - y).collect()
-}
-
-fn sum(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x + y).collect()
 }
 
 /// Whether the balances of this module are identities of the runs of `model` with
