@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::harness::error::Error;
 use crate::harness::study::{Case, Study};
-use crate::studies::cost::write_work_precision;
+use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
 use crate::studies::histories::{write_histories, HISTORY_LEVELS};
 use crate::studies::tables::{
     tables_sensitivity, tables_study, write_sensitivity_files, write_tables,
@@ -16,15 +16,16 @@ use crate::studies::tables::{
 /// sensitivity (`sensitivity.md`, `sensitivity.json`), the tables beside the paper's
 /// (`tables.md`, `rates.json`), what accuracy costs (`work-precision.md`,
 /// `work-precision.json`) and the histories of the figures (`data/histories/`); returns the
-/// study. `kept_from` is the reports directory a staged `out_dir` will replace files of: the
-/// 2D/3D sections of its `work-precision.md` are kept.
+/// study. `kept_from` is the reports directory a staged `out_dir` will replace files of:
+/// `work-precision.md` takes the 2D/3D studies' data from it.
 pub fn write_report(root: &Path, out_dir: &Path, kept_from: &Path) -> Result<Study, Error> {
     let study = tables_study(root)?;
     let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
     let sensitivity = tables_sensitivity(root, &cases)?;
     write_sensitivity_files(&sensitivity, out_dir)?;
     write_tables(root, &study, &sensitivity, out_dir)?;
-    write_work_precision(&study, out_dir, kept_from)?;
+    write_work_precision_json(&study, out_dir)?;
+    write_work_precision_md(out_dir, kept_from)?;
     write_histories(root, out_dir, &HISTORY_LEVELS)?;
     Ok(study)
 }

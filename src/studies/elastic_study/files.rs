@@ -2,8 +2,8 @@
 //! ([`ElasticStudy`]: the study, the reference check and the findings) and
 //! `data/elastic-<d>d-histories.json` ([`super::ElasticHistories`], the figure data), which
 //! `make figures` reads back; the fine-mesh references are cached under [`REFERENCE_CACHE`].
-//! The study's cost per dof-step goes into its section of `work-precision.md`
-//! ([`super::report::cost_section`]).
+//! `work-precision.md` is rendered again from the studies' data, this one's included
+//! ([`crate::studies::cost::render_work_precision`]).
 
 use std::path::Path;
 
@@ -12,7 +12,7 @@ use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
-use crate::studies::cost::write_work_precision_section;
+use crate::studies::cost::write_work_precision_md;
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
 pub const REFERENCE_CACHE: &str = "data/references";
@@ -34,8 +34,8 @@ pub fn histories_file(dimension: usize) -> String {
 }
 
 /// Runs a 2D/3D study and writes its report, the study and the figure data into `out_dir`,
-/// and `work-precision.md` as `kept_from`'s (the reports directory a staged `out_dir` will
-/// replace files of) with the study's cost section; the reference is looked up (and kept) in
+/// and `work-precision.md` rendered from the studies' data in `out_dir` and `kept_from` (the
+/// reports directory a staged `out_dir` will replace files of); the reference is looked up (and kept) in
 /// `cache`; the report says it was made by `command`.
 pub fn write_elastic_report(
     problem: &BoxProblem,
@@ -53,12 +53,7 @@ pub fn write_elastic_report(
         super::report::render(&study, command).as_bytes(),
     )?;
     write_json(&out_dir.join(study_file(d)), &study)?;
-    write_work_precision_section(
-        out_dir,
-        kept_from,
-        &format!("box-{d}d"),
-        &super::report::cost_section(&study),
-    )?;
+    write_work_precision_md(out_dir, kept_from)?;
     write_json_compact(&out_dir.join(histories_file(d)), &histories)?;
     Ok(study)
 }

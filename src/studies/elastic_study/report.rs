@@ -210,8 +210,8 @@ fn robustness_summary(study: &ElasticStudy) -> String {
         "\nRobust with the reference on {} elements: {}. Holding but not robust: {}; these would \
          need a reference one level finer ({} elements along the axis, about {:.1e} unknowns and \
          {} steps) to shrink the rate-bias bounds they fail on. That reference is one run, which \
-         `--shard` cannot split: only the study's other jobs shard (README, *Running a study on \
-         several machines*, and *What a finer reference would take*).\n",
+         `--shard` cannot split: only the study's other jobs shard (docs/src/sharding-and-clusters.md, \
+         and *What a finer reference would take* in docs/src/convergence-2d-3d.md).\n",
         r.level,
         list(&robust),
         list(&fragile),
@@ -352,64 +352,6 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
         md,
         "\n## Errors per level\n\n{}",
         convergence_tables(s).trim_end()
-    );
-    md
-}
-
-/// The `d`-D box section of `work-precision.md`: the wall time per dof-step of every case and
-/// level of the study, and of its reference run.
-pub fn cost_section(study: &ElasticStudy) -> String {
-    let d = study.dimension;
-    let norm = crate::studies::cost::COST_NORM;
-    let mut md = format!(
-        "## {d}D bar (note §3): cost per dof-step\n\n\
-         The {d}D study's runs (`elastic-{d}d.md`): wall time of each run inside the parallel \
-         study (2 runs at a time on 2 cores), setup + stepping + contact + the comparison with \
-         the reference; the step solver is the default (`auto`: the sparse Cholesky in 2D and \
-         below 10 000 unknowns in 3D, matrix-free CG above). Error in {} against the \
-         reference.\n\n\
-         | case | level | unknowns | steps | dof-steps | wall s | ns per dof-step | {} |\n\
-         |---|---|---|---|---|---|---|---|\n",
-        norm.label(),
-        norm.key()
-    );
-    for c in &study.study.cases {
-        let Some(r) = c.norm(norm) else { continue };
-        for (l, e) in c.levels.iter().zip(&r.errors) {
-            let dof_steps = l.steps * l.dofs;
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {} | {:.3e} | {:.1} | {:.3e} |",
-                c.case.id(),
-                l.nx,
-                l.dofs,
-                l.steps,
-                dof_steps,
-                l.timings.total(),
-                l.timings.total() * 1e9 / dof_steps as f64,
-                e
-            );
-        }
-    }
-    let r = &study.reference;
-    let dof_steps = (r.dofs * r.steps) as f64;
-    let _ = writeln!(
-        md,
-        "\nThe reference ({} on {} elements along the axis): {} unknowns × {} steps in {:.1} s, \
-         {:.1} ns per dof-step, with the check run on {} elements beside it and the projections \
-         on every level recorded as it runs ({}).",
-        r.case,
-        r.level,
-        r.dofs,
-        r.steps,
-        r.seconds,
-        r.seconds * 1e9 / dof_steps,
-        r.next_coarser,
-        if r.from_cache {
-            "the run that filled the cache"
-        } else {
-            "computed for this study"
-        }
     );
     md
 }
