@@ -11,15 +11,21 @@
 //!   (target ≤ 2 s), level 160, the size of the 3D study's reference (target ≤ 60 s), and with
 //!   `--fine` (`make bench-fine`) level 320 (target ≤ 15 min and ≤ 6 GB).
 //!
-//! Each figure is the median of several repetitions (9 for the kernels). The process exits with status 1 when a
-//! target is missed, so `make bench` checks them.
+//! Each figure is the median of several repetitions (9 for the kernels). The figures go to
+//! `reports/bench.md` and `reports/bench.json` (format `signorini-bench/1`, fields in
+//! `docs/src/outputs.md`), written even when a target is missed; the process then exits with
+//! status 1, so `make bench` checks them.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
+use serde::Serialize;
+
 use signorini::fem::MassVariant;
+use signorini::harness::artifacts::{write_atomic, write_json};
+use signorini::harness::output_dir::{Replace, StagedDir};
 use signorini::norms::Norm;
 use signorini::run::{run, Observables, RunConfig, RunResult};
 use signorini::schemes::Scheme;
@@ -124,37 +130,146 @@ fn verdict(ok: bool) -> &'static str {
     }
 }
 
+/// One scheme's step kernel ([`kernel`]): nanoseconds per dof-step.
+#[derive(Debug, Serialize)]
+struct KernelFigure {
+    scheme: String,
+    mass: String,
+    /// With the seven observables.
+    ns_per_dof_step: f64,
+    /// Of which the stepping (the energy-balance check included), the contact solves and the
+    /// observers.
+    stepping: f64,
+    contact: f64,
+    observe: f64,
+    /// With no observable.
+    ns_per_dof_step_no_observable: f64,
+    target: f64,
+    met: bool,
+}
+
+/// One other measured figure and its target.
+#[derive(Debug, Serialize)]
+struct Figure {
+    what: String,
+    value: f64,
+    unit: &'static str,
+    target: f64,
+    met: bool,
+    /// Its second measure and target, where it has one (a 3D run's peak memory in MB).
+    peak_mb: Option<f64>,
+    peak_mb_target: Option<f64>,
+}
+
+/// What `make bench` measured: `reports/bench.json` (format `signorini-bench/1`), rendered as
+/// `reports/bench.md`.
+#[derive(Debug, Serialize)]
+struct BenchReport {
+    format: &'static str,
+    kernels: Vec<KernelFigure>,
+    figures: Vec<Figure>,
+    /// Figures that could not be measured (a failed run, `/usr/bin/time` missing).
+    unmeasured: Vec<String>,
+    all_met: bool,
+}
+
+impl BenchReport {
+    fn markdown(&self) -> String {
+        let mut md = String::from(
+            "# Speed targets (`make bench`)\n\nMeasured by `make bench` on the machine that ran it \
+             (this report is rewritten at each run; a 2-core VM varies ±25 % from run to run).\n\n\
+             ## Step kernels\n\nNX = 640, Δx/Δt = 10, T = 3 (19 200 steps), median of 9 runs, in \
+             ns per dof-step.\n\n| scheme | mass | 7 observables | of which stepping / contact / observe | no observable | target |\n\
+             |---|---|---|---|---|---|\n",
+        );
+        for k in &self.kernels {
+            md += &format!(
+                "| {} | {} | {:.1} | {:.1} / {:.1} / {:.1} | {:.1} | ≤ {} {} |\n",
+                k.scheme,
+                k.mass,
+                k.ns_per_dof_step,
+                k.stepping,
+                k.contact,
+                k.observe,
+                k.ns_per_dof_step_no_observable,
+                k.target,
+                verdict(k.met)
+            );
+        }
+        md += "\n## Studies and runs\n\n| what | measured | target | |\n|---|---|---|---|\n";
+        for f in &self.figures {
+            let (measured, target) = match (f.peak_mb, f.peak_mb_target) {
+                (Some(mb), Some(t)) => (
+                    format!("{:.1} {}, {mb:.0} MB peak", f.value, f.unit),
+                    format!("≤ {} {}, ≤ {t} MB", f.target, f.unit),
+                ),
+                _ => (
+                    format!("{:.1} {}", f.value, f.unit),
+                    format!("≤ {} {}", f.target, f.unit),
+                ),
+            };
+            md += &format!(
+                "| {} | {measured} | {target} | {} |\n",
+                f.what,
+                verdict(f.met)
+            );
+        }
+        for what in &self.unmeasured {
+            md += &format!("| {what} | not measured | | MISSED |\n");
+        }
+        md += &format!(
+            "\n{}\n",
+            if self.all_met {
+                "Every target is met."
+            } else {
+                "At least one target is missed (`make bench` exits non-zero)."
+            }
+        );
+        md
+    }
+}
+
 fn main() -> ExitCode {
     let all: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let none = BTreeSet::new();
-    let mut all_ok = true;
-    println!("Step kernels, NX = 640, Δx/Δt = 10, T = 3 (19 200 steps), median of 9 runs (this 2-core VM varies ±25 % from run to run)");
-    println!(
-        "| scheme | mass | ns/dof-step, 7 observables | of which stepping / contact / observe | ns/dof-step, no observable | target |"
-    );
-    println!("|---|---|---|---|---|---|");
+    let mut kernels = Vec::new();
     for scheme in Scheme::paper_schemes() {
         for mass in MassVariant::PAPER {
             let (with, r) = kernel(scheme, mass, &all);
             let (without, _) = kernel(scheme, mass, &none);
             let per = |s: f64| s * 1e9 / r.dof_steps as f64;
-            let ok = with <= NS_PER_DOF_STEP_TARGET;
-            all_ok &= ok;
-            println!(
-                "| {} | {} | {:.1} | {:.1} / {:.1} / {:.1} | {:.1} | ≤ {} {} |",
-                scheme,
-                mass,
-                with,
-                per(r.timings.stepping),
-                per(r.timings.contact),
-                per(r.timings.observe),
-                without,
-                NS_PER_DOF_STEP_TARGET,
-                verdict(ok)
+            let figure = KernelFigure {
+                scheme: scheme.to_string(),
+                mass: mass.to_string(),
+                ns_per_dof_step: with,
+                stepping: per(r.timings.stepping),
+                contact: per(r.timings.contact),
+                observe: per(r.timings.observe),
+                ns_per_dof_step_no_observable: without,
+                target: NS_PER_DOF_STEP_TARGET,
+                met: with <= NS_PER_DOF_STEP_TARGET,
+            };
+            eprintln!(
+                "kernel {} {}: {:.1} ns/dof-step",
+                figure.scheme, figure.mass, with
             );
+            kernels.push(figure);
         }
     }
-
+    let mut figures = Vec::new();
+    let mut unmeasured = Vec::new();
+    let mut timed = |what: String, value: f64, unit: &'static str, target: f64| {
+        eprintln!("{what}: {value:.2} {unit}");
+        figures.push(Figure {
+            what,
+            value,
+            unit,
+            target,
+            met: value <= target,
+            peak_mb: None,
+            peak_mb_target: None,
+        });
+    };
     let walls: Vec<f64> = (0..3)
         .map(|_| {
             let clock = Instant::now();
@@ -162,59 +277,78 @@ fn main() -> ExitCode {
             clock.elapsed().as_secs_f64()
         })
         .collect();
-    let wall = median(walls);
-    let ok = wall <= STUDY_SECONDS_TARGET;
-    all_ok &= ok;
-    println!(
-        "\nTables 1–2 study (14 cases × 7 levels, all norms): {wall:.2} s wall, median of 3 (target ≤ {STUDY_SECONDS_TARGET} s) {}",
-        verdict(ok)
+    timed(
+        "Tables 1–2 study (14 cases × 7 levels, all norms), wall, median of 3".into(),
+        median(walls),
+        "s",
+        STUDY_SECONDS_TARGET,
     );
-
     let clock = Instant::now();
     tables_sensitivity(root(), &Case::paper_matrix()).expect("sensitivity study");
-    let wall = clock.elapsed().as_secs_f64();
-    let ok = wall <= SENSITIVITY_SECONDS_TARGET;
-    all_ok &= ok;
-    println!(
-        "1D sensitivity study (14 cases × 7 levels × 16 members): {wall:.1} s wall (target ≤ {SENSITIVITY_SECONDS_TARGET} s) {}",
-        verdict(ok)
+    timed(
+        "1D sensitivity study (14 cases × 7 levels × 16 members), wall".into(),
+        clock.elapsed().as_secs_f64(),
+        "s",
+        SENSITIVITY_SECONDS_TARGET,
     );
-
+    match peak_memory_mb() {
+        Some(mb) => timed(
+            "peak memory of `signorini study scenes/bar1d-dirichlet.json`".into(),
+            mb,
+            "MB",
+            PEAK_MEMORY_MB_TARGET,
+        ),
+        None => unmeasured.push("peak memory of the 1D study (/usr/bin/time -v)".to_string()),
+    }
     let fine = std::env::args().any(|a| a == "--fine");
     for &(nx, seconds, megabytes) in BOX_3D_TARGETS.iter().filter(|t| fine || t.0 < 320) {
+        let what =
+            format!("3D level {nx} run (CN, redistributed, T = 2, the default step solver), wall");
         match box_3d_run(nx) {
             Some((wall, mb)) => {
-                let ok = wall <= seconds && mb <= megabytes;
-                all_ok &= ok;
-                println!(
-                    "3D level {nx} run (CN, redistributed, T = 2, the default step solver): {wall:.1} s wall, {mb:.0} MB peak (target ≤ {seconds} s, ≤ {megabytes} MB) {}",
-                    verdict(ok)
-                );
+                eprintln!("{what}: {wall:.1} s, {mb:.0} MB");
+                figures.push(Figure {
+                    what,
+                    value: wall,
+                    unit: "s",
+                    target: seconds,
+                    met: wall <= seconds && mb <= megabytes,
+                    peak_mb: Some(mb),
+                    peak_mb_target: Some(megabytes),
+                });
             }
-            None => {
-                all_ok = false;
-                println!("3D level {nx} run: failed, or /usr/bin/time -v unavailable");
-            }
+            None => unmeasured.push(what),
         }
     }
-
-    match peak_memory_mb() {
-        Some(mb) => {
-            let ok = mb <= PEAK_MEMORY_MB_TARGET;
-            all_ok &= ok;
-            println!(
-                "Peak memory of `signorini study scenes/bar1d-dirichlet.json`: {mb:.1} MB (target ≤ {PEAK_MEMORY_MB_TARGET} MB) {}",
-                verdict(ok)
-            );
-        }
-        None => {
-            all_ok = false;
-            println!("Peak memory: /usr/bin/time -v unavailable (install the `time` package)");
-        }
+    let all_met =
+        unmeasured.is_empty() && kernels.iter().all(|k| k.met) && figures.iter().all(|f| f.met);
+    let report = BenchReport {
+        format: "signorini-bench/1",
+        kernels,
+        figures,
+        unmeasured,
+        all_met,
+    };
+    let markdown = report.markdown();
+    print!("{markdown}");
+    if let Err(e) = write_report(&report, &markdown) {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
     }
-    if all_ok {
+    println!("wrote reports/bench.md and reports/bench.json");
+    if all_met {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
     }
+}
+
+/// Writes `reports/bench.md` and `reports/bench.json` (beside the other reports, recorded in
+/// the directory's manifest).
+fn write_report(report: &BenchReport, markdown: &str) -> Result<(), Box<dyn std::error::Error>> {
+    let staged = StagedDir::begin("reports", &root().join("reports"), Replace::Files)?;
+    write_atomic(&staged.path().join("bench.md"), markdown.as_bytes())?;
+    write_json(&staged.path().join("bench.json"), report)?;
+    staged.commit()?;
+    Ok(())
 }
