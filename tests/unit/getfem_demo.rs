@@ -10,7 +10,7 @@ use std::time::Instant;
 use crate::benchmarks;
 use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::engine::schemes::{TimeIntegrator, Timed};
+use signorini::engine::schemes::{SchemeState, TimeIntegrator, Timed};
 use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::harness::error::DemoRunError;
 use signorini::harness::getfem::{
@@ -134,36 +134,27 @@ fn series_norms_are_the_demos_printed_norms() {
 }
 
 /// A state replayed from a run file: the dofs `U`, `V` of the bar (the clamped node dropped) at
-/// step `n`, with the stress `s`.
-struct Replay {
-    n: usize,
-    dt: f64,
-    u: Vec<f64>,
-    v: Vec<f64>,
-    s: [f64; 1],
+/// step `n`, with the stress `s` as the multiplier.
+struct Replay(SchemeState);
+
+impl Replay {
+    fn new(n: usize, dt: f64, u: Vec<f64>, v: Vec<f64>, s: f64) -> Self {
+        Self(SchemeState {
+            step: n,
+            dt,
+            u,
+            v,
+            lambda: vec![s],
+        })
+    }
 }
 
 impl TimeIntegrator for Replay {
     fn advance(&mut self) -> Result<(), SolveError> {
         unreachable!("a replayed state is observed, never stepped")
     }
-    fn step_index(&self) -> usize {
-        self.n
-    }
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
-    fn velocity(&self) -> &[f64] {
-        &self.v
-    }
-    fn multiplier(&self) -> Timed<&[f64]> {
-        Timed {
-            time: self.time(),
-            value: &self.s,
-        }
+    fn state(&self) -> &SchemeState {
+        &self.0
     }
     fn energy(&self) -> Timed<f64> {
         unreachable!("DemoNorms reads no energy")
@@ -200,13 +191,7 @@ fn demo_norms_reproduce_the_stored_samples() {
         }
         let mut zero = DemoNorms::new(&bar).unwrap();
         for n in 0..stored.len() {
-            let state = Replay {
-                n,
-                dt: c.dt,
-                u: vec![0.0; c.nx],
-                v: vec![0.0; c.nx],
-                s: [0.0],
-            };
+            let state = Replay::new(n, c.dt, vec![0.0; c.nx], vec![0.0; c.nx], 0.0);
             zero.observe(&state).unwrap();
         }
         let ours = zero.series();
@@ -247,13 +232,13 @@ fn demo_norms_reproduce_the_stored_samples() {
         let last = stored.len() - 1;
         let mut at_end = DemoNorms::new(&bar).unwrap();
         at_end
-            .observe(&Replay {
-                n: last,
-                dt: c.dt,
-                u: f.u[..c.nx].to_vec(),
-                v: f.v[..c.nx].to_vec(),
-                s: [stored.s0[last]],
-            })
+            .observe(&Replay::new(
+                last,
+                c.dt,
+                f.u[..c.nx].to_vec(),
+                f.v[..c.nx].to_vec(),
+                stored.s0[last],
+            ))
             .unwrap();
         let end = at_end.series();
         for (x, y) in [

@@ -72,31 +72,77 @@ pub fn residual_force(model: &Model, u: &[f64], out: &mut [f64]) {
     }
 }
 
+/// The state an integrator updates at every step: the step index `n` with the step `Δt`, and
+/// `U^n`, `V^n` and `λ^n`, the multipliers of the scheme's own equations. The accessors of
+/// [`TimeIntegrator`] read it, so a scheme writes only its method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SchemeState {
+    /// `n`.
+    pub step: usize,
+    /// `Δt`.
+    pub dt: f64,
+    /// `U^n`.
+    pub u: Vec<f64>,
+    /// The velocity the scheme carries (see [`TimeIntegrator::velocity`]).
+    pub v: Vec<f64>,
+    /// The multipliers of the scheme's equations (see [`TimeIntegrator::scheme_multiplier`]).
+    pub lambda: Vec<f64>,
+}
+
+impl SchemeState {
+    /// Step 0 with step `dt`, from `U^0`, `V^0` and `λ^0`.
+    pub fn start(dt: f64, u: Vec<f64>, v: Vec<f64>, lambda: Vec<f64>) -> Self {
+        Self {
+            step: 0,
+            dt,
+            u,
+            v,
+            lambda,
+        }
+    }
+}
+
 /// A time integrator holding its state `(U^n, V^n, λ^n)`.
 pub trait TimeIntegrator: Send {
     /// Advances from `t_n` to `t_{n+1}`.
     fn advance(&mut self) -> Result<(), SolveError>;
+    /// The current state.
+    fn state(&self) -> &SchemeState;
     /// The index `n` of the current state.
-    fn step_index(&self) -> usize;
+    fn step_index(&self) -> usize {
+        self.state().step
+    }
     /// `t_n = n Δt`.
     fn time(&self) -> f64 {
         self.step_index() as f64 * self.dt()
     }
     /// The time step `Δt`.
-    fn dt(&self) -> f64;
+    fn dt(&self) -> f64 {
+        self.state().dt
+    }
     /// `U^n`.
-    fn displacement(&self) -> &[f64];
+    fn displacement(&self) -> &[f64] {
+        &self.state().u
+    }
     /// The velocity the scheme carries (`V^n`; `(U^n − U^{n−1})/Δt` at `t_{n−½}` for
     /// Paoli–Schatzman).
-    fn velocity(&self) -> &[f64];
-    /// The contact multipliers (`λ ≤ 0`, one per contact dof) with the time they approximate.
-    fn multiplier(&self) -> Timed<&[f64]>;
+    fn velocity(&self) -> &[f64] {
+        &self.state().v
+    }
+    /// The contact multipliers (`λ ≤ 0`, one per contact dof) with the time they approximate:
+    /// the [scheme's](Self::scheme_multiplier) at `t_n`, unless the scheme reports others.
+    fn multiplier(&self) -> Timed<&[f64]> {
+        Timed {
+            time: self.time(),
+            value: &self.state().lambda,
+        }
+    }
     /// The multipliers as the scheme's equations carry them, the ones its energy balance
     /// ([`energy_balance`]) uses: `λ^{n−1}` of eq. (36), which produced `U^n`, for
     /// Paoli–Schatzman (before the rescaling by `1/β` of a massless contact node); the
     /// reported [`multiplier`](Self::multiplier) `λ^n` for the other schemes.
     fn scheme_multiplier(&self) -> &[f64] {
-        self.multiplier().value
+        &self.state().lambda
     }
     /// The scheme's discrete energy with the time it approximates (computed on demand).
     fn energy(&self) -> Timed<f64>;

@@ -78,7 +78,7 @@
 use super::cfl::{largest_eigenvalue, stable_step};
 use super::conventions::{Conventions, NitscheAcceleration, Start};
 use super::massless::QuasiStatic;
-use super::{residual_force, InitialState, StepCoefficients, TimeIntegrator, Timed};
+use super::{residual_force, InitialState, SchemeState, StepCoefficients, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{SpdSolver, StepSolver};
@@ -274,7 +274,6 @@ impl TaylorFlanagan {
 pub struct ExplicitNewmark<'m> {
     model: &'m Model,
     gamma: f64,
-    dt: f64,
     with_mass: Vec<usize>,
     mass_solver: Option<SpdSolver>,
     statics: Option<QuasiStatic>,
@@ -282,12 +281,9 @@ pub struct ExplicitNewmark<'m> {
     /// Whether the last step applied a Taylor–Flanagan impulse.
     impulse: bool,
     stable_dt: f64,
-    step: usize,
+    state: SchemeState,
     u_prev: Vec<f64>,
-    u: Vec<f64>,
-    v: Vec<f64>,
     a: Vec<f64>,
-    lambda: Vec<f64>,
     energy_at_start: f64,
     next: Vec<f64>,
     force: Vec<f64>,
@@ -325,18 +321,14 @@ impl<'m> ExplicitNewmark<'m> {
         Ok(Self {
             model,
             gamma,
-            dt,
             mass_solver,
             statics: QuasiStatic::new(model)?,
             taylor_flanagan: TaylorFlanagan::new(model, &with_mass),
             impulse: false,
             stable_dt,
-            step: 0,
             u_prev: start.displacement.clone(),
-            u: start.displacement,
-            v: start.velocity,
+            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
             a: start.acceleration,
-            lambda: start.multiplier,
             energy_at_start,
             next: vec![0.0; n],
             force: vec![0.0; n],
@@ -353,21 +345,26 @@ impl<'m> ExplicitNewmark<'m> {
 
 impl TimeIntegrator for ExplicitNewmark<'_> {
     fn advance(&mut self) -> Result<(), SolveError> {
-        let dt = self.dt;
+        let dt = self.state.dt;
         for ((next, u), (v, a)) in self
             .next
             .iter_mut()
-            .zip(&self.u)
-            .zip(self.v.iter().zip(&self.a))
+            .zip(&self.state.u)
+            .zip(self.state.v.iter().zip(&self.a))
         {
             *next = u + dt * v + 0.5 * dt * dt * a;
         }
         if let Some(statics) = self.statics.as_mut() {
-            statics.solve(self.model, self.step + 1, &mut self.next, &mut self.lambda)?;
+            statics.solve(
+                self.model,
+                self.state.step + 1,
+                &mut self.next,
+                &mut self.state.lambda,
+            )?;
         }
         let gamma = self.gamma;
         for &i in &self.with_mass {
-            self.v[i] += dt * (1.0 - gamma) * self.a[i];
+            self.state.v[i] += dt * (1.0 - gamma) * self.a[i];
         }
         if let (Some(tf), Some(m), Some(set)) = (
             &self.taylor_flanagan,
@@ -375,12 +372,12 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
             self.model.contact(),
         ) {
             for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
-                *f = self.v[i];
+                *f = self.state.v[i];
             }
-            let lambda = &mut self.lambda;
+            let lambda = &mut self.state.lambda;
             self.impulse = tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
             for (&i, &v) in self.with_mass.iter().zip(&self.force_r) {
-                self.v[i] = v;
+                self.state.v[i] = v;
             }
         }
         residual_force(self.model, &self.next, &mut self.force);
@@ -391,53 +388,34 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
             m.solve_in_place(&mut self.force_r);
         }
         for (&i, &a_new) in self.with_mass.iter().zip(&self.force_r) {
-            self.v[i] += dt * gamma * a_new;
+            self.state.v[i] += dt * gamma * a_new;
             self.a[i] = a_new;
         }
         for &z in self.model.massless_dofs() {
-            self.v[z] = (self.next[z] - self.u[z]) / dt;
+            self.state.v[z] = (self.next[z] - self.state.u[z]) / dt;
         }
-        std::mem::swap(&mut self.u_prev, &mut self.u);
-        std::mem::swap(&mut self.u, &mut self.next);
-        self.step += 1;
+        std::mem::swap(&mut self.u_prev, &mut self.state.u);
+        std::mem::swap(&mut self.state.u, &mut self.next);
+        self.state.step += 1;
         Ok(())
     }
 
-    fn step_index(&self) -> usize {
-        self.step
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
-
-    fn velocity(&self) -> &[f64] {
-        &self.v
-    }
-
-    fn multiplier(&self) -> Timed<&[f64]> {
-        Timed {
-            time: self.time(),
-            value: &self.lambda,
-        }
+    fn state(&self) -> &SchemeState {
+        &self.state
     }
 
     /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
     /// first step.
     fn energy(&self) -> Timed<f64> {
-        if self.step == 0 {
+        if self.state.step == 0 {
             return Timed {
                 time: 0.0,
                 value: self.energy_at_start,
             };
         }
         Timed {
-            time: (self.step as f64 - 0.5) * self.dt,
-            value: staggered_energy(self.model, self.dt, &self.u_prev, &self.u),
+            time: (self.state.step as f64 - 0.5) * self.state.dt,
+            value: staggered_energy(self.model, self.state.dt, &self.u_prev, &self.state.u),
         }
     }
 

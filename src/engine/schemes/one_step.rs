@@ -25,7 +25,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::conventions::NitscheAcceleration;
-use super::{InitialState, TimeIntegrator, Timed};
+use super::{InitialState, SchemeState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
@@ -100,15 +100,12 @@ impl ElasticAcceleration {
 pub struct OneStepScheme<'m> {
     model: &'m Model,
     coef: StepCoefficients,
-    dt: f64,
     system: StepSolver,
     contact: Option<ContactStep>,
     elastic_acceleration: Option<ElasticAcceleration>,
-    step: usize,
-    u: Vec<f64>,
-    v: Vec<f64>,
+    state: SchemeState,
+    /// `A^n`.
     a: Vec<f64>,
-    lambda: Vec<f64>,
     predictor: Vec<f64>,
     scratch: Vec<f64>,
     guess: Vec<f64>,
@@ -143,15 +140,11 @@ impl<'m> OneStepScheme<'m> {
         Ok(Self {
             model,
             coef,
-            dt,
             system,
             contact,
             elastic_acceleration: ElasticAcceleration::new(model, nitsche)?,
-            step: 0,
-            u: start.displacement,
-            v: start.velocity,
+            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
             a: start.acceleration,
-            lambda: start.multiplier,
             predictor: vec![0.0; n],
             scratch: vec![0.0; n],
             guess: vec![0.0; n],
@@ -188,15 +181,15 @@ impl OneStepScheme<'_> {
         &mut self,
         shift: impl Fn(usize, f64) -> f64,
     ) -> Result<(), SolveError> {
-        let dt = self.dt;
+        let dt = self.state.dt;
         let StepCoefficients { a, b, c, d } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
         let reassociated = REASSOCIATED_PREDICTOR.load(Ordering::Relaxed);
         for (((p, u), v), acc) in self
             .predictor
             .iter_mut()
-            .zip(&self.u)
-            .zip(&self.v)
+            .zip(&self.state.u)
+            .zip(&self.state.v)
             .zip(&self.a)
         {
             *p = if reassociated {
@@ -220,12 +213,18 @@ impl OneStepScheme<'_> {
         }
         self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
-            contact.enforce(self.step + 1, &mut self.scratch, shift, &mut self.lambda)?;
+            contact.enforce(
+                self.state.step + 1,
+                &mut self.scratch,
+                shift,
+                &mut self.state.lambda,
+            )?;
         }
         match &self.elastic_acceleration {
             None => {
                 let updates = self.scratch.iter().zip(&self.predictor);
-                for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates)
+                for ((v, acc), (u_new, p)) in
+                    self.state.v.iter_mut().zip(self.a.iter_mut()).zip(updates)
                 {
                     let a_new = (u_new - p) * inv_bdt2;
                     *v += dt * (c * *acc + d * a_new);
@@ -239,15 +238,15 @@ impl OneStepScheme<'_> {
                     *p = (u_new - *p) * inv_bdt2;
                 }
                 elastic.apply(&self.scratch, &mut self.predictor);
-                let updates = self.v.iter_mut().zip(self.a.iter_mut());
+                let updates = self.state.v.iter_mut().zip(self.a.iter_mut());
                 for ((v, acc), &a_new) in updates.zip(&self.predictor) {
                     *v += dt * (c * *acc + d * a_new);
                     *acc = a_new;
                 }
             }
         }
-        std::mem::swap(&mut self.u, &mut self.scratch);
-        self.step += 1;
+        std::mem::swap(&mut self.state.u, &mut self.scratch);
+        self.state.step += 1;
         Ok(())
     }
 }
@@ -257,33 +256,14 @@ impl TimeIntegrator for OneStepScheme<'_> {
         self.advance_with_gap(|_, g| g)
     }
 
-    fn step_index(&self) -> usize {
-        self.step
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
-
-    fn velocity(&self) -> &[f64] {
-        &self.v
-    }
-
-    fn multiplier(&self) -> Timed<&[f64]> {
-        Timed {
-            time: self.time(),
-            value: &self.lambda,
-        }
+    fn state(&self) -> &SchemeState {
+        &self.state
     }
 
     fn energy(&self) -> Timed<f64> {
         Timed {
             time: self.time(),
-            value: self.model.energy(&self.u, &self.v),
+            value: self.model.energy(&self.state.u, &self.state.v),
         }
     }
 

@@ -23,7 +23,10 @@
 //! eq. (37) ([`super::energy_balance::paoli_schatzman`]).
 
 use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcceleration};
-use super::{residual_force, InitialState, OneStepScheme, StepCoefficients, TimeIntegrator, Timed};
+use super::{
+    residual_force, InitialState, OneStepScheme, SchemeState, StepCoefficients, TimeIntegrator,
+    Timed,
+};
 use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{SolveCounts, StepSolver};
@@ -82,7 +85,6 @@ pub struct PaoliSchatzman<'m> {
     model: &'m Model,
     beta: f64,
     restitution: f64,
-    dt: f64,
     /// Whether every contact dof is massless and the rows of `ker M` are projected (decides
     /// which multiplier is reported).
     massless_contact: bool,
@@ -95,12 +97,10 @@ pub struct PaoliSchatzman<'m> {
     start_contact_solves: usize,
     start_contact_seconds: f64,
     start_violation: f64,
-    step: usize,
+    /// `λ` is `λ^{n−1}` of eq. (36), which produced `U^n` ([`TimeIntegrator::scheme_multiplier`]).
+    state: SchemeState,
     u_prev: Vec<f64>,
-    u: Vec<f64>,
-    v: Vec<f64>,
     mid: Vec<f64>,
-    lambda_scheme: Vec<f64>,
     lambda_reported: Vec<f64>,
     lambda_time: f64,
     energy_at_start: f64,
@@ -155,7 +155,6 @@ impl<'m> PaoliSchatzman<'m> {
             model,
             beta,
             restitution,
-            dt,
             massless_contact: model.contact_is_massless() && !three_level,
             first_step: conventions.paoli_schatzman_first_step,
             three_level_start,
@@ -164,12 +163,14 @@ impl<'m> PaoliSchatzman<'m> {
             start_contact_solves: 0,
             start_contact_seconds: 0.0,
             start_violation: 0.0,
-            step: 0,
+            state: SchemeState::start(
+                dt,
+                start.displacement.clone(),
+                start.velocity.clone(),
+                start.multiplier.clone(),
+            ),
             u_prev: start.displacement.clone(),
-            u: start.displacement.clone(),
-            v: start.velocity.clone(),
             mid: start.displacement.clone(),
-            lambda_scheme: start.multiplier.clone(),
             lambda_reported: start.multiplier.clone(),
             lambda_time: 0.0,
             energy_at_start,
@@ -194,13 +195,13 @@ impl<'m> PaoliSchatzman<'m> {
         let mut first = OneStepScheme::new(
             self.model,
             StepCoefficients::newmark(self.beta, 0.5),
-            self.dt,
+            self.state.dt,
             start,
             NitscheAcceleration::Consistent,
         )?;
         match (self.first_step, self.model.contact()) {
             (FirstStepContact::PreviousEqualsInitial, Some(set)) => {
-                let (e, u0) = (self.restitution, &self.u);
+                let (e, u0) = (self.restitution, &self.state.u);
                 first.advance_with_gap(|i, g| e * u0[set.dofs[i]] + (1.0 + e) * g)?;
             }
             _ => first.advance()?,
@@ -208,22 +209,22 @@ impl<'m> PaoliSchatzman<'m> {
         self.start_contact_solves = first.contact_solves();
         self.start_contact_seconds = first.contact_seconds();
         self.start_violation = first.complementarity_violation();
-        self.u_prev.copy_from_slice(&self.u);
-        self.u.copy_from_slice(first.displacement());
-        self.lambda_scheme.copy_from_slice(first.multiplier().value);
+        self.u_prev.copy_from_slice(&self.state.u);
+        self.state.u.copy_from_slice(first.displacement());
+        self.state.lambda.copy_from_slice(first.multiplier().value);
         // A massless contact node reports the force at t_1 that the Newmark start step imposed;
         // a node with mass keeps reporting λ^0 at t_0 until eq. (36) yields λ^1.
         if self.massless_contact {
             self.lambda_reported
                 .copy_from_slice(first.multiplier().value);
-            self.lambda_time = self.dt;
+            self.lambda_time = self.state.dt;
         }
         Ok(())
     }
 
     fn two_step(&mut self) -> Result<(), SolveError> {
-        let (beta, e, dt) = (self.beta, self.restitution, self.dt);
-        let levels = || self.u.iter().zip(&self.u_prev);
+        let (beta, e, dt) = (self.beta, self.restitution, self.state.dt);
+        let levels = || self.state.u.iter().zip(&self.u_prev);
         for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
             *w = (1.0 - 2.0 * beta) * u + beta * up;
         }
@@ -241,7 +242,7 @@ impl<'m> PaoliSchatzman<'m> {
                     self.force[z] = 0.0;
                 }
             }
-            Some(start_force) if self.step == 1 => {
+            Some(start_force) if self.state.step == 1 => {
                 for &(z, f) in start_force {
                     self.force[z] += f;
                 }
@@ -270,22 +271,22 @@ impl<'m> PaoliSchatzman<'m> {
         if let (Some(contact), Some(set)) = (self.contact.as_mut(), self.model.contact()) {
             let u_prev = &self.u_prev;
             contact.enforce(
-                self.step + 1,
+                self.state.step + 1,
                 &mut self.next,
                 |i, g| e * u_prev[set.dofs[i]] + (1.0 + e) * g,
-                &mut self.lambda_scheme,
+                &mut self.state.lambda,
             )?;
         }
-        std::mem::swap(&mut self.u_prev, &mut self.u);
-        std::mem::swap(&mut self.u, &mut self.next);
+        std::mem::swap(&mut self.u_prev, &mut self.state.u);
+        std::mem::swap(&mut self.state.u, &mut self.next);
         if self.massless_contact {
-            for (r, l) in self.lambda_reported.iter_mut().zip(&self.lambda_scheme) {
+            for (r, l) in self.lambda_reported.iter_mut().zip(&self.state.lambda) {
                 *r = l / beta;
             }
-            self.lambda_time = (self.step + 1) as f64 * dt;
+            self.lambda_time = (self.state.step + 1) as f64 * dt;
         } else {
-            self.lambda_reported.copy_from_slice(&self.lambda_scheme);
-            self.lambda_time = self.step as f64 * dt;
+            self.lambda_reported.copy_from_slice(&self.state.lambda);
+            self.lambda_time = self.state.step as f64 * dt;
         }
         Ok(())
     }
@@ -297,25 +298,19 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             Some(start) => self.start_step(start)?,
             None => self.two_step()?,
         }
-        half_step(self.dt, &self.u_prev, &self.u, &mut self.v, &mut self.mid);
-        self.step += 1;
+        half_step(
+            self.state.dt,
+            &self.u_prev,
+            &self.state.u,
+            &mut self.state.v,
+            &mut self.mid,
+        );
+        self.state.step += 1;
         Ok(())
     }
 
-    fn step_index(&self) -> usize {
-        self.step
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
-
-    fn velocity(&self) -> &[f64] {
-        &self.v
+    fn state(&self) -> &SchemeState {
+        &self.state
     }
 
     fn multiplier(&self) -> Timed<&[f64]> {
@@ -325,20 +320,22 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
         }
     }
 
-    fn scheme_multiplier(&self) -> &[f64] {
-        &self.lambda_scheme
-    }
-
     fn energy(&self) -> Timed<f64> {
-        if self.step == 0 {
+        if self.state.step == 0 {
             return Timed {
                 time: 0.0,
                 value: self.energy_at_start,
             };
         }
         Timed {
-            time: (self.step as f64 - 0.5) * self.dt,
-            value: energy_of_half_step(self.model, self.beta, self.dt, &self.mid, &self.v),
+            time: (self.state.step as f64 - 0.5) * self.state.dt,
+            value: energy_of_half_step(
+                self.model,
+                self.beta,
+                self.state.dt,
+                &self.mid,
+                &self.state.v,
+            ),
         }
     }
 

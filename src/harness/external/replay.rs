@@ -12,7 +12,7 @@ use super::format::ExternalRun;
 use crate::engine::error::SolveError;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
-use crate::engine::schemes::{TimeIntegrator, Timed};
+use crate::engine::schemes::{SchemeState, TimeIntegrator, Timed};
 use crate::harness::error::Error;
 use crate::harness::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::exact::ErrorObservers;
@@ -28,8 +28,10 @@ pub struct Replay<'a> {
     nodes: usize,
     /// The bar's dofs: the nodes less a clamped end.
     dofs: usize,
-    step: usize,
-    lambda: [f64; 1],
+    /// The current sample: its index, the spacing to the previous sample (to the next one at
+    /// the first sample), the file's nodal displacements and velocities (empty when the file
+    /// has none) and its multiplier (none when the file has none).
+    state: SchemeState,
 }
 
 impl<'a> Replay<'a> {
@@ -39,66 +41,55 @@ impl<'a> Replay<'a> {
             run,
             nodes: run.nodes.len(),
             dofs: bar.n_dofs(),
-            step: 0,
-            lambda: [0.0],
+            state: SchemeState::start(0.0, Vec::new(), Vec::new(), Vec::new()),
         };
-        replay.load_multiplier();
+        replay.load();
         replay
     }
 
-    fn load_multiplier(&mut self) {
-        if let Some(lambda) = &self.run.lambda {
-            self.lambda[0] = lambda[self.step];
-        }
-    }
-
-    fn field(&self, field: &'a Option<Vec<f64>>) -> &'a [f64] {
-        field.as_ref().map_or(&[], |f| {
-            &ExternalRun::row(f, self.nodes, self.step)[..self.dofs]
-        })
+    /// Copies the current sample of the file into the state.
+    fn load(&mut self) {
+        let (n, nodes, dofs) = (self.state.step, self.nodes, self.dofs);
+        let row = |field: &Option<Vec<f64>>| -> Vec<f64> {
+            field
+                .as_ref()
+                .map_or_else(Vec::new, |f| ExternalRun::row(f, nodes, n)[..dofs].to_vec())
+        };
+        self.state.u = row(&self.run.displacement);
+        self.state.v = row(&self.run.velocity);
+        self.state.lambda = self
+            .run
+            .lambda
+            .as_ref()
+            .map_or_else(Vec::new, |l| vec![l[n]]);
+        let (t, k) = (&self.run.time, n.max(1));
+        self.state.dt = t[k] - t[k - 1];
     }
 
     /// The current sample's entry of `times` (`lambda_time`, `energy_time`) when the file gives
     /// them, else the sample's time.
     fn reported_time(&self, times: &Option<Vec<f64>>) -> f64 {
-        times.as_ref().map_or(self.time(), |t| t[self.step])
+        times.as_ref().map_or(self.time(), |t| t[self.state.step])
     }
 }
 
 impl TimeIntegrator for Replay<'_> {
     /// Moves to the next sample; the last sample stays (a file holds nothing after its horizon).
     fn advance(&mut self) -> Result<(), SolveError> {
-        if self.step + 1 < self.run.samples() {
-            self.step += 1;
-            self.load_multiplier();
+        if self.state.step + 1 < self.run.samples() {
+            self.state.step += 1;
+            self.load();
         }
         Ok(())
     }
 
-    fn step_index(&self) -> usize {
-        self.step
+    fn state(&self) -> &SchemeState {
+        &self.state
     }
 
     /// The file's time of the current sample.
     fn time(&self) -> f64 {
-        self.run.time[self.step]
-    }
-
-    /// The spacing to the previous sample (to the next one at the first sample).
-    fn dt(&self) -> f64 {
-        let t = &self.run.time;
-        let k = self.step.max(1);
-        t[k] - t[k - 1]
-    }
-
-    /// The file's nodal displacements (empty when the file has none).
-    fn displacement(&self) -> &[f64] {
-        self.field(&self.run.displacement)
-    }
-
-    /// The file's nodal velocities (empty when the file has none).
-    fn velocity(&self) -> &[f64] {
-        self.field(&self.run.velocity)
+        self.run.time[self.state.step]
     }
 
     /// The file's multiplier at `lambda_time` (default: the sample's time); empty when the
@@ -106,11 +97,7 @@ impl TimeIntegrator for Replay<'_> {
     fn multiplier(&self) -> Timed<&[f64]> {
         Timed {
             time: self.reported_time(&self.run.lambda_time),
-            value: if self.run.lambda.is_some() {
-                &self.lambda
-            } else {
-                &[]
-            },
+            value: &self.state.lambda,
         }
     }
 
@@ -119,7 +106,11 @@ impl TimeIntegrator for Replay<'_> {
     fn energy(&self) -> Timed<f64> {
         Timed {
             time: self.reported_time(&self.run.energy_time),
-            value: self.run.energy.as_ref().map_or(f64::NAN, |e| e[self.step]),
+            value: self
+                .run
+                .energy
+                .as_ref()
+                .map_or(f64::NAN, |e| e[self.state.step]),
         }
     }
 
