@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem
+.PHONY: report report-fine report-finest test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem docs
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -17,7 +17,7 @@ report: build
 ## The finer 2D/3D studies (issue 19) into reports/fine/: 2D levels 10–160 against a reference on
 ## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
 ## references are cached in reports/fine/data/references/ (computing them takes most of the time:
-## see the README, "2D and 3D convergence against a fine-mesh reference").
+## see docs/src/convergence-2d-3d.md).
 report-fine: build
 	$(BIN) study scenes/bar2d-fine.json --out reports/fine
 	$(BIN) study scenes/bar3d-fine.json --out reports/fine
@@ -26,7 +26,7 @@ report-fine: build
 ## The finest 3D study (issue 19, item 3) into reports/finest/: levels 10–160 against a reference
 ## on 640 elements along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and
 ## figures. The reference takes most of the time (measured 2026-11-26: 63 of 71 minutes on 2 cores,
-## 9.12 GB peak; see the README, "What a finer reference would take"); it is cached in
+## 9.12 GB peak; see docs/src/convergence-2d-3d.md, "What a finer reference would take"); it is cached in
 ## reports/finest/data/references/.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
@@ -92,3 +92,8 @@ lint:
 
 fmt:
 	$(CARGO) fmt --all
+
+## The book (docs/src/, mdBook) into docs/book/; mdbook is installed first if it is missing.
+docs:
+	@command -v mdbook >/dev/null || $(CARGO) install mdbook --locked
+	mdbook build docs

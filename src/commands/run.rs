@@ -180,7 +180,7 @@ fn balance_line(scheme: Scheme, residual: Option<f64>) {
         ),
         None => out!(
             "  energy balance eq. {equation}: not checked (the run's conventions change the \
-             scheme's equations; see the README, \"Schemes and their energy balances\")"
+             scheme's equations; see docs/src/schemes-and-balances.md)"
         ),
     }
 }

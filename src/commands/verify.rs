@@ -28,8 +28,8 @@ pub const VERIFY_MD: &str = "verify.md";
 pub struct VerifyArgs {
     /// The scene file the runs solve (a bar1d scene with an exact solution).
     pub scene: PathBuf,
-    /// Run files of another code (`.json` or `.csv`, see the README's "Verifying another
-    /// code's runs"); files with one label form one refinement series.
+    /// Run files of another code (`.json` or `.csv`, see docs/src/external-runs.md); files
+    /// with one label form one refinement series.
     #[arg(required = true)]
     pub runs: Vec<PathBuf>,
     /// Gate the rates and errors against this golden file (exit code 1 on a drift).

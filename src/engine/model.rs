@@ -202,7 +202,7 @@ impl Model {
     }
 
     /// The discrete energy `½ VᵀMV + ½ UᵀSU − FᵀU` (1D paper eq. 31, with the load's
-    /// potential written `−FᵀU`: the printed `−U_tᵀF` is an erratum, see README), plus the
+    /// potential written `−FᵀU`: the printed `−U_tᵀF` is an erratum, see docs/src/errata.md), plus the
     /// contact energy of a penalty or Nitsche treatment ([`Model::contact_energy`]; with
     /// Nitsche's `S` this is CHR's `… − (θ/2γ)σ_h(U)² + (1/2γ)[P_γ(U)]_−²`).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {

@@ -597,10 +597,11 @@ pub fn render(s: &Sensitivity, nx_shown: usize) -> String {
 /// The classification rules in one sentence, with their thresholds.
 pub(crate) fn class_rules() -> String {
     format!(
-        "Classes (rules fixed before the results, see the README): *reproducible*: no member's \
-         contact-node displacement parts from the unperturbed run by more than {PARTING:e}; \
-         *chaotic*: the separation grows exponentially to {RUNAWAY:e} and some rate's ensemble \
-         range exceeds {CHAOTIC_RATE_RANGE}; *event-sensitive*: members part, but not so."
+        "Classes (rules fixed before the results, see docs/src/roundoff-sensitivity.md): \
+         *reproducible*: no member's contact-node displacement parts from the unperturbed run \
+         by more than {PARTING:e}; *chaotic*: the separation grows exponentially to \
+         {RUNAWAY:e} and some rate's ensemble range exceeds {CHAOTIC_RATE_RANGE}; \
+         *event-sensitive*: members part, but not so."
     )
 }
 

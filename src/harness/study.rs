@@ -61,8 +61,8 @@ pub struct StudyConfig {
 
 impl StudyConfig {
     /// The defaults for the Signorini–Dirichlet tables: `NX = 10 · 2^k`, `k = 0..6`, the paper's
-    /// ratio 10, one period `T = 3` (the README's "Choosing T and the levels" gives the
-    /// experiment behind these values).
+    /// ratio 10, one period `T = 3` (docs/src/choosing-t-and-levels.md gives the experiment
+    /// behind these values).
     pub fn paper_default() -> Self {
         Self {
             levels: vec![10, 20, 40, 80, 160, 320, 640],

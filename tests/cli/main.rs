@@ -1,6 +1,6 @@
 //! What the user meets: the `signorini` binary end to end (exit codes, messages, whole files),
-//! the committed scene files, the box scenes' VTK output and its ParaView collection, and the
-//! SVG figures and their index.
+//! the committed scene files, the box scenes' VTK output and its ParaView collection, the SVG
+//! figures and their index, and the links of the README and the book (docs/).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -10,6 +10,7 @@ mod external_runs;
 mod watched;
 
 mod commands;
+mod docs;
 mod elastic;
 mod figures;
 mod getfem;

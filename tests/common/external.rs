@@ -1,6 +1,6 @@
 //! Another code's runs made from the harness's own: a scheme run on the Dirichlet scene, every
-//! state exported in the external-run format (README, "Verifying another code's runs"), JSON or
-//! CSV, by a writer independent of the harness's reader.
+//! state exported in the external-run format (docs/src/external-runs.md), JSON or CSV, by a
+//! writer independent of the harness's reader.
 
 use std::path::Path;
 use std::time::Instant;

@@ -389,7 +389,7 @@ fn penalty_converges_to_the_multiplier_as_gamma0_grows() {
     // The penalised trajectory approaches the multiplier's like 1/γ₀ (the penetration is
     // λh/(γ₀E)), and its errors against the exact solution approach the multiplier's. Not for
     // Crank–Nicolson with the standard mass, whose contact node chatters: its trajectory is
-    // too sensitive for a monotone approach (README, "Contact treatments").
+    // too sensitive for a monotone approach (docs/src/contact-treatments.md).
     let gammas = [10.0, 100.0, 1e3, 1e4];
     for (scheme, mass) in [
         (Scheme::CRANK_NICOLSON, MassVariant::Redistributed),
@@ -456,11 +456,11 @@ fn nitsche_with_the_redistributed_mass_is_the_multiplier() {
 
 #[test]
 fn nitsche_converges_on_the_dirichlet_benchmark() {
-    // Measured rates (least squares over NX = 10 … 160) of L∞(0,T;H) and L²(0,T) of λ; the
-    // README quotes the full table. Every θ converges in displacement with both schemes and
-    // masses, inside the window theory allows on this benchmark:
+    // Measured rates (least squares over NX = 10 … 160) of L∞(0,T;H) and L²(0,T) of λ;
+    // docs/src/contact-treatments.md quotes the full table. Every θ converges in displacement
+    // with both schemes and masses, inside the window theory allows on this benchmark:
     // * at least ½ less a margin: ½ is backward Euler's rate here with every treatment and
-    //   mass (README, "Contact treatments" and Tables 1–2: the kinks of the exact solution are
+    //   mass (docs/src/contact-treatments.md and Tables 1–2: the kinks of the exact solution are
     //   smeared by its dissipation), and Crank–Nicolson does no worse;
     // * at most 1 plus a margin: the exact solution is only piecewise affine (u_x jumps across
     //   the characteristics), so even the best pairing, the redistributed mass with which

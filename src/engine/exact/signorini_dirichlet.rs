@@ -14,7 +14,7 @@
 //! | 2 | `τ/2` | `τ/2` | `(1 − x)/2` | `(1 − x)/2` |
 //!
 //! Eq. (42a) prints `−½(t_1 − t)` in region I; the solution is `−½(t − t_1)` (continuity with
-//! region II across `x = τ` and the initial velocity `−½` at `t_1`; README, errata).
+//! region II across `x = τ` and the initial velocity `−½` at `t_1`; docs/src/errata.md).
 
 use super::{ExactSolution, Pointwise};
 

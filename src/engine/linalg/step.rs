@@ -24,7 +24,7 @@ use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::fem::SymmetricMatrix;
 
 /// The size from which `auto` chooses `cg` on a box, in 2D and 3D, between measurements on this
-/// 2-core machine (README "2D and 3D bars"; Crank–Nicolson, `M^mod`, T = 2, wall time): in 2D
+/// 2-core machine (docs/src/bars-2d-3d.md; Crank–Nicolson, `M^mod`, T = 2, wall time): in 2D
 /// the sparse Cholesky was faster at 5 440 unknowns (level 160: 0.44 s against 0.70 s) and
 /// matrix-free CG at 21 120 (level 320: 3.7 s against 4.9 s; level 640, 83 200 unknowns: 26 s
 /// and 41 MB against 58 s and 201 MB); in 3D they were even at 3 000 (level 40: 0.16 s

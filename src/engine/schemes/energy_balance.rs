@@ -20,8 +20,8 @@
 //! | explicit Newmark(0, ½) | staggered `E^{n+½}` ([`staggered_energy`]) | the same identity for the energy it reports: [`central_difference`] |
 //!
 //! `E_h(U, V) = ½ VᵀMV + ½ UᵀSU − FᵀU` is eq. (31) with the load's potential written `−FᵀU`
-//! (the printed `−U_tᵀF` is an erratum, see README), without the contact energy of a penalty
-//! or Nitsche treatment: with those treatments the same identities hold with `Bᵀλ` replaced by
+//! (the printed `−U_tᵀF` is an erratum, see docs/src/errata.md), without the contact energy of
+//! a penalty or Nitsche treatment: with those treatments the same identities hold with `Bᵀλ` replaced by
 //! `Σ_i λ_i f_i`, `f_i` the force vectors of the law's constraints ([`ConstraintRow::force`];
 //! `f_i = e_{c_i}` for the multiplier) and `S` the integrated (for Nitsche, modified)
 //! stiffness. Below `ΔU = U^{n+1} − U^n`, `ΔV = V^{n+1} − V^n`, `Δλ = λ^{n+1} − λ^n`.

@@ -1,5 +1,5 @@
 //! Another code's runs verified with the harness (`signorini verify`): the external-run format
-//! (README, "Verifying another code's runs"), read from JSON or CSV and checked against the
+//! (docs/src/external-runs.md), read from JSON or CSV and checked against the
 //! scene, replayed as a time integrator through the harness's own observers, grouped by label
 //! into refinement series fitted by the harness's own fit, rendered as Tables 1–2 and gated by
 //! the harness's own comparison.

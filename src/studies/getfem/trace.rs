@@ -1,5 +1,5 @@
 //! GetFEM's runs as another code's runs: each finite run is the contact trace of the
-//! external-run format (`signorini-external/1`; README, "Verifying another code's runs"), which
+//! external-run format (`signorini-external/1`; docs/src/external-runs.md), which
 //! [`export_runs`] writes for `signorini verify` and [`trace_norms`] measures in place with the
 //! same replay.
 

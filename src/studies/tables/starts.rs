@@ -1,5 +1,5 @@
-//! The M^mod rows of Tables 1–2 under both starts (README, "The start and the other
-//! implementation conventions"): the tables' study uses the harness's static start; the 1D paper
+//! The M^mod rows of Tables 1–2 under both starts (docs/src/starts-and-conventions.md): the
+//! tables' study uses the harness's static start; the 1D paper
 //! and GetFEM keep the data and take the implicit multiplier `λ⁰ = −(S U⁰)₀`. With a massless
 //! contact node the two are different discrete problems; this section measures what the choice
 //! moves.

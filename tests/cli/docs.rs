@@ -1,0 +1,183 @@
+//! The documentation: README.md is a first screen, and every relative link of the README and of
+//! the book (`docs/src/`, mdBook) leads to a file that exists; every chapter is in the book's
+//! table of contents (`docs/src/SUMMARY.md`) and every entry of it is a chapter.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// The most lines README.md may have: what it is, the two commands, a map of the book.
+const README_MAX_LINES: usize = 250;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn book_src() -> PathBuf {
+    root().join("docs").join("src")
+}
+
+/// The book's markdown files, sorted.
+fn chapters() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = fs::read_dir(book_src())
+        .unwrap_or_else(|e| panic!("{}: {e}", book_src().display()))
+        .map(|entry| entry.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The targets of the inline markdown links `[text](target)` of `text`, outside code spans and
+/// fenced code blocks, with their line numbers. A target ends at the first space (a title may
+/// follow) or at the closing parenthesis; `<target>` is unwrapped and may hold spaces.
+fn link_targets(text: &str) -> Vec<(usize, String)> {
+    let mut links = Vec::new();
+    let mut fenced = false;
+    for (index, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        let chars: Vec<char> = line.chars().collect();
+        let mut in_code = false;
+        let mut i = 0;
+        while i < chars.len() {
+            match chars[i] {
+                '`' => in_code = !in_code,
+                ']' if !in_code && chars.get(i + 1) == Some(&'(') => {
+                    let start = i + 2;
+                    let mut depth = 0usize;
+                    let mut end = start;
+                    while end < chars.len() {
+                        match chars[end] {
+                            '(' => depth += 1,
+                            ')' if depth == 0 => break,
+                            ')' => depth -= 1,
+                            _ => {}
+                        }
+                        end += 1;
+                    }
+                    if end < chars.len() {
+                        let inside: String = chars[start..end].iter().collect();
+                        let inside = inside.trim();
+                        let target = match inside.strip_prefix('<') {
+                            Some(rest) => rest.split('>').next().unwrap_or(""),
+                            None => inside.split_whitespace().next().unwrap_or(""),
+                        };
+                        links.push((index + 1, target.to_string()));
+                        i = end;
+                    }
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+    }
+    links
+}
+
+/// The file a link leads to, relative to `file`'s directory; `None` for links that leave the
+/// repository's files (a URL, mail) or stay in the page (`#anchor`).
+fn local_target(file: &Path, target: &str) -> Option<PathBuf> {
+    let lower = target.to_ascii_lowercase();
+    if target.is_empty()
+        || target.starts_with('#')
+        || lower.starts_with("http://")
+        || lower.starts_with("https://")
+        || lower.starts_with("mailto:")
+    {
+        return None;
+    }
+    let path = target.split('#').next().unwrap_or(target);
+    Some(file.parent().unwrap().join(path))
+}
+
+/// Every relative link of `files` that leads nowhere, as `file:line: target`.
+fn broken_links(files: &[PathBuf]) -> Vec<String> {
+    let mut broken = Vec::new();
+    for file in files {
+        let text = fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        for (line, target) in link_targets(&text) {
+            if let Some(path) = local_target(file, &target) {
+                if !path.exists() {
+                    let shown = file.strip_prefix(root()).unwrap_or(file);
+                    broken.push(format!("{}:{line}: {target}", shown.display()));
+                }
+            }
+        }
+    }
+    broken
+}
+
+#[test]
+fn every_relative_link_in_the_readme_and_the_book_resolves() {
+    let mut files = vec![root().join("README.md")];
+    files.extend(chapters());
+    assert!(
+        files.len() > 2,
+        "no chapters found in {}",
+        book_src().display()
+    );
+    let broken = broken_links(&files);
+    assert!(
+        broken.is_empty(),
+        "{} broken link(s):\n{}",
+        broken.len(),
+        broken.join("\n")
+    );
+}
+
+#[test]
+fn every_chapter_is_in_the_summary_and_every_entry_is_a_chapter() {
+    let summary_path = book_src().join("SUMMARY.md");
+    let summary = fs::read_to_string(&summary_path)
+        .unwrap_or_else(|e| panic!("{}: {e}", summary_path.display()));
+    let listed: BTreeSet<String> = link_targets(&summary)
+        .into_iter()
+        .filter_map(|(_, target)| local_target(&summary_path, &target))
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    let present: BTreeSet<String> = chapters()
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|name| name != "SUMMARY.md")
+        .collect();
+    let unlisted: Vec<&String> = present.difference(&listed).collect();
+    let missing: Vec<&String> = listed.difference(&present).collect();
+    assert!(
+        unlisted.is_empty() && missing.is_empty(),
+        "docs/src/SUMMARY.md and the chapters differ: not in SUMMARY.md: {unlisted:?}; \
+         listed but missing: {missing:?}"
+    );
+}
+
+#[test]
+fn the_readme_is_a_first_screen() {
+    let readme = fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= README_MAX_LINES,
+        "README.md has {lines} lines, more than {README_MAX_LINES}: move the detail into a \
+         chapter of the book (docs/src/)"
+    );
+}
+
+#[test]
+fn link_extraction_finds_file_links_and_skips_code() {
+    let text = "see [a](a.md#x) and [b](<b c.md> \"title\"), `[not](code.md)`\n\
+                ```\n[fenced](f.md)\n```\n[web](https://example.org) [here](#top)";
+    let targets: Vec<String> = link_targets(text).into_iter().map(|(_, t)| t).collect();
+    assert_eq!(targets, ["a.md#x", "b c.md", "https://example.org", "#top"]);
+    let file = Path::new("/book/src/page.md");
+    assert_eq!(
+        local_target(file, "a.md#x"),
+        Some(PathBuf::from("/book/src/a.md"))
+    );
+    assert_eq!(local_target(file, "#top"), None);
+    assert_eq!(local_target(file, "HTTPS://example.org"), None);
+    assert_eq!(local_target(file, "mailto:someone@example.org"), None);
+}
