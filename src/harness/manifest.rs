@@ -14,7 +14,7 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::{self, Read};
+use std::io;
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
@@ -123,18 +123,10 @@ impl Manifest {
     }
 }
 
-/// The SHA-256 of the file `path`, as 64 lowercase hexadecimal digits, read in blocks.
+/// The SHA-256 of the file `path`, as 64 lowercase hexadecimal digits, streamed through the hasher.
 pub fn sha256_of(path: &Path) -> io::Result<String> {
-    let mut file = fs::File::open(path)?;
     let mut hasher = Sha256::new();
-    let mut block = vec![0u8; 1 << 16];
-    loop {
-        let n = file.read(&mut block)?;
-        if n == 0 {
-            break;
-        }
-        hasher.update(&block[..n]);
-    }
+    io::copy(&mut fs::File::open(path)?, &mut hasher)?;
     Ok(hex(&hasher.finalize()))
 }
 

@@ -293,6 +293,13 @@ fn fill(out: &mut Vec<f64>, a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
     out.extend(a.iter().zip(b).map(|(&x, &y)| f(x, y)));
 }
 
+/// The vector of `f(a_i, b_i)`.
+fn combined(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> Vec<f64> {
+    let mut out = Vec::with_capacity(a.len());
+    fill(&mut out, a, b, f);
+    out
+}
+
 /// A balance's inputs ([`Workspace::prepare`]).
 struct Prepared<'w> {
     rows: &'w [ConstraintRow],
@@ -489,27 +496,12 @@ fn row_residual(model: &Model, u: &[f64], z: usize) -> f64 {
 /// from `U^n` to `U^{n+1}`: `E^{n+½} − E^{n−½}` against `−½ λ^nᵀ B (U^{n+1} − U^{n−1})` (see the
 /// module documentation).
 pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepBalance {
-    let mut span = Vec::new();
-    fill(&mut span, levels.later, levels.earlier, |x, y| x - y);
+    let span = combined(levels.later, levels.earlier, |x, y| x - y);
     let work = contact_work(&constraints(model), &span, |i| levels.multiplier[i]);
-    let (mut dv, mut v_sum) = (Vec::new(), Vec::new());
-    let velocity = |a: f64, b: f64| (a - b) / dt;
-    let (past, next): (Vec<f64>, Vec<f64>) = (
-        levels
-            .current
-            .iter()
-            .zip(levels.earlier)
-            .map(|(&a, &b)| velocity(a, b))
-            .collect(),
-        levels
-            .later
-            .iter()
-            .zip(levels.current)
-            .map(|(&a, &b)| velocity(a, b))
-            .collect(),
-    );
-    fill(&mut dv, &next, &past, |x, y| x - y);
-    fill(&mut v_sum, &next, &past, |x, y| x + y);
+    let past = combined(levels.current, levels.earlier, |a, b| (a - b) / dt);
+    let next = combined(levels.later, levels.current, |a, b| (a - b) / dt);
+    let dv = combined(&next, &past, |x, y| x - y);
+    let v_sum = combined(&next, &past, |x, y| x + y);
     let sums = RowSums::of(model);
     let kinetic = sums.mass(model, 0.5, &dv, &v_sum);
     let elastic = sums.stiffness(model, 0.5, levels.current, &span);
