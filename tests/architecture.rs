@@ -334,3 +334,55 @@ fn the_checker_sees_imports_through_groups_and_super() {
     graph.insert(2, BTreeSet::from([1]));
     assert_eq!(find_cycle(&graph), Some(vec![1, 2, 1]));
 }
+
+/// The parts of `commands/` that every subcommand may use: how a command fails, its resource
+/// limits, the shared options and parsers, and sharding. Every other file is one subcommand's.
+const SHARED_COMMAND_PARTS: [&str; 4] = ["failure", "limits", "options", "sharding"];
+
+/// The imports inside `commands/` that break its shape: a file importing the dispatcher
+/// (`commands/mod.rs`), a subcommand importing another subcommand, or a shared part importing a
+/// subcommand.
+fn command_imports_out_of_shape(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    let is_commands = |m: &ModPath| m.first().is_some_and(|l| l == "commands");
+    let shared = |m: &ModPath| m.len() >= 2 && SHARED_COMMAND_PARTS.contains(&m[1].as_str());
+    let subcommand = |m: &ModPath| m.len() >= 2 && !shared(m);
+    import_graph(modules)
+        .into_iter()
+        .filter(|(from, _)| is_commands(from) && from.len() >= 2)
+        .flat_map(|(from, targets)| {
+            targets
+                .into_iter()
+                .filter(|to| is_commands(to) && to[..2.min(to.len())] != from[..2])
+                .filter(|to| to.len() == 1 || subcommand(to))
+                .map(|to| format!("{} imports {}", show(&from), show(&to)))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+#[test]
+fn subcommand_files_import_only_the_shared_parts() {
+    let out_of_shape = command_imports_out_of_shape(&modules());
+    assert!(
+        out_of_shape.is_empty(),
+        "commands/ files importing the dispatcher or another subcommand (only {} are shared):\n{}",
+        SHARED_COMMAND_PARTS.join(", "),
+        out_of_shape.join("\n")
+    );
+}
+
+#[test]
+fn the_command_rule_sees_a_subcommand_importing_another() {
+    let mut modules = modules();
+    let verify = vec!["commands".to_string(), "verify".to_string()];
+    let source = modules.get_mut(&verify).expect("commands/verify.rs");
+    source.push_str("\nuse super::study::StudyArgs;\nuse super::Failure;\n");
+    let found = command_imports_out_of_shape(&modules);
+    assert_eq!(
+        found,
+        [
+            "commands::verify imports commands",
+            "commands::verify imports commands::study"
+        ]
+    );
+}

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{Failure, LimitArgs};
+use super::failure::Failure;
+use super::limits::LimitArgs;
+use super::options::REPORTS;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::studies::getfem::{
     export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
@@ -18,7 +20,7 @@ pub struct GetfemArgs {
     #[arg(long, default_value = GETFEM_RUNS)]
     pub runs: PathBuf,
     /// Output directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
     /// Also write every finite run as a contact-trace file of the external-run format into
     /// this directory, for `signorini verify`.

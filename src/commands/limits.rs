@@ -2,12 +2,14 @@
 //! options, checked against the estimate of [`crate::harness::budget`] before anything is
 //! allocated.
 
-use super::Failure;
+use serde::{Deserialize, Serialize};
+
+use super::failure::Failure;
 use crate::harness::budget::{BudgetError, Estimate, Limits};
 
 /// `--max-memory`, `--max-files` and `--max-dof-steps`: the limits a run or a study is held
 /// to before it starts.
-#[derive(Debug, Clone, Copy, clap::Args)]
+#[derive(Debug, Clone, Copy, clap::Args, Serialize, Deserialize)]
 pub struct LimitArgs {
     /// Largest estimated memory to accept, in bytes or with a suffix K, M, G or T (powers of
     /// 1024). Default: the machine's available memory (MemAvailable in /proc/meminfo; 4G where

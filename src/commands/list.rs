@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::Failure;
+use super::failure::Failure;
 use crate::engine::contact::TREATMENT_LIST;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;

@@ -1,18 +1,21 @@
-//! `signorini merge`: the reports of a sharded command from its shards' partial result files,
-//! the very files the command writes unsharded ([`crate::harness::shard`]).
+//! `signorini merge`: reading a sharded command's partial result files back, checked to be the
+//! shards of one invocation, complete, and of unchanged inputs ([`crate::harness::shard`]). The
+//! dispatcher runs the recorded request again with every job's result taken from them
+//! ([`crate::harness::executor::Executor::Merge`]): it writes the very files the unsharded
+//! command writes.
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::Args;
+use serde::de::DeserializeOwned;
 
-use super::reports::{stability, StabilityArgs};
-use super::study::{reference, sensitivity, study_scene_as, ReferenceArgs, SensitivityArgs};
-use super::{Failure, LimitArgs, StudyArgs};
+use super::failure::Failure;
+use super::limits::LimitArgs;
 use crate::harness::artifacts::read_json;
 use crate::harness::budget;
+use crate::harness::executor::Executor;
 use crate::harness::shard::merge::{merge as merge_shards, Merged};
-use crate::harness::shard::plan::replay;
-use crate::harness::shard::{Invocation, ShardError, ShardFile, SHARD_FILE};
+use crate::harness::shard::{codec, ShardError, ShardFile, SHARD_FILE};
 
 /// The memory a shard file takes per byte of it ([`SHARD_FILE`]'s bound) and its results'
 /// decoding, at most half a byte per hexadecimal digit.
@@ -29,55 +32,47 @@ pub struct MergeArgs {
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
     /// The resource limits of reading the shards (the merged command keeps its own, recorded
-    /// with its arguments).
+    /// with its request).
     #[command(flatten)]
     pub limits: LimitArgs,
 }
 
-/// A command that can be sharded, parsed from the arguments its shards recorded.
-#[derive(Parser)]
-#[command(name = "signorini")]
-struct Recorded {
-    #[command(subcommand)]
-    command: Shardable,
+/// The shards of one invocation, read and checked: what the dispatcher runs again.
+pub(crate) struct MergedShards {
+    /// The subcommand the shards ran.
+    pub command: String,
+    /// Its recorded request, encoded.
+    request: String,
+    /// The command line the reports say they were made by.
+    pub command_line: String,
+    /// The executor that hands every job's result from the shards to the study.
+    pub executor: Executor,
 }
 
-#[derive(Subcommand)]
-enum Shardable {
-    Study(StudyArgs),
-    Stability(StabilityArgs),
-    Sensitivity(SensitivityArgs),
-    Reference(ReferenceArgs),
-}
-
-impl Shardable {
-    /// The files the command reads.
-    fn inputs(&self) -> Vec<PathBuf> {
-        match self {
-            Self::Study(a) => a.inputs(),
-            Self::Stability(a) => a.inputs(),
-            Self::Sensitivity(a) => a.inputs(),
-            Self::Reference(a) => a.inputs(),
-        }
+impl MergedShards {
+    /// The request the shards recorded, as the options of their command.
+    pub(crate) fn request<A: DeserializeOwned>(&self) -> Result<A, Failure> {
+        codec::decode(0, &self.request).map_err(|e| {
+            Failure::usage(format!(
+                "the shards' request does not read as `{}` options: {e}",
+                self.command
+            ))
+        })
     }
 }
 
-/// Checks the shards are the `n` shards of one invocation, then runs that invocation (with
-/// `--out`, when given) with every job's result taken from them: it writes, or prints, what the
-/// unsharded command does. A `reference` merge runs the command on the shared cache.
-pub fn merge(args: MergeArgs) -> Result<(), Failure> {
-    let MergeArgs {
-        out,
-        shards,
-        limits,
-    } = args;
-    let bytes: f64 = budget::file_sizes(&shards).iter().sum();
-    limits.check(budget::reading(bytes, SHARD_MEMORY_PER_BYTE))?;
-    let files = shards
-        .into_iter()
+/// Reads the shards of `args`, checks they are the `n` shards of one invocation whose inputs are
+/// unchanged, and returns what the dispatcher runs again.
+pub(crate) fn read_shards(args: &MergeArgs) -> Result<MergedShards, Failure> {
+    let bytes: f64 = budget::file_sizes(&args.shards).iter().sum();
+    args.limits
+        .check(budget::reading(bytes, SHARD_MEMORY_PER_BYTE))?;
+    let files = args
+        .shards
+        .iter()
         .map(|path| {
-            read_json::<ShardFile>(&path, SHARD_FILE)
-                .map(|file| (path, file))
+            read_json::<ShardFile>(path, SHARD_FILE)
+                .map(|file| (path.clone(), file))
                 .map_err(Failure::usage)
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -86,31 +81,24 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
         identity,
         results,
     } = merge_shards(files)?;
-    let mut argv = vec!["signorini".to_string(), invocation.command.clone()];
-    argv.extend(invocation.arguments.iter().cloned());
-    if let Some(out) = &out {
-        argv.extend(["--out".to_string(), out.display().to_string()]);
-    }
-    let recorded = Recorded::try_parse_from(&argv)
-        .map_err(|e| Failure::usage(format!("the shards' arguments do not parse: {e}")))?;
-    let here = Invocation {
-        inputs: recorded.command.inputs(),
-        ..invocation.clone()
-    };
-    if here != invocation || here.identity()? != identity {
+    if invocation.identity()? != identity {
         return Err(ShardError::InputsChanged {
             command: invocation.command,
             inputs: invocation.inputs,
         }
         .into());
     }
-    let command_line = argv.join(" ");
-    match recorded.command {
-        Shardable::Study(a) => replay(results, || study_scene_as(a, &command_line)),
-        Shardable::Stability(a) => replay(results, || stability(a)),
-        Shardable::Sensitivity(a) => replay(results, || sensitivity(a)),
-        Shardable::Reference(a) => reference(a),
+    let mut argv = vec!["signorini".to_string(), invocation.command.clone()];
+    argv.extend(invocation.arguments.iter().cloned());
+    if let Some(out) = &args.out {
+        argv.extend(["--out".to_string(), out.display().to_string()]);
     }
+    Ok(MergedShards {
+        command: invocation.command,
+        request: invocation.request,
+        command_line: argv.join(" "),
+        executor: Executor::Merge(results),
+    })
 }
 
 impl From<ShardError> for Failure {

@@ -5,9 +5,14 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::sharding::{this_invocation, write_shard, ShardArgs};
-use super::{write_output, Failure, LimitArgs};
+use serde::{Deserialize, Serialize};
+
+use super::failure::{write_output, Failure};
+use super::limits::LimitArgs;
+use super::options::REPORTS;
+use super::sharding::{complete_or_write, shard_output, this_invocation, ShardArgs};
 use crate::harness::budget::Estimate;
+use crate::harness::executor::{computed_here, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::study::Case;
 use crate::studies::benchmark::DIRICHLET_SCENE;
@@ -18,13 +23,13 @@ use crate::studies::figures::from_reports::{reports_index, write_figures, REPORT
 use crate::studies::golden::write_golden;
 use crate::studies::gravity::write_gravity_report;
 use crate::studies::report::write_report;
-use crate::studies::stability::{hard_cases, run_suite, write_stability};
+use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files};
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Args)]
 pub struct ReportArgs {
     /// Output directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
     /// The resource limits.
     #[command(flatten)]
@@ -66,7 +71,7 @@ pub fn report(args: ReportArgs) -> Result<(), Failure> {
 #[derive(Debug, Args)]
 pub struct ExperimentArgs {
     /// Output directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
 }
 
@@ -89,7 +94,7 @@ pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
 #[derive(Debug, Args)]
 pub struct FiguresArgs {
     /// The reports directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub reports: PathBuf,
 }
 
@@ -115,10 +120,10 @@ pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
 }
 
 /// The arguments of `signorini stability`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct StabilityArgs {
     /// Output directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
     /// Only the fast subset that CI guards.
     #[arg(long)]
@@ -141,32 +146,47 @@ impl StabilityArgs {
 /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
 /// verdict each; writes stability.md and stability.json.
 pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
-    let invocation = this_invocation("stability", args.inputs());
+    let executor = args.shard.executor();
+    stability_with(args, &executor)
+}
+
+/// [`stability`] with its runs handed to `executor`.
+pub(crate) fn stability_with(args: StabilityArgs, executor: &Executor) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "stability",
+        &StabilityArgs {
+            out: PathBuf::from(REPORTS),
+            shard: ShardArgs::default(),
+            ..args.clone()
+        },
+        args.inputs(),
+    )?;
     let StabilityArgs {
         out,
         ci_subset,
-        shard,
+        shard: _,
         limits,
     } = args;
     let hard = hard_cases(Path::new("."), ci_subset)?;
     let suite = estimate::stability(&hard);
-    // A shard runs its share of the jobs, at most the whole suite's memory.
-    let jobs: Vec<usize> = (0..hard.len() * Case::paper_matrix().len()).collect();
-    let share = shard.shard.map_or(1.0, |spec| {
-        spec.share(&jobs).len() as f64 / jobs.len().max(1) as f64
-    });
+    // A shard runs its share of the jobs, at most the whole suite's memory; a merge runs none.
+    let jobs = hard.len() * Case::paper_matrix().len();
+    let share = computed_here(&vec![1; jobs], executor).len() as f64 / jobs.max(1) as f64;
     limits.check(Estimate {
         dof_steps: suite.dof_steps * share,
         ..suite
     })?;
-    if let Some(spec) = shard.shard {
-        return write_shard(&invocation, spec, &out, || {
-            run_suite(&hard, &Case::paper_matrix())
-        });
-    }
-    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let records =
-        write_stability(Path::new("."), staged.path(), ci_subset).map_err(Failure::runtime)?;
+    let shard = shard_output(executor, Some(&out))?;
+    let staged = match shard {
+        None => Some(StagedDir::begin("--out", &out, Replace::Files)?),
+        Some(_) => None,
+    };
+    let executed = run_suite_on(executor, &hard, &Case::paper_matrix())?;
+    let (Some(records), Some(staged)) = (complete_or_write(executed, shard, &invocation)?, staged)
+    else {
+        return Ok(());
+    };
+    write_stability_files(staged.path(), &hard, &records).map_err(Failure::runtime)?;
     staged.commit()?;
     let flagged = records
         .iter()

@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{
-    parse_contact, parse_mass, parse_scheme, warn_schemes, write_output, ConventionArgs, Failure,
-    LimitArgs, LinearSolverArgs,
+use super::failure::{write_output, Failure};
+use super::limits::LimitArgs;
+use super::options::{
+    parse_contact, parse_mass, parse_scheme, warn_schemes, ConventionArgs, LinearSolverArgs,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;

@@ -1,25 +1,33 @@
 //! `--shard k/n` on the commands that run a study (`study`, `stability`, `sensitivity`,
-//! `reference`): the option, and how a shard writes its partial result file into `--out`
-//! ([`crate::harness::shard`]).
+//! `reference`): the option, the executor it asks for, and how a shard writes its partial result
+//! file into `--out` ([`crate::harness::shard`]).
 
 use std::path::{Path, PathBuf};
 
-use super::Failure;
+use serde::{Deserialize, Serialize};
+
+use super::failure::Failure;
 use crate::engine::error::ParameterError;
 use crate::harness::artifacts::write_json;
-use crate::harness::error::Error;
+use crate::harness::executor::{Executed, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
-use crate::harness::shard::plan::{self, Share};
-use crate::harness::shard::{shard_file_name, Invocation, ShardSpec};
+use crate::harness::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};
 
 /// The `--shard` option.
-#[derive(Debug, Clone, Copy, clap::Args)]
+#[derive(Debug, Clone, Copy, Default, clap::Args, Serialize, Deserialize)]
 pub struct ShardArgs {
     /// Run only shard K of N of the study's jobs (1 <= K <= N) and write its partial result
     /// file `shard-<command>-<K>-of-<N>.json` into --out; `signorini merge` makes the reports
     /// from the N files.
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     pub shard: Option<ShardSpec>,
+}
+
+impl ShardArgs {
+    /// The executor of the study's jobs: this shard's share, or every job here.
+    pub(crate) fn executor(&self) -> Executor {
+        self.shard.map_or(Executor::Local, Executor::Shard)
+    }
 }
 
 fn parse_shard(s: &str) -> Result<ShardSpec, String> {
@@ -48,45 +56,84 @@ fn shard_arguments() -> Vec<String> {
 }
 
 /// This process's command as its shards record it: `command`, its arguments (less
-/// [`PER_SHARD_OPTIONS`]) and the files it reads.
-pub(crate) fn this_invocation(command: &str, inputs: Vec<PathBuf>) -> Invocation {
-    Invocation {
+/// [`PER_SHARD_OPTIONS`]), its parsed options `request` (with `--shard` and `--out` cleared by
+/// the caller) and the files it reads.
+pub(crate) fn this_invocation<A: Serialize>(
+    command: &str,
+    request: &A,
+    inputs: Vec<PathBuf>,
+) -> Result<Invocation, Failure> {
+    Ok(Invocation {
         command: command.to_string(),
         arguments: shard_arguments(),
+        request: codec::encode(request).map_err(Failure::runtime)?,
         inputs,
+    })
+}
+
+/// Where a shard's partial result file goes: `out`, staged before the shard runs (an `--out`
+/// that cannot be written is refused before any job).
+pub(crate) struct ShardOutput {
+    spec: ShardSpec,
+    out: PathBuf,
+    staged: StagedDir,
+}
+
+impl ShardOutput {
+    /// Stages `out` for shard `spec`'s file.
+    pub(crate) fn begin(spec: ShardSpec, out: &Path) -> Result<Self, Failure> {
+        Ok(Self {
+            spec,
+            out: out.to_path_buf(),
+            staged: StagedDir::begin("--out", out, Replace::Files)?,
+        })
+    }
+
+    /// Writes the shard's `share` of `invocation` and commits it.
+    pub(crate) fn write(self, invocation: &Invocation, share: Share) -> Result<(), Failure> {
+        let Self { spec, out, staged } = self;
+        let name = shard_file_name(&invocation.command, spec);
+        let (ran, jobs) = (share.results.len(), share.jobs);
+        let file = invocation.shard_file(spec, share)?;
+        write_json(&staged.path().join(&name), &file)?;
+        staged.commit()?;
+        out!(
+            "wrote {} (shard {spec}: {ran} of {jobs} jobs)",
+            out.join(&name).display()
+        );
+        Ok(())
     }
 }
 
-/// Runs `study` as shard `spec` of `invocation` and writes its partial result file into `out`
-/// (whole or not at all).
-pub(crate) fn write_shard<T>(
+/// The complete result of a study, or `None` once a shard's share is written into its file
+/// (`shard`, begun when the executor is a shard's).
+pub(crate) fn complete_or_write<T>(
+    executed: Executed<T>,
+    shard: Option<ShardOutput>,
     invocation: &Invocation,
-    spec: ShardSpec,
-    out: &Path,
-    study: impl FnOnce() -> Result<T, Error>,
-) -> Result<(), Failure> {
-    let staged = StagedDir::begin("--out", out, Replace::Files)?;
-    let share = plan::record_share(spec, study)?;
-    write_share(invocation, spec, out, staged, share)
+) -> Result<Option<T>, Failure> {
+    match (executed, shard) {
+        (Executed::Complete(value), _) => Ok(Some(value)),
+        (Executed::Share(share), Some(shard)) => shard.write(invocation, share).map(|()| None),
+        (Executed::Share(_), None) => Err(Failure::runtime(
+            "the study ran a shard's share without the shard's --out",
+        )),
+    }
 }
 
-/// Writes shard `spec`'s `share` of `invocation` into `staged`, the staging of `out`, and
-/// commits it.
-pub(crate) fn write_share(
-    invocation: &Invocation,
-    spec: ShardSpec,
-    out: &Path,
-    staged: StagedDir,
-    share: Share,
-) -> Result<(), Failure> {
-    let name = shard_file_name(&invocation.command, spec);
-    let (ran, jobs) = (share.results.len(), share.jobs);
-    let file = invocation.shard_file(spec, share)?;
-    write_json(&staged.path().join(&name), &file)?;
-    staged.commit()?;
-    out!(
-        "wrote {} (shard {spec}: {ran} of {jobs} jobs)",
-        out.join(&name).display()
-    );
-    Ok(())
+/// The output of shard `executor` in `out` (`None` for another executor), begun; `--shard`
+/// without `--out` is refused.
+pub(crate) fn shard_output(
+    executor: &Executor,
+    out: Option<&Path>,
+) -> Result<Option<ShardOutput>, Failure> {
+    match (executor, out) {
+        (Executor::Shard(spec), Some(out)) => ShardOutput::begin(*spec, out).map(Some),
+        (Executor::Shard(_), None) => Err(Failure::usage(SHARD_NEEDS_OUT)),
+        _ => Ok(None),
+    }
 }
+
+/// Why `--shard` without `--out` is refused.
+pub(crate) const SHARD_NEEDS_OUT: &str =
+    "--shard needs --out DIR: the directory its partial result file goes into";

@@ -6,33 +6,39 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::sharding::{this_invocation, write_shard, write_share, ShardArgs};
-use super::{
+use serde::{Deserialize, Serialize};
+
+use super::failure::Failure;
+use super::limits::LimitArgs;
+use super::options::REPORTS;
+use super::options::{
     parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
-    ConventionArgs, Failure, LimitArgs, LinearSolverArgs,
+    ConventionArgs, LinearSolverArgs,
 };
+use super::sharding::{complete_or_write, shard_output, this_invocation, ShardArgs};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{BoxProblem, Problem};
 use crate::engine::schemes::Scheme;
 use crate::harness::budget;
 use crate::harness::error::Error;
+use crate::harness::executor::{Executor, Jobs};
 use crate::harness::input::Shown;
 use crate::harness::norms::Norm;
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig};
-use crate::harness::shard::plan::{self, EncodedResult, Share};
-use crate::harness::shard::ShardSpec;
-use crate::harness::study::{run_study_with_progress, study_size, Case};
-use crate::studies::elastic_study::files::{write_elastic_report, REFERENCE_CACHE};
+use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};
+use crate::harness::study::{run_study_on, study_size, Case};
+use crate::studies::elastic_study::files::{write_elastic_files, REFERENCE_CACHE};
 use crate::studies::elastic_study::reference::ReferenceCache;
-use crate::studies::elastic_study::{obtain_reference, run_elastic_study, ElasticStudyConfig};
+use crate::studies::elastic_study::{
+    obtain_reference, run_elastic_study_on, ElasticHistories, ElasticStudy, ElasticStudyConfig,
+};
 use crate::studies::tables::write_sensitivity_files;
 
 /// The arguments of `signorini study`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct StudyArgs {
     /// The scene file.
     pub scene: PathBuf,
@@ -106,26 +112,29 @@ fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> V
     kept
 }
 
-/// The case × level jobs per level that this invocation computes, for its budget: the study's,
-/// its share under `--shard` ([`budget::jobs_per_level`]), none under a merge (which reads
-/// them from the shards).
-fn jobs_to_run(levels: &[usize], cases: usize, shard: Option<ShardSpec>) -> Vec<f64> {
-    if plan::replaying() {
-        vec![0.0; levels.len()]
-    } else {
-        budget::jobs_per_level(levels, cases, shard)
-    }
-}
-
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
 /// markdown or JSON. Nothing outside the selection is computed.
 pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
-    study_scene_as(args, &invocation())
+    let executor = args.shard.executor();
+    study_scene_with(args, &invocation(), &executor)
 }
 
-/// [`study_scene`], whose box report says it was made by `command_line`.
-pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), Failure> {
-    let invocation = this_invocation("study", args.inputs());
+/// [`study_scene`] with its jobs handed to `executor`, whose box report says it was made by
+/// `command_line`.
+pub(crate) fn study_scene_with(
+    args: StudyArgs,
+    command_line: &str,
+    executor: &Executor,
+) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "study",
+        &StudyArgs {
+            out: None,
+            shard: ShardArgs::default(),
+            ..args.clone()
+        },
+        args.inputs(),
+    )?;
     let StudyArgs {
         scene,
         scheme,
@@ -141,13 +150,9 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
         conventions,
         solver,
         limits,
-        shard,
+        shard: _,
     } = args;
-    let shard = match (shard.shard, &out) {
-        (Some(spec), Some(out)) => Some((spec, out.clone())),
-        (Some(_), None) => return Err(Failure::usage(SHARD_NEEDS_OUT)),
-        (None, _) => None,
-    };
+    let shard = shard_output(executor, out.as_deref())?;
     let scheme = distinct("--scheme", scheme);
     let mass = distinct("--mass", mass);
     let scene = Scene::load(&scene)?;
@@ -190,20 +195,24 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
                 &config.levels,
                 config.reference_level,
                 config.ratio,
-                &jobs_to_run(
-                    &config.levels,
-                    config.cases.len(),
-                    shard.as_ref().map(|(spec, _)| *spec),
-                ),
+                &budget::jobs_per_level(&config.levels, config.cases.len(), executor),
                 members.saturating_add(1),
             ))?;
-            if let Some((spec, out)) = shard {
-                let mut note = |why: String| eprintln!("{why}; computing the reference");
-                return write_shard(&invocation, spec, &out, || {
-                    run_elastic_study(&problem, &config, &cache, &mut note)
-                });
-            }
-            return elastic_study(&problem, &config, out, &cache, json, command_line);
+            let reports = match (&shard, out) {
+                (None, Some(dir)) => Some((StagedDir::begin("--out", &dir, Replace::Files)?, dir)),
+                _ => None,
+            };
+            let mut note = |why: String| eprintln!("{why}; computing the reference");
+            let executed = run_elastic_study_on(executor, &problem, &config, &cache, &mut note)?;
+            let Some((study, histories)) = complete_or_write(executed, shard, &invocation)? else {
+                return Ok(());
+            };
+            return match reports {
+                Some((staged, dir)) => {
+                    write_box_reports(&study, &histories, staged, &dir, command_line)
+                }
+                None => print_box_study(&study, json, command_line),
+            };
         }
         Problem::Bar(problem) => problem,
     };
@@ -243,24 +252,16 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
         &problem,
         &config.levels,
         config.ratio,
-        &jobs_to_run(
-            &config.levels,
-            cases.len(),
-            shard.as_ref().map(|(spec, _)| *spec),
-        ),
+        &budget::jobs_per_level(&config.levels, cases.len(), executor),
     ))?;
-    let bar = progress_bar(study_size(&cases, &config));
     problem.contact = contact.unwrap_or(problem.contact);
     problem.conventions = conventions.over(problem.conventions);
-    if let Some((spec, out)) = shard {
-        let written = write_shard(&invocation, spec, &out, || {
-            run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))
-        });
-        bar.finish_and_clear();
-        return written;
-    }
-    let study = run_study_with_progress(&problem, &cases, &norms, &config, &|| bar.inc(1))?;
+    let bar = progress_bar(study_size(&cases, &config));
+    let executed = run_study_on(executor, &problem, &cases, &norms, &config, &|| bar.inc(1));
     bar.finish_and_clear();
+    let Some(study) = complete_or_write(executed?, shard, &invocation)? else {
+        return Ok(());
+    };
     if json {
         out!(
             "{}",
@@ -280,7 +281,7 @@ pub(crate) fn study_scene_as(args: StudyArgs, command_line: &str) -> Result<(), 
 }
 
 /// The arguments of `signorini sensitivity`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct SensitivityArgs {
     /// The scene file (a bar1d scene with an obstacle).
     pub scene: PathBuf,
@@ -291,7 +292,7 @@ pub struct SensitivityArgs {
     #[arg(long, default_value_t = 1e-13, allow_hyphen_values = true)]
     pub amplitude: f64,
     /// Output directory.
-    #[arg(long, default_value = "reports")]
+    #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
     /// Run one shard of the ensemble's case × level jobs.
     #[command(flatten)]
@@ -312,13 +313,27 @@ impl SensitivityArgs {
 /// as an ensemble of members with seeded noise of relative size A on the initial
 /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
 pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
-    let invocation = this_invocation("sensitivity", args.inputs());
+    let executor = args.shard.executor();
+    sensitivity_with(args, &executor)
+}
+
+/// [`sensitivity`] with its ensembles handed to `executor`.
+pub(crate) fn sensitivity_with(args: SensitivityArgs, executor: &Executor) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "sensitivity",
+        &SensitivityArgs {
+            out: PathBuf::from(REPORTS),
+            shard: ShardArgs::default(),
+            ..args.clone()
+        },
+        args.inputs(),
+    )?;
     let SensitivityArgs {
         scene,
         members,
         amplitude,
         out,
-        shard,
+        shard: _,
         limits,
     } = args;
     let scene = Scene::load(&scene)?;
@@ -334,7 +349,7 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
     let norms = &scene.observables.norms;
     let config = scene.study_config();
     let runs_per_job = members as f64 + 1.0;
-    let jobs = budget::jobs_per_level(&config.levels, cases.len(), shard.shard);
+    let jobs = budget::jobs_per_level(&config.levels, cases.len(), executor);
     let runs: Vec<f64> = jobs.iter().map(|j| j * runs_per_job).collect();
     limits.check(budget::bar_study(
         &problem,
@@ -342,13 +357,15 @@ pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
         config.ratio,
         &runs,
     ))?;
-    if let Some(spec) = shard.shard {
-        return write_shard(&invocation, spec, &out, || {
-            run_sensitivity(&problem, &cases, norms, &scene.study_config(), ensemble)
-        });
-    }
-    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let s = run_sensitivity(&problem, &cases, norms, &scene.study_config(), ensemble)?;
+    let shard = shard_output(executor, Some(&out))?;
+    let staged = match shard {
+        None => Some(StagedDir::begin("--out", &out, Replace::Files)?),
+        Some(_) => None,
+    };
+    let executed = run_sensitivity_on(executor, &problem, &cases, norms, &config, ensemble)?;
+    let (Some(s), Some(staged)) = (complete_or_write(executed, shard, &invocation)?, staged) else {
+        return Ok(());
+    };
     write_sensitivity_files(&s, staged.path())
         .map_err(|e| Failure::runtime(format!("cannot write into {}: {e}", out.display())))?;
     staged.commit()?;
@@ -380,7 +397,7 @@ fn cache_is_a_directory(dir: &Path) -> Result<(), Failure> {
 }
 
 /// The arguments of `signorini reference`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct ReferenceArgs {
     /// Box scene files.
     #[arg(required = true)]
@@ -412,6 +429,8 @@ impl ReferenceArgs {
 
 /// A box scene whose reference is to be obtained, with its study configuration.
 struct ReferenceJob {
+    /// Its place among the command's scenes.
+    index: usize,
     scene: Scene,
     problem: BoxProblem,
     config: ElasticStudyConfig,
@@ -422,26 +441,37 @@ struct ReferenceJob {
 /// `--shard k/n` only that shard's share of the scenes (the most work first), whose job results
 /// are the scenes' names: the references are in the cache.
 pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
-    let invocation = this_invocation("reference", args.inputs());
+    let executor = args.shard.executor();
+    reference_with(args, &executor)
+}
+
+/// [`reference`] with its scenes handed to `executor`, one at a time (each reference takes the
+/// whole machine). A merge finds every reference in the cache ([`obtain_and_report`]).
+pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "reference",
+        &ReferenceArgs {
+            out: None,
+            shard: ShardArgs::default(),
+            ..args.clone()
+        },
+        args.inputs(),
+    )?;
     let ReferenceArgs {
         scenes,
         cache,
         out,
         solver,
         limits,
-        shard,
+        shard: _,
     } = args;
-    let shard = match (shard.shard, out) {
-        (Some(spec), Some(out)) => Some((spec, out)),
-        (Some(_), None) => return Err(Failure::usage(SHARD_NEEDS_OUT)),
-        (None, Some(_)) => {
-            return Err(Failure::usage(
-                "--out is where a shard's file goes: it takes --shard K/N (the references \
-                 go into --cache)",
-            ))
-        }
-        (None, None) => None,
-    };
+    if out.is_some() && !matches!(executor, Executor::Shard(_)) {
+        return Err(Failure::usage(
+            "--out is where a shard's file goes: it takes --shard K/N (the references \
+             go into --cache)",
+        ));
+    }
+    let shard = shard_output(executor, out.as_deref())?;
     cache_is_a_directory(&cache)?;
     let mut jobs = Vec::with_capacity(scenes.len());
     let mut work = Vec::with_capacity(scenes.len());
@@ -463,41 +493,40 @@ pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
             &[],
             0,
         );
-        work.push(estimate.dof_steps);
+        work.push(estimate.dof_steps as usize);
         limits.check(estimate)?;
         jobs.push(ReferenceJob {
+            index: jobs.len(),
             scene,
             problem,
             config,
         });
     }
-    let Some((spec, out)) = shard else {
-        return jobs
-            .iter()
-            .try_for_each(|job| obtain_and_report(job, &cache));
+    let executed = executor.execute_in_turn(&Jobs {
+        items: &jobs,
+        size: &|job: &ReferenceJob| work[job.index],
+        run: &|job: &ReferenceJob| obtain_and_report(job, &cache),
+    })?;
+    let Some(names) = complete_or_write(executed, shard, &invocation)? else {
+        return Ok(());
     };
-    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by(|&a, &b| work[b].total_cmp(&work[a]).then(a.cmp(&b)));
-    let mut results = Vec::new();
-    for index in spec.share(&order) {
-        obtain_and_report(&jobs[index], &cache)?;
-        results.push(EncodedResult {
-            index,
-            result: jobs[index].scene.name.clone(),
-        });
+    if matches!(executor, Executor::Merge(_)) {
+        for (job, name) in jobs.iter().zip(&names) {
+            if *name != job.scene.name {
+                return Err(Failure::usage(format!(
+                    "the shards computed the reference of scene {name}, not of {}",
+                    job.scene.name
+                )));
+            }
+            obtain_and_report(job, &cache)?;
+        }
     }
-    results.sort_by_key(|r| r.index);
-    let share = Share {
-        jobs: jobs.len(),
-        results,
-    };
-    write_share(&invocation, spec, &out, staged, share)
+    Ok(())
 }
 
 /// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
-/// not match) and says which it was.
-fn obtain_and_report(job: &ReferenceJob, cache: &std::path::Path) -> Result<(), Failure> {
+/// not match), says which it was, and returns the scene's name.
+fn obtain_and_report(job: &ReferenceJob, cache: &std::path::Path) -> Result<String, Error> {
     let mut computed = false;
     let store = ReferenceCache::ReadWrite(cache.to_path_buf());
     let reference = obtain_reference(&job.problem, &job.config, &store, &mut |why| {
@@ -518,71 +547,64 @@ fn obtain_and_report(job: &ReferenceJob, cache: &std::path::Path) -> Result<(), 
         },
         reference.histories.seconds
     );
+    Ok(job.scene.name.clone())
+}
+
+/// Writes a box study's report, study and figure data into `staged`, the staging of `dir`, and
+/// commits it; the report says it was made by `command`.
+fn write_box_reports(
+    study: &ElasticStudy,
+    histories: &ElasticHistories,
+    staged: StagedDir,
+    dir: &Path,
+    command: &str,
+) -> Result<(), Failure> {
+    write_elastic_files(
+        study,
+        histories,
+        staged.path(),
+        &staged.final_path(staged.path()),
+        command,
+    )
+    .map_err(Failure::runtime)?;
+    staged.commit()?;
+    out!(
+        "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
+         {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
+        study.study.cases.len(),
+        study.study.wall_seconds,
+        dir = dir.display(),
+        d = study.dimension
+    );
+    if let Some(s) = &study.sensitivity {
+        for c in &s.cases {
+            out!("  {:36} {}", c.case, c.class.name());
+        }
+        out!(
+            "round-off ensemble: {} members per case and level, run in the study's jobs \
+             ({:.1} s of run time summed over them)",
+            s.ensemble.members,
+            s.wall_seconds
+        );
+    }
     Ok(())
 }
 
-/// `signorini study` of a box scene: the report printed (markdown or JSON) or written to `out`.
-fn elastic_study(
-    problem: &BoxProblem,
-    config: &ElasticStudyConfig,
-    out: Option<PathBuf>,
-    cache: &ReferenceCache,
-    json: bool,
-    command: &str,
-) -> Result<(), Failure> {
-    let mut note = |why: String| eprintln!("{why}; computing the reference");
-    if let Some(dir) = out {
-        let staged = StagedDir::begin("--out", &dir, Replace::Files)?;
-        let study = write_elastic_report(
-            problem,
-            config,
-            staged.path(),
-            &staged.final_path(staged.path()),
-            cache,
-            command,
-            &mut note,
-        )
-        .map_err(Failure::runtime)?;
-        staged.commit()?;
-        out!(
-            "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
-             {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
-            study.study.cases.len(),
-            study.study.wall_seconds,
-            dir = dir.display(),
-            d = study.dimension
-        );
-        if let Some(s) = &study.sensitivity {
-            for c in &s.cases {
-                out!("  {:36} {}", c.case, c.class.name());
-            }
-            out!(
-                "round-off ensemble: {} members per case and level, run in the study's jobs \
-                 ({:.1} s of run time summed over them)",
-                s.ensemble.members,
-                s.wall_seconds
-            );
-        }
-        return Ok(());
-    }
-    let (study, _) = run_elastic_study(problem, config, cache, &mut note)?;
+/// Prints a box study: its report as markdown, or the study as JSON.
+fn print_box_study(study: &ElasticStudy, json: bool, command: &str) -> Result<(), Failure> {
     if json {
         out!(
             "{}",
-            serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
+            serde_json::to_string_pretty(study).map_err(Failure::runtime)?
         );
     } else {
         out!(
             "{}",
-            crate::studies::elastic_study::report::render(&study, command).trim_end()
+            crate::studies::elastic_study::report::render(study, command).trim_end()
         );
     }
     Ok(())
 }
-
-/// Why `--shard` without `--out` is refused.
-const SHARD_NEEDS_OUT: &str =
-    "--shard needs --out DIR: the directory its partial result file goes into";
 
 /// The references `make report` keeps, relative to the repository root.
 const REPORT_REFERENCES: &str = "reports/data/references";

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{write_output, Failure, LimitArgs};
+use super::failure::{write_output, Failure};
+use super::limits::LimitArgs;
 use crate::harness::artifacts::{read_json, writable, write_json};
 use crate::harness::budget::{self, Estimate};
 use crate::harness::external::format::MAX_VALUES;

@@ -30,9 +30,8 @@ use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;
 use crate::engine::problem::{BoxProblem, Problem1d};
 use crate::engine::schemes::Scheme;
+use crate::harness::executor::{computed_here, Executor};
 use crate::harness::run::RunConfig;
-use crate::harness::shard::ShardSpec;
-use crate::harness::study::largest_first;
 
 /// Peak bytes per unknown of a bar run (an upper bound of the measured 423–444).
 pub const BAR_BYTES_PER_DOF: f64 = 600.0;
@@ -384,16 +383,15 @@ fn concurrent(runs: f64) -> f64 {
     (rayon::current_num_threads() as f64).min(runs).max(1.0)
 }
 
-/// How many of a study's case × level jobs each of `levels` holds: `cases` each for the whole
-/// study; under `--shard` (`shard`), the jobs of that level in the shard's share of the runner's
-/// largest-first order ([`largest_first`], [`ShardSpec::share`]; the jobs listed case by case,
-/// as the studies list them), so that a shard is held to its own work, not the study's.
-pub fn jobs_per_level(levels: &[usize], cases: usize, shard: Option<ShardSpec>) -> Vec<f64> {
+/// How many of a study's case × level jobs each of `levels` holds that `executor` computes:
+/// `cases` each for the whole study; under `--shard`, the jobs of that level in the shard's
+/// share of the largest-first order ([`computed_here`]; the jobs listed case by case, as the
+/// studies list them), so that a shard is held to its own work, not the study's; none under a
+/// merge, which reads them.
+pub fn jobs_per_level(levels: &[usize], cases: usize, executor: &Executor) -> Vec<f64> {
     let sizes: Vec<usize> = (0..cases).flat_map(|_| levels.iter().copied()).collect();
-    let order = largest_first(&sizes);
-    let share = shard.map_or(order.clone(), |spec| spec.share(&order));
     let mut counts = vec![0.0; levels.len()];
-    for k in share {
+    for k in computed_here(&sizes, executor) {
         counts[k % levels.len()] += 1.0;
     }
     counts

@@ -348,19 +348,6 @@ pub enum DemoRunError {
 /// What can go wrong when sharding a study or merging its shards (`crate::harness::shard`).
 #[derive(Debug, Error)]
 pub enum ShardError {
-    /// Not a failure: the shard's jobs are done and recorded, and the study stops before its
-    /// reports ([`crate::harness::shard::plan::record_share`] catches it).
-    #[error("this shard's jobs are recorded; the study stops before its reports")]
-    Recorded,
-    /// The command ran no job list through the runner, so there is nothing to shard.
-    #[error("the command ran no job list through the study runner: nothing to shard or merge")]
-    NoJobList,
-    /// A second job list after the first.
-    #[error(
-        "the study runs a second job list after the first (it needs the first one's results): \
-         it cannot be sharded yet"
-    )]
-    SecondJobList,
     /// The shards hold another number of results than the study has jobs.
     #[error(
         "the shards hold {shards} job results but the study has {study} jobs: the shards are \
@@ -515,10 +502,7 @@ impl ShardError {
     /// Whether the error is the user's to fix in the arguments (exit code 2): shard files that
     /// do not make one complete invocation.
     pub fn is_usage(&self) -> bool {
-        !matches!(
-            self,
-            Self::Recorded | Self::NoJobList | Self::SecondJobList | Self::Encode(_)
-        )
+        !matches!(self, Self::Encode(_))
     }
 }
 

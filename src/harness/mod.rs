@@ -6,6 +6,7 @@ pub mod artifacts;
 pub mod budget;
 pub mod elastic;
 pub mod error;
+pub mod executor;
 pub mod external;
 pub mod figures;
 pub mod getfem;

@@ -25,12 +25,13 @@ use serde::{Deserialize, Serialize};
 use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
 use crate::harness::error::Error;
+use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, least_squares_slope};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
 use crate::harness::shard::range::{errors_out_of_range, not_negative};
 use crate::harness::shard::InRange;
-use crate::harness::study::{run_case_levels, Case, StudyConfig};
+use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
 pub const PARTING: f64 = 1e-8;
@@ -445,41 +446,95 @@ pub fn run_sensitivity(
     config: &StudyConfig,
     ensemble: EnsembleConfig,
 ) -> Result<Sensitivity, Error> {
-    config.validate()?;
-    ensemble.validate()?;
-    if problem.obstacle_gap.is_none() {
-        return Err(ParameterError::new(
-            "obstacle",
-            "none",
-            "an obstacle (the separation is measured at the contact node)",
-        )
-        .into());
-    }
     let clock = Instant::now();
-    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
-        level_ensemble(
+    let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
+    let levels = run_local(&study.list())?;
+    Ok(study.reduce(levels, clock))
+}
+
+/// [`run_sensitivity`] with its case × level ensembles handed to `executor`: the study, or a
+/// shard's share of its ensembles.
+pub fn run_sensitivity_on(
+    executor: &Executor,
+    problem: &Problem1d,
+    cases: &[Case],
+    norms: &BTreeSet<Norm>,
+    config: &StudyConfig,
+    ensemble: EnsembleConfig,
+) -> Result<Executed<Sensitivity>, Error> {
+    let clock = Instant::now();
+    let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
+    let executed = executor.execute(&study.list())?;
+    executed.reduce(|levels| Ok(study.reduce(levels, clock)))
+}
+
+/// A sensitivity study as its jobs (one ensemble per case × level) and its reduce step.
+struct SensitivityJobs<'a> {
+    problem: &'a Problem1d,
+    cases: &'a [Case],
+    norms: &'a BTreeSet<Norm>,
+    config: &'a StudyConfig,
+    ensemble: EnsembleConfig,
+}
+
+impl<'a> SensitivityJobs<'a> {
+    fn new(
+        problem: &'a Problem1d,
+        cases: &'a [Case],
+        norms: &'a BTreeSet<Norm>,
+        config: &'a StudyConfig,
+        ensemble: EnsembleConfig,
+    ) -> Result<Self, Error> {
+        config.validate()?;
+        ensemble.validate()?;
+        if problem.obstacle_gap.is_none() {
+            return Err(ParameterError::new(
+                "obstacle",
+                "none",
+                "an obstacle (the separation is measured at the contact node)",
+            )
+            .into());
+        }
+        Ok(Self {
             problem,
-            cases[c],
-            config.levels[l],
-            config.ratio,
+            cases,
             norms,
+            config,
             ensemble,
+        })
+    }
+
+    fn list(&self) -> impl JobList<Output = LevelEnsemble> + '_ {
+        CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
+            level_ensemble(
+                self.problem,
+                self.cases[c],
+                self.config.levels[l],
+                self.config.ratio,
+                self.norms,
+                self.ensemble,
+            )
+        })
+    }
+
+    /// The classified cases of every level ensemble, in the list's order, begun at `clock`.
+    fn reduce(&self, levels: Vec<LevelEnsemble>, clock: Instant) -> Sensitivity {
+        let h: Vec<f64> = self
+            .config
+            .levels
+            .iter()
+            .map(|&nx| self.problem.length / nx as f64)
+            .collect();
+        classify_cases(
+            self.cases,
+            self.config,
+            &h,
+            self.norms,
+            self.ensemble,
+            by_case(levels, self.config.levels.len()),
+            clock.elapsed().as_secs_f64(),
         )
-    })?;
-    let h: Vec<f64> = config
-        .levels
-        .iter()
-        .map(|&nx| problem.length / nx as f64)
-        .collect();
-    Ok(classify_cases(
-        cases,
-        config,
-        &h,
-        norms,
-        ensemble,
-        per_case,
-        clock.elapsed().as_secs_f64(),
-    ))
+    }
 }
 
 /// The sensitivity study from the level ensembles of every case (`per_case[c][l]`: case `c` at

@@ -2,9 +2,9 @@
 //! with the rates of every requested norm.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::marker::PhantomData;
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -12,12 +12,12 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
+use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus, Timings};
-use crate::harness::shard::plan::{self, EncodedResult, Schedule};
 use crate::harness::shard::range::{errors_out_of_range, positive};
-use crate::harness::shard::{codec, InRange, ShardError};
+use crate::harness::shard::InRange;
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -253,7 +253,10 @@ pub fn run_study(
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
 ) -> Result<Study, Error> {
-    run_study_with_progress(problem, cases, norms, config, &|| {})
+    let clock = Instant::now();
+    let jobs = StudyJobs::new(problem, cases, norms, config, &|| {})?;
+    let runs = run_local(&jobs.list())?;
+    Ok(jobs.reduce(runs, clock))
 }
 
 /// The number of runs a study makes.
@@ -261,128 +264,144 @@ pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
     cases.len() * config.levels.len()
 }
 
-/// [`run_study`], calling `done` after each run (from the worker threads).
-pub fn run_study_with_progress(
+/// [`run_study`] with its case × level runs handed to `executor`, calling `done` after each
+/// run (from the worker threads): the study, or a shard's share of its runs.
+pub fn run_study_on(
+    executor: &Executor,
     problem: &Problem1d,
     cases: &[Case],
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
     done: &(dyn Fn() + Sync),
-) -> Result<Study, Error> {
-    config.validate()?;
+) -> Result<Executed<Study>, Error> {
     let clock = Instant::now();
-    let observables = Observables {
-        norms: norms.clone(),
-        ..Observables::default()
-    };
-    let per_case = run_case_levels(cases.len(), &config.levels, |c, l| {
-        let cfg = RunConfig {
-            nx: config.levels[l],
-            ratio: config.ratio,
-            scheme: cases[c].scheme,
-            mass: cases[c].mass,
-            observables: observables.clone(),
-        };
-        let result = run(problem, &cfg);
-        done();
-        result
-    })?;
-    let mut studied = Vec::new();
-    let mut not_run = Vec::new();
-    for (case, runs) in cases.iter().zip(per_case) {
-        let statuses: Vec<&RunStatus> = runs.iter().map(|r| &r.status).collect();
-        match NotRun::first(*case, &config.levels, &statuses) {
-            Some(stopped) => not_run.push(stopped),
-            None => studied.push(case_study(*case, &runs, norms)),
-        }
+    let jobs = StudyJobs::new(problem, cases, norms, config, done)?;
+    let executed = executor.execute(&jobs.list())?;
+    executed.reduce(|runs| Ok(jobs.reduce(runs, clock)))
+}
+
+/// A bar study as its jobs (one run per case × level) and its reduce step.
+struct StudyJobs<'a> {
+    problem: &'a Problem1d,
+    cases: &'a [Case],
+    norms: &'a BTreeSet<Norm>,
+    config: &'a StudyConfig,
+    observables: Observables,
+    done: &'a (dyn Fn() + Sync),
+}
+
+impl<'a> StudyJobs<'a> {
+    fn new(
+        problem: &'a Problem1d,
+        cases: &'a [Case],
+        norms: &'a BTreeSet<Norm>,
+        config: &'a StudyConfig,
+        done: &'a (dyn Fn() + Sync),
+    ) -> Result<Self, Error> {
+        config.validate()?;
+        Ok(Self {
+            problem,
+            cases,
+            norms,
+            config,
+            observables: Observables {
+                norms: norms.clone(),
+                ..Observables::default()
+            },
+            done,
+        })
     }
-    Ok(Study {
-        config: config.clone(),
-        norms: norms.iter().copied().collect(),
-        cases: studied,
-        not_run,
-        wall_seconds: clock.elapsed().as_secs_f64(),
-    })
-}
 
-/// The order in which [`run_largest_first`] starts jobs of sizes `sizes`: their indices, the
-/// largest first, ties in index order. A shard runs its share of this order
-/// ([`crate::harness::shard::ShardSpec::share`]).
-pub fn largest_first(sizes: &[usize]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..sizes.len()).collect();
-    order.sort_by_key(|&k| (std::cmp::Reverse(sizes[k]), k));
-    order
-}
+    fn list(&self) -> impl JobList<Output = RunResult> + '_ {
+        CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
+            let cfg = RunConfig {
+                nx: self.config.levels[l],
+                ratio: self.config.ratio,
+                scheme: self.cases[c].scheme,
+                mass: self.cases[c].mass,
+                observables: self.observables.clone(),
+            };
+            let result = run(self.problem, &cfg);
+            (self.done)();
+            result
+        })
+    }
 
-/// Runs `job` on every item of `jobs` in parallel, the largest by `size` first (they take
-/// longest; ties in the order of `jobs`), and returns the results in the order of `jobs`. The
-/// first error stops the rest. Every study's case × level runs are scheduled here, and so are
-/// shards ([`crate::harness::shard`]): under `--shard k/n` only that shard's share of the
-/// largest-first order runs, its results are recorded and the study stops; under a merge the
-/// results are read from the shards instead of run.
-pub fn run_largest_first<J: Sync, T: Send + Serialize + DeserializeOwned + InRange>(
-    jobs: &[J],
-    size: impl Fn(&J) -> usize,
-    job: impl Fn(&J) -> Result<T, Error> + Sync,
-) -> Result<Vec<T>, Error> {
-    let sizes: Vec<usize> = jobs.iter().map(size).collect();
-    let order = largest_first(&sizes);
-    let run_all = |order: &[usize]| -> Result<Vec<(usize, T)>, Error> {
-        order
-            .par_iter()
-            .map(|&k| job(&jobs[k]).map(|r| (k, r)))
-            .collect()
-    };
-    match plan::next_list(jobs.len())? {
-        Schedule::All => {
-            let mut results = run_all(&order)?;
-            results.sort_by_key(|&(k, _)| k);
-            Ok(results.into_iter().map(|(_, r)| r).collect())
+    /// The study of every run, in the list's order, begun at `clock`.
+    fn reduce(&self, runs: Vec<RunResult>, clock: Instant) -> Study {
+        let (cases, config, norms) = (self.cases, self.config, self.norms);
+        let per_case = by_case(runs, config.levels.len());
+        let mut studied = Vec::new();
+        let mut not_run = Vec::new();
+        for (case, runs) in cases.iter().zip(per_case) {
+            let statuses: Vec<&RunStatus> = runs.iter().map(|r| &r.status).collect();
+            match NotRun::first(*case, &config.levels, &statuses) {
+                Some(stopped) => not_run.push(stopped),
+                None => studied.push(case_study(*case, &runs, norms)),
+            }
         }
-        Schedule::Share(spec) => {
-            let mut results = run_all(&spec.share(&order))?;
-            results.sort_by_key(|&(k, _)| k);
-            let encoded = results
-                .iter()
-                .map(|(index, r)| {
-                    codec::encode(r).map(|result| EncodedResult {
-                        index: *index,
-                        result,
-                    })
-                })
-                .collect::<Result<_, _>>()?;
-            Err(plan::finish_share(jobs.len(), encoded))
+        Study {
+            config: config.clone(),
+            norms: norms.iter().copied().collect(),
+            cases: studied,
+            not_run,
+            wall_seconds: clock.elapsed().as_secs_f64(),
         }
-        Schedule::Replay(results) => results
-            .iter()
-            .enumerate()
-            .map(|(index, text)| {
-                let result: T = codec::decode(index, text)?;
-                match result.out_of_range() {
-                    Some(why) => Err(ShardError::OutOfRange { index, why }.into()),
-                    None => Ok(result),
-                }
-            })
-            .collect(),
     }
 }
 
-/// Runs `job(case, level)` for every case index below `n_cases` and every level index of
-/// `levels` ([`run_largest_first`]: the largest levels first), and returns each case's results
-/// in level order.
-pub fn run_case_levels<T: Send + Serialize + DeserializeOwned + InRange>(
-    n_cases: usize,
-    levels: &[usize],
-    job: impl Fn(usize, usize) -> Result<T, Error> + Sync,
-) -> Result<Vec<Vec<T>>, Error> {
-    let jobs: Vec<(usize, usize)> = (0..n_cases)
-        .flat_map(|c| (0..levels.len()).map(move |l| (c, l)))
-        .collect();
-    let mut results =
-        run_largest_first(&jobs, |&(_, l)| levels[l], |&(c, l)| job(c, l))?.into_iter();
-    Ok((0..n_cases)
-        .map(|_| results.by_ref().take(levels.len()).collect())
-        .collect())
+/// The case × level jobs of a study: job `c · levels + l` runs case `c` at level `l`, its size
+/// the level; [`by_case`] splits their results back into cases.
+pub struct CaseLevels<'a, T, F> {
+    jobs: Vec<(usize, usize)>,
+    levels: &'a [usize],
+    job: F,
+    output: PhantomData<fn() -> T>,
+}
+
+impl<'a, T, F: Fn(usize, usize) -> Result<T, Error> + Sync> CaseLevels<'a, T, F> {
+    /// The jobs of `n_cases` cases at every level of `levels`, each running `job(case, level)`
+    /// with their indices.
+    pub fn new(n_cases: usize, levels: &'a [usize], job: F) -> Self {
+        Self {
+            jobs: (0..n_cases)
+                .flat_map(|c| (0..levels.len()).map(move |l| (c, l)))
+                .collect(),
+            levels,
+            job,
+            output: PhantomData,
+        }
+    }
+}
+
+impl<T, F> JobList for CaseLevels<'_, T, F>
+where
+    T: Send + Serialize + DeserializeOwned + InRange,
+    F: Fn(usize, usize) -> Result<T, Error> + Sync,
+{
+    type Output = T;
+
+    fn len(&self) -> usize {
+        self.jobs.len()
+    }
+
+    fn size(&self, index: usize) -> usize {
+        self.levels[self.jobs[index].1]
+    }
+
+    fn run(&self, index: usize) -> Result<T, Error> {
+        let (c, l) = self.jobs[index];
+        (self.job)(c, l)
+    }
+}
+
+/// The results of [`CaseLevels`] jobs, in job order, as each case's in level order.
+pub fn by_case<T>(results: Vec<T>, levels: usize) -> Vec<Vec<T>> {
+    let cases = results.len().checked_div(levels).unwrap_or(0);
+    let mut results = results.into_iter();
+    (0..cases)
+        .map(|_| results.by_ref().take(levels).collect())
+        .collect()
 }
 
 fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStudy {

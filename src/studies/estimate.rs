@@ -8,6 +8,7 @@ use std::path::Path;
 use crate::engine::fem::MassVariant;
 use crate::harness::budget::{self, Estimate};
 use crate::harness::error::Error;
+use crate::harness::executor::Executor;
 use crate::harness::run::Problem1d;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::EnsembleConfig;
@@ -78,7 +79,7 @@ pub fn golden(root: &Path) -> Result<Estimate, Error> {
     };
     let config = ElasticStudyConfig::from_scene(&scene, None)?;
     let members = config.sensitivity.map_or(0, |e| e.members);
-    let jobs = budget::jobs_per_level(&config.levels, config.cases.len(), None);
+    let jobs = budget::jobs_per_level(&config.levels, config.cases.len(), &Executor::Local);
     let elastic = budget::box_study(
         &problem,
         &config.levels,

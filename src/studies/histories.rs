@@ -10,8 +10,9 @@ use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_json_compact;
 use crate::harness::error::Error;
+use crate::harness::executor::run_local;
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
-use crate::harness::study::{run_case_levels, Case, StudyConfig};
+use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 
 /// The levels whose contact and energy histories `make report` keeps for the figures.
@@ -44,7 +45,7 @@ pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<
     let problem = dirichlet(root, config.horizon)?;
     let schemes = Scheme::paper_schemes();
     let cases = Case::matrix(&schemes, &MassVariant::PAPER);
-    let per_case = run_case_levels(cases.len(), levels, |c, l| {
+    let runs = run_local(&CaseLevels::new(cases.len(), levels, |c, l| {
         let config = RunConfig {
             nx: levels[l],
             ratio: config.ratio,
@@ -57,8 +58,8 @@ pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<
             },
         };
         run(&problem, &config)?.completed()
-    })?;
-    let mut per_case = cases.iter().zip(per_case);
+    }))?;
+    let mut per_case = cases.iter().zip(by_case(runs, levels.len()));
     let histories = schemes.iter().map(|scheme| SchemeHistories {
         scheme: scheme.name(),
         label: scheme.label(),

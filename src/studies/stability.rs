@@ -28,12 +28,13 @@ use crate::engine::exact::AtRest;
 use crate::engine::problem::{InitialData, Perturbation, Problem1d, Profile};
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
+use crate::harness::executor::{run_local, Executed, Executor, Jobs};
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
 use crate::harness::shard::range::not_negative;
 use crate::harness::shard::InRange;
-use crate::harness::study::{run_largest_first, Case};
+use crate::harness::study::Case;
 use crate::harness::verdicts::OSCILLATION_YES_FROM;
 use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
 
@@ -412,14 +413,33 @@ impl InRange for StabilityRecord {
 
 /// Every hard case × every case, in parallel (the finest meshes first), in that order.
 pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecord>, Error> {
-    let jobs: Vec<(usize, usize)> = (0..hard.len())
+    let items = suite_jobs(hard, cases);
+    run_local(&Jobs {
+        items: &items,
+        size: &|&(h, _)| hard[h].nx,
+        run: &|&(h, c)| judge(&hard[h], cases[c]),
+    })
+}
+
+/// [`run_suite`] with its runs handed to `executor`: the records, or a shard's share of them.
+pub fn run_suite_on(
+    executor: &Executor,
+    hard: &[HardCase],
+    cases: &[Case],
+) -> Result<Executed<Vec<StabilityRecord>>, Error> {
+    let items = suite_jobs(hard, cases);
+    executor.execute(&Jobs {
+        items: &items,
+        size: &|&(h, _)| hard[h].nx,
+        run: &|&(h, c)| judge(&hard[h], cases[c]),
+    })
+}
+
+/// The suite's jobs: (hard case, case) index pairs, hard case by hard case.
+fn suite_jobs(hard: &[HardCase], cases: &[Case]) -> Vec<(usize, usize)> {
+    (0..hard.len())
         .flat_map(|h| (0..cases.len()).map(move |c| (h, c)))
-        .collect();
-    run_largest_first(
-        &jobs,
-        |&(h, _)| hard[h].nx,
-        |&(h, c)| judge(&hard[h], cases[c]),
-    )
+        .collect()
 }
 
 /// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
@@ -431,12 +451,21 @@ pub fn write_stability(
 ) -> Result<Vec<StabilityRecord>, Error> {
     let hard = hard_cases(root, ci)?;
     let records = run_suite(&hard, &Case::paper_matrix())?;
+    write_stability_files(out_dir, &hard, &records)?;
+    Ok(records)
+}
+
+/// Writes `stability.md` and `stability.json` of the suite's `records` on `hard` into `out_dir`.
+pub fn write_stability_files(
+    out_dir: &Path,
+    hard: &[HardCase],
+    records: &[StabilityRecord],
+) -> Result<(), Error> {
     write_atomic(
         &out_dir.join(STABILITY_MD),
-        render(&hard, &records).as_bytes(),
+        render(hard, records).as_bytes(),
     )?;
-    write_json(&out_dir.join(STABILITY_JSON), &records)?;
-    Ok(records)
+    write_json(&out_dir.join(STABILITY_JSON), &records)
 }
 
 /// The round-off column of a record: the class, a chaotic run's predictability horizon, and

@@ -6,14 +6,14 @@ use crate::benchmarks;
 use std::path::{Path, PathBuf};
 
 use signorini::fem::MassVariant;
+use signorini::harness::executor::{Executed, Executor};
 use signorini::harness::shard::merge::merge;
-use signorini::harness::shard::plan::{record_share, replay};
 use signorini::harness::shard::{Invocation, ShardSpec};
 use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::schemes::Scheme;
 use signorini::sensitivity::SensitivityClass;
 use signorini::stability::{
-    hard_cases, judge, render, run_suite, HardCase, Verdict, STABILITY_ENSEMBLE,
+    hard_cases, judge, render, run_suite, run_suite_on, HardCase, Verdict, STABILITY_ENSEMBLE,
 };
 use signorini::study::Case;
 
@@ -215,18 +215,27 @@ fn the_merge_of_three_shards_of_the_suite_equals_the_unsharded_suite() {
     let invocation = Invocation {
         command: "stability".into(),
         arguments: vec![],
+        request: String::new(),
         inputs: vec![],
     };
     let shards = (1..=3)
         .map(|k| {
             let spec = ShardSpec { k, n: 3 };
-            let share = record_share(spec, || run_suite(&hard, &cases)).unwrap();
+            let Executed::Share(share) =
+                run_suite_on(&Executor::Shard(spec), &hard, &cases).unwrap()
+            else {
+                panic!("a shard's executor hands back its share");
+            };
             let file = invocation.shard_file(spec, share).unwrap();
             (PathBuf::from(format!("shard-{k}")), file)
         })
         .collect();
     let merged = merge(shards).unwrap();
-    let records = replay(merged.results, || run_suite(&hard, &cases)).unwrap();
+    let Executed::Complete(records) =
+        run_suite_on(&Executor::Merge(merged.results), &hard, &cases).unwrap()
+    else {
+        panic!("a merge hands back every record");
+    };
     assert_eq!(format!("{records:?}"), format!("{full:?}"));
     assert_eq!(render(&hard, &records), render(&hard, &full));
     assert_eq!(

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use signorini::elastic::BoxProblem;
 use signorini::harness::budget;
+use signorini::harness::executor::Executor;
 use signorini::linalg::LinearSolver;
 use signorini::problem::Problem;
 use signorini::scene::Scene;
@@ -50,10 +51,10 @@ fn a_shard_is_budgeted_for_its_own_jobs() {
     use signorini::harness::shard::ShardSpec;
 
     let levels = [10, 20, 40, 80];
-    let whole = budget::jobs_per_level(&levels, 4, None);
+    let whole = budget::jobs_per_level(&levels, 4, &Executor::Local);
     assert_eq!(whole, [4.0; 4]);
     let shards: Vec<Vec<f64>> = (1..=3)
-        .map(|k| budget::jobs_per_level(&levels, 4, Some(ShardSpec { k, n: 3 })))
+        .map(|k| budget::jobs_per_level(&levels, 4, &Executor::Shard(ShardSpec { k, n: 3 })))
         .collect();
     for l in 0..levels.len() {
         let sum: f64 = shards.iter().map(|s| s[l]).sum();
@@ -66,11 +67,11 @@ fn a_shard_is_budgeted_for_its_own_jobs() {
     let work = |jobs: &[f64]| budget::box_study(&problem, &levels[..3], 80, 2.0, jobs, 9).dof_steps;
     let reference = work(&[0.0; 3]);
     let (all, one) = (
-        work(&budget::jobs_per_level(&levels[..3], 4, None)),
+        work(&budget::jobs_per_level(&levels[..3], 4, &Executor::Local)),
         work(&budget::jobs_per_level(
             &levels[..3],
             4,
-            Some(ShardSpec { k: 1, n: 4 }),
+            &Executor::Shard(ShardSpec { k: 1, n: 4 }),
         )),
     );
     assert!(
@@ -91,7 +92,7 @@ fn a_box_studys_memory_estimate_holds_its_measured_peak() {
         (&[10, 20, 40][..], 160, 159_116.0),
         (&[10, 20, 40, 80, 160][..], 640, 9_115_872.0),
     ] {
-        let jobs = budget::jobs_per_level(levels, 4, None);
+        let jobs = budget::jobs_per_level(levels, 4, &Executor::Local);
         let estimate = budget::box_study(&problem, levels, reference, 2.0, &jobs, 9).memory_bytes;
         assert!(
             estimate > 1024.0 * measured_kb,

@@ -11,10 +11,12 @@
 use std::fmt;
 use std::str::FromStr;
 
+use serde::{Deserialize, Serialize};
+
 use crate::engine::error::ParameterError;
 
 /// A contact treatment and its parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub enum ContactTreatment {
     /// The exact complementarity condition with a Lagrange multiplier (1D paper eq. 30).
     #[default]

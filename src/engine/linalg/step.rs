@@ -33,7 +33,7 @@ use crate::engine::fem::SymmetricMatrix;
 pub const AUTO_CG_FROM_DOFS: usize = 10_000;
 
 /// Which step solver a run uses (see the module documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 pub enum LinearSolver {
     /// Sparse Cholesky.
     Direct,

@@ -5,12 +5,13 @@
 //!
 //! | field | what |
 //! | --- | --- |
-//! | `format` | `"signorini-shard/2"` |
+//! | `format` | `"signorini-shard/3"` |
 //! | `signorini` | the version of the binary that ran the shard |
 //! | `command` | the subcommand: `study`, `stability`, `sensitivity` or `reference` |
-//! | `arguments` | its arguments as typed, less `--shard` and `--out` (the merge gives its own `--out`) |
+//! | `arguments` | its arguments as typed, less `--shard` and `--out`: what the merge's report says it was made by |
+//! | `request` | the command's parsed options, less `--shard` and `--out`, as hexadecimal MessagePack: what the merge runs again (it parses no command line) |
 //! | `inputs` | the files the command reads (scene files), whose contents the identity covers |
-//! | `identity` | 16 hexadecimal digits: FNV-1a (64 bits) of `signorini`, `command`, `arguments` and the contents of `inputs` |
+//! | `identity` | 16 hexadecimal digits: FNV-1a (64 bits) of `signorini`, `command`, `arguments`, `request` and the contents of `inputs` |
 //! | `k`, `n` | shard `k` of `n` |
 //! | `jobs` | the number of jobs in the whole job list |
 //! | `results` | this shard's jobs: `index` (the job's place in the list), `result` |
@@ -18,7 +19,7 @@
 //!
 //! The checksum covers every other field (the parameters through `identity`, and the results):
 //! a file changed or damaged after its shard wrote it is refused by the merge
-//! ([`ShardFile::verify`]). Version 1 files (no checksum) are refused with the reason.
+//! ([`ShardFile::verify`]). Files of versions 1 and 2 (no request) are refused with the reason.
 //!
 //! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
 //! `reference` command it is the scene's name, the reference itself being in the cache.
@@ -27,7 +28,6 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::plan::{EncodedResult, Share};
 use super::ShardSpec;
 use crate::harness::error::Error;
 use crate::harness::input::{self, Limit, SCENE_FILE};
@@ -42,7 +42,25 @@ pub const SHARD_FILE: Limit = Limit {
 };
 
 /// The `format` of the files this version writes and reads.
-pub const SHARD_FORMAT: &str = "signorini-shard/2";
+pub const SHARD_FORMAT: &str = "signorini-shard/3";
+
+/// One job's result, [`super::codec::encode`]d, with the job's index in its list.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EncodedResult {
+    /// The job's index in its list (the order the study gives its jobs, not the run order).
+    pub index: usize,
+    /// The job's result, [`super::codec::encode`]d.
+    pub result: String,
+}
+
+/// What one shard ran: the size of the job list and the results of its share.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Share {
+    /// The number of jobs in the whole list.
+    pub jobs: usize,
+    /// The results of this shard's jobs, by index.
+    pub results: Vec<EncodedResult>,
+}
 
 /// One shard's partial result file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -56,6 +74,10 @@ pub struct ShardFile {
     pub command: String,
     /// Its arguments, less `--shard` and `--out`.
     pub arguments: Vec<String>,
+    /// Its parsed options, less `--shard` and `--out`, [`super::codec::encode`]d (absent from
+    /// files of earlier formats, which the merge refuses by their `format`).
+    #[serde(default)]
+    pub request: String,
     /// The files it reads.
     pub inputs: Vec<PathBuf>,
     /// [`Invocation::identity`].
@@ -110,15 +132,18 @@ pub struct JobResult {
 pub struct Invocation {
     /// The subcommand.
     pub command: String,
-    /// Its arguments, less `--shard` and `--out`.
+    /// Its arguments, less `--shard` and `--out`, as typed.
     pub arguments: Vec<String>,
+    /// Its parsed options, less `--shard` and `--out`, [`super::codec::encode`]d: what a merge
+    /// runs again.
+    pub request: String,
     /// The files it reads.
     pub inputs: Vec<PathBuf>,
 }
 
 impl Invocation {
     /// FNV-1a (64 bits, as 16 hexadecimal digits) of this binary's version, the command, its
-    /// arguments and the contents of its inputs, each part preceded by its length.
+    /// arguments, its request and the contents of its inputs, each part preceded by its length.
     pub fn identity(&self) -> Result<String, Error> {
         let mut hash = Fnv1a::default();
         hash.part(env!("CARGO_PKG_VERSION").as_bytes());
@@ -126,6 +151,7 @@ impl Invocation {
         for a in &self.arguments {
             hash.part(a.as_bytes());
         }
+        hash.part(self.request.as_bytes());
         for path in &self.inputs {
             hash.part(path.to_string_lossy().as_bytes());
             hash.part(&input::read_bytes(path, SCENE_FILE)?);
@@ -140,6 +166,7 @@ impl Invocation {
             signorini: env!("CARGO_PKG_VERSION").to_string(),
             command: self.command.clone(),
             arguments: self.arguments.clone(),
+            request: self.request.clone(),
             inputs: self.inputs.clone(),
             identity: self.identity()?,
             k: spec.k,
@@ -204,6 +231,7 @@ mod tests {
         let a = Invocation {
             command: "study".into(),
             arguments: vec!["x".into(), "y".into()],
+            request: String::new(),
             inputs: vec![],
         };
         let b = Invocation {

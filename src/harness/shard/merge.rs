@@ -50,6 +50,7 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
             ("signorini", s.signorini != first.signorini),
             ("command", s.command != first.command),
             ("arguments", s.arguments != first.arguments),
+            ("request", s.request != first.request),
             ("inputs", s.inputs != first.inputs),
             ("identity", s.identity != first.identity),
             ("n", s.n != first.n),
@@ -109,6 +110,7 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
         invocation: Invocation {
             command: first.command.clone(),
             arguments: first.arguments.clone(),
+            request: first.request.clone(),
             inputs: first.inputs.clone(),
         },
         identity: first.identity.clone(),
@@ -127,6 +129,7 @@ mod tests {
             signorini: "0".into(),
             command: "study".into(),
             arguments: vec!["scene.json".into()],
+            request: String::new(),
             inputs: vec![],
             identity: "0123456789abcdef".into(),
             k,

@@ -3,6 +3,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+use serde::{Deserialize, Serialize};
+
 use crate::engine::error::ParameterError;
 
 /// The most shards one command may be split into (`--shard k/n`, and `n` in a shard file): a
@@ -16,7 +18,7 @@ pub const MAX_JOBS: usize = 1_000_000;
 /// Shard `k` of `n` (`1 ≤ k ≤ n`): the jobs at positions `k − 1`, `k − 1 + n`, `k − 1 + 2n`, …
 /// of a job list in its largest-first order, so that every shard gets a fair part of the large
 /// jobs and the `n` shards together run each job exactly once.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ShardSpec {
     /// This shard's number, from 1.
     pub k: usize,

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use super::reference::ReferenceCache;
-use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
+use super::{run_elastic_study, ElasticHistories, ElasticStudy, ElasticStudyConfig};
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
@@ -47,13 +47,26 @@ pub fn write_elastic_report(
     note: &mut dyn FnMut(String),
 ) -> Result<ElasticStudy, Error> {
     let (study, histories) = run_elastic_study(problem, config, cache, note)?;
+    write_elastic_files(&study, &histories, out_dir, kept_from, command)?;
+    Ok(study)
+}
+
+/// Writes a 2D/3D study's report, the study and its figure data (`histories`) into `out_dir`,
+/// and `work-precision.md` rendered from the studies' data in `out_dir` and `kept_from`; the
+/// report says it was made by `command`.
+pub fn write_elastic_files(
+    study: &ElasticStudy,
+    histories: &ElasticHistories,
+    out_dir: &Path,
+    kept_from: &Path,
+    command: &str,
+) -> Result<(), Error> {
     let d = study.dimension;
     write_atomic(
         &out_dir.join(report_file(d)),
-        super::report::render(&study, command).as_bytes(),
+        super::report::render(study, command).as_bytes(),
     )?;
-    write_json(&out_dir.join(study_file(d)), &study)?;
+    write_json(&out_dir.join(study_file(d)), study)?;
     write_work_precision_md(out_dir, kept_from)?;
-    write_json_compact(&out_dir.join(histories_file(d)), &histories)?;
-    Ok(study)
+    write_json_compact(&out_dir.join(histories_file(d)), histories)
 }

@@ -43,6 +43,7 @@ use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
 use crate::harness::error::Error;
+use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
 use crate::harness::run::{Observables, Observer, RunConfig, RunStatus};
@@ -50,9 +51,7 @@ use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
 use crate::harness::shard::range::{errors_out_of_range, positive};
 use crate::harness::shard::InRange;
-use crate::harness::study::{
-    run_largest_first, Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig,
-};
+use crate::harness::study::{Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
 use projection::NormMatrices;
@@ -362,187 +361,267 @@ pub fn run_elastic_study(
     cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
-    let finest = config.validate()?;
-    // An ensemble the problem cannot carry is refused before anything runs.
-    let ensemble = config
-        .sensitivity
-        .map(|ensemble| {
-            sensitivity::noise_scale(problem).map(|scale| sensitivity::Noise { ensemble, scale })
-        })
-        .transpose()?;
-    let clock = Instant::now();
-    let reference = obtain_reference(problem, config, cache, note)?;
-    let comparator = Comparator::new(problem, reference, finest)?;
+    let study = ElasticJobs::new(problem, config, cache, note)?;
+    let outcomes = run_local(&study)?;
+    study.reduce(outcomes)
+}
 
-    let jobs: Vec<(Case, usize)> = config
-        .cases
-        .iter()
-        .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
-        .collect();
-    let outcomes = run_largest_first(
-        &jobs,
-        |&(_, n)| n,
-        |&(case, n)| {
-            let (mut outcome, base) = run_level(
+/// [`run_elastic_study`] with its case × level jobs handed to `executor`: the study, or a
+/// shard's share of its jobs. The reference is obtained first, here, whatever the executor.
+pub fn run_elastic_study_on(
+    executor: &Executor,
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+    cache: &ReferenceCache,
+    note: &mut dyn FnMut(String),
+) -> Result<Executed<(ElasticStudy, ElasticHistories)>, Error> {
+    let study = ElasticJobs::new(problem, config, cache, note)?;
+    executor
+        .execute(&study)?
+        .reduce(|outcomes| study.reduce(outcomes))
+}
+
+/// A box study as its jobs (one per case × level, against the reference) and its reduce step.
+struct ElasticJobs<'a> {
+    problem: &'a BoxProblem,
+    config: &'a ElasticStudyConfig,
+    finest: usize,
+    ensemble: Option<sensitivity::Noise>,
+    comparator: Comparator,
+    jobs: Vec<(Case, usize)>,
+    clock: Instant,
+}
+
+impl<'a> ElasticJobs<'a> {
+    /// The study's jobs, with its reference obtained ([`obtain_reference`]).
+    fn new(
+        problem: &'a BoxProblem,
+        config: &'a ElasticStudyConfig,
+        cache: &ReferenceCache,
+        note: &mut dyn FnMut(String),
+    ) -> Result<Self, Error> {
+        let finest = config.validate()?;
+        // An ensemble the problem cannot carry is refused before anything runs.
+        let ensemble = config
+            .sensitivity
+            .map(|ensemble| {
+                sensitivity::noise_scale(problem)
+                    .map(|scale| sensitivity::Noise { ensemble, scale })
+            })
+            .transpose()?;
+        let clock = Instant::now();
+        let reference = obtain_reference(problem, config, cache, note)?;
+        let comparator = Comparator::new(problem, reference, finest)?;
+        let jobs = config
+            .cases
+            .iter()
+            .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
+            .collect();
+        Ok(Self {
+            problem,
+            config,
+            finest,
+            ensemble,
+            comparator,
+            jobs,
+            clock,
+        })
+    }
+
+    /// One job: `case` on `n` elements along the axis, with its ensemble when the study has one.
+    fn run_job(&self, case: Case, n: usize) -> Result<LevelOutcome, Error> {
+        let (problem, config, comparator) = (self.problem, self.config, &self.comparator);
+        let (mut outcome, base) = run_level(
+            problem,
+            config.ratio,
+            case,
+            n,
+            n == self.finest,
+            comparator.comparison(n),
+        )?;
+        if let Some(noise) = self.ensemble.filter(|_| outcome.status.is_completed()) {
+            let members = Instant::now();
+            outcome.ensemble = Some(sensitivity::run_members(
                 problem,
                 config.ratio,
                 case,
                 n,
-                n == finest,
-                comparator.comparison(n),
-            )?;
-            if let Some(noise) = ensemble.filter(|_| outcome.status.is_completed()) {
-                let members = Instant::now();
-                outcome.ensemble = Some(sensitivity::run_members(
-                    problem,
-                    config.ratio,
-                    case,
-                    n,
-                    &comparator,
-                    &base,
-                    noise,
-                )?);
-                outcome.ensemble_seconds = members.elapsed().as_secs_f64();
-            }
-            Ok(outcome)
-        },
-    )?;
-    let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
-        .iter()
-        .map(|(case, n)| (case.id(), *n))
-        .zip(outcomes)
-        .collect();
+                comparator,
+                &base,
+                noise,
+            )?);
+            outcome.ensemble_seconds = members.elapsed().as_secs_f64();
+        }
+        Ok(outcome)
+    }
 
-    let mut histories = Vec::new();
-    let mut ensembles: Vec<Vec<LevelEnsemble>> = Vec::new();
-    let mut ensemble_seconds = 0.0;
-    let mut not_run = Vec::new();
-    let run_cases: Vec<Case> = config
-        .cases
-        .iter()
-        .copied()
-        .filter(|case| {
-            let statuses: Vec<&RunStatus> = config
-                .levels
-                .iter()
-                .map(|&n| &by_job[&(case.id(), n)].status)
-                .collect();
-            let stopped = NotRun::first(*case, &config.levels, &statuses);
-            let completed = stopped.is_none();
-            not_run.extend(stopped);
-            completed
-        })
-        .collect();
-    let cases: Vec<CaseStudy> = run_cases
-        .iter()
-        .map(|case| {
-            let mut records = Vec::new();
-            let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
-            let mut case_ensembles = Vec::new();
-            for &n in &config.levels {
-                let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
-                for (norm, e) in outcome.errors {
-                    errors.entry(norm).or_default().push(e);
-                }
-                records.push(outcome.record);
-                histories.extend(outcome.histories);
-                case_ensembles.extend(outcome.ensemble);
-                ensemble_seconds += outcome.ensemble_seconds;
-            }
-            ensembles.push(case_ensembles);
-            CaseStudy::from_levels(*case, records, errors)
-        })
-        .collect();
-    let study = Study {
-        config: StudyConfig {
-            levels: config.levels.clone(),
-            ratio: config.ratio,
-            horizon: problem.horizon,
-        },
-        norms: Norm::ALL.to_vec(),
-        cases,
-        not_run,
-        wall_seconds: clock.elapsed().as_secs_f64(),
-    };
-    let reference = &comparator.reference;
-    let check = &reference.histories.check;
-    let mut reference_check = ReferenceCheck {
-        case: ElasticStudyConfig::reference_case().id(),
-        level: config.reference_level,
-        elements: reference.mesh.counts().to_vec(),
-        dofs: reference.histories.dofs,
-        steps: reference.histories.steps,
-        dt: reference.histories.dt,
-        seconds: reference.histories.seconds,
-        from_cache: reference.from_cache,
-        next_coarser: check.level,
-        distance: check.distance.clone(),
-        smallest_fitted_error: Norm::ALL
+    /// The study of every job's outcome, in the list's order.
+    fn reduce(
+        &self,
+        outcomes: Vec<LevelOutcome>,
+    ) -> Result<(ElasticStudy, ElasticHistories), Error> {
+        let (problem, config, comparator, jobs, clock) = (
+            self.problem,
+            self.config,
+            &self.comparator,
+            &self.jobs,
+            self.clock,
+        );
+        let ensemble = self.ensemble;
+        let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
             .iter()
-            .map(|n| {
-                let smallest = study
+            .map(|(case, n)| (case.id(), *n))
+            .zip(outcomes)
+            .collect();
+
+        let mut histories = Vec::new();
+        let mut ensembles: Vec<Vec<LevelEnsemble>> = Vec::new();
+        let mut ensemble_seconds = 0.0;
+        let mut not_run = Vec::new();
+        let run_cases: Vec<Case> = config
+            .cases
+            .iter()
+            .copied()
+            .filter(|case| {
+                let statuses: Vec<&RunStatus> = config
+                    .levels
+                    .iter()
+                    .map(|&n| &by_job[&(case.id(), n)].status)
+                    .collect();
+                let stopped = NotRun::first(*case, &config.levels, &statuses);
+                let completed = stopped.is_none();
+                not_run.extend(stopped);
+                completed
+            })
+            .collect();
+        let cases: Vec<CaseStudy> = run_cases
+            .iter()
+            .map(|case| {
+                let mut records = Vec::new();
+                let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
+                let mut case_ensembles = Vec::new();
+                for &n in &config.levels {
+                    let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
+                    for (norm, e) in outcome.errors {
+                        errors.entry(norm).or_default().push(e);
+                    }
+                    records.push(outcome.record);
+                    histories.extend(outcome.histories);
+                    case_ensembles.extend(outcome.ensemble);
+                    ensemble_seconds += outcome.ensemble_seconds;
+                }
+                ensembles.push(case_ensembles);
+                CaseStudy::from_levels(*case, records, errors)
+            })
+            .collect();
+        let study = Study {
+            config: StudyConfig {
+                levels: config.levels.clone(),
+                ratio: config.ratio,
+                horizon: problem.horizon,
+            },
+            norms: Norm::ALL.to_vec(),
+            cases,
+            not_run,
+            wall_seconds: clock.elapsed().as_secs_f64(),
+        };
+        let reference = &comparator.reference;
+        let check = &reference.histories.check;
+        let mut reference_check = ReferenceCheck {
+            case: ElasticStudyConfig::reference_case().id(),
+            level: config.reference_level,
+            elements: reference.mesh.counts().to_vec(),
+            dofs: reference.histories.dofs,
+            steps: reference.histories.steps,
+            dt: reference.histories.dt,
+            seconds: reference.histories.seconds,
+            from_cache: reference.from_cache,
+            next_coarser: check.level,
+            distance: check.distance.clone(),
+            smallest_fitted_error: Norm::ALL
+                .iter()
+                .map(|n| {
+                    let smallest = study
+                        .cases
+                        .iter()
+                        .filter_map(|c| c.norm(*n))
+                        .flat_map(|r| r.errors.iter().copied())
+                        .fold(f64::INFINITY, f64::min);
+                    (n.key().to_string(), smallest)
+                })
+                .collect(),
+            rate_bias: BTreeMap::new(),
+        };
+        reference_check.rate_bias = Norm::ALL
+            .iter()
+            .map(|&n| {
+                let delta = reference_check.distance[n.key()];
+                let worst = study
                     .cases
                     .iter()
-                    .filter_map(|c| c.norm(*n))
-                    .flat_map(|r| r.errors.iter().copied())
-                    .fold(f64::INFINITY, f64::min);
-                (n.key().to_string(), smallest)
+                    .map(|c| rate_bias(c, n, delta))
+                    .fold(0.0, f64::max);
+                (n.key().to_string(), worst.is_finite().then_some(worst))
             })
-            .collect(),
-        rate_bias: BTreeMap::new(),
-    };
-    reference_check.rate_bias = Norm::ALL
-        .iter()
-        .map(|&n| {
-            let delta = reference_check.distance[n.key()];
-            let worst = study
-                .cases
-                .iter()
-                .map(|c| rate_bias(c, n, delta))
-                .fold(0.0, f64::max);
-            (n.key().to_string(), worst.is_finite().then_some(worst))
-        })
-        .collect();
-    let h = &reference.histories;
-    let curves = ReferenceCurves {
-        level: config.reference_level,
-        element_size: reference.mesh.element_sizes()[reference.mesh.dim() - 1],
-        time: h.time.clone(),
-        centre_displacement: h.centre_displacement.clone(),
-        centre_multiplier: h.centre_multiplier.clone(),
-        total_force: h.total_force.clone(),
-        energy: h.energy.clone(),
-    };
-    let findings = note_findings(&study, &|n| reference_check.bias_or_infinite(n.key()));
-    let run_config = ElasticStudyConfig {
-        cases: run_cases,
-        ..config.clone()
-    };
-    let sensitivity = ensemble.map(|noise| {
-        sensitivity::classify(
-            problem,
-            &run_config,
-            noise.ensemble,
-            ensembles,
-            ensemble_seconds,
-        )
-    });
-    Ok((
-        ElasticStudy {
-            dimension: problem.lengths.len(),
-            config: config.clone(),
-            study,
-            reference: reference_check,
-            findings,
-            sensitivity,
-        },
-        ElasticHistories {
-            dimension: problem.lengths.len(),
-            obstacle_gap: problem.obstacle_gap,
-            reference: curves,
-            cases: histories,
-        },
-    ))
+            .collect();
+        let h = &reference.histories;
+        let curves = ReferenceCurves {
+            level: config.reference_level,
+            element_size: reference.mesh.element_sizes()[reference.mesh.dim() - 1],
+            time: h.time.clone(),
+            centre_displacement: h.centre_displacement.clone(),
+            centre_multiplier: h.centre_multiplier.clone(),
+            total_force: h.total_force.clone(),
+            energy: h.energy.clone(),
+        };
+        let findings = note_findings(&study, &|n| reference_check.bias_or_infinite(n.key()));
+        let run_config = ElasticStudyConfig {
+            cases: run_cases,
+            ..config.clone()
+        };
+        let sensitivity = ensemble.map(|noise| {
+            sensitivity::classify(
+                problem,
+                &run_config,
+                noise.ensemble,
+                ensembles,
+                ensemble_seconds,
+            )
+        });
+        Ok((
+            ElasticStudy {
+                dimension: problem.lengths.len(),
+                config: config.clone(),
+                study,
+                reference: reference_check,
+                findings,
+                sensitivity,
+            },
+            ElasticHistories {
+                dimension: problem.lengths.len(),
+                obstacle_gap: problem.obstacle_gap,
+                reference: curves,
+                cases: histories,
+            },
+        ))
+    }
+}
+
+impl JobList for ElasticJobs<'_> {
+    type Output = LevelOutcome;
+
+    fn len(&self) -> usize {
+        self.jobs.len()
+    }
+
+    fn size(&self, index: usize) -> usize {
+        self.jobs[index].1
+    }
+
+    fn run(&self, index: usize) -> Result<LevelOutcome, Error> {
+        let (case, n) = self.jobs[index];
+        self.run_job(case, n)
+    }
 }
 
 /// How far the least-squares rate of `norm` in `case` can move when each error is off by at most
