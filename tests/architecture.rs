@@ -8,8 +8,7 @@
 //! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
 //!   children, is a component's root and is left to the rule above).
 //!
-//! Inside the library every path names its layer: the old root paths (`crate::fem`, …) are
-//! re-exports for users and are not used internally.
+//! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -236,7 +235,7 @@ fn every_crate_path_names_its_layer() {
     }
     assert!(
         unresolved.is_empty(),
-        "paths through the root re-exports instead of a layer:\n{}",
+        "paths that name no module of a layer:\n{}",
         unresolved.join("\n")
     );
 }
