@@ -16,6 +16,7 @@ pub mod nested_comparison;
 pub mod norms;
 pub mod output_dir;
 pub mod paraview;
+pub mod problem;
 pub mod rates;
 pub mod report;
 pub mod run;

@@ -1,5 +1,6 @@
 //! One run: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
-//! while observers accumulate only the requested error norms and histories.
+//! while observers accumulate only the requested error norms and histories. An [`Observer`]
+//! sees each state as the engine's [`TimeIntegrator`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -16,6 +17,7 @@ use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 pub use crate::engine::problem::Problem1d;
+pub use crate::engine::schemes::TimeIntegrator;
 
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;

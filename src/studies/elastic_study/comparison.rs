@@ -21,12 +21,11 @@
 use std::collections::BTreeMap;
 
 use super::reference::ReferenceHistories;
-use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::nested_comparison::error_series::ErrorSeries;
 use crate::harness::nested_comparison::projection::{LevelProjections, NormMatrices};
 use crate::harness::norms::Norm;
-use crate::harness::run::Observer;
+use crate::harness::run::{Observer, TimeIntegrator};
 
 /// Accumulates the errors of one coarse run against the reference.
 #[derive(Debug)]

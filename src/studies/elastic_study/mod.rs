@@ -33,17 +33,15 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::error::ParameterError;
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::{Scheme, TimeIntegrator};
 use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
-use crate::harness::error::Error;
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::nested_comparison::projection::NormMatrices;
 use crate::harness::norms::Norm;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::rates::fit_rate;
-use crate::harness::run::{Observables, Observer, RunConfig, RunStatus};
+use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
 use crate::harness::shard::range::{errors_out_of_range, positive};
@@ -134,7 +132,7 @@ impl ElasticStudyConfig {
                  level coarser are both nested with every level",
             ));
         }
-        crate::engine::error::require_positive("ratio", self.ratio)?;
+        crate::harness::error::require_positive("ratio", self.ratio)?;
         if let Some(ensemble) = &self.sensitivity {
             ensemble.validate()?;
         }

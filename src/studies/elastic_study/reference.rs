@@ -26,18 +26,16 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::engine::error::ParameterError;
-use crate::engine::fem::{BoxMesh, MassVariant};
-use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
-use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
-use crate::harness::error::Error;
+use crate::harness::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::input::{self, InputError, JsonError, Limit};
 use crate::harness::manifest::hex;
 use crate::harness::nested_comparison::check::{CheckComparison, CheckSender};
 use crate::harness::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the

@@ -22,18 +22,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use crate::engine::contact::ContactTreatment;
-use crate::engine::error::SolveError;
-use crate::engine::fem::MassVariant;
-use crate::engine::problem::Perturbation;
-use crate::engine::schemes::{Conventions, Scheme, TimeIntegrator};
-use crate::harness::error::Error;
+use crate::harness::error::{Error, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
 use crate::harness::norms::Norm;
+use crate::harness::problem::{ContactTreatment, Conventions, MassVariant, Perturbation, Scheme};
 use crate::harness::run::exact::ErrorObservers;
-use crate::harness::run::{drive, time_grid, Observer, RunStatus};
+use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
 use crate::harness::sensitivity::PARTING;
 use crate::studies::benchmark::dirichlet;
 
@@ -154,7 +150,7 @@ pub struct Reproduction {
 pub fn harness_setup(
     root: &Path,
     config: &DemoConfig,
-) -> Result<(crate::engine::problem::Problem1d, MassVariant, Scheme, f64), Error> {
+) -> Result<(crate::harness::problem::Problem1d, MassVariant, Scheme, f64), Error> {
     let mut problem = dirichlet(root, config.horizon)?;
     problem.contact = match config.version {
         DemoVersion::Penalty => format!("penalty(gamma0={})", config.gamma0_p).parse()?,
