@@ -176,7 +176,7 @@ pub struct RunResult {
     /// Steps that needed a complementarity solve.
     pub contact_solves: usize,
     /// The largest complementarity violation of any step (see
-    /// [`TimeIntegrator::complementarity_violation`](crate::engine::schemes::TimeIntegrator::complementarity_violation)).
+    /// [`TimeIntegrator::complementarity_violation`]).
     pub complementarity_violation: f64,
     /// Wall-clock split.
     pub timings: Timings,
