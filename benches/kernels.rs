@@ -23,15 +23,15 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
 use signorini::harness::artifacts::{write_atomic, write_json};
+use signorini::harness::norms::Norm;
 use signorini::harness::output_dir::{Replace, StagedDir};
-use signorini::norms::Norm;
-use signorini::run::{run, Observables, RunConfig, RunResult};
-use signorini::schemes::Scheme;
+use signorini::harness::run::{run, Observables, RunConfig, RunResult};
+use signorini::harness::study::Case;
 use signorini::studies::benchmark::dirichlet;
 use signorini::studies::tables::{tables_sensitivity, tables_study};
-use signorini::study::Case;
 
 const NS_PER_DOF_STEP_TARGET: f64 = 25.0;
 const STUDY_SECONDS_TARGET: f64 = 15.0;

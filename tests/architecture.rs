@@ -1,20 +1,30 @@
 //! The layering of `src/`, checked on the import graph the source states.
 //!
 //! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
-//! defines it. Three rules hold:
+//! defines it. Five rules hold:
 //! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
 //!   `harness` does not import `studies`;
+//! - a layer does not skip the layers between it and a lower one it is listed with in
+//!   [`REACHED_THROUGH_THE_LAYERS_BETWEEN`]: neither `studies` nor `commands` imports anything
+//!   under `engine`; they take what they need of it from the harness's public face
+//!   (`harness::problem`, `harness::error`, …);
 //! - the components (a layer's direct children: `engine::fem`, `harness::run`, …) form no cycle;
 //! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
-//!   children, is a component's root and is left to the rule above).
+//!   children, is a component's root and is left to the rule above);
+//! - in `commands/`, no file imports the dispatcher (`mod.rs`) and no subcommand's file imports
+//!   another's: they share only [`SHARED_COMMAND_PARTS`].
 //!
-//! Inside the library every path names its layer: the old root paths (`crate::fem`, …) are
-//! re-exports for users and are not used internally.
+//! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 const LAYERS: [&str; 4] = ["engine", "harness", "studies", "commands"];
+
+/// Pairs (layer, lower layer): the layer imports nothing under the lower layer directly, only
+/// what the layers between re-export or wrap. One line per pair.
+const REACHED_THROUGH_THE_LAYERS_BETWEEN: &[(&str, &str)] =
+    &[("studies", "engine"), ("commands", "engine")];
 
 /// A module path such as `["engine", "fem", "bar1d"]`.
 type ModPath = Vec<String>;
@@ -236,7 +246,7 @@ fn every_crate_path_names_its_layer() {
     }
     assert!(
         unresolved.is_empty(),
-        "paths through the root re-exports instead of a layer:\n{}",
+        "paths that name no module of a layer:\n{}",
         unresolved.join("\n")
     );
 }
@@ -261,6 +271,38 @@ fn layers_import_downward_only() {
         upward.is_empty(),
         "imports of a layer above:\n{}",
         upward.join("\n")
+    );
+}
+
+#[test]
+fn no_layer_skips_the_layers_between() {
+    let modules = modules();
+    let rank = |layer: &str| LAYERS.iter().position(|l| *l == layer).unwrap();
+    let skipping: Vec<String> = import_graph(&modules)
+        .into_iter()
+        .flat_map(|(from, targets)| {
+            let skipped: Vec<ModPath> = targets
+                .into_iter()
+                .filter(|to| {
+                    REACHED_THROUGH_THE_LAYERS_BETWEEN.contains(&(from[0].as_str(), to[0].as_str()))
+                })
+                .collect();
+            skipped.into_iter().map(move |to| {
+                let between = &LAYERS[rank(&to[0]) + 1..rank(&from[0])];
+                format!(
+                    "{} imports {} (reach {} through {})",
+                    show(&from),
+                    show(&to),
+                    to[0],
+                    between.join(" or ")
+                )
+            })
+        })
+        .collect();
+    assert!(
+        skipping.is_empty(),
+        "imports that skip a layer:\n{}",
+        skipping.join("\n")
     );
 }
 

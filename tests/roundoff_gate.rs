@@ -7,14 +7,14 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
-use signorini::fem::MassVariant;
-use signorini::golden::{compare, compare_ensemble, read_golden, render_drifts};
-use signorini::norms::Norm;
-use signorini::run::Problem1d;
-use signorini::schemes::{Scheme, REASSOCIATED_PREDICTOR};
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::{Scheme, REASSOCIATED_PREDICTOR};
+use signorini::harness::golden::{compare, compare_ensemble, read_golden, render_drifts};
+use signorini::harness::norms::Norm;
+use signorini::harness::run::Problem1d;
+use signorini::harness::study::{run_study, Case, StudyConfig};
 use signorini::studies::benchmark;
 use signorini::studies::tables::{tables_sensitivity, GOLDEN_TABLES};
-use signorini::study::{run_study, Case, StudyConfig};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
 fn dirichlet(horizon: f64) -> Problem1d {

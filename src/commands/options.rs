@@ -6,13 +6,13 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::engine::contact::ContactTreatment;
-use crate::engine::error::ParameterError;
-use crate::engine::fem::MassVariant;
-use crate::engine::linalg::LinearSolver;
-use crate::engine::schemes::conventions::{Conventions, Start};
-use crate::engine::schemes::Scheme;
+use crate::harness::error::ParameterError;
 use crate::harness::norms::Norm;
+use crate::harness::problem::ContactTreatment;
+use crate::harness::problem::LinearSolver;
+use crate::harness::problem::MassVariant;
+use crate::harness::problem::Scheme;
+use crate::harness::problem::{Conventions, Start};
 
 /// The reports directory of `make report`, relative to the repository root: the default
 /// `--out` of the commands that write reports.

@@ -10,14 +10,14 @@ use super::limits::LimitArgs;
 use super::options::{
     parse_contact, parse_mass, parse_scheme, warn_schemes, ConventionArgs, LinearSolverArgs,
 };
-use crate::engine::contact::ContactTreatment;
-use crate::engine::fem::MassVariant;
-use crate::engine::problem::{BoxProblem, Problem};
-use crate::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
-use crate::engine::schemes::Scheme;
 use crate::harness::budget;
 use crate::harness::elastic::run_box;
 use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::problem::ContactTreatment;
+use crate::harness::problem::MassVariant;
+use crate::harness::problem::Scheme;
+use crate::harness::problem::{BoxProblem, Problem};
+use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::{run, Observables, RunConfig};
 use crate::harness::run_files::{box_history_csv, history_csv, RUN_JSON};
 use crate::harness::scene::Scene;

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
-use crate::engine::error::ParameterError;
 use crate::harness::artifacts::write_json;
+use crate::harness::error::ParameterError;
 use crate::harness::executor::{Executed, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};

@@ -16,16 +16,16 @@ use super::options::{
     ConventionArgs, LinearSolverArgs,
 };
 use super::sharding::{complete_or_write, shard_output, this_invocation, ShardArgs};
-use crate::engine::contact::ContactTreatment;
-use crate::engine::fem::MassVariant;
-use crate::engine::problem::{BoxProblem, Problem};
-use crate::engine::schemes::Scheme;
 use crate::harness::budget;
 use crate::harness::error::Error;
 use crate::harness::executor::{Executor, Jobs};
 use crate::harness::input::Shown;
 use crate::harness::norms::Norm;
 use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::problem::ContactTreatment;
+use crate::harness::problem::MassVariant;
+use crate::harness::problem::Scheme;
+use crate::harness::problem::{BoxProblem, Problem};
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};

@@ -20,7 +20,8 @@ use vtkio::model::{
 
 use crate::engine::contact::{ContactSet, Truncation};
 use crate::engine::error::StateField;
-use crate::engine::fem::box_mesh::{BoxMesh, Elasticity, VTK_HEXAHEDRON};
+pub use crate::engine::fem::box_mesh::BoxMesh;
+use crate::engine::fem::box_mesh::{Elasticity, VTK_HEXAHEDRON};
 use crate::engine::linalg::SolveCounts;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;

@@ -1,12 +1,14 @@
-//! Errors of the harness: the engine's, plus the files it reads and writes (scene files among
-//! them).
+//! Errors of the harness: the engine's (its [`ParameterError`], with the check
+//! [`require_positive`] that makes one, and its [`SolveError`]), plus the files it reads and
+//! writes (scene files among them).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::engine::error::{self as engine, ParameterError, SolveError};
+use crate::engine::error as engine;
+pub use crate::engine::error::{require_positive, ParameterError, SolveError};
 pub use crate::harness::input::printable;
 use crate::harness::input::{shown, InputError, JsonError, Shown};
 

@@ -1,6 +1,6 @@
 //! The harness: scenes, runs and what they observe, norms, convergence rates, studies over
-//! cases and levels, round-off ensembles, golden files, and the renderers of reports and
-//! figures. It drives the engine and knows nothing of any particular study.
+//! cases and levels, box runs compared across nested meshes, round-off ensembles, golden files,
+//! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
 
 pub mod artifacts;
 pub mod budget;
@@ -13,9 +13,11 @@ pub mod getfem;
 pub mod golden;
 pub mod input;
 pub mod manifest;
+pub mod nested_comparison;
 pub mod norms;
 pub mod output_dir;
 pub mod paraview;
+pub mod problem;
 pub mod rates;
 pub mod report;
 pub mod run;

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::error::SceneError;
+use crate::harness::problem::{Problem, Problem1d};
 use crate::harness::scene::Scene;
 
 /// The Signorini–Dirichlet benchmark's scene (1D paper §5, Tables 1–2), relative to the

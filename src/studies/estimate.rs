@@ -5,11 +5,10 @@
 
 use std::path::Path;
 
-use crate::engine::fem::MassVariant;
 use crate::harness::budget::{self, Estimate};
 use crate::harness::error::Error;
 use crate::harness::executor::Executor;
-use crate::harness::run::Problem1d;
+use crate::harness::problem::{MassVariant, Problem1d};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::{Case, StudyConfig};
@@ -74,7 +73,7 @@ pub fn report(root: &Path) -> Result<Estimate, Error> {
 /// ensemble, its reference computed afresh.
 pub fn golden(root: &Path) -> Result<Estimate, Error> {
     let scene = Scene::load(&root.join(ELASTIC_2D_SCENE))?;
-    let crate::engine::problem::Problem::Box(problem) = scene.problem() else {
+    let crate::harness::problem::Problem::Box(problem) = scene.problem() else {
         return report(root);
     };
     let config = ElasticStudyConfig::from_scene(&scene, None)?;

@@ -11,16 +11,13 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::contact::ContactTreatment;
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::golden::{check_values, Golden, Tolerances};
 use crate::harness::input::GOLDEN_FILE;
 use crate::harness::norms::Norm;
-use crate::harness::run::Problem1d;
+use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
 use crate::harness::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };

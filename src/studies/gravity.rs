@@ -6,9 +6,9 @@
 
 use std::path::Path;
 
-use crate::engine::fem::MassVariant;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
+use crate::harness::problem::MassVariant;
 use crate::harness::report::convergence_tables;
 use crate::harness::run::{run, RunConfig};
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};

@@ -6,11 +6,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_json_compact;
 use crate::harness::error::Error;
 use crate::harness::executor::run_local;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;

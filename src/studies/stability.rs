@@ -24,11 +24,10 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::exact::AtRest;
-use crate::engine::problem::{InitialData, Perturbation, Problem1d, Profile};
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::executor::{run_local, Executed, Executor, Jobs};
+use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile};
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};

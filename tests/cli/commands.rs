@@ -261,7 +261,7 @@ fn check_balance_reports_the_largest_residual_in_text_and_json() {
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("run.json")).unwrap()).unwrap();
     let residual = json["max_balance_residual"].as_f64().expect("a number");
     assert!(
-        residual > 0.0 && residual <= signorini::schemes::energy_balance::BALANCE_TOLERANCE,
+        residual > 0.0 && residual <= signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE,
         "{residual:e}"
     );
     // A box run checks the same balance on the box's matrices (eq. 35 for backward Euler).
@@ -287,7 +287,7 @@ fn check_balance_reports_the_largest_residual_in_text_and_json() {
         serde_json::from_str(&std::fs::read_to_string(box_out.join("run.json")).unwrap()).unwrap();
     let residual = json["max_balance_residual"].as_f64().expect("a number");
     assert!(
-        residual <= signorini::schemes::energy_balance::BALANCE_TOLERANCE,
+        residual <= signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE,
         "{residual:e}"
     );
 }

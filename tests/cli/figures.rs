@@ -12,14 +12,14 @@
 
 use std::path::{Path, PathBuf};
 
-use signorini::figures::{
+use signorini::harness::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,
 };
-use signorini::rates::RateFit;
-use signorini::run::{ContactHistory, EnergyHistory};
-use signorini::sensitivity::Spread;
+use signorini::harness::rates::RateFit;
+use signorini::harness::run::{ContactHistory, EnergyHistory};
+use signorini::harness::sensitivity::Spread;
 
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG back.

@@ -15,12 +15,12 @@ use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
 use serde_json::{json, Value};
 
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::problem::Problem;
+use signorini::engine::schemes::Scheme;
 use signorini::harness::budget::{self, Limits};
+use signorini::harness::run::{Observables, RunConfig};
 use signorini::harness::scene::Scene;
-use signorini::problem::Problem;
-use signorini::run::{Observables, RunConfig};
-use signorini::schemes::Scheme;
 
 /// The slowest a refusal or a tiny run may take.
 const SECONDS: u64 = 5;

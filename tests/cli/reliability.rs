@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use serde_json::{json, Value};
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
 use signorini::harness::shard::ShardFile;
-use signorini::schemes::Scheme;
 
 use crate::external_runs::{export_run, write_csv};
 use crate::watched::{scratch, watched};

@@ -5,21 +5,22 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use signorini::fem::MassVariant;
-use signorini::figures::convergence::convergence_figures;
-use signorini::figures::from_reports::{
-    reports_index, scheme_figures, stability_figures, write_figures, SchemeHistories,
-};
-use signorini::figures::FigureError;
-use signorini::norms::Norm;
-use signorini::run::{run, Observables, Problem1d, RunConfig};
-use signorini::schemes::Scheme;
-use signorini::sensitivity::{
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::figures::FigureError;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
+use signorini::harness::sensitivity::{
     CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
-use signorini::stability::{hard_cases, judge};
+use signorini::harness::study::{run_study, Case, Study, StudyConfig};
 use signorini::studies::benchmark;
-use signorini::study::{run_study, Case, Study, StudyConfig};
+use signorini::studies::figures::convergence::convergence_figures;
+use signorini::studies::figures::from_reports::{
+    reports_index, scheme_figures, stability_figures, write_figures,
+};
+use signorini::studies::histories::SchemeHistories;
+use signorini::studies::stability::{hard_cases, judge};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
 fn dirichlet(horizon: f64) -> Problem1d {

@@ -3,14 +3,14 @@
 
 use std::path::Path;
 
-use signorini::contact::ContactTreatment;
-use signorini::fem::{EndCondition, MassVariant};
-use signorini::norms::Norm;
-use signorini::problem::{InitialData, Problem};
-use signorini::run::{run, Problem1d, RunConfig};
-use signorini::scene::{scene_files, Scene, SceneError};
-use signorini::schemes::Scheme;
-use signorini::study::StudyConfig;
+use signorini::engine::contact::ContactTreatment;
+use signorini::engine::fem::{EndCondition, MassVariant};
+use signorini::engine::problem::{InitialData, Problem};
+use signorini::engine::schemes::Scheme;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{run, Problem1d, RunConfig};
+use signorini::harness::scene::{scene_files, Scene, SceneError};
+use signorini::harness::study::StudyConfig;
 
 fn scene(name: &str) -> Scene {
     Scene::load(

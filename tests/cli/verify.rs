@@ -9,8 +9,8 @@ use crate::external_runs::{export_run, write_csv, write_json, SCENE};
 use std::path::{Path, PathBuf};
 
 use common::{expect_error, signorini, success_stdout};
-use signorini::fem::MassVariant;
-use signorini::schemes::Scheme;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
 use signorini::studies::benchmark;
 
 fn scratch(name: &str) -> PathBuf {

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use signorini::problem::Problem1d;
+use signorini::engine::problem::Problem1d;
 use signorini::studies::benchmark;
 
 fn root() -> &'static Path {

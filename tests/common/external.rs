@@ -5,11 +5,11 @@
 use std::path::Path;
 use std::time::Instant;
 
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::problem::Problem1d;
+use signorini::engine::schemes::{Scheme, TimeIntegrator};
 use signorini::harness::error::Error;
-use signorini::problem::Problem1d;
-use signorini::run::{drive, Observer};
-use signorini::schemes::{Scheme, TimeIntegrator};
+use signorini::harness::run::{drive, Observer};
 
 /// The Dirichlet scene's file and name.
 pub const SCENE: &str = "scenes/bar1d-dirichlet.json";

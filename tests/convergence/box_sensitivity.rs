@@ -5,20 +5,20 @@
 
 use std::path::{Path, PathBuf};
 
-use signorini::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
-use signorini::elastic_study::reference::ReferenceCache;
-use signorini::elastic_study::report::render;
-use signorini::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
-use signorini::error::Error;
-use signorini::fem::MassVariant;
-use signorini::norms::Norm;
-use signorini::problem::{Perturbation, Problem};
-use signorini::run::{Observables, RunConfig};
-use signorini::scene::{Scene, SceneError};
-use signorini::schemes::Scheme;
-use signorini::schemes::TimeIntegrator;
-use signorini::sensitivity::{EnsembleConfig, SensitivityClass};
-use signorini::study::Case;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::problem::{Perturbation, Problem};
+use signorini::engine::schemes::Scheme;
+use signorini::engine::schemes::TimeIntegrator;
+use signorini::harness::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
+use signorini::harness::error::Error;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{Observables, RunConfig};
+use signorini::harness::scene::{Scene, SceneError};
+use signorini::harness::sensitivity::{EnsembleConfig, SensitivityClass};
+use signorini::harness::study::Case;
+use signorini::studies::elastic_study::reference::ReferenceCache;
+use signorini::studies::elastic_study::report::render;
+use signorini::studies::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

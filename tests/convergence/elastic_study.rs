@@ -9,7 +9,7 @@ use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
-use signorini::golden::{compare, gate, read_golden, render_drifts};
+use signorini::harness::golden::{compare, gate, read_golden, render_drifts};
 use signorini::harness::manifest::Manifest;
 use signorini::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
@@ -336,7 +336,7 @@ fn work_precision_is_rendered_from_the_studies_data_alone() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     for dir in ["reports", "reports/fine", "reports/finest"] {
         let reports = root.join(dir);
-        let rendered = signorini::cost::render_work_precision(|name| {
+        let rendered = signorini::studies::cost::render_work_precision(|name| {
             Some(reports.join(name)).filter(|p| p.is_file())
         })
         .unwrap();
@@ -352,11 +352,11 @@ fn work_precision_is_rendered_from_the_studies_data_alone() {
 /// worst, the CN/redistributed energy_L2 error at level 80; the rates 3.4e-9).
 #[test]
 fn cg_studies_have_the_errors_and_rates_of_direct_ones_to_1e_8() {
-    use signorini::elastic_study::reference::ReferenceCache;
-    use signorini::elastic_study::{run_elastic_study, ElasticStudyConfig};
-    use signorini::linalg::LinearSolver;
-    use signorini::problem::Problem;
-    use signorini::scene::Scene;
+    use signorini::engine::linalg::LinearSolver;
+    use signorini::engine::problem::Problem;
+    use signorini::harness::scene::Scene;
+    use signorini::studies::elastic_study::reference::ReferenceCache;
+    use signorini::studies::elastic_study::{run_elastic_study, ElasticStudyConfig};
 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = Scene::load(&root.join("scenes/bar2d.json")).unwrap();
@@ -367,7 +367,7 @@ fn cg_studies_have_the_errors_and_rates_of_direct_ones_to_1e_8() {
     config.sensitivity = None;
     let study = |solver: LinearSolver| {
         let cache = temp(&format!("solver-{}", solver.name()));
-        let problem = signorini::elastic::BoxProblem {
+        let problem = signorini::harness::elastic::BoxProblem {
             linear_solver: solver,
             ..problem.clone()
         };

@@ -5,17 +5,17 @@ use crate::benchmarks;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use signorini::extended::{extended_sensitivity, extended_studies, TREATMENTS};
-use signorini::golden::{compare, gate, read_golden, render_drifts, Golden, Tolerances};
-use signorini::norms::Norm;
-use signorini::schemes::Scheme;
-use signorini::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::engine::schemes::Scheme;
+use signorini::harness::golden::{compare, gate, read_golden, render_drifts, Golden, Tolerances};
+use signorini::harness::norms::Norm;
+use signorini::harness::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::harness::study::{run_study, Case, Study, StudyConfig};
+use signorini::studies::extended::{extended_sensitivity, extended_studies, TREATMENTS};
 use signorini::studies::extended::{read_extended_golden, GOLDEN_EXTENDED};
 use signorini::studies::gravity::{gravity_sensitivity, gravity_study, GOLDEN_GRAVITY};
 use signorini::studies::tables::agreement::paper_tables;
 use signorini::studies::tables::paper::PaperTables;
 use signorini::studies::tables::{tables_sensitivity, tables_study, GOLDEN_TABLES};
-use signorini::study::{run_study, Case, Study, StudyConfig};
 
 fn golden() -> Golden {
     read_golden(&Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN_TABLES)).unwrap()
@@ -106,7 +106,7 @@ fn gravity_study_matches_the_golden_rates_and_errors() {
     // reports/gravity.md), which is what this checks for it.
     for c in &study.cases {
         let first = match c.case.mass {
-            signorini::fem::MassVariant::Redistributed => 0,
+            signorini::engine::fem::MassVariant::Redistributed => 0,
             // The study runs `MassVariant::PAPER`: this arm is the standard mass.
             _ => c.levels.iter().position(|l| l.nx == 80).unwrap(),
         };
@@ -131,7 +131,7 @@ fn gate_reports_a_deliberately_wrong_scheme() {
         beta: 0.28,
         gamma: 0.55,
     };
-    let cases: Vec<Case> = signorini::fem::MassVariant::PAPER
+    let cases: Vec<Case> = signorini::engine::fem::MassVariant::PAPER
         .into_iter()
         .map(|mass| Case {
             scheme: wrong,
@@ -170,7 +170,7 @@ fn small_study() -> Study {
     };
     let cases = [Case {
         scheme: Scheme::CRANK_NICOLSON,
-        mass: signorini::fem::MassVariant::Redistributed,
+        mass: signorini::engine::fem::MassVariant::Redistributed,
     }];
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();
     run_study(&benchmarks::dirichlet(3.0), &cases, &norms, &config).unwrap()

@@ -7,11 +7,11 @@ use crate::common;
 use std::collections::BTreeSet;
 
 use common::expect_error;
-use signorini::fem::MassVariant;
-use signorini::norms::Norm;
-use signorini::schemes::Scheme;
-use signorini::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
-use signorini::study::{Case, StudyConfig};
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::norms::Norm;
+use signorini::harness::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
+use signorini::harness::study::{Case, StudyConfig};
 
 /// Crank–Nicolson with the paper's two masses.
 fn crank_nicolson_cases() -> Vec<Case> {
@@ -24,7 +24,7 @@ fn crank_nicolson_cases() -> Vec<Case> {
         .collect()
 }
 
-fn small_sensitivity() -> signorini::sensitivity::Sensitivity {
+fn small_sensitivity() -> signorini::harness::sensitivity::Sensitivity {
     let config = StudyConfig {
         levels: vec![20, 40, 80],
         ratio: 10.0,
@@ -163,7 +163,7 @@ fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
     use signorini::studies::tables::paper::PaperTables;
     let s = small_sensitivity();
     let cases = crank_nicolson_cases();
-    let study = signorini::study::run_study(
+    let study = signorini::harness::study::run_study(
         &benchmarks::dirichlet(3.0),
         &cases,
         &[Norm::DisplacementLinfH, Norm::EnergyL2].into(),

@@ -7,10 +7,10 @@ use crate::benchmarks;
 use std::collections::BTreeSet;
 
 use approx::assert_abs_diff_eq;
-use signorini::fem::MassVariant;
-use signorini::norms::Norm;
-use signorini::run::{self, Observables, RunConfig};
-use signorini::schemes::Scheme;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{self, Observables, RunConfig};
 
 /// The least-squares slope of `log e` against `log h`.
 fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {

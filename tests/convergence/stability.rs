@@ -5,17 +5,17 @@
 use crate::benchmarks;
 use std::path::{Path, PathBuf};
 
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE;
+use signorini::engine::schemes::Scheme;
 use signorini::harness::executor::{Executed, Executor};
+use signorini::harness::sensitivity::SensitivityClass;
 use signorini::harness::shard::merge::merge;
 use signorini::harness::shard::{Invocation, ShardSpec};
-use signorini::schemes::energy_balance::BALANCE_TOLERANCE;
-use signorini::schemes::Scheme;
-use signorini::sensitivity::SensitivityClass;
-use signorini::stability::{
+use signorini::harness::study::Case;
+use signorini::studies::stability::{
     hard_cases, judge, render, run_suite, run_suite_on, HardCase, Verdict, STABILITY_ENSEMBLE,
 };
-use signorini::study::Case;
 
 fn long_horizon() -> HardCase {
     hard_cases(Path::new(env!("CARGO_MANIFEST_DIR")), true)

@@ -2,8 +2,8 @@
 //! conditions, the wave equation with the load `f = −g`, agreement with the paper's series
 //! (eqs. 39–40), the impact times, energy conservation, and the quadrature the harness uses.
 
-use signorini::exact::{BouncingBar, ExactSolution, Pointwise};
-use signorini::norms::gauss_legendre;
+use signorini::engine::exact::{BouncingBar, ExactSolution, Pointwise};
+use signorini::harness::norms::gauss_legendre;
 use std::f64::consts::PI;
 
 /// The paper's (§4.2) and other parameter sets `(L, g, u⁰)`: `t₁ = 3L` exactly (the paper's

@@ -4,12 +4,12 @@
 
 use std::path::Path;
 
-use signorini::elastic::BoxProblem;
+use signorini::engine::linalg::LinearSolver;
+use signorini::engine::problem::Problem;
 use signorini::harness::budget;
+use signorini::harness::elastic::BoxProblem;
 use signorini::harness::executor::Executor;
-use signorini::linalg::LinearSolver;
-use signorini::problem::Problem;
-use signorini::scene::Scene;
+use signorini::harness::scene::Scene;
 
 fn bar3d(solver: LinearSolver) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar3d.json");

@@ -11,13 +11,13 @@
 use std::time::Instant;
 
 use nalgebra::{DMatrix, SMatrix, SymmetricEigen};
-use signorini::contact::ContactSet;
-use signorini::fem::box_mesh::{
+use signorini::engine::contact::ContactSet;
+use signorini::engine::fem::box_mesh::{
     hex_mass, hex_stiffness, quad_mass, quad_stiffness, HEX_CORNERS, QUAD_CORNERS, VTK_HEXAHEDRON,
     VTK_QUAD,
 };
-use signorini::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
-use signorini::model::Model;
+use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::engine::model::Model;
 
 /// A material with `λ ≠ μ` and `ρ ≠ 1`, so that a swapped parameter shows.
 const STEEL_LIKE: Elasticity = Elasticity {

@@ -2,12 +2,14 @@
 //! Tables 1–2, with both mass matrices, on the Signorini–Dirichlet benchmark (§5.2 setting), and
 //! the redistributed mass keeps the contact node in contact through the exact contact phase.
 
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
+use signorini::engine::model::Model;
 use signorini::engine::schemes::Conventions;
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::fem::{Bar1d, EndCondition, MassVariant};
-use signorini::model::Model;
-use signorini::run::time_grid;
-use signorini::schemes::{initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator};
+use signorini::engine::schemes::{
+    initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator,
+};
+use signorini::harness::run::time_grid;
 
 const COMPLEMENTARITY_TOL: f64 = 1e-12;
 

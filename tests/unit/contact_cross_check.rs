@@ -2,16 +2,16 @@
 //! set method and clarabel's interior-point QP give the same displacements and contact forces
 //! at every step, and complementarity holds at every step.
 
-use signorini::contact::ClarabelContact;
+use signorini::engine::contact::ClarabelContact;
+use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
+use signorini::engine::fem::MassVariant;
+use signorini::engine::model::Model;
 use signorini::engine::schemes::conventions::NitscheAcceleration;
 use signorini::engine::schemes::Conventions;
-use signorini::fem::box_mesh::{BoxMesh, Elasticity};
-use signorini::fem::MassVariant;
-use signorini::model::Model;
-use signorini::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
+use signorini::engine::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
 
 fn setup(mesh: &BoxMesh, mass: MassVariant) -> (Model, Vec<f64>, Vec<f64>) {
-    let model = signorini::model::Model::of_box(mesh, &Elasticity::NOTE, mass, Some(0.2));
+    let model = signorini::engine::model::Model::of_box(mesh, &Elasticity::NOTE, mass, Some(0.2));
     let u0 = vec![0.0; model.n_dofs()];
     let d = mesh.dim();
     let v0 = mesh.interpolate(|_| {

@@ -11,16 +11,16 @@ use std::collections::BTreeSet;
 
 use common::{expect_error, signorini, success_stdout};
 
-use signorini::contact::{ContactLaw, ContactTreatment};
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::fem::box_mesh::{BoxMesh, Elasticity};
-use signorini::fem::{Bar1d, EndCondition, MassVariant};
-use signorini::model::Model;
-use signorini::norms::Norm;
-use signorini::rates::fit_rate;
-use signorini::run::{run, Observables, Problem1d, RunConfig};
-use signorini::schemes::energy_balance::BalanceMonitor;
-use signorini::schemes::{integrator, Scheme, TimeIntegrator};
+use signorini::engine::contact::{ContactLaw, ContactTreatment};
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
+use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
+use signorini::engine::model::Model;
+use signorini::engine::schemes::energy_balance::BalanceMonitor;
+use signorini::engine::schemes::{integrator, Scheme, TimeIntegrator};
+use signorini::harness::norms::Norm;
+use signorini::harness::rates::fit_rate;
+use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;

@@ -12,14 +12,18 @@
 //! `tests/convergence/stability.rs`) and by `run --check-balance` (`tests/cli/commands.rs`).
 
 use crate::benchmarks;
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
+use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
+use signorini::engine::model::Model;
+use signorini::engine::schemes::energy_balance::{
+    self, BalanceMonitor, Level, StepBalance, ThreeLevels,
+};
 use signorini::engine::schemes::Conventions;
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::fem::box_mesh::{BoxMesh, Elasticity};
-use signorini::fem::{Bar1d, EndCondition, MassVariant};
-use signorini::model::Model;
-use signorini::run::time_grid;
-use signorini::schemes::energy_balance::{self, BalanceMonitor, Level, StepBalance, ThreeLevels};
-use signorini::schemes::{initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator};
+use signorini::engine::schemes::{
+    initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator,
+};
+use signorini::harness::run::time_grid;
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;
@@ -374,7 +378,7 @@ fn printed_load_term_of_eq_31_is_not_conserved() {
 /// with `E = ½VᵀMV + ½UᵀSU − FᵀU` the energy without the contact term.
 #[test]
 fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
-    use signorini::contact::ContactLaw;
+    use signorini::engine::contact::ContactLaw;
     for contact in [
         "penalty(gamma0=10)",
         "nitsche(theta=-1,gamma0=10)",

@@ -7,16 +7,19 @@ use crate::common;
 use signorini::engine::schemes::Conventions;
 
 use nalgebra::DMatrix;
-use signorini::contact::{ContactOperator, ContactTreatment};
-use signorini::elastic::{run_box, BoxProblem};
-use signorini::error::{EngineError, Error, SolveError};
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
-use signorini::linalg::LinearSolver;
-use signorini::model::Model;
-use signorini::run::{Observables, RunConfig};
-use signorini::schemes::cfl::{largest_eigenvalue, stable_step};
-use signorini::schemes::{initial_state, integrator, ExplicitNewmark, Scheme, TimeIntegrator};
+use signorini::engine::contact::{ContactOperator, ContactTreatment};
+use signorini::engine::error::{Error as EngineError, SolveError};
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::{Bar1d, Elasticity, EndCondition, MassVariant, SymmetricMatrix};
+use signorini::engine::linalg::LinearSolver;
+use signorini::engine::model::Model;
+use signorini::engine::schemes::cfl::{largest_eigenvalue, stable_step};
+use signorini::engine::schemes::{
+    initial_state, integrator, ExplicitNewmark, Scheme, TimeIntegrator,
+};
+use signorini::harness::elastic::{run_box, BoxProblem};
+use signorini::harness::error::Error;
+use signorini::harness::run::{Observables, RunConfig};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [
     MassVariant::Redistributed,

@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 
 use crate::benchmarks;
 use crate::external_runs::{export_run, write_csv, write_json, SCENE};
-use signorini::fem::MassVariant;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
 use signorini::harness::external::load::load;
 use signorini::harness::external::{compare, verify, ExternalError, VerifyGolden};
-use signorini::norms::Norm;
-use signorini::scene::Scene;
-use signorini::schemes::Scheme;
-use signorini::study::{run_study, Case, StudyConfig};
+use signorini::harness::norms::Norm;
+use signorini::harness::scene::Scene;
+use signorini::harness::study::{run_study, Case, StudyConfig};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-ext-{}-{name}", std::process::id()));
@@ -164,7 +164,7 @@ fn edited(dir: &Path, name: &str, base: &str, from: &str, to: &str) -> PathBuf {
 fn malformed_or_inconsistent_files_are_errors_naming_the_field() {
     let dir = scratch("malformed");
     let scene = scene();
-    let signorini::problem::Problem::Bar(problem) = scene.problem() else {
+    let signorini::engine::problem::Problem::Bar(problem) = scene.problem() else {
         panic!("a bar scene")
     };
     let check = |path: PathBuf| load(&path, &scene.name, &problem);

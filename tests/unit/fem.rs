@@ -7,8 +7,8 @@
 //! differences or our own quadrature), never read back from the code under test.
 
 use approx::assert_abs_diff_eq;
-use signorini::fem::{Bar1d, EndCondition, MassVariant, SparseAssembler, SymmetricMatrix};
-use signorini::model::Model;
+use signorini::engine::fem::{Bar1d, EndCondition, MassVariant, SparseAssembler, SymmetricMatrix};
+use signorini::engine::model::Model;
 
 const END_CONDITIONS: [EndCondition; 2] = [EndCondition::Clamped, EndCondition::Free];
 const MESHES: [usize; 4] = [1, 2, 7, 64];

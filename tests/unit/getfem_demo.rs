@@ -10,16 +10,16 @@ use std::time::Instant;
 use crate::benchmarks;
 use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
+use signorini::engine::problem::Perturbation;
+use signorini::engine::schemes::Scheme;
 use signorini::engine::schemes::{SchemeState, TimeIntegrator, Timed};
-use signorini::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::harness::error::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
     DemoSeries, DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,
 };
-use signorini::problem::Perturbation;
-use signorini::run::{drive, time_grid, Observer};
-use signorini::schemes::Scheme;
+use signorini::harness::run::{drive, time_grid, Observer};
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/getfem")

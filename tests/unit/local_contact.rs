@@ -5,14 +5,16 @@
 
 use std::path::Path;
 
-use signorini::contact::{ContactOperator, ContactTreatment, Delassus, LocalDelassus, SlabSolve};
-use signorini::elastic::{run_box, BoxProblem, BoxRunResult};
-use signorini::fem::{MassVariant, SymmetricMatrix};
-use signorini::linalg::{LinearSolver, StepSolver};
-use signorini::problem::Problem;
-use signorini::run::{Observables, RunConfig, RunStatus};
-use signorini::scene::Scene;
-use signorini::schemes::Scheme;
+use signorini::engine::contact::{
+    ContactOperator, ContactTreatment, Delassus, LocalDelassus, SlabSolve,
+};
+use signorini::engine::fem::{MassVariant, SymmetricMatrix};
+use signorini::engine::linalg::{LinearSolver, StepSolver};
+use signorini::engine::problem::Problem;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::{Observables, RunConfig, RunStatus};
+use signorini::harness::scene::Scene;
 
 fn box_problem(scene: &str, contact: ContactTreatment, operator: ContactOperator) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
@@ -34,7 +36,10 @@ fn step_matrix(
     nx: usize,
     b: f64,
     contact: ContactTreatment,
-) -> (SymmetricMatrix, Vec<signorini::contact::ConstraintRow>) {
+) -> (
+    SymmetricMatrix,
+    Vec<signorini::engine::contact::ConstraintRow>,
+) {
     step_matrix_with(scene, nx, b, contact, MassVariant::Standard)
 }
 
@@ -45,7 +50,10 @@ fn step_matrix_with(
     b: f64,
     contact: ContactTreatment,
     mass: MassVariant,
-) -> (SymmetricMatrix, Vec<signorini::contact::ConstraintRow>) {
+) -> (
+    SymmetricMatrix,
+    Vec<signorini::engine::contact::ConstraintRow>,
+) {
     let problem = box_problem(scene, contact, ContactOperator::Auto);
     let d = problem.discretise(nx, mass).unwrap();
     let dt = problem.lengths.last().unwrap() / nx as f64 / 2.0;

@@ -5,10 +5,10 @@
 use crate::benchmarks;
 use signorini::engine::schemes::Conventions;
 
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
-use signorini::fem::{Bar1d, BoxMesh, EndCondition, MassVariant, SymmetricMatrix};
-use signorini::model::Model;
-use signorini::schemes::{initial_state, residual_force};
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::fem::{Bar1d, BoxMesh, EndCondition, MassVariant, SymmetricMatrix};
+use signorini::engine::model::Model;
+use signorini::engine::schemes::{initial_state, residual_force};
 
 const DENSITY: f64 = 2.5;
 const EXTENDED: [MassVariant; 2] = [
@@ -226,9 +226,9 @@ fn box_variants_keep_the_mass_per_component() {
                     assert!(close(a, b), "{d}D {mass} first moment {c}: {a} vs {b}");
                 }
             }
-            let model = signorini::model::Model::of_box(
+            let model = signorini::engine::model::Model::of_box(
                 &mesh,
-                &signorini::fem::Elasticity::NOTE,
+                &signorini::engine::fem::Elasticity::NOTE,
                 mass,
                 Some(0.2),
             );

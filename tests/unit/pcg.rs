@@ -4,15 +4,15 @@
 
 use std::path::Path;
 
-use signorini::elastic::{run_box, BoxProblem, BoxRunResult};
-use signorini::fem::{MassVariant, SparseAssembler};
-use signorini::linalg::{
+use signorini::engine::fem::{MassVariant, SparseAssembler};
+use signorini::engine::linalg::{
     LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, AUTO_CG_FROM_DOFS, DEFAULT_TOLERANCE,
 };
-use signorini::problem::Problem;
-use signorini::run::{Observables, RunConfig};
-use signorini::scene::Scene;
-use signorini::schemes::Scheme;
+use signorini::engine::problem::Problem;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::{Observables, RunConfig};
+use signorini::harness::scene::Scene;
 
 /// A random symmetric matrix with `per_row` off-diagonal entries in `[−1, 1]` per row and a
 /// diagonal of `2·per_row + 1` (strictly diagonally dominant, hence SPD).
@@ -20,7 +20,7 @@ fn random_spd(
     n: usize,
     per_row: usize,
     rng: &mut fastrand::Rng,
-) -> signorini::fem::SymmetricMatrix {
+) -> signorini::engine::fem::SymmetricMatrix {
     let mut upper = Vec::new();
     for i in 0..n {
         upper.push((i * n + i, 2.0 * per_row as f64 + 1.0 + rng.f64()));
@@ -32,7 +32,7 @@ fn random_spd(
             }
         }
     }
-    signorini::fem::SymmetricMatrix::from_upper_contributions(n, upper)
+    signorini::engine::fem::SymmetricMatrix::from_upper_contributions(n, upper)
 }
 
 #[test]

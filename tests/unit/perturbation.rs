@@ -5,12 +5,12 @@
 use crate::benchmarks;
 use std::path::Path;
 
-use signorini::fem::MassVariant;
-use signorini::problem::{InitialData, Perturbation, Problem};
-use signorini::run::{run, Observables, Problem1d, RunConfig, RunResult};
-use signorini::scene::Scene;
-use signorini::schemes::Scheme;
-use signorini::stability::hard_cases;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::problem::{InitialData, Perturbation, Problem};
+use signorini::engine::schemes::Scheme;
+use signorini::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use signorini::harness::scene::Scene;
+use signorini::studies::stability::hard_cases;
 
 /// The problem of a bar1d scene.
 fn bar(scene: &Scene) -> Problem1d {

@@ -6,11 +6,11 @@ use crate::benchmarks;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use approx::assert_abs_diff_eq;
-use signorini::error::Error;
-use signorini::fem::MassVariant;
-use signorini::norms::Norm;
-use signorini::run::{self, time_grid, Observables, Problem1d, RunConfig};
-use signorini::schemes::Scheme;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::error::Error;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{self, time_grid, Observables, Problem1d, RunConfig};
 
 fn only(norms: &[Norm]) -> Observables {
     Observables {

@@ -2,10 +2,10 @@
 //! first non-finite value and reports no number.
 
 use crate::benchmarks;
-use signorini::fem::MassVariant;
-use signorini::norms::Norm;
-use signorini::run::{run, Observables, RunConfig, RunStatus};
-use signorini::schemes::Scheme;
+use signorini::engine::fem::MassVariant;
+use signorini::engine::schemes::Scheme;
+use signorini::harness::norms::Norm;
+use signorini::harness::run::{run, Observables, RunConfig, RunStatus};
 
 /// Newmark with β = 0.01, γ = ½ is only conditionally stable (`ω Δt < 1/√(γ/2 − β)`): at
 /// `Δx/Δt = 0.5` the highest mode of a 400-element bar has `ω Δt ≈ 4` and overflows.

@@ -9,7 +9,7 @@
 use std::collections::BTreeSet;
 
 use approx::assert_abs_diff_eq;
-use signorini::exact::{ExactSolution, SignoriniDirichlet};
+use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 
 /// `t mod 1` within the period, as the phases of §5.1 use it.
 fn local_time(t: f64) -> f64 {

@@ -2,7 +2,7 @@
 //! mass variant with a stencil form and the stiffness equal the assembled matrices entry by
 //! entry to round-off, with the same non-zero pattern, and every product agrees.
 
-use signorini::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
 
 /// The largest `|a_ij − b_ij|` relative to `max |b_ij|` (rows matched by column), and
 /// whether the non-zero patterns differ.
@@ -138,7 +138,7 @@ fn the_extended_masses_have_no_stencil() {
 /// path), of two, and of nine (a chunk of twelve and a remainder).
 #[test]
 fn interleaved_tridiagonal_solves_equal_column_by_column_solves() {
-    use signorini::linalg::{solve_interleaved_rows, TridiagonalLdlt};
+    use signorini::engine::linalg::{solve_interleaved_rows, TridiagonalLdlt};
     let n = 7;
     let factors: Vec<TridiagonalLdlt> = (0..3)
         .map(|c| {
@@ -170,7 +170,7 @@ fn interleaved_tridiagonal_solves_equal_column_by_column_solves() {
 /// against Jacobi on the same matrix assembled: the same solution, in fewer iterations.
 #[test]
 fn the_product_preconditioner_beats_jacobi_on_box_step_matrices() {
-    use signorini::linalg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
+    use signorini::engine::linalg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
     let e = Elasticity::NOTE;
     let mut rng = fastrand::Rng::with_seed(11);
     for (lengths, counts) in [
@@ -230,7 +230,7 @@ fn step_stencil(mesh: &BoxMesh, variant: MassVariant, b: f64) -> SymmetricMatrix
 /// is symmetric.
 #[test]
 fn the_condensed_plane_preconditioner_is_exact_on_the_plane_and_symmetric() {
-    use signorini::linalg::CondensedPlane;
+    use signorini::engine::linalg::CondensedPlane;
     let mut rng = fastrand::Rng::with_seed(5);
     for mesh in [
         BoxMesh::new(&[0.1, 1.0], &[4, 12]).unwrap(),
@@ -268,7 +268,7 @@ fn the_condensed_plane_preconditioner_is_exact_on_the_plane_and_symmetric() {
 /// levels 40 and 80, against 11.4 and 11.3 for the standard mass.
 #[test]
 fn the_massless_plane_costs_no_extra_cg_iterations() {
-    use signorini::linalg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
+    use signorini::engine::linalg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
     let mut rng = fastrand::Rng::with_seed(13);
     for (lengths, coarse, fine) in [
         (vec![0.1, 1.0], vec![4, 40], vec![8, 80]),

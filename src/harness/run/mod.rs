@@ -1,5 +1,6 @@
 //! One run: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
-//! while observers accumulate only the requested error norms and histories.
+//! while observers accumulate only the requested error norms and histories. An [`Observer`]
+//! sees each state as the engine's [`TimeIntegrator`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -16,6 +17,9 @@ use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 pub use crate::engine::problem::Problem1d;
+/// The discrete energy balances every run is checked against (eqs. 33/35/37), by scheme.
+pub use crate::engine::schemes::energy_balance;
+pub use crate::engine::schemes::TimeIntegrator;
 
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
@@ -174,7 +178,7 @@ pub struct RunResult {
     /// Steps that needed a complementarity solve.
     pub contact_solves: usize,
     /// The largest complementarity violation of any step (see
-    /// [`TimeIntegrator::complementarity_violation`](crate::engine::schemes::TimeIntegrator::complementarity_violation)).
+    /// [`TimeIntegrator::complementarity_violation`]).
     pub complementarity_violation: f64,
     /// Wall-clock split.
     pub timings: Timings,

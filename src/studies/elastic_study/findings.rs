@@ -12,9 +12,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::Scheme;
 use crate::harness::norms::Norm;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::study::{Case, CaseStudy, Study};
 use crate::harness::verdicts;
 

@@ -6,11 +6,8 @@ use std::path::Path;
 
 use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
-use crate::engine::error::ParameterError;
-use crate::engine::linalg::LinearSolver;
-use crate::engine::problem::BoxProblem;
-use crate::engine::problem::Problem;
-use crate::harness::error::Error;
+use crate::harness::error::{Error, ParameterError};
+use crate::harness::problem::{BoxProblem, LinearSolver, Problem};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::Sensitivity;
 use crate::harness::study::Case;

@@ -6,13 +6,13 @@
 //! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
 //! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
 //! solution is compared with the fine one exactly, at common times: through the reference's
-//! projections on each level ([`projection`]), recorded while the reference runs, so that no
+//! projections on each level ([`crate::harness::nested_comparison::projection`]), recorded while the reference runs, so that no
 //! trajectory of the reference is stored.
 //!
 //! The reference is Crank–Nicolson with the redistributed mass (the combination the note finds
 //! convergent and energy-conserving). Whether it is fine enough is measured, not assumed: the
 //! same case one level coarser than the reference runs beside it and is compared with it
-//! ([`check`]), and that distance is reported next to the smallest error that enters a fit
+//! ([`crate::harness::nested_comparison::check`]), and that distance is reported next to the smallest error that enters a fit
 //! ([`ReferenceCheck`]).
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
@@ -20,13 +20,10 @@
 //! verdicts ([`findings`]), the round-off sensitivity of every case when the config asks for an
 //! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
-pub mod check;
 pub mod comparison;
-pub mod error_series;
 pub mod files;
 pub mod findings;
 pub mod gate;
-pub mod projection;
 pub mod reference;
 pub mod report;
 pub mod sensitivity;
@@ -36,17 +33,16 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::engine::error::ParameterError;
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::{Scheme, TimeIntegrator};
 use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
-use crate::harness::error::Error;
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::nested_comparison::projection::NormMatrices;
 use crate::harness::norms::Norm;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::rates::fit_rate;
-use crate::harness::run::{Observables, Observer, RunConfig, RunStatus};
+use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
 use crate::harness::shard::range::{errors_out_of_range, positive};
@@ -54,7 +50,6 @@ use crate::harness::shard::InRange;
 use crate::harness::study::{Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
-use projection::NormMatrices;
 use reference::{Reference, ReferenceCache, ReferenceKey};
 
 /// Number of time samples of the von Mises space–time map (Figures 4–5).
@@ -136,7 +131,7 @@ impl ElasticStudyConfig {
                  level coarser are both nested with every level",
             ));
         }
-        crate::engine::error::require_positive("ratio", self.ratio)?;
+        crate::harness::error::require_positive("ratio", self.ratio)?;
         if let Some(ensemble) = &self.sensitivity {
             ensemble.validate()?;
         }

@@ -4,9 +4,9 @@
 //! A reference is one run on the finest nested mesh. It keeps, every `sample_every` fine steps,
 //! the energy (eq. 6), the total normal contact force `Σ λ_i` and the contact-face centre node's
 //! displacement and multiplier; for each fitted level, at each of that level's steps, the
-//! reference's projections on the level ([`super::projection`]), which is all a coarse run's
+//! reference's projections on the level ([`crate::harness::nested_comparison::projection`]), which is all a coarse run's
 //! displacement errors need; and the distance to it of the reference case one level coarser,
-//! run beside it in lockstep ([`super::check`]). Its trajectory is never stored: memory is the
+//! run beside it in lockstep ([`crate::harness::nested_comparison::check`]). Its trajectory is never stored: memory is the
 //! run's own and the projections (about 100 MB for the 3D levels 10–80).
 //!
 //! The cache is two files under a directory: `<stem>.json` (the [`ReferenceKey`], the scalar
@@ -26,16 +26,16 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::check::{CheckComparison, CheckSender};
-use super::projection::{LevelProjections, NormMatrices, ProjectionRecorder};
-use crate::engine::error::ParameterError;
-use crate::engine::fem::{BoxMesh, MassVariant, Prolongation};
-use crate::engine::schemes::Scheme;
 use crate::harness::artifacts::write_atomic;
-use crate::harness::elastic::{box_mesh, run_box_observed, BoxProblem};
-use crate::harness::error::Error;
+use crate::harness::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::input::{self, InputError, JsonError, Limit};
 use crate::harness::manifest::hex;
+use crate::harness::nested_comparison::check::{CheckComparison, CheckSender};
+use crate::harness::nested_comparison::projection::{
+    LevelProjections, NormMatrices, ProjectionRecorder,
+};
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
@@ -290,17 +290,21 @@ impl Reference {
             nx: key.n_axis / 2,
             ..config.clone()
         };
-        let check_prolongation = Prolongation::new(&box_mesh(problem, check_config.nx)?, &mesh)?;
         // The check run's steps per sample: it has half the reference's steps.
         let check_stride = (every / 2).max(1);
         let (sender, receiver) = sync_channel(1);
+        let mut comparison = CheckComparison::new(
+            receiver,
+            &fine_norms,
+            &box_mesh(problem, check_config.nx)?,
+            &mesh,
+            every,
+        )?;
         let (run, distance, check_run) = std::thread::scope(|scope| {
             let check = scope.spawn(|| {
                 let mut send = CheckSender::new(sender, check_stride);
                 run_box_observed(problem, &check_config, &mut [&mut send])
             });
-            let mut comparison =
-                CheckComparison::new(receiver, &fine_norms, check_prolongation, every);
             let run = run_box_observed(problem, &config, &mut [&mut recorder, &mut comparison]);
             let distance = comparison.finish();
             let check_run = check

@@ -27,11 +27,10 @@
 use std::collections::BTreeSet;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
-use crate::engine::error::ParameterError;
-use crate::engine::problem::Perturbation;
 use crate::harness::elastic::{BoxContactHistory, BoxProblem};
-use crate::harness::error::Error;
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::norms::Norm;
+use crate::harness::problem::Perturbation;
 use crate::harness::sensitivity::{
     classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
 };

@@ -1,11 +1,11 @@
 //! The convergence figures (1D paper Figures 9–10, the note's Figures 3 and 8): error
 //! against `Δx` per scheme and norm, one series per mass, with the fitted slopes.
 
-use crate::engine::fem::MassVariant;
 use crate::harness::figures::{
     convergence_figure, ConvergenceSeries, ErrorBand, Figure, FigureError,
 };
 use crate::harness::norms::Norm;
+use crate::harness::problem::MassVariant;
 use crate::harness::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};
 

@@ -5,12 +5,11 @@
 //! always with the fine-mesh reference where the figure has one.
 
 use super::convergence::convergence_figures_named;
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::Scheme;
 use crate::harness::figures::heatmap::{space_time_map, SpaceTimePanel};
 use crate::harness::figures::{
     contact_node_figure, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
 };
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::studies::elastic_study::{
     CaseHistories, ElasticHistories, ElasticStudy, ReferenceCurves,

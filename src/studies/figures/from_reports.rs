@@ -14,7 +14,6 @@ use std::path::Path;
 
 use super::convergence::{convergence_figures, panel_label};
 use super::elastic::elastic_figures;
-use crate::engine::fem::MassVariant;
 use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
@@ -25,6 +24,7 @@ use crate::harness::figures::{
 };
 use crate::harness::input::REPORT_DATA;
 use crate::harness::norms::Norm;
+use crate::harness::problem::MassVariant;
 use crate::harness::run::RunResult;
 use crate::harness::sensitivity::Sensitivity;
 use crate::harness::study::Study;

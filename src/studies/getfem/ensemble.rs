@@ -14,9 +14,9 @@
 //! that does so on all eight.
 
 use super::{parting, solve, Difference};
-use crate::engine::problem::Perturbation;
 use crate::harness::error::Error;
 use crate::harness::getfem::{DemoConfig, DemoErrorNorms, DemoMass, DemoRun, DemoVersion};
+use crate::harness::problem::Perturbation;
 use crate::harness::sensitivity::{EnsembleConfig, Spread};
 use std::path::Path;
 

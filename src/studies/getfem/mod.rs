@@ -22,21 +22,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use crate::engine::contact::ContactTreatment;
-use crate::engine::error::SolveError;
-use crate::engine::fem::Bar1d;
-use crate::engine::fem::{MassVariant, SymmetricMatrix};
-use crate::engine::linalg::SpdSolver;
-use crate::engine::model::Model;
-use crate::engine::problem::{Discretisation, Perturbation};
-use crate::engine::schemes::{Conventions, Scheme, TimeIntegrator};
-use crate::harness::error::Error;
+use crate::harness::error::{Error, SolveError};
 use crate::harness::getfem::{
-    DemoConfig, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
+    DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
 use crate::harness::norms::Norm;
+use crate::harness::problem::{ContactTreatment, Conventions, MassVariant, Perturbation, Scheme};
 use crate::harness::run::exact::ErrorObservers;
-use crate::harness::run::{drive, time_grid, Observer, RunStatus};
+use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
 use crate::harness::sensitivity::PARTING;
 use crate::studies::benchmark::dirichlet;
 
@@ -157,7 +150,7 @@ pub struct Reproduction {
 pub fn harness_setup(
     root: &Path,
     config: &DemoConfig,
-) -> Result<(crate::engine::problem::Problem1d, MassVariant, Scheme, f64), Error> {
+) -> Result<(crate::harness::problem::Problem1d, MassVariant, Scheme, f64), Error> {
     let mut problem = dirichlet(root, config.horizon)?;
     problem.contact = match config.version {
         DemoVersion::Penalty => format!("penalty(gamma0={})", config.gamma0_p).parse()?,
@@ -187,76 +180,6 @@ pub fn harness_setup(
     };
     let h = 1.0 / config.nx as f64;
     Ok((problem, mass, scheme, h / config.dt))
-}
-
-/// The demo's energy evaluated on the harness's state: `½ VᵀMV + ½ UᵀKU` with the scheme's
-/// mass and the elastic `K`, plus the penalty's `(γ₀/2h) [u₀]_−²`, or Nitsche's
-/// `(θ/2)(h/γ₀)(s² − u_x(0)²)` from the first step on (the demo's `ux` is 0 before it).
-/// The demo carries `M·V`: for Paoli–Schatzman, which does not, it is rebuilt from its one-step
-/// form, `M V^n = M (U^n − U^{n−1})/Δt − Δt (β K U^{n−1} + (½ − β) K U^n)`.
-struct DemoEnergy<'a> {
-    config: &'a DemoConfig,
-    model: &'a Model,
-    elastic: SymmetricMatrix,
-    with_mass: Vec<usize>,
-    mass: SpdSolver,
-    previous: Option<Vec<f64>>,
-}
-
-impl<'a> DemoEnergy<'a> {
-    fn new(config: &'a DemoConfig, d: &'a Discretisation<Bar1d>) -> Result<Self, Error> {
-        let model = &d.model;
-        let with_mass = model.dofs_with_mass();
-        let m_rr = model.mass().principal_submatrix(&with_mass);
-        Ok(Self {
-            config,
-            model,
-            elastic: d.mesh.stiffness(),
-            mass: SpdSolver::factor(&m_rr, "mass (dofs with inertia)").map_err(Error::from)?,
-            with_mass,
-            previous: None,
-        })
-    }
-
-    fn energy(&mut self, state: &dyn TimeIntegrator, stress: f64) -> f64 {
-        let (u, n, dt) = (state.displacement(), self.model.n_dofs(), state.dt());
-        let mut mv = vec![0.0; n];
-        match (&self.previous, self.config.version) {
-            (Some(up), DemoVersion::PaoliSchatzman) => {
-                let quotient: Vec<f64> = u.iter().zip(up).map(|(a, b)| (a - b) / dt).collect();
-                self.model.mass().mul_into(&quotient, &mut mv);
-                let (mut k_prev, mut k_now) = (vec![0.0; n], vec![0.0; n]);
-                self.elastic.mul_into(up, &mut k_prev);
-                self.elastic.mul_into(u, &mut k_now);
-                let beta = self.config.beta;
-                for ((m, kp), kn) in mv.iter_mut().zip(&k_prev).zip(&k_now) {
-                    *m -= dt * (beta * kp + (0.5 - beta) * kn);
-                }
-            }
-            _ => self.model.mass().mul_into(state.velocity(), &mut mv),
-        }
-        self.previous = Some(u.to_vec());
-        let mv_r: Vec<f64> = self.with_mass.iter().map(|&i| mv[i]).collect();
-        let mut v_r = mv_r.clone();
-        self.mass.solve_in_place(&mut v_r);
-        let kinetic = 0.5 * mv_r.iter().zip(&v_r).map(|(a, b)| a * b).sum::<f64>();
-        let mut energy = kinetic + 0.5 * self.elastic.quadratic_form(u);
-        let h = 1.0 / self.config.nx as f64;
-        match self.config.version {
-            DemoVersion::Penalty => {
-                energy += 0.5 * self.config.gamma0_p / h * u[0].min(0.0).powi(2);
-            }
-            DemoVersion::Nitsche if state.step_index() > 0 => {
-                let ux = (u[1] - u[0]) / h;
-                energy += 0.5
-                    * self.config.theta_n
-                    * (h / self.config.gamma0_n)
-                    * (stress * stress - ux * ux);
-            }
-            _ => {}
-        }
-        energy
-    }
 }
 
 /// The harness's run of a demo configuration, as the comparisons read it.

@@ -2,8 +2,8 @@
 
 use serde::Deserialize;
 
-use crate::engine::schemes::Scheme;
 use crate::harness::norms::Norm;
+use crate::harness::problem::Scheme;
 use crate::harness::study::Case;
 
 /// One row of the paper's tables.

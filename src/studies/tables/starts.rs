@@ -7,10 +7,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::engine::fem::MassVariant;
-use crate::engine::schemes::conventions::Start;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
+use crate::harness::problem::{MassVariant, Start};
 use crate::harness::study::{run_study, Case, Study};
 use crate::studies::benchmark::dirichlet;
 

@@ -1,5 +1,6 @@
-//! The time series of a run's errors against the reference, in every norm of a 2D/3D study
-//! (what each measures: [`super::comparison`]), and their `L∞(0, T)` and `L²(0, T)` norms.
+//! The time series of a run's errors against the reference, in every norm of a 2D/3D study (the
+//! displacement's `H` and `V` norms of [`super::projection::NormMatrices`], the total contact
+//! force, the energy), and their `L∞(0, T)` and `L²(0, T)` norms.
 
 use std::collections::BTreeMap;
 

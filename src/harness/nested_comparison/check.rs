@@ -6,7 +6,7 @@
 //! The check run is a second thread. At each sample its observer ([`CheckSender`]) sends the
 //! displacement, energy and total contact force through a channel of one slot; the reference's
 //! observer ([`CheckComparison`]) receives them at the same sample, prolongates the displacement
-//! and measures the error as [`super::comparison`] does. Memory is one coarse displacement in
+//! and measures the error in every norm of an [`ErrorSeries`]. Memory is one coarse displacement in
 //! flight; the two runs advance together, the faster waiting for the slower.
 
 use std::collections::BTreeMap;
@@ -14,7 +14,7 @@ use std::sync::mpsc::{Receiver, SyncSender};
 
 use super::error_series::ErrorSeries;
 use super::projection::NormMatrices;
-use crate::engine::fem::Prolongation;
+use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -93,16 +93,18 @@ pub struct CheckComparison<'a> {
 }
 
 impl<'a> CheckComparison<'a> {
-    /// Receives from `channel` every `stride`-th step; `prolongation` maps the check level into
-    /// the reference mesh, whose norm matrices are `norms`.
+    /// Receives from `channel` every `stride`-th step the state of a run on `coarse`, nested in
+    /// the reference mesh `fine`, whose norm matrices are `norms`.
     pub fn new(
         channel: Receiver<CheckSample>,
         norms: &'a NormMatrices,
-        prolongation: Prolongation,
+        coarse: &BoxMesh,
+        fine: &BoxMesh,
         stride: usize,
-    ) -> Self {
+    ) -> Result<Self, Error> {
+        let prolongation = Prolongation::new(coarse, fine)?;
         let n = prolongation.fine_dofs();
-        Self {
+        Ok(Self {
             channel: Some(channel),
             norms,
             prolongation,
@@ -110,7 +112,7 @@ impl<'a> CheckComparison<'a> {
             series: ErrorSeries::default(),
             error: vec![0.0; n],
             scratch: vec![0.0; n],
-        }
+        })
     }
 
     /// The distance in every norm over the samples both runs reached. Stops listening (the
