@@ -1,7 +1,8 @@
 //! The choices the papers leave to the implementation, where two codes solving "the same"
 //! scheme can differ: how the start treats data that violate the quasi-static equation of a
 //! massless contact node, which stiffness the Nitsche acceleration is recovered with, and how
-//! Paoli–Schatzman treats the rows of `ker M` and its first step. The harness's defaults are
+//! Paoli–Schatzman treats the rows of `ker M` and its first step; and, for the round-off test of
+//! the regression gate, the order in which the one-step predictor is summed. The harness's defaults are
 //! [`Conventions::HARNESS`]; [`Conventions::GETFEM_DEMO`] are those of GetFEM's public demo
 //! `demo_dynamic_contact_1D.py`, read from its source (see `tests/data/getfem/README.md`), with
 //! which the harness solves the demo's discrete problems (issue 17).
@@ -78,6 +79,27 @@ pub enum FirstStepContact {
     PreviousEqualsInitial,
 }
 
+/// How the one-step schemes evaluate their predictor `P = U^n + ΔtV^n + aΔt²A^n` (1D paper
+/// eqs. 32 and 34 written in the form of `super::one_step`): the same arithmetic in two
+/// roundings. The regression gate's round-off test runs a chaotic case in the factored form to
+/// show the gate holds it by its ensemble (`tests/roundoff_gate.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PredictorForm {
+    /// `U^n + ΔtV^n + aΔt²A^n`, term by term (the harness's and every committed result's).
+    #[default]
+    Expanded,
+    /// `U^n + Δt(V^n + aΔtA^n)`.
+    Factored,
+}
+
+impl PredictorForm {
+    /// Whether this is the default form (left out of written conventions).
+    pub fn is_expanded(&self) -> bool {
+        *self == PredictorForm::Expanded
+    }
+}
+
 /// The implementation choices of a run (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -94,6 +116,9 @@ pub struct Conventions {
     /// Paoli–Schatzman's first step.
     #[serde(default)]
     pub paoli_schatzman_first_step: FirstStepContact,
+    /// The one-step schemes' predictor (written only when it is not the default).
+    #[serde(default, skip_serializing_if = "PredictorForm::is_expanded")]
+    pub predictor: PredictorForm,
 }
 
 impl Conventions {
@@ -103,6 +128,7 @@ impl Conventions {
         nitsche_acceleration: NitscheAcceleration::Consistent,
         paoli_schatzman_massless_rows: MasslessRows::Projected,
         paoli_schatzman_first_step: FirstStepContact::AtNewStep,
+        predictor: PredictorForm::Expanded,
     };
 
     /// GetFEM's public demo `demo_dynamic_contact_1D.py`.
@@ -111,6 +137,7 @@ impl Conventions {
         nitsche_acceleration: NitscheAcceleration::ElasticStiffness,
         paoli_schatzman_massless_rows: MasslessRows::ThreeLevel,
         paoli_schatzman_first_step: FirstStepContact::PreviousEqualsInitial,
+        predictor: PredictorForm::Expanded,
     };
 
     /// The named sets, for the command line and scene files.

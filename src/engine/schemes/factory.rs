@@ -68,11 +68,14 @@ pub fn integrator<'m>(
         Scheme::Newmark { beta, gamma } => StepCoefficients::newmark(beta, gamma),
         Scheme::Theta { theta } => StepCoefficients::theta(theta),
     };
-    Ok(Box::new(OneStepScheme::new(
-        model,
-        coefficients,
-        dt,
-        start,
-        conventions.nitsche_acceleration,
-    )?))
+    Ok(Box::new(
+        OneStepScheme::new(
+            model,
+            coefficients,
+            dt,
+            start,
+            conventions.nitsche_acceleration,
+        )?
+        .with_predictor(conventions.predictor),
+    ))
 }

@@ -12,7 +12,7 @@
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
 //! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
-//! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration and Paoli–Schatzman's massless rows and first step, the harness's or GetFEM demo's | — |
+//! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration, Paoli–Schatzman's massless rows and first step and the one-step predictor's form, the harness's or GetFEM demo's | — |
 //!
 //! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
 
@@ -31,7 +31,6 @@ pub use conventions::Conventions;
 pub use factory::integrator;
 pub use newmark::{initial_state, ExplicitNewmark};
 #[doc(hidden)]
-pub use one_step::REASSOCIATED_PREDICTOR;
 pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};

@@ -22,9 +22,7 @@
 //! [`NitscheAcceleration::ElasticStiffness`] the acceleration kept is instead the one of the
 //! elastic stiffness, `A^{n+1} − M⁻¹ (θ/γ) a (aᵀU^{n+1})` ([`ElasticAcceleration`]).
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
-use super::conventions::NitscheAcceleration;
+use super::conventions::{NitscheAcceleration, PredictorForm};
 use super::{InitialState, SchemeState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::{ContactStep, Truncation};
@@ -107,6 +105,8 @@ pub struct OneStepScheme<'m> {
     /// `A^n`.
     a: Vec<f64>,
     predictor: Vec<f64>,
+    /// How `predictor` is summed.
+    predictor_form: PredictorForm,
     scratch: Vec<f64>,
     guess: Vec<f64>,
 }
@@ -146,9 +146,16 @@ impl<'m> OneStepScheme<'m> {
             state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
             a: start.acceleration,
             predictor: vec![0.0; n],
+            predictor_form: PredictorForm::Expanded,
             scratch: vec![0.0; n],
             guess: vec![0.0; n],
         })
+    }
+
+    /// Sums the predictor in `form` ([`PredictorForm`]; the expanded form by default).
+    pub fn with_predictor(mut self, form: PredictorForm) -> Self {
+        self.predictor_form = form;
+        self
     }
 
     /// Replaces the complementarity solver (e.g. by the clarabel cross-check).
@@ -166,13 +173,6 @@ impl<'m> OneStepScheme<'m> {
     }
 }
 
-/// Test-only hook for the regression gate's round-off test (issue 15, test (a)): when set, the
-/// predictor `P = U^n + ΔtV^n + aΔt²A^n` is evaluated as `U^n + Δt(V^n + aΔtA^n)`, the same
-/// arithmetic in another rounding. It is global to the process: set it only in a test binary of
-/// its own. Nothing else reads or writes it.
-#[doc(hidden)]
-pub static REASSOCIATED_PREDICTOR: AtomicBool = AtomicBool::new(false);
-
 impl OneStepScheme<'_> {
     /// One step with the contact condition `B U^{n+1} + shift(i, g_i) ≥ 0` instead of
     /// `B U^{n+1} + g ≥ 0` (Paoli–Schatzman's first step,
@@ -184,7 +184,7 @@ impl OneStepScheme<'_> {
         let dt = self.state.dt;
         let StepCoefficients { a, b, c, d } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
-        let reassociated = REASSOCIATED_PREDICTOR.load(Ordering::Relaxed);
+        let factored = self.predictor_form == PredictorForm::Factored;
         for (((p, u), v), acc) in self
             .predictor
             .iter_mut()
@@ -192,7 +192,7 @@ impl OneStepScheme<'_> {
             .zip(&self.state.v)
             .zip(&self.a)
         {
-            *p = if reassociated {
+            *p = if factored {
                 u + dt * (v + a * dt * acc)
             } else {
                 u + dt * v + a * dt * dt * acc

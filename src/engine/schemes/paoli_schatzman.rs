@@ -22,7 +22,9 @@
 //! `V^{n−½} = (U^n − U^{n−1})/Δt`, at `t_{n−½}`; for β = ¼ it is the paper's. Its balance is
 //! eq. (37) ([`super::energy_balance::paoli_schatzman`]).
 
-use super::conventions::{Conventions, FirstStepContact, MasslessRows, NitscheAcceleration};
+use super::conventions::{
+    Conventions, FirstStepContact, MasslessRows, NitscheAcceleration, PredictorForm,
+};
 use super::{
     residual_force, InitialState, OneStepScheme, SchemeState, StepCoefficients, TimeIntegrator,
     Timed,
@@ -89,6 +91,8 @@ pub struct PaoliSchatzman<'m> {
     /// which multiplier is reported).
     massless_contact: bool,
     first_step: FirstStepContact,
+    /// How the first step's one-step scheme sums its predictor.
+    predictor: PredictorForm,
     /// `β (Bᵀλ^0)_z` on the massless dofs `z` of the three-level rows, added to the force of
     /// the first two-step; `None` when the rows are projected.
     three_level_start: Option<Vec<(usize, f64)>>,
@@ -157,6 +161,7 @@ impl<'m> PaoliSchatzman<'m> {
             restitution,
             massless_contact: model.contact_is_massless() && !three_level,
             first_step: conventions.paoli_schatzman_first_step,
+            predictor: conventions.predictor,
             three_level_start,
             system,
             contact,
@@ -198,7 +203,8 @@ impl<'m> PaoliSchatzman<'m> {
             self.state.dt,
             start,
             NitscheAcceleration::Consistent,
-        )?;
+        )?
+        .with_predictor(self.predictor);
         match (self.first_step, self.model.contact()) {
             (FirstStepContact::PreviousEqualsInitial, Some(set)) => {
                 let (e, u0) = (self.restitution, &self.state.u);
