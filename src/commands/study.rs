@@ -1,7 +1,6 @@
 //! `signorini study`, `sensitivity` and `reference`: refinement studies of a scene, their
 //! round-off ensembles and the fine-mesh references of box scenes.
 
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -26,15 +25,13 @@ use crate::harness::problem::ContactTreatment;
 use crate::harness::problem::MassVariant;
 use crate::harness::problem::Scheme;
 use crate::harness::problem::{BoxProblem, Problem};
-use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};
-use crate::harness::study::{run_study_on, study_size, Case};
-use crate::studies::elastic_study::files::{write_elastic_files, REFERENCE_CACHE};
+use crate::harness::study::Case;
+use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::reference::ReferenceCache;
-use crate::studies::elastic_study::{
-    obtain_reference, run_elastic_study_on, ElasticHistories, ElasticStudy, ElasticStudyConfig,
-};
+use crate::studies::elastic_study::{obtain_reference, ElasticStudyConfig};
+use crate::studies::scene_study::{SceneStudy, StudyChoices};
 use crate::studies::tables::write_sensitivity_files;
 
 /// The arguments of `signorini study`.
@@ -153,129 +150,60 @@ pub(crate) fn study_scene_with(
         shard: _,
     } = args;
     let shard = shard_output(executor, out.as_deref())?;
-    let scheme = distinct("--scheme", scheme);
-    let mass = distinct("--mass", mass);
     let scene = Scene::load(&scene)?;
-    let mut problem = match scene.problem() {
-        Problem::Box(mut problem) => {
-            problem.contact = contact.unwrap_or(problem.contact);
-            problem.conventions = conventions.over(problem.conventions);
-            problem.linear_solver = solver.linear_solver;
-            let mut config =
-                ElasticStudyConfig::from_scene(&scene, reference_level).map_err(Error::from)?;
-            if !levels.is_empty() {
-                config.levels = levels;
-            }
-            if let Some(r) = ratio {
-                config.ratio = r;
-            }
-            if !scheme.is_empty() || !mass.is_empty() {
-                let schemes = if scheme.is_empty() {
-                    scene.default_schemes()
-                } else {
-                    scheme
-                };
-                let masses = if mass.is_empty() {
-                    vec![MassVariant::Standard, MassVariant::Redistributed]
-                } else {
-                    mass
-                };
-                config.cases = Case::matrix(&schemes, &masses);
-            }
-            let cache = match (cache, &out) {
-                (Some(dir), _) => ReferenceCache::ReadWrite(dir),
-                (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
-                (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
-            };
-            cache_is_a_directory(cache.dir())?;
-            warn_schemes(&config.cases.iter().map(|c| c.scheme).collect::<Vec<_>>());
-            let members = config.sensitivity.map_or(0, |e| e.members);
-            limits.check(budget::box_study(
-                &problem,
-                &config.levels,
-                config.reference_level,
-                config.ratio,
-                &budget::jobs_per_level(&config.levels, config.cases.len(), executor),
-                members.saturating_add(1),
-            ))?;
-            let reports = match (&shard, out) {
-                (None, Some(dir)) => Some((StagedDir::begin("--out", &dir, Replace::Files)?, dir)),
-                _ => None,
-            };
-            let mut note = |why: String| eprintln!("{why}; computing the reference");
-            let executed = run_elastic_study_on(executor, &problem, &config, &cache, &mut note)?;
-            let Some((study, histories)) = complete_or_write(executed, shard, &invocation)? else {
-                return Ok(());
-            };
-            return match reports {
-                Some((staged, dir)) => {
-                    write_box_reports(&study, &histories, staged, &dir, command_line)
-                }
-                None => print_box_study(&study, json, command_line),
-            };
+    let study = SceneStudy::of(
+        &scene,
+        StudyChoices {
+            schemes: distinct("--scheme", scheme),
+            masses: distinct("--mass", mass),
+            norms: norm,
+            levels,
+            ratio,
+            reference_level,
+            contact,
+            conventions: conventions.conventions,
+            start: conventions.start,
+            linear_solver: solver.linear_solver,
+        },
+    )?;
+    let cache = match (cache, &out) {
+        (Some(dir), _) => ReferenceCache::ReadWrite(dir),
+        (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
+        (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
+    };
+    if study.has_reference() {
+        cache_is_a_directory(cache.dir())?;
+    }
+    warn_schemes(&study.schemes());
+    limits.check(study.estimate(executor))?;
+    let reports = match (&shard, out) {
+        (None, Some(dir)) => {
+            study.check_reports_dir(&dir)?;
+            Some((StagedDir::begin("--out", &dir, Replace::Files)?, dir))
         }
-        Problem::Bar(problem) => problem,
+        _ => None,
     };
-    if reference_level.is_some() || (out.is_some() && shard.is_none()) {
-        return Err(Failure::usage(format!(
-            "scene {}: --reference-level and --out are for box scenes (a bar1d study \
-             compares with the exact solution and prints its tables; --out takes a shard's \
-             file with --shard)",
-            scene.name
-        )));
-    }
-    let schemes = if scheme.is_empty() {
-        scene.default_schemes()
-    } else {
-        scheme
-    };
-    let masses = if mass.is_empty() {
-        MassVariant::PAPER.to_vec()
-    } else {
-        mass
-    };
-    let norms: BTreeSet<Norm> = if norm.is_empty() {
-        scene.observables.norms.clone()
-    } else {
-        norm.into_iter().collect()
-    };
-    let cases = Case::matrix(&schemes, &masses);
-    let mut config = scene.study_config();
-    if !levels.is_empty() {
-        config.levels = levels;
-    }
-    if let Some(r) = ratio {
-        config.ratio = r;
-    }
-    warn_schemes(&schemes);
-    limits.check(budget::bar_study(
-        &problem,
-        &config.levels,
-        config.ratio,
-        &budget::jobs_per_level(&config.levels, cases.len(), executor),
-    ))?;
-    problem.contact = contact.unwrap_or(problem.contact);
-    problem.conventions = conventions.over(problem.conventions);
-    let bar = progress_bar(study_size(&cases, &config));
-    let executed = run_study_on(executor, &problem, &cases, &norms, &config, &|| bar.inc(1));
+    let bar = progress_bar(study.runs());
+    let mut note = |why: String| eprintln!("{why}; computing the reference");
+    let executed = study.run_on(executor, &cache, &|| bar.inc(1), &mut note);
     bar.finish_and_clear();
-    let Some(study) = complete_or_write(executed?, shard, &invocation)? else {
+    let Some(outcome) = complete_or_write(executed?, shard, &invocation)? else {
         return Ok(());
     };
-    if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&study).map_err(Failure::runtime)?
-        );
-    } else {
-        out!("{}\n", convergence_tables(&study).trim_end());
-        out!(
-            "{}: {} cases × {} levels, {:.2} s wall",
-            scene.name,
-            study.cases.len(),
-            study.config.levels.len(),
-            study.wall_seconds
-        );
+    match reports {
+        Some((staged, dir)) => {
+            let written = outcome
+                .write_reports(
+                    staged.path(),
+                    &staged.final_path(staged.path()),
+                    &dir,
+                    command_line,
+                )
+                .map_err(Failure::from)?;
+            staged.commit()?;
+            out!("{written}");
+        }
+        None => out!("{}", outcome.render(json, command_line)?),
     }
     Ok(())
 }
@@ -548,62 +476,6 @@ fn obtain_and_report(job: &ReferenceJob, cache: &std::path::Path) -> Result<Stri
         reference.histories.seconds
     );
     Ok(job.scene.name.clone())
-}
-
-/// Writes a box study's report, study and figure data into `staged`, the staging of `dir`, and
-/// commits it; the report says it was made by `command`.
-fn write_box_reports(
-    study: &ElasticStudy,
-    histories: &ElasticHistories,
-    staged: StagedDir,
-    dir: &Path,
-    command: &str,
-) -> Result<(), Failure> {
-    write_elastic_files(
-        study,
-        histories,
-        staged.path(),
-        &staged.final_path(staged.path()),
-        command,
-    )
-    .map_err(Failure::runtime)?;
-    staged.commit()?;
-    out!(
-        "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
-         {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
-        study.study.cases.len(),
-        study.study.wall_seconds,
-        dir = dir.display(),
-        d = study.dimension
-    );
-    if let Some(s) = &study.sensitivity {
-        for c in &s.cases {
-            out!("  {:36} {}", c.case, c.class.name());
-        }
-        out!(
-            "round-off ensemble: {} members per case and level, run in the study's jobs \
-             ({:.1} s of run time summed over them)",
-            s.ensemble.members,
-            s.wall_seconds
-        );
-    }
-    Ok(())
-}
-
-/// Prints a box study: its report as markdown, or the study as JSON.
-fn print_box_study(study: &ElasticStudy, json: bool, command: &str) -> Result<(), Failure> {
-    if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(study).map_err(Failure::runtime)?
-        );
-    } else {
-        out!(
-            "{}",
-            crate::studies::elastic_study::report::render(study, command).trim_end()
-        );
-    }
-    Ok(())
 }
 
 /// The references `make report` keeps, relative to the repository root.

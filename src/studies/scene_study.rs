@@ -1,0 +1,317 @@
+//! A refinement study of a scene as a user asks for it (`signorini study`): the scene's own
+//! study (its schemes, the paper's two masses, its norms, levels and ratio) with the user's
+//! choices over it, whatever the geometry. A bar is compared with its exact solution
+//! ([`run_study_on`]), a box with its fine-mesh reference ([`run_elastic_study_on`]); the
+//! command only parses, hands over an executor and prints or writes what comes back.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use crate::harness::budget::{self, Estimate};
+use crate::harness::error::{Error, ParameterError};
+use crate::harness::executor::{Executed, Executor};
+use crate::harness::norms::Norm;
+use crate::harness::problem::{
+    BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
+    Scheme, Start,
+};
+use crate::harness::report::convergence_tables;
+use crate::harness::scene::Scene;
+use crate::harness::study::{run_study_on, study_size, Case, Study, StudyConfig};
+use crate::studies::elastic_study::files::write_elastic_files;
+use crate::studies::elastic_study::reference::ReferenceCache;
+use crate::studies::elastic_study::{
+    report, run_elastic_study_on, ElasticHistories, ElasticStudy, ElasticStudyConfig,
+};
+
+/// What a user chooses over a scene's study; each empty list or `None` keeps the scene's.
+#[derive(Debug, Clone, Default)]
+pub struct StudyChoices {
+    /// The schemes (default: the scene's, else the paper's seven).
+    pub schemes: Vec<Scheme>,
+    /// The masses (default: the paper's two).
+    pub masses: Vec<MassVariant>,
+    /// The norms of a bar study (default: the scene's; a box study measures every norm).
+    pub norms: Vec<Norm>,
+    /// The levels.
+    pub levels: Vec<usize>,
+    /// `Δx/Δt`.
+    pub ratio: Option<f64>,
+    /// The level of a box study's fine-mesh reference.
+    pub reference_level: Option<usize>,
+    /// The contact treatment of every case.
+    pub contact: Option<ContactTreatment>,
+    /// The schemes' conventions.
+    pub conventions: Option<Conventions>,
+    /// The start, over the conventions.
+    pub start: Option<Start>,
+    /// The step solver of a box study.
+    pub linear_solver: LinearSolver,
+}
+
+/// A scene's study with the user's choices applied: a bar's against its exact solution, or a
+/// box's against its fine-mesh reference.
+#[derive(Debug, Clone)]
+pub enum SceneStudy {
+    /// A bar: its cases × levels and norms.
+    Bar {
+        /// The scene's name.
+        scene: String,
+        /// The problem.
+        problem: Problem1d,
+        /// The cases.
+        cases: Vec<Case>,
+        /// The norms measured.
+        norms: BTreeSet<Norm>,
+        /// Levels, ratio, horizon.
+        config: StudyConfig,
+    },
+    /// A box: its cases × levels against the reference.
+    Box {
+        /// The problem.
+        problem: BoxProblem,
+        /// Levels, reference, cases and ensemble.
+        config: ElasticStudyConfig,
+    },
+}
+
+/// What a study hands back: a bar's rates, or a box's study with its figure data.
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // one per study, moved once
+pub enum StudyOutcome {
+    /// A bar's study.
+    Bar {
+        /// The scene's name.
+        scene: String,
+        /// The study.
+        study: Study,
+    },
+    /// A box's study.
+    Box {
+        /// The study, the reference check and the findings.
+        study: ElasticStudy,
+        /// The figure data.
+        histories: ElasticHistories,
+    },
+}
+
+impl SceneStudy {
+    /// The study of `scene` with `choices` over its own. A reference level for a bar is
+    /// refused naming `reference_level`.
+    pub fn of(scene: &Scene, choices: StudyChoices) -> Result<Self, Error> {
+        let schemes = if choices.schemes.is_empty() {
+            scene.default_schemes()
+        } else {
+            choices.schemes
+        };
+        let masses = if choices.masses.is_empty() {
+            MassVariant::PAPER.to_vec()
+        } else {
+            choices.masses
+        };
+        let conventions = |scene: Conventions| {
+            let mut c = choices.conventions.unwrap_or(scene);
+            if let Some(start) = choices.start {
+                c.start = start;
+            }
+            c
+        };
+        match scene.problem() {
+            Problem::Box(mut problem) => {
+                problem.contact = choices.contact.unwrap_or(problem.contact);
+                problem.conventions = conventions(problem.conventions);
+                problem.linear_solver = choices.linear_solver;
+                let mut config = ElasticStudyConfig::from_scene(scene, choices.reference_level)?;
+                if !choices.levels.is_empty() {
+                    config.levels = choices.levels;
+                }
+                config.ratio = choices.ratio.unwrap_or(config.ratio);
+                config.cases = Case::matrix(&schemes, &masses);
+                Ok(Self::Box { problem, config })
+            }
+            Problem::Bar(mut problem) => {
+                if let Some(level) = choices.reference_level {
+                    return Err(ParameterError::new(
+                        "--reference-level",
+                        level,
+                        "none: a fine-mesh reference is for box scenes (a bar1d study compares \
+                         with its exact solution)",
+                    )
+                    .into());
+                }
+                problem.contact = choices.contact.unwrap_or(problem.contact);
+                problem.conventions = conventions(problem.conventions);
+                let mut config = scene.study_config();
+                if !choices.levels.is_empty() {
+                    config.levels = choices.levels;
+                }
+                config.ratio = choices.ratio.unwrap_or(config.ratio);
+                Ok(Self::Bar {
+                    scene: scene.name.clone(),
+                    problem,
+                    cases: Case::matrix(&schemes, &masses),
+                    norms: if choices.norms.is_empty() {
+                        scene.observables.norms.clone()
+                    } else {
+                        choices.norms.into_iter().collect()
+                    },
+                    config,
+                })
+            }
+        }
+    }
+
+    /// The schemes the study runs, case by case.
+    pub fn schemes(&self) -> Vec<Scheme> {
+        let cases = match self {
+            Self::Bar { cases, .. } => cases,
+            Self::Box { config, .. } => &config.cases,
+        };
+        cases.iter().map(|c| c.scheme).collect()
+    }
+
+    /// Whether the study compares with a fine-mesh reference (and reads or fills its cache).
+    pub fn has_reference(&self) -> bool {
+        matches!(self, Self::Box { .. })
+    }
+
+    /// Refuses a reports directory `dir` for a study that has no report files (a bar's, which
+    /// prints its tables), naming `--out`.
+    pub fn check_reports_dir(&self, dir: &Path) -> Result<(), Error> {
+        match self {
+            Self::Box { .. } => Ok(()),
+            Self::Bar { .. } => Err(ParameterError::new(
+                "--out",
+                dir.display(),
+                "none for a bar1d scene: report files are for box scenes (a bar1d study prints \
+                 its tables; --out takes a shard's file with --shard)",
+            )
+            .into()),
+        }
+    }
+
+    /// The number of runs the study makes here (its progress), ensemble members aside.
+    pub fn runs(&self) -> usize {
+        match self {
+            Self::Bar { cases, config, .. } => study_size(cases, config),
+            Self::Box { config, .. } => config.cases.len() * config.levels.len(),
+        }
+    }
+
+    /// The estimate of what `executor` computes of the study here ([`budget`]).
+    pub fn estimate(&self, executor: &Executor) -> Estimate {
+        match self {
+            Self::Bar {
+                problem,
+                cases,
+                config,
+                ..
+            } => budget::bar_study(
+                problem,
+                &config.levels,
+                config.ratio,
+                &budget::jobs_per_level(&config.levels, cases.len(), executor),
+            ),
+            Self::Box { problem, config } => {
+                let members = config.sensitivity.map_or(0, |e| e.members);
+                budget::box_study(
+                    problem,
+                    &config.levels,
+                    config.reference_level,
+                    config.ratio,
+                    &budget::jobs_per_level(&config.levels, config.cases.len(), executor),
+                    members.saturating_add(1),
+                )
+            }
+        }
+    }
+
+    /// Runs the study's jobs through `executor` (calling `done` after each bar run); a box
+    /// study obtains its reference from `cache` first (`note` hears why a cache was not used).
+    pub fn run_on(
+        &self,
+        executor: &Executor,
+        cache: &ReferenceCache,
+        done: &(dyn Fn() + Sync),
+        note: &mut dyn FnMut(String),
+    ) -> Result<Executed<StudyOutcome>, Error> {
+        match self {
+            Self::Bar {
+                scene,
+                problem,
+                cases,
+                norms,
+                config,
+            } => run_study_on(executor, problem, cases, norms, config, done)?.reduce(|study| {
+                Ok(StudyOutcome::Bar {
+                    scene: scene.clone(),
+                    study,
+                })
+            }),
+            Self::Box { problem, config } => {
+                run_elastic_study_on(executor, problem, config, cache, note)?
+                    .reduce(|(study, histories)| Ok(StudyOutcome::Box { study, histories }))
+            }
+        }
+    }
+}
+
+impl StudyOutcome {
+    /// The outcome as a person reads it: a bar's rate tables and a line with its size and
+    /// time, or a box's report saying it was made by `command`; as JSON with `json`.
+    pub fn render(&self, json: bool, command: &str) -> Result<String, Error> {
+        let encode = Error::encode(Path::new("stdout"));
+        Ok(match (self, json) {
+            (Self::Bar { study, .. }, true) => {
+                serde_json::to_string_pretty(study).map_err(encode)?
+            }
+            (Self::Box { study, .. }, true) => {
+                serde_json::to_string_pretty(study).map_err(encode)?
+            }
+            (Self::Bar { scene, study }, false) => format!(
+                "{}\n\n{scene}: {} cases × {} levels, {:.2} s wall",
+                convergence_tables(study).trim_end(),
+                study.cases.len(),
+                study.config.levels.len(),
+                study.wall_seconds
+            ),
+            (Self::Box { study, .. }, false) => report::render(study, command).trim_end().into(),
+        })
+    }
+
+    /// Writes a box study's report, study and figure data into `out_dir` (`kept_from`: the
+    /// reports directory it will replace files of) and returns what was written, for the
+    /// user; a bar's study has none ([`SceneStudy::check_reports_dir`]): it writes nothing and
+    /// returns its rendering.
+    pub fn write_reports(
+        &self,
+        out_dir: &Path,
+        kept_from: &Path,
+        shown_dir: &Path,
+        command: &str,
+    ) -> Result<String, Error> {
+        let Self::Box { study, histories } = self else {
+            return self.render(false, command);
+        };
+        write_elastic_files(study, histories, out_dir, kept_from, command)?;
+        let mut summary = format!(
+            "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
+             {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
+            study.study.cases.len(),
+            study.study.wall_seconds,
+            dir = shown_dir.display(),
+            d = study.dimension
+        );
+        if let Some(s) = &study.sensitivity {
+            for c in &s.cases {
+                summary.push_str(&format!("\n  {:36} {}", c.case, c.class.name()));
+            }
+            summary.push_str(&format!(
+                "\nround-off ensemble: {} members per case and level, run in the study's jobs \
+                 ({:.1} s of run time summed over them)",
+                s.ensemble.members, s.wall_seconds
+            ));
+        }
+        Ok(summary)
+    }
+}
