@@ -1,7 +1,9 @@
-//! `--shard k/n` and `signorini merge`: the merge of a study's shards prints or writes what
-//! the unsharded study does, byte for byte but for the wall-clock fields (the last line of the
-//! markdown, `wall_seconds` and each level's `timings` in the JSON); and every wrong set of
-//! shards or `--shard` value is a usage error (exit 2) that names what is wrong.
+//! `--shard k/n` and `signorini merge`: the merge of a study's (or a sensitivity ensemble's)
+//! shards prints or writes what the unsharded command does, byte for byte but for the wall-clock
+//! fields (a 1D study's last markdown line, `wall_seconds` and each level's `timings` in its
+//! JSON; the time in `sensitivity.md` and `wall_seconds` in `sensitivity.json`; a box study's
+//! wall and run times); and every wrong set of shards or `--shard` value is a usage error (exit
+//! 2) that names what is wrong.
 
 use crate::common;
 
@@ -11,9 +13,12 @@ use common::{expect_error, signorini, success_stdout};
 
 const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";
 
+const GRAVITY: &str = "scenes/bar1d-gravity.json";
+
 /// A small, fast study: every paper case on three levels.
 const LEVELS: [&str; 2] = ["--levels", "10,20,40"];
 
+/// An empty scratch directory of this test process named after `name`: its path.
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-shards-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -21,22 +26,29 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// `p` as a command-line argument.
 fn text(p: &Path) -> String {
     p.to_string_lossy().into_owned()
 }
 
-/// Runs shard `k` of `n` of `study <scene> <extra>` into `dir/s<k>` and returns its file.
-fn shard(dir: &Path, scene: &str, extra: &[&str], k: usize, n: usize) -> String {
+/// Runs shard `k` of `n` of `signorini <command>` (`command[0]` the subcommand) into
+/// `dir/s<k>` and returns its file.
+fn shard_of(dir: &Path, command: &[&str], k: usize, n: usize) -> String {
     let out = dir.join(format!("s{k}"));
     let spec = format!("{k}/{n}");
-    let mut args = vec!["study", scene];
-    args.extend_from_slice(extra);
-    args.extend(["--shard", &spec, "--out"]);
     let out_text = text(&out);
-    args.push(&out_text);
+    let mut args = command.to_vec();
+    args.extend(["--shard", &spec, "--out", &out_text]);
     let stdout = success_stdout(&signorini(&args));
     assert!(stdout.contains(&format!("shard {spec}")), "{stdout}");
-    text(&out.join(format!("shard-study-{k}-of-{n}.json")))
+    text(&out.join(format!("shard-{}-{k}-of-{n}.json", command[0])))
+}
+
+/// Runs shard `k` of `n` of `study <scene> <extra>` into `dir/s<k>` and returns its file.
+fn shard(dir: &Path, scene: &str, extra: &[&str], k: usize, n: usize) -> String {
+    let mut command = vec!["study", scene];
+    command.extend_from_slice(extra);
+    shard_of(dir, &command, k, n)
 }
 
 /// The stdout of `merge` of `files`.
@@ -87,6 +99,86 @@ fn the_merge_of_three_shards_prints_the_unsharded_study() {
     // The shards in another order: the merge puts the jobs back in job order.
     let reversed: Vec<String> = files.iter().rev().cloned().collect();
     assert_eq!(without_timings(&merged(&reversed)), without_timings(&full));
+}
+
+#[test]
+fn the_merge_of_three_shards_of_a_gravity_study_prints_the_unsharded_json() {
+    let dir = scratch("gravity");
+    // Two schemes of two families (Newmark, Paoli–Schatzman) under the body force.
+    let args = [
+        LEVELS[0],
+        LEVELS[1],
+        "--scheme",
+        "crank-nicolson",
+        "--scheme",
+        "paoli-schatzman-e0.5",
+        "--json",
+    ];
+    let mut unsharded = vec!["study", GRAVITY];
+    unsharded.extend(args);
+    let full = success_stdout(&signorini(&unsharded));
+    let files: Vec<String> = (1..=3).map(|k| shard(&dir, GRAVITY, &args, k, 3)).collect();
+    assert_eq!(without_timings(&merged(&files)), without_timings(&full));
+}
+
+/// `text` with what lies between `before` (found exactly once) and the next `after` replaced
+/// by `…`, the rest kept byte for byte: a wall-clock time masked.
+fn masked(text: &str, before: &str, after: &str) -> String {
+    assert_eq!(
+        text.matches(before).count(),
+        1,
+        "{before:?} not once in {text}"
+    );
+    let (head, tail) = text.split_once(before).unwrap();
+    let (_, rest) = tail
+        .split_once(after)
+        .unwrap_or_else(|| panic!("no {after:?} after {before:?} in {text}"));
+    format!("{head}{before}…{after}{rest}")
+}
+
+/// bar1d-dirichlet.json on levels 20, 40 and 80 (instead of 10 to 640), in `dir`: its path.
+/// Level 80 is the one whose parting step and separation growth `sensitivity.md` shows.
+fn small_dirichlet_scene(dir: &Path) -> String {
+    let scene =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(DIRICHLET)).unwrap();
+    let levels = "\"levels\": [10, 20, 40, 80, 160, 320, 640]";
+    assert!(
+        scene.contains(levels),
+        "bar1d-dirichlet.json has other levels"
+    );
+    let path = dir.join("bar1d-dirichlet-small.json");
+    std::fs::write(&path, scene.replacen(levels, "\"levels\": [20, 40, 80]", 1)).unwrap();
+    text(&path)
+}
+
+#[test]
+fn the_merge_of_three_sensitivity_shards_writes_the_unsharded_reports() {
+    let dir = scratch("sensitivity");
+    let scene = small_dirichlet_scene(&dir);
+    let (out, kept) = (text(&dir.join("out")), text(&dir.join("unsharded")));
+    let command = ["sensitivity", &scene, "--members", "2"];
+    let mut unsharded = command.to_vec();
+    unsharded.extend(["--out", &kept]);
+    success_stdout(&signorini(&unsharded));
+    let files: Vec<String> = (1..=3).map(|k| shard_of(&dir, &command, k, 3)).collect();
+    let mut args = vec!["merge", "--out", &out];
+    args.extend(files.iter().map(String::as_str));
+    success_stdout(&signorini(&args));
+    // The only wall-clock field of harness::sensitivity::Sensitivity is `wall_seconds` (the
+    // unsharded run's time, the merge's own in the merge), which sensitivity.json carries and
+    // sensitivity.md prints as "Generated by `make report` in … s wall."; everything else is
+    // computed from the members' results, which the shards carry bit for bit.
+    let read = |d: &str, f: &str| std::fs::read_to_string(Path::new(d).join(f)).unwrap();
+    let md = |d: &str| {
+        masked(
+            &read(d, "sensitivity.md"),
+            "Generated by `make report` in ",
+            " s wall.",
+        )
+    };
+    assert_eq!(md(&out), md(&kept));
+    let json = |d: &str| masked(&read(d, "sensitivity.json"), "\"wall_seconds\": ", "\n");
+    assert_eq!(json(&out), json(&kept));
 }
 
 #[test]
