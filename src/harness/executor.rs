@@ -25,12 +25,7 @@ pub trait JobList: Sync {
     type Output: Send + Serialize + DeserializeOwned + InRange;
 
     /// The number of jobs.
-    fn len(&self) -> usize;
-
-    /// Whether there is no job.
-    fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    fn count(&self) -> usize;
 
     /// The work of job `index`, in any unit: the larger start first.
     fn size(&self, index: usize) -> usize;
@@ -53,7 +48,7 @@ pub struct Jobs<'a, J, T> {
 impl<J: Sync, T: Send + Serialize + DeserializeOwned + InRange> JobList for Jobs<'_, J, T> {
     type Output = T;
 
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.items.len()
     }
 
@@ -131,15 +126,15 @@ impl Executor {
                     })
                     .collect::<Result<_, _>>()?;
                 Ok(Executed::Share(Share {
-                    jobs: list.len(),
+                    jobs: list.count(),
                     results,
                 }))
             }
             Self::Merge(results) => {
-                if results.len() != list.len() {
+                if results.len() != list.count() {
                     return Err(ShardError::JobCount {
                         shards: results.len(),
-                        study: list.len(),
+                        study: list.count(),
                     }
                     .into());
                 }
@@ -204,7 +199,7 @@ fn run_in_order<L: JobList>(
 
 /// The sizes of the jobs of `list`, in list order.
 fn sizes_of<L: JobList>(list: &L) -> Vec<usize> {
-    (0..list.len()).map(|k| list.size(k)).collect()
+    (0..list.count()).map(|k| list.size(k)).collect()
 }
 
 /// The order in which jobs of sizes `sizes` start: their indices, the largest first, ties in

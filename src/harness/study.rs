@@ -381,7 +381,7 @@ where
 {
     type Output = T;
 
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.jobs.len()
     }
 

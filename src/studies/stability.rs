@@ -441,19 +441,6 @@ fn suite_jobs(hard: &[HardCase], cases: &[Case]) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// Runs the stability suite (`ci`: the fast subset) and writes `stability.md` and
-/// `stability.json` into `out_dir`.
-pub fn write_stability(
-    root: &Path,
-    out_dir: &Path,
-    ci: bool,
-) -> Result<Vec<StabilityRecord>, Error> {
-    let hard = hard_cases(root, ci)?;
-    let records = run_suite(&hard, &Case::paper_matrix())?;
-    write_stability_files(out_dir, &hard, &records)?;
-    Ok(records)
-}
-
 /// Writes `stability.md` and `stability.json` of the suite's `records` on `hard` into `out_dir`.
 pub fn write_stability_files(
     out_dir: &Path,

@@ -605,7 +605,7 @@ impl<'a> ElasticJobs<'a> {
 impl JobList for ElasticJobs<'_> {
     type Output = LevelOutcome;
 
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.jobs.len()
     }
 
