@@ -1,0 +1,326 @@
+//! One run of a scene as a user asks for it (`signorini run`): the scheme and mass chosen, the
+//! scene's level, ratio and contact treatment unless overridden, whatever the geometry. A bar
+//! run measures its errors against the exact solution ([`run`]), a box run its energy and
+//! contact face ([`run_box`]); the command only parses, stages its directory and prints what
+//! comes back.
+
+use std::path::{Path, PathBuf};
+
+use crate::harness::budget::{self, Estimate};
+use crate::harness::elastic::{run_box, BoxRunResult};
+use crate::harness::error::{Error, ParameterError};
+use crate::harness::problem::{
+    BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
+    Scheme, Start,
+};
+use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
+use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::run_files::{box_history_csv, history_csv};
+use crate::harness::scene::Scene;
+
+/// What a user chooses for one run of a scene; each `None` keeps the scene's.
+#[derive(Debug, Clone)]
+pub struct RunChoices {
+    /// The time integrator.
+    pub scheme: Scheme,
+    /// The mass matrix.
+    pub mass: MassVariant,
+    /// Elements (along the axis of a box); default: the scene's finest level.
+    pub nx: Option<usize>,
+    /// `Δx/Δt`.
+    pub ratio: Option<f64>,
+    /// The contact treatment.
+    pub contact: Option<ContactTreatment>,
+    /// The schemes' conventions.
+    pub conventions: Option<Conventions>,
+    /// The start, over the conventions.
+    pub start: Option<Start>,
+    /// The step solver of a box.
+    pub linear_solver: LinearSolver,
+    /// Whether a bar run measures its energy balance's residual (a box run always does).
+    pub check_balance: bool,
+    /// Whether the run's files are written (the histories and fields the scene asks for are
+    /// recorded only then).
+    pub writes_files: bool,
+}
+
+/// A run of a scene with the user's choices applied.
+#[derive(Debug, Clone)]
+pub struct SceneRun {
+    /// The scene's name.
+    pub scene: String,
+    /// The problem.
+    pub problem: Problem,
+    /// Level, ratio, scheme, mass and what is recorded.
+    pub config: RunConfig,
+    /// The times at which the scene asks a box's fields to be written.
+    fields_at: Vec<f64>,
+    /// Whether the run's files are written.
+    writes_files: bool,
+}
+
+/// What a run hands back: a bar's result or a box's.
+#[derive(Debug, Clone)]
+pub enum RunOutcome {
+    /// A bar run.
+    Bar(Box<RunResult>),
+    /// A box run.
+    Box(Box<BoxRunResult>),
+}
+
+impl SceneRun {
+    /// The run of `scene` with `choices`. Without `--nx` and without levels in the scene it is
+    /// refused naming `--nx`.
+    pub fn of(scene: &Scene, choices: RunChoices) -> Result<Self, Error> {
+        let nx = choices
+            .nx
+            .or(scene.discretisation.levels.last().copied())
+            .ok_or_else(|| {
+                ParameterError::new(
+                    "--nx",
+                    "none",
+                    "an element count >= 1 (the scene has no discretisation.levels to take \
+                     the finest from)",
+                )
+            })?;
+        let conventions = |scene: Conventions| {
+            let mut c = choices.conventions.unwrap_or(scene);
+            if let Some(start) = choices.start {
+                c.start = start;
+            }
+            c
+        };
+        let (problem, observables) = match scene.problem() {
+            Problem::Box(mut problem) => {
+                problem.contact = choices.contact.unwrap_or(problem.contact);
+                problem.conventions = conventions(problem.conventions);
+                problem.linear_solver = choices.linear_solver;
+                let fields_at = if choices.writes_files {
+                    scene.observables.fields_at.clone()
+                } else {
+                    Vec::new()
+                };
+                let observables = Observables {
+                    fields_at,
+                    ..Observables::default()
+                };
+                (Problem::Box(problem), observables)
+            }
+            Problem::Bar(mut problem) => {
+                problem.contact = choices.contact.unwrap_or(problem.contact);
+                problem.conventions = conventions(problem.conventions);
+                let mut observables = scene.observables();
+                observables.energy_balance = choices.check_balance;
+                if !choices.writes_files {
+                    observables.contact_history = false;
+                    observables.energy_history = false;
+                    observables.points.clear();
+                    observables.fields_at.clear();
+                }
+                (Problem::Bar(problem), observables)
+            }
+        };
+        Ok(Self {
+            scene: scene.name.clone(),
+            problem,
+            config: RunConfig {
+                nx,
+                ratio: choices.ratio.unwrap_or(scene.discretisation.ratio),
+                scheme: choices.scheme,
+                mass: choices.mass,
+                observables,
+            },
+            fields_at: scene.observables.fields_at.clone(),
+            writes_files: choices.writes_files,
+        })
+    }
+
+    /// The estimate of the run's memory, files and work ([`budget`]).
+    pub fn estimate(&self) -> Estimate {
+        let writes = self.writes_files;
+        match &self.problem {
+            Problem::Bar(problem) => budget::bar_run(problem, &self.config, writes),
+            Problem::Box(problem) => budget::box_run(
+                problem,
+                self.config.nx,
+                self.config.ratio,
+                self.config.observables.fields_at.len(),
+                writes,
+            ),
+        }
+    }
+
+    /// What the user should know before the run: a box scene asks for fields that a run
+    /// without a directory does not write.
+    pub fn advice(&self) -> Option<String> {
+        (matches!(self.problem, Problem::Box(_))
+            && !self.writes_files
+            && !self.fields_at.is_empty())
+        .then(|| {
+            format!(
+                "(the scene asks for fields at {:?}: pass --out DIR to write them as VTK)",
+                self.fields_at
+            )
+        })
+    }
+
+    /// Runs it, with a box's VTK snapshots written into `fields_dir` when given.
+    pub fn run(&self, fields_dir: Option<&Path>) -> Result<RunOutcome, Error> {
+        match &self.problem {
+            Problem::Bar(problem) => bar_outcome(problem, &self.config),
+            Problem::Box(problem) => box_outcome(problem, &self.config, fields_dir),
+        }
+    }
+}
+
+fn bar_outcome(problem: &Problem1d, config: &RunConfig) -> Result<RunOutcome, Error> {
+    Ok(RunOutcome::Bar(Box::new(
+        run(problem, config)?.completed()?,
+    )))
+}
+
+fn box_outcome(
+    problem: &BoxProblem,
+    config: &RunConfig,
+    fields_dir: Option<&Path>,
+) -> Result<RunOutcome, Error> {
+    let config = RunConfig {
+        observables: Observables {
+            fields_dir: fields_dir.map(Path::to_path_buf),
+            ..config.observables.clone()
+        },
+        ..config.clone()
+    };
+    Ok(RunOutcome::Box(Box::new(
+        run_box(problem, &config)?.completed()?,
+    )))
+}
+
+impl RunOutcome {
+    /// The summary printed after a run of `run` (`check_balance`: with the largest per-step
+    /// residual of the scheme's energy balance).
+    pub fn summary(&self, run: &SceneRun, check_balance: bool) -> String {
+        let c = &run.config;
+        let mut lines = Vec::new();
+        let residual = match self {
+            Self::Bar(r) => {
+                lines.push(format!(
+                    "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
+                    run.scene, c.scheme, c.mass, r.contact_treatment, c.nx, r.dt, r.steps,
+                    r.dofs, r.contact_solves, r.timings.total()
+                ));
+                for (norm, e) in &r.errors {
+                    lines.push(format!("  {:12} {:.6e}   {}", norm.key(), e, norm.label()));
+                }
+                r.max_balance_residual
+            }
+            Self::Box(r) => {
+                box_summary(&mut lines, run, r);
+                r.max_balance_residual
+            }
+        };
+        if check_balance {
+            lines.push(balance_line(c.scheme, residual));
+        }
+        if let Self::Box(r) = self {
+            if let Some(slab) = r.contact_slab {
+                lines.push(format!(
+                    "  local contact operator: {} layers, {} slab dofs{}, truncation ratio {:.1e}",
+                    slab.layers,
+                    slab.slab_dofs,
+                    if slab.whole {
+                        " (the whole system)"
+                    } else {
+                        ""
+                    },
+                    slab.ratio
+                ));
+            }
+        }
+        lines.join("\n")
+    }
+
+    /// The run's files: `run.json`'s text and the histories as CSV (name, text), with a box's
+    /// VTK files named by `final_path` (where they will be once the staging is moved).
+    pub fn files(
+        &mut self,
+        final_path: impl Fn(&Path) -> PathBuf,
+    ) -> Result<(String, Vec<(String, String)>), Error> {
+        let encode = Error::encode(Path::new("run.json"));
+        Ok(match self {
+            Self::Bar(r) => (
+                serde_json::to_string_pretty(r).map_err(encode)?,
+                history_csv(r),
+            ),
+            Self::Box(r) => {
+                r.vtk_files = r.vtk_files.iter().map(|f| final_path(f)).collect();
+                (
+                    serde_json::to_string_pretty(r).map_err(encode)?,
+                    box_history_csv(r),
+                )
+            }
+        })
+    }
+
+    /// The VTK files a box run wrote (none for a bar).
+    pub fn vtk_files(&self) -> &[PathBuf] {
+        match self {
+            Self::Bar(_) => &[],
+            Self::Box(r) => &r.vtk_files,
+        }
+    }
+}
+
+/// The lines of a box run's summary before its balance.
+fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &BoxRunResult) {
+    let c = &run.config;
+    let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
+    let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
+    lines.push(format!(
+        "{} — {} / {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
+        run.scene,
+        c.scheme,
+        c.mass,
+        r.contact_treatment,
+        r.elements,
+        r.dofs,
+        r.contact_nodes,
+        r.dt,
+        r.steps
+    ));
+    lines.push(format!(
+        "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
+        r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
+    ));
+    let counts = r.step_solves;
+    lines.push(if counts.solves > 0 && counts.iterations > 0 {
+        format!(
+            "  step solver {}: {} solves, {:.1} CG iterations per solve",
+            r.linear_solver,
+            counts.solves,
+            counts.iterations as f64 / counts.solves as f64
+        )
+    } else {
+        format!("  step solver {}", r.linear_solver)
+    });
+    lines.push(format!(
+        "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
+        r.complementarity_violation
+    ));
+}
+
+/// The `--check-balance` line of a completed run: its largest per-step balance residual
+/// (every run checks it against [`BALANCE_TOLERANCE`]; one above it ends solver-inaccurate).
+fn balance_line(scheme: Scheme, residual: Option<f64>) -> String {
+    let equation = energy_balance::equation(scheme);
+    match residual {
+        Some(r) => format!(
+            "  energy balance eq. {equation}: largest per-step residual {r:.3e} of its scale \
+             (the energy, or the size of the products it sums; tolerance {BALANCE_TOLERANCE:e})"
+        ),
+        None => format!(
+            "  energy balance eq. {equation}: not checked (the run's conventions change the \
+             scheme's equations; see docs/src/schemes-and-balances.md)"
+        ),
+    }
+}
