@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
+use crate::harness::error::{Error, ParameterError};
 use crate::harness::output_dir::OutputDirError;
 use crate::harness::scene::SceneError;
 
@@ -57,6 +57,12 @@ impl From<Error> for Failure {
             Error::Shard(e) if e.is_usage() => Self::usage(e),
             Error::Shard(e) => Self::runtime(e),
         }
+    }
+}
+
+impl From<ParameterError> for Failure {
+    fn from(e: ParameterError) -> Self {
+        Self::usage(e)
     }
 }
 

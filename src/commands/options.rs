@@ -8,11 +8,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::error::ParameterError;
 use crate::harness::norms::Norm;
-use crate::harness::problem::ContactTreatment;
-use crate::harness::problem::LinearSolver;
-use crate::harness::problem::MassVariant;
-use crate::harness::problem::Scheme;
-use crate::harness::problem::{Conventions, Start};
+use crate::harness::problem::{
+    ContactTreatment, Conventions, LinearSolver, MassVariant, Scheme, Start,
+};
+use crate::studies::scene_study::ConventionChoice;
 
 /// The reports directory of `make report`, relative to the repository root: the default
 /// `--out` of the commands that write reports.
@@ -42,13 +41,12 @@ pub struct ConventionArgs {
 }
 
 impl ConventionArgs {
-    /// `scene`'s conventions with the options given here applied over them.
-    pub fn over(self, scene: Conventions) -> Conventions {
-        let mut c = self.conventions.unwrap_or(scene);
-        if let Some(start) = self.start {
-            c.start = start;
+    /// The choice these options make over a scene's conventions.
+    pub(crate) fn choice(self) -> ConventionChoice {
+        ConventionChoice {
+            conventions: self.conventions,
+            start: self.start,
         }
-        c
     }
 }
 

@@ -21,10 +21,10 @@ use crate::harness::executor::{Executor, Jobs};
 use crate::harness::input::Shown;
 use crate::harness::norms::Norm;
 use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::problem::BoxProblem;
 use crate::harness::problem::ContactTreatment;
 use crate::harness::problem::MassVariant;
 use crate::harness::problem::Scheme;
-use crate::harness::problem::{BoxProblem, Problem};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};
 use crate::harness::study::Case;
@@ -161,8 +161,7 @@ pub(crate) fn study_scene_with(
             ratio,
             reference_level,
             contact,
-            conventions: conventions.conventions,
-            start: conventions.start,
+            conventions: conventions.choice(),
             linear_solver: solver.linear_solver,
         },
     )?;
@@ -265,13 +264,10 @@ pub(crate) fn sensitivity_with(args: SensitivityArgs, executor: &Executor) -> Re
         limits,
     } = args;
     let scene = Scene::load(&scene)?;
-    let Problem::Bar(problem) = scene.problem() else {
-        return Err(Failure::usage(format!(
-            "scene {}: the sensitivity command is for bar1d scenes (a box scene's \
-             ensemble is its discretisation.sensitivity, run by `signorini study`)",
-            scene.name
-        )));
-    };
+    let problem = scene.bar_problem(
+        "a bar1d scene (a box scene's ensemble is its discretisation.sensitivity, run by \
+         `signorini study`)",
+    )?;
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
     let norms = &scene.observables.norms;
@@ -405,14 +401,10 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
     let mut work = Vec::with_capacity(scenes.len());
     for path in scenes {
         let scene = Scene::load(&path)?;
-        let Problem::Box(mut problem) = scene.problem() else {
-            return Err(Failure::usage(format!(
-                "scene {}: a reference is for box scenes (a bar1d has an exact solution)",
-                scene.name
-            )));
-        };
+        let mut problem =
+            scene.box_problem("a box scene (a bar1d has an exact solution, no reference)")?;
         problem.linear_solver = solver.linear_solver;
-        let config = ElasticStudyConfig::from_scene(&scene, None).map_err(Error::from)?;
+        let config = ElasticStudyConfig::from_scene(&scene, None)?;
         let estimate = budget::box_study(
             &problem,
             &config.levels,

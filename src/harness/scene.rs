@@ -124,6 +124,24 @@ impl Scene {
         self.problem.clone()
     }
 
+    /// The bar a bar1d scene declares; a box scene is refused naming the scene, with `why`
+    /// (what only a bar is for) as what is allowed.
+    pub fn bar_problem(&self, why: &'static str) -> Result<Problem1d, ParameterError> {
+        match &self.problem {
+            Problem::Bar(p) => Ok(p.clone()),
+            Problem::Box(_) => Err(ParameterError::new("scene", &self.name, why)),
+        }
+    }
+
+    /// The box a 2D/3D box scene declares; a bar1d scene is refused naming the scene, with
+    /// `why` (what only a box is for) as what is allowed.
+    pub fn box_problem(&self, why: &'static str) -> Result<BoxProblem, ParameterError> {
+        match &self.problem {
+            Problem::Box(p) => Ok(p.clone()),
+            Problem::Bar(_) => Err(ParameterError::new("scene", &self.name, why)),
+        }
+    }
+
     /// The observables of one run: the scene's, with the contact history only when there is
     /// an obstacle.
     pub fn observables(&self) -> Observables {

@@ -10,13 +10,13 @@ use crate::harness::budget::{self, Estimate};
 use crate::harness::elastic::{run_box, BoxRunResult};
 use crate::harness::error::{Error, ParameterError};
 use crate::harness::problem::{
-    BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
-    Scheme, Start,
+    BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Problem1d, Scheme,
 };
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
 use crate::harness::run_files::{box_history_csv, history_csv};
 use crate::harness::scene::Scene;
+use crate::studies::scene_study::ConventionChoice;
 
 /// What a user chooses for one run of a scene; each `None` keeps the scene's.
 #[derive(Debug, Clone)]
@@ -32,9 +32,7 @@ pub struct RunChoices {
     /// The contact treatment.
     pub contact: Option<ContactTreatment>,
     /// The schemes' conventions.
-    pub conventions: Option<Conventions>,
-    /// The start, over the conventions.
-    pub start: Option<Start>,
+    pub conventions: ConventionChoice,
     /// The step solver of a box.
     pub linear_solver: LinearSolver,
     /// Whether a bar run measures its energy balance's residual (a box run always does).
@@ -83,13 +81,7 @@ impl SceneRun {
                      the finest from)",
                 )
             })?;
-        let conventions = |scene: Conventions| {
-            let mut c = choices.conventions.unwrap_or(scene);
-            if let Some(start) = choices.start {
-                c.start = start;
-            }
-            c
-        };
+        let conventions = |scene| choices.conventions.over(scene);
         let (problem, observables) = match scene.problem() {
             Problem::Box(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);

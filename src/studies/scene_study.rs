@@ -42,11 +42,30 @@ pub struct StudyChoices {
     /// The contact treatment of every case.
     pub contact: Option<ContactTreatment>,
     /// The schemes' conventions.
-    pub conventions: Option<Conventions>,
-    /// The start, over the conventions.
-    pub start: Option<Start>,
+    pub conventions: ConventionChoice,
     /// The step solver of a box study.
     pub linear_solver: LinearSolver,
+}
+
+/// The conventions a user chooses over a scene's: a named set, and a start over it; `None`
+/// keeps the scene's.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ConventionChoice {
+    /// The named set.
+    pub conventions: Option<Conventions>,
+    /// The start.
+    pub start: Option<Start>,
+}
+
+impl ConventionChoice {
+    /// `scene`'s conventions with the choices applied over them.
+    pub fn over(self, scene: Conventions) -> Conventions {
+        let mut c = self.conventions.unwrap_or(scene);
+        if let Some(start) = self.start {
+            c.start = start;
+        }
+        c
+    }
 }
 
 /// A scene's study with the user's choices applied: a bar's against its exact solution, or a
@@ -109,13 +128,7 @@ impl SceneStudy {
         } else {
             choices.masses
         };
-        let conventions = |scene: Conventions| {
-            let mut c = choices.conventions.unwrap_or(scene);
-            if let Some(start) = choices.start {
-                c.start = start;
-            }
-            c
-        };
+        let conventions = |scene| choices.conventions.over(scene);
         match scene.problem() {
             Problem::Box(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);
