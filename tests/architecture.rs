@@ -1,7 +1,7 @@
 //! The layering of `src/`, checked on the import graph the source states.
 //!
 //! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
-//! defines it. Five rules hold:
+//! defines it. Six rules hold:
 //! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
 //!   `harness` does not import `studies`;
 //! - a layer does not skip the layers between it and a lower one it is listed with in
@@ -12,7 +12,8 @@
 //! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
 //!   children, is a component's root and is left to the rule above);
 //! - in `commands/`, no file imports the dispatcher (`mod.rs`) and no subcommand's file imports
-//!   another's: they share only [`SHARED_COMMAND_PARTS`].
+//!   another's: they share only [`SHARED_COMMAND_PARTS`];
+//! - no `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`).
 //!
 //! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
@@ -426,5 +427,43 @@ fn the_command_rule_sees_a_subcommand_importing_another() {
             "commands::verify imports commands",
             "commands::verify imports commands::study"
         ]
+    );
+}
+
+/// The `commands/` files that branch on the geometry (`Problem::Bar`, `Problem::Box`): what a
+/// command does is the same for a bar and a box, the difference is below it.
+fn commands_branching_on_the_geometry(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    modules
+        .iter()
+        .filter(|(m, _)| m[0] == "commands")
+        .filter(|(_, source)| {
+            let code = code_of(source);
+            code.contains("Problem::Bar") || code.contains("Problem::Box")
+        })
+        .map(|(m, _)| show(m))
+        .collect()
+}
+
+#[test]
+fn commands_do_not_branch_on_the_geometry() {
+    let branching = commands_branching_on_the_geometry(&modules());
+    assert!(
+        branching.is_empty(),
+        "commands/ files branching on the geometry (the studies' SceneRun and SceneStudy, and \
+         Scene::bar_problem / box_problem, take it): {branching:?}"
+    );
+}
+
+#[test]
+fn the_geometry_rule_sees_a_branch() {
+    let mut modules = modules();
+    let run = vec!["commands".to_string(), "run".to_string()];
+    modules
+        .get_mut(&run)
+        .expect("commands/run.rs")
+        .push_str("\nfn f(p: Problem) { if let Problem::Box(_) = p {} }\n");
+    assert_eq!(
+        commands_branching_on_the_geometry(&modules),
+        ["commands::run"]
     );
 }
