@@ -265,8 +265,8 @@ pub(crate) fn sensitivity_with(args: SensitivityArgs, executor: &Executor) -> Re
     } = args;
     let scene = Scene::load(&scene)?;
     let problem = scene.bar_problem(
-        "a bar1d scene (a box scene's ensemble is its discretisation.sensitivity, run by \
-         `signorini study`)",
+        "bar1d scenes: the sensitivity command is for them (a box scene's ensemble is its \
+         discretisation.sensitivity, run by `signorini study`)",
     )?;
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let ensemble = EnsembleConfig { members, amplitude };
@@ -401,8 +401,8 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
     let mut work = Vec::with_capacity(scenes.len());
     for path in scenes {
         let scene = Scene::load(&path)?;
-        let mut problem =
-            scene.box_problem("a box scene (a bar1d has an exact solution, no reference)")?;
+        let mut problem = scene
+            .box_problem("box scenes: a reference is for them (a bar1d has an exact solution)")?;
         problem.linear_solver = solver.linear_solver;
         let config = ElasticStudyConfig::from_scene(&scene, None)?;
         let estimate = budget::box_study(
