@@ -93,11 +93,9 @@ pub enum PredictorForm {
     Factored,
 }
 
-impl PredictorForm {
-    /// Whether this is the default form (left out of written conventions).
-    pub fn is_expanded(&self) -> bool {
-        *self == PredictorForm::Expanded
-    }
+/// Whether `form` is the default form (left out of written conventions).
+fn is_expanded(form: &PredictorForm) -> bool {
+    *form == PredictorForm::Expanded
 }
 
 /// The implementation choices of a run (see the module documentation).
@@ -117,7 +115,7 @@ pub struct Conventions {
     #[serde(default)]
     pub paoli_schatzman_first_step: FirstStepContact,
     /// The one-step schemes' predictor (written only when it is not the default).
-    #[serde(default, skip_serializing_if = "PredictorForm::is_expanded")]
+    #[serde(default, skip_serializing_if = "is_expanded")]
     pub predictor: PredictorForm,
 }
 
