@@ -2,7 +2,8 @@
 //! independent solver rather than read back from the code under test: the P1 and Q1 assembly
 //! and the mass variants, the exact solutions of the benchmarks, complementarity and the contact
 //! treatments, explicit Newmark, the initial-data perturbation, and the discrete energy
-//! balances (all of them in `energy_balance.rs`); and the ParaView files of a box run.
+//! balances (all of them in `energy_balance.rs`); the ParaView files of a box run; and the
+//! executor of a study's jobs (local, a shard's share, a merge).
 
 #[path = "../common/benchmarks.rs"]
 mod benchmarks;
@@ -18,6 +19,7 @@ mod complementarity;
 mod contact_cross_check;
 mod contact_treatments;
 mod energy_balance;
+mod executor;
 mod explicit;
 mod external;
 mod fem;
