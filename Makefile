@@ -14,7 +14,7 @@ report: build
 	$(BIN) getfem --out reports
 	$(BIN) figures --reports reports
 
-## The finer 2D/3D studies (issue 19) into reports/fine/: 2D levels 10–160 against a reference on
+## The finer 2D/3D studies into reports/fine/: 2D levels 10–160 against a reference on
 ## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
 ## references are cached in reports/fine/data/references/ (computing them takes most of the time:
 ## see docs/src/convergence-2d-3d.md).
@@ -23,10 +23,10 @@ report-fine: build
 	$(BIN) study scenes/bar3d-fine.json --out reports/fine
 	$(BIN) figures --reports reports/fine
 
-## The finest 3D study (issue 19, item 3) into reports/finest/: levels 10–160 against a reference
-## on 640 elements along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and
-## figures. The reference takes most of the time (measured 2026-11-26: 63 of 71 minutes on 2 cores,
-## 9.12 GB peak; see docs/src/convergence-2d-3d.md, "What a finer reference would take"); it is cached in
+## The finest 3D study into reports/finest/: levels 10–160 against a reference on 640 elements
+## along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and figures. The
+## reference takes most of the time and memory (reports/finest/elastic-3d.md gives its run time;
+## docs/src/convergence-2d-3d.md, "What a finer reference would take"); it is cached in
 ## reports/finest/data/references/.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
@@ -78,7 +78,8 @@ bench:
 	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
 	$(CARGO) bench --bench kernels
 
-## `make bench` and the 3D level-320 run (issue 19: ≤ 15 min, ≤ 6 GB; 200 s on 2026-11-26, the whole target about 10 minutes).
+## `make bench` and the 3D level-320 run (targets: at most 15 min and 6 GB; reports/bench.md gets
+## what it measured).
 bench-fine:
 	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
 	$(CARGO) bench --bench kernels -- --fine
