@@ -52,7 +52,7 @@ pub(crate) struct MergedShards {
 impl MergedShards {
     /// The request the shards recorded, as the options of their command.
     pub(crate) fn request<A: DeserializeOwned>(&self) -> Result<A, Failure> {
-        codec::decode(0, &self.request).map_err(|e| {
+        codec::read(&self.request).map_err(|e| {
             Failure::usage(format!(
                 "the shards' request does not read as `{}` options: {e}",
                 self.command

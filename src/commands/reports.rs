@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::failure::{write_output, Failure};
 use super::limits::LimitArgs;
 use super::options::REPORTS;
-use super::sharding::{complete_or_write, shard_output, this_invocation, ShardArgs};
+use super::sharding::{this_invocation, Destination, ShardArgs};
 use crate::harness::budget::Estimate;
 use crate::harness::executor::{computed_here, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
@@ -176,14 +176,9 @@ pub(crate) fn stability_with(args: StabilityArgs, executor: &Executor) -> Result
         dof_steps: suite.dof_steps * share,
         ..suite
     })?;
-    let shard = shard_output(executor, Some(&out))?;
-    let staged = match shard {
-        None => Some(StagedDir::begin("--out", &out, Replace::Files)?),
-        Some(_) => None,
-    };
+    let destination = Destination::begin(executor, &out)?;
     let executed = run_suite_on(executor, &hard, &Case::paper_matrix())?;
-    let (Some(records), Some(staged)) = (complete_or_write(executed, shard, &invocation)?, staged)
-    else {
+    let Some((records, staged)) = destination.receive(executed, &invocation)? else {
         return Ok(());
     };
     write_stability_files(staged.path(), &hard, &records).map_err(Failure::runtime)?;

@@ -121,6 +121,48 @@ pub(crate) fn complete_or_write<T>(
     }
 }
 
+/// Where a command that writes into a reports directory `--out` puts what its executor hands
+/// back: a shard's partial result file, or the reports, staged.
+pub(crate) enum Destination {
+    /// A shard's file.
+    Shard(ShardOutput),
+    /// The reports, staged in `--out`.
+    Reports(StagedDir),
+}
+
+impl Destination {
+    /// The destination of `executor`'s results in `out`, begun before any job runs.
+    pub(crate) fn begin(executor: &Executor, out: &Path) -> Result<Self, Failure> {
+        Ok(match executor {
+            Executor::Shard(spec) => Self::Shard(ShardOutput::begin(*spec, out)?),
+            Executor::Local | Executor::Merge(_) => {
+                Self::Reports(StagedDir::begin("--out", out, Replace::Files)?)
+            }
+        })
+    }
+
+    /// The complete result with the staged reports to write it into, or `None` once a shard's
+    /// share is written into its file.
+    pub(crate) fn receive<T>(
+        self,
+        executed: Executed<T>,
+        invocation: &Invocation,
+    ) -> Result<Option<(T, StagedDir)>, Failure> {
+        match (executed, self) {
+            (Executed::Complete(value), Self::Reports(staged)) => Ok(Some((value, staged))),
+            (Executed::Share(share), Self::Shard(shard)) => {
+                shard.write(invocation, share).map(|()| None)
+            }
+            (Executed::Complete(_), Self::Shard(_)) | (Executed::Share(_), Self::Reports(_)) => {
+                Err(Failure::runtime(
+                    "the study's executor and its output disagree (a shard's share is written \
+                     only into a shard's file)",
+                ))
+            }
+        }
+    }
+}
+
 /// The output of shard `executor` in `out` (`None` for another executor), begun; `--shard`
 /// without `--out` is refused.
 pub(crate) fn shard_output(

@@ -14,7 +14,7 @@ use super::options::{
     parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
     ConventionArgs, LinearSolverArgs,
 };
-use super::sharding::{complete_or_write, shard_output, this_invocation, ShardArgs};
+use super::sharding::{complete_or_write, shard_output, this_invocation, Destination, ShardArgs};
 use crate::harness::budget;
 use crate::harness::error::Error;
 use crate::harness::executor::{Executor, Jobs};
@@ -281,13 +281,9 @@ pub(crate) fn sensitivity_with(args: SensitivityArgs, executor: &Executor) -> Re
         config.ratio,
         &runs,
     ))?;
-    let shard = shard_output(executor, Some(&out))?;
-    let staged = match shard {
-        None => Some(StagedDir::begin("--out", &out, Replace::Files)?),
-        Some(_) => None,
-    };
+    let destination = Destination::begin(executor, &out)?;
     let executed = run_sensitivity_on(executor, &problem, &cases, norms, &config, ensemble)?;
-    let (Some(s), Some(staged)) = (complete_or_write(executed, shard, &invocation)?, staged) else {
+    let Some((s, staged)) = destination.receive(executed, &invocation)? else {
         return Ok(());
     };
     write_sensitivity_files(&s, staged.path())

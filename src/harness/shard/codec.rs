@@ -15,19 +15,24 @@ pub fn encode<T: Serialize>(result: &T) -> Result<String, ShardError> {
 
 /// The result that [`encode`] wrote as `text`, the job at `index` of its list.
 pub fn decode<T: DeserializeOwned>(index: usize, text: &str) -> Result<T, ShardError> {
-    let invalid = |why: String| ShardError::Decode { index, why };
+    read(text).map_err(|why| ShardError::Decode { index, why })
+}
+
+/// The value that [`encode`] wrote as `text` (a job's result, or a shard's recorded request),
+/// or why it does not read.
+pub fn read<T: DeserializeOwned>(text: &str) -> Result<T, String> {
     if text.len() % 2 != 0 {
-        return Err(invalid("an odd number of hexadecimal digits".into()));
+        return Err("an odd number of hexadecimal digits".into());
     }
     let bytes = (0..text.len())
         .step_by(2)
         .map(|i| {
             text.get(i..i + 2)
                 .and_then(|pair| u8::from_str_radix(pair, 16).ok())
-                .ok_or_else(|| invalid(format!("not hexadecimal at character {i}")))
+                .ok_or_else(|| format!("not hexadecimal at character {i}"))
         })
         .collect::<Result<Vec<u8>, _>>()?;
-    rmp_serde::from_slice(&bytes).map_err(|e| invalid(e.to_string()))
+    rmp_serde::from_slice(&bytes).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
