@@ -63,6 +63,7 @@ fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, Ru
             norms: norms.clone(),
             ..Observables::default()
         },
+        settings: Default::default(),
     };
     let mut samples = Vec::new();
     let mut last = None;

@@ -1,6 +1,6 @@
 //! Test (a) of issue 15: an arithmetically equivalent rewrite of a chaotic case's step (the
 //! predictor `U + ΔtV + aΔt²A` evaluated as `U + Δt(V + aΔtA)`, the factored
-//! `PredictorForm` of the problem's conventions) keeps the gate green, while the old 1 %
+//! `PredictorForm` of the settings' conventions) keeps the gate green, while the old 1 %
 //! per-level check fails on it.
 
 use std::collections::BTreeSet;
@@ -11,10 +11,11 @@ use signorini::engine::schemes::conventions::PredictorForm;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::golden::{compare, compare_ensemble, read_golden, render_drifts};
 use signorini::harness::norms::Norm;
+use signorini::harness::problem::Settings;
 use signorini::harness::run::Problem1d;
 use signorini::harness::study::{run_study, Case, StudyConfig};
 use signorini::studies::benchmark;
-use signorini::studies::tables::{tables_sensitivity_of, GOLDEN_TABLES};
+use signorini::studies::tables::{tables_sensitivity_under, GOLDEN_TABLES};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
 fn dirichlet(horizon: f64) -> Problem1d {
@@ -34,12 +35,16 @@ fn an_equivalent_rewrite_of_a_chaotic_step_passes_the_gate_and_fails_the_old_che
         "crank-nicolson/standard is no longer chaotic"
     );
 
-    let config = StudyConfig::paper_default();
-    let mut factored = dirichlet(config.horizon);
+    let mut factored = Settings::default();
     factored.conventions.predictor = PredictorForm::Factored;
+    let config = StudyConfig {
+        settings: factored,
+        ..StudyConfig::paper_default()
+    };
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    let rewritten = run_study(&factored, &[case], &norms, &config).unwrap();
-    let ensembles = tables_sensitivity_of(&factored, &[case]).unwrap();
+    let rewritten = run_study(&dirichlet(config.horizon), &[case], &norms, &config).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ensembles = tables_sensitivity_under(root, factored, &[case]).unwrap();
 
     // The rewrite changed the run: it is not the golden sample any more.
     let now = &rewritten.cases[0];

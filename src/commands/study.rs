@@ -397,12 +397,13 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
     let mut work = Vec::with_capacity(scenes.len());
     for path in scenes {
         let scene = Scene::load(&path)?;
-        let mut problem = scene
+        let problem = scene
             .box_problem("box scenes: a reference is for them (a bar1d has an exact solution)")?;
-        problem.linear_solver = solver.linear_solver;
-        let config = ElasticStudyConfig::from_scene(&scene, None)?;
+        let mut config = ElasticStudyConfig::from_scene(&scene, None)?;
+        config.settings.linear_solver = solver.linear_solver;
         let estimate = budget::box_study(
             &problem,
+            &config.settings,
             &config.levels,
             config.reference_level,
             config.ratio,

@@ -28,6 +28,7 @@ pub use crate::harness::error::BudgetError;
 
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;
+use crate::engine::problem::Settings;
 use crate::engine::problem::{BoxProblem, Problem1d};
 use crate::engine::schemes::Scheme;
 use crate::harness::executor::{computed_here, Executor};
@@ -167,6 +168,7 @@ pub fn bar_runs<'p>(runs: impl Iterator<Item = (&'p Problem1d, usize, f64, f64)>
             scheme: Scheme::CRANK_NICOLSON,
             mass: MassVariant::Standard,
             observables: Default::default(),
+            settings: Settings::default(),
         };
         (bar_run(problem, &config, false), count)
     }))
@@ -306,16 +308,21 @@ const CG_BOX_BYTES_PER_DOF: f64 = 400.0;
 const CG_BOX_FIXED_BYTES: f64 = 48.0 * 1024.0 * 1024.0;
 
 /// Peak bytes of the matrices and factor of a box run of `problem` with `dofs` unknowns and
-/// `contact_nodes` contact constraints: the step solver `problem.linear_solver` chooses
+/// `contact_nodes` contact constraints: the step solver `linear_solver` chooses
 /// ([`LinearSolver::for_box`]) decides between the matrix-free model and the Cholesky fill's.
-fn box_matrix_bytes(problem: &BoxProblem, dofs: f64, contact_nodes: f64) -> f64 {
+fn box_matrix_bytes(
+    problem: &BoxProblem,
+    linear_solver: LinearSolver,
+    dofs: f64,
+    contact_nodes: f64,
+) -> f64 {
     let dim = problem.lengths.len();
     let unknowns = if dofs < 1e15 {
         dofs as usize
     } else {
         usize::MAX
     };
-    let matrices = match problem.linear_solver.for_box(unknowns) {
+    let matrices = match linear_solver.for_box(unknowns) {
         LinearSolver::Cg => CG_BOX_FIXED_BYTES + CG_BOX_BYTES_PER_DOF * dofs,
         _ => cholesky_bytes(dim, dofs),
     };
@@ -333,12 +340,13 @@ fn cholesky_bytes(dim: usize, dofs: f64) -> f64 {
     }
 }
 
-/// A box run of `problem` with `n_axis` elements along the axis and `Δx/Δt = ratio`;
-/// `writes_files`: the run writes `run.json`, its CSV histories and `snapshots` VTK files,
-/// with, when there are snapshots, their collection `fields.pvd` and the obstacle's
-/// `obstacle.vtu` (`run --out`).
+/// A box run of `problem` solved with `settings` with `n_axis` elements along the axis and
+/// `Δx/Δt = ratio`; `writes_files`: the run writes `run.json`, its CSV histories and
+/// `snapshots` VTK files, with, when there are snapshots, their collection `fields.pvd` and the
+/// obstacle's `obstacle.vtu` (`run --out`).
 pub fn box_run(
     problem: &BoxProblem,
+    settings: &Settings,
     n_axis: usize,
     ratio: f64,
     snapshots: usize,
@@ -370,7 +378,12 @@ pub fn box_run(
     };
     Estimate {
         memory_bytes: BASE_BYTES
-            + box_matrix_bytes(problem, shape.dofs, shape.contact_nodes)
+            + box_matrix_bytes(
+                problem,
+                settings.linear_solver,
+                shape.dofs,
+                shape.contact_nodes,
+            )
             + BYTES_PER_STORED_VALUE * per_step * (steps + 1.0)
             + snapshot_bytes,
         files,
@@ -409,6 +422,7 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]
                 scheme: Scheme::CRANK_NICOLSON,
                 mass: MassVariant::Standard,
                 observables: Default::default(),
+                settings: Settings::default(),
             },
             false,
         )
@@ -416,7 +430,7 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]
     study_of(levels.iter().map(|&nx| runs(nx)).zip(jobs.iter().copied()))
 }
 
-/// A box study: `jobs[l]` case × level jobs at level `l` of `levels` ([`jobs_per_level`]; none
+/// A box study solved with `settings`: `jobs[l]` case × level jobs at level `l` of `levels` ([`jobs_per_level`]; none
 /// for the reference alone, `signorini reference`), each of `runs_per_job` runs (the
 /// unperturbed run and the ensemble's members), and its fine-mesh reference at `reference_level`
 /// (counted as computed): the reference run, the check run one level coarser beside it, the
@@ -426,6 +440,7 @@ pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]
 /// fine unknown) and the five fine work vectors of the projections and the check.
 pub fn box_study(
     problem: &BoxProblem,
+    settings: &Settings,
     levels: &[usize],
     reference_level: usize,
     ratio: f64,
@@ -435,11 +450,11 @@ pub fn box_study(
     let levels_estimate = study_of(
         levels
             .iter()
-            .map(|&nx| box_run(problem, nx, ratio, 0, false))
+            .map(|&nx| box_run(problem, settings, nx, ratio, 0, false))
             .zip(jobs.iter().map(|&j| j * runs_per_job as f64)),
     );
-    let reference = box_run(problem, reference_level, ratio, 0, false);
-    let check = box_run(problem, reference_level / 2, ratio, 0, false);
+    let reference = box_run(problem, settings, reference_level, ratio, 0, false);
+    let check = box_run(problem, settings, reference_level / 2, ratio, 0, false);
     let fine = box_shape(problem, reference_level);
     let projections: f64 = levels
         .iter()

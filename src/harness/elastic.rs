@@ -242,7 +242,7 @@ pub fn run_box_observed(
     observers: &mut [&mut dyn Observer],
 ) -> Result<BoxRunResult, Error> {
     let started = Instant::now();
-    let discretisation = problem.discretise(config.nx, config.mass)?;
+    let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
     let mesh = &discretisation.mesh;
     let model = &discretisation.model;
     let mut energy = EnergyTrace::default();

@@ -14,14 +14,14 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::engine::contact::{ContactOperator, ContactTreatment, TREATMENT_NAMES};
+use crate::engine::contact::{ContactTreatment, TREATMENT_NAMES};
 use crate::engine::error::{compact, ParameterError};
 use crate::engine::exact::{
     AtRest, BouncingBar, ClampedFreeMode, ExactSolution, Pointwise, SignoriniDirichlet,
 };
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
-use crate::engine::linalg::LinearSolver;
+use crate::engine::problem::Settings;
 use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
 use crate::engine::schemes::Conventions;
 use crate::engine::schemes::{Scheme, SCHEME_NAMES};
@@ -45,6 +45,9 @@ pub struct Scene {
     /// The problem: the bar or box, material, boundary, obstacle, load, initial data, horizon,
     /// contact treatment and (for a bar) its exact solution.
     problem: Problem,
+    /// How its runs are solved: the scene's conventions, the default step solver and contact
+    /// operator, no round-off perturbation.
+    settings: Settings,
     /// Levels, `Δx/Δt` and schemes of studies.
     pub discretisation: Discretisation,
     /// What runs record.
@@ -124,6 +127,12 @@ impl Scene {
         self.problem.clone()
     }
 
+    /// The settings the scene's runs are solved with ([`Settings::default`] with the scene's
+    /// `conventions` and `start`).
+    pub fn settings(&self) -> Settings {
+        self.settings
+    }
+
     /// The bar a bar1d scene declares; a box scene is refused naming the scene, with `why`
     /// (what only a bar is for) as what is allowed.
     pub fn bar_problem(&self, why: &'static str) -> Result<Problem1d, ParameterError> {
@@ -174,6 +183,7 @@ impl Scene {
             levels: self.discretisation.levels.clone(),
             ratio: self.discretisation.ratio,
             horizon: self.problem.horizon(),
+            settings: self.settings,
         }
     }
 }
@@ -401,12 +411,11 @@ impl SceneFile {
         }
         let (problem, schemes, norms) = match &self.geometry {
             Geometry::Bar1d { length } => {
-                let (bar, schemes, norms) = self.bar1d(path, *length, contact, conventions)?;
+                let (bar, schemes, norms) = self.bar1d(path, *length, contact)?;
                 (Problem::Bar(bar), schemes, norms)
             }
             Geometry::Box { lengths } => {
-                let (elastic_box, schemes, norms) =
-                    self.elastic_box(path, lengths, contact, conventions)?;
+                let (elastic_box, schemes, norms) = self.elastic_box(path, lengths, contact)?;
                 (Problem::Box(elastic_box), schemes, norms)
             }
         };
@@ -428,6 +437,10 @@ impl SceneFile {
             name: printable(&self.name),
             description: printable(&self.description),
             problem,
+            settings: Settings {
+                conventions,
+                ..Settings::default()
+            },
             discretisation: Discretisation {
                 levels,
                 ratio,
@@ -511,7 +524,6 @@ impl SceneFile {
         path: &Path,
         length: f64,
         contact: ContactTreatment,
-        conventions: Conventions,
     ) -> Result<Checked<Problem1d>, SceneError> {
         positive(path, "geometry.length", length)?;
         let wave_speed = self.material.wave_speed.ok_or_else(|| {
@@ -607,7 +619,6 @@ impl SceneFile {
             initial: self.initial,
             horizon: self.horizon,
             contact,
-            conventions,
         };
         Ok((problem, schemes, norms))
     }
@@ -712,7 +723,6 @@ impl SceneFile {
         path: &Path,
         lengths: &[f64],
         contact: ContactTreatment,
-        conventions: Conventions,
     ) -> Result<Checked<BoxProblem>, SceneError> {
         if !(2..=3).contains(&lengths.len()) || lengths.iter().any(|l| !(l.is_finite() && *l > 0.0))
         {
@@ -838,10 +848,6 @@ impl SceneFile {
             initial_velocity,
             horizon: self.horizon,
             contact,
-            velocity_perturbation: None,
-            conventions,
-            linear_solver: LinearSolver::default(),
-            contact_operator: ContactOperator::default(),
         };
         Ok((problem, schemes, BTreeSet::new()))
     }

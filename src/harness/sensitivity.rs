@@ -263,7 +263,7 @@ impl Sensitivity {
 }
 
 /// Runs `problem` with `config` as an ensemble: the unperturbed run, then member `m = 1..=K`
-/// with the round-off perturbation `initial.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
+/// with the round-off perturbation `settings.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
 /// unperturbed initial displacement, the contact dofs untouched) and seed `m`. Each member's
 /// result is handed to `observe` with its [`Separation`] from the unperturbed run (`None` for
 /// a member that did not complete: its status says why) and dropped, so memory holds the
@@ -295,13 +295,13 @@ pub fn run_ensemble(
         return Ok(base);
     };
     config.observables.energy_balance = false;
+    let unperturbed = config.settings;
     for member in 1..=ensemble.members {
-        let mut perturbed = problem.clone();
-        perturbed.initial.round_off = Some(Perturbation {
+        config.settings = unperturbed.with_round_off(Perturbation {
             amplitude: ensemble.amplitude * scale,
             seed: member as u64,
         });
-        let r = run(&perturbed, &config)?;
+        let r = run(problem, &config)?;
         let separation = r
             .contact_history
             .as_ref()
@@ -408,19 +408,20 @@ fn level_ensemble(
     problem: &Problem1d,
     case: Case,
     nx: usize,
-    ratio: f64,
+    config: &StudyConfig,
     norms: &BTreeSet<Norm>,
     ensemble: EnsembleConfig,
 ) -> Result<LevelEnsemble, Error> {
     let config = RunConfig {
         nx,
-        ratio,
+        ratio: config.ratio,
         scheme: case.scheme,
         mass: case.mass,
         observables: Observables {
             norms: norms.clone(),
             ..Observables::default()
         },
+        settings: config.settings,
     };
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
@@ -510,7 +511,7 @@ impl<'a> SensitivityJobs<'a> {
                 self.problem,
                 self.cases[c],
                 self.config.levels[l],
-                self.config.ratio,
+                self.config,
                 self.norms,
                 self.ensemble,
             )

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
+use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::executor::{run_local, Executed, Executor, JobList};
@@ -48,7 +49,7 @@ impl Case {
     }
 }
 
-/// Levels, time-step ratio and horizon of a study.
+/// Levels, time-step ratio, horizon and settings of a study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StudyConfig {
     /// `NX` of each level, increasing.
@@ -57,6 +58,10 @@ pub struct StudyConfig {
     pub ratio: f64,
     /// Horizon `T`.
     pub horizon: f64,
+    /// How every run of the study is solved (not written: a study's files name its
+    /// conventions where they are not the harness's).
+    #[serde(skip)]
+    pub settings: Settings,
 }
 
 impl StudyConfig {
@@ -68,6 +73,7 @@ impl StudyConfig {
             levels: vec![10, 20, 40, 80, 160, 320, 640],
             ratio: 10.0,
             horizon: 3.0,
+            settings: Settings::default(),
         }
     }
 
@@ -320,6 +326,7 @@ impl<'a> StudyJobs<'a> {
                 scheme: self.cases[c].scheme,
                 mass: self.cases[c].mass,
                 observables: self.observables.clone(),
+                settings: self.config.settings,
             };
             let result = run(self.problem, &cfg);
             (self.done)();

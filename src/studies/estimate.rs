@@ -81,6 +81,7 @@ pub fn golden(root: &Path) -> Result<Estimate, Error> {
     let jobs = budget::jobs_per_level(&config.levels, config.cases.len(), &Executor::Local);
     let elastic = budget::box_study(
         &problem,
+        &config.settings,
         &config.levels,
         config.reference_level,
         config.ratio,

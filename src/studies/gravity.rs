@@ -121,6 +121,7 @@ pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error>
             scheme: case.case.scheme,
             mass: case.case.mass,
             observables: scene.observables(),
+            settings: scene.settings(),
         };
         let r = run(&problem, &config)?.completed()?;
         let mass = case.case.mass;

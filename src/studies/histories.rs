@@ -55,6 +55,7 @@ pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<
                 energy_history: true,
                 ..Observables::default()
             },
+            settings: config.settings,
         };
         run(&problem, &config)?.completed()
     }))?;

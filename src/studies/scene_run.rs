@@ -16,7 +16,7 @@ use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
 use crate::harness::run_files::{box_history_csv, history_csv};
 use crate::harness::scene::Scene;
-use crate::studies::scene_study::ConventionChoice;
+use crate::studies::scene_study::{chosen_settings, ConventionChoice};
 
 /// What a user chooses for one run of a scene; each `None` keeps the scene's.
 #[derive(Debug, Clone)]
@@ -81,12 +81,10 @@ impl SceneRun {
                      the finest from)",
                 )
             })?;
-        let conventions = |scene| choices.conventions.over(scene);
+        let settings = chosen_settings(scene, choices.conventions, choices.linear_solver);
         let (problem, observables) = match scene.problem() {
             Problem::Box(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);
-                problem.conventions = conventions(problem.conventions);
-                problem.linear_solver = choices.linear_solver;
                 let fields_at = if choices.writes_files {
                     scene.observables.fields_at.clone()
                 } else {
@@ -100,7 +98,6 @@ impl SceneRun {
             }
             Problem::Bar(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);
-                problem.conventions = conventions(problem.conventions);
                 let mut observables = scene.observables();
                 observables.energy_balance = choices.check_balance;
                 if !choices.writes_files {
@@ -121,6 +118,7 @@ impl SceneRun {
                 scheme: choices.scheme,
                 mass: choices.mass,
                 observables,
+                settings,
             },
             fields_at: scene.observables.fields_at.clone(),
             writes_files: choices.writes_files,
@@ -134,6 +132,7 @@ impl SceneRun {
             Problem::Bar(problem) => budget::bar_run(problem, &self.config, writes),
             Problem::Box(problem) => budget::box_run(
                 problem,
+                &self.config.settings,
                 self.config.nx,
                 self.config.ratio,
                 self.config.observables.fields_at.len(),

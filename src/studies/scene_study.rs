@@ -13,7 +13,7 @@ use crate::harness::executor::{Executed, Executor};
 use crate::harness::norms::Norm;
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
-    Scheme, Start,
+    Scheme, Settings, Start,
 };
 use crate::harness::report::convergence_tables;
 use crate::harness::scene::Scene;
@@ -43,7 +43,7 @@ pub struct StudyChoices {
     pub contact: Option<ContactTreatment>,
     /// The schemes' conventions.
     pub conventions: ConventionChoice,
-    /// The step solver of a box study.
+    /// The step solver.
     pub linear_solver: LinearSolver,
 }
 
@@ -59,12 +59,27 @@ pub struct ConventionChoice {
 
 impl ConventionChoice {
     /// `scene`'s conventions with the choices applied over them.
-    pub fn over(self, scene: Conventions) -> Conventions {
+    fn over(self, scene: Conventions) -> Conventions {
         let mut c = self.conventions.unwrap_or(scene);
         if let Some(start) = self.start {
             c.start = start;
         }
         c
+    }
+}
+
+/// `scene`'s settings with the user's conventions and step solver over them: what every run of
+/// a study or a run of the scene is solved with.
+pub(crate) fn chosen_settings(
+    scene: &Scene,
+    conventions: ConventionChoice,
+    linear_solver: LinearSolver,
+) -> Settings {
+    let settings = scene.settings();
+    Settings {
+        conventions: conventions.over(settings.conventions),
+        linear_solver,
+        ..settings
     }
 }
 
@@ -128,13 +143,12 @@ impl SceneStudy {
         } else {
             choices.masses
         };
-        let conventions = |scene| choices.conventions.over(scene);
+        let settings = chosen_settings(scene, choices.conventions, choices.linear_solver);
         match scene.problem() {
             Problem::Box(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);
-                problem.conventions = conventions(problem.conventions);
-                problem.linear_solver = choices.linear_solver;
                 let mut config = ElasticStudyConfig::from_scene(scene, choices.reference_level)?;
+                config.settings = settings;
                 if !choices.levels.is_empty() {
                     config.levels = choices.levels;
                 }
@@ -153,8 +167,8 @@ impl SceneStudy {
                     .into());
                 }
                 problem.contact = choices.contact.unwrap_or(problem.contact);
-                problem.conventions = conventions(problem.conventions);
                 let mut config = scene.study_config();
+                config.settings = settings;
                 if !choices.levels.is_empty() {
                     config.levels = choices.levels;
                 }
@@ -229,6 +243,7 @@ impl SceneStudy {
                 let members = config.sensitivity.map_or(0, |e| e.members);
                 budget::box_study(
                     problem,
+                    &config.settings,
                     &config.levels,
                     config.reference_level,
                     config.ratio,

@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::executor::{run_local, Executed, Executor, Jobs};
-use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile};
+use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
 use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
@@ -287,6 +287,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
             energy_balance: true,
             ..Observables::default()
         },
+        settings: Settings::default(),
     };
     let mut member_verdicts = Vec::new();
     let mut separations = Vec::new();

@@ -583,10 +583,11 @@ fn hostile_fuzz_extreme_scene_values_never_panic() {
                     scheme: Scheme::CRANK_NICOLSON,
                     mass: MassVariant::Standard,
                     observables: Observables::default(),
+                    settings: Default::default(),
                 };
                 budget::bar_run(&bar, &config, false)
             }
-            Problem::Box(b) => budget::box_run(&b, nx, ratio, 0, false),
+            Problem::Box(b) => budget::box_run(&b, &Default::default(), nx, ratio, 0, false),
         };
         prop_assert!(!estimate.memory_bytes.is_nan() && !estimate.dof_steps.is_nan());
         if estimate.check(&TINY).is_ok() && ran.fetch_add(1, Ordering::Relaxed) < RUN_FOR_REAL {

@@ -61,6 +61,7 @@ fn histories(scheme: Scheme, levels: &[usize]) -> SchemeHistories {
                     energy_history: true,
                     ..Observables::default()
                 },
+                settings: Default::default(),
             };
             runs.push((mass, nx, run(&problem, &config).unwrap()));
         }
@@ -92,6 +93,7 @@ fn small_study() -> Study {
         levels: vec![10, 20, 40],
         ratio: 10.0,
         horizon: 3.0,
+        settings: Default::default(),
     };
     let cases: Vec<Case> = MassVariant::PAPER
         .map(|mass| Case {

@@ -81,6 +81,7 @@ fn a_scene_without_obstacle_never_solves_contact() {
             scheme: Scheme::CRANK_NICOLSON,
             mass: MassVariant::Standard,
             observables: s.observables(),
+            settings: Default::default(),
         },
     )
     .unwrap();
@@ -98,6 +99,7 @@ fn a_scene_without_obstacle_never_solves_contact() {
             scheme: Scheme::CRANK_NICOLSON,
             mass: MassVariant::Standard,
             observables: d.observables(),
+            settings: Default::default(),
         },
     )
     .unwrap();
@@ -147,6 +149,7 @@ fn a_scene_asking_only_for_energy_evaluates_no_space_norm() {
             scheme: Scheme::CRANK_NICOLSON,
             mass: MassVariant::Redistributed,
             observables,
+            settings: Default::default(),
         },
     )
     .unwrap();

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::Problem1d;
+use signorini::engine::problem::Settings;
 use signorini::engine::schemes::{Scheme, TimeIntegrator};
 use signorini::harness::error::Error;
 use signorini::harness::run::{drive, Observer};
@@ -41,7 +42,7 @@ pub fn export_run(
     scheme: Scheme,
     mass: MassVariant,
 ) -> Export {
-    let d = problem.discretise(nx, mass).unwrap();
+    let d = problem.discretise(nx, mass, &Settings::default()).unwrap();
     let bar = d.mesh.clone();
     let mut e = Export {
         nodes: (0..=nx).map(|i| bar.node(i)).collect(),

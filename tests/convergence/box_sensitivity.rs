@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use signorini::engine::fem::MassVariant;
+use signorini::engine::problem::Settings;
 use signorini::engine::problem::{Perturbation, Problem};
 use signorini::engine::schemes::Scheme;
 use signorini::engine::schemes::TimeIntegrator;
@@ -54,6 +55,7 @@ fn tiny_config() -> ElasticStudyConfig {
             members: 3,
             amplitude: 1e-6,
         }),
+        settings: Settings::default(),
     }
 }
 
@@ -149,33 +151,35 @@ fn a_tiny_box_ensemble_is_bit_reproducible_and_its_members_differ_from_the_unper
 
 #[test]
 fn the_perturbation_touches_the_initial_velocity_only() {
-    let unperturbed = problem();
-    let perturbed = BoxProblem {
-        velocity_perturbation: Some(Perturbation {
-            amplitude: 1e-6,
-            seed: 7,
-        }),
-        ..unperturbed.clone()
-    };
-    let mesh = box_mesh(&unperturbed, 4).unwrap();
-    let (u, v) = initial_dofs(&unperturbed, &mesh);
-    let (u_p, v_p) = initial_dofs(&perturbed, &mesh);
-    assert_eq!(u, u_p, "the displacement moved");
-    let moved = v.iter().zip(&v_p).filter(|(a, b)| a != b).count();
+    let problem = problem();
+    let unperturbed = Settings::default();
+    let perturbed = unperturbed.with_round_off(Perturbation {
+        amplitude: 1e-6,
+        seed: 7,
+    });
+    let mesh = box_mesh(&problem, 4).unwrap();
+    let (u, v) = initial_dofs(&problem, &mesh);
+    let discretised = problem
+        .discretise(4, MassVariant::Standard, &perturbed)
+        .unwrap();
+    let (u_p, v_p) = (&discretised.displacement, &discretised.velocity);
+    assert_eq!(&u, u_p, "the displacement moved");
+    let moved = v.iter().zip(v_p).filter(|(a, b)| a != b).count();
     assert_eq!(moved, v.len(), "every velocity dof carries noise");
-    assert!(v.iter().zip(&v_p).all(|(a, b)| (a - b).abs() <= 1e-6));
+    assert!(v.iter().zip(v_p).all(|(a, b)| (a - b).abs() <= 1e-6));
 
     // What the integrator starts from, both masses (the redistributed one sets its massless
     // dofs in static equilibrium from the same displacement).
     for mass in [MassVariant::Standard, MassVariant::Redistributed] {
-        let config = RunConfig {
-            nx: 4,
-            ratio: 2.0,
-            scheme: Scheme::CRANK_NICOLSON,
-            mass,
-            observables: Observables::default(),
-        };
-        let start = |problem: &BoxProblem| {
+        let start = |settings: Settings| {
+            let config = RunConfig {
+                nx: 4,
+                ratio: 2.0,
+                scheme: Scheme::CRANK_NICOLSON,
+                mass,
+                observables: Observables::default(),
+                settings,
+            };
             let mut state = None;
             let mut first = |integ: &dyn TimeIntegrator| -> Result<(), Error> {
                 if state.is_none() {
@@ -183,10 +187,10 @@ fn the_perturbation_touches_the_initial_velocity_only() {
                 }
                 Ok(())
             };
-            run_box_observed(problem, &config, &mut [&mut first]).unwrap();
+            run_box_observed(&problem, &config, &mut [&mut first]).unwrap();
             state.unwrap()
         };
-        let ((u0, v0), (u0_p, v0_p)) = (start(&unperturbed), start(&perturbed));
+        let ((u0, v0), (u0_p, v0_p)) = (start(unperturbed), start(perturbed));
         assert_eq!(u0, u0_p, "{mass}: the initial displacement moved");
         assert_ne!(v0, v0_p, "{mass}: the initial velocity did not move");
     }
@@ -233,14 +237,14 @@ fn bad_ensemble_input_is_a_typed_error_naming_the_field() {
         ..problem.clone()
     };
     assert_eq!(refused_field(&no_obstacle, &config), "obstacle_gap");
-    let perturbed = BoxProblem {
-        velocity_perturbation: Some(Perturbation {
+    let perturbed = ElasticStudyConfig {
+        settings: Settings::default().with_round_off(Perturbation {
             amplitude: 1e-6,
             seed: 1,
         }),
-        ..problem
+        ..config
     };
-    assert_eq!(refused_field(&perturbed, &config), "velocity_perturbation");
+    assert_eq!(refused_field(&problem, &perturbed), "round_off");
 }
 
 #[test]

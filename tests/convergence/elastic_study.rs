@@ -367,10 +367,8 @@ fn cg_studies_have_the_errors_and_rates_of_direct_ones_to_1e_8() {
     config.sensitivity = None;
     let study = |solver: LinearSolver| {
         let cache = temp(&format!("solver-{}", solver.name()));
-        let problem = signorini::harness::elastic::BoxProblem {
-            linear_solver: solver,
-            ..problem.clone()
-        };
+        let mut config = config.clone();
+        config.settings.linear_solver = solver;
         let result = run_elastic_study(
             &problem,
             &config,

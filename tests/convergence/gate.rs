@@ -167,6 +167,7 @@ fn small_study() -> Study {
         levels: vec![10, 20, 40],
         ratio: 10.0,
         horizon: 3.0,
+        settings: Default::default(),
     };
     let cases = [Case {
         scheme: Scheme::CRANK_NICOLSON,

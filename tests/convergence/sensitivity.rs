@@ -29,6 +29,7 @@ fn small_sensitivity() -> signorini::harness::sensitivity::Sensitivity {
         levels: vec![20, 40, 80],
         ratio: 10.0,
         horizon: 3.0,
+        settings: Default::default(),
     };
     let cases = crank_nicolson_cases();
     let norms: BTreeSet<Norm> = [Norm::DisplacementLinfH, Norm::EnergyL2].into();

@@ -37,6 +37,7 @@ fn smooth_errors(mass: MassVariant) -> (Vec<f64>, Vec<f64>) {
                 norms: BTreeSet::from([Norm::DisplacementLinfH]),
                 ..Observables::default()
             },
+            settings: Default::default(),
         };
         let result = run::run(&problem, &config).unwrap();
         assert_eq!(result.errors.len(), 1);
@@ -114,6 +115,7 @@ fn central_differences_converge_at_second_order_on_a_smooth_solution() {
                     norms: BTreeSet::from([Norm::DisplacementLinfH]),
                     ..Observables::default()
                 },
+                settings: Default::default(),
             };
             let r = run::run(&problem, &config).unwrap();
             hs.push(r.h);

@@ -6,26 +6,33 @@ use std::path::Path;
 
 use signorini::engine::linalg::LinearSolver;
 use signorini::engine::problem::Problem;
+use signorini::engine::problem::Settings;
 use signorini::harness::budget;
 use signorini::harness::elastic::BoxProblem;
 use signorini::harness::executor::Executor;
 use signorini::harness::scene::Scene;
 
-fn bar3d(solver: LinearSolver) -> BoxProblem {
+fn bar3d() -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar3d.json");
     let Problem::Box(problem) = Scene::load(&path).unwrap().problem() else {
         panic!("bar3d is a box scene")
     };
-    BoxProblem {
-        linear_solver: solver,
-        ..problem
+    problem
+}
+
+/// The default settings with the step solver `solver`.
+fn solved_by(linear_solver: LinearSolver) -> Settings {
+    Settings {
+        linear_solver,
+        ..Settings::default()
     }
 }
 
 #[test]
 fn a_box_runs_memory_estimate_follows_its_step_solver() {
     let gib = |solver, nx| {
-        budget::box_run(&bar3d(solver), nx, 2.0, 0, false).memory_bytes / 1024f64.powi(3)
+        budget::box_run(&bar3d(), &solved_by(solver), nx, 2.0, 0, false).memory_bytes
+            / 1024f64.powi(3)
     };
     let (auto, direct) = (gib(LinearSolver::Auto, 320), gib(LinearSolver::Direct, 320));
     assert!(auto < 6.0, "auto (cg) at level 320: {auto} GiB");
@@ -63,8 +70,10 @@ fn a_shard_is_budgeted_for_its_own_jobs() {
     // The largest-first order deals level 80's four jobs to shards 1, 2, 3, 1.
     assert_eq!(shards[0][3], 2.0);
     assert_eq!(shards[1][3], 1.0);
-    let problem = bar3d(LinearSolver::Auto);
-    let work = |jobs: &[f64]| budget::box_study(&problem, &levels[..3], 80, 2.0, jobs, 9).dof_steps;
+    let (problem, settings) = (bar3d(), Settings::default());
+    let work = |jobs: &[f64]| {
+        budget::box_study(&problem, &settings, &levels[..3], 80, 2.0, jobs, 9).dof_steps
+    };
     let reference = work(&[0.0; 3]);
     let (all, one) = (
         work(&budget::jobs_per_level(&levels[..3], 4, &Executor::Local)),
@@ -87,13 +96,14 @@ fn a_shard_is_budgeted_for_its_own_jobs() {
 /// estimate was 6.9 GiB.
 #[test]
 fn a_box_studys_memory_estimate_holds_its_measured_peak() {
-    let problem = bar3d(LinearSolver::Auto);
+    let (problem, settings) = (bar3d(), Settings::default());
     for (levels, reference, measured_kb) in [
         (&[10, 20, 40][..], 160, 159_116.0),
         (&[10, 20, 40, 80, 160][..], 640, 9_115_872.0),
     ] {
         let jobs = budget::jobs_per_level(levels, 4, &Executor::Local);
-        let estimate = budget::box_study(&problem, levels, reference, 2.0, &jobs, 9).memory_bytes;
+        let estimate =
+            budget::box_study(&problem, &settings, levels, reference, 2.0, &jobs, 9).memory_bytes;
         assert!(
             estimate > 1024.0 * measured_kb,
             "levels {levels:?} against {reference}: estimated {estimate} bytes, measured {measured_kb} kB"

@@ -353,6 +353,7 @@ fn dirichlet_run(nx: usize, scheme: Scheme, mass: MassVariant, contact: &str) ->
             norms,
             ..Observables::default()
         },
+        settings: Default::default(),
     };
     let r = run(&problem, &config).unwrap();
     assert_eq!(r.contact_treatment, contact);

@@ -4,6 +4,7 @@
 
 use crate::benchmarks;
 use crate::common;
+use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Conventions;
 
 use nalgebra::DMatrix;
@@ -245,10 +246,6 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         initial_velocity: -0.5,
         horizon: 1.0,
         contact: ContactTreatment::Multiplier,
-        velocity_perturbation: None,
-        conventions: Conventions::HARNESS,
-        linear_solver: LinearSolver::Direct,
-        contact_operator: ContactOperator::Full,
     };
     let config = |ratio: f64, mass| RunConfig {
         nx: 10,
@@ -256,6 +253,12 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         scheme: Scheme::CENTRAL_DIFFERENCE,
         mass,
         observables: Observables::default(),
+        settings: Settings {
+            conventions: Conventions::HARNESS,
+            linear_solver: LinearSolver::Direct,
+            contact_operator: ContactOperator::Full,
+            round_off: None,
+        },
     };
     for mass in MASSLESS_CONTACT {
         let r = run_box(&problem, &config(8.0, mass)).unwrap();

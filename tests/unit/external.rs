@@ -53,6 +53,7 @@ fn exported_runs_verify_as_the_internal_study(case: Case, levels: &[usize], csv:
         levels: levels.to_vec(),
         ratio: 10.0,
         horizon: 3.0,
+        settings: Default::default(),
     };
     let study = run_study(&problem, &[case], &norms, &config).unwrap();
     let internal = &study.cases[0];

@@ -12,6 +12,7 @@ use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::problem::Perturbation;
+use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::engine::schemes::{SchemeState, TimeIntegrator, Timed};
 use signorini::harness::error::DemoRunError;
@@ -302,9 +303,14 @@ fn demo_exact_is_the_engines_solution_closed_as_the_demo() {
 /// mass, multiplier contact, `Δt = h/10`, `T = 3`), its initial displacement moved by
 /// `round_off` when given, observed by `DemoNorms`.
 fn newmark_one(nx: usize, round_off: Option<Perturbation>) -> DemoNorms {
-    let mut problem = benchmarks::dirichlet(3.0);
-    problem.initial.round_off = round_off;
-    let discretisation = problem.discretise(nx, MassVariant::Standard).unwrap();
+    let problem = benchmarks::dirichlet(3.0);
+    let settings = Settings {
+        round_off,
+        ..Settings::default()
+    };
+    let discretisation = problem
+        .discretise(nx, MassVariant::Standard, &settings)
+        .unwrap();
     let mut demo = DemoNorms::new(&discretisation.mesh).unwrap();
     // The demo pairs its stress with t_n; Newmark's multiplier is the one at t_n.
     let mut multiplier_at_t_n = |state: &dyn TimeIntegrator| {

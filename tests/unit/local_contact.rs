@@ -11,21 +11,27 @@ use signorini::engine::contact::{
 use signorini::engine::fem::{MassVariant, SymmetricMatrix};
 use signorini::engine::linalg::{LinearSolver, StepSolver};
 use signorini::engine::problem::Problem;
+use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig, RunStatus};
 use signorini::harness::scene::Scene;
 
-fn box_problem(scene: &str, contact: ContactTreatment, operator: ContactOperator) -> BoxProblem {
+fn box_problem(scene: &str, contact: ContactTreatment) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
     let Problem::Box(problem) = Scene::load(&path).unwrap().problem() else {
         panic!("{scene} is not a box scene")
     };
-    BoxProblem {
-        contact,
-        linear_solver: LinearSolver::Cg,
+    BoxProblem { contact, ..problem }
+}
+
+/// The default settings with the step solver `linear_solver` and the contact operator
+/// `operator`.
+fn solved_by(linear_solver: LinearSolver, operator: ContactOperator) -> Settings {
+    Settings {
+        linear_solver,
         contact_operator: operator,
-        ..problem
+        ..Settings::default()
     }
 }
 
@@ -54,8 +60,14 @@ fn step_matrix_with(
     SymmetricMatrix,
     Vec<signorini::engine::contact::ConstraintRow>,
 ) {
-    let problem = box_problem(scene, contact, ContactOperator::Auto);
-    let d = problem.discretise(nx, mass).unwrap();
+    let problem = box_problem(scene, contact);
+    let d = problem
+        .discretise(
+            nx,
+            mass,
+            &solved_by(LinearSolver::Cg, ContactOperator::Auto),
+        )
+        .unwrap();
     let dt = problem.lengths.last().unwrap() / nx as f64 / 2.0;
     let model = &d.model;
     let k = model
@@ -154,29 +166,24 @@ fn the_adaptive_slab_stops_at_the_truncation_tolerance() {
 
 #[test]
 fn a_local_operator_needs_the_step_matrix() {
-    let problem = BoxProblem {
-        linear_solver: LinearSolver::Direct,
-        ..box_problem(
-            "scenes/bar2d.json",
-            ContactTreatment::Multiplier,
-            ContactOperator::Local,
-        )
-    };
+    let problem = box_problem("scenes/bar2d.json", ContactTreatment::Multiplier);
+    let settings = solved_by(LinearSolver::Direct, ContactOperator::Local);
     let err = run_box(
         &problem,
-        &config(10, Scheme::CRANK_NICOLSON, MassVariant::Standard),
+        &config(10, Scheme::CRANK_NICOLSON, MassVariant::Standard, settings),
     )
     .unwrap_err();
     assert!(err.to_string().contains("needs the step matrix"), "{err}");
 }
 
-fn config(nx: usize, scheme: Scheme, mass: MassVariant) -> RunConfig {
+fn config(nx: usize, scheme: Scheme, mass: MassVariant, settings: Settings) -> RunConfig {
     RunConfig {
         nx,
         ratio: 2.0,
         scheme,
         mass,
         observables: Observables::default(),
+        settings,
     }
 }
 
@@ -213,9 +220,10 @@ fn worst_deviation(a: &BoxRunResult, b: &BoxRunResult) -> f64 {
 fn cross_check(scene: &str, nx: usize) {
     let penalty = ContactTreatment::Penalty { gamma0: 10.0 };
     for contact in [ContactTreatment::Multiplier, penalty] {
+        let problem = box_problem(scene, contact);
+        let cg_with = |operator| solved_by(LinearSolver::Cg, operator);
         let run = |operator, scheme, mass| {
-            let problem = box_problem(scene, contact, operator);
-            run_box(&problem, &config(nx, scheme, mass))
+            run_box(&problem, &config(nx, scheme, mass, cg_with(operator)))
                 .unwrap()
                 .completed()
                 .unwrap()
@@ -234,8 +242,8 @@ fn cross_check(scene: &str, nx: usize) {
                 assert!(deviation <= 1e-8, "{what}: deviation {deviation:e}");
                 // One layer is too thin a slab: the contact correction it computes is not the
                 // step's, and the run's energy balance check says so.
-                let problem = box_problem(scene, contact, ContactOperator::LocalLayers(1));
-                let thin = run_box(&problem, &config(nx, scheme, mass)).unwrap();
+                let thin_slab = cg_with(ContactOperator::LocalLayers(1));
+                let thin = run_box(&problem, &config(nx, scheme, mass, thin_slab)).unwrap();
                 assert!(
                     matches!(thin.status, RunStatus::SolverInaccurate { .. }),
                     "{what}: the one-layer slab passed as accurate: {:?}",

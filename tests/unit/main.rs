@@ -32,5 +32,6 @@ mod pcg;
 mod perturbation;
 mod run;
 mod run_status;
+mod settings;
 mod signorini_dirichlet;
 mod stencil;

@@ -9,6 +9,7 @@ use signorini::engine::linalg::{
     LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, AUTO_CG_FROM_DOFS, DEFAULT_TOLERANCE,
 };
 use signorini::engine::problem::Problem;
+use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig};
@@ -100,15 +101,12 @@ fn auto_chooses_cg_on_large_boxes_only() {
     assert_eq!(Direct.for_box(100 * AUTO_CG_FROM_DOFS), Direct);
 }
 
-fn box_problem(scene: &str, solver: LinearSolver) -> BoxProblem {
+fn box_problem(scene: &str) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
     let Problem::Box(problem) = Scene::load(&path).unwrap().problem() else {
         panic!("{scene} is not a box scene")
     };
-    BoxProblem {
-        linear_solver: solver,
-        ..problem
-    }
+    problem
 }
 
 /// `|a_k − b_k| ≤ 1e-8 · max_k |b_k|` for every `k` (relative to the series' scale: the
@@ -124,23 +122,35 @@ fn assert_series_match(what: &str, a: &[f64], b: &[f64]) {
     }
 }
 
-fn run(problem: &BoxProblem, nx: usize, scheme: Scheme, mass: MassVariant) -> BoxRunResult {
+/// A run of `problem` whose steps are solved by `solver` (checked in its result).
+fn run(
+    problem: &BoxProblem,
+    solver: LinearSolver,
+    nx: usize,
+    scheme: Scheme,
+    mass: MassVariant,
+) -> BoxRunResult {
     let config = RunConfig {
         nx,
         ratio: 2.0,
         scheme,
         mass,
         observables: Observables::default(),
+        settings: Settings {
+            linear_solver: solver,
+            ..Settings::default()
+        },
     };
-    run_box(problem, &config).unwrap().completed().unwrap()
+    let r = run_box(problem, &config).unwrap().completed().unwrap();
+    assert_eq!(r.linear_solver, solver.name());
+    r
 }
 
 #[test]
 fn box_runs_with_cg_match_direct() {
     let paoli_schatzman: Scheme = "paoli-schatzman(beta=0.25,e=0)".parse().unwrap();
     for (scene, nx) in [("scenes/bar2d.json", 40), ("scenes/bar3d.json", 20)] {
-        let cg = box_problem(scene, LinearSolver::Cg);
-        let direct = box_problem(scene, LinearSolver::Direct);
+        let problem = box_problem(scene);
         for scheme in [
             Scheme::CRANK_NICOLSON,
             Scheme::BACKWARD_EULER,
@@ -148,7 +158,10 @@ fn box_runs_with_cg_match_direct() {
         ] {
             for mass in [MassVariant::Standard, MassVariant::Redistributed] {
                 let what = format!("{scene} {scheme} {mass}");
-                let (c, d) = (run(&cg, nx, scheme, mass), run(&direct, nx, scheme, mass));
+                let (c, d) = (
+                    run(&problem, LinearSolver::Cg, nx, scheme, mass),
+                    run(&problem, LinearSolver::Direct, nx, scheme, mass),
+                );
                 assert!(d.contact_solves > 0, "{what}: no impact");
                 assert!(c.complementarity_violation <= 1e-10, "{what}");
                 let energy = |r: &BoxRunResult| r.energy.iter().map(|e| e.1).collect::<Vec<_>>();

@@ -39,6 +39,7 @@ fn run_at_40(problem: &Problem1d) -> RunResult {
             scheme: Scheme::CRANK_NICOLSON,
             mass: MassVariant::Redistributed,
             observables: Observables::all_norms(),
+            settings: Default::default(),
         },
     )
     .unwrap()

@@ -29,6 +29,7 @@ fn space_norms_are_evaluated_only_when_requested() {
         scheme: Scheme::CRANK_NICOLSON,
         mass: MassVariant::Standard,
         observables: only(norms),
+        settings: Default::default(),
     };
     let energy_only = run::run(&problem, &config(&[Norm::EnergyLinf, Norm::EnergyL2])).unwrap();
     assert_eq!(energy_only.space_norm_evaluations, 0);
@@ -60,6 +61,7 @@ fn run_rejects_bad_input_naming_the_parameter() {
         scheme: Scheme::CRANK_NICOLSON,
         mass: MassVariant::Standard,
         observables: only(&[Norm::DisplacementLinfH]),
+        settings: Default::default(),
     };
     let problem = benchmarks::dirichlet(0.5);
     assert!(run::run(&problem, &base).is_ok());

@@ -26,6 +26,7 @@ fn unstable() -> RunConfig {
             energy_history: true,
             ..Observables::default()
         },
+        settings: Default::default(),
     }
 }
 

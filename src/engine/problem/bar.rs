@@ -3,13 +3,14 @@
 
 use std::sync::Arc;
 
+use super::Settings;
 use super::{Discretisation, InitialData};
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
+use crate::engine::linalg::LinearSolver;
 use crate::engine::model::Model;
-use crate::engine::schemes::Conventions;
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
 /// initial data and the reference, and the horizon.
@@ -35,8 +36,6 @@ pub struct Problem1d {
     pub horizon: f64,
     /// How the contact condition is discretised (default: the multiplier).
     pub contact: ContactTreatment,
-    /// The implementation choices of the schemes (the start, …; default: the harness's).
-    pub conventions: Conventions,
 }
 
 impl Problem1d {
@@ -65,39 +64,54 @@ impl Problem1d {
         Ok((bar, model))
     }
 
-    /// The discretisation with `nx` elements and the mass matrix `mass`: the mesh, the model
-    /// ([`Problem1d::model`]) and the initial dofs ([`Problem1d::initial_dofs`]).
+    /// The discretisation with `nx` elements and the mass matrix `mass`, solved with
+    /// `settings`: the mesh, the model ([`Problem1d::model`]) and the initial dofs
+    /// ([`Problem1d::initial_dofs`]), with the settings' round-off perturbation (if any) added
+    /// to every displacement dof except the contact dofs, after the declared one.
     pub fn discretise(
         &self,
         nx: usize,
         mass: MassVariant,
+        settings: &Settings,
     ) -> Result<Discretisation<Bar1d>, ParameterError> {
+        settings.validate()?;
+        if settings.linear_solver == LinearSolver::Cg {
+            return Err(ParameterError::new(
+                "linear_solver",
+                settings.linear_solver.name(),
+                "direct or auto for a bar1d (its steps are tridiagonal, solved directly)",
+            ));
+        }
         let (bar, model) = self.model(nx, mass)?;
-        let (displacement, velocity) = self.initial_dofs(&bar, &model);
+        let (mut displacement, velocity) = self.initial_dofs(&bar, &model);
+        if let Some(p) = &settings.round_off {
+            p.apply(&mut displacement, contact_dofs(&model));
+        }
         Ok(Discretisation {
             mesh: bar,
             model,
             displacement,
             velocity,
-            conventions: self.conventions,
+            conventions: settings.conventions,
         })
     }
 
-    /// The initial displacement and velocity as dof vectors: the nodal interpolants of the
-    /// declared profiles, then the seeded perturbations (the declared one, then an ensemble
-    /// member's round-off one; each if any) added to every displacement dof except the contact
-    /// dofs of `model`. Every run builds its initial data here.
+    /// The initial displacement and velocity of the problem as stated, as dof vectors: the
+    /// nodal interpolants of the declared profiles, then the declared seeded perturbation (if
+    /// any) added to every displacement dof except the contact dofs of `model`.
     pub fn initial_dofs(&self, bar: &Bar1d, model: &Model) -> (Vec<f64>, Vec<f64>) {
         let exact = self.exact.as_ref();
         let mut u0 = self.initial.displacement.interpolate(bar, exact, |p| p.u);
         let v0 = self.initial.velocity.interpolate(bar, exact, |p| p.ut);
-        let contact_dofs = model.contact().map_or(&[][..], |c| &c.dofs[..]);
-        for p in [&self.initial.perturbation, &self.initial.round_off]
-            .into_iter()
-            .flatten()
-        {
-            p.apply(&mut u0, contact_dofs);
+        if let Some(p) = &self.initial.perturbation {
+            p.apply(&mut u0, contact_dofs(model));
         }
         (u0, v0)
     }
+}
+
+/// The contact dofs of `model` (none without an obstacle): the displacement perturbations
+/// leave them untouched, so perturbed data stay admissible.
+fn contact_dofs(model: &Model) -> &[usize] {
+    model.contact().map_or(&[][..], |c| &c.dofs[..])
 }

@@ -2,14 +2,14 @@
 //! side, its face `x_d = L_d` held fixed, starting with a uniform axial displacement and
 //! velocity.
 
-use super::{Discretisation, Perturbation};
-use crate::engine::contact::{ContactLaw, ContactOperator, ContactTreatment};
+use super::Discretisation;
+use super::Settings;
+use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;
 use crate::engine::model::Model;
-use crate::engine::schemes::Conventions;
 
 /// A 2D/3D bar problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,16 +28,6 @@ pub struct BoxProblem {
     pub horizon: f64,
     /// How the contact condition is discretised (multiplier or penalty; Nitsche is 1D only).
     pub contact: ContactTreatment,
-    /// A seeded perturbation added to every velocity dof (the contact face's included): a
-    /// member of a round-off ensemble (`crate::studies::elastic_study::sensitivity`); `None` for the
-    /// problem as stated.
-    pub velocity_perturbation: Option<Perturbation>,
-    /// The implementation choices of the schemes (the start, …; default: the harness's).
-    pub conventions: Conventions,
-    /// How the implicit schemes solve their step matrices (default: by size).
-    pub linear_solver: LinearSolver,
-    /// Which Delassus operator the contact steps use (default: by step solver).
-    pub contact_operator: ContactOperator,
 }
 
 /// The mesh of a run: `n_axis` elements along the axis, square elements across.
@@ -64,9 +54,9 @@ pub fn box_mesh(problem: &BoxProblem, n_axis: usize) -> Result<BoxMesh, Paramete
     BoxMesh::new(&problem.lengths, &counts)
 }
 
-/// The initial displacement and velocity dofs of a run on `mesh`: the nodal interpolants of the
-/// uniform axial values `u⁰ = initial_displacement · e_d`, `v⁰ = initial_velocity · e_d`, then
-/// the velocity perturbation (if any) added to every velocity dof. Every box run starts here.
+/// The initial displacement and velocity dofs of the problem as stated on `mesh`: the nodal
+/// interpolants of the uniform axial values `u⁰ = initial_displacement · e_d`,
+/// `v⁰ = initial_velocity · e_d`.
 pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>) {
     let d = mesh.dim();
     let axis = |value: f64| {
@@ -77,29 +67,31 @@ pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>
         }
     };
     let u0 = mesh.interpolate(axis(problem.initial_displacement));
-    let mut v0 = mesh.interpolate(axis(problem.initial_velocity));
-    if let Some(p) = &problem.velocity_perturbation {
-        p.apply(&mut v0, &[]);
-    }
+    let v0 = mesh.interpolate(axis(problem.initial_velocity));
     (u0, v0)
 }
 
 impl BoxProblem {
     /// The discretisation with `n_axis` elements along the axis ([`box_mesh`]) and the mass
-    /// matrix `mass`: the mesh, the model with the problem's contact treatment and the initial
-    /// dofs ([`initial_dofs`]). The model is matrix-free ([`Model::of_box_matrix_free`]) when
-    /// its step solver is `cg` and the mass has a matrix-free form, assembled
-    /// ([`Model::of_box`]) otherwise: the direct solver needs the entries.
+    /// matrix `mass`, solved with `settings`: the mesh, the model with the problem's contact
+    /// treatment, the settings' step solver and contact operator, and the initial dofs
+    /// ([`initial_dofs`]) with the settings' round-off perturbation (if any) added to every
+    /// velocity dof (the contact face's included). The model is matrix-free
+    /// ([`Model::of_box_matrix_free`]) when its step solver is `cg` and the mass has a
+    /// matrix-free form, assembled ([`Model::of_box`]) otherwise: the direct solver needs the
+    /// entries.
     pub fn discretise(
         &self,
         n_axis: usize,
         mass: MassVariant,
+        settings: &Settings,
     ) -> Result<Discretisation<BoxMesh>, ParameterError> {
+        settings.validate()?;
         let mesh = box_mesh(self, n_axis)?;
         self.elasticity.validate(mesh.dim())?;
         mesh.check_mass(mass)?;
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
-        let solver = self.linear_solver.for_box(mesh.n_dofs());
+        let solver = settings.linear_solver.for_box(mesh.n_dofs());
         let matrix_free = (solver == LinearSolver::Cg)
             .then(|| Model::of_box_matrix_free(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .flatten();
@@ -107,14 +99,17 @@ impl BoxProblem {
             .unwrap_or_else(|| Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .with_contact_law(law)
             .with_linear_solver(solver)
-            .with_contact_operator(self.contact_operator);
-        let (displacement, velocity) = initial_dofs(self, &mesh);
+            .with_contact_operator(settings.contact_operator);
+        let (displacement, mut velocity) = initial_dofs(self, &mesh);
+        if let Some(p) = &settings.round_off {
+            p.apply(&mut velocity, &[]);
+        }
         Ok(Discretisation {
             mesh,
             model,
             displacement,
             velocity,
-            conventions: self.conventions,
+            conventions: settings.conventions,
         })
     }
 }

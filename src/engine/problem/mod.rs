@@ -4,9 +4,11 @@
 
 mod bar;
 mod elastic_box;
+mod settings;
 
 pub use bar::Problem1d;
 pub use elastic_box::{box_mesh, initial_dofs, BoxProblem};
+pub use settings::Settings;
 
 use serde::{Deserialize, Serialize};
 
@@ -153,8 +155,4 @@ pub struct InitialData {
     /// An optional seeded perturbation of the displacement.
     #[serde(default)]
     pub perturbation: Option<Perturbation>,
-    /// A sensitivity ensemble member's round-off-size perturbation of the displacement, added
-    /// after `perturbation` (set by `crate::harness::sensitivity`, never read from a scene).
-    #[serde(skip)]
-    pub round_off: Option<Perturbation>,
 }

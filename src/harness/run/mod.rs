@@ -21,6 +21,7 @@ pub use crate::engine::problem::Problem1d;
 pub use crate::engine::schemes::energy_balance;
 pub use crate::engine::schemes::TimeIntegrator;
 
+use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -71,6 +72,9 @@ pub struct RunConfig {
     pub mass: MassVariant,
     /// What to record.
     pub observables: Observables,
+    /// How the run is solved: conventions, step solver, contact operator, round-off
+    /// perturbation ([`Settings::default`]: the harness's).
+    pub settings: Settings,
 }
 
 /// The contact node's history.
@@ -231,7 +235,7 @@ pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> 
         )
         .into());
     }
-    let discretisation = problem.discretise(config.nx, config.mass)?;
+    let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
     let bar = &discretisation.mesh;
     let model = &discretisation.model;
     let exact = problem.exact.as_ref();

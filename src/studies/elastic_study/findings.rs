@@ -254,6 +254,7 @@ mod tests {
                 levels: vec![10, 20, 40, 80],
                 ratio: 2.0,
                 horizon: 2.0,
+                settings: Default::default(),
             },
             norms: Norm::ALL.to_vec(),
             cases: vec![

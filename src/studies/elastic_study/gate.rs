@@ -7,7 +7,7 @@ use std::path::Path;
 use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
 use crate::harness::error::{Error, ParameterError};
-use crate::harness::problem::{BoxProblem, LinearSolver, Problem};
+use crate::harness::problem::{LinearSolver, Problem};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::Sensitivity;
 use crate::harness::study::Case;
@@ -63,11 +63,8 @@ fn elastic_gate(
     // `auto` would take CG): its golden values are held at the round-off of one solver, and CG's
     // residual tolerance moves the errors by a few times the ensemble's spread (up to 6.1e-9
     // relative, on the CN/redistributed energy error at level 80), over their 1e-9 floor.
-    let problem = BoxProblem {
-        linear_solver: LinearSolver::Direct,
-        ..problem
-    };
     let mut config = ElasticStudyConfig::from_scene(&scene, Some(ELASTIC_GATE_REFERENCE_LEVEL))?;
+    config.settings.linear_solver = LinearSolver::Direct;
     if let Some(cases) = cases {
         config.cases = cases.to_vec();
     }

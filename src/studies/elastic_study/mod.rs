@@ -40,7 +40,7 @@ use crate::harness::error::{Error, ParameterError};
 use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::nested_comparison::projection::NormMatrices;
 use crate::harness::norms::Norm;
-use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::problem::{MassVariant, Scheme, Settings};
 use crate::harness::rates::fit_rate;
 use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
 use crate::harness::scene::Scene;
@@ -70,6 +70,10 @@ pub struct ElasticStudyConfig {
     /// `discretisation.sensitivity`); `None`: no ensemble.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<EnsembleConfig>,
+    /// How every run of the study, the reference's included, is solved (not written: the
+    /// reference's key holds the conventions that are not the harness's).
+    #[serde(skip)]
+    pub settings: Settings,
 }
 
 impl ElasticStudyConfig {
@@ -96,6 +100,7 @@ impl ElasticStudyConfig {
             ratio: scene.discretisation.ratio,
             cases,
             sensitivity: scene.discretisation.sensitivity,
+            settings: scene.settings(),
         })
     }
 
@@ -428,7 +433,7 @@ impl<'a> ElasticJobs<'a> {
         let (problem, config, comparator) = (self.problem, self.config, &self.comparator);
         let (mut outcome, base) = run_level(
             problem,
-            config.ratio,
+            config,
             case,
             n,
             n == self.finest,
@@ -437,13 +442,7 @@ impl<'a> ElasticJobs<'a> {
         if let Some(noise) = self.ensemble.filter(|_| outcome.status.is_completed()) {
             let members = Instant::now();
             outcome.ensemble = Some(sensitivity::run_members(
-                problem,
-                config.ratio,
-                case,
-                n,
-                comparator,
-                &base,
-                noise,
+                problem, config, case, n, comparator, &base, noise,
             )?);
             outcome.ensemble_seconds = members.elapsed().as_secs_f64();
         }
@@ -514,6 +513,7 @@ impl<'a> ElasticJobs<'a> {
                 levels: config.levels.clone(),
                 ratio: config.ratio,
                 horizon: problem.horizon,
+                settings: config.settings,
             },
             norms: Norm::ALL.to_vec(),
             cases,
@@ -656,20 +656,22 @@ pub fn obtain_reference(
     let case = ElasticStudyConfig::reference_case();
     let key = ReferenceKey::new(
         problem,
+        config.settings.conventions,
         config.reference_level,
         config.ratio,
         (case.scheme, case.mass),
         &config.levels,
         config.reference_level / finest,
     );
-    Reference::obtain(problem, cache, key, note)
+    Reference::obtain(problem, &config.settings, cache, key, note)
 }
 
-/// One run of `case` on `n_axis` elements, compared with the reference at every step;
-/// `observers` see every step after the comparison.
+/// One run of `case` on `n_axis` elements with `Δx/Δt = ratio`, solved with `settings`,
+/// compared with the reference at every step; `observers` see every step after the comparison.
 fn run_compared(
     problem: &BoxProblem,
     ratio: f64,
+    settings: Settings,
     case: Case,
     n_axis: usize,
     comparison: &mut ReferenceComparison<'_>,
@@ -681,6 +683,7 @@ fn run_compared(
         scheme: case.scheme,
         mass: case.mass,
         observables: Observables::default(),
+        settings,
     };
     let mut all: Vec<&mut dyn Observer> = vec![comparison];
     for o in observers.iter_mut() {
@@ -689,11 +692,11 @@ fn run_compared(
     run_box_observed(problem, &config, &mut all)
 }
 
-/// One case at one level, compared with the reference at every step: what it measured (no
-/// ensemble yet) and its contact history.
+/// One case of a study of `config` at one level, compared with the reference at every step:
+/// what it measured (no ensemble yet) and its contact history.
 fn run_level(
     problem: &BoxProblem,
-    ratio: f64,
+    config: &ElasticStudyConfig,
     case: Case,
     n_axis: usize,
     keep_histories: bool,
@@ -701,7 +704,7 @@ fn run_level(
 ) -> Result<(LevelOutcome, BoxContactHistory), Error> {
     // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
     let h = axial_element_size(problem, n_axis);
-    let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, ratio);
+    let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, config.ratio);
     let every = (steps / STRESS_MAP_SAMPLES).max(1);
     let mut stress = AxialStressMap {
         position: (0..n_axis).map(|j| (j as f64 + 0.5) * h).collect(),
@@ -725,7 +728,8 @@ fn run_level(
     };
     let result = run_compared(
         problem,
-        ratio,
+        config.ratio,
+        config.settings,
         case,
         n_axis,
         &mut comparison,

@@ -35,7 +35,7 @@ use crate::harness::nested_comparison::check::{CheckComparison, CheckSender};
 use crate::harness::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
-use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
@@ -79,6 +79,10 @@ pub struct ReferenceKey {
     pub scheme: String,
     /// Mass variant name.
     pub mass: String,
+    /// The schemes' conventions; absent when they are the harness's ([`Conventions::HARNESS`]),
+    /// so the keys and cache names of the harness's references do not depend on the field.
+    #[serde(default = "harness_conventions", skip_serializing_if = "is_harness")]
+    pub conventions: Conventions,
     /// Fine steps per stored sample.
     pub sample_every: usize,
     /// The fitted levels the reference is projected on.
@@ -89,11 +93,20 @@ pub struct ReferenceKey {
     pub signorini_version: String,
 }
 
+fn harness_conventions() -> Conventions {
+    Conventions::HARNESS
+}
+
+fn is_harness(conventions: &Conventions) -> bool {
+    *conventions == Conventions::HARNESS
+}
+
 impl ReferenceKey {
     /// The key of a reference run of `problem` on `n_axis` elements along the axis, projected on
     /// the fitted `levels`, with its scalar histories every `sample_every` fine steps.
     pub fn new(
         problem: &BoxProblem,
+        conventions: Conventions,
         n_axis: usize,
         ratio: f64,
         case: (Scheme, MassVariant),
@@ -115,6 +128,7 @@ impl ReferenceKey {
             ratio,
             scheme: scheme.name(),
             mass: mass.name().to_string(),
+            conventions,
             sample_every,
             levels: levels.to_vec(),
             format: CACHE_FORMAT,
@@ -133,16 +147,29 @@ impl ReferenceKey {
         format!("reference-{}d-{fingerprint:016x}", self.lengths.len())
     }
 
-    /// The fields whose values differ from `other`'s (empty: the keys are equal).
+    /// The fields whose values differ from `other`'s, a field written by one key only (the
+    /// conventions, absent when they are the harness's) included: empty when the keys are
+    /// equal.
     pub fn differences(&self, other: &ReferenceKey) -> Vec<String> {
-        let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+        let (Ok(serde_json::Value::Object(wanted)), Ok(serde_json::Value::Object(cached))) =
             (serde_json::to_value(self), serde_json::to_value(other))
         else {
             return vec!["(key not serialisable)".to_string()];
         };
-        a.iter()
-            .filter(|(k, v)| b.get(*k) != Some(*v))
-            .map(|(k, v)| format!("{k}: cached {}, wanted {v}", b.get(k).unwrap_or(v)))
+        let fields: std::collections::BTreeSet<&String> =
+            wanted.keys().chain(cached.keys()).collect();
+        let shown =
+            |v: Option<&serde_json::Value>| v.map_or("absent".to_string(), |v| v.to_string());
+        fields
+            .into_iter()
+            .filter(|k| wanted.get(*k) != cached.get(*k))
+            .map(|k| {
+                format!(
+                    "{k}: cached {}, wanted {}",
+                    shown(cached.get(k)),
+                    shown(wanted.get(k))
+                )
+            })
             .collect()
     }
 }
@@ -264,7 +291,11 @@ pub struct Reference {
 impl Reference {
     /// Runs the reference, projecting it on `key.levels` as it goes, with the check run one
     /// level coarser beside it, and keeps the scalar histories every `key.sample_every`-th step.
-    pub fn compute(problem: &BoxProblem, key: ReferenceKey) -> Result<Self, Error> {
+    pub fn compute(
+        problem: &BoxProblem,
+        settings: &Settings,
+        key: ReferenceKey,
+    ) -> Result<Self, Error> {
         let clock = Instant::now();
         let scheme: Scheme = key.scheme.parse()?;
         let mass: MassVariant = key.mass.parse()?;
@@ -274,6 +305,7 @@ impl Reference {
             scheme,
             mass,
             observables: Observables::default(),
+            settings: *settings,
         };
         let every = key.sample_every.max(1);
         let mesh = box_mesh(problem, key.n_axis)?;
@@ -499,17 +531,19 @@ impl Reference {
     /// The cached reference of `key` in `cache` when there is one, otherwise a new run, saved
     /// when `cache` may be written. `note` is told why a cache was not used: no file for the
     /// key (with the closest other reference of the same dimension and the fields it differs
-    /// in), or a file whose content does not match. A problem with a velocity perturbation is
-    /// refused: the key cannot tell it from the problem as stated.
+    /// in), or a file whose content does not match. The run is solved with `settings`; settings
+    /// with a round-off perturbation are refused: the key cannot tell it from the problem as
+    /// stated.
     pub fn obtain(
         problem: &BoxProblem,
+        settings: &Settings,
         cache: &ReferenceCache,
         key: ReferenceKey,
         note: &mut dyn FnMut(String),
     ) -> Result<Self, Error> {
-        if problem.velocity_perturbation.is_some() {
+        if settings.round_off.is_some() {
             return Err(ParameterError::new(
-                "velocity_perturbation",
+                "round_off",
                 "given",
                 "absent for a reference (its key and cache describe the problem as stated)",
             )
@@ -533,7 +567,7 @@ impl Reference {
                 why.join("; ")
             )),
         }
-        let reference = Self::compute(problem, key)?;
+        let reference = Self::compute(problem, settings, key)?;
         if let ReferenceCache::ReadWrite(dir) = cache {
             reference.save(dir, &stem)?;
         } else {

@@ -76,7 +76,7 @@ pub(super) struct Noise {
 /// member depends only on its job, so the ensemble shards with the study's one job list.
 pub(super) fn run_members(
     problem: &BoxProblem,
-    ratio: f64,
+    config: &ElasticStudyConfig,
     case: Case,
     n_axis: usize,
     comparator: &Comparator,
@@ -87,15 +87,20 @@ pub(super) fn run_members(
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
     for member in 1..=ensemble.members {
-        let perturbed = BoxProblem {
-            velocity_perturbation: Some(Perturbation {
-                amplitude: ensemble.amplitude * scale,
-                seed: member as u64,
-            }),
-            ..problem.clone()
-        };
+        let perturbed = config.settings.with_round_off(Perturbation {
+            amplitude: ensemble.amplitude * scale,
+            seed: member as u64,
+        });
         let mut comparison = comparator.comparison(n_axis);
-        let run = run_compared(&perturbed, ratio, case, n_axis, &mut comparison, &mut [])?;
+        let run = run_compared(
+            problem,
+            config.ratio,
+            perturbed,
+            case,
+            n_axis,
+            &mut comparison,
+            &mut [],
+        )?;
         separations.push(Separation::between(
             &base.time,
             &base.centre_gap,
@@ -129,6 +134,7 @@ pub(super) fn classify(
         levels: config.levels.clone(),
         ratio: config.ratio,
         horizon: problem.horizon,
+        settings: config.settings,
     };
     classify_cases(
         &config.cases,

@@ -27,7 +27,9 @@ use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
 use crate::harness::norms::Norm;
-use crate::harness::problem::{ContactTreatment, Conventions, MassVariant, Perturbation, Scheme};
+use crate::harness::problem::{
+    ContactTreatment, Conventions, MassVariant, Perturbation, Scheme, Settings,
+};
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
 use crate::harness::sensitivity::PARTING;
@@ -147,7 +149,7 @@ pub struct Reproduction {
 }
 
 /// The harness's problem, mass, scheme and `Δx/Δt` for a demo configuration.
-pub fn harness_setup(
+fn harness_setup(
     root: &Path,
     config: &DemoConfig,
 ) -> Result<(crate::harness::problem::Problem1d, MassVariant, Scheme, f64), Error> {
@@ -161,7 +163,6 @@ pub fn harness_setup(
         .parse()?,
         _ => ContactTreatment::Multiplier,
     };
-    problem.conventions = Conventions::GETFEM_DEMO;
     let mass = match (config.mass, config.lumped) {
         (DemoMass::Consistent, false) => MassVariant::Standard,
         (DemoMass::Consistent, true) => MassVariant::Lumped,
@@ -202,16 +203,21 @@ struct HarnessTrace {
     final_displacement: Vec<f64>,
 }
 
-/// Solves `config` with the harness (`round_off`: an ensemble member's perturbation of the
-/// initial displacement), recording what the comparisons read.
+/// Solves `config` with the harness under GetFEM's demo conventions
+/// ([`Conventions::GETFEM_DEMO`]; `round_off`: an ensemble member's perturbation of the initial
+/// displacement), recording what the comparisons read.
 fn solve(
     root: &Path,
     config: &DemoConfig,
     round_off: Option<Perturbation>,
 ) -> Result<HarnessTrace, Error> {
-    let (mut problem, mass, scheme, ratio) = harness_setup(root, config)?;
-    problem.initial.round_off = round_off;
-    let discretisation = problem.discretise(config.nx, mass)?;
+    let (problem, mass, scheme, ratio) = harness_setup(root, config)?;
+    let settings = Settings {
+        conventions: Conventions::GETFEM_DEMO,
+        round_off,
+        ..Settings::default()
+    };
+    let discretisation = problem.discretise(config.nx, mass, &settings)?;
     let initial_scale = discretisation
         .displacement
         .iter()

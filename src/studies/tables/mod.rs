@@ -18,7 +18,7 @@ use self::starts::{implicit_start_study, starts_section};
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
-use crate::harness::problem::Problem1d;
+use crate::harness::problem::Settings;
 use crate::harness::report::convergence_tables;
 use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
@@ -220,18 +220,22 @@ pub fn write_tables(
 /// seven norms) with the default ensemble: what `make report` reports and what the gate holds
 /// the chaotic cases to.
 pub fn tables_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Error> {
-    tables_sensitivity_of(
-        &dirichlet(root, StudyConfig::paper_default().horizon)?,
-        cases,
-    )
+    tables_sensitivity_under(root, Settings::default(), cases)
 }
 
-/// [`tables_sensitivity`] of `problem`: the Tables 1–2 benchmark under other settings (the
-/// round-off test of the gate runs it with the factored predictor).
-pub fn tables_sensitivity_of(problem: &Problem1d, cases: &[Case]) -> Result<Sensitivity, Error> {
-    let config = StudyConfig::paper_default();
+/// [`tables_sensitivity`] solved with `settings`: the Tables 1–2 benchmark under other settings
+/// (the round-off test of the gate runs it with the factored predictor).
+pub fn tables_sensitivity_under(
+    root: &Path,
+    settings: Settings,
+    cases: &[Case],
+) -> Result<Sensitivity, Error> {
+    let config = StudyConfig {
+        settings,
+        ..StudyConfig::paper_default()
+    };
     run_sensitivity(
-        problem,
+        &dirichlet(root, config.horizon)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &config,

@@ -16,8 +16,9 @@ use crate::studies::benchmark::dirichlet;
 /// The cases of `study` with a massless contact node (the redistributed mass), run again with
 /// the implicit-multiplier start on the same levels, ratio, horizon and norms.
 pub fn implicit_start_study(root: &Path, study: &Study) -> Result<Study, Error> {
-    let mut problem = dirichlet(root, study.config.horizon)?;
-    problem.conventions.start = Start::ImplicitMultiplier;
+    let problem = dirichlet(root, study.config.horizon)?;
+    let mut config = study.config.clone();
+    config.settings.conventions.start = Start::ImplicitMultiplier;
     let cases: Vec<Case> = study
         .cases
         .iter()
@@ -28,7 +29,7 @@ pub fn implicit_start_study(root: &Path, study: &Study) -> Result<Study, Error> 
         &problem,
         &cases,
         &study.norms.iter().copied().collect(),
-        &study.config,
+        &config,
     )
 }
 
