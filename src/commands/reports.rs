@@ -19,10 +19,11 @@ use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::estimate;
 use crate::studies::experiment::write_defaults_experiment;
 use crate::studies::extended::write_extended_report;
-use crate::studies::figures::from_reports::{reports_index, write_figures, REPORTS_INDEX};
+use crate::studies::figures::from_reports::write_figures;
 use crate::studies::golden::write_golden;
 use crate::studies::gravity::write_gravity_report;
 use crate::studies::report::write_report;
+use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
 use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files};
 
 /// The arguments of `signorini report`.
@@ -104,7 +105,7 @@ pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
     let FiguresArgs { reports } = args;
     let staged = StagedDir::begin("--reports", &reports, Replace::Files)?;
     let (names, missing) = write_figures(&reports, staged.path()).map_err(Failure::runtime)?;
-    let index = reports_index(&names, &|file| reports.join(file).is_file());
+    let index = reports_index(&reports, &names);
     write_output(&staged.path().join(REPORTS_INDEX), index.as_bytes())?;
     staged.commit()?;
     out!(

@@ -15,6 +15,7 @@ pub mod golden;
 pub mod gravity;
 pub mod histories;
 pub mod report;
+pub mod reports_index;
 pub mod scene_run;
 pub mod scene_study;
 pub mod stability;

@@ -16,10 +16,9 @@ use signorini::harness::sensitivity::{
 use signorini::harness::study::{run_study, Case, Study, StudyConfig};
 use signorini::studies::benchmark;
 use signorini::studies::figures::convergence::convergence_figures;
-use signorini::studies::figures::from_reports::{
-    reports_index, scheme_figures, stability_figures, write_figures,
-};
+use signorini::studies::figures::from_reports::{scheme_figures, stability_figures, write_figures};
 use signorini::studies::histories::SchemeHistories;
+use signorini::studies::reports_index::reports_index;
 use signorini::studies::stability::{hard_cases, judge};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
@@ -390,28 +389,62 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
     assert_eq!(data_lines(redistributed), 1);
 }
 
+/// The index of the committed reports: every figure there linked under its study with a
+/// sentence, the headline figures drawn inline, each study's headline computed from its data
+/// (the count of disagreements is the one `rates.json` lists), and the witness, the finer
+/// studies and the benchmarks linked because they are present.
 #[test]
-fn the_index_links_every_figure_with_a_sentence() {
-    let names: Vec<String> = [
-        "contact-crank-nicolson.svg",
-        "energy-crank-nicolson.svg",
-        "convergence-crank-nicolson-u_Linf_H.svg",
-        "gravity-points-standard.svg",
-        "work-precision.svg",
-        "stability-standard.svg",
-    ]
-    .map(String::from)
-    .to_vec();
-    let index = reports_index(&names, &|_| true);
-    for n in &names {
+fn the_index_says_what_each_study_found_and_links_every_figure() {
+    let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
+    let index = reports_index(&reports, &[]);
+    let on_disk: Vec<String> = std::fs::read_dir(reports.join("figures"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".svg"))
+        .collect();
+    assert!(on_disk.len() > 50, "{} figures committed", on_disk.len());
+    for n in &on_disk {
         assert!(index.contains(&format!("(figures/{n})")), "{n} not linked");
     }
-    assert!(index.contains("[tables.md](tables.md)"));
-    // A directory with the 2D/3D studies only (reports/fine/) lists only what it has.
-    let fine = reports_index(&names, &|file| file.starts_with("elastic-"));
-    assert!(fine.contains("[elastic-3d.md](elastic-3d.md)"));
+    assert!(index.contains("![contact-crank-nicolson](figures/contact-crank-nicolson.svg)"));
+    let rates: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(reports.join("rates.json")).unwrap())
+            .unwrap();
+    let disagreements = rates["longer_horizon_rates"].as_array().unwrap().len();
     assert!(
-        !fine.contains("tables.md") && !fine.contains("stability.md"),
-        "{fine}"
+        index.contains(&format!(
+            "{disagreements} of the 98 rates (case × norm) differ"
+        )),
+        "{index}"
     );
+    for linked in [
+        "[getfem.md](getfem.md)",
+        "[getfem-verify/verify.md](getfem-verify/verify.md)",
+        "[fine/README.md](fine/README.md)",
+        "[finest/README.md](finest/README.md)",
+        "[stability.json](stability.json)",
+    ] {
+        assert!(index.contains(linked), "{linked} not linked");
+    }
+}
+
+/// A directory with one study (as `reports/finest/`) lists only what it has, and a figure just
+/// drawn is listed before it is in the directory.
+#[test]
+fn the_index_of_a_partial_directory_lists_only_what_it_holds() {
+    let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
+    let dir = std::env::temp_dir().join(format!("signorini-index-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["elastic-3d.md", "elastic-3d.json"] {
+        std::fs::copy(reports.join(f), dir.join(f)).unwrap();
+    }
+    let drawn = vec!["elastic-3d-contact-crank-nicolson.svg".to_string()];
+    let index = reports_index(&dir, &drawn);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(index.contains("[elastic-3d.md](elastic-3d.md)"), "{index}");
+    assert!(index.contains("(figures/elastic-3d-contact-crank-nicolson.svg)"));
+    assert!(index.contains("findings tested"), "{index}");
+    for absent in ["tables.md", "stability.md", "getfem.md", "elastic-2d"] {
+        assert!(!index.contains(absent), "{absent} listed: {index}");
+    }
 }

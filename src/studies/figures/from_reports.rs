@@ -39,9 +39,6 @@ use crate::studies::tables::{RatesFile, RATES_JSON, SENSITIVITY_JSON};
 /// The directory of the figures, under a reports directory.
 pub const FIGURES_DIR: &str = "figures";
 
-/// The index of a reports directory ([`reports_index`]).
-pub const REPORTS_INDEX: &str = "README.md";
-
 /// The contact-node and energy figures of one scheme (standard mass left, redistributed right).
 pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
     let mut contact = Vec::new();
@@ -240,6 +237,9 @@ pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, Fig
 /// Why an input of the figures could not be read: a missing file is `make report`'s to write.
 fn unreadable(e: &Error) -> String {
     match e {
+        Error::Io { path, .. } if path.ends_with(STABILITY_JSON) => {
+            format!("{e} (run `make stability` first)")
+        }
         Error::Io { .. } => format!("{e} (run `make report` first)"),
         _ => e.to_string(),
     }
@@ -321,99 +321,4 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
         names.push(name);
     }
     Ok((names, missing))
-}
-
-/// What a reader of each figure should look for, by file-name prefix.
-const CAPTIONS: &[(&str, &str)] = &[
-    ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution: with the standard mass (left) Crank–Nicolson, Newmark II and Paoli–Schatzman e = 1 oscillate after the impact; with the redistributed mass (right) the force follows the exact step"),
-    ("energy-", "the discrete energy against the exact 1/8: it grows with the standard mass under Crank–Nicolson and stays almost constant with the redistributed mass; backward Euler and Newmark I dissipate"),
-    ("convergence-", "errors against h (log–log) for both masses, fitted slope in the legend (the paper's Figures 9–10 for every scheme); a round-off chaotic case (sensitivity.md) is drawn as its ensemble's median error with the min–max band shaded, and its members' median slope with their range"),
-    ("gravity-points-", "the bouncing bar (§4): u at x = 0, ½, 1 computed and exact (Figure 2)"),
-    ("gravity-convergence-", "the bouncing bar: the four displacement errors against h with fitted slopes (Figure 3)"),
-    ("gravity-strain-", "the bouncing bar: ∂x u along the bar at two times, computed and exact (Figure 4)"),
-    ("work-precision", "error in L∞(0,T;H) against wall time for the 14 cases: lower-left is better"),
-    ("stability-", "E/E₀ over 100 periods: bounded for the redistributed mass; growing or lost for some standard-mass schemes"),
-    ("elastic-2d-contact-", "2D bar: the centre contact node's displacement and force at the finest level beside the fine-mesh reference (the note's Figures 1, 6)"),
-    ("elastic-2d-energy-", "2D bar: the energy, growing with the standard mass under Crank–Nicolson (Figures 2, 7)"),
-    ("elastic-2d-convergence-", "2D bar: errors against h with fitted slopes, both masses (Figures 3, 8)"),
-    ("elastic-2d-von-mises-", "2D bar: the von Mises stress along the axis over time, both masses on one colour scale (Figures 4–5)"),
-    ("elastic-3d-contact-", "3D bar: the centre contact node against the reference (Figures 1, 6)"),
-    ("elastic-3d-energy-", "3D bar: the energy (Figures 2, 7)"),
-    ("elastic-3d-convergence-", "3D bar: errors against h with fitted slopes (Figures 3, 8)"),
-    ("elastic-3d-von-mises-", "3D bar: the von Mises stress along the axis over time (the note's Figures 4–5 are 3D)"),
-];
-
-/// The tables of a reports directory: the file that must exist for the entry to be listed, and
-/// the entry.
-const TABLES: [(&str, &str); 8] = [
-    (
-        "tables.md",
-        "[tables.md](tables.md): the 1D paper's Tables 1–2 recomputed beside the paper, \
-      the disagreements and what explains them, per-level errors and observed orders; \
-      [rates.json](rates.json): the same as data.",
-    ),
-    (
-        "gravity.md",
-        "[gravity.md](gravity.md): the gravity benchmark's rates (§4).",
-    ),
-    (
-        "work-precision.md",
-        "[work-precision.md](work-precision.md): what accuracy costs, and the \
-      cost to reach a target error.",
-    ),
-    (
-        "sensitivity.md",
-        "[sensitivity.md](sensitivity.md), [sensitivity.json](sensitivity.json): \
-      every case's round-off sensitivity (ensembles of perturbed initial data) and its class; \
-      the chaotic cases are marked † in the tables.",
-    ),
-    (
-        "stability.md",
-        "[stability.md](stability.md): every scheme × mass on the hard cases, with \
-      verdicts.",
-    ),
-    (
-        "defaults-experiment.md",
-        "[defaults-experiment.md](defaults-experiment.md): how the rates \
-      move with T and the levels.",
-    ),
-    (
-        "elastic-2d.md",
-        "[elastic-2d.md](elastic-2d.md), [elastic-3d.md](elastic-3d.md): the \
-      note's 2D/3D bars against a fine-mesh reference, with the reference check and the note's \
-      findings tested.",
-    ),
-    (
-        "extended.md",
-        "[extended.md](extended.md): Crank–Nicolson and backward Euler with every \
-      mass variant and contact treatment: rates, oscillation and energy verdicts.",
-    ),
-];
-
-/// `reports/README.md`: the tables for which `exists(file)` holds first, then every figure with
-/// one sentence saying what to look for.
-pub fn reports_index(figures: &[String], exists: &dyn Fn(&str) -> bool) -> String {
-    let mut md = String::from(
-        "# Reports\n\nRegenerated by `make report` (tables, figures), `make stability`, \
-         `make report-fine` (the finer 2D/3D studies, in `fine/`) and `make report-finest` (the 3D \
-         study against a reference on 640 elements, in `finest/`).\n\n## Tables\n\n",
-    );
-    for (file, entry) in TABLES {
-        if exists(file) {
-            md.push_str(&format!("- {entry}\n"));
-        }
-    }
-    md.push_str("\n## Figures\n\n");
-    for &(prefix, caption) in CAPTIONS {
-        let mine: Vec<&String> = figures.iter().filter(|f| f.starts_with(prefix)).collect();
-        if mine.is_empty() {
-            continue;
-        }
-        md.push_str(&format!("- {caption}:"));
-        for f in mine {
-            md.push_str(&format!(" [{}](figures/{f})", f.trim_end_matches(".svg")));
-        }
-        md.push('\n');
-    }
-    md
 }

@@ -1,0 +1,367 @@
+//! `reports/README.md`, the index a person reads: one section per study with what it found, in a
+//! sentence or two computed from the study's own data file, the one or two figures that show it
+//! drawn inline, then links to its report, its data and every figure of its families. Built from
+//! what exists under the reports directory: a study whose report is absent is left out, a figure
+//! is listed when its file is there (or was just drawn), and the finer studies, GetFEM's witness
+//! and the benchmarks are linked when their directories or files are present.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+
+use crate::harness::input::REPORT_DATA;
+use crate::harness::norms::Norm;
+use crate::harness::sensitivity::{Sensitivity, SensitivityClass};
+use crate::harness::study::Study;
+use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
+use crate::studies::elastic_study::files as elastic_files;
+use crate::studies::elastic_study::ElasticStudy;
+use crate::studies::figures::from_reports::FIGURES_DIR;
+use crate::studies::gravity;
+use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
+use crate::studies::tables::{RatesFile, RATES_JSON, SENSITIVITY_JSON};
+
+/// The index of a reports directory ([`reports_index`]).
+pub const REPORTS_INDEX: &str = "README.md";
+
+/// One study's part of the index: the report that must exist for it to be listed, its title,
+/// the other files it links, the figures drawn inline and the figure families it owns
+/// (file-name prefix and what to look for).
+struct Section {
+    report: &'static str,
+    title: &'static str,
+    data: &'static [&'static str],
+    shown: &'static [&'static str],
+    families: &'static [(&'static str, &'static str)],
+    headline: fn(&Path) -> Option<String>,
+}
+
+const SECTIONS: &[Section] = &[
+    Section {
+        report: "tables.md",
+        title: "Tables 1–2 of the 1D paper (Signorini–Dirichlet)",
+        data: &["rates.json", "sensitivity.md", "sensitivity.json"],
+        shown: &["contact-crank-nicolson.svg", "energy-crank-nicolson.svg"],
+        families: &[
+            ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution, the standard mass left, the redistributed right"),
+            ("energy-", "the discrete energy against the exact 1/8"),
+            ("convergence-", "errors against h (log–log) for both masses with the fitted slope; a round-off chaotic case is drawn as its ensemble's median with the min–max band"),
+        ],
+        headline: tables_headline,
+    },
+    Section {
+        report: "gravity.md",
+        title: "The bouncing bar under gravity (§4)",
+        data: &["gravity/study.json", "gravity/sensitivity.json"],
+        shown: &["gravity-points-redistributed.svg"],
+        families: &[
+            ("gravity-points-", "u at x = 0, ½, 1 computed and exact (Figure 2)"),
+            ("gravity-convergence-", "the four displacement errors against h with fitted slopes (Figure 3)"),
+            ("gravity-strain-", "∂x u along the bar at two times, computed and exact (Figure 4)"),
+        ],
+        headline: gravity_headline,
+    },
+    Section {
+        report: "work-precision.md",
+        title: "What accuracy costs",
+        data: &["work-precision.json"],
+        shown: &["work-precision.svg"],
+        families: &[("work-precision", "error in L∞(0,T;H) against wall time for the 14 cases: lower-left is better")],
+        headline: cost_headline,
+    },
+    Section {
+        report: "stability.md",
+        title: "Stability over long horizons",
+        data: &["stability.json"],
+        shown: &["stability-standard.svg", "stability-redistributed.svg"],
+        families: &[("stability-", "E/E₀ over 100 periods, one panel per scheme")],
+        headline: stability_headline,
+    },
+    Section {
+        report: "elastic-2d.md",
+        title: "The note's 2D bar against a fine-mesh reference",
+        data: &["elastic-2d.json", "data/elastic-2d-histories.json"],
+        shown: &["elastic-2d-contact-crank-nicolson.svg", "elastic-2d-energy-crank-nicolson.svg"],
+        families: &[
+            ("elastic-2d-contact-", "the centre contact node's displacement and force at the finest level beside the reference (the note's Figures 1, 6)"),
+            ("elastic-2d-energy-", "the energy (Figures 2, 7)"),
+            ("elastic-2d-convergence-", "errors against h with fitted slopes, both masses (Figures 3, 8)"),
+            ("elastic-2d-von-mises-", "the von Mises stress along the axis over time (Figures 4–5)"),
+        ],
+        headline: |reports| elastic_headline(reports, 2),
+    },
+    Section {
+        report: "elastic-3d.md",
+        title: "The note's 3D bar against a fine-mesh reference",
+        data: &["elastic-3d.json", "data/elastic-3d-histories.json"],
+        shown: &["elastic-3d-contact-crank-nicolson.svg"],
+        families: &[
+            ("elastic-3d-contact-", "the centre contact node against the reference (Figures 1, 6)"),
+            ("elastic-3d-energy-", "the energy (Figures 2, 7)"),
+            ("elastic-3d-convergence-", "errors against h with fitted slopes (Figures 3, 8)"),
+            ("elastic-3d-von-mises-", "the von Mises stress along the axis over time"),
+        ],
+        headline: |reports| elastic_headline(reports, 3),
+    },
+    Section {
+        report: "extended.md",
+        title: "Every mass variant and contact treatment",
+        data: &["extended.json"],
+        shown: &[],
+        families: &[],
+        headline: extended_headline,
+    },
+    Section {
+        report: "defaults-experiment.md",
+        title: "How the rates move with the horizon and the levels",
+        data: &[],
+        shown: &[],
+        families: &[],
+        headline: |_| None,
+    },
+];
+
+/// What else a reports directory may hold, linked when present: (path, what it is).
+const ELSEWHERE: &[(&str, &str)] = &[
+    (
+        "getfem.md",
+        "GetFEM's 1D demo solved again by the harness and compared step by step",
+    ),
+    (
+        "getfem-verify/verify.md",
+        "the demo's runs verified as external runs (`signorini verify`)",
+    ),
+    (
+        "fine/README.md",
+        "the finer 2D/3D studies (`make report-fine`)",
+    ),
+    (
+        "finest/README.md",
+        "the 3D study against a reference on 640 elements (`make report-finest`)",
+    ),
+    ("bench.md", "the speed and memory figures (`make bench`)"),
+];
+
+/// The index of `reports`; `drawn`: the figures just drawn into it (listed whether or not the
+/// directory already holds them).
+pub fn reports_index(reports: &Path, drawn: &[String]) -> String {
+    let mut figures: BTreeSet<String> = drawn.iter().cloned().collect();
+    if let Ok(entries) = std::fs::read_dir(reports.join(FIGURES_DIR)) {
+        figures.extend(entries.filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            name.ends_with(".svg").then_some(name)
+        }));
+    }
+    let mut md = String::from(
+        "# Reports\n\nWhat each study found, the figure that shows it, and every file it wrote. \
+         `make report` regenerates the tables, the 2D/3D studies and the figures; `make \
+         stability`, `make report-fine`, `make report-finest`, `make verify-getfem` and `make \
+         bench` the rest.\n",
+    );
+    for s in SECTIONS.iter().filter(|s| reports.join(s.report).is_file()) {
+        let _ = write!(md, "\n## {}\n\n", s.title);
+        if let Some(headline) = (s.headline)(reports) {
+            let _ = writeln!(md, "{headline}\n");
+        }
+        for shown in s.shown.iter().filter(|f| figures.contains(**f)) {
+            let _ = writeln!(
+                md,
+                "![{}]({FIGURES_DIR}/{shown})\n",
+                shown.trim_end_matches(".svg")
+            );
+        }
+        let mut files = vec![link(s.report)];
+        files.extend(
+            s.data
+                .iter()
+                .filter(|d| reports.join(d).is_file())
+                .map(|d| link(d)),
+        );
+        let _ = writeln!(md, "Report and data: {}.\n", files.join(", "));
+        for (prefix, caption) in s.families {
+            let mine: Vec<String> = figures
+                .iter()
+                .filter(|f| f.starts_with(prefix))
+                .map(|f| format!("[{}]({FIGURES_DIR}/{f})", f.trim_end_matches(".svg")))
+                .collect();
+            if !mine.is_empty() {
+                let _ = writeln!(md, "- {caption}: {}", mine.join(" "));
+            }
+        }
+    }
+    let present: Vec<&(&str, &str)> = ELSEWHERE
+        .iter()
+        .filter(|(path, _)| reports.join(path).is_file())
+        .collect();
+    if !present.is_empty() {
+        md.push_str("\n## Elsewhere in this directory\n\n");
+        for (path, what) in present {
+            let _ = writeln!(md, "- {}: {what}", link(path));
+        }
+    }
+    md
+}
+
+/// `[path](path)`.
+fn link(path: &str) -> String {
+    format!("[{path}]({path})")
+}
+
+/// A study's data file under `reports`, when it is there and reads.
+fn data<T: DeserializeOwned>(reports: &Path, file: &str) -> Option<T> {
+    crate::harness::artifacts::read_json(&reports.join(file), REPORT_DATA).ok()
+}
+
+/// The rate of `norm` in `study`'s case `id` with its 95 % interval, e.g. `0.98 [0.91, 1.05]`.
+fn rate_with_interval(study: &Study, id: &str, norm: Norm) -> Option<String> {
+    let fit = study
+        .cases
+        .iter()
+        .find(|c| c.case.id() == id)?
+        .norm(norm)?
+        .fit?;
+    Some(match (fit.ci_low, fit.ci_high) {
+        (Some(low), Some(high)) => format!("{:.2} [{low:.2}, {high:.2}]", fit.rate),
+        _ => format!("{:.2}", fit.rate),
+    })
+}
+
+fn tables_headline(reports: &Path) -> Option<String> {
+    let rates: RatesFile = data(reports, RATES_JSON)?;
+    let compared = rates.study.cases.len() * rates.study.norms.len();
+    let agreeing_words = rates
+        .oscillations
+        .iter()
+        .filter(|o| o.word == o.paper_word)
+        .count();
+    let mut text = format!(
+        "{} of the {compared} rates (case × norm) differ from the paper's by more than 0.1; \
+         `tables.md` diagnoses each, with its rate over the longer horizon T = {}. The \
+         oscillation column agrees with the paper's in {agreeing_words} of {} cases.",
+        rates.longer_horizon_rates.len(),
+        rates.longer_horizon,
+        rates.oscillations.len()
+    );
+    if let Some(s) = data::<Sensitivity>(reports, SENSITIVITY_JSON) {
+        let chaotic: Vec<&str> = s
+            .cases
+            .iter()
+            .filter(|c| c.class == SensitivityClass::Chaotic)
+            .map(|c| c.case.as_str())
+            .collect();
+        let _ = write!(
+            text,
+            " Round-off chaotic ({} members per ensemble): {} (their rates are ensemble ranges, \
+             marked † in the tables).",
+            s.ensemble.members,
+            if chaotic.is_empty() {
+                "none".to_string()
+            } else {
+                chaotic.join(", ")
+            }
+        );
+    }
+    Some(text)
+}
+
+fn gravity_headline(reports: &Path) -> Option<String> {
+    let study: Study = data(
+        reports,
+        &format!("{}/{}", gravity::GRAVITY_DIR, gravity::STUDY_JSON),
+    )?;
+    let rates: Vec<String> = study
+        .cases
+        .iter()
+        .filter_map(|c| {
+            let id = c.case.id();
+            Some(format!(
+                "{} {}",
+                c.case.mass,
+                rate_with_interval(&study, &id, Norm::DisplacementLinfH)?
+            ))
+        })
+        .collect();
+    Some(format!(
+        "The displacement's rate in L∞(0,T;H) with its 95 % interval, {}: {}.",
+        study
+            .cases
+            .first()
+            .map_or(String::new(), |c| c.case.scheme.to_string()),
+        rates.join("; ")
+    ))
+}
+
+fn cost_headline(reports: &Path) -> Option<String> {
+    let file: WorkPrecisionFile = data(reports, WORK_PRECISION_JSON)?;
+    let measured = |c: &&CostToTarget| !c.extrapolated && c.seconds.is_some();
+    let target = file
+        .cost_to_target
+        .iter()
+        .filter(measured)
+        .map(|c| c.target)
+        .min_by(f64::total_cmp)?;
+    let cheapest = file
+        .cost_to_target
+        .iter()
+        .filter(measured)
+        .filter(|c| c.target == target)
+        .filter_map(|c| Some((c.seconds?, c.case.as_str())))
+        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    Some(format!(
+        "The smallest error in {} that a case reaches within its measured levels is {target:.0e}; \
+         the cheapest to reach it is {} ({:.3} s of wall time on the machine that wrote the \
+         report).",
+        file.cost_to_target_norm.label(),
+        cheapest.1,
+        cheapest.0
+    ))
+}
+
+fn stability_headline(reports: &Path) -> Option<String> {
+    let records: Vec<StabilityRecord> = data(reports, STABILITY_JSON)?;
+    let hard: BTreeSet<&str> = records.iter().map(|r| r.hard_case.as_str()).collect();
+    let per_mass = |mass: &str| {
+        let runs: Vec<&StabilityRecord> = records
+            .iter()
+            .filter(|r| r.case.ends_with(&format!("/{mass}")))
+            .collect();
+        let kept = runs
+            .iter()
+            .filter(|r| matches!(r.verdict, Verdict::Stable | Verdict::Dissipative))
+            .count();
+        format!("{mass} mass {kept} of {}", runs.len())
+    };
+    Some(format!(
+        "Runs judged stable or dissipative on the {} hard cases: {}, {}; `stability.md` gives \
+         every verdict and the round-off ensemble's.",
+        hard.len(),
+        per_mass("standard"),
+        per_mass("redistributed")
+    ))
+}
+
+fn elastic_headline(reports: &Path, dimension: usize) -> Option<String> {
+    let study: ElasticStudy = data(reports, &elastic_files::study_file(dimension))?;
+    let robust = study.findings.iter().filter(|f| f.robust).count();
+    Some(format!(
+        "{} cases on levels {:?} against a reference on {} elements along the axis. Of the \
+         note's {} findings tested, {robust} are robust to the reference's rate-bias bound; \
+         `elastic-{dimension}d.md` gives each verdict with its evidence.",
+        study.study.cases.len(),
+        study.config.levels,
+        study.config.reference_level,
+        study.findings.len()
+    ))
+}
+
+fn extended_headline(reports: &Path) -> Option<String> {
+    let file: serde_json::Value = data(reports, "extended.json")?;
+    let count = |field: &str| file.get(field)?.as_array().map(Vec::len);
+    Some(format!(
+        "{} scheme × mass × contact-treatment rows; {} of them oscillate at the finest level.",
+        count("rows")?,
+        count("oscillating")?
+    ))
+}
