@@ -179,16 +179,21 @@ pub fn reports_index(reports: &Path, drawn: &[String]) -> String {
                 .filter(|d| reports.join(d).is_file())
                 .map(|d| link(d)),
         );
-        let _ = writeln!(md, "Report and data: {}.\n", files.join(", "));
-        for (prefix, caption) in s.families {
-            let mine: Vec<String> = figures
-                .iter()
-                .filter(|f| f.starts_with(prefix))
-                .map(|f| format!("[{}]({FIGURES_DIR}/{f})", f.trim_end_matches(".svg")))
-                .collect();
-            if !mine.is_empty() {
-                let _ = writeln!(md, "- {caption}: {}", mine.join(" "));
-            }
+        let _ = writeln!(md, "Report and data: {}.", files.join(", "));
+        let families: Vec<String> = s
+            .families
+            .iter()
+            .filter_map(|(prefix, caption)| {
+                let mine: Vec<String> = figures
+                    .iter()
+                    .filter(|f| f.starts_with(prefix))
+                    .map(|f| format!("[{}]({FIGURES_DIR}/{f})", f.trim_end_matches(".svg")))
+                    .collect();
+                (!mine.is_empty()).then(|| format!("- {caption}: {}\n", mine.join(" ")))
+            })
+            .collect();
+        if !families.is_empty() {
+            let _ = write!(md, "\n{}", families.concat());
         }
     }
     let present: Vec<&(&str, &str)> = ELSEWHERE
