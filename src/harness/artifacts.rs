@@ -102,14 +102,15 @@ pub fn read_json<T: DeserializeOwned>(path: &Path, limit: Limit) -> Result<T, Er
 }
 
 /// A CSV table: the `header` line, then one row per index of the `columns` (of equal length),
-/// each number in scientific notation with `digits` digits after the point.
+/// each number in scientific notation with `digits` digits after the point; a negative zero is
+/// written as `0` (`x + 0.0` is `+0.0` for `x = −0.0` and `x` otherwise).
 pub fn csv(header: &str, columns: &[&[f64]], digits: usize) -> String {
     let mut s = format!("{header}\n");
     let rows = columns.first().map_or(0, |c| c.len());
     for k in 0..rows {
         let row: Vec<String> = columns
             .iter()
-            .map(|c| format!("{:.*e}", digits, c[k]))
+            .map(|c| format!("{:.*e}", digits, c[k] + 0.0))
             .collect();
         s.push_str(&row.join(","));
         s.push('\n');

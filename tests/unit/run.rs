@@ -198,3 +198,11 @@ fn time_grid_lands_on_the_horizon() {
         assert!(dt <= h / ratio * (1.0 + 1e-12));
     }
 }
+
+/// A run's CSV files write a negative zero (a field's value at a clamped end, say) as `0`, not
+/// `-0.000…e0`, and every other number as it is.
+#[test]
+fn a_negative_zero_is_written_as_zero_in_a_csv() {
+    let text = signorini::harness::artifacts::csv("x,y", &[&[-0.0, 1.0], &[0.0, -2.5]], 3);
+    assert_eq!(text, "x,y\n0.000e0,0.000e0\n1.000e0,-2.500e0\n");
+}
