@@ -101,9 +101,9 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         write_output(&staged.path().join(VERIFY_MD), markdown.as_bytes())?;
         staged.commit()?;
         out!(
-            "wrote {}/{VERIFY_JSON} and {}/{VERIFY_MD}",
-            dir.display(),
-            dir.display()
+            "wrote {} and {}",
+            dir.join(VERIFY_JSON).display(),
+            dir.join(VERIFY_MD).display()
         );
     }
     if let Some(path) = write_golden {

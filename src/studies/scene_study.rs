@@ -284,6 +284,11 @@ impl SceneStudy {
     }
 }
 
+/// `n` and `noun`, in the plural unless `n` is 1: `1 case`, `7 levels`.
+fn counted(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
 impl StudyOutcome {
     /// The outcome as a person reads it: a bar's rate tables and a line with its size and
     /// time, or a box's report saying it was made by `command`; as JSON with `json`.
@@ -297,10 +302,10 @@ impl StudyOutcome {
                 serde_json::to_string_pretty(study).map_err(encode)?
             }
             (Self::Bar { scene, study }, false) => format!(
-                "{}\n\n{scene}: {} cases × {} levels, {:.2} s wall",
+                "{}\n\n{scene}: {} × {}, {:.2} s wall",
                 convergence_tables(study).trim_end(),
-                study.cases.len(),
-                study.config.levels.len(),
+                counted(study.cases.len(), "case"),
+                counted(study.config.levels.len(), "level"),
                 study.wall_seconds
             ),
             (Self::Box { study, .. }, false) => report::render(study, command).trim_end().into(),
@@ -321,14 +326,16 @@ impl StudyOutcome {
         let Self::Box { study, histories } = self else {
             return self.render(false, command);
         };
-        write_elastic_files(study, histories, out_dir, kept_from, command)?;
+        let written: Vec<String> =
+            write_elastic_files(study, histories, out_dir, kept_from, command)?
+                .iter()
+                .map(|f| shown_dir.join(f).display().to_string())
+                .collect();
         let mut summary = format!(
-            "wrote {dir}/elastic-{d}d.md, {dir}/elastic-{d}d.json and \
-             {dir}/data/elastic-{d}d-histories.json ({} cases, study {:.1} s wall)",
-            study.study.cases.len(),
+            "wrote {} ({}, study {:.1} s wall)",
+            written.join(", "),
+            counted(study.study.cases.len(), "case"),
             study.study.wall_seconds,
-            dir = shown_dir.display(),
-            d = study.dimension
         );
         if let Some(s) = &study.sensitivity {
             for c in &s.cases {

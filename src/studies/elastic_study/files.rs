@@ -12,7 +12,7 @@ use super::{run_elastic_study, ElasticHistories, ElasticStudy, ElasticStudyConfi
 use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::elastic::BoxProblem;
 use crate::harness::error::Error;
-use crate::studies::cost::write_work_precision_md;
+use crate::studies::cost::{write_work_precision_md, WORK_PRECISION_MD};
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
 pub const REFERENCE_CACHE: &str = "data/references";
@@ -53,14 +53,14 @@ pub fn write_elastic_report(
 
 /// Writes a 2D/3D study's report, the study and its figure data (`histories`) into `out_dir`,
 /// and `work-precision.md` rendered from the studies' data in `out_dir` and `kept_from`; the
-/// report says it was made by `command`.
+/// report says it was made by `command`. Returns the files written, relative to `out_dir`.
 pub fn write_elastic_files(
     study: &ElasticStudy,
     histories: &ElasticHistories,
     out_dir: &Path,
     kept_from: &Path,
     command: &str,
-) -> Result<(), Error> {
+) -> Result<Vec<String>, Error> {
     let d = study.dimension;
     write_atomic(
         &out_dir.join(report_file(d)),
@@ -68,5 +68,11 @@ pub fn write_elastic_files(
     )?;
     write_json(&out_dir.join(study_file(d)), study)?;
     write_work_precision_md(out_dir, kept_from)?;
-    write_json_compact(&out_dir.join(histories_file(d)), histories)
+    write_json_compact(&out_dir.join(histories_file(d)), histories)?;
+    Ok(vec![
+        report_file(d),
+        study_file(d),
+        WORK_PRECISION_MD.to_string(),
+        histories_file(d),
+    ])
 }
