@@ -93,7 +93,7 @@ impl ShardOutput {
     pub(crate) fn write(self, invocation: &Invocation, share: Share) -> Result<(), Failure> {
         let Self { spec, out, staged } = self;
         let name = shard_file_name(&invocation.command, spec);
-        let (ran, jobs) = (share.results.len(), share.jobs);
+        let (ran, jobs) = (share.results.len(), share.jobs());
         let file = invocation.shard_file(spec, share)?;
         write_json(&staged.path().join(&name), &file)?;
         staged.commit()?;

@@ -57,7 +57,8 @@ pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<
             },
         };
         run(&problem, &config)?.completed()
-    }))?;
+    }))?
+    .results;
     let mut per_case = cases.iter().zip(by_case(runs, levels.len()));
     let histories = schemes.iter().map(|scheme| SchemeHistories {
         scheme: scheme.name(),

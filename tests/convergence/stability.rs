@@ -232,7 +232,7 @@ fn the_merge_of_three_shards_of_the_suite_equals_the_unsharded_suite() {
         .collect();
     let merged = merge(shards).unwrap();
     let Executed::Complete(records) =
-        run_suite_on(&Executor::Merge(merged.results), &hard, &cases).unwrap()
+        run_suite_on(&Executor::Merge(merged.jobs), &hard, &cases).unwrap()
     else {
         panic!("a merge hands back every record");
     };

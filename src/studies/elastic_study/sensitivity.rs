@@ -106,6 +106,7 @@ pub(super) fn run_members(
     Ok(LevelEnsemble {
         errors,
         separations,
+        stopped: None,
     })
 }
 
