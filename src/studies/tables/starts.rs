@@ -5,31 +5,25 @@
 //! moves.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
-use crate::harness::error::Error;
 use crate::harness::norms::Norm;
-use crate::harness::problem::{MassVariant, Start};
-use crate::harness::study::{run_study, Case, Study};
-use crate::studies::benchmark::dirichlet;
+use crate::harness::problem::{MassVariant, Problem1d, Start};
+use crate::harness::study::{Case, Study};
 
-/// The cases of `study` with a massless contact node (the redistributed mass), run again with
-/// the implicit-multiplier start on the same levels, ratio, horizon and norms.
-pub fn implicit_start_study(root: &Path, study: &Study) -> Result<Study, Error> {
-    let mut problem = dirichlet(root, study.config.horizon)?;
+/// `problem` with the implicit-multiplier start instead of its own.
+pub fn implicit_start(problem: &Problem1d) -> Problem1d {
+    let mut problem = problem.clone();
     problem.conventions.start = Start::ImplicitMultiplier;
-    let cases: Vec<Case> = study
-        .cases
-        .iter()
-        .map(|c| c.case)
+    problem
+}
+
+/// The cases of `cases` with a massless contact node (the redistributed mass): those whose
+/// start the section compares, in their order.
+pub fn massless_contact(cases: impl IntoIterator<Item = Case>) -> Vec<Case> {
+    cases
+        .into_iter()
         .filter(|c| c.mass == MassVariant::Redistributed)
-        .collect();
-    run_study(
-        &problem,
-        &cases,
-        &study.norms.iter().copied().collect(),
-        &study.config,
-    )
+        .collect()
 }
 
 /// The section of `tables.md`: each case of `implicit` with its rates under the static start
