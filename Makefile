@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest test golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem docs
+.PHONY: report report-fine report-finest test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem docs
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -41,6 +41,14 @@ reference: build
 test:
 	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
 	$(CARGO) nextest run
+
+## The long tests of `report` and `experiment` sharded, which `make test` skips: in process, the
+## tables' studies and the experiment's, three shards merged against the unsharded run; end to
+## end, the whole `signorini report` and `experiment` run unsharded and as three shards, and
+## their merges compared with them (the report twice: most of the time).
+test-report-shards:
+	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
+	$(CARGO) nextest run --run-ignored only -E 'test(/^report_shards::/) | test(/^shards::the_merge_of_three_(report|experiment)_shards/)'
 
 ## Regenerate the golden rates and the table snapshot (the only way they change).
 golden: build

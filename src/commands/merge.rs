@@ -79,7 +79,7 @@ pub(crate) fn read_shards(args: &MergeArgs) -> Result<MergedShards, Failure> {
     let Merged {
         invocation,
         identity,
-        results,
+        jobs,
     } = merge_shards(files)?;
     if invocation.identity()? != identity {
         return Err(ShardError::InputsChanged {
@@ -97,7 +97,7 @@ pub(crate) fn read_shards(args: &MergeArgs) -> Result<MergedShards, Failure> {
         command: invocation.command,
         request: invocation.request,
         command_line: argv.join(" "),
-        executor: Executor::Merge(results),
+        executor: Executor::Merge(jobs),
     })
 }
 

@@ -52,6 +52,7 @@ use options::REPORTS;
 pub fn merge(args: MergeArgs) -> Result<(), Failure> {
     let shards = merge::read_shards(&args)?;
     let (executor, out) = (&shards.executor, args.out);
+    let reports = out.clone().unwrap_or_else(|| PathBuf::from(REPORTS));
     match shards.command.as_str() {
         "study" => {
             let request = StudyArgs {
@@ -62,22 +63,36 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
         }
         "stability" => {
             let request = StabilityArgs {
-                out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+                out: reports,
                 ..shards.request()?
             };
             reports::stability_with(request, executor)
         }
         "sensitivity" => {
             let request = SensitivityArgs {
-                out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+                out: reports,
                 ..shards.request()?
             };
             study::sensitivity_with(request, executor)
         }
         "reference" => study::reference_with(shards.request()?, executor),
+        "report" => {
+            let request = ReportArgs {
+                out: reports,
+                ..shards.request()?
+            };
+            reports::report_with(request, executor)
+        }
+        "experiment" => {
+            let request = ExperimentArgs {
+                out: reports,
+                ..shards.request()?
+            };
+            reports::experiment_with(request, executor)
+        }
         other => Err(Failure::usage(format!(
-            "the shards are of `{other}`; allowed: shards of study, stability, sensitivity or \
-             reference"
+            "the shards are of `{other}`; allowed: shards of study, stability, sensitivity, \
+             reference, report or experiment"
         ))),
     }
 }

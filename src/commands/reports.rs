@@ -1,5 +1,6 @@
 //! The commands behind the make targets that write `reports/` and `golden/`: `report`,
-//! `experiment`, `figures`, `stability` and `golden`.
+//! `experiment`, `figures`, `stability` and `golden`. `report`, `experiment` and `stability`
+//! shard: each hands its job lists to the executor `--shard` asks for.
 
 use std::path::{Path, PathBuf};
 
@@ -10,24 +11,25 @@ use serde::{Deserialize, Serialize};
 use super::failure::{write_output, Failure};
 use super::limits::LimitArgs;
 use super::options::REPORTS;
-use super::sharding::{this_invocation, Destination, ShardArgs};
+use super::sharding::{share_of_work, this_invocation, Destination, ShardArgs};
 use crate::harness::budget::Estimate;
+use crate::harness::error::Error;
 use crate::harness::executor::{computed_here, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::study::Case;
 use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::estimate;
-use crate::studies::experiment::write_defaults_experiment;
-use crate::studies::extended::write_extended_report;
+use crate::studies::experiment::{defaults_experiment, write_defaults_experiment};
+use crate::studies::extended::{extended_studies_in, write_extended_report};
 use crate::studies::figures::from_reports::write_figures;
 use crate::studies::golden::write_golden;
-use crate::studies::gravity::write_gravity_report;
-use crate::studies::report::write_report;
+use crate::studies::gravity::{gravity_benchmark, write_gravity_report, GRAVITY_SCENE};
+use crate::studies::report::{tables_report, write_report};
 use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
 use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files};
 
 /// The arguments of `signorini report`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct ReportArgs {
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
@@ -35,52 +37,122 @@ pub struct ReportArgs {
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
+    /// Run one shard of the studies' jobs (all of the report's lists dealt as one).
+    #[command(flatten)]
+    pub shard: ShardArgs,
+}
+
+/// The files `report` reads: the scenes of its benchmarks.
+fn report_inputs() -> Vec<PathBuf> {
+    vec![PathBuf::from(GRAVITY_SCENE), PathBuf::from(DIRICHLET_SCENE)]
 }
 
 /// What `make report` runs: Tables 1–2 beside the paper into reports/.
 pub fn report(args: ReportArgs) -> Result<(), Failure> {
-    let ReportArgs { out, limits } = args;
-    limits.check(estimate::report(Path::new("."))?)?;
-    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let gravity = write_gravity_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    let executor = args.shard.executor();
+    report_with(args, &executor)
+}
+
+/// [`report`] with the job lists of its studies (the gravity benchmark's, the tables' and the
+/// extended table's, one after the other) handed to `executor`.
+pub(crate) fn report_with(args: ReportArgs, executor: &Executor) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "report",
+        &ReportArgs {
+            out: PathBuf::from(REPORTS),
+            shard: ShardArgs::default(),
+            ..args.clone()
+        },
+        report_inputs(),
+    )?;
+    let ReportArgs {
+        out,
+        limits,
+        shard: _,
+    } = args;
+    let root = Path::new(".");
+    limits.check(share_of_work(estimate::report(root)?, executor))?;
+    let destination = Destination::begin(executor, &out)?;
+    let executed = executor
+        .execute_lists(|batch| {
+            let gravity = gravity_benchmark(root, batch)?;
+            let tables = tables_report(root, batch)?;
+            let extended = extended_studies_in(root, batch)?;
+            Ok(gravity.zip(tables).zip(extended))
+        })
+        .map_err(study_failure)?;
+    let Some((((gravity, tables), extended), staged)) =
+        destination.receive(executed, &invocation)?
+    else {
+        return Ok(());
+    };
+    write_gravity_report(&gravity, staged.path()).map_err(Failure::runtime)?;
     out!(
         "wrote {}/gravity.md and {}/gravity/ ({} cases)",
         out.display(),
         out.display(),
-        gravity.cases.len()
+        gravity.study.cases.len()
     );
-    let study = write_report(
-        Path::new("."),
-        staged.path(),
-        &staged.final_path(staged.path()),
-    )
-    .map_err(Failure::runtime)?;
+    write_report(&tables, staged.path(), &staged.final_path(staged.path()))
+        .map_err(Failure::runtime)?;
     out!(
         "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
         out.display(),
         out.display(),
-        study.cases.len(),
-        study.wall_seconds
+        tables.study.cases.len(),
+        tables.study.wall_seconds
     );
-    write_extended_report(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    write_extended_report(&extended, staged.path()).map_err(Failure::runtime)?;
     staged.commit()?;
     out!("wrote {}/extended.md", out.display());
     Ok(())
 }
 
+/// A failure of a study of `report` or `experiment`: shards a merge refuses are a usage error
+/// (exit 2), as for every sharded command; anything else a failure (exit 1).
+fn study_failure(e: Error) -> Failure {
+    match e {
+        Error::Shard(_) => e.into(),
+        e => Failure::runtime(e),
+    }
+}
+
 /// The arguments of `signorini experiment`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct ExperimentArgs {
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
+    /// Run one shard of the studies' jobs (the three horizons' lists dealt as one).
+    #[command(flatten)]
+    pub shard: ShardArgs,
 }
 
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
 pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
-    let ExperimentArgs { out } = args;
-    let staged = StagedDir::begin("--out", &out, Replace::Files)?;
-    let md = write_defaults_experiment(Path::new("."), staged.path()).map_err(Failure::runtime)?;
+    let executor = args.shard.executor();
+    experiment_with(args, &executor)
+}
+
+/// [`experiment`] with the job lists of its studies handed to `executor`.
+pub(crate) fn experiment_with(args: ExperimentArgs, executor: &Executor) -> Result<(), Failure> {
+    let invocation = this_invocation(
+        "experiment",
+        &ExperimentArgs {
+            out: PathBuf::from(REPORTS),
+            shard: ShardArgs::default(),
+        },
+        vec![PathBuf::from(DIRICHLET_SCENE)],
+    )?;
+    let out = args.out;
+    let destination = Destination::begin(executor, &out)?;
+    let executed = executor
+        .execute_lists(|batch| defaults_experiment(Path::new("."), batch))
+        .map_err(study_failure)?;
+    let Some((experiment, staged)) = destination.receive(executed, &invocation)? else {
+        return Ok(());
+    };
+    let md = write_defaults_experiment(&experiment, staged.path()).map_err(Failure::runtime)?;
     staged.commit()?;
     let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
     out!(

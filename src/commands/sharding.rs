@@ -1,6 +1,7 @@
 //! `--shard k/n` on the commands that run a study (`study`, `stability`, `sensitivity`,
-//! `reference`): the option, the executor it asks for, and how a shard writes its partial result
-//! file into `--out` ([`crate::harness::shard`]).
+//! `reference`, `report`, `experiment`): the option, the executor it asks for, the share of the
+//! work a shard is held to, and how a shard writes its partial result file into `--out`
+//! ([`crate::harness::shard`]).
 
 use std::path::{Path, PathBuf};
 
@@ -8,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
 use crate::harness::artifacts::write_json;
+use crate::harness::budget::Estimate;
 use crate::harness::error::ParameterError;
 use crate::harness::executor::{Executed, Executor};
 use crate::harness::output_dir::{Replace, StagedDir};
@@ -93,7 +95,7 @@ impl ShardOutput {
     pub(crate) fn write(self, invocation: &Invocation, share: Share) -> Result<(), Failure> {
         let Self { spec, out, staged } = self;
         let name = shard_file_name(&invocation.command, spec);
-        let (ran, jobs) = (share.results.len(), share.jobs);
+        let (ran, jobs) = (share.results.len(), share.jobs());
         let file = invocation.shard_file(spec, share)?;
         write_json(&staged.path().join(&name), &file)?;
         staged.commit()?;
@@ -160,6 +162,21 @@ impl Destination {
                 ))
             }
         }
+    }
+}
+
+/// The part of a command's work `estimate` that `executor` computes here: all of it locally,
+/// about 1/n of its dof-steps for shard k/n (its share of every job list, dealt round the
+/// shards), none of them for a merge. Its memory is a run's whatever the executor.
+pub(crate) fn share_of_work(estimate: Estimate, executor: &Executor) -> Estimate {
+    let share = match executor {
+        Executor::Local => 1.0,
+        Executor::Shard(spec) => 1.0 / spec.n as f64,
+        Executor::Merge(_) => 0.0,
+    };
+    Estimate {
+        dof_steps: estimate.dof_steps * share,
+        ..estimate
     }
 }
 

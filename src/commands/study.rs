@@ -428,7 +428,7 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
         return Ok(());
     };
     if matches!(executor, Executor::Merge(_)) {
-        for (job, name) in jobs.iter().zip(&names) {
+        for (job, name) in jobs.iter().zip(&names.results) {
             if *name != job.scene.name {
                 return Err(Failure::usage(format!(
                     "the shards computed the reference of scene {name}, not of {}",

@@ -350,15 +350,32 @@ pub enum DemoRunError {
 /// What can go wrong when sharding a study or merging its shards (`crate::harness::shard`).
 #[derive(Debug, Error)]
 pub enum ShardError {
-    /// The shards hold another number of results than the study has jobs.
+    /// The shards hold another number of results for a job list than the study's list has jobs.
     #[error(
-        "the shards hold {shards} job results but the study has {study} jobs: the shards are \
-         of another version of the study"
+        "the shards hold {shards} job results for job list {list} but the study has {study} jobs \
+         in it: the shards are of another version of the study"
     )]
     JobCount {
-        /// Results in the shards.
+        /// The list, from 1 in the order the study hands its lists.
+        list: usize,
+        /// Results in the shards for it.
         shards: usize,
-        /// Jobs in the study.
+        /// Jobs in the study's list.
+        study: usize,
+    },
+    /// A command handed no result back from job lists run here or merged: a defect of the
+    /// command, not of the shards.
+    #[error("the command made nothing of its job lists' results (a defect: please report it)")]
+    NoResult,
+    /// The shards hold more job lists than the study hands its executor.
+    #[error(
+        "the shards hold {shards} job lists but the study has {study}: the shards are of \
+         another version of the study"
+    )]
+    ListCount {
+        /// Lists in the shards.
+        shards: usize,
+        /// Lists of the study.
         study: usize,
     },
     /// A result could not be encoded.
@@ -460,6 +477,19 @@ pub enum ShardError {
         /// The file.
         path: PathBuf,
     },
+    /// A shard file whose job lists do not make up its whole list.
+    #[error(
+        "{}: its job lists hold {listed} jobs but jobs = {jobs}: the file is not a shard's",
+        Shown(path)
+    )]
+    Lists {
+        /// The file.
+        path: PathBuf,
+        /// The jobs its lists hold.
+        listed: usize,
+        /// Its `jobs`.
+        jobs: usize,
+    },
     /// A count in a shard file over what a merge accepts.
     #[error("{}: {field} = {value}; allowed: at most {max}", Shown(path))]
     TooMany {
@@ -504,7 +534,7 @@ impl ShardError {
     /// Whether the error is the user's to fix in the arguments (exit code 2): shard files that
     /// do not make one complete invocation.
     pub fn is_usage(&self) -> bool {
-        !matches!(self, Self::Encode(_))
+        !matches!(self, Self::Encode(_) | Self::NoResult)
     }
 }
 

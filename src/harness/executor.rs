@@ -9,15 +9,23 @@
 //!   checked ([`InRange`]) and handed to the reduce step, which writes what the unsharded
 //!   command writes.
 //!
-//! A study asks for its jobs once, through one call of [`Executor::execute`]; the executor holds
-//! no state between calls and nothing of it is global.
+//! A study asks for its jobs once, through one call of [`Executor::execute`]; a command that
+//! runs several studies hands their lists one after the other into one [`Batch`]
+//! ([`Executor::execute_lists`]), which a shard deals as one list and writes as one file. Each
+//! list's results come with its wall time ([`ListResults`]): a shard records its time on each
+//! list, and a merge reports the longest shard's. The executor holds no state between calls and
+//! nothing of it is global.
+
+use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use crate::harness::error::Error;
-use crate::harness::shard::{codec, EncodedResult, InRange, ShardError, ShardSpec, Share};
+use crate::harness::shard::{
+    codec, EncodedResult, InRange, ListRun, MergedJobs, ShardError, ShardSpec, Share,
+};
 
 /// A list of independent jobs: the unit a study hands to an [`Executor`].
 pub trait JobList: Sync {
@@ -68,8 +76,9 @@ pub enum Executor {
     Local,
     /// This shard's share of the jobs.
     Shard(ShardSpec),
-    /// No job: every job's result, in job order, [`codec::encode`]d, read from the shards.
-    Merge(Vec<String>),
+    /// No job: every job's result, in job order, [`codec::encode`]d, read from the shards with
+    /// their times on each list.
+    Merge(MergedJobs),
 }
 
 /// What an executor hands back: every job's result (local or merged), or a shard's share.
@@ -94,72 +103,173 @@ impl<T> Executed<T> {
     }
 }
 
+/// Every result of one job list, in job order, and the list's wall time: measured here around
+/// its jobs when they ran here; after a merge, the longest of the shards' times on their shares
+/// of it (the list's wall time had the shards run at once, [`MergedJobs::lists`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ListResults<T> {
+    /// Every job's result, in job order.
+    pub results: Vec<T>,
+    /// The list's wall time, seconds (see the type).
+    pub wall_seconds: f64,
+}
+
 impl Executor {
     /// Hands `list` to this executor: every result in job order, or this shard's share. The
     /// jobs computed here run in parallel.
-    pub fn execute<L: JobList>(&self, list: &L) -> Result<Executed<Vec<L::Output>>, Error> {
-        self.execute_with(list, Parallel::Yes)
+    pub fn execute<L: JobList>(&self, list: &L) -> Result<Executed<ListResults<L::Output>>, Error> {
+        self.execute_lists(|batch| batch.execute(list))
     }
 
     /// [`Executor::execute`] with the jobs computed here run one at a time, the largest first:
     /// for jobs that each take the whole machine.
-    pub fn execute_in_turn<L: JobList>(&self, list: &L) -> Result<Executed<Vec<L::Output>>, Error> {
-        self.execute_with(list, Parallel::No)
+    pub fn execute_in_turn<L: JobList>(
+        &self,
+        list: &L,
+    ) -> Result<Executed<ListResults<L::Output>>, Error> {
+        self.execute_lists(|batch| batch.execute_with(list, Parallel::No))
+    }
+
+    /// Hands `plan` a [`Batch`] of this executor, into which it hands its job lists one after
+    /// the other, and returns what it makes of their results; a shard's share of every list
+    /// when the executor is a shard's (`plan` then returns `None`: no list hands it results).
+    pub fn execute_lists<T>(
+        &self,
+        plan: impl FnOnce(&mut Batch<'_>) -> Result<Option<T>, Error>,
+    ) -> Result<Executed<T>, Error> {
+        let mut batch = Batch {
+            executor: self,
+            lists: Vec::new(),
+            results: Vec::new(),
+        };
+        let value = plan(&mut batch)?;
+        batch.finish(value)
+    }
+}
+
+/// The job lists of one command handed to one executor as one list: each list's jobs are
+/// numbered on from the previous list's, a shard's share deals on through them
+/// ([`ShardSpec::share`]), and a merge hands each list its own results. The lists must not
+/// depend on one another's results, which a shard does not have: a list that needs the cases
+/// an earlier study ran runs every case, and its reduce step keeps those cases.
+pub struct Batch<'e> {
+    executor: &'e Executor,
+    /// The lists handed so far, with their wall times.
+    lists: Vec<ListRun>,
+    /// A shard's results so far, by index in the whole list.
+    results: Vec<EncodedResult>,
+}
+
+impl Batch<'_> {
+    /// Hands `list` to the executor as the batch's next list: every result in job order, or
+    /// `None` for a shard, whose share the batch keeps for its file. The jobs computed here run
+    /// in parallel, the largest first.
+    pub fn execute<L: JobList>(
+        &mut self,
+        list: &L,
+    ) -> Result<Option<ListResults<L::Output>>, Error> {
+        self.execute_with(list, Parallel::Yes)
     }
 
     fn execute_with<L: JobList>(
-        &self,
+        &mut self,
         list: &L,
         parallel: Parallel,
-    ) -> Result<Executed<Vec<L::Output>>, Error> {
-        match self {
-            Self::Local => run_all(list, parallel).map(Executed::Complete),
-            Self::Shard(spec) => {
-                let order = spec.share(&largest_first(&sizes_of(list)));
-                let results = run_in_order(list, &order, parallel)?
-                    .iter()
-                    .map(|(index, r)| {
-                        codec::encode(r).map(|result| EncodedResult {
-                            index: *index,
-                            result,
-                        })
-                    })
-                    .collect::<Result<_, _>>()?;
-                Ok(Executed::Share(Share {
-                    jobs: list.count(),
-                    results,
-                }))
+    ) -> Result<Option<ListResults<L::Output>>, Error> {
+        let dealt: usize = self.lists.iter().map(|l| l.jobs).sum();
+        let jobs = list.count();
+        let clock = Instant::now();
+        let (results, wall_seconds) = match self.executor {
+            Executor::Local => (
+                Some(run_all(list, parallel)?),
+                clock.elapsed().as_secs_f64(),
+            ),
+            Executor::Shard(spec) => {
+                let order = spec.share(&largest_first(&sizes_of(list)), dealt);
+                for (index, r) in run_in_order(list, &order, parallel)? {
+                    self.results.push(EncodedResult {
+                        index: dealt + index,
+                        result: codec::encode(&r)?,
+                    });
+                }
+                (None, clock.elapsed().as_secs_f64())
             }
-            Self::Merge(results) => {
-                if results.len() != list.count() {
+            Executor::Merge(merged) => {
+                let number = self.lists.len();
+                let list = merged.lists.get(number);
+                let texts = merged.results.get(dealt..dealt + jobs);
+                let (Some(list), Some(texts)) = (list.filter(|l| l.jobs == jobs), texts) else {
                     return Err(ShardError::JobCount {
-                        shards: results.len(),
-                        study: list.count(),
+                        list: number + 1,
+                        shards: list.map_or(0, |l| l.jobs),
+                        study: jobs,
                     }
                     .into());
-                }
-                results
-                    .iter()
-                    .enumerate()
-                    .map(|(index, text)| {
-                        let result: L::Output = codec::decode(index, text)?;
-                        match result.out_of_range() {
-                            Some(why) => Err(ShardError::OutOfRange { index, why }.into()),
-                            None => Ok(result),
-                        }
-                    })
-                    .collect::<Result<_, Error>>()
-                    .map(Executed::Complete)
+                };
+                (Some(decode_all(texts, dealt)?), list.wall_seconds)
             }
+        };
+        self.lists.push(ListRun { jobs, wall_seconds });
+        Ok(results.map(|results| ListResults {
+            results,
+            wall_seconds,
+        }))
+    }
+
+    /// What the batch hands back once every list is handed: `value`, what the command made of
+    /// the lists' results, or a shard's share of every list. A merge whose shards hold lists
+    /// the command did not hand is refused.
+    fn finish<T>(self, value: Option<T>) -> Result<Executed<T>, Error> {
+        if let Executor::Merge(merged) = self.executor {
+            if merged.lists.len() != self.lists.len() {
+                return Err(ShardError::ListCount {
+                    shards: merged.lists.len(),
+                    study: self.lists.len(),
+                }
+                .into());
+            }
+        }
+        match (self.executor, value) {
+            (Executor::Shard(_), _) => Ok(Executed::Share(Share {
+                lists: self.lists,
+                results: self.results,
+            })),
+            (_, Some(value)) => Ok(Executed::Complete(value)),
+            (_, None) => Err(ShardError::NoResult.into()),
         }
     }
 }
 
+/// The results `texts` of the jobs numbered from `first` in the whole list, decoded and
+/// checked ([`InRange`]).
+fn decode_all<T: DeserializeOwned + InRange>(
+    texts: &[String],
+    first: usize,
+) -> Result<Vec<T>, Error> {
+    texts
+        .iter()
+        .enumerate()
+        .map(|(k, text)| {
+            let index = first + k;
+            let result: T = codec::decode(index, text)?;
+            match result.out_of_range() {
+                Some(why) => Err(ShardError::OutOfRange { index, why }.into()),
+                None => Ok(result),
+            }
+        })
+        .collect()
+}
+
 /// Runs every job of `list` here, in parallel, the largest first (they take longest; ties in
-/// list order), and returns the results in list order. The first error stops the rest. What
-/// [`Executor::Local`] does, for the studies that are never sharded.
-pub fn run_local<L: JobList>(list: &L) -> Result<Vec<L::Output>, Error> {
-    run_all(list, Parallel::Yes)
+/// list order), and returns the results in list order with the list's wall time. The first
+/// error stops the rest. What [`Executor::Local`] does, for the studies that are never sharded.
+pub fn run_local<L: JobList>(list: &L) -> Result<ListResults<L::Output>, Error> {
+    let clock = Instant::now();
+    let results = run_all(list, Parallel::Yes)?;
+    Ok(ListResults {
+        results,
+        wall_seconds: clock.elapsed().as_secs_f64(),
+    })
 }
 
 /// Every job of `list`, the largest started first; the results in list order.
@@ -210,12 +320,12 @@ pub fn largest_first(sizes: &[usize]) -> Vec<usize> {
     order
 }
 
-/// The indices of the jobs of sizes `sizes` that `executor` computes here: every job, a
-/// shard's share of the largest-first order, or none under a merge.
+/// The indices of the jobs of sizes `sizes`, a command's only list, that `executor` computes
+/// here: every job, a shard's share of the largest-first order, or none under a merge.
 pub fn computed_here(sizes: &[usize], executor: &Executor) -> Vec<usize> {
     match executor {
         Executor::Local => (0..sizes.len()).collect(),
-        Executor::Shard(spec) => spec.share(&largest_first(sizes)),
+        Executor::Shard(spec) => spec.share(&largest_first(sizes), 0),
         Executor::Merge(_) => Vec::new(),
     }
 }

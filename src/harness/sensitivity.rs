@@ -18,20 +18,19 @@
 //! one member's at a time, so memory does not grow with members × steps.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
 use crate::harness::error::Error;
-use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, least_squares_slope};
-use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus};
 use crate::harness::shard::range::{errors_out_of_range, not_negative};
 use crate::harness::shard::InRange;
-use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
+use crate::harness::study::{kept_cases, Case, CaseLevels, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
 pub const PARTING: f64 = 1e-8;
@@ -382,13 +381,19 @@ fn largest_separation(separations: &[Separation]) -> f64 {
     separations.iter().fold(0.0_f64, |m, s| m.max(s.largest))
 }
 
-/// What one (case, level) job measured: every member's errors and separation.
+/// What one (case, level) job measured: every member's errors and separation, or the run that
+/// stopped it.
 #[derive(Serialize, Deserialize)]
-pub(crate) struct LevelEnsemble {
+pub struct LevelEnsemble {
     /// Member by member, the error of every norm.
     pub(crate) errors: Vec<BTreeMap<Norm, f64>>,
     /// Member by member, its separation from the unperturbed run.
     pub(crate) separations: Vec<Separation>,
+    /// How the unperturbed run, or the first member that did not complete, stopped; the
+    /// members after it were not measured. A study that keeps the case fails with it; one that
+    /// does not (a case an earlier study could not run) drops it.
+    #[serde(default)]
+    pub(crate) stopped: Option<RunStatus>,
 }
 
 impl InRange for LevelEnsemble {
@@ -425,15 +430,24 @@ fn level_ensemble(
     };
     let mut errors = Vec::with_capacity(ensemble.members);
     let mut separations = Vec::with_capacity(ensemble.members);
-    run_ensemble(problem, &config, ensemble, &mut |member, separation| {
-        errors.push(member.completed()?.errors);
+    let mut stopped = None;
+    let outcome = run_ensemble(problem, &config, ensemble, &mut |member, separation| {
+        if let Err(e) = member.status.completed() {
+            stopped = Some(member.status);
+            return Err(e.into());
+        }
+        errors.push(member.errors);
         separations.extend(separation);
         Ok(())
-    })?
-    .completed()?;
+    });
+    let stopped = match outcome {
+        Err(_) if stopped.is_some() => stopped,
+        outcome => Some(outcome?.status).filter(|s| !s.is_completed()),
+    };
     Ok(LevelEnsemble {
         errors,
         separations,
+        stopped,
     })
 }
 
@@ -447,10 +461,9 @@ pub fn run_sensitivity(
     config: &StudyConfig,
     ensemble: EnsembleConfig,
 ) -> Result<Sensitivity, Error> {
-    let clock = Instant::now();
     let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
-    let levels = run_local(&study.list())?;
-    Ok(study.reduce(levels, clock))
+    let ran = run_local(&study.list())?;
+    study.reduce(ran, cases)
 }
 
 /// [`run_sensitivity`] with its case × level ensembles handed to `executor`: the study, or a
@@ -463,14 +476,15 @@ pub fn run_sensitivity_on(
     config: &StudyConfig,
     ensemble: EnsembleConfig,
 ) -> Result<Executed<Sensitivity>, Error> {
-    let clock = Instant::now();
     let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
     let executed = executor.execute(&study.list())?;
-    executed.reduce(|levels| Ok(study.reduce(levels, clock)))
+    executed.reduce(|levels| study.reduce(levels, cases))
 }
 
-/// A sensitivity study as its jobs (one ensemble per case × level) and its reduce step.
-struct SensitivityJobs<'a> {
+/// A sensitivity study as its jobs (one ensemble per case × level, [`SensitivityJobs::list`])
+/// and its reduce step ([`SensitivityJobs::reduce`]), for a command that hands several lists
+/// to one executor ([`crate::harness::executor::Batch`]).
+pub struct SensitivityJobs<'a> {
     problem: &'a Problem1d,
     cases: &'a [Case],
     norms: &'a BTreeSet<Norm>,
@@ -479,7 +493,10 @@ struct SensitivityJobs<'a> {
 }
 
 impl<'a> SensitivityJobs<'a> {
-    fn new(
+    /// The ensembles of `cases` of `problem` at the levels of `config`, evaluating `norms`;
+    /// the configuration and the ensemble checked, and the problem refused without an obstacle
+    /// (the separation is measured at the contact node).
+    pub fn new(
         problem: &'a Problem1d,
         cases: &'a [Case],
         norms: &'a BTreeSet<Norm>,
@@ -505,7 +522,8 @@ impl<'a> SensitivityJobs<'a> {
         })
     }
 
-    fn list(&self) -> impl JobList<Output = LevelEnsemble> + '_ {
+    /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
+    pub fn list(&self) -> impl JobList<Output = LevelEnsemble> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
             level_ensemble(
                 self.problem,
@@ -518,23 +536,39 @@ impl<'a> SensitivityJobs<'a> {
         })
     }
 
-    /// The classified cases of every level ensemble, in the list's order, begun at `clock`.
-    fn reduce(&self, levels: Vec<LevelEnsemble>, clock: Instant) -> Sensitivity {
+    /// The cases `kept` classified from every level ensemble of the list (`ran`, in the list's
+    /// order), as a study of those cases alone would be: `kept` are some of the list's cases in
+    /// its order (all of them, or those an earlier study ran). A kept case whose ensemble
+    /// stopped is the error of the run that stopped it. Its wall time is the list's.
+    pub fn reduce(
+        &self,
+        ran: ListResults<LevelEnsemble>,
+        kept: &[Case],
+    ) -> Result<Sensitivity, Error> {
         let h: Vec<f64> = self
             .config
             .levels
             .iter()
             .map(|&nx| self.problem.length / nx as f64)
             .collect();
-        classify_cases(
-            self.cases,
+        let (cases, per_case): (Vec<Case>, Vec<Vec<LevelEnsemble>>) =
+            kept_cases(self.cases, ran.results, self.config.levels.len(), kept)
+                .into_iter()
+                .unzip();
+        for level in per_case.iter().flatten() {
+            if let Some(status) = &level.stopped {
+                status.completed()?;
+            }
+        }
+        Ok(classify_cases(
+            &cases,
             self.config,
             &h,
             self.norms,
             self.ensemble,
-            by_case(levels, self.config.levels.len()),
-            clock.elapsed().as_secs_f64(),
-        )
+            per_case,
+            ran.wall_seconds,
+        ))
     }
 }
 

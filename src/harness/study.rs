@@ -3,7 +3,6 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::marker::PhantomData;
-use std::time::Instant;
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -13,7 +12,7 @@ use crate::engine::fem::MassVariant;
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::error::Error;
-use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus, Timings};
@@ -259,10 +258,9 @@ pub fn run_study(
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
 ) -> Result<Study, Error> {
-    let clock = Instant::now();
-    let jobs = StudyJobs::new(problem, cases, norms, config, &|| {})?;
-    let runs = run_local(&jobs.list())?;
-    Ok(jobs.reduce(runs, clock))
+    let jobs = StudyJobs::new(problem, cases, norms, config)?;
+    let ran = run_local(&jobs.list())?;
+    Ok(jobs.reduce(ran, cases))
 }
 
 /// The number of runs a study makes.
@@ -280,14 +278,18 @@ pub fn run_study_on(
     config: &StudyConfig,
     done: &(dyn Fn() + Sync),
 ) -> Result<Executed<Study>, Error> {
-    let clock = Instant::now();
-    let jobs = StudyJobs::new(problem, cases, norms, config, done)?;
+    let jobs = StudyJobs {
+        done,
+        ..StudyJobs::new(problem, cases, norms, config)?
+    };
     let executed = executor.execute(&jobs.list())?;
-    executed.reduce(|runs| Ok(jobs.reduce(runs, clock)))
+    executed.reduce(|runs| Ok(jobs.reduce(runs, cases)))
 }
 
-/// A bar study as its jobs (one run per case × level) and its reduce step.
-struct StudyJobs<'a> {
+/// A bar study as its jobs (one run per case × level, [`StudyJobs::list`]) and its reduce step
+/// ([`StudyJobs::reduce`]), for a command that hands several lists to one executor
+/// ([`crate::harness::executor::Batch`]).
+pub struct StudyJobs<'a> {
     problem: &'a Problem1d,
     cases: &'a [Case],
     norms: &'a BTreeSet<Norm>,
@@ -297,12 +299,13 @@ struct StudyJobs<'a> {
 }
 
 impl<'a> StudyJobs<'a> {
-    fn new(
+    /// The study of `cases` of `problem` at the levels of `config`, evaluating `norms`; its
+    /// configuration checked.
+    pub fn new(
         problem: &'a Problem1d,
         cases: &'a [Case],
         norms: &'a BTreeSet<Norm>,
         config: &'a StudyConfig,
-        done: &'a (dyn Fn() + Sync),
     ) -> Result<Self, Error> {
         config.validate()?;
         Ok(Self {
@@ -314,11 +317,12 @@ impl<'a> StudyJobs<'a> {
                 norms: norms.clone(),
                 ..Observables::default()
             },
-            done,
+            done: &|| {},
         })
     }
 
-    fn list(&self) -> impl JobList<Output = RunResult> + '_ {
+    /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
+    pub fn list(&self) -> impl JobList<Output = RunResult> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
             let cfg = RunConfig {
                 nx: self.config.levels[l],
@@ -334,17 +338,19 @@ impl<'a> StudyJobs<'a> {
         })
     }
 
-    /// The study of every run, in the list's order, begun at `clock`.
-    fn reduce(&self, runs: Vec<RunResult>, clock: Instant) -> Study {
-        let (cases, config, norms) = (self.cases, self.config, self.norms);
-        let per_case = by_case(runs, config.levels.len());
+    /// The study of the cases `kept` from every run of the list (`ran`, in the list's order),
+    /// as a study of those cases alone would be: `kept` are some of the list's cases in its
+    /// order (all of them, or those an earlier study ran, so that the list need not depend on
+    /// that study). Its wall time is the list's.
+    pub fn reduce(&self, ran: ListResults<RunResult>, kept: &[Case]) -> Study {
+        let (config, norms) = (self.config, self.norms);
         let mut studied = Vec::new();
         let mut not_run = Vec::new();
-        for (case, runs) in cases.iter().zip(per_case) {
+        for (case, runs) in kept_cases(self.cases, ran.results, config.levels.len(), kept) {
             let statuses: Vec<&RunStatus> = runs.iter().map(|r| &r.status).collect();
-            match NotRun::first(*case, &config.levels, &statuses) {
+            match NotRun::first(case, &config.levels, &statuses) {
                 Some(stopped) => not_run.push(stopped),
-                None => studied.push(case_study(*case, &runs, norms)),
+                None => studied.push(case_study(case, &runs, norms)),
             }
         }
         Study {
@@ -352,7 +358,7 @@ impl<'a> StudyJobs<'a> {
             norms: norms.iter().copied().collect(),
             cases: studied,
             not_run,
-            wall_seconds: clock.elapsed().as_secs_f64(),
+            wall_seconds: ran.wall_seconds,
         }
     }
 }
@@ -400,6 +406,22 @@ where
         let (c, l) = self.jobs[index];
         (self.job)(c, l)
     }
+}
+
+/// The results of the [`CaseLevels`] jobs of `cases` (in job order, `levels` per case), case by
+/// case, of the cases in `kept` only.
+pub fn kept_cases<T>(
+    cases: &[Case],
+    results: Vec<T>,
+    levels: usize,
+    kept: &[Case],
+) -> Vec<(Case, Vec<T>)> {
+    cases
+        .iter()
+        .copied()
+        .zip(by_case(results, levels))
+        .filter(|(case, _)| kept.contains(case))
+        .collect()
 }
 
 /// The results of [`CaseLevels`] jobs, in job order, as each case's in level order.

@@ -8,9 +8,10 @@ use std::path::Path;
 
 use crate::harness::artifacts::write_atomic;
 use crate::harness::error::Error;
+use crate::harness::executor::Batch;
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
-use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+use crate::harness::study::{Case, CaseStudy, Study, StudyConfig, StudyJobs};
 use crate::studies::benchmark::dirichlet;
 
 /// The experiment's markdown, under a reports directory.
@@ -60,21 +61,44 @@ fn range_rate(c: &CaseStudy, norm: Norm, (lo, hi): (usize, usize)) -> Option<f64
     fit_rate(&h, &e).map(|f| f.rate)
 }
 
-/// Runs the Tables 1–2 study at every horizon of [`EXPERIMENT_HORIZONS`] and refits the first
-/// one's rates over [`EXPERIMENT_RANGES`].
-pub fn defaults_experiment(root: &Path) -> Result<DefaultsExperiment, Error> {
+/// Hands the Tables 1–2 study at every horizon of [`EXPERIMENT_HORIZONS`] to `batch`, one job
+/// list each, and returns the experiment (`None` for a shard): the first horizon's rates
+/// refitted over [`EXPERIMENT_RANGES`] and compared with the others'.
+pub fn defaults_experiment(
+    root: &Path,
+    batch: &mut Batch<'_>,
+) -> Result<Option<DefaultsExperiment>, Error> {
     let base = StudyConfig::paper_default();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    let studies: Vec<Study> = EXPERIMENT_HORIZONS
+    let cases = Case::paper_matrix();
+    let configs: Vec<StudyConfig> = EXPERIMENT_HORIZONS
         .iter()
-        .map(|&t| {
-            let config = StudyConfig {
-                horizon: t,
-                ..base.clone()
-            };
-            run_study(&dirichlet(root, t)?, &Case::paper_matrix(), &norms, &config)
+        .map(|&horizon| StudyConfig {
+            horizon,
+            ..base.clone()
         })
-        .collect::<Result<_, _>>()?;
+        .collect();
+    let problems = EXPERIMENT_HORIZONS
+        .iter()
+        .map(|&t| dirichlet(root, t))
+        .collect::<Result<Vec<_>, _>>()?;
+    let jobs = problems
+        .iter()
+        .zip(&configs)
+        .map(|(problem, config)| StudyJobs::new(problem, &cases, &norms, config))
+        .collect::<Result<Vec<_>, _>>()?;
+    let runs = jobs
+        .iter()
+        .map(|j| batch.execute(&j.list()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let Some(runs) = runs.into_iter().collect::<Option<Vec<_>>>() else {
+        return Ok(None);
+    };
+    let studies: Vec<Study> = jobs
+        .iter()
+        .zip(runs)
+        .map(|(j, runs)| j.reduce(runs, &cases))
+        .collect();
     let reference = &studies[0];
     let mut entries = Vec::new();
     for c in &reference.cases {
@@ -101,7 +125,7 @@ pub fn defaults_experiment(root: &Path) -> Result<DefaultsExperiment, Error> {
             });
         }
     }
-    Ok(DefaultsExperiment { base, entries })
+    Ok(Some(DefaultsExperiment { base, entries }))
 }
 
 /// `defaults-experiment.md`: per variant the median and largest change of the rates, then
@@ -173,9 +197,12 @@ pub fn render(experiment: &DefaultsExperiment) -> String {
 }
 
 /// How the rates of Tables 1–2 move with the horizon and with the level range: writes
-/// `defaults-experiment.md` into `out_dir` and returns the markdown.
-pub fn write_defaults_experiment(root: &Path, out_dir: &Path) -> Result<String, Error> {
-    let md = render(&defaults_experiment(root)?);
+/// `defaults-experiment.md` of `experiment` into `out_dir` and returns the markdown.
+pub fn write_defaults_experiment(
+    experiment: &DefaultsExperiment,
+    out_dir: &Path,
+) -> Result<String, Error> {
+    let md = render(experiment);
     write_atomic(&out_dir.join(DEFAULTS_EXPERIMENT_MD), md.as_bytes())?;
     Ok(md)
 }

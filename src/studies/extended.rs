@@ -14,14 +14,15 @@ use serde::{Deserialize, Serialize};
 use crate::harness::artifacts::read_json;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
+use crate::harness::executor::Batch;
 use crate::harness::golden::{check_values, Golden, Tolerances};
 use crate::harness::input::GOLDEN_FILE;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
 use crate::harness::sensitivity::{
-    run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
+    run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, SensitivityJobs, Spread,
 };
-use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
+use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig, StudyJobs};
 use crate::harness::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::studies::benchmark::dirichlet;
 
@@ -544,15 +545,66 @@ pub fn extended_studies_with_sensitivity(root: &Path) -> Result<Vec<ExtendedStud
         .collect()
 }
 
-/// Runs the extended studies with their sensitivity
-/// ([`extended_studies_with_sensitivity`]), writes `extended.md` and `extended.json` into
-/// `out_dir`, and returns the studies.
-pub fn write_extended_report(root: &Path, out_dir: &Path) -> Result<Vec<ExtendedStudy>, Error> {
-    let studies = extended_studies_with_sensitivity(root)?;
-    let (md, file) = render(&studies);
+/// Hands the extended studies' job lists to `batch` — one study per treatment of
+/// [`TREATMENTS`], then the round-off ensembles of every case of each — and returns the studies
+/// with their sensitivity (`None` for a shard), as [`extended_studies_with_sensitivity`] makes
+/// them: a case a study could not run keeps no ensemble. `root` is the repository root.
+pub fn extended_studies_in(
+    root: &Path,
+    batch: &mut Batch<'_>,
+) -> Result<Option<Vec<ExtendedStudy>>, Error> {
+    let config = extended_config();
+    let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
+    let cases = extended_cases();
+    let problems = TREATMENTS
+        .iter()
+        .map(|name| extended_problem(root, name))
+        .collect::<Result<Vec<_>, _>>()?;
+    let studies = problems
+        .iter()
+        .map(|p| StudyJobs::new(p, &cases, &norms, &config))
+        .collect::<Result<Vec<_>, _>>()?;
+    let ensembles = problems
+        .iter()
+        .map(|p| SensitivityJobs::new(p, &cases, &norms, &config, EnsembleConfig::default()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let runs = studies
+        .iter()
+        .map(|s| batch.execute(&s.list()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let members = ensembles
+        .iter()
+        .map(|e| batch.execute(&e.list()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (Some(runs), Some(members)) = (
+        runs.into_iter().collect::<Option<Vec<_>>>(),
+        members.into_iter().collect::<Option<Vec<_>>>(),
+    ) else {
+        return Ok(None);
+    };
+    TREATMENTS
+        .iter()
+        .zip(studies.iter().zip(runs))
+        .zip(ensembles.iter().zip(members))
+        .map(|((name, (jobs, runs)), (ensemble, members))| {
+            let study = jobs.reduce(runs, &cases);
+            let kept: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
+            Ok(ExtendedStudy {
+                contact: name.to_string(),
+                sensitivity: Some(ensemble.reduce(members, &kept)?),
+                study,
+            })
+        })
+        .collect::<Result<_, Error>>()
+        .map(Some)
+}
+
+/// Writes `extended.md` and `extended.json` of `studies` into `out_dir`.
+pub fn write_extended_report(studies: &[ExtendedStudy], out_dir: &Path) -> Result<(), Error> {
+    let (md, file) = render(studies);
     write_atomic(&out_dir.join(EXTENDED_MD), md.as_bytes())?;
     write_json(&out_dir.join(EXTENDED_JSON), &file)?;
-    Ok(studies)
+    Ok(())
 }
 
 /// The golden values of one treatment.

@@ -8,13 +8,16 @@ use std::path::Path;
 
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
+use crate::harness::executor::{Batch, Jobs};
 use crate::harness::problem::MassVariant;
 use crate::harness::report::convergence_tables;
-use crate::harness::run::{run, RunConfig};
+use crate::harness::run::{run, RunConfig, RunResult};
 use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
-use crate::harness::sensitivity::Sensitivity;
-use crate::harness::sensitivity::{class_table, rate_ranges, run_sensitivity, EnsembleConfig};
-use crate::harness::study::{run_study, Case, Study};
+use crate::harness::scene::Scene;
+use crate::harness::sensitivity::{
+    class_table, rate_ranges, run_sensitivity, EnsembleConfig, Sensitivity, SensitivityJobs,
+};
+use crate::harness::study::{run_study, Case, Study, StudyJobs};
 use crate::studies::benchmark::bar_scene;
 
 /// The golden file of the gravity benchmark's study, relative to the repository root.
@@ -57,14 +60,18 @@ pub fn strain_file(mass: MassVariant, requested_time: f64) -> String {
     strain_csv_name(&format!("strain-{}", mass.name()), requested_time)
 }
 
+/// The cases of the gravity benchmark: its scene's schemes (Crank–Nicolson) with both masses.
+fn gravity_cases(scene: &Scene) -> Vec<Case> {
+    Case::matrix(&scene.default_schemes(), &MassVariant::PAPER)
+}
+
 /// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson) with both masses,
 /// its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
-    let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     run_study(
         &problem,
-        &cases,
+        &gravity_cases(&scene),
         &scene.observables.norms,
         &scene.study_config(),
     )
@@ -87,21 +94,93 @@ pub fn gravity_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, E
     )
 }
 
-/// `gravity.md` and the data of the paper's Figures 2–4 (`gravity/`): the rate table of the
-/// gravity benchmark and, for both masses at NX = 160, the displacement at x = 0, ½, 1 over time
-/// and the strain field at the scene's `fields_at` times, as CSV.
-pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error> {
+/// The gravity benchmark as `signorini report` writes it: its study, the round-off sensitivity
+/// of the cases the study ran, and their runs at [`FIGURE_LEVEL`].
+pub struct GravityBenchmark {
+    /// The benchmark's scene.
+    scene: Scene,
+    /// The study.
+    pub study: Study,
+    /// The round-off sensitivity of the study's cases.
+    sensitivity: Sensitivity,
+    /// The run of each of the study's cases at [`FIGURE_LEVEL`], in its order.
+    figure_runs: Vec<RunResult>,
+}
+
+/// Hands the gravity benchmark's job lists to `batch` — the study, the round-off ensembles
+/// and the [`FIGURE_LEVEL`] runs of every case — and returns the benchmark made of their
+/// results (`None` for a shard). The ensembles and runs of a case the study could not run are
+/// dropped, as if they had not run. `root` is the repository root.
+pub fn gravity_benchmark(
+    root: &Path,
+    batch: &mut Batch<'_>,
+) -> Result<Option<GravityBenchmark>, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
-    let study = gravity_study(root)?;
+    let cases = gravity_cases(&scene);
+    let config = scene.study_config();
+    let norms = &scene.observables.norms;
+    let study = StudyJobs::new(&problem, &cases, norms, &config)?;
+    let ensembles =
+        SensitivityJobs::new(&problem, &cases, norms, &config, EnsembleConfig::default())?;
+    let figure_run = |case: &Case| {
+        let config = RunConfig {
+            nx: FIGURE_LEVEL,
+            ratio: scene.discretisation.ratio,
+            scheme: case.scheme,
+            mass: case.mass,
+            observables: scene.observables(),
+            settings: scene.settings(),
+        };
+        run(&problem, &config)
+    };
+    let figures = Jobs {
+        items: &cases,
+        size: &|_| FIGURE_LEVEL,
+        run: &figure_run,
+    };
+    let ran = (
+        batch.execute(&study.list())?,
+        batch.execute(&ensembles.list())?,
+        batch.execute(&figures)?,
+    );
+    let (Some(runs), Some(members), Some(figure_runs)) = ran else {
+        return Ok(None);
+    };
+    let study = study.reduce(runs, &cases);
+    let kept: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
+    let sensitivity = ensembles.reduce(members, &kept)?;
+    let figure_runs = cases
+        .iter()
+        .zip(figure_runs.results)
+        .filter(|(case, _)| kept.contains(case))
+        .map(|(_, r)| r.completed())
+        .collect::<Result<_, _>>()?;
+    Ok(Some(GravityBenchmark {
+        scene,
+        study,
+        sensitivity,
+        figure_runs,
+    }))
+}
+
+/// Writes `gravity.md` and the data of the paper's Figures 2–4 (`gravity/`) of `benchmark` into
+/// `out_dir`: the rate table of the gravity benchmark and, for both masses at NX = 160, the
+/// displacement at x = 0, ½, 1 over time and the strain field at the scene's `fields_at` times,
+/// as CSV.
+pub fn write_gravity_report(benchmark: &GravityBenchmark, out_dir: &Path) -> Result<(), Error> {
+    let GravityBenchmark {
+        scene,
+        study,
+        sensitivity,
+        figure_runs,
+    } = benchmark;
     let mut md = format!(
         "# The gravity benchmark (1D paper §4)\n\n{}. Levels NX = {:?}, Δx/Δt = {}, T = {}; \
          errors against the closed-form solution (`BouncingBar`, exact: no truncated series). \
          Generated by `make report`.\n\n",
         scene.description, study.config.levels, study.config.ratio, study.config.horizon
     );
-    md.push_str(&convergence_tables(&study));
-    let cases: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
-    let sensitivity = gravity_sensitivity(root, &cases)?;
+    md.push_str(&convergence_tables(study));
     md.push_str(&format!(
         "\n## Round-off sensitivity\n\nEvery case at every level run as {} members with \
          relative noise {:e} on the initial displacement (the rules of `sensitivity.md`); a \
@@ -109,21 +188,12 @@ pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error>
          {:.1} s wall (`gravity/sensitivity.json`).\n\n",
         sensitivity.ensemble.members, sensitivity.ensemble.amplitude, sensitivity.wall_seconds
     ));
-    md.push_str(&class_table(&sensitivity, GRAVITY_SENSITIVITY_SHOWN_LEVEL));
+    md.push_str(&class_table(sensitivity, GRAVITY_SENSITIVITY_SHOWN_LEVEL));
     md.push('\n');
     md.push_str(&rate_ranges(&sensitivity.cases));
     let data = out_dir.join(GRAVITY_DIR);
-    write_json(&data.join(SENSITIVITY_JSON), &sensitivity)?;
-    for case in &study.cases {
-        let config = RunConfig {
-            nx: FIGURE_LEVEL,
-            ratio: scene.discretisation.ratio,
-            scheme: case.case.scheme,
-            mass: case.case.mass,
-            observables: scene.observables(),
-            settings: scene.settings(),
-        };
-        let r = run(&problem, &config)?.completed()?;
+    write_json(&data.join(SENSITIVITY_JSON), sensitivity)?;
+    for (case, r) in study.cases.iter().zip(figure_runs) {
         let mass = case.case.mass;
         if let Some(p) = &r.point_history {
             write_atomic(
@@ -137,7 +207,7 @@ pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error>
                 strain_csv(f, CSV_DIGITS).as_bytes(),
             )?;
         }
-        write_json(&data.join(run_file(mass)), &r)?;
+        write_json(&data.join(run_file(mass)), r)?;
     }
     md.push_str(
         "\nFigure data (NX = 160): `gravity/points-<mass>.csv` (Figure 2: u at x = 0, ½, 1), \
@@ -145,6 +215,6 @@ pub fn write_gravity_report(root: &Path, out_dir: &Path) -> Result<Study, Error>
          `gravity/run-<mass>.json` (histories of the contact node and the energy).\n",
     );
     write_atomic(&out_dir.join(GRAVITY_MD), md.as_bytes())?;
-    write_json(&data.join(STUDY_JSON), &study)?;
-    Ok(study)
+    write_json(&data.join(STUDY_JSON), study)?;
+    Ok(())
 }

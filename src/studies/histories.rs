@@ -1,6 +1,7 @@
 //! The contact and energy histories behind the paper's Figures 7–8 and 11–22 (`make report`):
-//! every scheme of the tables with both masses at [`HISTORY_LEVELS`], one file
-//! `data/histories/<scheme>.json` ([`SchemeHistories`]) per scheme, which `make figures` reads.
+//! every scheme of the tables with both masses at [`HISTORY_LEVELS`] ([`HistoryJobs`]), one
+//! file `data/histories/<scheme>.json` ([`SchemeHistories`]) per scheme, which `make figures`
+//! reads.
 
 use std::path::Path;
 
@@ -8,8 +9,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::artifacts::write_json_compact;
 use crate::harness::error::Error;
-use crate::harness::executor::run_local;
-use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::executor::JobList;
+use crate::harness::problem::{MassVariant, Problem1d, Scheme};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
@@ -37,40 +38,77 @@ pub struct SchemeHistories {
     pub runs: Vec<(MassVariant, usize, RunResult)>,
 }
 
-/// For every scheme of the tables, runs both masses at `levels` with the contact and energy
-/// histories and writes them to `data/histories/<scheme>.json` (the figures' input).
-pub fn write_histories(root: &Path, out_dir: &Path, levels: &[usize]) -> Result<(), Error> {
-    let config = StudyConfig::paper_default();
-    let problem = dirichlet(root, config.horizon)?;
-    let schemes = Scheme::paper_schemes();
-    let cases = Case::matrix(&schemes, &MassVariant::PAPER);
-    let runs = run_local(&CaseLevels::new(cases.len(), levels, |c, l| {
-        let config = RunConfig {
-            nx: levels[l],
-            ratio: config.ratio,
-            scheme: cases[c].scheme,
-            mass: cases[c].mass,
-            observables: Observables {
-                contact_history: true,
-                energy_history: true,
-                ..Observables::default()
-            },
-            settings: config.settings,
-        };
-        run(&problem, &config)?.completed()
-    }))?;
-    let mut per_case = cases.iter().zip(by_case(runs, levels.len()));
-    let histories = schemes.iter().map(|scheme| SchemeHistories {
-        scheme: scheme.name(),
-        label: scheme.label(),
-        runs: per_case
-            .by_ref()
-            .take(MassVariant::PAPER.len())
-            .flat_map(|(case, runs)| levels.iter().zip(runs).map(|(&nx, r)| (case.mass, nx, r)))
-            .collect(),
-    });
+/// The runs behind the figures' histories as a job list ([`HistoryJobs::list`]): every scheme
+/// of the tables with both masses at some levels, with the contact and energy histories, on the
+/// Tables 1–2 benchmark.
+pub struct HistoryJobs<'a> {
+    problem: Problem1d,
+    config: StudyConfig,
+    schemes: Vec<Scheme>,
+    cases: Vec<Case>,
+    levels: &'a [usize],
+}
+
+impl<'a> HistoryJobs<'a> {
+    /// The runs at `levels` of the benchmark under the repository root `root`.
+    pub fn new(root: &Path, levels: &'a [usize]) -> Result<Self, Error> {
+        let config = StudyConfig::paper_default();
+        let schemes = Scheme::paper_schemes();
+        Ok(Self {
+            problem: dirichlet(root, config.horizon)?,
+            config,
+            cases: Case::matrix(&schemes, &MassVariant::PAPER),
+            schemes: schemes.to_vec(),
+            levels,
+        })
+    }
+
+    /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]); a run that
+    /// stops is an error.
+    pub fn list(&self) -> impl JobList<Output = RunResult> + '_ {
+        CaseLevels::new(self.cases.len(), self.levels, |c, l| {
+            let config = RunConfig {
+                nx: self.levels[l],
+                ratio: self.config.ratio,
+                scheme: self.cases[c].scheme,
+                mass: self.cases[c].mass,
+                observables: Observables {
+                    contact_history: true,
+                    energy_history: true,
+                    ..Observables::default()
+                },
+                settings: self.config.settings,
+            };
+            run(&self.problem, &config)?.completed()
+        })
+    }
+
+    /// Every scheme's histories from the list's runs (`runs`, in its order).
+    pub fn reduce(&self, runs: Vec<RunResult>) -> Vec<SchemeHistories> {
+        let levels = self.levels;
+        let mut per_case = self.cases.iter().zip(by_case(runs, levels.len()));
+        self.schemes
+            .iter()
+            .map(|scheme| SchemeHistories {
+                scheme: scheme.name(),
+                label: scheme.label(),
+                runs: per_case
+                    .by_ref()
+                    .take(MassVariant::PAPER.len())
+                    .flat_map(|(case, runs)| {
+                        levels.iter().zip(runs).map(|(&nx, r)| (case.mass, nx, r))
+                    })
+                    .collect(),
+            })
+            .collect()
+    }
+}
+
+/// Writes each scheme's `histories` to `data/histories/<scheme>.json` under `out_dir` (the
+/// figures' input).
+pub fn write_histories(histories: &[SchemeHistories], out_dir: &Path) -> Result<(), Error> {
     for h in histories {
-        write_json_compact(&out_dir.join(histories_file(&h.scheme)), &h)?;
+        write_json_compact(&out_dir.join(histories_file(&h.scheme)), h)?;
     }
     Ok(())
 }

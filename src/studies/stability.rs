@@ -414,11 +414,12 @@ impl InRange for StabilityRecord {
 /// Every hard case × every case, in parallel (the finest meshes first), in that order.
 pub fn run_suite(hard: &[HardCase], cases: &[Case]) -> Result<Vec<StabilityRecord>, Error> {
     let items = suite_jobs(hard, cases);
-    run_local(&Jobs {
+    Ok(run_local(&Jobs {
         items: &items,
         size: &|&(h, _)| hard[h].nx,
         run: &|&(h, c)| judge(&hard[h], cases[c]),
-    })
+    })?
+    .results)
 }
 
 /// [`run_suite`] with its runs handed to `executor`: the records, or a shard's share of them.
@@ -428,11 +429,13 @@ pub fn run_suite_on(
     cases: &[Case],
 ) -> Result<Executed<Vec<StabilityRecord>>, Error> {
     let items = suite_jobs(hard, cases);
-    executor.execute(&Jobs {
-        items: &items,
-        size: &|&(h, _)| hard[h].nx,
-        run: &|&(h, c)| judge(&hard[h], cases[c]),
-    })
+    executor
+        .execute(&Jobs {
+            items: &items,
+            size: &|&(h, _)| hard[h].nx,
+            run: &|&(h, c)| judge(&hard[h], cases[c]),
+        })?
+        .reduce(|ran| Ok(ran.results))
 }
 
 /// The suite's jobs: (hard case, case) index pairs, hard case by hard case.

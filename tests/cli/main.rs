@@ -6,6 +6,8 @@
 mod common;
 #[path = "../common/external.rs"]
 mod external_runs;
+#[path = "../common/timings.rs"]
+mod timings;
 #[path = "../common/watched.rs"]
 mod watched;
 

@@ -7,10 +7,13 @@
 mod benchmarks;
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/timings.rs"]
+mod timings;
 
 mod box_sensitivity;
 mod elastic_study;
 mod gate;
+mod report_shards;
 mod sensitivity;
 mod smooth;
 mod stability;

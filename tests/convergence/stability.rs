@@ -3,15 +3,14 @@
 //! known energy growth of Crank–Nicolson with the standard mass.
 
 use crate::benchmarks;
-use std::path::{Path, PathBuf};
+use crate::report_shards::three_shards;
+use std::path::Path;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::executor::{Executed, Executor};
 use signorini::harness::sensitivity::SensitivityClass;
-use signorini::harness::shard::merge::merge;
-use signorini::harness::shard::{Invocation, ShardSpec};
 use signorini::harness::study::Case;
 use signorini::studies::stability::{
     hard_cases, judge, render, run_suite, run_suite_on, HardCase, Verdict, STABILITY_ENSEMBLE,
@@ -212,27 +211,9 @@ fn the_merge_of_three_shards_of_the_suite_equals_the_unsharded_suite() {
     assert_eq!(hard.len(), 2);
     let cases = Case::paper_matrix();
     let full = run_suite(&hard, &cases).unwrap();
-    let invocation = Invocation {
-        command: "stability".into(),
-        arguments: vec![],
-        request: String::new(),
-        inputs: vec![],
-    };
-    let shards = (1..=3)
-        .map(|k| {
-            let spec = ShardSpec { k, n: 3 };
-            let Executed::Share(share) =
-                run_suite_on(&Executor::Shard(spec), &hard, &cases).unwrap()
-            else {
-                panic!("a shard's executor hands back its share");
-            };
-            let file = invocation.shard_file(spec, share).unwrap();
-            (PathBuf::from(format!("shard-{k}")), file)
-        })
-        .collect();
-    let merged = merge(shards).unwrap();
+    let merged = three_shards(&|executor| run_suite_on(executor, &hard, &cases).unwrap());
     let Executed::Complete(records) =
-        run_suite_on(&Executor::Merge(merged.results), &hard, &cases).unwrap()
+        run_suite_on(&Executor::Merge(merged), &hard, &cases).unwrap()
     else {
         panic!("a merge hands back every record");
     };

@@ -5,21 +5,23 @@
 //!
 //! | field | what |
 //! | --- | --- |
-//! | `format` | `"signorini-shard/3"` |
+//! | `format` | `"signorini-shard/4"` |
 //! | `signorini` | the version of the binary that ran the shard |
-//! | `command` | the subcommand: `study`, `stability`, `sensitivity` or `reference` |
+//! | `command` | the subcommand: `study`, `stability`, `sensitivity`, `reference`, `report` or `experiment` |
 //! | `arguments` | its arguments as typed, less `--shard` and `--out`: what the merge's report says it was made by |
 //! | `request` | the command's parsed options, less `--shard` and `--out`, as hexadecimal MessagePack: what the merge runs again (it parses no command line) |
 //! | `inputs` | the files the command reads (scene files), whose contents the identity covers |
 //! | `identity` | 16 hexadecimal digits: FNV-1a (64 bits) of `signorini`, `command`, `arguments`, `request` and the contents of `inputs` |
 //! | `k`, `n` | shard `k` of `n` |
 //! | `jobs` | the number of jobs in the whole job list |
-//! | `results` | this shard's jobs: `index` (the job's place in the list), `result` |
+//! | `lists` | the job lists the command handed to its executor, in order, that make up the whole list: `jobs` (the list's count) and `wall_seconds` (this shard's wall time on its share of it) |
+//! | `results` | this shard's jobs: `index` (the job's place in the whole list), `result` |
 //! | `checksum` | 64 hexadecimal digits: SHA-256 of the file's compact JSON with `checksum` empty |
 //!
 //! The checksum covers every other field (the parameters through `identity`, and the results):
 //! a file changed or damaged after its shard wrote it is refused by the merge
-//! ([`ShardFile::verify`]). Files of versions 1 and 2 (no request) are refused with the reason.
+//! ([`ShardFile::verify`]). Files of versions 1 to 3 (no request, or no lists) are refused with
+//! the reason.
 //!
 //! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
 //! `reference` command it is the scene's name, the reference itself being in the cache.
@@ -42,7 +44,7 @@ pub const SHARD_FILE: Limit = Limit {
 };
 
 /// The `format` of the files this version writes and reads.
-pub const SHARD_FORMAT: &str = "signorini-shard/3";
+pub const SHARD_FORMAT: &str = "signorini-shard/4";
 
 /// One job's result, [`super::codec::encode`]d, with the job's index in its list.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,13 +55,33 @@ pub struct EncodedResult {
     pub result: String,
 }
 
-/// What one shard ran: the size of the job list and the results of its share.
+/// One of the job lists a command hands to its executor, as a shard ran it: the list's size and
+/// the shard's time on its share of it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ListRun {
+    /// The number of jobs in the list.
+    pub jobs: usize,
+    /// The shard's wall time on its share of the list, seconds (in a merge, the longest of the
+    /// shards' times).
+    pub wall_seconds: f64,
+}
+
+/// What one shard ran: the job lists of its command and the results of its share of them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Share {
-    /// The number of jobs in the whole list.
-    pub jobs: usize,
-    /// The results of this shard's jobs, by index.
+    /// The lists, in the order the command handed them: their jobs make up the whole list, each
+    /// list's numbered on from the previous one's.
+    pub lists: Vec<ListRun>,
+    /// The results of this shard's jobs, by index in the whole list.
     pub results: Vec<EncodedResult>,
+}
+
+impl Share {
+    /// The number of jobs in the whole list.
+    pub fn jobs(&self) -> usize {
+        self.lists.iter().map(|l| l.jobs).sum()
+    }
 }
 
 /// One shard's partial result file.
@@ -88,6 +110,10 @@ pub struct ShardFile {
     pub n: usize,
     /// The number of jobs in the whole list.
     pub jobs: usize,
+    /// The job lists that make up the whole list, with this shard's time on each (absent from
+    /// files of earlier formats, which the merge refuses by their `format`).
+    #[serde(default)]
+    pub lists: Vec<ListRun>,
     /// This shard's jobs.
     pub results: Vec<JobResult>,
     /// SHA-256 of the file with this field empty ([`ShardFile::checksum_of`]).
@@ -171,7 +197,8 @@ impl Invocation {
             identity: self.identity()?,
             k: spec.k,
             n: spec.n,
-            jobs: share.jobs,
+            jobs: share.jobs(),
+            lists: share.lists,
             results: share
                 .results
                 .into_iter()

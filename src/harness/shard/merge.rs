@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::file::{Invocation, ShardFile, SHARD_FORMAT};
+use super::file::{Invocation, ListRun, ShardFile, SHARD_FORMAT};
 use super::spec::{MAX_JOBS, MAX_SHARDS};
 use super::ShardError;
 
@@ -14,8 +14,19 @@ pub struct Merged {
     pub invocation: Invocation,
     /// The identity the shards recorded ([`Invocation::identity`]).
     pub identity: String,
-    /// Every job's result, in job order.
+    /// Every job's result, with the shards' times.
+    pub jobs: MergedJobs,
+}
+
+/// What the shards of one invocation ran, put back together: what
+/// [`crate::harness::executor::Executor::Merge`] hands to the command's studies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedJobs {
+    /// Every job's result, in job order (the lists one after the other), encoded.
     pub results: Vec<String>,
+    /// The job lists, in the order the command handed them, each with the longest of the
+    /// shards' wall times on it: the list's wall time had the shards run at once.
+    pub lists: Vec<ListRun>,
 }
 
 /// Merges `shards` (each with the path it was read from), or says which is wrong.
@@ -41,6 +52,14 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
                 });
             }
         }
+        let listed: usize = s.lists.iter().map(|l| l.jobs).sum();
+        if listed != s.jobs {
+            return Err(ShardError::Lists {
+                path: path.clone(),
+                listed,
+                jobs: s.jobs,
+            });
+        }
     }
     let Some((first_path, first)) = shards.first() else {
         return Err(ShardError::NoShards);
@@ -55,6 +74,7 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
             ("identity", s.identity != first.identity),
             ("n", s.n != first.n),
             ("jobs", s.jobs != first.jobs),
+            ("lists", !same_lists(&s.lists, &first.lists)),
         ];
         if let Some((field, _)) = differs.iter().find(|(_, d)| *d) {
             return Err(ShardError::Mismatch {
@@ -106,6 +126,18 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
         .enumerate()
         .map(|(index, r)| r.ok_or(ShardError::MissingJob { index }))
         .collect::<Result<_, _>>()?;
+    let lists = first
+        .lists
+        .iter()
+        .enumerate()
+        .map(|(k, list)| ListRun {
+            jobs: list.jobs,
+            wall_seconds: shards
+                .iter()
+                .map(|(_, s)| s.lists[k].wall_seconds)
+                .fold(0.0, f64::max),
+        })
+        .collect();
     Ok(Merged {
         invocation: Invocation {
             command: first.command.clone(),
@@ -114,8 +146,13 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
             inputs: first.inputs.clone(),
         },
         identity: first.identity.clone(),
-        results,
+        jobs: MergedJobs { results, lists },
     })
+}
+
+/// Whether two shards' job lists are the same lists (their times differ from shard to shard).
+fn same_lists(a: &[ListRun], b: &[ListRun]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.jobs == y.jobs)
 }
 
 #[cfg(test)]
@@ -135,6 +172,16 @@ mod tests {
             k,
             n,
             jobs: 4,
+            lists: vec![
+                ListRun {
+                    jobs: 3,
+                    wall_seconds: k as f64,
+                },
+                ListRun {
+                    jobs: 1,
+                    wall_seconds: 0.5,
+                },
+            ],
             checksum: String::new(),
             results: indices
                 .iter()
@@ -151,7 +198,14 @@ mod tests {
     #[test]
     fn merges_the_jobs_back_in_order() {
         let m = merge(vec![shard(2, 2, &[3, 1]), shard(1, 2, &[0, 2])]).unwrap();
-        assert_eq!(m.results, ["r0", "r1", "r2", "r3"]);
+        assert_eq!(m.jobs.results, ["r0", "r1", "r2", "r3"]);
+        let times: Vec<(usize, f64)> = m
+            .jobs
+            .lists
+            .iter()
+            .map(|l| (l.jobs, l.wall_seconds))
+            .collect();
+        assert_eq!(times, [(3, 2.0), (1, 0.5)], "each list's longest shard");
     }
 
     #[test]
@@ -170,8 +224,15 @@ mod tests {
         assert!(matches!(e, ShardError::Checksum { .. }), "{e}");
         let (_, mut huge) = shard(1, 1, &[0]);
         huge.n = MAX_SHARDS + 1;
-        let e = merge(vec![(p, huge.sealed())]).unwrap_err();
+        let e = merge(vec![(p.clone(), huge.sealed())]).unwrap_err();
         assert!(e.to_string().contains("n = 10001"), "{e}");
+        let (_, mut short) = shard(1, 1, &[0]);
+        short.lists.pop();
+        let e = merge(vec![(p, short.sealed())]).unwrap_err();
+        assert!(
+            e.to_string().contains("3 jobs") && e.to_string().contains("jobs = 4"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -179,8 +240,15 @@ mod tests {
         let (p, mut other) = shard(2, 2, &[2, 3]);
         other.arguments.push("--levels".into());
         let other = other.sealed();
-        let e = merge(vec![shard(1, 2, &[0, 1]), (p, other)]).unwrap_err();
+        let e = merge(vec![shard(1, 2, &[0, 1]), (p.clone(), other)]).unwrap_err();
         assert!(e.to_string().contains("arguments"), "{e}");
+        let (_, mut split) = shard(2, 2, &[2, 3]);
+        split.lists = vec![ListRun {
+            jobs: 4,
+            wall_seconds: 1.0,
+        }];
+        let e = merge(vec![shard(1, 2, &[0, 1]), (p, split.sealed())]).unwrap_err();
+        assert!(e.to_string().contains("lists"), "{e}");
         let e = merge(vec![shard(1, 2, &[0, 1]), shard(2, 2, &[2])]).unwrap_err();
         assert!(e.to_string().contains("job 3"), "{e}");
         let e = merge(vec![shard(1, 2, &[0, 1]), shard(2, 2, &[1, 2, 3])]).unwrap_err();

@@ -14,9 +14,10 @@ pub mod range;
 pub mod spec;
 
 pub use file::{
-    shard_file_name, shard_file_path, EncodedResult, Invocation, JobResult, ShardFile, Share,
-    SHARD_FILE, SHARD_FORMAT,
+    shard_file_name, shard_file_path, EncodedResult, Invocation, JobResult, ListRun, ShardFile,
+    Share, SHARD_FILE, SHARD_FORMAT,
 };
+pub use merge::MergedJobs;
 pub use range::InRange;
 pub use spec::ShardSpec;
 

@@ -17,7 +17,9 @@ pub const MAX_JOBS: usize = 1_000_000;
 
 /// Shard `k` of `n` (`1 ≤ k ≤ n`): the jobs at positions `k − 1`, `k − 1 + n`, `k − 1 + 2n`, …
 /// of a job list in its largest-first order, so that every shard gets a fair part of the large
-/// jobs and the `n` shards together run each job exactly once.
+/// jobs and the `n` shards together run each job exactly once. A command that hands several
+/// lists to its executor deals them on: the positions run through the lists' orders one after
+/// the other.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ShardSpec {
     /// This shard's number, from 1.
@@ -31,14 +33,11 @@ const ALLOWED: &str =
     "k/n with integers 1 <= k <= n <= 10000 (e.g. 2/4: the second of four shards)";
 
 impl ShardSpec {
-    /// The jobs of this shard out of `order`, the job indices in their largest-first order.
-    pub fn share(&self, order: &[usize]) -> Vec<usize> {
-        order
-            .iter()
-            .skip(self.k - 1)
-            .step_by(self.n)
-            .copied()
-            .collect()
+    /// The jobs of this shard out of `order`, the job indices of a list in their largest-first
+    /// order, when `dealt` jobs of earlier lists were dealt round the shards before them.
+    pub fn share(&self, order: &[usize], dealt: usize) -> Vec<usize> {
+        let first = (self.k - 1 + self.n - dealt % self.n) % self.n;
+        order.iter().skip(first).step_by(self.n).copied().collect()
     }
 }
 
@@ -91,11 +90,16 @@ mod tests {
     #[test]
     fn the_shares_partition_the_order() {
         let order = [4, 0, 3, 1, 2, 5, 6];
-        let mut all: Vec<usize> = (1..=3)
-            .flat_map(|k| ShardSpec { k, n: 3 }.share(&order))
-            .collect();
-        assert_eq!(ShardSpec { k: 1, n: 3 }.share(&order), vec![4, 1, 6]);
-        all.sort_unstable();
-        assert_eq!(all, (0..7).collect::<Vec<_>>());
+        for dealt in [0, 1, 2, 3, 7] {
+            let mut all: Vec<usize> = (1..=3)
+                .flat_map(|k| ShardSpec { k, n: 3 }.share(&order, dealt))
+                .collect();
+            all.sort_unstable();
+            assert_eq!(all, (0..7).collect::<Vec<_>>(), "{dealt} dealt before");
+        }
+        assert_eq!(ShardSpec { k: 1, n: 3 }.share(&order, 0), vec![4, 1, 6]);
+        // Two jobs dealt before: shard 1's turn comes at the list's second position.
+        assert_eq!(ShardSpec { k: 1, n: 3 }.share(&order, 2), vec![0, 2]);
+        assert_eq!(ShardSpec { k: 3, n: 3 }.share(&order, 2), vec![4, 1, 6]);
     }
 }

@@ -37,7 +37,7 @@ use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
 use crate::harness::error::{Error, ParameterError};
-use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::nested_comparison::projection::NormMatrices;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Scheme, Settings};
@@ -362,8 +362,7 @@ pub fn run_elastic_study(
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
     let study = ElasticJobs::new(problem, config, cache, note)?;
-    let outcomes = run_local(&study)?;
-    study.reduce(outcomes)
+    study.reduce(run_local(&study)?)
 }
 
 /// [`run_elastic_study`] with its case × level jobs handed to `executor`: the study, or a
@@ -389,7 +388,8 @@ struct ElasticJobs<'a> {
     ensemble: Option<sensitivity::Noise>,
     comparator: Comparator,
     jobs: Vec<(Case, usize)>,
-    clock: Instant,
+    /// The time spent here before the jobs (the reference obtained), seconds.
+    prepared_seconds: f64,
 }
 
 impl<'a> ElasticJobs<'a> {
@@ -424,7 +424,7 @@ impl<'a> ElasticJobs<'a> {
             ensemble,
             comparator,
             jobs,
-            clock,
+            prepared_seconds: clock.elapsed().as_secs_f64(),
         })
     }
 
@@ -449,18 +449,15 @@ impl<'a> ElasticJobs<'a> {
         Ok(outcome)
     }
 
-    /// The study of every job's outcome, in the list's order.
+    /// The study of every job's outcome, in the list's order (`ran`); its wall time is the
+    /// time spent here before the jobs and the jobs' list's.
     fn reduce(
         &self,
-        outcomes: Vec<LevelOutcome>,
+        ran: ListResults<LevelOutcome>,
     ) -> Result<(ElasticStudy, ElasticHistories), Error> {
-        let (problem, config, comparator, jobs, clock) = (
-            self.problem,
-            self.config,
-            &self.comparator,
-            &self.jobs,
-            self.clock,
-        );
+        let (problem, config, comparator, jobs) =
+            (self.problem, self.config, &self.comparator, &self.jobs);
+        let outcomes = ran.results;
         let ensemble = self.ensemble;
         let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
             .iter()
@@ -518,7 +515,7 @@ impl<'a> ElasticJobs<'a> {
             norms: Norm::ALL.to_vec(),
             cases,
             not_run,
-            wall_seconds: clock.elapsed().as_secs_f64(),
+            wall_seconds: self.prepared_seconds + ran.wall_seconds,
         };
         let reference = &comparator.reference;
         let check = &reference.histories.check;

@@ -111,6 +111,7 @@ pub(super) fn run_members(
     Ok(LevelEnsemble {
         errors,
         separations,
+        stopped: None,
     })
 }
 

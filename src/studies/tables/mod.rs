@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use self::agreement::{disagreement_section, disagreements, paper_tables, Disagreement};
 use self::paper::PaperTables;
-use self::starts::{implicit_start_study, starts_section};
+use self::starts::starts_section;
 use crate::harness::artifacts::{write_atomic, write_json};
 use crate::harness::error::Error;
 use crate::harness::norms::Norm;
@@ -93,30 +93,15 @@ pub struct RatesFile {
 }
 
 /// The disagreements of `study` with the paper, each with its rate over all levels at
-/// [`LONGER_HORIZON`] (a second study of the disagreeing cases and norms).
+/// [`LONGER_HORIZON`] from `longer`, the Tables 1–2 study run to that horizon (every case and
+/// norm, so that it does not depend on which disagree; a case it could not run has no rate).
 pub fn disagreements_with_longer_horizon(
-    root: &Path,
     study: &Study,
     paper: &PaperTables,
     sensitivity: &Sensitivity,
-) -> Result<Vec<Disagreement>, Error> {
+    longer: &Study,
+) -> Vec<Disagreement> {
     let mut list = disagreements(study, paper, Some(sensitivity));
-    let cases: Vec<Case> = {
-        let mut ids: Vec<String> = list.iter().map(|d| d.case.clone()).collect();
-        ids.dedup();
-        Case::paper_matrix()
-            .into_iter()
-            .filter(|c| ids.contains(&c.id()))
-            .collect()
-    };
-    let mut config = study.config.clone();
-    config.horizon = LONGER_HORIZON;
-    let longer = run_study(
-        &dirichlet(root, LONGER_HORIZON)?,
-        &cases,
-        &list.iter().map(|d| d.norm).collect(),
-        &config,
-    )?;
     for d in &mut list {
         d.longer_horizon = longer
             .cases
@@ -126,7 +111,7 @@ pub fn disagreements_with_longer_horizon(
             .and_then(|r| r.fit)
             .map(|f| f.rate);
     }
-    Ok(list)
+    list
 }
 
 /// `tables.md`: Tables 1–2 beside the paper's, the agreement section, the M^mod rows under both
@@ -196,21 +181,21 @@ pub fn rates_file(study: &Study, paper: &PaperTables, list: &[Disagreement]) -> 
     }
 }
 
-/// Compares `study` with the paper (with the longer-horizon study of the disagreements), runs its
-/// M^mod cases with the implicit-multiplier start, and writes `tables.md` and `rates.json` into
-/// `out_dir`.
+/// Compares `study` with the paper (with `longer`, the study at [`LONGER_HORIZON`], for the
+/// disagreements) and with its M^mod cases under the implicit-multiplier start (`implicit`),
+/// and writes `tables.md` and `rates.json` into `out_dir`.
 pub fn write_tables(
-    root: &Path,
     study: &Study,
     sensitivity: &Sensitivity,
+    longer: &Study,
+    implicit: &Study,
     out_dir: &Path,
 ) -> Result<(), Error> {
     let paper = PaperTables::load();
-    let list = disagreements_with_longer_horizon(root, study, &paper, sensitivity)?;
-    let implicit = implicit_start_study(root, study)?;
+    let list = disagreements_with_longer_horizon(study, &paper, sensitivity, longer);
     write_atomic(
         &out_dir.join(TABLES_MD),
-        render(study, &paper, sensitivity, &list, &implicit).as_bytes(),
+        render(study, &paper, sensitivity, &list, implicit).as_bytes(),
     )?;
     write_json(&out_dir.join(RATES_JSON), &rates_file(study, &paper, &list))?;
     Ok(())

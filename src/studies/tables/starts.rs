@@ -5,32 +5,25 @@
 //! moves.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
-use crate::harness::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Start};
-use crate::harness::study::{run_study, Case, Study};
-use crate::studies::benchmark::dirichlet;
+use crate::harness::study::{Case, Study, StudyConfig};
 
-/// The cases of `study` with a massless contact node (the redistributed mass), run again with
-/// the implicit-multiplier start on the same levels, ratio, horizon and norms.
-pub fn implicit_start_study(root: &Path, study: &Study) -> Result<Study, Error> {
-    let problem = dirichlet(root, study.config.horizon)?;
-    let mut config = study.config.clone();
+/// `config` with its runs started by the implicit multiplier instead of its own start.
+pub fn implicit_start(config: &StudyConfig) -> StudyConfig {
+    let mut config = config.clone();
     config.settings.conventions.start = Start::ImplicitMultiplier;
-    let cases: Vec<Case> = study
-        .cases
-        .iter()
-        .map(|c| c.case)
+    config
+}
+
+/// The cases of `cases` with a massless contact node (the redistributed mass): those whose
+/// start the section compares, in their order.
+pub fn massless_contact(cases: impl IntoIterator<Item = Case>) -> Vec<Case> {
+    cases
+        .into_iter()
         .filter(|c| c.mass == MassVariant::Redistributed)
-        .collect();
-    run_study(
-        &problem,
-        &cases,
-        &study.norms.iter().copied().collect(),
-        &config,
-    )
+        .collect()
 }
 
 /// The section of `tables.md`: each case of `implicit` with its rates under the static start
