@@ -7,7 +7,7 @@
 //! - a layer does not skip the layers between it and a lower one it is listed with in
 //!   [`REACHED_THROUGH_THE_LAYERS_BETWEEN`]: neither `studies` nor `commands` imports anything
 //!   under `engine`; they take what they need of it from the harness's public face
-//!   (`harness::problem`, `harness::error`, …);
+//!   (`harness::problem`, `harness::files::error`, …);
 //! - the components (a layer's direct children: `engine::fem`, `harness::run`, …) form no cycle;
 //! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
 //!   children, is a component's root and is left to the rule above);

@@ -11,9 +11,9 @@ use serde::de::DeserializeOwned;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
-use crate::harness::artifacts::read_json;
 use crate::harness::budget;
 use crate::harness::executor::Executor;
+use crate::harness::files::artifacts::read_json;
 use crate::harness::shard::merge::{merge as merge_shards, Merged};
 use crate::harness::shard::{codec, ShardError, ShardFile, SHARD_FILE};
 
@@ -103,6 +103,6 @@ pub(crate) fn read_shards(args: &MergeArgs) -> Result<MergedShards, Failure> {
 
 impl From<ShardError> for Failure {
     fn from(e: ShardError) -> Self {
-        crate::harness::error::Error::from(e).into()
+        crate::harness::files::error::Error::from(e).into()
     }
 }

@@ -6,7 +6,7 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::harness::error::ParameterError;
+use crate::harness::files::error::ParameterError;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{
     ContactTreatment, Conventions, LinearSolver, MassVariant, Scheme, Start,

@@ -13,7 +13,7 @@ use super::options::REPORTS;
 use super::sharding::{this_invocation, Destination, ShardArgs};
 use crate::harness::budget::Estimate;
 use crate::harness::executor::{computed_here, Executor};
-use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::Case;
 use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::estimate;

@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
-use crate::harness::artifacts::write_json;
-use crate::harness::error::ParameterError;
 use crate::harness::executor::{Executed, Executor};
-use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::files::artifacts::write_json;
+use crate::harness::files::error::ParameterError;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};
 
 /// The `--shard` option.

@@ -16,11 +16,11 @@ use super::options::{
 };
 use super::sharding::{complete_or_write, shard_output, this_invocation, Destination, ShardArgs};
 use crate::harness::budget;
-use crate::harness::error::Error;
 use crate::harness::executor::{Executor, Jobs};
-use crate::harness::input::Shown;
+use crate::harness::files::error::Error;
+use crate::harness::files::input::Shown;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::norms::Norm;
-use crate::harness::output_dir::{Replace, StagedDir};
 use crate::harness::problem::BoxProblem;
 use crate::harness::problem::ContactTreatment;
 use crate::harness::problem::MassVariant;

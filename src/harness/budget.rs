@@ -24,7 +24,7 @@
 //! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
 //! set-up counts one solve per contact node as a step).
 
-pub use crate::harness::error::BudgetError;
+pub use crate::harness::files::error::BudgetError;
 
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;

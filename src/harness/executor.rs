@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::shard::{codec, EncodedResult, InRange, ShardError, ShardSpec, Share};
 
 /// A list of independent jobs: the unit a study hands to an [`Executor`].

@@ -16,9 +16,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::read_json;
-use crate::harness::error::Error;
-use crate::harness::input::GOLDEN_FILE;
+use crate::harness::files::artifacts::read_json;
+use crate::harness::files::error::Error;
+use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::sensitivity::{Sensitivity, SensitivityClass, Spread};
 use crate::harness::study::{Case, NormRates, Study};
 

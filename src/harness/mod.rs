@@ -2,20 +2,16 @@
 //! cases and levels, box runs compared across nested meshes, round-off ensembles, golden files,
 //! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
 
-pub mod artifacts;
 pub mod budget;
 pub mod elastic;
-pub mod error;
 pub mod executor;
 pub mod external;
 pub mod figures;
+pub mod files;
 pub mod getfem;
 pub mod golden;
-pub mod input;
-pub mod manifest;
 pub mod nested_comparison;
 pub mod norms;
-pub mod output_dir;
 pub mod paraview;
 pub mod problem;
 pub mod rates;

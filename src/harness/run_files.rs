@@ -5,8 +5,8 @@
 //! (`crate::harness::elastic`, `crate::harness::paraview`). The gravity benchmark's figure data
 //! (`crate::studies::gravity`) reuse the point and strain tables.
 
-use crate::harness::artifacts::csv;
 use crate::harness::elastic::BoxRunResult;
+use crate::harness::files::artifacts::csv;
 use crate::harness::run::{FieldSnapshot, PointHistory, RunResult};
 
 /// The whole result of a run, as JSON ([`RunResult`] or [`BoxRunResult`]).

@@ -30,9 +30,9 @@ use crate::harness::run::Observables;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
-use crate::harness::error::printable;
-pub use crate::harness::error::SceneError;
-use crate::harness::input::{self, SCENE_FILE};
+use crate::harness::files::error::printable;
+pub use crate::harness::files::error::SceneError;
+use crate::harness::files::input::{self, SCENE_FILE};
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
 /// checked and typed when the file is read ([`Scene::load`]).

@@ -24,8 +24,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
-use crate::harness::error::Error;
 use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::{fit_rate, least_squares_slope};
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::harness::error::SceneError;
+use crate::harness::files::error::SceneError;
 use crate::harness::problem::{Problem, Problem1d};
 use crate::harness::scene::Scene;
 

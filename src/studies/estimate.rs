@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use crate::harness::budget::{self, Estimate};
-use crate::harness::error::Error;
 use crate::harness::executor::Executor;
+use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::EnsembleConfig;

@@ -6,8 +6,8 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::rates::fit_rate;
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};

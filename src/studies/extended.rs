@@ -11,11 +11,11 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::read_json;
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::read_json;
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::golden::{check_values, Golden, Tolerances};
-use crate::harness::input::GOLDEN_FILE;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
 use crate::harness::sensitivity::{

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use crate::harness::artifacts::write_json;
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::write_json;
+use crate::harness::files::error::Error;
 use crate::harness::golden::{read_golden, Golden, Tolerances};
 use crate::harness::study::Case;
 use crate::studies::elastic_study::gate::{

@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
 use crate::harness::report::convergence_tables;
 use crate::harness::run::{run, RunConfig};

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::write_json_compact;
-use crate::harness::error::Error;
 use crate::harness::executor::run_local;
+use crate::harness::files::artifacts::write_json_compact;
+use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::study::{Case, Study};
 use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
 use crate::studies::histories::{write_histories, HISTORY_LEVELS};

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::harness::budget::{self, Estimate};
 use crate::harness::elastic::{run_box, BoxRunResult};
-use crate::harness::error::{Error, ParameterError};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Problem1d, Scheme,
 };

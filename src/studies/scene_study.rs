@@ -8,8 +8,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::harness::budget::{self, Estimate};
-use crate::harness::error::{Error, ParameterError};
 use crate::harness::executor::{Executed, Executor};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::norms::Norm;
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,

@@ -24,9 +24,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
 use crate::harness::executor::{run_local, Executed, Executor, Jobs};
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
 use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};

@@ -11,7 +11,7 @@ use signorini::engine::problem::{Perturbation, Problem};
 use signorini::engine::schemes::Scheme;
 use signorini::engine::schemes::TimeIntegrator;
 use signorini::harness::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
-use signorini::harness::error::Error;
+use signorini::harness::files::error::Error;
 use signorini::harness::norms::Norm;
 use signorini::harness::run::{Observables, RunConfig};
 use signorini::harness::scene::{Scene, SceneError};

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
+use signorini::harness::files::manifest::Manifest;
 use signorini::harness::golden::{compare, gate, read_golden, render_drifts};
-use signorini::harness::manifest::Manifest;
 use signorini::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
 };

@@ -6,8 +6,8 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
-use signorini::harness::error::Error;
 use signorini::harness::executor::{largest_first, run_local, Executed, Executor, JobList};
+use signorini::harness::files::error::Error;
 use signorini::harness::shard::{InRange, ShardSpec};
 
 /// A job's result: its index and a value that no formula in the test recomputes from it.

@@ -19,7 +19,7 @@ use signorini::engine::schemes::{
     initial_state, integrator, ExplicitNewmark, Scheme, TimeIntegrator,
 };
 use signorini::harness::elastic::{run_box, BoxProblem};
-use signorini::harness::error::Error;
+use signorini::harness::files::error::Error;
 use signorini::harness::run::{Observables, RunConfig};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [

@@ -15,7 +15,7 @@ use signorini::engine::problem::Perturbation;
 use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::engine::schemes::{SchemeState, TimeIntegrator, Timed};
-use signorini::harness::error::DemoRunError;
+use signorini::harness::files::error::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
     DemoSeries, DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,

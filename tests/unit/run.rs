@@ -8,7 +8,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use approx::assert_abs_diff_eq;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::error::Error;
+use signorini::harness::files::error::Error;
 use signorini::harness::norms::Norm;
 use signorini::harness::run::{self, time_grid, Observables, Problem1d, RunConfig};
 

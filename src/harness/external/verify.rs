@@ -14,7 +14,7 @@ use super::load::load;
 use super::replay::{replay, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::problem::{Problem, Problem1d};
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::run::Timings;
 use crate::harness::scene::Scene;

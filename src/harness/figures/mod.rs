@@ -28,7 +28,7 @@ pub use draw::{
     work_precision_figure,
 };
 
-pub use crate::harness::error::FigureError;
+pub use crate::harness::files::error::FigureError;
 use crate::harness::rates::RateFit;
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::harness::sensitivity::Spread;

@@ -16,7 +16,7 @@ use super::error_series::ErrorSeries;
 use super::projection::NormMatrices;
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::run::Observer;
 

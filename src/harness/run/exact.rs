@@ -9,7 +9,7 @@ use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 use crate::harness::run::driver::{finite, Observer, SnapshotTimes};
 

@@ -23,7 +23,7 @@ pub use crate::engine::schemes::TimeIntegrator;
 
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use exact::{ContactRecorder, EnergyRecorder, ErrorObservers, FieldRecorder, PointRecorder};
 

@@ -20,4 +20,4 @@ pub use file::{
 pub use range::InRange;
 pub use spec::ShardSpec;
 
-pub use crate::harness::error::ShardError;
+pub use crate::harness::files::error::ShardError;

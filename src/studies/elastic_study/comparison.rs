@@ -21,7 +21,7 @@
 use std::collections::BTreeMap;
 
 use super::reference::ReferenceHistories;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::nested_comparison::error_series::ErrorSeries;
 use crate::harness::nested_comparison::projection::{LevelProjections, NormMatrices};
 use crate::harness::norms::Norm;

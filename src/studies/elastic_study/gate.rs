@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
-use crate::harness::error::{Error, ParameterError};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{LinearSolver, Problem};
 use crate::harness::scene::Scene;
 use crate::harness::sensitivity::Sensitivity;

@@ -36,8 +36,8 @@ use serde::{Deserialize, Serialize};
 use crate::harness::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
-use crate::harness::error::{Error, ParameterError};
 use crate::harness::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::nested_comparison::projection::NormMatrices;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Scheme, Settings};
@@ -136,7 +136,7 @@ impl ElasticStudyConfig {
                  level coarser are both nested with every level",
             ));
         }
-        crate::harness::error::require_positive("ratio", self.ratio)?;
+        crate::harness::files::error::require_positive("ratio", self.ratio)?;
         if let Some(ensemble) = &self.sensitivity {
             ensemble.validate()?;
         }

@@ -26,11 +26,11 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::harness::artifacts::write_atomic;
 use crate::harness::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::input::{self, InputError, JsonError, Limit};
-use crate::harness::manifest::hex;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::input::{self, InputError, JsonError, Limit};
+use crate::harness::files::manifest::hex;
 use crate::harness::nested_comparison::check::{CheckComparison, CheckSender};
 use crate::harness::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,

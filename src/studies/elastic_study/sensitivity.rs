@@ -28,7 +28,7 @@ use std::collections::BTreeSet;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
 use crate::harness::elastic::{BoxContactHistory, BoxProblem};
-use crate::harness::error::{Error, ParameterError};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::norms::Norm;
 use crate::harness::problem::Perturbation;
 use crate::harness::sensitivity::{

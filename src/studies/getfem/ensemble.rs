@@ -14,7 +14,7 @@
 //! that does so on all eight.
 
 use super::{parting, solve, Difference};
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::getfem::{DemoConfig, DemoErrorNorms, DemoMass, DemoRun, DemoVersion};
 use crate::harness::problem::Perturbation;
 use crate::harness::sensitivity::{EnsembleConfig, Spread};

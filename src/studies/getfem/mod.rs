@@ -22,7 +22,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use crate::harness::error::{Error, SolveError};
+use crate::harness::files::error::{Error, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };

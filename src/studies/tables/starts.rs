@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Start};
 use crate::harness::study::{run_study, Case, Study};

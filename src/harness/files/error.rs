@@ -9,8 +9,8 @@ use thiserror::Error;
 
 use crate::engine::error as engine;
 pub use crate::engine::error::{require_positive, ParameterError, SolveError};
-pub use crate::harness::input::printable;
-use crate::harness::input::{shown, InputError, JsonError, Shown};
+pub use crate::harness::files::input::printable;
+use crate::harness::files::input::{shown, InputError, JsonError, Shown};
 
 /// Any error of a harness run or study.
 #[derive(Debug, Error)]
