@@ -3,21 +3,16 @@
 //! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
 
 pub mod budget;
-pub mod elastic;
 pub mod executor;
 pub mod external;
 pub mod figures;
 pub mod files;
 pub mod getfem;
 pub mod golden;
-pub mod nested_comparison;
-pub mod norms;
-pub mod paraview;
 pub mod problem;
 pub mod rates;
 pub mod report;
 pub mod run;
-pub mod run_files;
 pub mod scene;
 pub mod sensitivity;
 pub mod shard;

@@ -4,8 +4,8 @@
 
 use std::fmt::Write as _;
 
-use crate::harness::norms::Norm;
 use crate::harness::rates::RateFit;
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, LevelRecord, NormRates, Study};
 

@@ -25,7 +25,7 @@ use crate::engine::problem::Settings;
 use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
 use crate::engine::schemes::Conventions;
 use crate::engine::schemes::{Scheme, SCHEME_NAMES};
-use crate::harness::norms::Norm;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::Observables;
 use crate::harness::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;

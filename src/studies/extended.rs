@@ -16,8 +16,8 @@ use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::golden::{check_values, Golden, Tolerances};
-use crate::harness::norms::Norm;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use signorini::engine::schemes::Scheme;
 use signorini::harness::golden::{compare, gate, read_golden, render_drifts, Golden, Tolerances};
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::sensitivity::{Sensitivity, SensitivityClass};
 use signorini::harness::study::{run_study, Case, Study, StudyConfig};
 use signorini::studies::extended::{extended_sensitivity, extended_studies, TREATMENTS};

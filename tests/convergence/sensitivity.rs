@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use common::expect_error;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
 use signorini::harness::study::{Case, StudyConfig};
 

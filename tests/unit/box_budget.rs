@@ -8,8 +8,8 @@ use signorini::engine::linalg::LinearSolver;
 use signorini::engine::problem::Problem;
 use signorini::engine::problem::Settings;
 use signorini::harness::budget;
-use signorini::harness::elastic::BoxProblem;
 use signorini::harness::executor::Executor;
+use signorini::harness::run::elastic::BoxProblem;
 use signorini::harness::scene::Scene;
 
 fn bar3d() -> BoxProblem {

@@ -18,8 +18,8 @@ use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::model::Model;
 use signorini::engine::schemes::energy_balance::BalanceMonitor;
 use signorini::engine::schemes::{integrator, Scheme, TimeIntegrator};
-use signorini::harness::norms::Norm;
 use signorini::harness::rates::fit_rate;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
 
 const NX: usize = 20;

@@ -18,8 +18,8 @@ use signorini::engine::schemes::cfl::{largest_eigenvalue, stable_step};
 use signorini::engine::schemes::{
     initial_state, integrator, ExplicitNewmark, Scheme, TimeIntegrator,
 };
-use signorini::harness::elastic::{run_box, BoxProblem};
 use signorini::harness::files::error::Error;
+use signorini::harness::run::elastic::{run_box, BoxProblem};
 use signorini::harness::run::{Observables, RunConfig};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [

@@ -13,7 +13,7 @@ use signorini::engine::linalg::{LinearSolver, StepSolver};
 use signorini::engine::problem::Problem;
 use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig, RunStatus};
 use signorini::harness::scene::Scene;
 

@@ -11,7 +11,7 @@ use signorini::engine::linalg::{
 use signorini::engine::problem::Problem;
 use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig};
 use signorini::harness::scene::Scene;
 

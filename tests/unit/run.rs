@@ -9,7 +9,7 @@ use approx::assert_abs_diff_eq;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::files::error::Error;
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{self, time_grid, Observables, Problem1d, RunConfig};
 
 fn only(norms: &[Norm]) -> Observables {

@@ -15,7 +15,7 @@ use super::replay::{replay, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::files::error::Error;
-use crate::harness::norms::Norm;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::Timings;
 use crate::harness::scene::Scene;
 use crate::harness::study::{fit_norm_rates, LevelRecord, NormRates};

@@ -12,8 +12,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::run::norms::Norm;
 use crate::harness::study::{Case, CaseStudy, Study};
 use crate::harness::verdicts;
 

@@ -6,8 +6,8 @@ use std::fmt::Write as _;
 
 use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
-use crate::harness::norms::Norm;
 use crate::harness::report::{chaotic_rate, chaotic_spread, convergence_tables};
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{
     class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,
 };

@@ -27,10 +27,10 @@
 use std::collections::BTreeSet;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
-use crate::harness::elastic::{BoxContactHistory, BoxProblem};
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::norms::Norm;
 use crate::harness::problem::Perturbation;
+use crate::harness::run::elastic::{BoxContactHistory, BoxProblem};
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{
     classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
 };

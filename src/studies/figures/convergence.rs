@@ -4,8 +4,8 @@
 use crate::harness::figures::{
     convergence_figure, ConvergenceSeries, ErrorBand, Figure, FigureError,
 };
-use crate::harness::norms::Norm;
 use crate::harness::problem::MassVariant;
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};
 

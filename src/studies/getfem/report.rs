@@ -14,8 +14,8 @@ use crate::harness::budget::{self, Estimate, Limits};
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
-use crate::harness::norms::Norm;
 use crate::harness::rates::observed_orders;
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::EnsembleConfig;
 
 /// The report's file name.

@@ -13,7 +13,7 @@ use crate::harness::external::replay::replay;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{DemoRunError, Error};
 use crate::harness::getfem::{list_runs, read_run, DemoRun};
-use crate::harness::norms::Norm;
+use crate::harness::run::norms::Norm;
 use crate::studies::benchmark::dirichlet;
 
 /// The scene every demo run solves.

@@ -4,9 +4,9 @@
 use std::fmt::Write as _;
 
 use super::paper::PaperTables;
-use crate::harness::norms::Norm;
 use crate::harness::rates::RateFit;
 use crate::harness::report::{chaotic_rate, chaotic_spread, fmt_fit};
+use crate::harness::run::norms::Norm;
 use crate::harness::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, Study};
 use crate::harness::verdicts::{oscillation_ratio_text, oscillation_word};

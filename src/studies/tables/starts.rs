@@ -8,8 +8,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::harness::files::error::Error;
-use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Start};
+use crate::harness::run::norms::Norm;
 use crate::harness::study::{run_study, Case, Study};
 use crate::studies::benchmark::dirichlet;
 

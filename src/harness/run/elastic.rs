@@ -27,7 +27,7 @@ pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
-use crate::harness::paraview;
+use crate::harness::run::paraview;
 use crate::harness::run::{drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
 
 /// The contact history of a box run.
