@@ -5,7 +5,7 @@ use std::path::Path;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
-use crate::harness::scene::SceneError;
+use crate::harness::study::scene::SceneError;
 
 /// A failure with its exit code.
 pub struct Failure {

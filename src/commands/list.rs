@@ -9,7 +9,7 @@ use crate::harness::problem::MassVariant;
 use crate::harness::problem::Scheme;
 use crate::harness::problem::TREATMENT_LIST;
 use crate::harness::run::norms::Norm;
-use crate::harness::scene::{scene_files, Scene};
+use crate::harness::study::scene::{scene_files, Scene};
 
 /// The arguments of `signorini list`.
 #[derive(Debug, Args)]

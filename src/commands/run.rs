@@ -13,7 +13,7 @@ use super::options::{
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
 use crate::harness::run::run_files::RUN_JSON;
-use crate::harness::scene::Scene;
+use crate::harness::study::scene::Scene;
 use crate::studies::scene_run::{RunChoices, SceneRun};
 
 /// The arguments of `signorini run`.

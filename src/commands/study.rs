@@ -15,8 +15,6 @@ use super::options::{
     ConventionArgs, LinearSolverArgs,
 };
 use super::sharding::{complete_or_write, shard_output, this_invocation, Destination, ShardArgs};
-use crate::harness::budget;
-use crate::harness::executor::{Executor, Jobs};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::files::output_dir::{Replace, StagedDir};
@@ -25,8 +23,10 @@ use crate::harness::problem::ContactTreatment;
 use crate::harness::problem::MassVariant;
 use crate::harness::problem::Scheme;
 use crate::harness::run::norms::Norm;
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};
+use crate::harness::study::budget;
+use crate::harness::study::executor::{Executor, Jobs};
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{run_sensitivity_on, EnsembleConfig};
 use crate::harness::study::Case;
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::reference::ReferenceCache;

@@ -2,19 +2,11 @@
 //! cases and levels, box runs compared across nested meshes, round-off ensembles, golden files,
 //! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
 
-pub mod budget;
-pub mod executor;
 pub mod external;
 pub mod figures;
 pub mod files;
 pub mod getfem;
-pub mod golden;
 pub mod problem;
-pub mod rates;
 pub mod report;
 pub mod run;
-pub mod scene;
-pub mod sensitivity;
-pub mod shard;
 pub mod study;
-pub mod verdicts;

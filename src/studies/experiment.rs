@@ -8,8 +8,8 @@ use std::path::Path;
 
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
-use crate::harness::rates::fit_rate;
 use crate::harness::run::norms::Norm;
+use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 

@@ -12,8 +12,10 @@ use crate::harness::problem::MassVariant;
 use crate::harness::report::convergence_tables;
 use crate::harness::run::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::run::{run, RunConfig};
-use crate::harness::sensitivity::Sensitivity;
-use crate::harness::sensitivity::{class_table, rate_ranges, run_sensitivity, EnsembleConfig};
+use crate::harness::study::sensitivity::Sensitivity;
+use crate::harness::study::sensitivity::{
+    class_table, rate_ranges, run_sensitivity, EnsembleConfig,
+};
 use crate::harness::study::{run_study, Case, Study};
 use crate::studies::benchmark::bar_scene;
 

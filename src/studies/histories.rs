@@ -6,11 +6,11 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::executor::run_local;
 use crate::harness::files::artifacts::write_json_compact;
 use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::study::executor::run_local;
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 

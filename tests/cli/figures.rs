@@ -17,9 +17,9 @@ use signorini::harness::figures::{
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,
 };
-use signorini::harness::rates::RateFit;
 use signorini::harness::run::{ContactHistory, EnergyHistory};
-use signorini::harness::sensitivity::Spread;
+use signorini::harness::study::rates::RateFit;
+use signorini::harness::study::sensitivity::Spread;
 
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG back.

@@ -18,9 +18,9 @@ use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::model::Model;
 use signorini::engine::schemes::energy_balance::BalanceMonitor;
 use signorini::engine::schemes::{integrator, Scheme, TimeIntegrator};
-use signorini::harness::rates::fit_rate;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
+use signorini::harness::study::rates::fit_rate;
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;

@@ -13,7 +13,7 @@ use signorini::engine::schemes::Scheme;
 use signorini::harness::external::load::load;
 use signorini::harness::external::{compare, verify, ExternalError, VerifyGolden};
 use signorini::harness::run::norms::Norm;
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 use signorini::harness::study::{run_study, Case, StudyConfig};
 
 fn scratch(name: &str) -> PathBuf {

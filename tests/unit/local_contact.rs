@@ -15,7 +15,7 @@ use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig, RunStatus};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 
 fn box_problem(scene: &str, contact: ContactTreatment) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);

@@ -13,7 +13,7 @@ use signorini::engine::problem::Settings;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 
 /// A random symmetric matrix with `per_row` off-diagonal entries in `[−1, 1]` per row and a
 /// diagonal of `2·per_row + 1` (strictly diagonally dominant, hence SPD).

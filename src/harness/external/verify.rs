@@ -17,7 +17,7 @@ use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::Timings;
-use crate::harness::scene::Scene;
+use crate::harness::study::scene::Scene;
 use crate::harness::study::{fit_norm_rates, LevelRecord, NormRates};
 
 /// One file of a series.

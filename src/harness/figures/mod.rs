@@ -29,9 +29,9 @@ pub use draw::{
 };
 
 pub use crate::harness::files::error::FigureError;
-use crate::harness::rates::RateFit;
 use crate::harness::run::{ContactHistory, EnergyHistory};
-use crate::harness::sensitivity::Spread;
+use crate::harness::study::rates::RateFit;
+use crate::harness::study::sensitivity::Spread;
 
 /// A named SVG document: the file name and its text.
 pub type Figure = (String, String);

@@ -14,8 +14,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::norms::Norm;
+use crate::harness::study::verdicts;
 use crate::harness::study::{Case, CaseStudy, Study};
-use crate::harness::verdicts;
 
 /// The rate above which a norm counts as converging.
 pub const CONVERGENCE_RATE: f64 = 0.0;

@@ -33,20 +33,20 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{MassVariant, Scheme, Settings};
-use crate::harness::rates::fit_rate;
 use crate::harness::run::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
 use crate::harness::run::nested_comparison::projection::NormMatrices;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
-use crate::harness::shard::range::{errors_out_of_range, positive};
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::study::rates::fit_rate;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
+use crate::harness::study::shard::range::{errors_out_of_range, positive};
+use crate::harness::study::shard::InRange;
 use crate::harness::study::{Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};

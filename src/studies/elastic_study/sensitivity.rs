@@ -1,7 +1,7 @@
 //! The round-off sensitivity of a 2D/3D study: every case × level rerun as an ensemble of `K`
 //! members whose initial velocity carries seeded noise, beside the study's unperturbed run and
 //! compared with the same fine-mesh reference (the reference is not perturbed). It measures
-//! what the 1D study measures ([`crate::harness::sensitivity`]: each member's errors, their ensemble
+//! what the 1D study measures ([`crate::harness::study::sensitivity`]: each member's errors, their ensemble
 //! spread and that of each member's fitted rate, the predictability step and the separation
 //! growth) and classifies each case by the same rules, into the same [`Sensitivity`], so the
 //! golden gate (`Golden::with_sensitivity`, `compare_ensemble`) applies unchanged.
@@ -17,7 +17,7 @@
 //!   which touches every dof.
 //! - **The separation** is taken on the centre contact node's gap (its normal displacement plus
 //!   the constant gap) that every box run records (`BoxContactHistory::centre_gap`), with the 1D
-//!   thresholds ([`crate::harness::sensitivity::PARTING`], [`crate::harness::sensitivity::RUNAWAY`]): the box
+//!   thresholds ([`crate::harness::study::sensitivity::PARTING`], [`crate::harness::study::sensitivity::RUNAWAY`]): the box
 //!   falls 0.2 at speed 0.5, displacements of the size of the 1D benchmark's.
 //! - **Members run in their job.** A (case, level) job of the study runs the unperturbed run,
 //!   then its members one after the other ([`run_members`]), holding the unperturbed contact
@@ -31,7 +31,7 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::Perturbation;
 use crate::harness::run::elastic::{BoxContactHistory, BoxProblem};
 use crate::harness::run::norms::Norm;
-use crate::harness::sensitivity::{
+use crate::harness::study::sensitivity::{
     classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
 };
 use crate::harness::study::{Case, StudyConfig};

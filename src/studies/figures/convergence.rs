@@ -6,7 +6,7 @@ use crate::harness::figures::{
 };
 use crate::harness::problem::MassVariant;
 use crate::harness::run::norms::Norm;
-use crate::harness::sensitivity::{CaseSensitivity, Sensitivity};
+use crate::harness::study::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};
 
 /// The legend of a mass variant's series or panel.

@@ -26,7 +26,7 @@ use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::MassVariant;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::RunResult;
-use crate::harness::sensitivity::Sensitivity;
+use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
 use crate::studies::elastic_study::files as elastic_files;

@@ -32,7 +32,7 @@ use crate::harness::problem::{
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
-use crate::harness::sensitivity::PARTING;
+use crate::harness::study::sensitivity::PARTING;
 use crate::studies::benchmark::dirichlet;
 
 /// Where the demo's runs are kept, relative to the repository root.

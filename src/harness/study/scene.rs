@@ -27,7 +27,7 @@ use crate::engine::schemes::Conventions;
 use crate::engine::schemes::{Scheme, SCHEME_NAMES};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::Observables;
-use crate::harness::sensitivity::EnsembleConfig;
+use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
 use crate::harness::files::error::printable;

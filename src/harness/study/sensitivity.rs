@@ -24,13 +24,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
-use crate::harness::executor::{run_local, Executed, Executor, JobList};
 use crate::harness::files::error::Error;
-use crate::harness::rates::{fit_rate, least_squares_slope};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
-use crate::harness::shard::range::{errors_out_of_range, not_negative};
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, JobList};
+use crate::harness::study::rates::{fit_rate, least_squares_slope};
+use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
+use crate::harness::study::shard::InRange;
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.

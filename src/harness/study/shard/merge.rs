@@ -121,7 +121,7 @@ pub fn merge(shards: Vec<(PathBuf, ShardFile)>) -> Result<Merged, ShardError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::shard::file::JobResult;
+    use crate::harness::study::shard::file::JobResult;
 
     fn shard(k: usize, n: usize, indices: &[usize]) -> (PathBuf, ShardFile) {
         let file = ShardFile {

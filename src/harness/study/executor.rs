@@ -17,7 +17,7 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use crate::harness::files::error::Error;
-use crate::harness::shard::{codec, EncodedResult, InRange, ShardError, ShardSpec, Share};
+use crate::harness::study::shard::{codec, EncodedResult, InRange, ShardError, ShardSpec, Share};
 
 /// A list of independent jobs: the unit a study hands to an [`Executor`].
 pub trait JobList: Sync {
