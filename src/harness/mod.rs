@@ -3,10 +3,9 @@
 //! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
 
 pub mod external;
-pub mod figures;
 pub mod files;
 pub mod getfem;
 pub mod problem;
-pub mod report;
+pub mod render;
 pub mod run;
 pub mod study;

@@ -9,7 +9,7 @@ use std::path::Path;
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
-use crate::harness::report::convergence_tables;
+use crate::harness::render::report::convergence_tables;
 use crate::harness::run::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::run::{run, RunConfig};
 use crate::harness::study::sensitivity::Sensitivity;

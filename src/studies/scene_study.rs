@@ -12,7 +12,7 @@ use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
     Scheme, Settings, Start,
 };
-use crate::harness::report::convergence_tables;
+use crate::harness::render::report::convergence_tables;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::{Executed, Executor};

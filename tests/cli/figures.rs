@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use signorini::harness::figures::{
+use signorini::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,

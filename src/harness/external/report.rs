@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 
 use super::verify::{Series, Verification};
-use crate::harness::report::convergence_table;
+use crate::harness::render::report::convergence_table;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 

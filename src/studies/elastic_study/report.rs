@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
-use crate::harness::report::{chaotic_rate, chaotic_spread, convergence_tables};
+use crate::harness::render::report::{chaotic_rate, chaotic_spread, convergence_tables};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{
     class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,

@@ -14,16 +14,16 @@ use std::path::Path;
 
 use super::convergence::{convergence_figures, panel_label};
 use super::elastic::elastic_figures;
-use crate::harness::figures::{
-    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
-    WorkPrecisionSeries,
-};
 use crate::harness::files::artifacts::read_json;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::MassVariant;
+use crate::harness::render::figures::{
+    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
+    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
+    WorkPrecisionSeries,
+};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::RunResult;
 use crate::harness::study::sensitivity::Sensitivity;

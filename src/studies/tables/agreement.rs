@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use super::paper::PaperTables;
-use crate::harness::report::{chaotic_rate, chaotic_spread, fmt_fit};
+use crate::harness::render::report::{chaotic_rate, chaotic_spread, fmt_fit};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::rates::RateFit;
 use crate::harness::study::sensitivity::{Sensitivity, Spread};

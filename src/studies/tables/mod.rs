@@ -18,7 +18,7 @@ use self::starts::{implicit_start_study, starts_section};
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::Settings;
-use crate::harness::report::convergence_tables;
+use crate::harness::render::report::convergence_tables;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::verdicts::oscillation_word;
