@@ -6,18 +6,19 @@
 //! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
 //!    than 5 % of `E_0` over the horizon;
 //! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
-//!    (the threshold of "Yes" in the tables, `crate::harness::study::verdicts::OSCILLATION_YES_FROM`),
-//!    or, when the exact force is constant, above 1e-9;
+//!    (the threshold of "Yes" in the tables,
+//!    `crate::harness::study::verdicts::OSCILLATION_YES_FROM`), or, when the exact force is
+//!    constant, above 1e-9;
 //! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
 //!    than `1e-12 E_0`;
 //! 5. `stable`: none of the above.
 //!
-//! Every run is also an ensemble ([`STABILITY_ENSEMBLE`], `crate::harness::study::sensitivity::run_ensemble`):
-//! its members carry round-off-size noise on the initial displacement, each gets its own
-//! verdict, and the run its [`RunSensitivity`] (reproducible, event-sensitive, or chaotic with
-//! its predictability horizon). A pair *stays numerically stable* on a hard case only when its
-//! verdict is `stable` or `dissipative` for the unperturbed run and every member, and the run
-//! is not round-off chaotic.
+//! Every run is also an ensemble ([`STABILITY_ENSEMBLE`],
+//! `crate::harness::study::sensitivity::run_ensemble`): its members carry round-off-size noise on
+//! the initial displacement, each gets its own verdict, and the run its [`RunSensitivity`]
+//! (reproducible, event-sensitive, or chaotic with its predictability horizon). A pair *stays
+//! numerically stable* on a hard case only when its verdict is `stable` or `dissipative` for the
+//! unperturbed run and every member, and the run is not round-off chaotic.
 
 use std::path::Path;
 use std::sync::Arc;

@@ -1,5 +1,5 @@
-//! Output directories whole or absent (`harness::files::output_dir`): an interrupted run, two runs into
-//! one `--out`, a run refused after start-up, an `--out` that is a file or holds the user's
+//! Output directories whole or absent (`harness::files::output_dir`): an interrupted run, two runs
+//! into one `--out`, a run refused after start-up, an `--out` that is a file or holds the user's
 //! files, a staging directory left by a killed process, a shared directory's other files.
 
 use std::fs;

@@ -1,8 +1,9 @@
 //! How the harness's files are written, whatever their format: whole or not at all (into a
 //! temporary file beside the target, then renamed), JSON through serde, CSV as columns of
 //! numbers. The formats themselves (names, schema) belong to the module that writes them and
-//! that its readers import: a run's files to [`crate::harness::run::run_files`], each report file to
-//! its study under `crate::studies`. Whole directories are [`crate::harness::files::output_dir`]'s.
+//! that its readers import: a run's files to [`crate::harness::run::run_files`], each report file
+//! to its study under `crate::studies`. Whole directories are
+//! [`crate::harness::files::output_dir`]'s.
 
 use std::fs;
 use std::io::Write;

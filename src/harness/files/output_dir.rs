@@ -8,8 +8,8 @@
 //! every parent directory its start created.
 //!
 //! What is the command's own is what it can prove it wrote: the manifest it keeps in the
-//! directory ([`crate::harness::files::manifest`]) lists every file it put there with the SHA-256 of
-//! its content, and the directory's identity when the command created it. Nothing else is ever
+//! directory ([`crate::harness::files::manifest`]) lists every file it put there with the SHA-256
+//! of its content, and the directory's identity when the command created it. Nothing else is ever
 //! removed or replaced, whatever its name.
 //!
 //! - **Per-run directories** ([`Replace::Whole`]: `run --out`, `verify --out`, `getfem
@@ -33,8 +33,8 @@
 //! manifest shows the harness created it.
 //!
 //! SIGINT and SIGTERM: the first begin installs a handler thread (`signal-hook`) that waits for
-//! the writes and commits in flight ([`crate::harness::files::artifacts::stop_writes`]), removes every
-//! staging directory, lock and created parent of the process, then lets the signal end the
+//! the writes and commits in flight ([`crate::harness::files::artifacts::stop_writes`]), removes
+//! every staging directory, lock and created parent of the process, then lets the signal end the
 //! process as it would have. A commit is never cut in the middle by them. Only SIGKILL or a power
 //! loss leaves a staging directory (removed by the next run into `DIR`), and only during the
 //! instant of a commit a shared directory with part of the new files.

@@ -4,9 +4,9 @@
 //! A rate may move by at most an absolute tolerance (default 0.02, settable per norm), an error
 //! by a relative one (default 1 %). NaN or infinity on either side is a drift, never a pass.
 //!
-//! With a sensitivity study (`crate::harness::study::sensitivity`) each case is held at what its reproducibility
-//! allows ([`Golden::with_sensitivity`]): a reproducible or event-sensitive case's norms carry
-//! their own tolerances, [`SPREAD_SAFETY`] times the measured ensemble spread (at least
+//! With a sensitivity study (`crate::harness::study::sensitivity`) each case is held at what its
+//! reproducibility allows ([`Golden::with_sensitivity`]): a reproducible or event-sensitive case's
+//! norms carry their own tolerances, [`SPREAD_SAFETY`] times the measured ensemble spread (at least
 //! [`ERROR_REL_FLOOR`] and [`RATE_ABS_FLOOR`]); a chaotic case carries its ensemble envelope and
 //! is gated by [`compare_ensemble`] on ensemble statistics, never on the bits of one run.
 

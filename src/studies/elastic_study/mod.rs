@@ -6,14 +6,14 @@
 //! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
 //! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
 //! solution is compared with the fine one exactly, at common times: through the reference's
-//! projections on each level ([`crate::harness::run::nested_comparison::projection`]), recorded while the reference runs, so that no
-//! trajectory of the reference is stored.
+//! projections on each level ([`crate::harness::run::nested_comparison::projection`]), recorded
+//! while the reference runs, so that no trajectory of the reference is stored.
 //!
 //! The reference is Crank–Nicolson with the redistributed mass (the combination the note finds
 //! convergent and energy-conserving). Whether it is fine enough is measured, not assumed: the
 //! same case one level coarser than the reference runs beside it and is compared with it
-//! ([`crate::harness::run::nested_comparison::check`]), and that distance is reported next to the smallest error that enters a fit
-//! ([`ReferenceCheck`]).
+//! ([`crate::harness::run::nested_comparison::check`]), and that distance is reported next to the
+//! smallest error that enters a fit ([`ReferenceCheck`]).
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
 //! convergence figures apply unchanged), the reference check, the note's findings as tested

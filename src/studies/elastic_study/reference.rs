@@ -4,10 +4,11 @@
 //! A reference is one run on the finest nested mesh. It keeps, every `sample_every` fine steps,
 //! the energy (eq. 6), the total normal contact force `Σ λ_i` and the contact-face centre node's
 //! displacement and multiplier; for each fitted level, at each of that level's steps, the
-//! reference's projections on the level ([`crate::harness::run::nested_comparison::projection`]), which is all a coarse run's
-//! displacement errors need; and the distance to it of the reference case one level coarser,
-//! run beside it in lockstep ([`crate::harness::run::nested_comparison::check`]). Its trajectory is never stored: memory is the
-//! run's own and the projections (about 100 MB for the 3D levels 10–80).
+//! reference's projections on the level ([`crate::harness::run::nested_comparison::projection`]),
+//! which is all a coarse run's displacement errors need; and the distance to it of the reference
+//! case one level coarser, run beside it in lockstep
+//! ([`crate::harness::run::nested_comparison::check`]). Its trajectory is never stored: memory is
+//! the run's own and the projections (about 100 MB for the 3D levels 10–80).
 //!
 //! The cache is two files under a directory: `<stem>.json` (the [`ReferenceKey`], the scalar
 //! histories, the check) and `<stem>.bin` (the projections, little-endian `f64`, level after

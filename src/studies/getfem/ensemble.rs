@@ -2,8 +2,8 @@
 //! predictability horizon: there, GetFEM's run is one more member of the harness's round-off
 //! ensemble. [`ensemble_agreement`] runs that ensemble (the unperturbed run and members whose
 //! initial displacement carries seeded noise of relative size `A`, as
-//! `crate::harness::study::sensitivity` does) and measures GetFEM's run against it: before the horizon
-//! step by step, after it through the demo's error norms.
+//! `crate::harness::study::sensitivity` does) and measures GetFEM's run against it: before the
+//! horizon step by step, after it through the demo's error norms.
 //!
 //! The two codes' round-off differences build up over the steps (different linear solvers,
 //! operation orders); they act as a perturbation of the data of some size. Where GetFEM's run
