@@ -25,9 +25,9 @@ use serde::Serialize;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::artifacts::{write_atomic, write_json};
-use signorini::harness::norms::Norm;
-use signorini::harness::output_dir::{Replace, StagedDir};
+use signorini::harness::files::artifacts::{write_atomic, write_json};
+use signorini::harness::files::output_dir::{Replace, StagedDir};
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, RunConfig, RunResult};
 use signorini::harness::study::Case;
 use signorini::studies::benchmark::dirichlet;

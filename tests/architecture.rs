@@ -1,14 +1,17 @@
 //! The layering of `src/`, checked on the import graph the source states.
 //!
 //! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
-//! defines it. Six rules hold:
+//! defines it. Seven rules hold:
 //! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
 //!   `harness` does not import `studies`;
 //! - a layer does not skip the layers between it and a lower one it is listed with in
 //!   [`REACHED_THROUGH_THE_LAYERS_BETWEEN`]: neither `studies` nor `commands` imports anything
 //!   under `engine`; they take what they need of it from the harness's public face
-//!   (`harness::problem`, `harness::error`, …);
+//!   (`harness::problem`, `harness::files::error`, …);
 //! - the components (a layer's direct children: `engine::fem`, `harness::run`, …) form no cycle;
+//! - the harness's parts (its components) are ordered, [`HARNESS_PARTS`], and import downward
+//!   only: every module of the harness lives in one of them, and none imports a part above its
+//!   own;
 //! - the files of one directory form no cycle among themselves (a `mod.rs`, which declares its
 //!   children, is a component's root and is left to the rule above);
 //! - in `commands/`, no file imports the dispatcher (`mod.rs`) and no subcommand's file imports
@@ -21,6 +24,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 const LAYERS: [&str; 4] = ["engine", "harness", "studies", "commands"];
+
+/// The parts of the harness, bottom to top: a part imports only the parts before it. The
+/// engine's vocabulary and the files first, then a run, the studies of runs, their rendering,
+/// and the two witnesses that use all of these, another code's runs and GetFEM's demo.
+const HARNESS_PARTS: [&str; 7] = [
+    "problem", "files", "run", "study", "render", "external", "getfem",
+];
 
 /// Pairs (layer, lower layer): the layer imports nothing under the lower layer directly, only
 /// what the layers between re-export or wrap. One line per pair.
@@ -321,6 +331,77 @@ fn components_form_no_cycle() {
         let names: Vec<String> = cycle.iter().map(|c| show(c)).collect();
         panic!("module cycle: {}", names.join(" -> "));
     }
+}
+
+/// The rank in [`HARNESS_PARTS`] of the part `module` lives in; `None` outside the harness's
+/// parts (another layer, the harness's `mod.rs`, a module of no part).
+fn harness_part(module: &ModPath) -> Option<usize> {
+    match module.as_slice() {
+        [layer, part, ..] if layer == "harness" => HARNESS_PARTS.iter().position(|p| p == part),
+        _ => None,
+    }
+}
+
+/// The imports of a harness part by a module of a part below it.
+fn harness_imports_upward(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    import_graph(modules)
+        .into_iter()
+        .flat_map(|(from, targets)| {
+            targets
+                .into_iter()
+                .filter(|to| match (harness_part(&from), harness_part(to)) {
+                    (Some(own), Some(imported)) => imported > own,
+                    _ => false,
+                })
+                .map(|to| format!("{} imports {}", show(&from), show(&to)))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+#[test]
+fn every_harness_module_lives_in_a_part() {
+    let outside: Vec<String> = modules()
+        .into_keys()
+        .filter(|m| m[0] == "harness" && m.len() > 1 && harness_part(m).is_none())
+        .map(|m| show(&m))
+        .collect();
+    assert!(
+        outside.is_empty(),
+        "harness modules in none of the parts {}: {outside:?}",
+        HARNESS_PARTS.join(", ")
+    );
+}
+
+#[test]
+fn harness_parts_import_downward_only() {
+    let upward = harness_imports_upward(&modules());
+    assert!(
+        upward.is_empty(),
+        "harness modules importing a part above their own (bottom to top: {}):\n{}",
+        HARNESS_PARTS.join(", "),
+        upward.join("\n")
+    );
+}
+
+#[test]
+fn the_part_rule_sees_an_upward_import() {
+    let mut modules = modules();
+    let norms = vec![
+        "harness".to_string(),
+        "run".to_string(),
+        "norms".to_string(),
+    ];
+    let upward_and_downward = "\nuse crate::harness::study::rates::RateFit;\n\
+                               use crate::harness::files::error::Error;\n";
+    modules
+        .get_mut(&norms)
+        .expect("harness/run/norms.rs")
+        .push_str(upward_and_downward);
+    assert_eq!(
+        harness_imports_upward(&modules),
+        ["harness::run::norms imports harness::study::rates"]
+    );
 }
 
 #[test]

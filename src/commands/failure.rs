@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::output_dir::OutputDirError;
-use crate::harness::scene::SceneError;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::output_dir::OutputDirError;
+use crate::harness::study::scene::SceneError;
 
 /// A failure with its exit code.
 pub struct Failure {

@@ -8,7 +8,7 @@ use clap::Args;
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
-use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::studies::getfem::{
     export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
 };

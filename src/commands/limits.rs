@@ -1,11 +1,11 @@
 //! The resource limits of the commands that run simulations (`run`, `study`): one set of
-//! options, checked against the estimate of [`crate::harness::budget`] before anything is
+//! options, checked against the estimate of [`crate::harness::study::budget`] before anything is
 //! allocated.
 
 use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
-use crate::harness::budget::{BudgetError, Estimate, Limits};
+use crate::harness::study::budget::{BudgetError, Estimate, Limits};
 
 /// `--max-memory`, `--max-files` and `--max-dof-steps`: the limits a run or a study is held
 /// to before it starts.

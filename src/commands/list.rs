@@ -5,11 +5,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::failure::Failure;
-use crate::harness::norms::Norm;
-use crate::harness::problem::MassVariant;
-use crate::harness::problem::Scheme;
-use crate::harness::problem::TREATMENT_LIST;
-use crate::harness::scene::{scene_files, Scene};
+use crate::harness::problem::{MassVariant, Scheme, TREATMENT_LIST};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::scene::{scene_files, Scene};
 
 /// The arguments of `signorini list`.
 #[derive(Debug, Args)]

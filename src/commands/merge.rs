@@ -1,7 +1,7 @@
 //! `signorini merge`: reading a sharded command's partial result files back, checked to be the
-//! shards of one invocation, complete, and of unchanged inputs ([`crate::harness::shard`]). The
+//! shards of one invocation, complete, and of unchanged inputs ([`crate::harness::study::shard`]). The
 //! dispatcher runs the recorded request again with every job's result taken from them
-//! ([`crate::harness::executor::Executor::Merge`]): it writes the very files the unsharded
+//! ([`crate::harness::study::executor::Executor::Merge`]): it writes the very files the unsharded
 //! command writes.
 
 use std::path::PathBuf;
@@ -11,11 +11,11 @@ use serde::de::DeserializeOwned;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
-use crate::harness::artifacts::read_json;
-use crate::harness::budget;
-use crate::harness::executor::Executor;
-use crate::harness::shard::merge::{merge as merge_shards, Merged};
-use crate::harness::shard::{codec, ShardError, ShardFile, SHARD_FILE};
+use crate::harness::files::artifacts::read_json;
+use crate::harness::study::budget;
+use crate::harness::study::executor::Executor;
+use crate::harness::study::shard::merge::{merge as merge_shards, Merged};
+use crate::harness::study::shard::{codec, ShardError, ShardFile, SHARD_FILE};
 
 /// The memory a shard file takes per byte of it ([`SHARD_FILE`]'s bound) and its results'
 /// decoding, at most half a byte per hexadecimal digit.
@@ -103,6 +103,6 @@ pub(crate) fn read_shards(args: &MergeArgs) -> Result<MergedShards, Failure> {
 
 impl From<ShardError> for Failure {
     fn from(e: ShardError) -> Self {
-        crate::harness::error::Error::from(e).into()
+        crate::harness::files::error::Error::from(e).into()
     }
 }

@@ -6,11 +6,11 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::harness::error::ParameterError;
-use crate::harness::norms::Norm;
+use crate::harness::files::error::ParameterError;
 use crate::harness::problem::{
     ContactTreatment, Conventions, LinearSolver, MassVariant, Scheme, Start,
 };
+use crate::harness::run::norms::Norm;
 use crate::studies::scene_study::ConventionChoice;
 
 /// The reports directory of `make report`, relative to the repository root: the default

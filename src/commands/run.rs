@@ -10,10 +10,10 @@ use super::limits::LimitArgs;
 use super::options::{
     parse_contact, parse_mass, parse_scheme, warn_schemes, ConventionArgs, LinearSolverArgs,
 };
-use crate::harness::output_dir::{Replace, StagedDir};
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
-use crate::harness::run_files::RUN_JSON;
-use crate::harness::scene::Scene;
+use crate::harness::run::run_files::RUN_JSON;
+use crate::harness::study::scene::Scene;
 use crate::studies::scene_run::{RunChoices, SceneRun};
 
 /// The arguments of `signorini run`.

@@ -1,19 +1,19 @@
 //! `--shard k/n` on the commands that run a study (`study`, `stability`, `sensitivity`,
 //! `reference`, `report`, `experiment`): the option, the executor it asks for, the share of the
 //! work a shard is held to, and how a shard writes its partial result file into `--out`
-//! ([`crate::harness::shard`]).
+//! ([`crate::harness::study::shard`]).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
-use crate::harness::artifacts::write_json;
-use crate::harness::budget::Estimate;
-use crate::harness::error::ParameterError;
-use crate::harness::executor::{Executed, Executor};
-use crate::harness::output_dir::{Replace, StagedDir};
-use crate::harness::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};
+use crate::harness::files::artifacts::write_json;
+use crate::harness::files::error::ParameterError;
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::study::budget::Estimate;
+use crate::harness::study::executor::{Executed, Executor};
+use crate::harness::study::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};
 
 /// The `--shard` option.
 #[derive(Debug, Clone, Copy, Default, clap::Args, Serialize, Deserialize)]

@@ -9,25 +9,20 @@ use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
-use super::options::REPORTS;
 use super::options::{
     parse_contact, parse_mass, parse_norm, parse_scheme, progress_bar, warn_schemes,
-    ConventionArgs, LinearSolverArgs,
+    ConventionArgs, LinearSolverArgs, REPORTS,
 };
 use super::sharding::{complete_or_write, shard_output, this_invocation, Destination, ShardArgs};
-use crate::harness::budget;
-use crate::harness::error::Error;
-use crate::harness::executor::{Executor, Jobs};
-use crate::harness::input::Shown;
-use crate::harness::norms::Norm;
-use crate::harness::output_dir::{Replace, StagedDir};
-use crate::harness::problem::BoxProblem;
-use crate::harness::problem::ContactTreatment;
-use crate::harness::problem::MassVariant;
-use crate::harness::problem::Scheme;
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{run_sensitivity_on, EnsembleConfig};
-use crate::harness::study::Case;
+use crate::harness::files::error::Error;
+use crate::harness::files::input::Shown;
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::problem::{BoxProblem, ContactTreatment, MassVariant, Scheme};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::executor::{Executor, Jobs};
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{run_sensitivity_on, EnsembleConfig};
+use crate::harness::study::{budget, Case};
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::elastic_study::{obtain_reference, ElasticStudyConfig};

@@ -8,15 +8,15 @@ use clap::Args;
 
 use super::failure::{write_output, Failure};
 use super::limits::LimitArgs;
-use crate::harness::artifacts::{read_json, writable, write_json};
-use crate::harness::budget::{self, Estimate};
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify, ExternalError, VerifyGolden};
-use crate::harness::golden::{check_values, render_drifts};
-use crate::harness::input::GOLDEN_FILE;
-use crate::harness::output_dir::{Replace, StagedDir};
-use crate::harness::scene::Scene;
+use crate::harness::files::artifacts::{read_json, writable, write_json};
+use crate::harness::files::input::GOLDEN_FILE;
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::golden::{check_values, render_drifts};
+use crate::harness::study::scene::Scene;
 
 /// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
 pub const VERIFY_JSON: &str = "verify.json";

@@ -1,29 +1,26 @@
 //! The harness: scenes, runs and what they observe, norms, convergence rates, studies over
 //! cases and levels, box runs compared across nested meshes, round-off ensembles, golden files,
-//! and the renderers of reports and figures. It drives the engine and knows nothing of any particular study.
+//! and the renderers of reports and figures. It drives the engine and knows nothing of any
+//! particular study.
+//!
+//! It is cut into parts, each a directory whose `mod.rs` says what it is and lists its face (the
+//! engine's vocabulary is one file). Bottom to top: a part imports only the parts listed before
+//! it (`tests/architecture.rs`).
+//!
+//! | part | what |
+//! |---|---|
+//! | [`problem`] | the engine's vocabulary as the harness runs it, re-exported for the layers above: `Problem`, `Settings`, `Scheme`, `MassVariant`, … |
+//! | [`files`] | reading and writing any file, output directories whole or absent, the harness's [`files::error::Error`] |
+//! | [`run`] | one run of a bar or a box: the loop, its observers, norms, results and files; box runs compared across nested meshes |
+//! | [`study`] | runs over cases × levels: jobs and their executor, sharding, fits, round-off ensembles, the regression gate, scenes, budgets |
+//! | [`render`] | markdown tables and SVG figures of what the parts below computed |
+//! | [`external`] | another code's runs, verified through the harness's observers, fits, tables and gate |
+//! | [`getfem`] | GetFEM's 1D demo as a witness: its runs read, its norms and energy computed its way |
 
-pub mod artifacts;
-pub mod budget;
-pub mod elastic;
-pub mod error;
-pub mod executor;
 pub mod external;
-pub mod figures;
+pub mod files;
 pub mod getfem;
-pub mod golden;
-pub mod input;
-pub mod manifest;
-pub mod nested_comparison;
-pub mod norms;
-pub mod output_dir;
-pub mod paraview;
 pub mod problem;
-pub mod rates;
-pub mod report;
+pub mod render;
 pub mod run;
-pub mod run_files;
-pub mod scene;
-pub mod sensitivity;
-pub mod shard;
 pub mod study;
-pub mod verdicts;

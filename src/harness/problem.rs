@@ -9,9 +9,8 @@ pub use crate::engine::contact::{ContactTreatment, TREATMENT_LIST};
 pub use crate::engine::exact::AtRest;
 pub use crate::engine::fem::MassVariant;
 pub use crate::engine::linalg::LinearSolver;
-pub use crate::engine::problem::Settings;
 pub use crate::engine::problem::{
-    BoxProblem, InitialData, Perturbation, Problem, Problem1d, Profile,
+    BoxProblem, InitialData, Perturbation, Problem, Problem1d, Profile, Settings,
 };
 pub use crate::engine::schemes::conventions::Start;
 pub use crate::engine::schemes::{Conventions, Scheme};

@@ -8,11 +8,11 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::error::Error;
-use crate::harness::input::REPORT_DATA;
-use crate::harness::norms::Norm;
-use crate::harness::rates::fit_rate;
+use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::REPORT_DATA;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{CaseStudy, Study};
 
 /// The work–precision table and the cost to reach the targets, under a reports directory.

@@ -1,16 +1,16 @@
 //! What the fixed studies of `signorini report`, `golden` and `stability` will cost
-//! ([`crate::harness::budget`]), so that their commands are held to the same limits as `run`
+//! ([`crate::harness::study::budget`]), so that their commands are held to the same limits as `run`
 //! and `study` before they start: each study's case × level runs with its round-off ensemble's
 //! members, as one job list ([`budget::bar_runs`]), and the studies one after the other.
 
 use std::path::Path;
 
-use crate::harness::budget::{self, Estimate};
-use crate::harness::error::Error;
-use crate::harness::executor::Executor;
+use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d};
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::EnsembleConfig;
+use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::executor::Executor;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::{Case, StudyConfig};
 use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::gate::ELASTIC_2D_SCENE;

@@ -6,11 +6,11 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
-use crate::harness::executor::Batch;
-use crate::harness::norms::Norm;
-use crate::harness::rates::fit_rate;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::executor::Batch;
+use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig, StudyJobs};
 use crate::studies::benchmark::dirichlet;
 

@@ -11,19 +11,18 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::read_json;
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
-use crate::harness::executor::Batch;
-use crate::harness::golden::{check_values, Golden, Tolerances};
-use crate::harness::input::GOLDEN_FILE;
-use crate::harness::norms::Norm;
+use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
-use crate::harness::sensitivity::{
+use crate::harness::run::norms::Norm;
+use crate::harness::study::executor::Batch;
+use crate::harness::study::golden::{check_values, Golden, Tolerances};
+use crate::harness::study::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, SensitivityJobs, Spread,
 };
+use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig, StudyJobs};
-use crate::harness::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::studies::benchmark::dirichlet;
 
 /// The golden file of the extended table, relative to the repository root.
@@ -115,7 +114,7 @@ pub fn extended_studies(root: &Path) -> Result<Vec<ExtendedStudy>, Error> {
         .collect()
 }
 
-/// The round-off sensitivity (`crate::harness::sensitivity`, default ensemble) of `cases` under the
+/// The round-off sensitivity (`crate::harness::study::sensitivity`, default ensemble) of `cases` under the
 /// treatment `contact`, on the extended studies' levels with all seven norms: what `make report`
 /// classifies the rows by and what the gate holds the chaotic ones to. `root` is the repository
 /// root.
@@ -392,7 +391,7 @@ fn sensitivity_section(
     let count = |class: SensitivityClass| rows.iter().filter(|r| r.class == Some(class)).count();
     let mut md = format!(
         "\n## Round-off sensitivity\n\nEvery row run as {} members with relative noise {:e} on \
-         the initial displacement (`crate::harness::sensitivity`, the rules of `sensitivity.md`): {} \
+         the initial displacement (the rules of `sensitivity.md`): {} \
          reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
          whose [min, max] follows; the energy verdict of such a row is the medians'). The \
          ensembles took {wall_seconds:.1} s wall.\n",

@@ -1,12 +1,12 @@
 //! What `make golden` runs: the studies under the gate, each written to its golden file (the
 //! file names belong to the studies: [`GOLDEN_TABLES`], [`GOLDEN_GRAVITY`], [`GOLDEN_EXTENDED`],
-//! [`GOLDEN_ELASTIC_2D`]; the format to `crate::harness::golden`).
+//! [`GOLDEN_ELASTIC_2D`]; the format to `crate::harness::study::golden`).
 
 use std::path::Path;
 
-use crate::harness::artifacts::write_json;
-use crate::harness::error::Error;
-use crate::harness::golden::{read_golden, Golden, Tolerances};
+use crate::harness::files::artifacts::write_json;
+use crate::harness::files::error::Error;
+use crate::harness::study::golden::{read_golden, Golden, Tolerances};
 use crate::harness::study::Case;
 use crate::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,

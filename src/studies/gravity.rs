@@ -6,15 +6,15 @@
 
 use std::path::Path;
 
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
-use crate::harness::executor::{Batch, Jobs};
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
-use crate::harness::report::convergence_tables;
+use crate::harness::render::report::convergence_tables;
+use crate::harness::run::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::run::{run, RunConfig, RunResult};
-use crate::harness::run_files::{points_csv, strain_csv, strain_csv_name};
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{
+use crate::harness::study::executor::{Batch, Jobs};
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{
     class_table, rate_ranges, run_sensitivity, EnsembleConfig, Sensitivity, SensitivityJobs,
 };
 use crate::harness::study::{run_study, Case, Study, StudyJobs};

@@ -7,11 +7,11 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::write_json_compact;
-use crate::harness::error::Error;
-use crate::harness::executor::JobList;
+use crate::harness::files::artifacts::write_json_compact;
+use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d, Scheme};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::study::executor::JobList;
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 

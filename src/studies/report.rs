@@ -8,10 +8,10 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::error::Error;
-use crate::harness::executor::Batch;
-use crate::harness::norms::Norm;
-use crate::harness::sensitivity::{EnsembleConfig, Sensitivity, SensitivityJobs};
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::executor::Batch;
+use crate::harness::study::sensitivity::{EnsembleConfig, Sensitivity, SensitivityJobs};
 use crate::harness::study::{Case, Study, StudyConfig, StudyJobs};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::cost::{write_work_precision_json, write_work_precision_md};

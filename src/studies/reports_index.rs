@@ -11,13 +11,12 @@ use std::path::Path;
 
 use serde::de::DeserializeOwned;
 
-use crate::harness::input::REPORT_DATA;
-use crate::harness::norms::Norm;
-use crate::harness::sensitivity::{Sensitivity, SensitivityClass};
+use crate::harness::files::input::REPORT_DATA;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass};
 use crate::harness::study::Study;
 use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
-use crate::studies::elastic_study::files as elastic_files;
-use crate::studies::elastic_study::ElasticStudy;
+use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
 use crate::studies::gravity;
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
@@ -216,7 +215,7 @@ fn link(path: &str) -> String {
 
 /// A study's data file under `reports`, when it is there and reads.
 fn data<T: DeserializeOwned>(reports: &Path, file: &str) -> Option<T> {
-    crate::harness::artifacts::read_json(&reports.join(file), REPORT_DATA).ok()
+    crate::harness::files::artifacts::read_json(&reports.join(file), REPORT_DATA).ok()
 }
 
 /// The rate of `norm` in `study`'s case `id` with its 95 % interval, e.g. `0.98 [0.91, 1.05]`.

@@ -6,16 +6,16 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::harness::budget::{self, Estimate};
-use crate::harness::elastic::{run_box, BoxRunResult};
-use crate::harness::error::{Error, ParameterError};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Problem1d, Scheme,
 };
+use crate::harness::run::elastic::{run_box, BoxRunResult};
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
+use crate::harness::run::run_files::{box_history_csv, history_csv};
 use crate::harness::run::{run, Observables, RunConfig, RunResult};
-use crate::harness::run_files::{box_history_csv, history_csv};
-use crate::harness::scene::Scene;
+use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::scene::Scene;
 use crate::studies::scene_study::{chosen_settings, ConventionChoice};
 
 /// What a user chooses for one run of a scene; each `None` keeps the scene's.

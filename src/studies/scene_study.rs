@@ -7,16 +7,16 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::budget::{self, Estimate};
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::executor::{Executed, Executor};
-use crate::harness::norms::Norm;
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
     Scheme, Settings, Start,
 };
-use crate::harness::report::convergence_tables;
-use crate::harness::scene::Scene;
+use crate::harness::render::report::convergence_tables;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::executor::{Executed, Executor};
+use crate::harness::study::scene::Scene;
 use crate::harness::study::{run_study_on, study_size, Case, Study, StudyConfig};
 use crate::studies::elastic_study::files::write_elastic_files;
 use crate::studies::elastic_study::reference::ReferenceCache;

@@ -6,35 +6,38 @@
 //! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
 //!    than 5 % of `E_0` over the horizon;
 //! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
-//!    (the threshold of "Yes" in the tables, `crate::harness::verdicts::OSCILLATION_YES_FROM`),
-//!    or, when the exact force is constant, above 1e-9;
+//!    (the threshold of "Yes" in the tables,
+//!    `crate::harness::study::verdicts::OSCILLATION_YES_FROM`), or, when the exact force is
+//!    constant, above 1e-9;
 //! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
 //!    than `1e-12 E_0`;
 //! 5. `stable`: none of the above.
 //!
-//! Every run is also an ensemble ([`STABILITY_ENSEMBLE`], `crate::harness::sensitivity::run_ensemble`):
-//! its members carry round-off-size noise on the initial displacement, each gets its own
-//! verdict, and the run its [`RunSensitivity`] (reproducible, event-sensitive, or chaotic with
-//! its predictability horizon). A pair *stays numerically stable* on a hard case only when its
-//! verdict is `stable` or `dissipative` for the unperturbed run and every member, and the run
-//! is not round-off chaotic.
+//! Every run is also an ensemble ([`STABILITY_ENSEMBLE`],
+//! `crate::harness::study::sensitivity::run_ensemble`): its members carry round-off-size noise on
+//! the initial displacement, each gets its own verdict, and the run its [`RunSensitivity`]
+//! (reproducible, event-sensitive, or chaotic with its predictability horizon). A pair *stays
+//! numerically stable* on a hard case only when its verdict is `stable` or `dissipative` for the
+//! unperturbed run and every member, and the run is not round-off chaotic.
 
 use std::path::Path;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
-use crate::harness::executor::{run_local, Executed, Executor, Jobs};
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
-use crate::harness::rates::least_squares_slope;
 use crate::harness::run::{Observables, RunConfig, RunResult};
-use crate::harness::sensitivity::{run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass};
-use crate::harness::shard::range::not_negative;
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, Jobs};
+use crate::harness::study::rates::least_squares_slope;
+use crate::harness::study::sensitivity::{
+    run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass,
+};
+use crate::harness::study::shard::range::not_negative;
+use crate::harness::study::shard::InRange;
+use crate::harness::study::verdicts::OSCILLATION_YES_FROM;
 use crate::harness::study::Case;
-use crate::harness::verdicts::OSCILLATION_YES_FROM;
 use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
 
 /// The suite's report, under a reports directory.
@@ -505,8 +508,8 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
          not chaotic.\n\n",
         STABILITY_ENSEMBLE.members,
         STABILITY_ENSEMBLE.amplitude,
-        crate::harness::sensitivity::PARTING,
-        crate::harness::sensitivity::RUNAWAY,
+        crate::harness::study::sensitivity::PARTING,
+        crate::harness::study::sensitivity::RUNAWAY,
     ));
     md.push_str("| hard case | NX | Δx/Δt | T | what it exercises |\n|---|---|---|---|---|\n");
     for h in hard {

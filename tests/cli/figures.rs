@@ -12,14 +12,14 @@
 
 use std::path::{Path, PathBuf};
 
-use signorini::harness::figures::{
+use signorini::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
     WorkPrecisionSeries,
 };
-use signorini::harness::rates::RateFit;
 use signorini::harness::run::{ContactHistory, EnergyHistory};
-use signorini::harness::sensitivity::Spread;
+use signorini::harness::study::rates::RateFit;
+use signorini::harness::study::sensitivity::Spread;
 
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG back.

@@ -18,9 +18,9 @@ use serde_json::{json, Value};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::Problem;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::budget::{self, Limits};
 use signorini::harness::run::{Observables, RunConfig};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::budget::{self, Limits};
+use signorini::harness::study::scene::Scene;
 
 /// The slowest a refusal or a tiny run may take.
 const SECONDS: u64 = 5;

@@ -1,5 +1,5 @@
-//! Output directories whole or absent (`harness::output_dir`): an interrupted run, two runs into
-//! one `--out`, a run refused after start-up, an `--out` that is a file or holds the user's
+//! Output directories whole or absent (`harness::files::output_dir`): an interrupted run, two runs
+//! into one `--out`, a run refused after start-up, an `--out` that is a file or holds the user's
 //! files, a staging directory left by a killed process, a shared directory's other files.
 
 use std::fs;
@@ -12,7 +12,7 @@ use rustix::process::{kill_process, Pid, Signal};
 
 use crate::common::{expect_error, signorini, success_stdout};
 
-/// The manifest of an output directory (`harness::manifest::MANIFEST`).
+/// The manifest of an output directory (`harness::files::manifest::MANIFEST`).
 const MANIFEST: &str = ".signorini-manifest.json";
 
 const DIRICHLET: &str = "scenes/bar1d-dirichlet.json";

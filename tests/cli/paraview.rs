@@ -8,7 +8,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use common::{expect_error, signorini, success_stdout};
-use signorini::harness::paraview::OBSTACLE_MARGIN;
+use signorini::harness::run::paraview::OBSTACLE_MARGIN;
 use vtkio::model::{DataSet, Piece};
 use vtkio::Vtk;
 

@@ -14,7 +14,7 @@ use std::process::Output;
 use serde_json::{json, Value};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::shard::ShardFile;
+use signorini::harness::study::shard::ShardFile;
 
 use crate::external_runs::{export_run, write_csv};
 use crate::watched::{scratch, watched};

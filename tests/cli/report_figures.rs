@@ -7,10 +7,10 @@ use std::path::Path;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::figures::FigureError;
-use signorini::harness::norms::Norm;
+use signorini::harness::render::figures::FigureError;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
-use signorini::harness::sensitivity::{
+use signorini::harness::study::sensitivity::{
     CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
 };
 use signorini::harness::study::{run_study, Case, Study, StudyConfig};

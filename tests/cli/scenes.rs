@@ -7,9 +7,9 @@ use signorini::engine::contact::ContactTreatment;
 use signorini::engine::fem::{EndCondition, MassVariant};
 use signorini::engine::problem::{InitialData, Problem};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Problem1d, RunConfig};
-use signorini::harness::scene::{scene_files, Scene, SceneError};
+use signorini::harness::study::scene::{scene_files, Scene, SceneError};
 use signorini::harness::study::StudyConfig;
 
 fn scene(name: &str) -> Scene {

@@ -6,10 +6,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use signorini::engine::fem::MassVariant;
-use signorini::engine::problem::Problem1d;
-use signorini::engine::problem::Settings;
+use signorini::engine::problem::{Problem1d, Settings};
 use signorini::engine::schemes::{Scheme, TimeIntegrator};
-use signorini::harness::error::Error;
+use signorini::harness::files::error::Error;
 use signorini::harness::run::{drive, Observer};
 
 /// The Dirichlet scene's file and name.

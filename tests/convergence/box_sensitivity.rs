@@ -6,16 +6,14 @@
 use std::path::{Path, PathBuf};
 
 use signorini::engine::fem::MassVariant;
-use signorini::engine::problem::Settings;
-use signorini::engine::problem::{Perturbation, Problem};
-use signorini::engine::schemes::Scheme;
-use signorini::engine::schemes::TimeIntegrator;
-use signorini::harness::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
-use signorini::harness::error::Error;
-use signorini::harness::norms::Norm;
+use signorini::engine::problem::{Perturbation, Problem, Settings};
+use signorini::engine::schemes::{Scheme, TimeIntegrator};
+use signorini::harness::files::error::Error;
+use signorini::harness::run::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{Observables, RunConfig};
-use signorini::harness::scene::{Scene, SceneError};
-use signorini::harness::sensitivity::{EnsembleConfig, SensitivityClass};
+use signorini::harness::study::scene::{Scene, SceneError};
+use signorini::harness::study::sensitivity::{EnsembleConfig, SensitivityClass};
 use signorini::harness::study::Case;
 use signorini::studies::elastic_study::reference::ReferenceCache;
 use signorini::studies::elastic_study::report::render;

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use common::{expect_error, signorini, success_stdout};
 
-use signorini::harness::golden::{compare, gate, read_golden, render_drifts};
-use signorini::harness::manifest::Manifest;
+use signorini::harness::files::manifest::Manifest;
+use signorini::harness::study::golden::{compare, gate, read_golden, render_drifts};
 use signorini::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
 };
@@ -354,7 +354,7 @@ fn work_precision_is_rendered_from_the_studies_data_alone() {
 fn cg_studies_have_the_errors_and_rates_of_direct_ones_to_1e_8() {
     use signorini::engine::linalg::LinearSolver;
     use signorini::engine::problem::Problem;
-    use signorini::harness::scene::Scene;
+    use signorini::harness::study::scene::Scene;
     use signorini::studies::elastic_study::reference::ReferenceCache;
     use signorini::studies::elastic_study::{run_elastic_study, ElasticStudyConfig};
 

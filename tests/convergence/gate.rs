@@ -6,12 +6,15 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use signorini::engine::schemes::Scheme;
-use signorini::harness::golden::{compare, gate, read_golden, render_drifts, Golden, Tolerances};
-use signorini::harness::norms::Norm;
-use signorini::harness::sensitivity::{Sensitivity, SensitivityClass};
+use signorini::harness::run::norms::Norm;
+use signorini::harness::study::golden::{
+    compare, gate, read_golden, render_drifts, Golden, Tolerances,
+};
+use signorini::harness::study::sensitivity::{Sensitivity, SensitivityClass};
 use signorini::harness::study::{run_study, Case, Study, StudyConfig};
-use signorini::studies::extended::{extended_sensitivity, extended_studies, TREATMENTS};
-use signorini::studies::extended::{read_extended_golden, GOLDEN_EXTENDED};
+use signorini::studies::extended::{
+    extended_sensitivity, extended_studies, read_extended_golden, GOLDEN_EXTENDED, TREATMENTS,
+};
 use signorini::studies::gravity::{gravity_sensitivity, gravity_study, GOLDEN_GRAVITY};
 use signorini::studies::tables::agreement::paper_tables;
 use signorini::studies::tables::paper::PaperTables;

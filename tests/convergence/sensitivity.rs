@@ -1,16 +1,17 @@
 //! The round-off sensitivity study: a chaotic case and a reproducible one are told apart by the
 //! module's fixed rules, the study is bit-reproducible, and bad ensemble input is refused.
 
-use crate::benchmarks;
-use crate::common;
+use crate::{benchmarks, common};
 
 use std::collections::BTreeSet;
 
 use common::expect_error;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::norms::Norm;
-use signorini::harness::sensitivity::{run_sensitivity, EnsembleConfig, SensitivityClass, PARTING};
+use signorini::harness::run::norms::Norm;
+use signorini::harness::study::sensitivity::{
+    run_sensitivity, EnsembleConfig, SensitivityClass, PARTING,
+};
 use signorini::harness::study::{Case, StudyConfig};
 
 /// Crank–Nicolson with the paper's two masses.
@@ -24,7 +25,7 @@ fn crank_nicolson_cases() -> Vec<Case> {
         .collect()
 }
 
-fn small_sensitivity() -> signorini::harness::sensitivity::Sensitivity {
+fn small_sensitivity() -> signorini::harness::study::sensitivity::Sensitivity {
     let config = StudyConfig {
         levels: vec![20, 40, 80],
         ratio: 10.0,

@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use approx::assert_abs_diff_eq;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{self, Observables, RunConfig};
 
 /// The least-squares slope of `log e` against `log h`.

@@ -9,8 +9,8 @@ use std::path::Path;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::executor::{Executed, Executor};
-use signorini::harness::sensitivity::SensitivityClass;
+use signorini::harness::study::executor::{Executed, Executor};
+use signorini::harness::study::sensitivity::SensitivityClass;
 use signorini::harness::study::Case;
 use signorini::studies::stability::{
     hard_cases, judge, render, run_suite, run_suite_on, HardCase, Verdict, STABILITY_ENSEMBLE,

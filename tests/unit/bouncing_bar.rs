@@ -3,7 +3,7 @@
 //! (eqs. 39–40), the impact times, energy conservation, and the quadrature the harness uses.
 
 use signorini::engine::exact::{BouncingBar, ExactSolution, Pointwise};
-use signorini::harness::norms::gauss_legendre;
+use signorini::harness::run::norms::gauss_legendre;
 use std::f64::consts::PI;
 
 /// The paper's (§4.2) and other parameter sets `(L, g, u⁰)`: `t₁ = 3L` exactly (the paper's

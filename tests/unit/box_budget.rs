@@ -5,12 +5,11 @@
 use std::path::Path;
 
 use signorini::engine::linalg::LinearSolver;
-use signorini::engine::problem::Problem;
-use signorini::engine::problem::Settings;
-use signorini::harness::budget;
-use signorini::harness::elastic::BoxProblem;
-use signorini::harness::executor::Executor;
-use signorini::harness::scene::Scene;
+use signorini::engine::problem::{Problem, Settings};
+use signorini::harness::run::elastic::BoxProblem;
+use signorini::harness::study::budget;
+use signorini::harness::study::executor::Executor;
+use signorini::harness::study::scene::Scene;
 
 fn bar3d() -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar3d.json");
@@ -55,7 +54,7 @@ fn a_box_runs_memory_estimate_follows_its_step_solver() {
 /// a shard's work is a fraction of the study's.
 #[test]
 fn a_shard_is_budgeted_for_its_own_jobs() {
-    use signorini::harness::shard::ShardSpec;
+    use signorini::harness::study::shard::ShardSpec;
 
     let levels = [10, 20, 40, 80];
     let whole = budget::jobs_per_level(&levels, 4, &Executor::Local);

@@ -5,9 +5,8 @@
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::model::Model;
-use signorini::engine::schemes::Conventions;
 use signorini::engine::schemes::{
-    initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator,
+    initial_state, integrator, Conventions, PaoliSchatzman, Scheme, TimeIntegrator,
 };
 use signorini::harness::run::time_grid;
 

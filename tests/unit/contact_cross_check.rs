@@ -7,8 +7,9 @@ use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::model::Model;
 use signorini::engine::schemes::conventions::NitscheAcceleration;
-use signorini::engine::schemes::Conventions;
-use signorini::engine::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
+use signorini::engine::schemes::{
+    initial_state, Conventions, OneStepScheme, StepCoefficients, TimeIntegrator,
+};
 
 fn setup(mesh: &BoxMesh, mass: MassVariant) -> (Model, Vec<f64>, Vec<f64>) {
     let model = signorini::engine::model::Model::of_box(mesh, &Elasticity::NOTE, mass, Some(0.2));

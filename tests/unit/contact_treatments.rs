@@ -3,9 +3,8 @@
 //! convergence of the penalty to the multiplier, Nitsche's rates on the Dirichlet benchmark,
 //! the penalty on the 2D box, and bad input from the command line.
 
-use crate::benchmarks;
-use crate::common;
-use signorini::engine::schemes::Conventions;
+use crate::{benchmarks, common};
+use signorini::engine::schemes::{integrator, Conventions, Scheme, TimeIntegrator};
 
 use std::collections::BTreeSet;
 
@@ -17,10 +16,9 @@ use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::model::Model;
 use signorini::engine::schemes::energy_balance::BalanceMonitor;
-use signorini::engine::schemes::{integrator, Scheme, TimeIntegrator};
-use signorini::harness::norms::Norm;
-use signorini::harness::rates::fit_rate;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
+use signorini::harness::study::rates::fit_rate;
 
 const NX: usize = 20;
 const RATIO: f64 = 10.0;

@@ -19,9 +19,8 @@ use signorini::engine::model::Model;
 use signorini::engine::schemes::energy_balance::{
     self, BalanceMonitor, Level, StepBalance, ThreeLevels,
 };
-use signorini::engine::schemes::Conventions;
 use signorini::engine::schemes::{
-    initial_state, integrator, PaoliSchatzman, Scheme, TimeIntegrator,
+    initial_state, integrator, Conventions, PaoliSchatzman, Scheme, TimeIntegrator,
 };
 use signorini::harness::run::time_grid;
 

@@ -1,4 +1,4 @@
-//! The executor of a study's jobs (`harness::executor`) on a list whose results are known in
+//! The executor of a study's jobs (`harness::study::executor`) on a list whose results are known in
 //! advance: the shards' shares partition the largest-first order, their merge hands the reduce
 //! step exactly what the local executor does (bit for bit, a NaN included), and a merge with
 //! the wrong number of results, or a result out of range, is refused naming what is wrong. A
@@ -8,12 +8,14 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
-use signorini::harness::error::Error;
-use signorini::harness::executor::{
+use signorini::harness::files::error::Error;
+use signorini::harness::study::executor::{
     largest_first, run_local, Batch, Executed, Executor, JobList, ListResults,
 };
-use signorini::harness::shard::merge::merge;
-use signorini::harness::shard::{InRange, Invocation, ListRun, MergedJobs, ShardSpec, Share};
+use signorini::harness::study::shard::merge::merge;
+use signorini::harness::study::shard::{
+    InRange, Invocation, ListRun, MergedJobs, ShardSpec, Share,
+};
 
 /// A job's result: its index and a value that no formula in the test recomputes from it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -2,10 +2,11 @@
 //! the singular masses, on the bar and the 2D box. Its energy conservation and contact balance
 //! are in `energy_balance.rs`, its second-order convergence in `tests/convergence/smooth.rs`.
 
-use crate::benchmarks;
-use crate::common;
+use crate::{benchmarks, common};
 use signorini::engine::problem::Settings;
-use signorini::engine::schemes::Conventions;
+use signorini::engine::schemes::{
+    initial_state, integrator, Conventions, ExplicitNewmark, Scheme, TimeIntegrator,
+};
 
 use nalgebra::DMatrix;
 use signorini::engine::contact::{ContactOperator, ContactTreatment};
@@ -15,11 +16,8 @@ use signorini::engine::fem::{Bar1d, Elasticity, EndCondition, MassVariant, Symme
 use signorini::engine::linalg::LinearSolver;
 use signorini::engine::model::Model;
 use signorini::engine::schemes::cfl::{largest_eigenvalue, stable_step};
-use signorini::engine::schemes::{
-    initial_state, integrator, ExplicitNewmark, Scheme, TimeIntegrator,
-};
-use signorini::harness::elastic::{run_box, BoxProblem};
-use signorini::harness::error::Error;
+use signorini::harness::files::error::Error;
+use signorini::harness::run::elastic::{run_box, BoxProblem};
 use signorini::harness::run::{Observables, RunConfig};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [

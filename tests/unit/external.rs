@@ -12,8 +12,8 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::external::load::load;
 use signorini::harness::external::{compare, verify, ExternalError, VerifyGolden};
-use signorini::harness::norms::Norm;
-use signorini::harness::scene::Scene;
+use signorini::harness::run::norms::Norm;
+use signorini::harness::study::scene::Scene;
 use signorini::harness::study::{run_study, Case, StudyConfig};
 
 fn scratch(name: &str) -> PathBuf {

@@ -11,11 +11,9 @@ use crate::benchmarks;
 use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
-use signorini::engine::problem::Perturbation;
-use signorini::engine::problem::Settings;
-use signorini::engine::schemes::Scheme;
-use signorini::engine::schemes::{SchemeState, TimeIntegrator, Timed};
-use signorini::harness::error::DemoRunError;
+use signorini::engine::problem::{Perturbation, Settings};
+use signorini::engine::schemes::{Scheme, SchemeState, TimeIntegrator, Timed};
+use signorini::harness::files::error::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
     DemoSeries, DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,

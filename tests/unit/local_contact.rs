@@ -10,12 +10,11 @@ use signorini::engine::contact::{
 };
 use signorini::engine::fem::{MassVariant, SymmetricMatrix};
 use signorini::engine::linalg::{LinearSolver, StepSolver};
-use signorini::engine::problem::Problem;
-use signorini::engine::problem::Settings;
+use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig, RunStatus};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 
 fn box_problem(scene: &str, contact: ContactTreatment) -> BoxProblem {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);

@@ -3,12 +3,11 @@
 //! `fem::mass`, the cases that are refused, names, and the consistent start.
 
 use crate::benchmarks;
-use signorini::engine::schemes::Conventions;
+use signorini::engine::schemes::{initial_state, residual_force, Conventions};
 
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, BoxMesh, EndCondition, MassVariant, SymmetricMatrix};
 use signorini::engine::model::Model;
-use signorini::engine::schemes::{initial_state, residual_force};
 
 const DENSITY: f64 = 2.5;
 const EXTENDED: [MassVariant; 2] = [

@@ -1,8 +1,8 @@
-//! The ParaView files of a box run (`harness::paraview`) as a library: the collection is XML
+//! The ParaView files of a box run (`harness::run::paraview`) as a library: the collection is XML
 //! whatever the file names, lists its snapshots in the order given, the obstacle beside each;
 //! the obstacle exists for 2D and 3D boxes only.
 
-use signorini::harness::paraview::{collection_xml, obstacle_vtk, Snapshot};
+use signorini::harness::run::paraview::{collection_xml, obstacle_vtk, Snapshot};
 
 /// The `(timestep, part, file)` of each `<DataSet>` of the collection `xml`.
 fn datasets(xml: &str) -> Vec<(String, String, String)> {

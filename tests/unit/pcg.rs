@@ -8,12 +8,11 @@ use signorini::engine::fem::{MassVariant, SparseAssembler};
 use signorini::engine::linalg::{
     LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, AUTO_CG_FROM_DOFS, DEFAULT_TOLERANCE,
 };
-use signorini::engine::problem::Problem;
-use signorini::engine::problem::Settings;
+use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::elastic::{run_box, BoxProblem, BoxRunResult};
+use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
 use signorini::harness::run::{Observables, RunConfig};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 
 /// A random symmetric matrix with `per_row` off-diagonal entries in `[−1, 1]` per row and a
 /// diagonal of `2·per_row + 1` (strictly diagonally dominant, hence SPD).

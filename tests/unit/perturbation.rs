@@ -9,7 +9,7 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{InitialData, Perturbation, Problem};
 use signorini::engine::schemes::Scheme;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 use signorini::studies::stability::hard_cases;
 
 /// The problem of a bar1d scene.

@@ -8,8 +8,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use approx::assert_abs_diff_eq;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::error::Error;
-use signorini::harness::norms::Norm;
+use signorini::harness::files::error::Error;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{self, time_grid, Observables, Problem1d, RunConfig};
 
 fn only(norms: &[Norm]) -> Observables {
@@ -203,6 +203,6 @@ fn time_grid_lands_on_the_horizon() {
 /// `-0.000…e0`, and every other number as it is.
 #[test]
 fn a_negative_zero_is_written_as_zero_in_a_csv() {
-    let text = signorini::harness::artifacts::csv("x,y", &[&[-0.0, 1.0], &[0.0, -2.5]], 3);
+    let text = signorini::harness::files::artifacts::csv("x,y", &[&[-0.0, 1.0], &[0.0, -2.5]], 3);
     assert_eq!(text, "x,y\n0.000e0,0.000e0\n1.000e0,-2.500e0\n");
 }

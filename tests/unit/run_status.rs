@@ -4,7 +4,7 @@
 use crate::benchmarks;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::norms::Norm;
+use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, RunConfig, RunStatus};
 
 /// Newmark with β = 0.01, γ = ½ is only conditionally stable (`ω Δt < 1/√(γ/2 − β)`): at

@@ -8,7 +8,7 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::linalg::LinearSolver;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Conventions, Scheme};
-use signorini::harness::scene::Scene;
+use signorini::harness::study::scene::Scene;
 use signorini::studies::elastic_study::reference::ReferenceKey;
 
 #[test]

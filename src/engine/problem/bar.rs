@@ -3,8 +3,7 @@
 
 use std::sync::Arc;
 
-use super::Settings;
-use super::{Discretisation, InitialData};
+use super::{Discretisation, InitialData, Settings};
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::ExactSolution;

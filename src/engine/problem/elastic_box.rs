@@ -2,8 +2,7 @@
 //! side, its face `x_d = L_d` held fixed, starting with a uniform axial displacement and
 //! velocity.
 
-use super::Discretisation;
-use super::Settings;
+use super::{Discretisation, Settings};
 use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};

@@ -1,6 +1,6 @@
 //! A problem as the engine sees it: a 1D bar ([`Problem1d`]) or a 2D/3D box ([`BoxProblem`]),
 //! and its [`Discretisation`] at a level: the mesh, the model and the initial dofs every run
-//! starts from. Scene files (`crate::harness::scene`) are parsed into this.
+//! starts from. Scene files (`crate::harness::study::scene`) are parsed into this.
 
 mod bar;
 mod elastic_box;

@@ -5,7 +5,7 @@
 //! do not change the continuous problem nor its discretisation: the conventions of the
 //! schemes, the step solver, the Delassus operator of the contact steps, and the round-off
 //! perturbation of an ensemble member. The resource limits of a run are not read by the engine:
-//! they are checked against an estimate before any run starts (`crate::harness::budget`).
+//! they are checked against an estimate before any run starts (`crate::harness::study::budget`).
 
 use super::Perturbation;
 use crate::engine::contact::ContactOperator;

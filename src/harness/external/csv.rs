@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::error::ExternalError;
 use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
-use crate::harness::input::{self, InputError};
+use crate::harness::files::input::{self, InputError};
 
 /// The longest line read, in bytes (64 MiB: a row of a million nodes' displacement and
 /// velocity at 32 characters a number).

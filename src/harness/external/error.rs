@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 use crate::engine::error::compact;
-use crate::harness::error::Error;
-use crate::harness::input::{InputError, Shown};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::{InputError, Shown};
 
 /// A run file that cannot be read, or whose content is not a valid run of the scene; a series
 /// of runs that cannot be fitted; or an error of the harness while verifying.

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::error::ExternalError;
 use crate::engine::fem::EndCondition;
 use crate::engine::problem::Problem1d;
-use crate::harness::input::Limit;
+use crate::harness::files::input::Limit;
 
 /// The format's name and version, the first thing a file states (`format`).
 pub const FORMAT: &str = "signorini-external/1";
@@ -22,7 +22,7 @@ pub const MAX_FILE_BYTES: u64 = 256 * 1024 * 1024;
 /// per sample. Reading a file takes at most three times that (the arrays grow by doubling).
 pub const MAX_VALUES: usize = 1 << 24;
 
-/// A run file, as [`crate::harness::input`] reads it.
+/// A run file, as [`crate::harness::files::input`] reads it.
 pub const RUN_FILE: Limit = Limit {
     what: "run file",
     max_bytes: MAX_FILE_BYTES,

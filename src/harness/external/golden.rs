@@ -1,6 +1,6 @@
 //! The golden file of `signorini verify` ([`VerifyGolden`]): another code's series with their
 //! rates and per-level errors, held by the harness's own comparison
-//! (`crate::harness::golden::compare_rates`) at the harness's tolerances.
+//! (`crate::harness::study::golden::compare_rates`) at the harness's tolerances.
 
 use std::collections::BTreeMap;
 
@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::error::ExternalError;
 use super::format::Code;
 use super::verify::{Series, Verification};
-use crate::harness::golden::{compare_rates, Drift, GoldenCase, GoldenNorm, Tolerances};
+use crate::harness::study::golden::{compare_rates, Drift, GoldenCase, GoldenNorm, Tolerances};
 
 /// The committed values of one series.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

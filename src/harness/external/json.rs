@@ -15,7 +15,7 @@ use serde::Deserialize;
 
 use super::error::ExternalError;
 use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
-use crate::harness::input::{self, JsonError};
+use crate::harness::files::input::{self, JsonError};
 
 /// The top-level fields.
 #[derive(Deserialize)]

@@ -13,9 +13,9 @@ use crate::engine::error::SolveError;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::schemes::{SchemeState, TimeIntegrator, Timed};
-use crate::harness::error::Error;
-use crate::harness::norms::{Norm, TimeSeriesNorm};
+use crate::harness::files::error::Error;
 use crate::harness::run::exact::ErrorObservers;
+use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::{MultiplierVariation, Observer};
 
 /// The samples of a run file as the states of a time integrator on the scene's bar: sample `n`

@@ -5,9 +5,9 @@
 use std::fmt::Write as _;
 
 use super::verify::{Series, Verification};
-use crate::harness::norms::Norm;
-use crate::harness::report::convergence_table;
-use crate::harness::verdicts::{oscillation_ratio_text, oscillation_word};
+use crate::harness::render::report::convergence_table;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 
 /// The columns of Table 1 (displacement).
 const TABLE1: [Norm; 4] = [

@@ -14,10 +14,10 @@ use super::load::load;
 use super::replay::{replay, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::problem::{Problem, Problem1d};
-use crate::harness::error::Error;
-use crate::harness::norms::Norm;
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::Timings;
-use crate::harness::scene::Scene;
+use crate::harness::study::scene::Scene;
 use crate::harness::study::{fit_norm_rates, LevelRecord, NormRates};
 
 /// One file of a series.

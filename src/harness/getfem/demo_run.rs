@@ -26,8 +26,8 @@ use serde::{Deserialize, Deserializer};
 use serde_json::{Map, Value};
 
 use super::norms::{DemoErrorNorms, DemoSeries};
-use crate::harness::error::DemoRunError;
-use crate::harness::input::{self, InputError, Limit};
+use crate::harness::files::error::DemoRunError;
+use crate::harness::files::input::{self, InputError, Limit};
 
 /// The largest run file accepted, in bytes (compressed).
 pub const MAX_COMPRESSED_BYTES: u64 = 8 << 20;

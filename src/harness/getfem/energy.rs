@@ -7,7 +7,7 @@ use crate::engine::linalg::SpdSolver;
 use crate::engine::model::Model;
 use crate::engine::problem::Discretisation;
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 
 /// The demo's energy evaluated on the harness's state: `½ VᵀMV + ½ UᵀKU` with the scheme's
 /// mass and the elastic `K`, plus the penalty's `(γ₀/2h) [u₀]_−²`, or Nitsche's

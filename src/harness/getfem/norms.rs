@@ -18,7 +18,7 @@ use super::exact::demo_exact;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{Bar1d, EndCondition};
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::run::Observer;
 
 /// The seven relative error norms the demo prints, under its names. A run that blew up has

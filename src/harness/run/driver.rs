@@ -12,7 +12,7 @@ use crate::engine::linalg::SolveCounts;
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::energy_balance::{self, BalanceMonitor, BALANCE_TOLERANCE};
 use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 
 /// What a run does with each state of the scheme: accumulate a norm, record a history, write
 /// a snapshot. Observers see the state at `t_0` (the initial data) and after every step.

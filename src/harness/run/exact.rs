@@ -9,9 +9,9 @@ use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
-use crate::harness::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
+use crate::harness::files::error::Error;
 use crate::harness::run::driver::{finite, Observer, SnapshotTimes};
+use crate::harness::run::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 
 /// Adds the sample `value` of `state` to `norm`, both the sample and the norm so far finite
 /// ([`finite`]): a norm that overflows stops the run as `quantity` instead of being reported.

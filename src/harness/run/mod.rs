@@ -1,6 +1,18 @@
-//! One run: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
-//! while observers accumulate only the requested error norms and histories. An [`Observer`]
-//! sees each state as the engine's [`TimeIntegrator`].
+//! Runs: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
+//! while observers accumulate only the requested error norms and histories; a bar's run here, a
+//! box's in [`elastic`], both through the one loop [`drive`]. An [`Observer`] sees each state as
+//! the engine's [`TimeIntegrator`]. What the runs produce (results, norms, their files, box runs
+//! compared across nested meshes) is here too; above [`crate::harness::files`] only.
+//!
+//! | module | its face |
+//! |---|---|
+//! | this file | [`run`] (a bar), [`RunConfig`], [`Observables`], [`RunResult`] and its histories; [`drive`], [`Observer`], [`RunStatus`], [`time_grid`] |
+//! | [`exact`] | the observers against an exact solution: [`exact::ErrorObservers`] and the recorders of the histories |
+//! | [`norms`] | [`norms::Norm`], the seven norms; the space and time quadratures |
+//! | [`elastic`] | [`elastic::run_box`] (a box), [`elastic::BoxRunResult`], VTK snapshots |
+//! | [`paraview`] | a box run for ParaView: [`paraview::write_collection`], [`paraview::write_obstacle`] |
+//! | [`run_files`] | the files of a run: [`run_files::RUN_JSON`], [`run_files::history_csv`], [`run_files::box_history_csv`] |
+//! | [`nested_comparison`] | a box run against a finer one on nested meshes: [`nested_comparison::projection::ProjectionRecorder`], [`nested_comparison::check`], [`nested_comparison::error_series::ErrorSeries`] |
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -9,7 +21,12 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 mod driver;
+pub mod elastic;
 pub mod exact;
+pub mod nested_comparison;
+pub mod norms;
+pub mod paraview;
+pub mod run_files;
 
 pub use driver::{drive, finite, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
 
@@ -18,13 +35,12 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 pub use crate::engine::problem::Problem1d;
 /// The discrete energy balances every run is checked against (eqs. 33/35/37), by scheme.
-pub use crate::engine::schemes::energy_balance;
-pub use crate::engine::schemes::TimeIntegrator;
+pub use crate::engine::schemes::{energy_balance, TimeIntegrator};
 
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
-use crate::harness::error::Error;
-use crate::harness::norms::Norm;
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
 use exact::{ContactRecorder, EnergyRecorder, ErrorObservers, FieldRecorder, PointRecorder};
 
 /// What a run records besides the requested norms.

@@ -13,7 +13,8 @@
 //! * the energy (eq. 6): `E_h(t_n) − E_ref(t_n)`.
 //!
 //! The two displacement norms are evaluated on the coarse mesh from the reference's projections
-//! on the run's level ([`crate::harness::nested_comparison::projection`]): the same numbers, without the fine mesh.
+//! on the run's level ([`crate::harness::run::nested_comparison::projection`]): the same numbers,
+//! without the fine mesh.
 //!
 //! The time norms are `L∞(0, T)` (largest sample) and `L²(0, T)` (trapezoidal rule over the
 //! coarse steps), as in the note's Figure 3.
@@ -21,10 +22,10 @@
 use std::collections::BTreeMap;
 
 use super::reference::ReferenceHistories;
-use crate::harness::error::Error;
-use crate::harness::nested_comparison::error_series::ErrorSeries;
-use crate::harness::nested_comparison::projection::{LevelProjections, NormMatrices};
-use crate::harness::norms::Norm;
+use crate::harness::files::error::Error;
+use crate::harness::run::nested_comparison::error_series::ErrorSeries;
+use crate::harness::run::nested_comparison::projection::{LevelProjections, NormMatrices};
+use crate::harness::run::norms::Norm;
 use crate::harness::run::{Observer, TimeIntegrator};
 
 /// Accumulates the errors of one coarse run against the reference.

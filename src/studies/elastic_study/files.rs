@@ -9,9 +9,9 @@ use std::path::Path;
 
 use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticHistories, ElasticStudy, ElasticStudyConfig};
-use crate::harness::artifacts::{write_atomic, write_json, write_json_compact};
-use crate::harness::elastic::BoxProblem;
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::{write_atomic, write_json, write_json_compact};
+use crate::harness::files::error::Error;
+use crate::harness::run::elastic::BoxProblem;
 use crate::studies::cost::{write_work_precision_md, WORK_PRECISION_MD};
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.

@@ -12,10 +12,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Scheme};
-use crate::harness::study::{Case, CaseStudy, Study};
-use crate::harness::verdicts;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::{verdicts, Case, CaseStudy, Study};
 
 /// The rate above which a norm counts as converging.
 pub const CONVERGENCE_RATE: f64 = 0.0;

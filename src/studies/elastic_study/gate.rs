@@ -6,10 +6,10 @@ use std::path::Path;
 
 use super::reference::ReferenceCache;
 use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
-use crate::harness::error::{Error, ParameterError};
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{LinearSolver, Problem};
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::Sensitivity;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Case;
 
 /// The golden file of the gated 2D study, relative to the repository root.

@@ -6,14 +6,14 @@
 //! one reference run on `reference_level` elements (see [`mod@reference`] for the reference and its
 //! cache, [`comparison`] for the norms). The meshes and time grids are nested, so the coarse
 //! solution is compared with the fine one exactly, at common times: through the reference's
-//! projections on each level ([`crate::harness::nested_comparison::projection`]), recorded while the reference runs, so that no
-//! trajectory of the reference is stored.
+//! projections on each level ([`crate::harness::run::nested_comparison::projection`]), recorded
+//! while the reference runs, so that no trajectory of the reference is stored.
 //!
 //! The reference is Crank–Nicolson with the redistributed mass (the combination the note finds
 //! convergent and energy-conserving). Whether it is fine enough is measured, not assumed: the
 //! same case one level coarser than the reference runs beside it and is compared with it
-//! ([`crate::harness::nested_comparison::check`]), and that distance is reported next to the smallest error that enters a fit
-//! ([`ReferenceCheck`]).
+//! ([`crate::harness::run::nested_comparison::check`]), and that distance is reported next to the
+//! smallest error that enters a fit ([`ReferenceCheck`]).
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
 //! convergence figures apply unchanged), the reference check, the note's findings as tested
@@ -33,20 +33,20 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::elastic::{
+use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::problem::{MassVariant, Scheme, Settings};
+use crate::harness::run::elastic::{
     box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
 };
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
-use crate::harness::nested_comparison::projection::NormMatrices;
-use crate::harness::norms::Norm;
-use crate::harness::problem::{MassVariant, Scheme, Settings};
-use crate::harness::rates::fit_rate;
+use crate::harness::run::nested_comparison::projection::NormMatrices;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
-use crate::harness::scene::Scene;
-use crate::harness::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
-use crate::harness::shard::range::{errors_out_of_range, positive};
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
+use crate::harness::study::rates::fit_rate;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
+use crate::harness::study::shard::range::{errors_out_of_range, positive};
+use crate::harness::study::shard::InRange;
 use crate::harness::study::{Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
@@ -136,7 +136,7 @@ impl ElasticStudyConfig {
                  level coarser are both nested with every level",
             ));
         }
-        crate::harness::error::require_positive("ratio", self.ratio)?;
+        crate::harness::files::error::require_positive("ratio", self.ratio)?;
         if let Some(ensemble) = &self.sensitivity {
             ensemble.validate()?;
         }

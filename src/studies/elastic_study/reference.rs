@@ -4,10 +4,11 @@
 //! A reference is one run on the finest nested mesh. It keeps, every `sample_every` fine steps,
 //! the energy (eq. 6), the total normal contact force `Σ λ_i` and the contact-face centre node's
 //! displacement and multiplier; for each fitted level, at each of that level's steps, the
-//! reference's projections on the level ([`crate::harness::nested_comparison::projection`]), which is all a coarse run's
-//! displacement errors need; and the distance to it of the reference case one level coarser,
-//! run beside it in lockstep ([`crate::harness::nested_comparison::check`]). Its trajectory is never stored: memory is the
-//! run's own and the projections (about 100 MB for the 3D levels 10–80).
+//! reference's projections on the level ([`crate::harness::run::nested_comparison::projection`]),
+//! which is all a coarse run's displacement errors need; and the distance to it of the reference
+//! case one level coarser, run beside it in lockstep
+//! ([`crate::harness::run::nested_comparison::check`]). Its trajectory is never stored: memory is
+//! the run's own and the projections (about 100 MB for the 3D levels 10–80).
 //!
 //! The cache is two files under a directory: `<stem>.json` (the [`ReferenceKey`], the scalar
 //! histories, the check) and `<stem>.bin` (the projections, little-endian `f64`, level after
@@ -26,16 +27,16 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::input::{self, InputError, JsonError, Limit};
-use crate::harness::manifest::hex;
-use crate::harness::nested_comparison::check::{CheckComparison, CheckSender};
-use crate::harness::nested_comparison::projection::{
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::input::{self, InputError, JsonError, Limit};
+use crate::harness::files::manifest::hex;
+use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
+use crate::harness::run::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
+use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
+use crate::harness::run::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
-use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::{Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the

@@ -6,13 +6,13 @@ use std::fmt::Write as _;
 
 use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
-use crate::harness::norms::Norm;
-use crate::harness::report::{chaotic_rate, chaotic_spread, convergence_tables};
-use crate::harness::sensitivity::{
+use crate::harness::render::report::{chaotic_rate, chaotic_spread, convergence_tables};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::{
     class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,
 };
+use crate::harness::study::verdicts::{oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::CaseStudy;
-use crate::harness::verdicts::{oscillation_word, OSCILLATES_FROM};
 
 /// What the note's convergence figures show for a case (scheme name, mass name) and norm:
 /// "converges" or "does not converge" (§3.1 for Crank–Nicolson, Figure 3; §3.1.1 for backward

@@ -1,10 +1,10 @@
 //! The round-off sensitivity of a 2D/3D study: every case × level rerun as an ensemble of `K`
 //! members whose initial velocity carries seeded noise, beside the study's unperturbed run and
 //! compared with the same fine-mesh reference (the reference is not perturbed). It measures
-//! what the 1D study measures ([`crate::harness::sensitivity`]: each member's errors, their ensemble
-//! spread and that of each member's fitted rate, the predictability step and the separation
-//! growth) and classifies each case by the same rules, into the same [`Sensitivity`], so the
-//! golden gate (`Golden::with_sensitivity`, `compare_ensemble`) applies unchanged.
+//! what the 1D study measures ([`crate::harness::study::sensitivity`]: each member's errors, their
+//! ensemble spread and that of each member's fitted rate, the predictability step and the
+//! separation growth) and classifies each case by the same rules, into the same [`Sensitivity`], so
+//! the golden gate (`Golden::with_sensitivity`, `compare_ensemble`) applies unchanged.
 //!
 //! - **The noise.** Member `m` (seed `m = 1..K`) adds to every velocity dof a uniform amount in
 //!   `±A·max|v⁰|`. A box starts with the uniform axial velocity `v⁰ = initial_velocity · e_d`
@@ -17,8 +17,9 @@
 //!   which touches every dof.
 //! - **The separation** is taken on the centre contact node's gap (its normal displacement plus
 //!   the constant gap) that every box run records (`BoxContactHistory::centre_gap`), with the 1D
-//!   thresholds ([`crate::harness::sensitivity::PARTING`], [`crate::harness::sensitivity::RUNAWAY`]): the box
-//!   falls 0.2 at speed 0.5, displacements of the size of the 1D benchmark's.
+//!   thresholds ([`crate::harness::study::sensitivity::PARTING`],
+//!   [`crate::harness::study::sensitivity::RUNAWAY`]): the box falls 0.2 at speed 0.5,
+//!   displacements of the size of the 1D benchmark's.
 //! - **Members run in their job.** A (case, level) job of the study runs the unperturbed run,
 //!   then its members one after the other ([`run_members`]), holding the unperturbed contact
 //!   history and one member's run at a time, so memory does not grow with members × steps. The
@@ -27,11 +28,11 @@
 use std::collections::BTreeSet;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
-use crate::harness::elastic::{BoxContactHistory, BoxProblem};
-use crate::harness::error::{Error, ParameterError};
-use crate::harness::norms::Norm;
+use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::Perturbation;
-use crate::harness::sensitivity::{
+use crate::harness::run::elastic::{BoxContactHistory, BoxProblem};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::{
     classify_cases, EnsembleConfig, LevelEnsemble, Sensitivity, Separation,
 };
 use crate::harness::study::{Case, StudyConfig};

@@ -1,12 +1,12 @@
 //! The convergence figures (1D paper Figures 9–10, the note's Figures 3 and 8): error
 //! against `Δx` per scheme and norm, one series per mass, with the fitted slopes.
 
-use crate::harness::figures::{
+use crate::harness::problem::MassVariant;
+use crate::harness::render::figures::{
     convergence_figure, ConvergenceSeries, ErrorBand, Figure, FigureError,
 };
-use crate::harness::norms::Norm;
-use crate::harness::problem::MassVariant;
-use crate::harness::sensitivity::{CaseSensitivity, Sensitivity};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};
 
 /// The legend of a mass variant's series or panel.

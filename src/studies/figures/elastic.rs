@@ -5,11 +5,11 @@
 //! always with the fine-mesh reference where the figure has one.
 
 use super::convergence::convergence_figures_named;
-use crate::harness::figures::heatmap::{space_time_map, SpaceTimePanel};
-use crate::harness::figures::{
+use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::render::figures::heatmap::{space_time_map, SpaceTimePanel};
+use crate::harness::render::figures::{
     contact_node_figure, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
 };
-use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::studies::elastic_study::{
     CaseHistories, ElasticHistories, ElasticStudy, ReferenceCurves,

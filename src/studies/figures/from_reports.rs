@@ -14,23 +14,21 @@ use std::path::Path;
 
 use super::convergence::{convergence_figures, panel_label};
 use super::elastic::elastic_figures;
-use crate::harness::artifacts::read_json;
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
-use crate::harness::figures::{
+use crate::harness::files::artifacts::{read_json, write_atomic};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::REPORT_DATA;
+use crate::harness::problem::MassVariant;
+use crate::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
     work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
     WorkPrecisionSeries,
 };
-use crate::harness::input::REPORT_DATA;
-use crate::harness::norms::Norm;
-use crate::harness::problem::MassVariant;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::RunResult;
-use crate::harness::sensitivity::Sensitivity;
+use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
-use crate::studies::elastic_study::files as elastic_files;
-use crate::studies::elastic_study::{ElasticHistories, ElasticStudy};
+use crate::studies::elastic_study::{files as elastic_files, ElasticHistories, ElasticStudy};
 use crate::studies::gravity;
 use crate::studies::histories::{SchemeHistories, HISTORIES_DIR};
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};

@@ -2,8 +2,8 @@
 //! predictability horizon: there, GetFEM's run is one more member of the harness's round-off
 //! ensemble. [`ensemble_agreement`] runs that ensemble (the unperturbed run and members whose
 //! initial displacement carries seeded noise of relative size `A`, as
-//! `crate::harness::sensitivity` does) and measures GetFEM's run against it: before the horizon
-//! step by step, after it through the demo's error norms.
+//! `crate::harness::study::sensitivity` does) and measures GetFEM's run against it: before the
+//! horizon step by step, after it through the demo's error norms.
 //!
 //! The two codes' round-off differences build up over the steps (different linear solvers,
 //! operation orders); they act as a perturbation of the data of some size. Where GetFEM's run
@@ -14,10 +14,10 @@
 //! that does so on all eight.
 
 use super::{parting, solve, Difference};
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::getfem::{DemoConfig, DemoErrorNorms, DemoMass, DemoRun, DemoVersion};
 use crate::harness::problem::Perturbation;
-use crate::harness::sensitivity::{EnsembleConfig, Spread};
+use crate::harness::study::sensitivity::{EnsembleConfig, Spread};
 use std::path::Path;
 
 /// The amplitudes whose ensembles' horizons bracket GetFEM's parting step in the report.

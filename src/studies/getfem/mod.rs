@@ -22,17 +22,17 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use crate::harness::error::{Error, SolveError};
+use crate::harness::files::error::{Error, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
-use crate::harness::norms::Norm;
 use crate::harness::problem::{
     ContactTreatment, Conventions, MassVariant, Perturbation, Scheme, Settings,
 };
 use crate::harness::run::exact::ErrorObservers;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
-use crate::harness::sensitivity::PARTING;
+use crate::harness::study::sensitivity::PARTING;
 use crate::studies::benchmark::dirichlet;
 
 /// Where the demo's runs are kept, relative to the repository root.

@@ -10,13 +10,13 @@ use super::{
     ensemble_agreement, label, reproduce, EnsembleAgreement, Expectation, Reproduction,
     AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
 };
-use crate::harness::artifacts::write_atomic;
-use crate::harness::budget::{self, Estimate, Limits};
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
 use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
-use crate::harness::norms::Norm;
-use crate::harness::rates::observed_orders;
-use crate::harness::sensitivity::EnsembleConfig;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::budget::{self, Estimate, Limits};
+use crate::harness::study::rates::observed_orders;
+use crate::harness::study::sensitivity::EnsembleConfig;
 
 /// The report's file name.
 pub const GETFEM_REPORT: &str = "getfem.md";

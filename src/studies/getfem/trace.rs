@@ -7,13 +7,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::budget::{Estimate, Limits};
-use crate::harness::error::{DemoRunError, Error};
 use crate::harness::external::format::{Code, ExternalRun, SampleOrigin};
 use crate::harness::external::replay::replay;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::{DemoRunError, Error};
 use crate::harness::getfem::{list_runs, read_run, DemoRun};
-use crate::harness::norms::Norm;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::budget::{Estimate, Limits};
 use crate::studies::benchmark::dirichlet;
 
 /// The scene every demo run solves.

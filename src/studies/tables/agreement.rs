@@ -4,12 +4,12 @@
 use std::fmt::Write as _;
 
 use super::paper::PaperTables;
-use crate::harness::norms::Norm;
-use crate::harness::rates::RateFit;
-use crate::harness::report::{chaotic_rate, chaotic_spread, fmt_fit};
-use crate::harness::sensitivity::{Sensitivity, Spread};
+use crate::harness::render::report::{chaotic_rate, chaotic_spread, fmt_fit};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::rates::RateFit;
+use crate::harness::study::sensitivity::{Sensitivity, Spread};
+use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
-use crate::harness::verdicts::{oscillation_ratio_text, oscillation_word};
 
 /// The columns of Table 1 (displacement).
 pub const TABLE1: [Norm; 4] = [

@@ -15,14 +15,14 @@ use serde::{Deserialize, Serialize};
 use self::agreement::{disagreement_section, disagreements, paper_tables, Disagreement};
 use self::paper::PaperTables;
 use self::starts::starts_section;
-use crate::harness::artifacts::{write_atomic, write_json};
-use crate::harness::error::Error;
-use crate::harness::norms::Norm;
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::error::Error;
 use crate::harness::problem::Settings;
-use crate::harness::report::convergence_tables;
-use crate::harness::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
+use crate::harness::render::report::convergence_tables;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
+use crate::harness::study::verdicts::oscillation_word;
 use crate::harness::study::{run_study, Case, Study, StudyConfig};
-use crate::harness::verdicts::oscillation_word;
 use crate::studies::benchmark::dirichlet;
 
 /// The golden file of the Tables 1–2 study, relative to the repository root.
@@ -232,7 +232,7 @@ pub fn tables_sensitivity_under(
 pub fn write_sensitivity_files(s: &Sensitivity, out_dir: &Path) -> Result<(), Error> {
     write_atomic(
         &out_dir.join(SENSITIVITY_MD),
-        crate::harness::sensitivity::render(s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
+        crate::harness::study::sensitivity::render(s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
     )?;
     write_json(&out_dir.join(SENSITIVITY_JSON), s)?;
     Ok(())

@@ -2,8 +2,8 @@
 
 use serde::Deserialize;
 
-use crate::harness::norms::Norm;
 use crate::harness::problem::Scheme;
+use crate::harness::run::norms::Norm;
 use crate::harness::study::Case;
 
 /// One row of the paper's tables.

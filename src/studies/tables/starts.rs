@@ -6,8 +6,8 @@
 
 use std::fmt::Write as _;
 
-use crate::harness::norms::Norm;
 use crate::harness::problem::{MassVariant, Start};
+use crate::harness::run::norms::Norm;
 use crate::harness::study::{Case, Study, StudyConfig};
 
 /// `config` with its runs started by the implicit multiplier instead of its own start.

@@ -1,9 +1,9 @@
 //! Sharding a study over several machines: `--shard k/n` hands the study's job list to
-//! [`crate::harness::executor::Executor::Shard`], which runs one deterministic share of it
+//! [`crate::harness::study::executor::Executor::Shard`], which runs one deterministic share of it
 //! ([`ShardSpec::share`], after the largest-first ordering); the command writes the results into
 //! a partial result file ([`mod@file`]) with its typed request. `signorini merge` checks the
 //! shards are one invocation's and complete ([`merge`]) and runs the request again with
-//! [`crate::harness::executor::Executor::Merge`], which reads every job's result from them, so
+//! [`crate::harness::study::executor::Executor::Merge`], which reads every job's result from them, so
 //! that it writes the very reports the unsharded command writes. Its errors ([`ShardError`])
 //! are with the harness's others.
 
@@ -21,4 +21,4 @@ pub use merge::MergedJobs;
 pub use range::InRange;
 pub use spec::ShardSpec;
 
-pub use crate::harness::error::ShardError;
+pub use crate::harness::files::error::ShardError;

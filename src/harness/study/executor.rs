@@ -22,8 +22,8 @@ use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::harness::error::Error;
-use crate::harness::shard::{
+use crate::harness::files::error::Error;
+use crate::harness::study::shard::{
     codec, EncodedResult, InRange, ListRun, MergedJobs, ShardError, ShardSpec, Share,
 };
 

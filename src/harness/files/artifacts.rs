@@ -1,8 +1,9 @@
 //! How the harness's files are written, whatever their format: whole or not at all (into a
 //! temporary file beside the target, then renamed), JSON through serde, CSV as columns of
 //! numbers. The formats themselves (names, schema) belong to the module that writes them and
-//! that its readers import: a run's files to [`crate::harness::run_files`], each report file to
-//! its study under `crate::studies`. Whole directories are [`crate::harness::output_dir`]'s.
+//! that its readers import: a run's files to [`crate::harness::run::run_files`], each report file
+//! to its study under `crate::studies`. Whole directories are
+//! [`crate::harness::files::output_dir`]'s.
 
 use std::fs;
 use std::io::Write;
@@ -12,8 +13,8 @@ use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::harness::error::Error;
-use crate::harness::input::{self, Limit};
+use crate::harness::files::error::Error;
+use crate::harness::files::input::{self, Limit};
 
 /// Writes `contents` to `path` atomically, creating the parent directory. A symbolic link is
 /// followed (its target is written); an existing path that is not a regular file (a FIFO, a
@@ -46,7 +47,7 @@ pub fn writable(path: &Path) -> Result<std::path::PathBuf, Error> {
 static WRITES: RwLock<()> = RwLock::new(());
 
 /// Holds off [`stop_writes`] while the caller moves finished files into place (a commit of
-/// [`crate::harness::output_dir`]). Must not be held across a call to [`write_atomic`].
+/// [`crate::harness::files::output_dir`]). Must not be held across a call to [`write_atomic`].
 pub fn hold_writes() -> RwLockReadGuard<'static, ()> {
     WRITES.read().unwrap_or_else(PoisonError::into_inner)
 }

@@ -31,11 +31,11 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::ShardSpec;
-use crate::harness::error::Error;
-use crate::harness::input::{self, Limit, SCENE_FILE};
-use crate::harness::manifest::sha256;
+use crate::harness::files::error::Error;
+use crate::harness::files::input::{self, Limit, SCENE_FILE};
+use crate::harness::files::manifest::sha256;
 
-/// A shard file, as [`crate::harness::input`] reads it: at most 64 MiB. Its strings are held
+/// A shard file, as [`crate::harness::files::input`] reads it: at most 64 MiB. Its strings are held
 /// as read, so the file takes at most about eight times its size in memory (a list of empty
 /// strings, 3 bytes each in the file and 24 in memory), 512 MiB.
 pub const SHARD_FILE: Limit = Limit {

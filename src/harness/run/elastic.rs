@@ -25,10 +25,11 @@ use crate::engine::fem::box_mesh::{Elasticity, VTK_HEXAHEDRON};
 use crate::engine::linalg::SolveCounts;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
-use crate::harness::paraview;
-use crate::harness::run::{drive, finite, Observer, RunConfig, RunStatus, SnapshotTimes, Timings};
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
+use crate::harness::run::{
+    drive, finite, paraview, Observer, RunConfig, RunStatus, SnapshotTimes, Timings,
+};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -19,7 +19,7 @@ pub struct Merged {
 }
 
 /// What the shards of one invocation ran, put back together: what
-/// [`crate::harness::executor::Executor::Merge`] hands to the command's studies.
+/// [`crate::harness::study::executor::Executor::Merge`] hands to the command's studies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MergedJobs {
     /// Every job's result, in job order (the lists one after the other), encoded.
@@ -158,7 +158,7 @@ fn same_lists(a: &[ListRun], b: &[ListRun]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::shard::file::JobResult;
+    use crate::harness::study::shard::file::JobResult;
 
     fn shard(k: usize, n: usize, indices: &[usize]) -> (PathBuf, ShardFile) {
         let file = ShardFile {

@@ -5,8 +5,8 @@
 //!
 //! A file is the harness's own only when the manifest lists it with the SHA-256 of its present
 //! content: a file of the user's with the same name as one the harness writes (a `run.json` of
-//! theirs, or one the harness wrote and they edited since) is not. [`crate::harness::output_dir`]
-//! replaces or removes nothing else.
+//! theirs, or one the harness wrote and they edited since) is not.
+//! [`crate::harness::files::output_dir`] replaces or removes nothing else.
 //!
 //! Fields (format `signorini-manifest/1`): `format`; `created`, `{"device": d, "inode": i}` of
 //! the directory when the harness created it, absent otherwise; `files`, each file's path
@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::harness::input::{self, Limit};
+use crate::harness::files::input::{self, Limit};
 
 /// The manifest's file name, in the directory it describes.
 pub const MANIFEST: &str = ".signorini-manifest.json";

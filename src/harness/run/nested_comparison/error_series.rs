@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::harness::norms::{Norm, TimeSeriesNorm};
+use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 
 /// The time series of a run's errors in every norm.
 #[derive(Debug, Clone, Default)]

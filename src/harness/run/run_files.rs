@@ -2,11 +2,11 @@
 //! and the histories the scene asks for as CSV. A 1D run writes `contact.csv`,
 //! `multiplier.csv`, `points.csv`, `field-t<T>.csv`, `strain-t<T>.csv` and `energy.csv`; a 2D/3D
 //! box run `energy.csv` and `contact.csv` (its own columns), and its VTK files
-//! (`crate::harness::elastic`, `crate::harness::paraview`). The gravity benchmark's figure data
-//! (`crate::studies::gravity`) reuse the point and strain tables.
+//! (`crate::harness::run::elastic`, `crate::harness::run::paraview`). The gravity benchmark's
+//! figure data (`crate::studies::gravity`) reuse the point and strain tables.
 
-use crate::harness::artifacts::csv;
-use crate::harness::elastic::BoxRunResult;
+use crate::harness::files::artifacts::csv;
+use crate::harness::run::elastic::BoxRunResult;
 use crate::harness::run::{FieldSnapshot, PointHistory, RunResult};
 
 /// The whole result of a run, as JSON ([`RunResult`] or [`BoxRunResult`]).

@@ -4,9 +4,9 @@
 //! A rate may move by at most an absolute tolerance (default 0.02, settable per norm), an error
 //! by a relative one (default 1 %). NaN or infinity on either side is a drift, never a pass.
 //!
-//! With a sensitivity study (`crate::harness::sensitivity`) each case is held at what its reproducibility
-//! allows ([`Golden::with_sensitivity`]): a reproducible or event-sensitive case's norms carry
-//! their own tolerances, [`SPREAD_SAFETY`] times the measured ensemble spread (at least
+//! With a sensitivity study (`crate::harness::study::sensitivity`) each case is held at what its
+//! reproducibility allows ([`Golden::with_sensitivity`]): a reproducible or event-sensitive case's
+//! norms carry their own tolerances, [`SPREAD_SAFETY`] times the measured ensemble spread (at least
 //! [`ERROR_REL_FLOOR`] and [`RATE_ABS_FLOOR`]); a chaotic case carries its ensemble envelope and
 //! is gated by [`compare_ensemble`] on ensemble statistics, never on the bits of one run.
 
@@ -16,10 +16,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::artifacts::read_json;
-use crate::harness::error::Error;
-use crate::harness::input::GOLDEN_FILE;
-use crate::harness::sensitivity::{Sensitivity, SensitivityClass, Spread};
+use crate::harness::files::artifacts::read_json;
+use crate::harness::files::error::Error;
+use crate::harness::files::input::GOLDEN_FILE;
+use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass, Spread};
 use crate::harness::study::{Case, NormRates, Study};
 
 /// A case's tolerance is this many times its measured ensemble spread.

@@ -1,12 +1,12 @@
 //! Markdown rendering of a study: the per-level convergence tables, and the cells of a round-off
 //! chaotic case's rate. It renders what the analysis (`crate::harness::study`,
-//! `crate::harness::sensitivity`) computed and fits nothing.
+//! `crate::harness::study::sensitivity`) computed and fits nothing.
 
 use std::fmt::Write as _;
 
-use crate::harness::norms::Norm;
-use crate::harness::rates::RateFit;
-use crate::harness::sensitivity::{Sensitivity, Spread};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::rates::RateFit;
+use crate::harness::study::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, LevelRecord, NormRates, Study};
 
 /// The ensemble spread of the rate of `norm` when `c` is round-off chaotic in `sensitivity`.

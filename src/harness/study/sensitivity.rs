@@ -23,13 +23,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
-use crate::harness::error::Error;
-use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
-use crate::harness::norms::Norm;
-use crate::harness::rates::{fit_rate, least_squares_slope};
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus};
-use crate::harness::shard::range::{errors_out_of_range, not_negative};
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
+use crate::harness::study::rates::{fit_rate, least_squares_slope};
+use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
+use crate::harness::study::shard::InRange;
 use crate::harness::study::{kept_cases, Case, CaseLevels, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
@@ -483,7 +483,7 @@ pub fn run_sensitivity_on(
 
 /// A sensitivity study as its jobs (one ensemble per case × level, [`SensitivityJobs::list`])
 /// and its reduce step ([`SensitivityJobs::reduce`]), for a command that hands several lists
-/// to one executor ([`crate::harness::executor::Batch`]).
+/// to one executor ([`crate::harness::study::executor::Batch`]).
 pub struct SensitivityJobs<'a> {
     problem: &'a Problem1d,
     cases: &'a [Case],

@@ -16,8 +16,8 @@ use super::error_series::ErrorSeries;
 use super::projection::NormMatrices;
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
-use crate::harness::norms::Norm;
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::Observer;
 
 /// What the check run sends at a sample.

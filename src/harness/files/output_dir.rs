@@ -8,8 +8,8 @@
 //! every parent directory its start created.
 //!
 //! What is the command's own is what it can prove it wrote: the manifest it keeps in the
-//! directory ([`crate::harness::manifest`]) lists every file it put there with the SHA-256 of
-//! its content, and the directory's identity when the command created it. Nothing else is ever
+//! directory ([`crate::harness::files::manifest`]) lists every file it put there with the SHA-256
+//! of its content, and the directory's identity when the command created it. Nothing else is ever
 //! removed or replaced, whatever its name.
 //!
 //! - **Per-run directories** ([`Replace::Whole`]: `run --out`, `verify --out`, `getfem
@@ -33,8 +33,8 @@
 //! manifest shows the harness created it.
 //!
 //! SIGINT and SIGTERM: the first begin installs a handler thread (`signal-hook`) that waits for
-//! the writes and commits in flight ([`crate::harness::artifacts::stop_writes`]), removes every
-//! staging directory, lock and created parent of the process, then lets the signal end the
+//! the writes and commits in flight ([`crate::harness::files::artifacts::stop_writes`]), removes
+//! every staging directory, lock and created parent of the process, then lets the signal end the
 //! process as it would have. A commit is never cut in the middle by them. Only SIGKILL or a power
 //! loss leaves a staging directory (removed by the next run into `DIR`), and only during the
 //! instant of a commit a shared directory with part of the new files.
@@ -52,10 +52,10 @@ use signal_hook::iterator::Signals;
 use signal_hook::low_level::emulate_default_handler;
 use thiserror::Error;
 
-use crate::harness::artifacts::{hold_writes, stop_writes};
-use crate::harness::error::printable;
-use crate::harness::input::Shown;
-use crate::harness::manifest::{entries, DirIdentity, Manifest, MANIFEST_FORMAT};
+use crate::harness::files::artifacts::{hold_writes, stop_writes};
+use crate::harness::files::error::printable;
+use crate::harness::files::input::Shown;
+use crate::harness::files::manifest::{entries, DirIdentity, Manifest, MANIFEST_FORMAT};
 
 /// How the staged files reach the target directory (see the module's documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

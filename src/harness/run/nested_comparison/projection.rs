@@ -25,7 +25,7 @@
 use crate::engine::fem::{BoxMesh, Elasticity, MassVariant, Prolongation, SymmetricMatrix};
 use crate::engine::linalg::SpdSolver;
 use crate::engine::schemes::TimeIntegrator;
-use crate::harness::error::Error;
+use crate::harness::files::error::Error;
 use crate::harness::run::Observer;
 
 /// The matrices of the norms on one mesh: the standard consistent mass (`H`: `ρ ∫ |e|²`) and

@@ -3,8 +3,9 @@
 use plotters::prelude::*;
 
 use super::chart::{drawing, Area, ChartSpec, Curve, Look, Scale};
-use super::style;
-use super::{ContactPanel, ConvergenceSeries, EnergyPanel, FigureError, WorkPrecisionSeries};
+use super::{
+    style, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError, WorkPrecisionSeries,
+};
 
 const TIME: &str = "t";
 const ERROR: &str = "error";

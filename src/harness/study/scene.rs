@@ -21,18 +21,16 @@ use crate::engine::exact::{
 };
 use crate::engine::fem::box_mesh::Elasticity;
 use crate::engine::fem::EndCondition;
-use crate::engine::problem::Settings;
-use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile};
-use crate::engine::schemes::Conventions;
-use crate::engine::schemes::{Scheme, SCHEME_NAMES};
-use crate::harness::norms::Norm;
+use crate::engine::problem::{BoxProblem, InitialData, Problem, Problem1d, Profile, Settings};
+use crate::engine::schemes::{Conventions, Scheme, SCHEME_NAMES};
+use crate::harness::run::norms::Norm;
 use crate::harness::run::Observables;
-use crate::harness::sensitivity::EnsembleConfig;
+use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
-use crate::harness::error::printable;
-pub use crate::harness::error::SceneError;
-use crate::harness::input::{self, SCENE_FILE};
+use crate::harness::files::error::printable;
+pub use crate::harness::files::error::SceneError;
+use crate::harness::files::input::{self, SCENE_FILE};
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
 /// checked and typed when the file is read ([`Scene::load`]).

@@ -14,8 +14,8 @@ use vtkio::model::{
     VertexNumbers, Vtk,
 };
 
-use crate::harness::artifacts::write_atomic;
-use crate::harness::error::Error;
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
 
 /// The collection of a box run's snapshots.
 pub const COLLECTION_FILE: &str = "fields.pvd";

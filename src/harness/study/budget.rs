@@ -24,15 +24,14 @@
 //! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
 //! set-up counts one solve per contact node as a step).
 
-pub use crate::harness::error::BudgetError;
+pub use crate::harness::files::error::BudgetError;
 
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::LinearSolver;
-use crate::engine::problem::Settings;
-use crate::engine::problem::{BoxProblem, Problem1d};
+use crate::engine::problem::{BoxProblem, Problem1d, Settings};
 use crate::engine::schemes::Scheme;
-use crate::harness::executor::{computed_here, Executor};
 use crate::harness::run::RunConfig;
+use crate::harness::study::executor::{computed_here, Executor};
 
 /// Peak bytes per unknown of a bar run (an upper bound of the measured 423–444).
 pub const BAR_BYTES_PER_DOF: f64 = 600.0;

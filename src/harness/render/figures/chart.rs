@@ -4,8 +4,7 @@ use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style;
-use super::FigureError;
+use super::{style, FigureError};
 
 /// The drawing area every chart is drawn on.
 pub(super) type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;

@@ -28,10 +28,10 @@ pub use draw::{
     work_precision_figure,
 };
 
-pub use crate::harness::error::FigureError;
-use crate::harness::rates::RateFit;
+pub use crate::harness::files::error::FigureError;
 use crate::harness::run::{ContactHistory, EnergyHistory};
-use crate::harness::sensitivity::Spread;
+use crate::harness::study::rates::RateFit;
+use crate::harness::study::sensitivity::Spread;
 
 /// A named SVG document: the file name and its text.
 pub type Figure = (String, String);

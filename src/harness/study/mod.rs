@@ -1,5 +1,29 @@
-//! Refinement studies: a set of cases (scheme × mass variant) run at every level, in parallel,
-//! with the rates of every requested norm.
+//! Studies: a set of cases (scheme × mass variant) run at every level, in parallel, with the
+//! rates of every requested norm (a bar's refinement study here); every study's jobs and who
+//! runs them, round-off ensembles, the regression gate, the scene a study is described by and
+//! what the cost of a run or a study is held to. Above [`crate::harness::run`], whose runs it
+//! drives.
+//!
+//! | module | its face |
+//! |---|---|
+//! | this file | [`Case`], [`StudyConfig`], [`run_study`] / [`run_study_on`] (a bar's study), [`Study`], [`CaseStudy`], [`NormRates`], [`fit_norm_rates`]; the case × level jobs [`CaseLevels`], [`by_case`] |
+//! | [`executor`] | [`executor::JobList`], [`executor::Executor`] (local, a shard's share, a merge of the shards) and [`executor::Executed`] |
+//! | [`shard`] | `--shard K/N` and `merge`: [`shard::ShardSpec`], [`shard::ShardFile`], [`shard::merge`], [`shard::codec`], [`shard::InRange`] |
+//! | [`rates`] | [`rates::fit_rate`], [`rates::RateFit`], [`rates::observed_orders`] |
+//! | [`sensitivity`] | round-off ensembles: [`sensitivity::run_sensitivity`], [`sensitivity::Sensitivity`], [`sensitivity::SensitivityClass`] |
+//! | [`verdicts`] | the oscillation thresholds and words: [`verdicts::oscillates`], [`verdicts::oscillation_word`] |
+//! | [`golden`] | the regression gate: [`golden::Golden`], [`golden::compare`], [`golden::gate`], [`golden::Drift`] |
+//! | [`scene`] | scene files typed at load: [`scene::Scene`] |
+//! | [`budget`] | what a run or a study costs and its limits: [`budget::Estimate`], [`budget::Limits`] |
+
+pub mod budget;
+pub mod executor;
+pub mod golden;
+pub mod rates;
+pub mod scene;
+pub mod sensitivity;
+pub mod shard;
+pub mod verdicts;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::marker::PhantomData;
@@ -11,13 +35,13 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
-use crate::harness::error::Error;
-use crate::harness::executor::{run_local, Executed, Executor, JobList, ListResults};
-use crate::harness::norms::Norm;
-use crate::harness::rates::{fit_rate, observed_orders, RateFit};
+use crate::harness::files::error::Error;
+use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus, Timings};
-use crate::harness::shard::range::{errors_out_of_range, positive};
-use crate::harness::shard::InRange;
+use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
+use crate::harness::study::rates::{fit_rate, observed_orders, RateFit};
+use crate::harness::study::shard::range::{errors_out_of_range, positive};
+use crate::harness::study::shard::InRange;
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -288,7 +312,7 @@ pub fn run_study_on(
 
 /// A bar study as its jobs (one run per case × level, [`StudyJobs::list`]) and its reduce step
 /// ([`StudyJobs::reduce`]), for a command that hands several lists to one executor
-/// ([`crate::harness::executor::Batch`]).
+/// ([`crate::harness::study::executor::Batch`]).
 pub struct StudyJobs<'a> {
     problem: &'a Problem1d,
     cases: &'a [Case],

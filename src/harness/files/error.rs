@@ -9,8 +9,8 @@ use thiserror::Error;
 
 use crate::engine::error as engine;
 pub use crate::engine::error::{require_positive, ParameterError, SolveError};
-pub use crate::harness::input::printable;
-use crate::harness::input::{shown, InputError, JsonError, Shown};
+pub use crate::harness::files::input::printable;
+use crate::harness::files::input::{shown, InputError, JsonError, Shown};
 
 /// Any error of a harness run or study.
 #[derive(Debug, Error)]
@@ -83,7 +83,7 @@ pub enum Error {
         /// What is allowed.
         allowed: &'static str,
     },
-    /// The estimated cost is over a limit ([`crate::harness::budget`]).
+    /// The estimated cost is over a limit ([`crate::harness::study::budget`]).
     #[error(transparent)]
     Budget(#[from] BudgetError),
     /// An input file is missing, not a regular file or over its size limit.
@@ -347,7 +347,7 @@ pub enum DemoRunError {
     },
 }
 
-/// What can go wrong when sharding a study or merging its shards (`crate::harness::shard`).
+/// What can go wrong when sharding a study or merging its shards (`crate::harness::study::shard`).
 #[derive(Debug, Error)]
 pub enum ShardError {
     /// The shards hold another number of results for a job list than the study's list has jobs.

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::harness::norms::Norm;
+use crate::harness::run::norms::Norm;
 
 /// A job result's values within their ranges.
 pub trait InRange {
