@@ -25,8 +25,8 @@ pub struct RunArgs {
     /// theta(theta=T), paoli-schatzman(beta=B,e=E).
     #[arg(long, value_parser = parse_scheme)]
     pub scheme: Scheme,
-    /// Mass matrix: standard, redistributed, lumped, redistributed-conserving or
-    /// singular-dynamic (see `signorini list`).
+    /// Mass matrix: standard, redistributed, lumped, redistributed-conserving,
+    /// singular-dynamic, getfem-redistributed or getfem-singular (see `signorini list`).
     #[arg(long, value_parser = parse_mass)]
     pub mass: MassVariant,
     /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's

@@ -34,7 +34,8 @@ use crate::studies::tables::write_sensitivity_files;
 pub struct StudyArgs {
     /// The scene file.
     pub scene: PathBuf,
-    /// Schemes (repeat the option for several); default: the paper's seven.
+    /// Schemes (repeat the option for several); default: the scene's
+    /// `discretisation.schemes`, else the paper's seven.
     #[arg(long, value_parser = parse_scheme)]
     pub scheme: Vec<Scheme>,
     /// Mass variants, comma-separated; default: the paper's two (standard, redistributed).
@@ -211,7 +212,7 @@ pub struct SensitivityArgs {
     #[arg(long, default_value_t = 16)]
     pub members: usize,
     /// Relative noise amplitude, in (0, 1e-3].
-    #[arg(long, default_value_t = 1e-13, allow_hyphen_values = true)]
+    #[arg(long, default_value = "1e-13", allow_hyphen_values = true)]
     pub amplitude: f64,
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
