@@ -167,7 +167,7 @@ fn the_merge_of_three_sensitivity_shards_writes_the_unsharded_reports() {
 /// `signorini report` whole (the gravity benchmark, Tables 1–2 with their sensitivity, the
 /// longer horizon, the implicit start and the histories, the extended table): its merge writes
 /// every file the unsharded command does (26), but for the wall-clock figures and the
-/// work–precision files made of the runs' times. About 25 minutes on 2 cores: `make
+/// work–precision files made of the runs' times. 47 minutes on a shared 2-core machine: `make
 /// test-report-shards`.
 #[test]
 #[ignore = "the whole report, twice: make test-report-shards"]
