@@ -14,7 +14,7 @@ use serde::de::DeserializeOwned;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass};
-use crate::harness::study::Study;
+use crate::harness::study::{CaseStudy, Study};
 use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
@@ -218,14 +218,9 @@ fn data<T: DeserializeOwned>(reports: &Path, file: &str) -> Option<T> {
     crate::harness::files::artifacts::read_json(&reports.join(file), REPORT_DATA).ok()
 }
 
-/// The rate of `norm` in `study`'s case `id` with its 95 % interval, e.g. `0.98 [0.91, 1.05]`.
-fn rate_with_interval(study: &Study, id: &str, norm: Norm) -> Option<String> {
-    let fit = study
-        .cases
-        .iter()
-        .find(|c| c.case.id() == id)?
-        .norm(norm)?
-        .fit?;
+/// The rate of `norm` in `case` with its 95 % interval, e.g. `0.98 [0.91, 1.05]`.
+fn rate_with_interval(case: &CaseStudy, norm: Norm) -> Option<String> {
+    let fit = case.norm(norm)?.fit?;
     Some(match (fit.ci_low, fit.ci_high) {
         (Some(low), Some(high)) => format!("{:.2} [{low:.2}, {high:.2}]", fit.rate),
         _ => format!("{:.2}", fit.rate),
@@ -279,12 +274,8 @@ fn gravity_headline(reports: &Path) -> Option<String> {
         .cases
         .iter()
         .filter_map(|c| {
-            let id = c.case.id();
-            Some(format!(
-                "{} {}",
-                c.case.mass,
-                rate_with_interval(&study, &id, Norm::DisplacementLinfH)?
-            ))
+            let rate = rate_with_interval(c, Norm::DisplacementLinfH)?;
+            Some(format!("{} {rate}", c.case.mass))
         })
         .collect();
     Some(format!(
