@@ -28,7 +28,7 @@ use signorini::engine::schemes::Scheme;
 use signorini::harness::files::artifacts::{write_atomic, write_json};
 use signorini::harness::files::output_dir::{Replace, StagedDir};
 use signorini::harness::run::norms::Norm;
-use signorini::harness::run::{run, Observables, RunConfig, RunResult};
+use signorini::harness::run::{run, BarRun, Observables, RunConfig};
 use signorini::harness::study::Case;
 use signorini::studies::benchmark::dirichlet;
 use signorini::studies::tables::{tables_sensitivity, tables_study};
@@ -52,7 +52,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, RunResult) {
+fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, BarRun) {
     let problem = dirichlet(root(), 3.0).expect("the Dirichlet scene");
     let config = RunConfig {
         nx: 640,
@@ -69,8 +69,8 @@ fn kernel(scheme: Scheme, mass: MassVariant, norms: &BTreeSet<Norm>) -> (f64, Ru
     let mut last = None;
     for _ in 0..9 {
         let clock = Instant::now();
-        let r = run(&problem, &config).expect("benchmark run");
-        samples.push(clock.elapsed().as_secs_f64() * 1e9 / r.dof_steps as f64);
+        let r = run(&problem, &config, &mut []).expect("benchmark run");
+        samples.push(clock.elapsed().as_secs_f64() * 1e9 / r.observed.dof_steps as f64);
         last = Some(r);
     }
     (median(samples), last.expect("nine runs"))
@@ -238,7 +238,7 @@ fn main() -> ExitCode {
         for mass in MassVariant::PAPER {
             let (with, r) = kernel(scheme, mass, &all);
             let (without, _) = kernel(scheme, mass, &none);
-            let per = |s: f64| s * 1e9 / r.dof_steps as f64;
+            let per = |s: f64| s * 1e9 / r.observed.dof_steps as f64;
             let figure = KernelFigure {
                 scheme: scheme.to_string(),
                 mass: mass.to_string(),

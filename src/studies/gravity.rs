@@ -11,7 +11,7 @@ use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::convergence_tables;
 use crate::harness::run::run_files::{points_csv, strain_csv, strain_csv_name};
-use crate::harness::run::{run, RunConfig, RunResult};
+use crate::harness::run::{run, BarRun, RunConfig};
 use crate::harness::study::executor::{Batch, Jobs};
 use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::{
@@ -44,7 +44,7 @@ pub const FIGURE_LEVEL: usize = 160;
 /// The digits after the point of every number in the benchmark's CSV files.
 const CSV_DIGITS: usize = 10;
 
-/// The run of `mass` at [`FIGURE_LEVEL`] (a `RunResult`), under [`GRAVITY_DIR`].
+/// The run of `mass` at [`FIGURE_LEVEL`] (a `BarRun`), under [`GRAVITY_DIR`].
 pub fn run_file(mass: MassVariant) -> String {
     format!("run-{}.json", mass.name())
 }
@@ -104,7 +104,7 @@ pub struct GravityBenchmark {
     /// The round-off sensitivity of the study's cases.
     sensitivity: Sensitivity,
     /// The run of each of the study's cases at [`FIGURE_LEVEL`], in its order.
-    figure_runs: Vec<RunResult>,
+    figure_runs: Vec<BarRun>,
 }
 
 /// Hands the gravity benchmark's job lists to `batch` — the study, the round-off ensembles
@@ -131,7 +131,7 @@ pub fn gravity_benchmark(
             observables: scene.observables(),
             settings: scene.settings(),
         };
-        run(&problem, &config)
+        run(&problem, &config, &mut [])
     };
     let figures = Jobs {
         items: &cases,
@@ -195,13 +195,13 @@ pub fn write_gravity_report(benchmark: &GravityBenchmark, out_dir: &Path) -> Res
     write_json(&data.join(SENSITIVITY_JSON), sensitivity)?;
     for (case, r) in study.cases.iter().zip(figure_runs) {
         let mass = case.case.mass;
-        if let Some(p) = &r.point_history {
+        if let Some(p) = &r.observed.point_history {
             write_atomic(
                 &data.join(points_file(mass)),
                 points_csv(p, CSV_DIGITS).as_bytes(),
             )?;
         }
-        for f in &r.fields {
+        for f in &r.observed.fields {
             write_atomic(
                 &data.join(strain_file(mass, f.requested_time)),
                 strain_csv(f, CSV_DIGITS).as_bytes(),

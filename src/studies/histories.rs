@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::files::artifacts::write_json_compact;
 use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d, Scheme};
-use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::run::{run, BarRun, Observables, RunConfig};
 use crate::harness::study::executor::JobList;
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
@@ -35,7 +35,7 @@ pub struct SchemeHistories {
     /// The paper's label.
     pub label: String,
     /// `(mass, NX, run)` with contact and energy histories.
-    pub runs: Vec<(MassVariant, usize, RunResult)>,
+    pub runs: Vec<(MassVariant, usize, BarRun)>,
 }
 
 /// The runs behind the figures' histories as a job list ([`HistoryJobs::list`]): every scheme
@@ -65,7 +65,7 @@ impl<'a> HistoryJobs<'a> {
 
     /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]); a run that
     /// stops is an error.
-    pub fn list(&self) -> impl JobList<Output = RunResult> + '_ {
+    pub fn list(&self) -> impl JobList<Output = BarRun> + '_ {
         CaseLevels::new(self.cases.len(), self.levels, |c, l| {
             let config = RunConfig {
                 nx: self.levels[l],
@@ -79,12 +79,12 @@ impl<'a> HistoryJobs<'a> {
                 },
                 settings: self.config.settings,
             };
-            run(&self.problem, &config)?.completed()
+            run(&self.problem, &config, &mut [])?.completed()
         })
     }
 
     /// Every scheme's histories from the list's runs (`runs`, in its order).
-    pub fn reduce(&self, runs: Vec<RunResult>) -> Vec<SchemeHistories> {
+    pub fn reduce(&self, runs: Vec<BarRun>) -> Vec<SchemeHistories> {
         let levels = self.levels;
         let mut per_case = self.cases.iter().zip(by_case(runs, levels.len()));
         self.schemes

@@ -1,19 +1,17 @@
 //! One run of a scene as a user asks for it (`signorini run`): the scheme and mass chosen, the
-//! scene's level, ratio and contact treatment unless overridden, whatever the geometry. A bar
-//! run measures its errors against the exact solution ([`run`]), a box run its energy and
-//! contact face ([`run_box`]); the command only parses, stages its directory and prints what
-//! comes back.
+//! scene's level, ratio and contact treatment unless overridden, whatever the geometry: one
+//! [`run`] of the scene's [`Problem`], a bar's measuring its errors against the exact solution,
+//! a box's its energy and contact face. The command only parses, stages its directory and
+//! prints what comes back.
 
 use std::path::{Path, PathBuf};
 
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::problem::{
-    BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Problem1d, Scheme,
-};
-use crate::harness::run::elastic::{run_box, BoxRunResult};
+use crate::harness::problem::{ContactTreatment, LinearSolver, MassVariant, Problem, Scheme};
+use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::run_files::{box_history_csv, history_csv};
-use crate::harness::run::{run, Observables, RunConfig, RunResult};
+use crate::harness::run::{run, Observables, Observed, RunConfig, RunResult};
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::scene::Scene;
 use crate::studies::scene_study::{chosen_settings, ConventionChoice};
@@ -57,14 +55,9 @@ pub struct SceneRun {
     writes_files: bool,
 }
 
-/// What a run hands back: a bar's result or a box's.
+/// What a run of a scene hands back: its result, whatever the geometry.
 #[derive(Debug, Clone)]
-pub enum RunOutcome {
-    /// A bar run.
-    Bar(Box<RunResult>),
-    /// A box run.
-    Box(Box<BoxRunResult>),
-}
+pub struct RunOutcome(RunResult);
 
 impl SceneRun {
     /// The run of `scene` with `choices`. Without `--nx` and without levels in the scene it is
@@ -157,76 +150,57 @@ impl SceneRun {
 
     /// Runs it, with a box's VTK snapshots written into `fields_dir` when given.
     pub fn run(&self, fields_dir: Option<&Path>) -> Result<RunOutcome, Error> {
-        match &self.problem {
-            Problem::Bar(problem) => bar_outcome(problem, &self.config),
-            Problem::Box(problem) => box_outcome(problem, &self.config, fields_dir),
-        }
+        let config = RunConfig {
+            observables: Observables {
+                fields_dir: fields_dir.map(Path::to_path_buf),
+                ..self.config.observables.clone()
+            },
+            ..self.config.clone()
+        };
+        Ok(RunOutcome(
+            run(&self.problem, &config, &mut [])?.completed()?,
+        ))
     }
-}
-
-fn bar_outcome(problem: &Problem1d, config: &RunConfig) -> Result<RunOutcome, Error> {
-    Ok(RunOutcome::Bar(Box::new(
-        run(problem, config)?.completed()?,
-    )))
-}
-
-fn box_outcome(
-    problem: &BoxProblem,
-    config: &RunConfig,
-    fields_dir: Option<&Path>,
-) -> Result<RunOutcome, Error> {
-    let config = RunConfig {
-        observables: Observables {
-            fields_dir: fields_dir.map(Path::to_path_buf),
-            ..config.observables.clone()
-        },
-        ..config.clone()
-    };
-    Ok(RunOutcome::Box(Box::new(
-        run_box(problem, &config)?.completed()?,
-    )))
 }
 
 impl RunOutcome {
     /// The summary printed after a run of `run` (`check_balance`: with the largest per-step
     /// residual of the scheme's energy balance).
     pub fn summary(&self, run: &SceneRun, check_balance: bool) -> String {
-        let c = &run.config;
+        let (c, r) = (&run.config, &self.0);
         let mut lines = Vec::new();
-        let residual = match self {
-            Self::Bar(r) => {
+        match &r.observed {
+            Observed::Bar(bar) => {
                 lines.push(format!(
                     "{} — {} / {} / {}: NX = {}, Δt = {:.4e}, {} steps, {} dofs, {} contact solves, {:.3} s",
                     run.scene, c.scheme, c.mass, r.contact_treatment, c.nx, r.dt, r.steps,
                     r.dofs, r.contact_solves, r.timings.total()
                 ));
-                for (norm, e) in &r.errors {
+                for (norm, e) in &bar.errors {
                     lines.push(format!("  {:12} {:.6e}   {}", norm.key(), e, norm.label()));
                 }
-                r.max_balance_residual
             }
-            Self::Box(r) => {
-                box_summary(&mut lines, run, r);
-                r.max_balance_residual
-            }
-        };
-        if check_balance {
-            lines.push(balance_line(c.scheme, residual));
+            Observed::Box(body) => box_summary(&mut lines, run, r, body),
         }
-        if let Self::Box(r) = self {
-            if let Some(slab) = r.contact_slab {
-                lines.push(format!(
-                    "  local contact operator: {} layers, {} slab dofs{}, truncation ratio {:.1e}",
-                    slab.layers,
-                    slab.slab_dofs,
-                    if slab.whole {
-                        " (the whole system)"
-                    } else {
-                        ""
-                    },
-                    slab.ratio
-                ));
-            }
+        if check_balance {
+            lines.push(balance_line(c.scheme, r.max_balance_residual));
+        }
+        let slab = match &r.observed {
+            Observed::Box(body) => body.contact_slab,
+            Observed::Bar(_) => None,
+        };
+        if let Some(slab) = slab {
+            lines.push(format!(
+                "  local contact operator: {} layers, {} slab dofs{}, truncation ratio {:.1e}",
+                slab.layers,
+                slab.slab_dofs,
+                if slab.whole {
+                    " (the whole system)"
+                } else {
+                    ""
+                },
+                slab.ratio
+            ));
         }
         lines.join("\n")
     }
@@ -238,44 +212,44 @@ impl RunOutcome {
         final_path: impl Fn(&Path) -> PathBuf,
     ) -> Result<(String, Vec<(String, String)>), Error> {
         let encode = Error::encode(Path::new("run.json"));
-        Ok(match self {
-            Self::Bar(r) => (
-                serde_json::to_string_pretty(r).map_err(encode)?,
-                history_csv(r),
-            ),
-            Self::Box(r) => {
-                r.vtk_files = r.vtk_files.iter().map(|f| final_path(f)).collect();
-                (
-                    serde_json::to_string_pretty(r).map_err(encode)?,
-                    box_history_csv(r),
-                )
-            }
-        })
+        let r = &mut self.0;
+        if let Observed::Box(body) = &mut r.observed {
+            body.vtk_files = body.vtk_files.iter().map(|f| final_path(f)).collect();
+        }
+        let histories = match &r.observed {
+            Observed::Bar(bar) => history_csv(bar),
+            Observed::Box(body) => box_history_csv(body),
+        };
+        Ok((serde_json::to_string_pretty(r).map_err(encode)?, histories))
     }
 
     /// The VTK files a box run wrote (none for a bar).
     pub fn vtk_files(&self) -> &[PathBuf] {
-        match self {
-            Self::Bar(_) => &[],
-            Self::Box(r) => &r.vtk_files,
+        match &self.0.observed {
+            Observed::Box(body) => &body.vtk_files,
+            Observed::Bar(_) => &[],
         }
     }
 }
 
 /// The lines of a box run's summary before its balance.
-fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &BoxRunResult) {
+fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &RunResult, body: &BoxObservations) {
     let c = &run.config;
-    let (e0, e_end) = (r.energy[0].1, r.energy[r.energy.len() - 1].1);
-    let max_force = r.contact.total_force.iter().fold(0.0_f64, |m, f| m.max(-f));
+    let (e0, e_end) = (body.energy[0].1, body.energy[body.energy.len() - 1].1);
+    let max_force = body
+        .contact
+        .total_force
+        .iter()
+        .fold(0.0_f64, |m, f| m.max(-f));
     lines.push(format!(
         "{} — {} / {} / {}: elements {:?}, {} dofs, {} contact nodes, Δt = {:.4e}, {} steps",
         run.scene,
         c.scheme,
         c.mass,
         r.contact_treatment,
-        r.elements,
+        body.elements,
         r.dofs,
-        r.contact_nodes,
+        body.contact_nodes,
         r.dt,
         r.steps
     ));
@@ -283,16 +257,16 @@ fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &BoxRunResult) {
         "  time: setup {:.3} s, stepping {:.3} s, contact {:.3} s, observers {:.3} s; {} contact solves",
         r.timings.setup, r.timings.stepping, r.timings.contact, r.timings.observe, r.contact_solves
     ));
-    let counts = r.step_solves;
+    let counts = body.step_solves;
     lines.push(if counts.solves > 0 && counts.iterations > 0 {
         format!(
             "  step solver {}: {} solves, {:.1} CG iterations per solve",
-            r.linear_solver,
+            body.linear_solver,
             counts.solves,
             counts.iterations as f64 / counts.solves as f64
         )
     } else {
-        format!("  step solver {}", r.linear_solver)
+        format!("  step solver {}", body.linear_solver)
     });
     lines.push(format!(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",

@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
-use crate::harness::run::{Observables, RunConfig, RunResult};
+use crate::harness::run::{BarRun, Observables, RunConfig};
 use crate::harness::study::executor::{run_local, Executed, Executor, Jobs};
 use crate::harness::study::rates::least_squares_slope;
 use crate::harness::study::sensitivity::{
@@ -351,8 +351,8 @@ fn unmeasured(hard: &HardCase, case: Case) -> StabilityRecord {
 }
 
 /// The measures and the verdict of one run of `hard` (the module's rules).
-fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
-    let energy = result.energy_history.as_ref().expect("requested");
+fn assess(hard: &HardCase, case: Case, result: &BarRun) -> StabilityRecord {
+    let energy = result.observed.energy_history.as_ref().expect("requested");
     let e0 = energy.energy[0];
     let scale = if e0.abs() > 0.0 { e0.abs() } else { 1.0 };
     let max_drift = energy
@@ -368,7 +368,7 @@ fn assess(hard: &HardCase, case: Case, result: &RunResult) -> StabilityRecord {
         .fold(0.0, f64::max);
     let horizon = hard.problem.horizon;
     let trend = least_squares_slope(&energy.time, &energy.energy).unwrap_or(0.0) * horizon / scale;
-    let variation = result.multiplier_variation.unwrap_or_default();
+    let variation = result.observed.multiplier_variation.unwrap_or_default();
     let (indicator, is_ratio) = match variation.ratio() {
         Some(r) => (r, true),
         None => (variation.discrete, false),

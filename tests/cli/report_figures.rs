@@ -62,7 +62,7 @@ fn histories(scheme: Scheme, levels: &[usize]) -> SchemeHistories {
                 },
                 settings: Default::default(),
             };
-            runs.push((mass, nx, run(&problem, &config).unwrap()));
+            runs.push((mass, nx, run(&problem, &config, &mut []).unwrap()));
         }
     }
     SchemeHistories {

@@ -83,11 +83,12 @@ fn a_scene_without_obstacle_never_solves_contact() {
             observables: s.observables(),
             settings: Default::default(),
         },
+        &mut [],
     )
     .unwrap();
     assert_eq!(r.contact_solves, 0);
-    assert!(r.multiplier_variation.is_none());
-    assert!(r.contact_history.is_none());
+    assert!(r.observed.multiplier_variation.is_none());
+    assert!(r.observed.contact_history.is_none());
 
     // The same bar with an obstacle does solve contact problems: the counter counts.
     let d = scene("bar1d-dirichlet.json");
@@ -101,6 +102,7 @@ fn a_scene_without_obstacle_never_solves_contact() {
             observables: d.observables(),
             settings: Default::default(),
         },
+        &mut [],
     )
     .unwrap();
     assert!(r.contact_solves > 0);
@@ -151,11 +153,12 @@ fn a_scene_asking_only_for_energy_evaluates_no_space_norm() {
             observables,
             settings: Default::default(),
         },
+        &mut [],
     )
     .unwrap();
-    assert_eq!(r.space_norm_evaluations, 0);
+    assert_eq!(r.observed.space_norm_evaluations, 0);
     assert_eq!(
-        r.errors.keys().copied().collect::<Vec<_>>(),
+        r.observed.errors.keys().copied().collect::<Vec<_>>(),
         vec![Norm::EnergyLinf]
     );
 }

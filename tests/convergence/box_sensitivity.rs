@@ -9,9 +9,9 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Scheme, TimeIntegrator};
 use signorini::harness::files::error::Error;
-use signorini::harness::run::elastic::{box_mesh, initial_dofs, run_box_observed, BoxProblem};
+use signorini::harness::run::elastic::{box_mesh, initial_dofs, BoxProblem};
 use signorini::harness::run::norms::Norm;
-use signorini::harness::run::{Observables, RunConfig};
+use signorini::harness::run::{run, Observables, RunConfig};
 use signorini::harness::study::scene::{Scene, SceneError};
 use signorini::harness::study::sensitivity::{EnsembleConfig, SensitivityClass};
 use signorini::harness::study::Case;
@@ -64,7 +64,7 @@ fn cache(name: &str) -> PathBuf {
     ))
 }
 
-fn run(
+fn study(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
     name: &str,
@@ -83,8 +83,8 @@ fn run(
 #[test]
 fn a_tiny_box_ensemble_is_bit_reproducible_and_its_members_differ_from_the_unperturbed_run() {
     let (problem, config) = (problem(), tiny_config());
-    let first = run(&problem, &config, "first").unwrap();
-    let second = run(&problem, &config, "second").unwrap();
+    let first = study(&problem, &config, "first").unwrap();
+    let second = study(&problem, &config, "second").unwrap();
     let (a, b) = (
         first.sensitivity.as_ref().unwrap(),
         second.sensitivity.as_ref().unwrap(),
@@ -185,7 +185,7 @@ fn the_perturbation_touches_the_initial_velocity_only() {
                 }
                 Ok(())
             };
-            run_box_observed(&problem, &config, &mut [&mut first]).unwrap();
+            run(&problem, &config, &mut [&mut first]).unwrap();
             state.unwrap()
         };
         let ((u0, v0), (u0_p, v0_p)) = (start(unperturbed), start(perturbed));

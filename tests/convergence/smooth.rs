@@ -39,10 +39,10 @@ fn smooth_errors(mass: MassVariant) -> (Vec<f64>, Vec<f64>) {
             },
             settings: Default::default(),
         };
-        let result = run::run(&problem, &config).unwrap();
-        assert_eq!(result.errors.len(), 1);
-        hs.push(result.h);
-        errors.push(result.errors[&Norm::DisplacementLinfH]);
+        let result = run::run(&problem, &config, &mut []).unwrap();
+        assert_eq!(result.observed.errors.len(), 1);
+        hs.push(result.observed.h);
+        errors.push(result.observed.errors[&Norm::DisplacementLinfH]);
     }
     (hs, errors)
 }
@@ -117,9 +117,9 @@ fn central_differences_converge_at_second_order_on_a_smooth_solution() {
                 },
                 settings: Default::default(),
             };
-            let r = run::run(&problem, &config).unwrap();
-            hs.push(r.h);
-            errors.push(r.errors[&Norm::DisplacementLinfH]);
+            let r = run::run(&problem, &config, &mut []).unwrap();
+            hs.push(r.observed.h);
+            errors.push(r.observed.errors[&Norm::DisplacementLinfH]);
         }
         let rate = fitted_rate(&hs, &errors);
         println!("{mass}: central differences, u_Linf_H rate {rate:.4}");

@@ -353,11 +353,11 @@ fn dirichlet_run(nx: usize, scheme: Scheme, mass: MassVariant, contact: &str) ->
         },
         settings: Default::default(),
     };
-    let r = run(&problem, &config).unwrap();
+    let r = run(&problem, &config, &mut []).unwrap();
     assert_eq!(r.contact_treatment, contact);
     vec![
-        r.errors[&Norm::DisplacementLinfH],
-        r.errors[&Norm::MultiplierL2],
+        r.observed.errors[&Norm::DisplacementLinfH],
+        r.observed.errors[&Norm::MultiplierL2],
     ]
 }
 

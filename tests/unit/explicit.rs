@@ -17,8 +17,8 @@ use signorini::engine::linalg::LinearSolver;
 use signorini::engine::model::Model;
 use signorini::engine::schemes::cfl::{largest_eigenvalue, stable_step};
 use signorini::harness::files::error::Error;
-use signorini::harness::run::elastic::{run_box, BoxProblem};
-use signorini::harness::run::{Observables, RunConfig};
+use signorini::harness::run::elastic::BoxProblem;
+use signorini::harness::run::{run, Observables, RunConfig};
 
 const MASSLESS_CONTACT: [MassVariant; 3] = [
     MassVariant::Redistributed,
@@ -259,10 +259,10 @@ fn explicit_box_runs_with_massless_contact_nodes() {
         },
     };
     for mass in MASSLESS_CONTACT {
-        let r = run_box(&problem, &config(8.0, mass)).unwrap();
+        let r = run(&problem, &config(8.0, mass), &mut []).unwrap();
         assert!(r.contact_solves > 0, "{mass}");
         assert!(r.complementarity_violation < 1e-10, "{mass}");
-        match run_box(&problem, &config(0.5, mass)) {
+        match run(&problem, &config(0.5, mass), &mut []) {
             Err(Error::Solve(SolveError::CflViolated { .. })) => {}
             other => panic!("{mass}: expected CflViolated, got {:?}", other.err()),
         }

@@ -12,8 +12,8 @@ use signorini::engine::fem::{MassVariant, SymmetricMatrix};
 use signorini::engine::linalg::{LinearSolver, StepSolver};
 use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
-use signorini::harness::run::{Observables, RunConfig, RunStatus};
+use signorini::harness::run::elastic::BoxProblem;
+use signorini::harness::run::{run, BoxRun, Observables, RunConfig, RunStatus};
 use signorini::harness::study::scene::Scene;
 
 fn box_problem(scene: &str, contact: ContactTreatment) -> BoxProblem {
@@ -167,9 +167,10 @@ fn the_adaptive_slab_stops_at_the_truncation_tolerance() {
 fn a_local_operator_needs_the_step_matrix() {
     let problem = box_problem("scenes/bar2d.json", ContactTreatment::Multiplier);
     let settings = solved_by(LinearSolver::Direct, ContactOperator::Local);
-    let err = run_box(
+    let err = run(
         &problem,
         &config(10, Scheme::CRANK_NICOLSON, MassVariant::Standard, settings),
+        &mut [],
     )
     .unwrap_err();
     assert!(err.to_string().contains("needs the step matrix"), "{err}");
@@ -189,16 +190,25 @@ fn config(nx: usize, scheme: Scheme, mass: MassVariant, settings: Settings) -> R
 /// The largest `|a_k − b_k| / max_k |b_k|` over the energy, the mean and centre gaps, the total
 /// force and the centre multiplier (relative to each series' scale: the contact force is
 /// exactly zero between impacts).
-fn worst_deviation(a: &BoxRunResult, b: &BoxRunResult) -> f64 {
-    let energy = |r: &BoxRunResult| r.energy.iter().map(|e| e.1).collect::<Vec<_>>();
+fn worst_deviation(a: &BoxRun, b: &BoxRun) -> f64 {
+    let energy = |r: &BoxRun| r.observed.energy.iter().map(|e| e.1).collect::<Vec<_>>();
     let series = [
         (energy(a), energy(b)),
-        (a.contact.mean_gap.clone(), b.contact.mean_gap.clone()),
-        (a.contact.centre_gap.clone(), b.contact.centre_gap.clone()),
-        (a.contact.total_force.clone(), b.contact.total_force.clone()),
         (
-            a.contact.centre_multiplier.clone(),
-            b.contact.centre_multiplier.clone(),
+            a.observed.contact.mean_gap.clone(),
+            b.observed.contact.mean_gap.clone(),
+        ),
+        (
+            a.observed.contact.centre_gap.clone(),
+            b.observed.contact.centre_gap.clone(),
+        ),
+        (
+            a.observed.contact.total_force.clone(),
+            b.observed.contact.total_force.clone(),
+        ),
+        (
+            a.observed.contact.centre_multiplier.clone(),
+            b.observed.contact.centre_multiplier.clone(),
         ),
     ];
     series
@@ -221,20 +231,27 @@ fn cross_check(scene: &str, nx: usize) {
     for contact in [ContactTreatment::Multiplier, penalty] {
         let problem = box_problem(scene, contact);
         let cg_with = |operator| solved_by(LinearSolver::Cg, operator);
-        let run = |operator, scheme, mass| {
-            run_box(&problem, &config(nx, scheme, mass, cg_with(operator)))
-                .unwrap()
-                .completed()
-                .unwrap()
+        let run_cg = |operator, scheme, mass| {
+            run(
+                &problem,
+                &config(nx, scheme, mass, cg_with(operator)),
+                &mut [],
+            )
+            .unwrap()
+            .completed()
+            .unwrap()
         };
         for scheme in [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER] {
             for mass in [MassVariant::Standard, MassVariant::Redistributed] {
                 let what = format!("{scene} {contact} {scheme} {mass}");
-                let full = run(ContactOperator::Full, scheme, mass);
-                let local = run(ContactOperator::Auto, scheme, mass);
+                let full = run_cg(ContactOperator::Full, scheme, mass);
+                let local = run_cg(ContactOperator::Auto, scheme, mass);
                 assert!(full.contact_solves > 0, "{what}: no impact");
-                assert!(full.contact_slab.is_none(), "{what}");
-                let slab = local.contact_slab.expect("cg selects the local operator");
+                assert!(full.observed.contact_slab.is_none(), "{what}");
+                let slab = local
+                    .observed
+                    .contact_slab
+                    .expect("cg selects the local operator");
                 assert!(!slab.whole && slab.ratio <= 1e-14, "{what}: {slab:?}");
                 assert!(local.complementarity_violation <= 1e-10, "{what}");
                 let deviation = worst_deviation(&local, &full);
@@ -242,7 +259,7 @@ fn cross_check(scene: &str, nx: usize) {
                 // One layer is too thin a slab: the contact correction it computes is not the
                 // step's, and the run's energy balance check says so.
                 let thin_slab = cg_with(ContactOperator::LocalLayers(1));
-                let thin = run_box(&problem, &config(nx, scheme, mass, thin_slab)).unwrap();
+                let thin = run(&problem, &config(nx, scheme, mass, thin_slab), &mut []).unwrap();
                 assert!(
                     matches!(thin.status, RunStatus::SolverInaccurate { .. }),
                     "{what}: the one-layer slab passed as accurate: {:?}",

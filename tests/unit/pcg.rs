@@ -10,8 +10,8 @@ use signorini::engine::linalg::{
 };
 use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::run::elastic::{run_box, BoxProblem, BoxRunResult};
-use signorini::harness::run::{Observables, RunConfig};
+use signorini::harness::run::elastic::BoxProblem;
+use signorini::harness::run::{run, BoxRun, Observables, RunConfig};
 use signorini::harness::study::scene::Scene;
 
 /// A random symmetric matrix with `per_row` off-diagonal entries in `[−1, 1]` per row and a
@@ -122,13 +122,13 @@ fn assert_series_match(what: &str, a: &[f64], b: &[f64]) {
 }
 
 /// A run of `problem` whose steps are solved by `solver` (checked in its result).
-fn run(
+fn run_with(
     problem: &BoxProblem,
     solver: LinearSolver,
     nx: usize,
     scheme: Scheme,
     mass: MassVariant,
-) -> BoxRunResult {
+) -> BoxRun {
     let config = RunConfig {
         nx,
         ratio: 2.0,
@@ -140,8 +140,8 @@ fn run(
             ..Settings::default()
         },
     };
-    let r = run_box(problem, &config).unwrap().completed().unwrap();
-    assert_eq!(r.linear_solver, solver.name());
+    let r = run(problem, &config, &mut []).unwrap().completed().unwrap();
+    assert_eq!(r.observed.linear_solver, solver.name());
     r
 }
 
@@ -158,14 +158,14 @@ fn box_runs_with_cg_match_direct() {
             for mass in [MassVariant::Standard, MassVariant::Redistributed] {
                 let what = format!("{scene} {scheme} {mass}");
                 let (c, d) = (
-                    run(&problem, LinearSolver::Cg, nx, scheme, mass),
-                    run(&problem, LinearSolver::Direct, nx, scheme, mass),
+                    run_with(&problem, LinearSolver::Cg, nx, scheme, mass),
+                    run_with(&problem, LinearSolver::Direct, nx, scheme, mass),
                 );
                 assert!(d.contact_solves > 0, "{what}: no impact");
                 assert!(c.complementarity_violation <= 1e-10, "{what}");
-                let energy = |r: &BoxRunResult| r.energy.iter().map(|e| e.1).collect::<Vec<_>>();
+                let energy = |r: &BoxRun| r.observed.energy.iter().map(|e| e.1).collect::<Vec<_>>();
                 assert_series_match(&format!("{what} energy"), &energy(&c), &energy(&d));
-                let (hc, hd) = (&c.contact, &d.contact);
+                let (hc, hd) = (&c.observed.contact, &d.observed.contact);
                 assert_series_match(&format!("{what} mean gap"), &hc.mean_gap, &hd.mean_gap);
                 assert_series_match(
                     &format!("{what} centre gap"),

@@ -8,7 +8,7 @@ use std::path::Path;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{InitialData, Perturbation, Problem};
 use signorini::engine::schemes::Scheme;
-use signorini::harness::run::{run, Observables, Problem1d, RunConfig, RunResult};
+use signorini::harness::run::{run, BarRun, Observables, Problem1d, RunConfig};
 use signorini::harness::study::scene::Scene;
 use signorini::studies::stability::hard_cases;
 
@@ -30,7 +30,7 @@ fn dirichlet_with(perturbation: Option<Perturbation>) -> Problem1d {
     }
 }
 
-fn run_at_40(problem: &Problem1d) -> RunResult {
+fn run_at_40(problem: &Problem1d) -> BarRun {
     run(
         problem,
         &RunConfig {
@@ -41,6 +41,7 @@ fn run_at_40(problem: &Problem1d) -> RunResult {
             observables: Observables::all_norms(),
             settings: Default::default(),
         },
+        &mut [],
     )
     .unwrap()
 }
@@ -55,22 +56,26 @@ fn a_perturbation_changes_the_errors_and_its_seed_reproduces_them() {
         })))
     };
     let first = seeded(7);
-    for (norm, e) in &plain.errors {
+    for (norm, e) in &plain.observed.errors {
         assert_ne!(
-            first.errors[norm], *e,
+            first.observed.errors[norm], *e,
             "{norm}: the perturbation was not applied"
         );
     }
     let again = seeded(7);
-    for (norm, e) in &first.errors {
+    for (norm, e) in &first.observed.errors {
         assert_eq!(
-            again.errors[norm].to_bits(),
+            again.observed.errors[norm].to_bits(),
             e.to_bits(),
             "{norm}: the same seed must give the same bits"
         );
     }
     let other = seeded(8);
-    assert!(first.errors.iter().any(|(n, e)| other.errors[n] != *e));
+    assert!(first
+        .observed
+        .errors
+        .iter()
+        .any(|(n, e)| other.observed.errors[n] != *e));
 }
 
 #[test]
@@ -113,9 +118,9 @@ fn a_scene_perturbation_reaches_the_run() {
         amplitude: 1e-3,
         seed: 7,
     })));
-    assert_eq!(from_scene.errors, programmatic.errors);
+    assert_eq!(from_scene.observed.errors, programmatic.observed.errors);
     let plain = run_at_40(&bar(&Scene::load(&path).unwrap()));
-    assert_ne!(from_scene.errors, plain.errors);
+    assert_ne!(from_scene.observed.errors, plain.observed.errors);
 }
 
 #[test]

@@ -31,20 +31,30 @@ fn space_norms_are_evaluated_only_when_requested() {
         observables: only(norms),
         settings: Default::default(),
     };
-    let energy_only = run::run(&problem, &config(&[Norm::EnergyLinf, Norm::EnergyL2])).unwrap();
-    assert_eq!(energy_only.space_norm_evaluations, 0);
+    let energy_only = run::run(
+        &problem,
+        &config(&[Norm::EnergyLinf, Norm::EnergyL2]),
+        &mut [],
+    )
+    .unwrap();
+    assert_eq!(energy_only.observed.space_norm_evaluations, 0);
     assert_eq!(
-        energy_only.errors.keys().copied().collect::<Vec<_>>(),
+        energy_only
+            .observed
+            .errors
+            .keys()
+            .copied()
+            .collect::<Vec<_>>(),
         vec![Norm::EnergyLinf, Norm::EnergyL2]
     );
     assert_eq!(energy_only.steps, 150);
 
-    let with_u = run::run(&problem, &config(&[Norm::DisplacementLinfH])).unwrap();
-    assert_eq!(with_u.space_norm_evaluations, with_u.steps + 1);
-    assert!(with_u.errors[&Norm::DisplacementLinfH] > 0.0);
+    let with_u = run::run(&problem, &config(&[Norm::DisplacementLinfH]), &mut []).unwrap();
+    assert_eq!(with_u.observed.space_norm_evaluations, with_u.steps + 1);
+    assert!(with_u.observed.errors[&Norm::DisplacementLinfH] > 0.0);
 
     let free = benchmarks::free_vibration(1.0);
-    let result = run::run(&free, &config(&[Norm::MultiplierL2]));
+    let result = run::run(&free, &config(&[Norm::MultiplierL2]), &mut []);
     match result {
         Err(Error::Parameter(p)) => assert_eq!(p.name, "norm"),
         other => panic!("lambda_L2 without obstacle must be rejected, got {other:?}"),
@@ -64,7 +74,7 @@ fn run_rejects_bad_input_naming_the_parameter() {
         settings: Default::default(),
     };
     let problem = benchmarks::dirichlet(0.5);
-    assert!(run::run(&problem, &base).is_ok());
+    assert!(run::run(&problem, &base, &mut []).is_ok());
 
     let with = |f: &dyn Fn(&mut RunConfig)| {
         let mut c = base.clone();
@@ -123,7 +133,7 @@ fn run_rejects_bad_input_naming_the_parameter() {
         cases.push(("horizon", p, base.clone()));
     }
     for (name, problem, config) in cases {
-        let outcome = catch_unwind(AssertUnwindSafe(|| run::run(&problem, &config)));
+        let outcome = catch_unwind(AssertUnwindSafe(|| run::run(&problem, &config, &mut [])));
         let result = outcome.unwrap_or_else(|_| panic!("{name}: run panicked on {config:?}"));
         match result {
             Err(Error::Parameter(p)) => {

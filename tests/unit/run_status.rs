@@ -32,7 +32,8 @@ fn unstable() -> RunConfig {
 
 #[test]
 fn a_diverging_run_stops_with_its_status_and_no_norms() {
-    let r = run(&benchmarks::free_vibration(2.0), &unstable()).expect("the setup is valid");
+    let r =
+        run(&benchmarks::free_vibration(2.0), &unstable(), &mut []).expect("the setup is valid");
     let RunStatus::Diverged { step, time, .. } = r.status.clone() else {
         panic!("expected a diverged run, got {:?}", r.status);
     };
@@ -43,12 +44,12 @@ fn a_diverging_run_stops_with_its_status_and_no_norms() {
     );
     assert!((time - step as f64 * r.dt).abs() < 1e-12);
     assert!(
-        r.errors.is_empty(),
+        r.observed.errors.is_empty(),
         "a diverged run reported {:?}",
-        r.errors
+        r.observed.errors
     );
-    assert!(r.multiplier_variation.is_none());
-    let energy = r.energy_history.as_ref().expect("requested");
+    assert!(r.observed.multiplier_variation.is_none());
+    let energy = r.observed.energy_history.as_ref().expect("requested");
     assert!(energy.time.last().is_some_and(|&t| t < time));
     assert!(r.completed().is_err());
 }
@@ -60,8 +61,8 @@ fn a_completed_run_says_so() {
         ratio: 1.0,
         ..unstable()
     };
-    let r = run(&benchmarks::free_vibration(0.5), &config).unwrap();
+    let r = run(&benchmarks::free_vibration(0.5), &config, &mut []).unwrap();
     assert_eq!(r.status, RunStatus::Completed);
-    assert_eq!(r.errors.len(), 6);
+    assert_eq!(r.observed.errors.len(), 6);
     assert!(r.completed().is_ok());
 }

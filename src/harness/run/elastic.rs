@@ -27,9 +27,7 @@ pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
-use crate::harness::run::{
-    drive, finite, paraview, Observer, RunConfig, RunStatus, SnapshotTimes, Timings,
-};
+use crate::harness::run::{drive, finite, paraview, Observer, RunConfig, RunResult, SnapshotTimes};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -46,29 +44,15 @@ pub struct BoxContactHistory {
     pub centre_multiplier: Vec<f64>,
 }
 
-/// What a box run measured.
+/// What a box run observes: its mesh, its step solver, its energy, its contact face and the
+/// VTK files it wrote.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BoxRunResult {
-    /// How the run ended; absent from the JSON of a completed run.
-    #[serde(default, skip_serializing_if = "RunStatus::is_completed")]
-    pub status: RunStatus,
+pub struct BoxObservations {
     /// Elements per direction.
     pub elements: Vec<usize>,
-    /// Unknowns.
-    pub dofs: usize,
     /// Contact constraints.
     pub contact_nodes: usize,
-    /// Steps.
-    pub steps: usize,
-    /// `Δt`.
-    pub dt: f64,
-    /// Wall-clock split (setup includes assembly, factorisation and the Delassus operator).
-    pub timings: Timings,
-    /// Steps that needed a complementarity solve.
-    pub contact_solves: usize,
-    /// Largest complementarity violation.
-    pub complementarity_violation: f64,
-    /// The step solver used (`direct` or `cg`, [`LinearSolver`]).
+    /// The step solver used (`direct` or `cg`, [`crate::engine::linalg::LinearSolver`]).
     pub linear_solver: String,
     /// Its per-step solves and their CG iterations (0 for `direct`).
     pub step_solves: SolveCounts,
@@ -76,11 +60,6 @@ pub struct BoxRunResult {
     /// full operator.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_slab: Option<Truncation>,
-    /// The largest per-step residual of the scheme's energy balance relative to its scale
-    /// (1D paper eqs. 33, 35, 37 on the box's matrices; every run checks it); absent where the
-    /// balances are not identities of the run's conventions.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_balance_residual: Option<f64>,
     /// `(t, E_h)` per step, eq. (6).
     pub energy: Vec<(f64, f64)>,
     /// Contact history.
@@ -88,23 +67,6 @@ pub struct BoxRunResult {
     /// VTK files written: the snapshots in increasing time, then, when there are any, the
     /// obstacle (`obstacle.vtu`, with an obstacle) and their collection (`fields.pvd`).
     pub vtk_files: Vec<PathBuf>,
-    /// The contact treatment's name.
-    pub contact_treatment: String,
-}
-
-/// Runs a box problem with the built-in observers: the energy, the contact face's history
-/// and, when `config.observables.fields_at` asks, VTK snapshots in
-/// `config.observables.fields_dir`.
-pub fn run_box(problem: &BoxProblem, config: &RunConfig) -> Result<BoxRunResult, Error> {
-    run_box_observed(problem, config, &mut [])
-}
-
-impl BoxRunResult {
-    /// The result of a completed run; otherwise the failure that stopped it.
-    pub fn completed(self) -> Result<Self, Error> {
-        self.status.completed()?;
-        Ok(self)
-    }
 }
 
 /// The energy `E_h(t_n)` (note eq. 6) at every step.
@@ -233,15 +195,17 @@ impl VtkSnapshots<'_> {
     }
 }
 
-/// Runs a box problem through the one time loop ([`drive`]) with the built-in observers of
-/// [`run_box`] followed by `observers`; their time counts as observation. A completed run with
+/// Runs a box problem through the one time loop ([`drive`]) with the built-in observers (the
+/// energy, the contact face's history and, when `config.observables.fields_at` asks, VTK
+/// snapshots in `config.observables.fields_dir`) followed by `observers`; their time counts as
+/// observation. A completed run with
 /// snapshots adds the obstacle and the collection of ParaView ([`VtkSnapshots::finish`]); a run
 /// that does not complete removes the VTK snapshots it wrote: they are no result.
-pub fn run_box_observed(
+pub(super) fn run_box(
     problem: &BoxProblem,
     config: &RunConfig,
     observers: &mut [&mut dyn Observer],
-) -> Result<BoxRunResult, Error> {
+) -> Result<RunResult<BoxObservations>, Error> {
     let started = Instant::now();
     let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
     let mesh = &discretisation.mesh;
@@ -281,24 +245,26 @@ pub fn run_box_observed(
         vtk.discard()?;
         Vec::new()
     };
-    Ok(BoxRunResult {
+    Ok(RunResult {
         status: stepped.status,
-        elements: mesh.counts().to_vec(),
-        dofs: model.n_dofs(),
-        contact_nodes: model.contact().map_or(0, |c| c.len()),
-        steps: stepped.steps,
         dt: stepped.dt,
-        timings: stepped.timings,
+        steps: stepped.steps,
+        dofs: model.n_dofs(),
         contact_solves: stepped.contact_solves,
         complementarity_violation: stepped.complementarity_violation,
-        linear_solver: model.linear_solver().name().to_string(),
-        step_solves: stepped.step_solves,
-        contact_slab: stepped.contact_truncation,
-        max_balance_residual: stepped.max_balance_residual,
-        energy: energy.energy,
-        contact: face.map(|f| f.history).unwrap_or_default(),
-        vtk_files,
+        timings: stepped.timings,
         contact_treatment: problem.contact.name(),
+        max_balance_residual: stepped.max_balance_residual,
+        observed: BoxObservations {
+            elements: mesh.counts().to_vec(),
+            contact_nodes: model.contact().map_or(0, |c| c.len()),
+            linear_solver: model.linear_solver().name().to_string(),
+            step_solves: stepped.step_solves,
+            contact_slab: stepped.contact_truncation,
+            energy: energy.energy,
+            contact: face.map(|f| f.history).unwrap_or_default(),
+            vtk_files,
+        },
     })
 }
 

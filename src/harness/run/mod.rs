@@ -1,25 +1,27 @@
 //! Runs: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
-//! while observers accumulate only the requested error norms and histories; a bar's run here, a
-//! box's in [`elastic`], both through the one loop [`drive`]. An [`Observer`] sees each state as
+//! while observers accumulate only the requested error norms and histories: one [`run`] of a
+//! bar, a box or either ([`RunProblem`]), one [`RunResult`] whose geometry's observations are
+//! one field, all through the one loop [`drive`]. An [`Observer`] sees each state as
 //! the engine's [`TimeIntegrator`]. What the runs produce (results, norms, their files, box runs
 //! compared across nested meshes) is here too; above [`crate::harness::files`] only.
 //!
 //! | module | its face |
 //! |---|---|
-//! | this file | [`run`] (a bar), [`RunConfig`], [`Observables`], [`RunResult`] and its histories; [`drive`], [`Observer`], [`RunStatus`], [`time_grid`] |
+//! | this file | [`run`], [`RunProblem`], [`RunConfig`], [`Observables`], [`RunResult`], [`Observed`], [`BarObservations`] and a bar's histories; [`drive`], [`Observer`], [`RunStatus`], [`time_grid`] |
 //! | [`exact`] | the observers against an exact solution: [`exact::ErrorObservers`] and the recorders of the histories |
 //! | [`norms`] | [`norms::Norm`], the seven norms; the space and time quadratures |
-//! | [`elastic`] | [`elastic::run_box`] (a box), [`elastic::BoxRunResult`], VTK snapshots |
+//! | `bar` | a bar's run against its exact solution |
+//! | [`elastic`] | a box's run and what it observes, [`elastic::BoxObservations`]; VTK snapshots |
 //! | [`paraview`] | a box run for ParaView: [`paraview::write_collection`], [`paraview::write_obstacle`] |
 //! | [`run_files`] | the files of a run: [`run_files::RUN_JSON`], [`run_files::history_csv`], [`run_files::box_history_csv`] |
 //! | [`nested_comparison`] | a box run against a finer one on nested meshes: [`nested_comparison::projection::ProjectionRecorder`], [`nested_comparison::check`], [`nested_comparison::error_series::ErrorSeries`] |
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
-use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+mod bar;
 mod driver;
 pub mod elastic;
 pub mod exact;
@@ -31,9 +33,8 @@ pub mod run_files;
 pub use driver::{drive, finite, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
 
 use crate::engine::contact::ContactTreatment;
-use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
-pub use crate::engine::problem::Problem1d;
+pub use crate::engine::problem::{Problem, Problem1d};
 /// The discrete energy balances every run is checked against (eqs. 33/35/37), by scheme.
 pub use crate::engine::schemes::{energy_balance, TimeIntegrator};
 
@@ -41,7 +42,6 @@ use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
-use exact::{ContactRecorder, EnergyRecorder, ErrorObservers, FieldRecorder, PointRecorder};
 
 /// What a run records besides the requested norms.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -174,34 +174,73 @@ pub struct EnergyHistory {
     pub energy_exact: Vec<f64>,
 }
 
-/// Everything one run measured.
+/// Everything one run measured: what every run has, and what its geometry observes (`O`:
+/// [`BarObservations`] for a bar's run, [`elastic::BoxObservations`] for a box's, [`Observed`]
+/// for a run of either), written beside the rest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RunResult {
+pub struct RunResult<O = Observed> {
     /// How the run ended; absent from the JSON of a completed run. A run that did not
     /// complete has no error norms, no multiplier variation and no balance residual.
     #[serde(default, skip_serializing_if = "RunStatus::is_completed")]
     pub status: RunStatus,
-    /// `NX`.
-    pub nx: usize,
-    /// `h = L / NX`.
-    pub h: f64,
-    /// The time step actually used (`T / N`, `N = ⌈T ratio / h⌉`).
+    /// The time step actually used (`T / N`, `N = ⌈T ratio / h⌉`, `h` along the axis).
     pub dt: f64,
     /// Number of time steps `N`.
     pub steps: usize,
     /// Number of unknowns.
     pub dofs: usize,
-    /// `steps × dofs`, the unit of cost per step.
-    pub dof_steps: usize,
-    /// The requested error norms.
-    pub errors: BTreeMap<Norm, f64>,
     /// Steps that needed a complementarity solve.
     pub contact_solves: usize,
     /// The largest complementarity violation of any step (see
     /// [`TimeIntegrator::complementarity_violation`]).
     pub complementarity_violation: f64,
-    /// Wall-clock split.
+    /// Wall-clock split (setup includes assembly, factorisation and the Delassus operator).
     pub timings: Timings,
+    /// The contact treatment's name (`multiplier`, `penalty(gamma0=…)`, `nitsche(…)`).
+    #[serde(default = "multiplier_name")]
+    pub contact_treatment: String,
+    /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35,
+    /// 37), relative to the energy scale
+    /// ([`crate::engine::schemes::energy_balance::BalanceMonitor`]): a bar's when
+    /// [`Observables::energy_balance`] asks for it, a box's always, where the balances are
+    /// identities of the run's conventions; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_balance_residual: Option<f64>,
+    /// What the run's geometry observes.
+    #[serde(flatten)]
+    pub observed: O,
+}
+
+/// A bar's run.
+pub type BarRun = RunResult<BarObservations>;
+
+/// A box's run.
+pub type BoxRun = RunResult<elastic::BoxObservations>;
+
+/// What a run of either geometry observes: a bar's error norms against its exact solution
+/// and its histories, or a box's energy, contact face and VTK files. Written untagged: a
+/// run's JSON has its geometry's fields beside the common ones.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+#[allow(clippy::large_enum_variant)] // one per run, moved whole
+pub enum Observed {
+    /// A 1D bar ([`Problem1d`]).
+    Bar(BarObservations),
+    /// A 2D/3D box ([`elastic::BoxProblem`]).
+    Box(elastic::BoxObservations),
+}
+
+/// What a bar run observes against its exact solution.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BarObservations {
+    /// `NX`.
+    pub nx: usize,
+    /// `h = L / NX`.
+    pub h: f64,
+    /// `steps × dofs`, the unit of cost per step.
+    pub dof_steps: usize,
+    /// The requested error norms.
+    pub errors: BTreeMap<Norm, f64>,
     /// Space-norm evaluations (one per step when a displacement norm is requested).
     pub space_norm_evaluations: usize,
     /// Total variation of the computed and of the exact multiplier, when the multiplier is
@@ -215,22 +254,82 @@ pub struct RunResult {
     pub point_history: Option<PointHistory>,
     /// Fields at the requested times.
     pub fields: Vec<FieldSnapshot>,
-    /// The contact treatment's name (`multiplier`, `penalty(gamma0=…)`, `nitsche(…)`).
-    #[serde(default = "multiplier_name")]
-    pub contact_treatment: String,
-    /// The largest per-step residual of the scheme's energy balance (1D paper eqs. 33, 35,
-    /// 37), relative to the energy scale
-    /// ([`crate::engine::schemes::energy_balance::BalanceMonitor`]), when the run reports it
-    /// ([`Observables::energy_balance`]); absent otherwise.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_balance_residual: Option<f64>,
 }
 
-impl RunResult {
+impl<O> RunResult<O> {
     /// The result of a completed run; otherwise the failure that stopped it.
     pub fn completed(self) -> Result<Self, Error> {
         self.status.completed()?;
         Ok(self)
+    }
+
+    /// The same result with its observations mapped by `f`.
+    fn map_observed<Q>(self, f: impl FnOnce(O) -> Q) -> RunResult<Q> {
+        RunResult {
+            status: self.status,
+            dt: self.dt,
+            steps: self.steps,
+            dofs: self.dofs,
+            contact_solves: self.contact_solves,
+            complementarity_violation: self.complementarity_violation,
+            timings: self.timings,
+            contact_treatment: self.contact_treatment,
+            max_balance_residual: self.max_balance_residual,
+            observed: f(self.observed),
+        }
+    }
+}
+
+/// A problem a run takes, and what its run observes: a bar ([`Problem1d`]), a box
+/// ([`elastic::BoxProblem`]) or either ([`Problem`]).
+pub trait RunProblem {
+    /// What a run of it observes besides what every run has.
+    type Observations;
+
+    /// Its run of `config` with `observers` after its own: see [`run`].
+    fn run_observed(
+        &self,
+        config: &RunConfig,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<RunResult<Self::Observations>, Error>;
+}
+
+impl RunProblem for Problem1d {
+    type Observations = BarObservations;
+
+    fn run_observed(
+        &self,
+        config: &RunConfig,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<RunResult<BarObservations>, Error> {
+        bar::run_bar(self, config, observers)
+    }
+}
+
+impl RunProblem for elastic::BoxProblem {
+    type Observations = elastic::BoxObservations;
+
+    fn run_observed(
+        &self,
+        config: &RunConfig,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<RunResult<elastic::BoxObservations>, Error> {
+        elastic::run_box(self, config, observers)
+    }
+}
+
+impl RunProblem for Problem {
+    type Observations = Observed;
+
+    fn run_observed(
+        &self,
+        config: &RunConfig,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<RunResult, Error> {
+        Ok(match self {
+            Problem::Bar(bar) => run(bar, config, observers)?.map_observed(Observed::Bar),
+            Problem::Box(body) => run(body, config, observers)?.map_observed(Observed::Box),
+        })
     }
 }
 
@@ -238,79 +337,14 @@ fn multiplier_name() -> String {
     ContactTreatment::Multiplier.name()
 }
 
-/// Runs one configuration of a bar to its horizon: the one time loop ([`drive`]) with the
-/// observers `config.observables` asks for, and nothing else evaluated.
-pub fn run(problem: &Problem1d, config: &RunConfig) -> Result<RunResult, Error> {
-    let started = Instant::now();
-    let observables = &config.observables;
-    if problem.obstacle_gap.is_none() && observables.norms.contains(&Norm::MultiplierL2) {
-        return Err(ParameterError::new(
-            "norm",
-            Norm::MultiplierL2,
-            "a norm the problem defines (lambda_L2 needs an obstacle)",
-        )
-        .into());
-    }
-    let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
-    let bar = &discretisation.mesh;
-    let model = &discretisation.model;
-    let exact = problem.exact.as_ref();
-    let mut errors =
-        ErrorObservers::new(bar, exact, &observables.norms, observables.contact_history);
-    let mut contact = observables
-        .contact_history
-        .then(|| ContactRecorder::new(bar, exact));
-    let mut energy_history = observables
-        .energy_history
-        .then(|| EnergyRecorder::new(exact));
-    let mut points = (!observables.points.is_empty())
-        .then(|| PointRecorder::new(bar, exact, &observables.points));
-    let mut fields = FieldRecorder::new(bar, exact, &observables.fields_at);
-    let stepped = {
-        let mut observers: Vec<&mut dyn Observer> = vec![&mut fields];
-        observers.extend(points.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(errors.observers());
-        observers.extend(contact.as_mut().map(|o| o as &mut dyn Observer));
-        observers.extend(energy_history.as_mut().map(|o| o as &mut dyn Observer));
-        drive(
-            &discretisation,
-            problem.horizon,
-            config.ratio,
-            config.scheme,
-            &mut observers,
-            started,
-        )?
-    };
-    let completed = stepped.status.is_completed();
-    Ok(RunResult {
-        status: stepped.status,
-        nx: config.nx,
-        h: bar.h(),
-        dt: stepped.dt,
-        steps: stepped.steps,
-        dofs: model.n_dofs(),
-        dof_steps: stepped.steps * model.n_dofs(),
-        errors: if completed {
-            errors.norms(&observables.norms)
-        } else {
-            BTreeMap::new()
-        },
-        contact_solves: stepped.contact_solves,
-        complementarity_violation: stepped.complementarity_violation,
-        timings: stepped.timings,
-        space_norm_evaluations: errors.displacement.as_ref().map_or(0, |d| d.evaluations()),
-        multiplier_variation: errors
-            .multiplier
-            .as_ref()
-            .and_then(|m| m.variation())
-            .filter(|_| completed),
-        contact_history: contact.map(|c| c.history),
-        energy_history: energy_history.map(|e| e.history),
-        point_history: points.map(|p| p.history),
-        fields: fields.snapshots,
-        contact_treatment: problem.contact.name(),
-        max_balance_residual: stepped
-            .max_balance_residual
-            .filter(|_| observables.energy_balance && completed),
-    })
+/// Runs one configuration of `problem` to its horizon: the one time loop ([`drive`]) with the
+/// observers `config.observables` asks for (a bar's against its exact solution, a box's
+/// energy, contact face and VTK snapshots, [`elastic`]) followed by `observers`, whose time
+/// counts as observation. Nothing else is evaluated.
+pub fn run<P: RunProblem + ?Sized>(
+    problem: &P,
+    config: &RunConfig,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunResult<P::Observations>, Error> {
+    problem.run_observed(config, observers)
 }

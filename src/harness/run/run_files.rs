@@ -6,10 +6,10 @@
 //! figure data (`crate::studies::gravity`) reuse the point and strain tables.
 
 use crate::harness::files::artifacts::csv;
-use crate::harness::run::elastic::BoxRunResult;
-use crate::harness::run::{FieldSnapshot, PointHistory, RunResult};
+use crate::harness::run::elastic::BoxObservations;
+use crate::harness::run::{BarObservations, FieldSnapshot, PointHistory};
 
-/// The whole result of a run, as JSON ([`RunResult`] or [`BoxRunResult`]).
+/// The whole result of a run, as JSON ([`crate::harness::run::RunResult`]).
 pub const RUN_JSON: &str = "run.json";
 
 /// The digits after the point of every number in a run's CSV files (all of an `f64`).
@@ -48,8 +48,8 @@ pub fn strain_csv_name(prefix: &str, requested_time: f64) -> String {
     format!("{prefix}-t{requested_time}.csv")
 }
 
-/// The histories of a 1D run as (file name, CSV text).
-pub fn history_csv(result: &RunResult) -> Vec<(String, String)> {
+/// The histories of a 1D run (what it observed) as (file name, CSV text).
+pub fn history_csv(result: &BarObservations) -> Vec<(String, String)> {
     let digits = RUN_CSV_DIGITS;
     let mut files = Vec::new();
     if let Some(c) = &result.contact_history {
@@ -100,8 +100,8 @@ pub fn history_csv(result: &RunResult) -> Vec<(String, String)> {
     files
 }
 
-/// The histories of a 2D/3D box run as (file name, CSV text): `energy.csv` and `contact.csv`.
-pub fn box_history_csv(result: &BoxRunResult) -> Vec<(String, String)> {
+/// The histories of a 2D/3D box run (what it observed) as (file name, CSV text): `energy.csv` and `contact.csv`.
+pub fn box_history_csv(result: &BoxObservations) -> Vec<(String, String)> {
     let digits = RUN_CSV_DIGITS;
     let (t, e): (Vec<f64>, Vec<f64>) = result.energy.iter().copied().unzip();
     let c = &result.contact;

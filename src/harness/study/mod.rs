@@ -37,7 +37,7 @@ use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus, Timings};
+use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus, Timings};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, positive};
@@ -346,7 +346,7 @@ impl<'a> StudyJobs<'a> {
     }
 
     /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
-    pub fn list(&self) -> impl JobList<Output = RunResult> + '_ {
+    pub fn list(&self) -> impl JobList<Output = BarRun> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
             let cfg = RunConfig {
                 nx: self.config.levels[l],
@@ -356,7 +356,7 @@ impl<'a> StudyJobs<'a> {
                 observables: self.observables.clone(),
                 settings: self.config.settings,
             };
-            let result = run(self.problem, &cfg);
+            let result = run(self.problem, &cfg, &mut []);
             (self.done)();
             result
         })
@@ -366,7 +366,7 @@ impl<'a> StudyJobs<'a> {
     /// as a study of those cases alone would be: `kept` are some of the list's cases in its
     /// order (all of them, or those an earlier study ran, so that the list need not depend on
     /// that study). Its wall time is the list's.
-    pub fn reduce(&self, ran: ListResults<RunResult>, kept: &[Case]) -> Study {
+    pub fn reduce(&self, ran: ListResults<BarRun>, kept: &[Case]) -> Study {
         let (config, norms) = (self.config, self.norms);
         let mut studied = Vec::new();
         let mut not_run = Vec::new();
@@ -457,30 +457,35 @@ pub fn by_case<T>(results: Vec<T>, levels: usize) -> Vec<Vec<T>> {
         .collect()
 }
 
-fn case_study(case: Case, runs: &[RunResult], norms: &BTreeSet<Norm>) -> CaseStudy {
+fn case_study(case: Case, runs: &[BarRun], norms: &BTreeSet<Norm>) -> CaseStudy {
     let errors = norms
         .iter()
-        .map(|&norm| (norm, runs.iter().map(|r| r.errors[&norm]).collect()))
+        .map(|&norm| {
+            (
+                norm,
+                runs.iter().map(|r| r.observed.errors[&norm]).collect(),
+            )
+        })
         .collect();
     let levels = runs
         .iter()
         .map(|r| LevelRecord {
-            nx: r.nx,
-            h: r.h,
+            nx: r.observed.nx,
+            h: r.observed.h,
             dt: r.dt,
             steps: r.steps,
             dofs: r.dofs,
             timings: r.timings,
-            multiplier_variation_ratio: r.multiplier_variation.and_then(|v| v.ratio()),
+            multiplier_variation_ratio: r.observed.multiplier_variation.and_then(|v| v.ratio()),
         })
         .collect();
     CaseStudy::from_levels(case, levels, errors)
 }
 
-impl InRange for RunResult {
+impl InRange for BarRun {
     fn out_of_range(&self) -> Option<String> {
-        positive("h", self.h)
+        positive("h", self.observed.h)
             .or_else(|| positive("dt", self.dt))
-            .or_else(|| errors_out_of_range(&self.errors))
+            .or_else(|| errors_out_of_range(&self.observed.errors))
     }
 }

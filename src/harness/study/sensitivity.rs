@@ -25,7 +25,7 @@ use crate::engine::error::{require_positive, ParameterError};
 use crate::engine::problem::Perturbation;
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{run, Observables, Problem1d, RunConfig, RunResult, RunStatus};
+use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, least_squares_slope};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
@@ -274,8 +274,8 @@ pub fn run_ensemble(
     problem: &Problem1d,
     config: &RunConfig,
     ensemble: EnsembleConfig,
-    observe: &mut dyn FnMut(RunResult, Option<Separation>) -> Result<(), Error>,
-) -> Result<RunResult, Error> {
+    observe: &mut dyn FnMut(BarRun, Option<Separation>) -> Result<(), Error>,
+) -> Result<BarRun, Error> {
     ensemble.validate()?;
     let mut config = config.clone();
     config.observables.contact_history = true;
@@ -285,8 +285,9 @@ pub fn run_ensemble(
         .iter()
         .fold(0.0_f64, |m, x| m.max(x.abs()))
         .max(f64::MIN_POSITIVE);
-    let base = run(problem, &config)?;
+    let base = run(problem, &config, &mut [])?;
     let Some(base_history) = base
+        .observed
         .contact_history
         .as_ref()
         .filter(|_| base.status.is_completed())
@@ -300,8 +301,9 @@ pub fn run_ensemble(
             amplitude: ensemble.amplitude * scale,
             seed: member as u64,
         });
-        let r = run(problem, &config)?;
+        let r = run(problem, &config, &mut [])?;
         let separation = r
+            .observed
             .contact_history
             .as_ref()
             .filter(|_| r.status.is_completed())
@@ -436,7 +438,7 @@ fn level_ensemble(
             stopped = Some(member.status);
             return Err(e.into());
         }
-        errors.push(member.errors);
+        errors.push(member.observed.errors);
         separations.extend(separation);
         Ok(())
     });

@@ -35,12 +35,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{MassVariant, Scheme, Settings};
-use crate::harness::run::elastic::{
-    box_mesh, run_box_observed, BoxContactHistory, BoxProblem, BoxRunResult,
-};
+use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
 use crate::harness::run::nested_comparison::projection::NormMatrices;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{Observables, Observer, RunConfig, RunStatus, TimeIntegrator};
+use crate::harness::run::{
+    run, BoxRun, Observables, Observer, RunConfig, RunStatus, TimeIntegrator,
+};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::scene::Scene;
@@ -673,7 +673,7 @@ fn run_compared(
     n_axis: usize,
     comparison: &mut ReferenceComparison<'_>,
     observers: &mut [&mut dyn Observer],
-) -> Result<BoxRunResult, Error> {
+) -> Result<BoxRun, Error> {
     let config = RunConfig {
         nx: n_axis,
         ratio,
@@ -686,7 +686,7 @@ fn run_compared(
     for o in observers.iter_mut() {
         all.push(&mut **o);
     }
-    run_box_observed(problem, &config, &mut all)
+    run(problem, &config, &mut all)
 }
 
 /// One case of a study of `config` at one level, compared with the reference at every step:
@@ -753,12 +753,12 @@ fn run_level(
             case: case.id(),
             level: n_axis,
             element_size: h,
-            contact: result.contact.clone(),
-            energy: result.energy,
+            contact: result.observed.contact.clone(),
+            energy: result.observed.energy,
             stress,
         }),
         ensemble: None,
         ensemble_seconds: 0.0,
     };
-    Ok((outcome, result.contact))
+    Ok((outcome, result.observed.contact))
 }

@@ -32,12 +32,12 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
 use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
-use crate::harness::run::elastic::{box_mesh, run_box_observed, BoxMesh, BoxProblem};
+use crate::harness::run::elastic::{box_mesh, BoxMesh, BoxProblem};
 use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
 use crate::harness::run::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
-use crate::harness::run::{Observables, RunConfig};
+use crate::harness::run::{run, Observables, RunConfig};
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
 /// projections on the fitted levels and the lockstep check replace the displacement samples;
@@ -336,9 +336,9 @@ impl Reference {
         let (run, distance, check_run) = std::thread::scope(|scope| {
             let check = scope.spawn(|| {
                 let mut send = CheckSender::new(sender, check_stride);
-                run_box_observed(problem, &check_config, &mut [&mut send])
+                run(problem, &check_config, &mut [&mut send])
             });
-            let run = run_box_observed(problem, &config, &mut [&mut recorder, &mut comparison]);
+            let run = run(problem, &config, &mut [&mut recorder, &mut comparison]);
             let distance = comparison.finish();
             let check_run = check
                 .join()
@@ -350,19 +350,30 @@ impl Reference {
         let projections = recorder.finish();
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
-        let centre_displacement: Vec<f64> =
-            run.contact.centre_gap.iter().map(|g| g - gap).collect();
-        let energy: Vec<f64> = run.energy.iter().map(|&(_, e)| e).collect();
+        let centre_displacement: Vec<f64> = run
+            .observed
+            .contact
+            .centre_gap
+            .iter()
+            .map(|g| g - gap)
+            .collect();
+        let energy: Vec<f64> = run.observed.energy.iter().map(|&(_, e)| e).collect();
         let histories = ReferenceHistories {
             dofs: run.dofs,
             steps: run.steps,
             dt: run.dt,
             seconds: clock.elapsed().as_secs_f64(),
-            time: run.energy.iter().step_by(every).map(|&(t, _)| t).collect(),
+            time: run
+                .observed
+                .energy
+                .iter()
+                .step_by(every)
+                .map(|&(t, _)| t)
+                .collect(),
             energy: pick(&energy),
-            total_force: pick(&run.contact.total_force),
+            total_force: pick(&run.observed.contact.total_force),
             centre_displacement: pick(&centre_displacement),
-            centre_multiplier: pick(&run.contact.centre_multiplier),
+            centre_multiplier: pick(&run.observed.contact.centre_multiplier),
             projections: projections
                 .iter()
                 .map(|p| ProjectionLayout {

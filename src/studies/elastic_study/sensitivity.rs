@@ -105,7 +105,7 @@ pub(super) fn run_members(
         separations.push(Separation::between(
             &base.time,
             &base.centre_gap,
-            &run.contact.centre_gap,
+            &run.observed.contact.centre_gap,
         ));
         errors.push(comparison.errors());
     }

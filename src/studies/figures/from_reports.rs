@@ -24,7 +24,7 @@ use crate::harness::render::figures::{
     WorkPrecisionSeries,
 };
 use crate::harness::run::norms::Norm;
-use crate::harness::run::RunResult;
+use crate::harness::run::BarRun;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
@@ -48,7 +48,10 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
             runs: runs
                 .clone()
                 .filter_map(|(_, nx, r)| {
-                    r.contact_history.clone().map(|c| (format!("NX = {nx}"), c))
+                    r.observed
+                        .contact_history
+                        .clone()
+                        .map(|c| (format!("NX = {nx}"), c))
                 })
                 .collect(),
         });
@@ -56,7 +59,10 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
             label: panel_label(mass),
             runs: runs
                 .filter_map(|(_, nx, r)| {
-                    r.energy_history.clone().map(|e| (format!("NX = {nx}"), e))
+                    r.observed
+                        .energy_history
+                        .clone()
+                        .map(|e| (format!("NX = {nx}"), e))
                 })
                 .collect(),
         });
@@ -79,11 +85,11 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
 /// The gravity benchmark's Figures 2–4 from its study and its NX = 160 runs (one per mass).
 pub fn gravity_figures(
     study: &Study,
-    runs: &[(MassVariant, RunResult)],
+    runs: &[(MassVariant, BarRun)],
 ) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
     for (mass, r) in runs {
-        if let Some(p) = &r.point_history {
+        if let Some(p) = &r.observed.point_history {
             let mut series = Vec::new();
             for (k, x) in p.x.iter().enumerate() {
                 series.push((
@@ -110,7 +116,7 @@ pub fn gravity_figures(
             ));
         }
         let mut strain = Vec::new();
-        for f in &r.fields {
+        for f in &r.observed.fields {
             strain.push((
                 format!("∂x u_h, t = {:.2}", f.time),
                 f.x_mid.clone(),
@@ -278,10 +284,10 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
         Err(e) => missing.push(unreadable(&e)),
     }
     let gravity_dir = reports.join(gravity::GRAVITY_DIR);
-    let gravity_runs: Result<Vec<(MassVariant, RunResult)>, _> = MassVariant::PAPER
+    let gravity_runs: Result<Vec<(MassVariant, BarRun)>, _> = MassVariant::PAPER
         .iter()
         .map(|&m| {
-            read_json::<RunResult>(&gravity_dir.join(gravity::run_file(m)), REPORT_DATA)
+            read_json::<BarRun>(&gravity_dir.join(gravity::run_file(m)), REPORT_DATA)
                 .map(|r| (m, r))
         })
         .collect();
