@@ -1,8 +1,9 @@
 //! A refinement study of a scene as a user asks for it (`signorini study`): the scene's own
 //! study (its schemes, the paper's two masses, its norms, levels and ratio) with the user's
-//! choices over it, whatever the geometry. A bar is compared with its exact solution
-//! ([`run_study_on`]), a box with its fine-mesh reference ([`run_elastic_study_on`]); the
-//! command only parses, hands over an executor and prints or writes what comes back.
+//! choices over it, whatever the geometry: the one study ([`run_study_on`]) of its cases ×
+//! levels, a bar's measured against its exact solution, a box's against its fine-mesh reference
+//! ([`run_elastic_study_on`]); the command only parses, hands over an executor and prints or
+//! writes what comes back.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -17,7 +18,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::Scene;
-use crate::harness::study::{run_study_on, study_size, Case, Study, StudyConfig};
+use crate::harness::study::{run_study_on, study_size, Case, Study, StudyConfig, StudyJobs};
 use crate::studies::elastic_study::files::write_elastic_files;
 use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::elastic_study::{
@@ -270,12 +271,15 @@ impl SceneStudy {
                 cases,
                 norms,
                 config,
-            } => run_study_on(executor, problem, cases, norms, config, done)?.reduce(|study| {
-                Ok(StudyOutcome::Bar {
-                    scene: scene.clone(),
-                    study,
+            } => {
+                let jobs = StudyJobs::new(problem, cases, norms, config)?.reporting(done);
+                run_study_on(executor, &jobs)?.reduce(|(study, _)| {
+                    Ok(StudyOutcome::Bar {
+                        scene: scene.clone(),
+                        study,
+                    })
                 })
-            }),
+            }
             Self::Box { problem, config } => {
                 run_elastic_study_on(executor, problem, config, cache, note)?
                     .reduce(|(study, histories)| Ok(StudyOutcome::Box { study, histories }))

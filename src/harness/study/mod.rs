@@ -1,12 +1,13 @@
 //! Studies: a set of cases (scheme × mass variant) run at every level, in parallel, with the
-//! rates of every requested norm (a bar's refinement study here); every study's jobs and who
+//! rates of every requested norm, whatever the geometry: one job per case × level measured
+//! against the study's reference, one reduce; every study's jobs and who
 //! runs them, round-off ensembles, the regression gate, the scene a study is described by and
 //! what the cost of a run or a study is held to. Above [`crate::harness::run`], whose runs it
 //! drives.
 //!
 //! | module | its face |
 //! |---|---|
-//! | this file | [`Case`], [`StudyConfig`], [`run_study`] / [`run_study_on`] (a bar's study), [`Study`], [`CaseStudy`], [`NormRates`], [`fit_norm_rates`]; the case × level jobs [`CaseLevels`], [`by_case`] |
+//! | this file | [`Case`], [`StudyConfig`], [`run_study_on`] (the study of any geometry: [`StudyJobs`] measured by a [`LevelMeasure`], [`AgainstExact`] for a bar), [`run_study`] (a bar's, here), [`LevelOutcome`], [`Study::assemble`], [`CaseStudy`], [`NormRates`], [`fit_norm_rates`]; the case × level jobs [`CaseLevels`], [`by_case`] |
 //! | [`executor`] | [`executor::JobList`], [`executor::Executor`] (local, a shard's share, a merge of the shards) and [`executor::Executed`] |
 //! | [`shard`] | `--shard K/N` and `merge`: [`shard::ShardSpec`], [`shard::ShardFile`], [`shard::merge`], [`shard::codec`], [`shard::InRange`] |
 //! | [`rates`] | [`rates::fit_rate`], [`rates::RateFit`], [`rates::observed_orders`] |
@@ -251,6 +252,48 @@ impl NotRun {
     }
 }
 
+/// What one case × level job of a study measured, whatever the geometry: how its run ended,
+/// the level's record and its errors against the study's reference (a bar's exact solution, a
+/// box's fine-mesh reference). A run that stopped has no errors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LevelOutcome {
+    /// How the run ended.
+    #[serde(default)]
+    pub status: RunStatus,
+    /// The level's record.
+    pub record: LevelRecord,
+    /// The error of each norm measured.
+    pub errors: BTreeMap<Norm, f64>,
+}
+
+impl LevelOutcome {
+    /// A bar's run at its level, its errors measured against the exact solution while it ran.
+    pub fn of_bar_run(run: BarRun) -> Self {
+        let bar = run.observed;
+        Self {
+            status: run.status,
+            record: LevelRecord {
+                nx: bar.nx,
+                h: bar.h,
+                dt: run.dt,
+                steps: run.steps,
+                dofs: run.dofs,
+                timings: run.timings,
+                multiplier_variation_ratio: bar.multiplier_variation.and_then(|v| v.ratio()),
+            },
+            errors: bar.errors,
+        }
+    }
+}
+
+impl InRange for LevelOutcome {
+    fn out_of_range(&self) -> Option<String> {
+        positive("h", self.record.h)
+            .or_else(|| positive("dt", self.record.dt))
+            .or_else(|| errors_out_of_range(&self.errors))
+    }
+}
+
 /// A whole study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Study {
@@ -268,14 +311,51 @@ pub struct Study {
 }
 
 impl Study {
+    /// The study of `config` measuring `norms` from the outcomes of each case's levels (in
+    /// level order), bar or box alike: a case whose runs all completed is fitted
+    /// ([`CaseStudy::from_levels`]); one with a stopped run is listed as [`NotRun`] at its
+    /// first stopped level. `wall_seconds`: the study's wall-clock time.
+    pub fn assemble(
+        config: StudyConfig,
+        norms: Vec<Norm>,
+        by_case: impl IntoIterator<Item = (Case, Vec<LevelOutcome>)>,
+        wall_seconds: f64,
+    ) -> Self {
+        let mut cases = Vec::new();
+        let mut not_run = Vec::new();
+        for (case, outcomes) in by_case {
+            let statuses: Vec<&RunStatus> = outcomes.iter().map(|o| &o.status).collect();
+            if let Some(stopped) = NotRun::first(case, &config.levels, &statuses) {
+                not_run.push(stopped);
+                continue;
+            }
+            let mut records = Vec::with_capacity(outcomes.len());
+            let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
+            for outcome in outcomes {
+                for (norm, e) in outcome.errors {
+                    errors.entry(norm).or_default().push(e);
+                }
+                records.push(outcome.record);
+            }
+            cases.push(CaseStudy::from_levels(case, records, errors));
+        }
+        Self {
+            config,
+            norms,
+            cases,
+            not_run,
+            wall_seconds,
+        }
+    }
+
     /// The study of `case`, if it was run.
     pub fn case(&self, case: &Case) -> Option<&CaseStudy> {
         self.cases.iter().find(|c| c.case == *case)
     }
 }
 
-/// Runs every case at every level (in parallel over case × level, largest levels first) and
-/// fits the rates of every norm in `norms`. Only those norms are evaluated.
+/// Runs every case of a bar at every level (in parallel over case × level, largest levels
+/// first) and fits the rates of every norm in `norms`. Only those norms are evaluated.
 pub fn run_study(
     problem: &Problem1d,
     cases: &[Case],
@@ -292,98 +372,190 @@ pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
     cases.len() * config.levels.len()
 }
 
-/// [`run_study`] with its case × level runs handed to `executor`, calling `done` after each
-/// run (from the worker threads): the study, or a shard's share of its runs.
-pub fn run_study_on(
+/// A study of any geometry against its reference: its case × level jobs handed to `executor`,
+/// each measured by `jobs`' [`LevelMeasure`], then fitted ([`Study::assemble`]). What the
+/// study, or a shard's share of its jobs, gives back: the study and what each case it fitted
+/// kept of its levels ([`LevelMeasure::Kept`]), in the order of its cases.
+pub fn run_study_on<M: LevelMeasure>(
     executor: &Executor,
-    problem: &Problem1d,
-    cases: &[Case],
-    norms: &BTreeSet<Norm>,
-    config: &StudyConfig,
-    done: &(dyn Fn() + Sync),
-) -> Result<Executed<Study>, Error> {
-    let jobs = StudyJobs {
-        done,
-        ..StudyJobs::new(problem, cases, norms, config)?
-    };
-    let executed = executor.execute(&jobs.list())?;
-    executed.reduce(|runs| Ok(jobs.reduce(runs, cases)))
+    jobs: &StudyJobs<'_, M>,
+) -> Result<Executed<Fitted<M::Kept>>, Error> {
+    executor
+        .execute(&jobs.list())?
+        .reduce(|ran| Ok(jobs.reduce_keeping(ran, jobs.cases)))
 }
 
-/// A bar study as its jobs (one run per case × level, [`StudyJobs::list`]) and its reduce step
-/// ([`StudyJobs::reduce`]), for a command that hands several lists to one executor
-/// ([`crate::harness::study::executor::Batch`]).
-pub struct StudyJobs<'a> {
+/// A study and what each case it fitted kept of its levels, in level order.
+pub type Fitted<K> = (Study, Vec<(Case, Vec<K>)>);
+
+/// How a study measures one case at one level against its reference: a bar's run against its
+/// exact solution ([`AgainstExact`]), a box's run against a fine-mesh reference
+/// (`crate::studies::elastic_study`).
+pub trait LevelMeasure: Sync {
+    /// What a job keeps besides its outcome, for the study's own use (nothing for a bar; a
+    /// box's histories and round-off ensemble).
+    type Kept: Send + Serialize + DeserializeOwned + InRange;
+
+    /// The outcome of `case` at `level` (`NX`, or elements along a box's axis) against the
+    /// reference, with what the job keeps.
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<Self::Kept>, Error>;
+}
+
+impl<T: LevelMeasure> LevelMeasure for &T {
+    type Kept = T::Kept;
+
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<T::Kept>, Error> {
+        (**self).measure(case, level)
+    }
+}
+
+/// One job's measure: its outcome and what it keeps.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Measured<K> {
+    /// The level's outcome against the reference.
+    pub outcome: LevelOutcome,
+    /// What the study keeps besides.
+    pub kept: K,
+}
+
+impl<K: InRange> InRange for Measured<K> {
+    fn out_of_range(&self) -> Option<String> {
+        self.outcome
+            .out_of_range()
+            .or_else(|| self.kept.out_of_range())
+    }
+}
+
+/// A bar's runs against its exact solution: the run's own error observers measure the
+/// requested norms while it steps.
+pub struct AgainstExact<'a> {
     problem: &'a Problem1d,
-    cases: &'a [Case],
-    norms: &'a BTreeSet<Norm>,
-    config: &'a StudyConfig,
+    ratio: f64,
+    settings: Settings,
     observables: Observables,
+}
+
+impl LevelMeasure for AgainstExact<'_> {
+    type Kept = ();
+
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<()>, Error> {
+        let config = RunConfig {
+            nx: level,
+            ratio: self.ratio,
+            scheme: case.scheme,
+            mass: case.mass,
+            observables: self.observables.clone(),
+            settings: self.settings,
+        };
+        let outcome = LevelOutcome::of_bar_run(run(self.problem, &config, &mut [])?);
+        Ok(Measured { outcome, kept: () })
+    }
+}
+
+/// A study as its jobs (one per case × level, [`StudyJobs::list`], each measured by `M`) and
+/// its reduce step ([`StudyJobs::reduce`]), for [`run_study_on`] or a command that hands
+/// several lists to one executor ([`crate::harness::study::executor::Batch`]).
+pub struct StudyJobs<'a, M = AgainstExact<'a>> {
+    measure: M,
+    cases: &'a [Case],
+    norms: Vec<Norm>,
+    config: &'a StudyConfig,
     done: &'a (dyn Fn() + Sync),
 }
 
 impl<'a> StudyJobs<'a> {
-    /// The study of `cases` of `problem` at the levels of `config`, evaluating `norms`; its
-    /// configuration checked.
+    /// The study of `cases` of the bar `problem` at the levels of `config` against its exact
+    /// solution, evaluating `norms`; its configuration checked.
     pub fn new(
         problem: &'a Problem1d,
         cases: &'a [Case],
-        norms: &'a BTreeSet<Norm>,
+        norms: &BTreeSet<Norm>,
         config: &'a StudyConfig,
     ) -> Result<Self, Error> {
         config.validate()?;
-        Ok(Self {
+        let measure = AgainstExact {
             problem,
-            cases,
-            norms,
-            config,
+            ratio: config.ratio,
+            settings: config.settings,
             observables: Observables {
                 norms: norms.clone(),
                 ..Observables::default()
             },
+        };
+        Ok(Self::measured_by(measure, cases, norms, config))
+    }
+}
+
+impl<'a, M: LevelMeasure> StudyJobs<'a, M> {
+    /// The study of `cases` at the levels of `config`, each measured by `measure`, of the
+    /// norms `norms`.
+    pub fn measured_by(
+        measure: M,
+        cases: &'a [Case],
+        norms: &BTreeSet<Norm>,
+        config: &'a StudyConfig,
+    ) -> Self {
+        Self {
+            measure,
+            cases,
+            norms: norms.iter().copied().collect(),
+            config,
             done: &|| {},
-        })
+        }
+    }
+
+    /// The same jobs calling `done` after each (from the worker threads: a progress count).
+    pub fn reporting(self, done: &'a (dyn Fn() + Sync)) -> Self {
+        Self { done, ..self }
+    }
+
+    /// The measure of each job.
+    pub fn measure(&self) -> &M {
+        &self.measure
     }
 
     /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
-    pub fn list(&self) -> impl JobList<Output = BarRun> + '_ {
+    pub fn list(&self) -> impl JobList<Output = Measured<M::Kept>> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
-            let cfg = RunConfig {
-                nx: self.config.levels[l],
-                ratio: self.config.ratio,
-                scheme: self.cases[c].scheme,
-                mass: self.cases[c].mass,
-                observables: self.observables.clone(),
-                settings: self.config.settings,
-            };
-            let result = run(self.problem, &cfg, &mut []);
+            let measured = self.measure.measure(self.cases[c], self.config.levels[l]);
             (self.done)();
-            result
+            measured
         })
     }
 
-    /// The study of the cases `kept` from every run of the list (`ran`, in the list's order),
+    /// The study of the cases `kept` from every job of the list (`ran`, in the list's order),
     /// as a study of those cases alone would be: `kept` are some of the list's cases in its
     /// order (all of them, or those an earlier study ran, so that the list need not depend on
     /// that study). Its wall time is the list's.
-    pub fn reduce(&self, ran: ListResults<BarRun>, kept: &[Case]) -> Study {
-        let (config, norms) = (self.config, self.norms);
-        let mut studied = Vec::new();
-        let mut not_run = Vec::new();
-        for (case, runs) in kept_cases(self.cases, ran.results, config.levels.len(), kept) {
-            let statuses: Vec<&RunStatus> = runs.iter().map(|r| &r.status).collect();
-            match NotRun::first(case, &config.levels, &statuses) {
-                Some(stopped) => not_run.push(stopped),
-                None => studied.push(case_study(case, &runs, norms)),
+    pub fn reduce(&self, ran: ListResults<Measured<M::Kept>>, kept: &[Case]) -> Study {
+        self.reduce_keeping(ran, kept).0
+    }
+
+    /// [`StudyJobs::reduce`], with what each case the study fitted kept of its levels.
+    pub fn reduce_keeping(
+        &self,
+        ran: ListResults<Measured<M::Kept>>,
+        kept: &[Case],
+    ) -> Fitted<M::Kept> {
+        let config = self.config;
+        let mut by_case = Vec::new();
+        let mut kept_by_case = Vec::new();
+        for (case, measured) in kept_cases(self.cases, ran.results, config.levels.len(), kept) {
+            let completed = measured.iter().all(|m| m.outcome.status.is_completed());
+            let (outcomes, levels_kept): (Vec<LevelOutcome>, Vec<M::Kept>) =
+                measured.into_iter().map(|m| (m.outcome, m.kept)).unzip();
+            if completed {
+                kept_by_case.push((case, levels_kept));
             }
+            by_case.push((case, outcomes));
         }
-        Study {
-            config: config.clone(),
-            norms: norms.iter().copied().collect(),
-            cases: studied,
-            not_run,
-            wall_seconds: ran.wall_seconds,
-        }
+        let study = Study::assemble(
+            config.clone(),
+            self.norms.clone(),
+            by_case,
+            ran.wall_seconds,
+        );
+        (study, kept_by_case)
     }
 }
 
@@ -455,31 +627,6 @@ pub fn by_case<T>(results: Vec<T>, levels: usize) -> Vec<Vec<T>> {
     (0..cases)
         .map(|_| results.by_ref().take(levels).collect())
         .collect()
-}
-
-fn case_study(case: Case, runs: &[BarRun], norms: &BTreeSet<Norm>) -> CaseStudy {
-    let errors = norms
-        .iter()
-        .map(|&norm| {
-            (
-                norm,
-                runs.iter().map(|r| r.observed.errors[&norm]).collect(),
-            )
-        })
-        .collect();
-    let levels = runs
-        .iter()
-        .map(|r| LevelRecord {
-            nx: r.observed.nx,
-            h: r.observed.h,
-            dt: r.dt,
-            steps: r.steps,
-            dofs: r.dofs,
-            timings: r.timings,
-            multiplier_variation_ratio: r.observed.multiplier_variation.and_then(|v| v.ratio()),
-        })
-        .collect();
-    CaseStudy::from_levels(case, levels, errors)
 }
 
 impl InRange for BarRun {

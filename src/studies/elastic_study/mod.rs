@@ -28,7 +28,7 @@ pub mod reference;
 pub mod report;
 pub mod sensitivity;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -38,16 +38,16 @@ use crate::harness::problem::{MassVariant, Scheme, Settings};
 use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
 use crate::harness::run::nested_comparison::projection::NormMatrices;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{
-    run, BoxRun, Observables, Observer, RunConfig, RunStatus, TimeIntegrator,
-};
-use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
+use crate::harness::run::{run, BoxRun, Observables, Observer, RunConfig, TimeIntegrator};
+use crate::harness::study::executor::{run_local, Executed, Executor};
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::{EnsembleConfig, LevelEnsemble, Sensitivity};
-use crate::harness::study::shard::range::{errors_out_of_range, positive};
 use crate::harness::study::shard::InRange;
-use crate::harness::study::{Case, CaseStudy, LevelRecord, NotRun, Study, StudyConfig};
+use crate::harness::study::{
+    run_study_on, Case, CaseStudy, Fitted, LevelMeasure, LevelOutcome, LevelRecord, Measured,
+    Study, StudyConfig, StudyJobs,
+};
 use comparison::ReferenceComparison;
 use findings::{note_findings, Finding};
 use reference::{Reference, ReferenceCache, ReferenceKey};
@@ -282,26 +282,19 @@ pub struct ElasticHistories {
     pub cases: Vec<CaseHistories>,
 }
 
-/// What one (case, level) job measured: its unperturbed run and, when the study has one, its
-/// round-off ensemble with the members' run time in seconds.
+/// What one (case, level) job of a box study keeps besides its outcome: when the study has
+/// one, its round-off ensemble with the members' run time in seconds; at the finest level, the
+/// case's histories. A run that stopped keeps nothing.
 #[derive(Serialize, Deserialize)]
-struct LevelOutcome {
-    /// How the run ended; a run that stopped has no errors, histories or ensemble.
-    #[serde(default)]
-    status: RunStatus,
-    record: LevelRecord,
-    errors: BTreeMap<Norm, f64>,
+struct BoxKept {
     histories: Option<CaseHistories>,
     ensemble: Option<LevelEnsemble>,
     ensemble_seconds: f64,
 }
 
-impl InRange for LevelOutcome {
+impl InRange for BoxKept {
     fn out_of_range(&self) -> Option<String> {
-        positive("h", self.record.h)
-            .or_else(|| positive("dt", self.record.dt))
-            .or_else(|| errors_out_of_range(&self.errors))
-            .or_else(|| self.ensemble.as_ref().and_then(InRange::out_of_range))
+        self.ensemble.as_ref().and_then(InRange::out_of_range)
     }
 }
 
@@ -361,11 +354,14 @@ pub fn run_elastic_study(
     cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
-    let study = ElasticJobs::new(problem, config, cache, note)?;
-    study.reduce(run_local(&study)?)
+    let prepared = PreparedBoxStudy::new(problem, config, cache, note)?;
+    let jobs = prepared.jobs();
+    let ran = run_local(&jobs.list())?;
+    prepared.finish(jobs.reduce_keeping(ran, &config.cases))
 }
 
-/// [`run_elastic_study`] with its case × level jobs handed to `executor`: the study, or a
+/// [`run_elastic_study`] with its case × level jobs handed to `executor`: the one study
+/// ([`run_study_on`]) of the box against its fine-mesh reference ([`AgainstFineMesh`]), or a
 /// shard's share of its jobs. The reference is obtained first, here, whatever the executor.
 pub fn run_elastic_study_on(
     executor: &Executor,
@@ -374,26 +370,77 @@ pub fn run_elastic_study_on(
     cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
 ) -> Result<Executed<(ElasticStudy, ElasticHistories)>, Error> {
-    let study = ElasticJobs::new(problem, config, cache, note)?;
-    executor
-        .execute(&study)?
-        .reduce(|outcomes| study.reduce(outcomes))
+    let prepared = PreparedBoxStudy::new(problem, config, cache, note)?;
+    run_study_on(executor, &prepared.jobs())?.reduce(|fitted| prepared.finish(fitted))
 }
 
-/// A box study as its jobs (one per case × level, against the reference) and its reduce step.
-struct ElasticJobs<'a> {
+/// A box study ready to run: its reference obtained, the measure of its jobs, the study's
+/// levels and norms, and the time taken to prepare it.
+struct PreparedBoxStudy<'a> {
+    measure: AgainstFineMesh<'a>,
+    study_config: StudyConfig,
+    norms: BTreeSet<Norm>,
+    /// The time spent before the jobs (the reference obtained), seconds.
+    prepared_seconds: f64,
+}
+
+impl<'a> PreparedBoxStudy<'a> {
+    /// The study of `config` on `problem`, its reference obtained from `cache` or computed.
+    fn new(
+        problem: &'a BoxProblem,
+        config: &'a ElasticStudyConfig,
+        cache: &ReferenceCache,
+        note: &mut dyn FnMut(String),
+    ) -> Result<Self, Error> {
+        let clock = Instant::now();
+        let measure = AgainstFineMesh::new(problem, config, cache, note)?;
+        Ok(Self {
+            measure,
+            study_config: StudyConfig {
+                levels: config.levels.clone(),
+                ratio: config.ratio,
+                horizon: problem.horizon,
+                settings: config.settings,
+            },
+            norms: Norm::ALL.into_iter().collect(),
+            prepared_seconds: clock.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Its case × level jobs: the box study's norms, every one.
+    fn jobs(&self) -> StudyJobs<'_, &AgainstFineMesh<'a>> {
+        StudyJobs::measured_by(
+            &self.measure,
+            &self.measure.config.cases,
+            &self.norms,
+            &self.study_config,
+        )
+    }
+
+    /// The box study of the fitted study and what its cases kept; its wall time counts the
+    /// preparation.
+    fn finish(
+        &self,
+        (mut study, kept): Fitted<BoxKept>,
+    ) -> Result<(ElasticStudy, ElasticHistories), Error> {
+        study.wall_seconds += self.prepared_seconds;
+        self.measure.reduce(study, kept)
+    }
+}
+
+/// A box's runs against the fine-mesh reference: each compared with the reference's projection
+/// on its level at every step, with its round-off ensemble when the study has one; the finest
+/// level keeps the case's histories.
+struct AgainstFineMesh<'a> {
     problem: &'a BoxProblem,
     config: &'a ElasticStudyConfig,
     finest: usize,
     ensemble: Option<sensitivity::Noise>,
     comparator: Comparator,
-    jobs: Vec<(Case, usize)>,
-    /// The time spent here before the jobs (the reference obtained), seconds.
-    prepared_seconds: f64,
 }
 
-impl<'a> ElasticJobs<'a> {
-    /// The study's jobs, with its reference obtained ([`obtain_reference`]).
+impl<'a> AgainstFineMesh<'a> {
+    /// The measure of `config`'s runs, with its reference obtained ([`obtain_reference`]).
     fn new(
         problem: &'a BoxProblem,
         config: &'a ElasticStudyConfig,
@@ -409,29 +456,25 @@ impl<'a> ElasticJobs<'a> {
                     .map(|scale| sensitivity::Noise { ensemble, scale })
             })
             .transpose()?;
-        let clock = Instant::now();
         let reference = obtain_reference(problem, config, cache, note)?;
         let comparator = Comparator::new(problem, reference, finest)?;
-        let jobs = config
-            .cases
-            .iter()
-            .flat_map(|&case| config.levels.iter().map(move |&n| (case, n)))
-            .collect();
         Ok(Self {
             problem,
             config,
             finest,
             ensemble,
             comparator,
-            jobs,
-            prepared_seconds: clock.elapsed().as_secs_f64(),
         })
     }
+}
 
-    /// One job: `case` on `n` elements along the axis, with its ensemble when the study has one.
-    fn run_job(&self, case: Case, n: usize) -> Result<LevelOutcome, Error> {
+impl LevelMeasure for AgainstFineMesh<'_> {
+    type Kept = BoxKept;
+
+    /// `case` on `n` elements along the axis, with its ensemble when the study has one.
+    fn measure(&self, case: Case, n: usize) -> Result<Measured<BoxKept>, Error> {
         let (problem, config, comparator) = (self.problem, self.config, &self.comparator);
-        let (mut outcome, base) = run_level(
+        let (mut measured, base) = run_level(
             problem,
             config,
             case,
@@ -439,84 +482,45 @@ impl<'a> ElasticJobs<'a> {
             n == self.finest,
             comparator.comparison(n),
         )?;
-        if let Some(noise) = self.ensemble.filter(|_| outcome.status.is_completed()) {
+        if let Some(noise) = self
+            .ensemble
+            .filter(|_| measured.outcome.status.is_completed())
+        {
             let members = Instant::now();
-            outcome.ensemble = Some(sensitivity::run_members(
+            measured.kept.ensemble = Some(sensitivity::run_members(
                 problem, config, case, n, comparator, &base, noise,
             )?);
-            outcome.ensemble_seconds = members.elapsed().as_secs_f64();
+            measured.kept.ensemble_seconds = members.elapsed().as_secs_f64();
         }
-        Ok(outcome)
+        Ok(measured)
     }
+}
 
-    /// The study of every job's outcome, in the list's order (`ran`); its wall time is the
-    /// time spent here before the jobs and the jobs' list's.
+impl AgainstFineMesh<'_> {
+    /// The box study of `study`, fitted from every job's outcome, with what each case it
+    /// fitted kept of its levels (`kept`, in the order of the cases): the reference check, the
+    /// note's findings, the round-off classes and the figure data.
     fn reduce(
         &self,
-        ran: ListResults<LevelOutcome>,
+        study: Study,
+        kept: Vec<(Case, Vec<BoxKept>)>,
     ) -> Result<(ElasticStudy, ElasticHistories), Error> {
-        let (problem, config, comparator, jobs) =
-            (self.problem, self.config, &self.comparator, &self.jobs);
-        let outcomes = ran.results;
+        let (problem, config, comparator) = (self.problem, self.config, &self.comparator);
         let ensemble = self.ensemble;
-        let mut by_job: BTreeMap<(String, usize), LevelOutcome> = jobs
-            .iter()
-            .map(|(case, n)| (case.id(), *n))
-            .zip(outcomes)
-            .collect();
-
         let mut histories = Vec::new();
         let mut ensembles: Vec<Vec<LevelEnsemble>> = Vec::new();
         let mut ensemble_seconds = 0.0;
-        let mut not_run = Vec::new();
-        let run_cases: Vec<Case> = config
-            .cases
-            .iter()
-            .copied()
-            .filter(|case| {
-                let statuses: Vec<&RunStatus> = config
-                    .levels
-                    .iter()
-                    .map(|&n| &by_job[&(case.id(), n)].status)
-                    .collect();
-                let stopped = NotRun::first(*case, &config.levels, &statuses);
-                let completed = stopped.is_none();
-                not_run.extend(stopped);
-                completed
-            })
-            .collect();
-        let cases: Vec<CaseStudy> = run_cases
-            .iter()
-            .map(|case| {
-                let mut records = Vec::new();
-                let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
-                let mut case_ensembles = Vec::new();
-                for &n in &config.levels {
-                    let outcome = by_job.remove(&(case.id(), n)).expect("every job ran");
-                    for (norm, e) in outcome.errors {
-                        errors.entry(norm).or_default().push(e);
-                    }
-                    records.push(outcome.record);
-                    histories.extend(outcome.histories);
-                    case_ensembles.extend(outcome.ensemble);
-                    ensemble_seconds += outcome.ensemble_seconds;
-                }
-                ensembles.push(case_ensembles);
-                CaseStudy::from_levels(*case, records, errors)
-            })
-            .collect();
-        let study = Study {
-            config: StudyConfig {
-                levels: config.levels.clone(),
-                ratio: config.ratio,
-                horizon: problem.horizon,
-                settings: config.settings,
-            },
-            norms: Norm::ALL.to_vec(),
-            cases,
-            not_run,
-            wall_seconds: self.prepared_seconds + ran.wall_seconds,
-        };
+        let mut run_cases = Vec::new();
+        for (case, levels) in kept {
+            run_cases.push(case);
+            let mut case_ensembles = Vec::new();
+            for level in levels {
+                histories.extend(level.histories);
+                case_ensembles.extend(level.ensemble);
+                ensemble_seconds += level.ensemble_seconds;
+            }
+            ensembles.push(case_ensembles);
+        }
         let reference = &comparator.reference;
         let check = &reference.histories.check;
         let mut reference_check = ReferenceCheck {
@@ -596,23 +600,6 @@ impl<'a> ElasticJobs<'a> {
                 cases: histories,
             },
         ))
-    }
-}
-
-impl JobList for ElasticJobs<'_> {
-    type Output = LevelOutcome;
-
-    fn count(&self) -> usize {
-        self.jobs.len()
-    }
-
-    fn size(&self, index: usize) -> usize {
-        self.jobs[index].1
-    }
-
-    fn run(&self, index: usize) -> Result<LevelOutcome, Error> {
-        let (case, n) = self.jobs[index];
-        self.run_job(case, n)
     }
 }
 
@@ -698,7 +685,7 @@ fn run_level(
     n_axis: usize,
     keep_histories: bool,
     mut comparison: ReferenceComparison<'_>,
-) -> Result<(LevelOutcome, BoxContactHistory), Error> {
+) -> Result<(Measured<BoxKept>, BoxContactHistory), Error> {
     // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
     let h = axial_element_size(problem, n_axis);
     let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, config.ratio);
@@ -733,32 +720,36 @@ fn run_level(
         &mut [&mut sample_stress],
     )?;
     let completed = result.status.is_completed();
-    let outcome = LevelOutcome {
-        status: result.status.clone(),
-        record: LevelRecord {
-            nx: n_axis,
-            h,
-            dt: result.dt,
-            steps: result.steps,
-            dofs: result.dofs,
-            timings: result.timings,
-            multiplier_variation_ratio: Some(comparison.variation_ratio()),
+    let measured = Measured {
+        outcome: LevelOutcome {
+            status: result.status.clone(),
+            record: LevelRecord {
+                nx: n_axis,
+                h,
+                dt: result.dt,
+                steps: result.steps,
+                dofs: result.dofs,
+                timings: result.timings,
+                multiplier_variation_ratio: Some(comparison.variation_ratio()),
+            },
+            errors: if completed {
+                comparison.errors()
+            } else {
+                BTreeMap::new()
+            },
         },
-        errors: if completed {
-            comparison.errors()
-        } else {
-            BTreeMap::new()
+        kept: BoxKept {
+            histories: (keep_histories && completed).then(|| CaseHistories {
+                case: case.id(),
+                level: n_axis,
+                element_size: h,
+                contact: result.observed.contact.clone(),
+                energy: result.observed.energy,
+                stress,
+            }),
+            ensemble: None,
+            ensemble_seconds: 0.0,
         },
-        histories: (keep_histories && completed).then(|| CaseHistories {
-            case: case.id(),
-            level: n_axis,
-            element_size: h,
-            contact: result.observed.contact.clone(),
-            energy: result.observed.energy,
-            stress,
-        }),
-        ensemble: None,
-        ensemble_seconds: 0.0,
     };
-    Ok((outcome, result.observed.contact))
+    Ok((measured, result.observed.contact))
 }

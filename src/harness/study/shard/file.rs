@@ -5,7 +5,7 @@
 //!
 //! | field | what |
 //! | --- | --- |
-//! | `format` | `"signorini-shard/4"` |
+//! | `format` | `"signorini-shard/5"` |
 //! | `signorini` | the version of the binary that ran the shard |
 //! | `command` | the subcommand: `study`, `stability`, `sensitivity`, `reference`, `report` or `experiment` |
 //! | `arguments` | its arguments as typed, less `--shard` and `--out`: what the merge's report says it was made by |
@@ -20,7 +20,7 @@
 //!
 //! The checksum covers every other field (the parameters through `identity`, and the results):
 //! a file changed or damaged after its shard wrote it is refused by the merge
-//! ([`ShardFile::verify`]). Files of versions 1 to 3 (no request, or no lists) are refused with
+//! ([`ShardFile::verify`]). Files of versions 1 to 4 (no request, no lists, or version 4's job results) are refused with
 //! the reason.
 //!
 //! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
@@ -44,7 +44,7 @@ pub const SHARD_FILE: Limit = Limit {
 };
 
 /// The `format` of the files this version writes and reads.
-pub const SHARD_FORMAT: &str = "signorini-shard/4";
+pub const SHARD_FORMAT: &str = "signorini-shard/5";
 
 /// One job's result, [`super::codec::encode`]d, with the job's index in its list.
 #[derive(Debug, Clone, PartialEq)]

@@ -39,3 +39,10 @@ impl InRange for String {
         None
     }
 }
+
+/// A job that keeps nothing besides its outcome has nothing out of range.
+impl InRange for () {
+    fn out_of_range(&self) -> Option<String> {
+        None
+    }
+}
