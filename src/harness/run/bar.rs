@@ -11,16 +11,16 @@ use crate::harness::run::exact::{
     ContactRecorder, EnergyRecorder, ErrorObservers, FieldRecorder, PointRecorder,
 };
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{drive, BarObservations, Observer, RunConfig, RunResult};
+use crate::harness::run::{drive_with, BarObservations, Observer, RunConfig, RunResult};
 
 /// Runs one configuration of a bar to its horizon with the observers `config.observables`
-/// asks for, followed by `observers`.
+/// asks for, followed by the caller's `extra`.
 pub(super) fn run_bar(
     problem: &Problem1d,
     config: &RunConfig,
-    observers: &mut [&mut dyn Observer],
+    extra: &mut [&mut dyn Observer],
 ) -> Result<RunResult<BarObservations>, Error> {
-    let started = Instant::now();
+    let clock = Instant::now();
     let observables = &config.observables;
     if problem.obstacle_gap.is_none() && observables.norms.contains(&Norm::MultiplierL2) {
         return Err(ParameterError::new(
@@ -45,56 +45,41 @@ pub(super) fn run_bar(
     let mut points = (!observables.points.is_empty())
         .then(|| PointRecorder::new(bar, exact, &observables.points));
     let mut fields = FieldRecorder::new(bar, exact, &observables.fields_at);
-    let stepped = {
-        let mut all: Vec<&mut dyn Observer> = vec![&mut fields];
-        all.extend(points.as_mut().map(|o| o as &mut dyn Observer));
-        all.extend(errors.observers());
-        all.extend(contact.as_mut().map(|o| o as &mut dyn Observer));
-        all.extend(energy_history.as_mut().map(|o| o as &mut dyn Observer));
-        for o in observers.iter_mut() {
-            all.push(&mut **o);
-        }
-        drive(
-            &discretisation,
-            problem.horizon,
-            config.ratio,
-            config.scheme,
-            &mut all,
-            started,
-        )?
-    };
+    let mut own: Vec<&mut dyn Observer> = vec![&mut fields];
+    own.extend(points.as_mut().map(|o| o as &mut dyn Observer));
+    own.extend(errors.observers());
+    own.extend(contact.as_mut().map(|o| o as &mut dyn Observer));
+    own.extend(energy_history.as_mut().map(|o| o as &mut dyn Observer));
+    let stepped = drive_with(&discretisation, problem.horizon, config, own, extra, clock)?;
     let completed = stepped.status.is_completed();
-    Ok(RunResult {
-        status: stepped.status,
-        dt: stepped.dt,
-        steps: stepped.steps,
-        dofs: model.n_dofs(),
-        contact_solves: stepped.contact_solves,
-        complementarity_violation: stepped.complementarity_violation,
-        timings: stepped.timings,
-        contact_treatment: problem.contact.name(),
-        max_balance_residual: stepped
-            .max_balance_residual
-            .filter(|_| observables.energy_balance && completed),
-        observed: BarObservations {
-            nx: config.nx,
-            h: bar.h(),
-            dof_steps: stepped.steps * model.n_dofs(),
-            errors: if completed {
-                errors.norms(&observables.norms)
-            } else {
-                BTreeMap::new()
-            },
-            space_norm_evaluations: errors.displacement.as_ref().map_or(0, |d| d.evaluations()),
-            multiplier_variation: errors
-                .multiplier
-                .as_ref()
-                .and_then(|m| m.variation())
-                .filter(|_| completed),
-            contact_history: contact.map(|c| c.history),
-            energy_history: energy_history.map(|e| e.history),
-            point_history: points.map(|p| p.history),
-            fields: fields.snapshots,
+    let balance = stepped
+        .max_balance_residual
+        .filter(|_| observables.energy_balance && completed);
+    let observed = BarObservations {
+        nx: config.nx,
+        h: bar.h(),
+        dof_steps: stepped.steps * model.n_dofs(),
+        errors: if completed {
+            errors.norms(&observables.norms)
+        } else {
+            BTreeMap::new()
         },
-    })
+        space_norm_evaluations: errors.displacement.as_ref().map_or(0, |d| d.evaluations()),
+        multiplier_variation: errors
+            .multiplier
+            .as_ref()
+            .and_then(|m| m.variation())
+            .filter(|_| completed),
+        contact_history: contact.map(|c| c.history),
+        energy_history: energy_history.map(|e| e.history),
+        point_history: points.map(|p| p.history),
+        fields: fields.snapshots,
+    };
+    Ok(RunResult::of(
+        &stepped,
+        model.n_dofs(),
+        problem.contact.name(),
+        balance,
+        observed,
+    ))
 }

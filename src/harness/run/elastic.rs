@@ -27,7 +27,9 @@ pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
-use crate::harness::run::{drive, finite, paraview, Observer, RunConfig, RunResult, SnapshotTimes};
+use crate::harness::run::{
+    drive_with, finite, paraview, Observer, RunConfig, RunResult, SnapshotTimes,
+};
 
 /// The contact history of a box run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -195,18 +197,18 @@ impl VtkSnapshots<'_> {
     }
 }
 
-/// Runs a box problem through the one time loop ([`drive`]) with the built-in observers (the
-/// energy, the contact face's history and, when `config.observables.fields_at` asks, VTK
-/// snapshots in `config.observables.fields_dir`) followed by `observers`; their time counts as
-/// observation. A completed run with
-/// snapshots adds the obstacle and the collection of ParaView ([`VtkSnapshots::finish`]); a run
-/// that does not complete removes the VTK snapshots it wrote: they are no result.
+/// Runs a box problem through the one time loop ([`super::drive`]) with the built-in observers (the
+/// energy, the contact face's history and, when `config.observables.fields_at` asks, VTK snapshots
+/// in `config.observables.fields_dir`) followed by the caller's `extra`; their time counts as
+/// observation. A completed run with snapshots adds the obstacle and the collection of ParaView
+/// ([`VtkSnapshots::finish`]); a run that does not complete removes the VTK snapshots it wrote:
+/// they are no result.
 pub(super) fn run_box(
     problem: &BoxProblem,
     config: &RunConfig,
-    observers: &mut [&mut dyn Observer],
+    extra: &mut [&mut dyn Observer],
 ) -> Result<RunResult<BoxObservations>, Error> {
-    let started = Instant::now();
+    let clock = Instant::now();
     let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
     let mesh = &discretisation.mesh;
     let model = &discretisation.model;
@@ -223,49 +225,34 @@ pub(super) fn run_box(
         pending: SnapshotTimes::new(&config.observables.fields_at),
         written: Vec::new(),
     };
-    let stepped = {
-        let mut all: Vec<&mut dyn Observer> = vec![&mut energy];
-        all.extend(face.as_mut().map(|o| o as &mut dyn Observer));
-        all.push(&mut vtk);
-        for o in observers.iter_mut() {
-            all.push(&mut **o);
-        }
-        drive(
-            &discretisation,
-            problem.horizon,
-            config.ratio,
-            config.scheme,
-            &mut all,
-            started,
-        )?
-    };
+    let mut own: Vec<&mut dyn Observer> = vec![&mut energy];
+    own.extend(face.as_mut().map(|o| o as &mut dyn Observer));
+    own.push(&mut vtk);
+    let stepped = drive_with(&discretisation, problem.horizon, config, own, extra, clock)?;
     let vtk_files = if stepped.status.is_completed() {
         vtk.finish(problem.obstacle_gap)?
     } else {
         vtk.discard()?;
         Vec::new()
     };
-    Ok(RunResult {
-        status: stepped.status,
-        dt: stepped.dt,
-        steps: stepped.steps,
-        dofs: model.n_dofs(),
-        contact_solves: stepped.contact_solves,
-        complementarity_violation: stepped.complementarity_violation,
-        timings: stepped.timings,
-        contact_treatment: problem.contact.name(),
-        max_balance_residual: stepped.max_balance_residual,
-        observed: BoxObservations {
-            elements: mesh.counts().to_vec(),
-            contact_nodes: model.contact().map_or(0, |c| c.len()),
-            linear_solver: model.linear_solver().name().to_string(),
-            step_solves: stepped.step_solves,
-            contact_slab: stepped.contact_truncation,
-            energy: energy.energy,
-            contact: face.map(|f| f.history).unwrap_or_default(),
-            vtk_files,
-        },
-    })
+    let observed = BoxObservations {
+        elements: mesh.counts().to_vec(),
+        contact_nodes: model.contact().map_or(0, |c| c.len()),
+        linear_solver: model.linear_solver().name().to_string(),
+        step_solves: stepped.step_solves,
+        contact_slab: stepped.contact_truncation,
+        energy: energy.energy,
+        contact: face.map(|f| f.history).unwrap_or_default(),
+        vtk_files,
+    };
+    let balance = stepped.max_balance_residual;
+    Ok(RunResult::of(
+        &stepped,
+        model.n_dofs(),
+        problem.contact.name(),
+        balance,
+        observed,
+    ))
 }
 
 /// Writes the displacement, the velocity and the von Mises stress (per cell, and averaged to

@@ -18,6 +18,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
+use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
@@ -34,6 +35,7 @@ pub use driver::{drive, finite, time_grid, Observer, RunStatus, SnapshotTimes, S
 
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
+use crate::engine::problem::{AxialMesh, Discretisation};
 pub use crate::engine::problem::{Problem, Problem1d};
 /// The discrete energy balances every run is checked against (eqs. 33/35/37), by scheme.
 pub use crate::engine::schemes::{energy_balance, TimeIntegrator};
@@ -263,6 +265,30 @@ impl<O> RunResult<O> {
         Ok(self)
     }
 
+    /// The result of a run of `dofs` unknowns that `stepped` describes, with its contact
+    /// treatment's name, its balance residual when it reports one, and its geometry's
+    /// observations.
+    fn of(
+        stepped: &Stepped,
+        dofs: usize,
+        contact_treatment: String,
+        max_balance_residual: Option<f64>,
+        observed: O,
+    ) -> Self {
+        RunResult {
+            status: stepped.status.clone(),
+            dt: stepped.dt,
+            steps: stepped.steps,
+            dofs,
+            contact_solves: stepped.contact_solves,
+            complementarity_violation: stepped.complementarity_violation,
+            timings: stepped.timings,
+            contact_treatment,
+            max_balance_residual,
+            observed,
+        }
+    }
+
     /// The same result with its observations mapped by `f`.
     fn map_observed<Q>(self, f: impl FnOnce(O) -> Q) -> RunResult<Q> {
         RunResult {
@@ -278,6 +304,29 @@ impl<O> RunResult<O> {
             observed: f(self.observed),
         }
     }
+}
+
+/// Drives `discretisation` to `horizon` as `config` asks through the one loop ([`drive`]), its
+/// run's own observers `own` followed by the caller's `extra`.
+fn drive_with<'a, M: AxialMesh>(
+    discretisation: &Discretisation<M>,
+    horizon: f64,
+    config: &RunConfig,
+    mut own: Vec<&'a mut dyn Observer>,
+    extra: &'a mut [&mut dyn Observer],
+    started: Instant,
+) -> Result<Stepped, Error> {
+    for o in extra.iter_mut() {
+        own.push(&mut **o);
+    }
+    drive(
+        discretisation,
+        horizon,
+        config.ratio,
+        config.scheme,
+        &mut own,
+        started,
+    )
 }
 
 /// A problem a run takes, and what its run observes: a bar ([`Problem1d`]), a box

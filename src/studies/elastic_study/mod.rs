@@ -385,7 +385,9 @@ struct PreparedBoxStudy<'a> {
 }
 
 impl<'a> PreparedBoxStudy<'a> {
-    /// The study of `config` on `problem`, its reference obtained from `cache` or computed.
+    /// The study of `config` on `problem`, its reference obtained from `cache` or computed
+    /// ([`obtain_reference`]); an ensemble the problem cannot carry is refused before anything
+    /// runs.
     fn new(
         problem: &'a BoxProblem,
         config: &'a ElasticStudyConfig,
@@ -393,7 +395,22 @@ impl<'a> PreparedBoxStudy<'a> {
         note: &mut dyn FnMut(String),
     ) -> Result<Self, Error> {
         let clock = Instant::now();
-        let measure = AgainstFineMesh::new(problem, config, cache, note)?;
+        let finest = config.validate()?;
+        let ensemble = config
+            .sensitivity
+            .map(|ensemble| {
+                sensitivity::noise_scale(problem)
+                    .map(|scale| sensitivity::Noise { ensemble, scale })
+            })
+            .transpose()?;
+        let reference = obtain_reference(problem, config, cache, note)?;
+        let measure = AgainstFineMesh {
+            problem,
+            config,
+            finest,
+            ensemble,
+            comparator: Comparator::new(problem, reference, finest)?,
+        };
         Ok(Self {
             measure,
             study_config: StudyConfig {
@@ -437,35 +454,6 @@ struct AgainstFineMesh<'a> {
     finest: usize,
     ensemble: Option<sensitivity::Noise>,
     comparator: Comparator,
-}
-
-impl<'a> AgainstFineMesh<'a> {
-    /// The measure of `config`'s runs, with its reference obtained ([`obtain_reference`]).
-    fn new(
-        problem: &'a BoxProblem,
-        config: &'a ElasticStudyConfig,
-        cache: &ReferenceCache,
-        note: &mut dyn FnMut(String),
-    ) -> Result<Self, Error> {
-        let finest = config.validate()?;
-        // An ensemble the problem cannot carry is refused before anything runs.
-        let ensemble = config
-            .sensitivity
-            .map(|ensemble| {
-                sensitivity::noise_scale(problem)
-                    .map(|scale| sensitivity::Noise { ensemble, scale })
-            })
-            .transpose()?;
-        let reference = obtain_reference(problem, config, cache, note)?;
-        let comparator = Comparator::new(problem, reference, finest)?;
-        Ok(Self {
-            problem,
-            config,
-            finest,
-            ensemble,
-            comparator,
-        })
-    }
 }
 
 impl LevelMeasure for AgainstFineMesh<'_> {
