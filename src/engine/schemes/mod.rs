@@ -35,10 +35,30 @@ pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
 
-use crate::engine::contact::Truncation;
+use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
-use crate::engine::linalg::SolveCounts;
+use crate::engine::fem::SymmetricMatrix;
+use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
+
+/// The step system `k` of an implicit scheme on `model` (named `name` in errors), solved by
+/// the model's linear solver, and the contact step on it when the model has an obstacle: what
+/// the scheme factors once before its steps.
+fn step_system(
+    model: &Model,
+    k: SymmetricMatrix,
+    name: &'static str,
+) -> Result<(StepSolver, Option<ContactStep>), SolveError> {
+    let system = StepSolver::new(k, model.linear_solver(), name)?;
+    let contact = model
+        .contact()
+        .map(|c| {
+            let rows = model.contact_law().rows(c);
+            ContactStep::new(c, &rows, &system, model.n_dofs(), model.contact_operator())
+        })
+        .transpose()?;
+    Ok((system, contact))
+}
 
 /// A value with the time it approximates.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -23,7 +23,7 @@
 //! elastic stiffness, `A^{n+1} − M⁻¹ (θ/γ) a (aᵀU^{n+1})` ([`ElasticAcceleration`]).
 
 use super::conventions::{NitscheAcceleration, PredictorForm};
-use super::{InitialState, SchemeState, TimeIntegrator, Timed};
+use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
@@ -124,19 +124,8 @@ impl<'m> OneStepScheme<'m> {
         let k = model
             .mass()
             .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
-        let system = StepSolver::new(
-            k,
-            model.linear_solver(),
-            "one-step scheme system M/(bΔt²) + S",
-        )?;
+        let (system, contact) = step_system(model, k, "one-step scheme system M/(bΔt²) + S")?;
         let n = model.n_dofs();
-        let contact = model
-            .contact()
-            .map(|c| {
-                let rows = model.contact_law().rows(c);
-                ContactStep::new(c, &rows, &system, n, model.contact_operator())
-            })
-            .transpose()?;
         Ok(Self {
             model,
             coef,

@@ -26,8 +26,8 @@ use super::conventions::{
     Conventions, FirstStepContact, MasslessRows, NitscheAcceleration, PredictorForm,
 };
 use super::{
-    residual_force, InitialState, OneStepScheme, SchemeState, StepCoefficients, TimeIntegrator,
-    Timed,
+    residual_force, step_system, InitialState, OneStepScheme, SchemeState, StepCoefficients,
+    TimeIntegrator, Timed,
 };
 use crate::engine::contact::{ContactStep, Truncation};
 use crate::engine::error::SolveError;
@@ -128,19 +128,8 @@ impl<'m> PaoliSchatzman<'m> {
         let k = model
             .mass()
             .linear_combination(1.0 / (dt * dt), model.stiffness(), beta);
-        let system = StepSolver::new(
-            k,
-            model.linear_solver(),
-            "Paoli–Schatzman system M/Δt² + βS",
-        )?;
+        let (system, contact) = step_system(model, k, "Paoli–Schatzman system M/Δt² + βS")?;
         let n = model.n_dofs();
-        let contact = model
-            .contact()
-            .map(|c| {
-                let rows = model.contact_law().rows(c);
-                ContactStep::new(c, &rows, &system, n, model.contact_operator())
-            })
-            .transpose()?;
         let energy_at_start = model.energy(&start.displacement, &start.velocity);
         let three_level = conventions.paoli_schatzman_massless_rows == MasslessRows::ThreeLevel;
         let three_level_start = three_level.then(|| {

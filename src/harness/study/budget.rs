@@ -193,33 +193,45 @@ fn within(estimate: f64, limit: f64) -> bool {
 impl Estimate {
     /// `Ok` when every part is within `limits`; otherwise the first part over its limit.
     pub fn check(&self, limits: &Limits) -> Result<(), BudgetError> {
-        if !within(self.memory_bytes, limits.memory_bytes) {
-            return Err(BudgetError::OverLimit {
-                resource: "memory",
-                estimate: human_bytes(self.memory_bytes),
-                limit: format!(
+        let parts = [
+            (
+                "memory",
+                self.memory_bytes,
+                limits.memory_bytes,
+                "--max-memory",
+                human_bytes(self.memory_bytes),
+                format!(
                     "{} ({})",
                     human_bytes(limits.memory_bytes),
                     limits.memory_source
                 ),
-                option: "--max-memory",
-            });
-        }
-        if !within(self.files, limits.files) {
-            return Err(BudgetError::OverLimit {
-                resource: "number of files written",
-                estimate: format!("{:.0} files", self.files),
-                limit: format!("{:.0} files", limits.files),
-                option: "--max-files",
-            });
-        }
-        if !within(self.dof_steps, limits.dof_steps) {
-            return Err(BudgetError::OverLimit {
-                resource: "work",
-                estimate: format!("{:.3e} dof-steps (unknowns × time steps)", self.dof_steps),
-                limit: format!("{:.3e} dof-steps", limits.dof_steps),
-                option: "--max-dof-steps",
-            });
+            ),
+            (
+                "number of files written",
+                self.files,
+                limits.files,
+                "--max-files",
+                format!("{:.0} files", self.files),
+                format!("{:.0} files", limits.files),
+            ),
+            (
+                "work",
+                self.dof_steps,
+                limits.dof_steps,
+                "--max-dof-steps",
+                format!("{:.3e} dof-steps (unknowns × time steps)", self.dof_steps),
+                format!("{:.3e} dof-steps", limits.dof_steps),
+            ),
+        ];
+        for (resource, value, bound, option, estimate, limit) in parts {
+            if !within(value, bound) {
+                return Err(BudgetError::OverLimit {
+                    resource,
+                    estimate,
+                    limit,
+                    option,
+                });
+            }
         }
         Ok(())
     }
