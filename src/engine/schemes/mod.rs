@@ -119,6 +119,21 @@ impl SchemeState {
             lambda,
         }
     }
+
+    /// A staggered energy `E^{n−½}` at `t_{n−½}`, `half_step()` computing it; `at_start`
+    /// (`E_h(U^0, V^0)`) at `t = 0` before the first step.
+    pub fn staggered_energy(&self, at_start: f64, half_step: impl FnOnce() -> f64) -> Timed<f64> {
+        if self.step == 0 {
+            return Timed {
+                time: 0.0,
+                value: at_start,
+            };
+        }
+        Timed {
+            time: (self.step as f64 - 0.5) * self.dt,
+            value: half_step(),
+        }
+    }
 }
 
 /// A time integrator holding its state `(U^n, V^n, λ^n)`.

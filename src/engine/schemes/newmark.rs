@@ -407,16 +407,10 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
     /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
     /// first step.
     fn energy(&self) -> Timed<f64> {
-        if self.state.step == 0 {
-            return Timed {
-                time: 0.0,
-                value: self.energy_at_start,
-            };
-        }
-        Timed {
-            time: (self.state.step as f64 - 0.5) * self.state.dt,
-            value: staggered_energy(self.model, self.state.dt, &self.u_prev, &self.state.u),
-        }
+        let (model, dt) = (self.model, self.state.dt);
+        self.state.staggered_energy(self.energy_at_start, || {
+            staggered_energy(model, dt, &self.u_prev, &self.state.u)
+        })
     }
 
     fn contact_solves(&self) -> usize {

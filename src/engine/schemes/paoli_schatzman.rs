@@ -316,22 +316,10 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
     }
 
     fn energy(&self) -> Timed<f64> {
-        if self.state.step == 0 {
-            return Timed {
-                time: 0.0,
-                value: self.energy_at_start,
-            };
-        }
-        Timed {
-            time: (self.state.step as f64 - 0.5) * self.state.dt,
-            value: energy_of_half_step(
-                self.model,
-                self.beta,
-                self.state.dt,
-                &self.mid,
-                &self.state.v,
-            ),
-        }
+        let (model, beta, dt) = (self.model, self.beta, self.state.dt);
+        self.state.staggered_energy(self.energy_at_start, || {
+            energy_of_half_step(model, beta, dt, &self.mid, &self.state.v)
+        })
     }
 
     fn contact_solves(&self) -> usize {

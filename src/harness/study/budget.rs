@@ -161,15 +161,7 @@ pub fn reading(bytes: f64, per_byte: f64) -> Estimate {
 /// one job list with the others of `runs` ([`study_of`]).
 pub fn bar_runs<'p>(runs: impl Iterator<Item = (&'p Problem1d, usize, f64, f64)>) -> Estimate {
     study_of(runs.map(|(problem, nx, ratio, count)| {
-        let config = RunConfig {
-            nx,
-            ratio,
-            scheme: Scheme::CRANK_NICOLSON,
-            mass: MassVariant::Standard,
-            observables: Default::default(),
-            settings: Settings::default(),
-        };
-        (bar_run(problem, &config, false), count)
+        (bar_run(problem, &norms_only(nx, ratio), false), count)
     }))
 }
 
@@ -424,21 +416,21 @@ pub fn jobs_per_level(levels: &[usize], cases: usize, executor: &Executor) -> Ve
 /// A study over `levels` of a bar with `jobs[l]` runs at level `l` ([`jobs_per_level`]; norms
 /// only, nothing written): as many runs at once as rayon has threads, the work of every run.
 pub fn bar_study(problem: &Problem1d, levels: &[usize], ratio: f64, jobs: &[f64]) -> Estimate {
-    let runs = |nx: usize| {
-        bar_run(
-            problem,
-            &RunConfig {
-                nx,
-                ratio,
-                scheme: Scheme::CRANK_NICOLSON,
-                mass: MassVariant::Standard,
-                observables: Default::default(),
-                settings: Settings::default(),
-            },
-            false,
-        )
-    };
+    let runs = |nx: usize| bar_run(problem, &norms_only(nx, ratio), false);
     study_of(levels.iter().map(|&nx| runs(nx)).zip(jobs.iter().copied()))
+}
+
+/// A bar run on `nx` elements with `Δx/Δt = ratio` measuring norms only, as an estimate sees
+/// it (its cost does not depend on the scheme and the mass).
+fn norms_only(nx: usize, ratio: f64) -> RunConfig {
+    RunConfig {
+        nx,
+        ratio,
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Standard,
+        observables: Default::default(),
+        settings: Settings::default(),
+    }
 }
 
 /// A box study solved with `settings`: `jobs[l]` case × level jobs at level `l` of `levels` ([`jobs_per_level`]; none
