@@ -6,6 +6,7 @@ use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
 use crate::harness::study::scene::SceneError;
+use crate::studies::outputs::CommandError;
 
 /// A failure with its exit code.
 pub struct Failure {
@@ -72,6 +73,17 @@ impl From<OutputDirError> for Failure {
             Self::usage(e)
         } else {
             Self::runtime(e)
+        }
+    }
+}
+
+impl From<CommandError> for Failure {
+    fn from(e: CommandError) -> Self {
+        match e {
+            CommandError::Harness(e) => e.into(),
+            CommandError::OutputDir(e) => e.into(),
+            CommandError::Refused(why) => Self::usage(why),
+            CommandError::Failed(why) => Self::runtime(why),
         }
     }
 }

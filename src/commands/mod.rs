@@ -37,13 +37,24 @@ pub use reports::{
     ReportArgs, StabilityArgs,
 };
 pub use run::{run_scene, RunArgs};
-pub use sharding::ShardArgs;
+pub use sharding::{
+    EnsembleShardArgs, ReferenceShardArgs, ReportShardArgs, ShardArgs, SuiteShardArgs,
+};
 pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
 pub use verify::{verify_runs, VerifyArgs};
 
 use std::path::PathBuf;
 
 use options::REPORTS;
+
+use crate::harness::study::progress::{self, Shown};
+
+/// Shows the progress of this process's subcommand on stderr while the guard lives (on a
+/// terminal, without `CI`).
+pub fn show_progress() -> Shown {
+    let command: Vec<String> = std::env::args().skip(1).take(1).collect();
+    progress::show(&format!("signorini {}", command.join(" ")))
+}
 
 /// `signorini merge`: reads the shards of one invocation ([`merge::read_shards`]) and runs their
 /// recorded request again with every job's result taken from them, with `--out` when given (else

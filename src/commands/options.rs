@@ -1,9 +1,6 @@
 //! The options and parsers that several subcommands share: schemes, masses, norms, contact
-//! treatments, the schemes' conventions, the step solver, and the progress bar of long runs.
+//! treatments, the schemes' conventions and the step solver.
 
-use std::io::IsTerminal;
-
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::ParameterError;
@@ -87,21 +84,4 @@ pub(crate) fn parse_mass(s: &str) -> Result<MassVariant, String> {
 
 pub(crate) fn parse_norm(s: &str) -> Result<Norm, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-pub(crate) fn progress_bar(len: usize) -> ProgressBar {
-    let visible = std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
-    let bar = ProgressBar::with_draw_target(
-        Some(len as u64),
-        if visible {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    );
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
-            .expect("valid template"),
-    );
-    bar
 }

@@ -19,6 +19,7 @@ mod getfem;
 mod hostile;
 mod outputs;
 mod paraview;
+mod progress;
 mod reliability;
 mod report_figures;
 mod scenes;

@@ -19,6 +19,7 @@
 pub mod budget;
 pub mod executor;
 pub mod golden;
+pub mod progress;
 pub mod rates;
 pub mod scene;
 pub mod sensitivity;
@@ -287,25 +288,16 @@ pub fn run_study(
     Ok(jobs.reduce(ran, cases))
 }
 
-/// The number of runs a study makes.
-pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
-    cases.len() * config.levels.len()
-}
-
-/// [`run_study`] with its case × level runs handed to `executor`, calling `done` after each
-/// run (from the worker threads): the study, or a shard's share of its runs.
+/// [`run_study`] with its case × level runs handed to `executor`: the study, or a shard's share
+/// of its runs.
 pub fn run_study_on(
     executor: &Executor,
     problem: &Problem1d,
     cases: &[Case],
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
-    done: &(dyn Fn() + Sync),
 ) -> Result<Executed<Study>, Error> {
-    let jobs = StudyJobs {
-        done,
-        ..StudyJobs::new(problem, cases, norms, config)?
-    };
+    let jobs = StudyJobs::new(problem, cases, norms, config)?;
     let executed = executor.execute(&jobs.list())?;
     executed.reduce(|runs| Ok(jobs.reduce(runs, cases)))
 }
@@ -319,7 +311,6 @@ pub struct StudyJobs<'a> {
     norms: &'a BTreeSet<Norm>,
     config: &'a StudyConfig,
     observables: Observables,
-    done: &'a (dyn Fn() + Sync),
 }
 
 impl<'a> StudyJobs<'a> {
@@ -341,7 +332,6 @@ impl<'a> StudyJobs<'a> {
                 norms: norms.clone(),
                 ..Observables::default()
             },
-            done: &|| {},
         })
     }
 
@@ -356,9 +346,7 @@ impl<'a> StudyJobs<'a> {
                 observables: self.observables.clone(),
                 settings: self.config.settings,
             };
-            let result = run(self.problem, &cfg);
-            (self.done)();
-            result
+            run(self.problem, &cfg)
         })
     }
 
