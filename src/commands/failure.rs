@@ -1,8 +1,5 @@
 //! How a command fails: a message and its exit code, from every error of the layers below.
 
-use std::path::Path;
-
-use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
 use crate::harness::study::scene::SceneError;
@@ -86,9 +83,4 @@ impl From<CommandError> for Failure {
             CommandError::Failed(why) => Self::runtime(why),
         }
     }
-}
-
-/// Writes `contents` to `path` whole or not at all.
-pub(crate) fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, contents).map_err(Failure::from)
 }

@@ -48,6 +48,7 @@ use std::path::PathBuf;
 use options::REPORTS;
 
 use crate::harness::study::progress::{self, Shown};
+use crate::studies::outputs::read_shards;
 
 /// Shows the progress of this process's subcommand on stderr while the guard lives (on a
 /// terminal, without `CI`).
@@ -56,12 +57,12 @@ pub fn show_progress() -> Shown {
     progress::show(&format!("signorini {}", command.join(" ")))
 }
 
-/// `signorini merge`: reads the shards of one invocation ([`merge::read_shards`]) and runs their
+/// `signorini merge`: reads the shards of one invocation ([`read_shards`]) and runs their
 /// recorded request again with every job's result taken from them, with `--out` when given (else
 /// the command's default): it writes, or prints, what the unsharded command does. A `reference`
 /// merge finds every reference in the shared cache.
 pub fn merge(args: MergeArgs) -> Result<(), Failure> {
-    let shards = merge::read_shards(&args)?;
+    let shards = read_shards(&args.shards, args.out.as_deref(), &args.limits.limits())?;
     let (executor, out) = (&shards.executor, args.out);
     let reports = out.clone().unwrap_or_else(|| PathBuf::from(REPORTS));
     match shards.command.as_str() {

@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::files::error::ParameterError;
+use super::options::parsed;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::shard::ShardSpec;
 
@@ -15,7 +15,7 @@ macro_rules! shard_args {
         #[derive(Debug, Clone, Copy, Default, clap::Args, Serialize, Deserialize)]
         pub struct $name {
             /// The shard K/N to run (see the help text).
-            #[arg(long, value_name = "K/N", value_parser = parse_shard, help = concat!(
+            #[arg(long, value_name = "K/N", value_parser = parsed::<ShardSpec>, help = concat!(
                 "Run only shard K of N (1 <= K <= N) of ", $what, " and write its partial ",
                 "result file shard-<command>-<K>-of-<N>.json into --out; `signorini merge` ",
                 "makes the reports from the N files"
@@ -43,7 +43,3 @@ shard_args!(
     ReportShardArgs,
     "the runs of the command's studies (their job lists dealt as one)"
 );
-
-fn parse_shard(s: &str) -> Result<ShardSpec, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}

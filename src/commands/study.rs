@@ -8,9 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
-use super::options::{
-    parse_contact, parse_mass, parse_norm, parse_scheme, ConventionArgs, LinearSolverArgs, REPORTS,
-};
+use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
 use crate::harness::run::norms::Norm;
@@ -26,15 +24,19 @@ use crate::studies::study_run::{self, StudyRequest};
 pub struct StudyArgs {
     /// The scene file.
     pub scene: PathBuf,
-    /// Schemes (repeat the option for several); default: the scene's
-    /// `discretisation.schemes`, else the paper's seven.
-    #[arg(long, value_parser = parse_scheme)]
+    /// Schemes (repeat the option for several): a preset (see `signorini list`) or
+    /// newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E); default: the
+    /// scene's `discretisation.schemes`, else the paper's seven.
+    #[arg(long, value_parser = parsed::<Scheme>)]
     pub scheme: Vec<Scheme>,
-    /// Mass variants, comma-separated; default: the paper's two (standard, redistributed).
-    #[arg(long, value_delimiter = ',', value_parser = parse_mass)]
+    /// Mass variants, comma-separated, of standard, redistributed, lumped,
+    /// redistributed-conserving, singular-dynamic, getfem-redistributed, getfem-singular;
+    /// default: the paper's two (standard, redistributed).
+    #[arg(long, value_delimiter = ',', value_parser = parsed::<MassVariant>)]
     pub mass: Vec<MassVariant>,
-    /// Norms, comma-separated; default: the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = parse_norm)]
+    /// Norms, comma-separated, of u_Linf_H, u_L2_H, u_Linf_V, u_L2_V, lambda_L2, energy_Linf,
+    /// energy_L2; default: the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = parsed::<Norm>)]
     pub norm: Vec<Norm>,
     /// Levels NX, comma-separated and increasing; default: the scene's.
     #[arg(long, value_delimiter = ',')]
@@ -60,7 +62,7 @@ pub struct StudyArgs {
     pub cache: Option<PathBuf>,
     /// Contact treatment of every case: multiplier, penalty(gamma0=G),
     /// nitsche(theta=T,gamma0=G) (1D only). Default: the scene's, else multiplier.
-    #[arg(long, value_parser = parse_contact)]
+    #[arg(long, value_parser = parsed::<ContactTreatment>)]
     pub contact: Option<ContactTreatment>,
     /// The schemes' implementation choices.
     #[command(flatten)]

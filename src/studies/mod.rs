@@ -6,6 +6,7 @@
 //! where their results go (`outputs`).
 
 pub mod benchmark;
+pub mod catalogue;
 pub mod cost;
 pub mod elastic_study;
 pub mod estimate;
@@ -13,6 +14,7 @@ pub mod experiment;
 pub mod extended;
 pub mod figures;
 pub mod getfem;
+pub mod getfem_run;
 pub mod golden;
 pub mod gravity;
 pub mod histories;
@@ -26,3 +28,4 @@ pub mod scene_study;
 pub mod stability;
 pub mod study_run;
 pub mod tables;
+pub mod verify_run;

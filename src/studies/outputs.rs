@@ -1,20 +1,25 @@
 //! Where a command's results go, below the command line: the request its shards record
 //! ([`this_invocation`]), a shard's partial result file ([`ShardOutput`]) or the reports staged
 //! in `--out` ([`Destination`]), the share of the work a shard is held to ([`share_of_work`]),
-//! and how a command below the command line fails ([`CommandError`]).
+//! the shards of one invocation read back for `merge` ([`read_shards`]), and how a command
+//! below the command line fails ([`CommandError`]).
 
 use std::path::{Path, PathBuf};
 
+use serde::de::DeserializeOwned;
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::harness::files::artifacts::write_json;
+use crate::harness::files::artifacts::{read_json, write_json};
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::{OutputDirError, Replace, StagedDir};
-use crate::harness::study::budget::Estimate;
+use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::SceneError;
-use crate::harness::study::shard::{codec, shard_file_name, Invocation, ShardSpec, Share};
+use crate::harness::study::shard::merge::{merge, Merged};
+use crate::harness::study::shard::{
+    codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
+};
 
 /// How a command fails below the command line; the command gives each its exit code.
 #[derive(Debug, Error)]
@@ -214,4 +219,78 @@ pub fn shard_output(
         )),
         _ => Ok(None),
     }
+}
+
+/// The memory a shard file takes per byte of it ([`SHARD_FILE`]'s bound) and its results'
+/// decoding, at most half a byte per hexadecimal digit.
+const SHARD_MEMORY_PER_BYTE: f64 = 8.5;
+
+/// The shards of one invocation, read and checked: what `merge` runs again, with every job's
+/// result taken from them.
+pub struct MergedShards {
+    /// The subcommand the shards ran.
+    pub command: String,
+    /// Its recorded request, encoded.
+    request: String,
+    /// The command line the reports say they were made by.
+    pub command_line: String,
+    /// The executor that hands every job's result from the shards to the study.
+    pub executor: Executor,
+}
+
+impl MergedShards {
+    /// The request the shards recorded, as the options of their command.
+    pub fn request<A: DeserializeOwned>(&self) -> Result<A, CommandError> {
+        codec::read(&self.request).map_err(|e| {
+            CommandError::Refused(format!(
+                "the shards' request does not read as `{}` options: {e}",
+                self.command
+            ))
+        })
+    }
+}
+
+/// Reads the shard files `paths` (their reading held to `limits`), checks they are the `n`
+/// shards of one invocation whose inputs are unchanged, and returns what `merge` runs again
+/// (with `--out out` on the command line its reports name, when given).
+pub fn read_shards(
+    paths: &[PathBuf],
+    out: Option<&Path>,
+    limits: &Limits,
+) -> Result<MergedShards, CommandError> {
+    let bytes: f64 = budget::file_sizes(paths).iter().sum();
+    budget::reading(bytes, SHARD_MEMORY_PER_BYTE)
+        .check(limits)
+        .map_err(Error::from)?;
+    let files = paths
+        .iter()
+        .map(|path| {
+            read_json::<ShardFile>(path, SHARD_FILE)
+                .map(|file| (path.clone(), file))
+                .map_err(|e| CommandError::Refused(e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let Merged {
+        invocation,
+        identity,
+        jobs,
+    } = merge(files).map_err(Error::from)?;
+    if invocation.identity()? != identity {
+        let changed = ShardError::InputsChanged {
+            command: invocation.command,
+            inputs: invocation.inputs,
+        };
+        return Err(Error::from(changed).into());
+    }
+    let mut argv = vec!["signorini".to_string(), invocation.command.clone()];
+    argv.extend(invocation.arguments.iter().cloned());
+    if let Some(out) = out {
+        argv.extend(["--out".to_string(), out.display().to_string()]);
+    }
+    Ok(MergedShards {
+        command: invocation.command,
+        request: invocation.request,
+        command_line: argv.join(" "),
+        executor: Executor::Merge(jobs),
+    })
 }

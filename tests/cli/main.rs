@@ -20,6 +20,7 @@ mod hostile;
 mod outputs;
 mod paraview;
 mod progress;
+mod readme_commands;
 mod reliability;
 mod report_figures;
 mod scenes;
