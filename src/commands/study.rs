@@ -15,7 +15,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::studies::outputs::this_invocation;
-use crate::studies::reference_run::{references, REPORT_REFERENCES};
+use crate::studies::reference_run::{references, ReferenceRequest, REPORT_REFERENCES};
 use crate::studies::scene_study::StudyChoices;
 use crate::studies::study_run::{self, StudyRequest};
 
@@ -229,18 +229,15 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
         ..args.clone()
     };
     let invocation = this_invocation("reference", &recorded, args.scenes.clone())?;
-    let (out, solver) = (args.out.as_deref(), args.solver.linear_solver);
-    let limits = args.limits.limits();
-    let said = references(
-        &args.scenes,
-        &args.cache,
-        out,
-        solver,
-        &limits,
-        executor,
-        &invocation,
-    )?;
-    out!("{said}");
+    let request = ReferenceRequest {
+        scenes: args.scenes,
+        cache: args.cache,
+        out: args.out,
+        linear_solver: args.solver.linear_solver,
+        limits: args.limits.limits(),
+    };
+    let say = |said: &str| out!("{said}");
+    out!("{}", references(request, executor, &invocation, &say)?);
     Ok(())
 }
 

@@ -41,19 +41,38 @@ struct ReferenceJob {
     config: ElasticStudyConfig,
 }
 
+/// The references a user asked for.
+pub struct ReferenceRequest {
+    /// The box scene files.
+    pub scenes: Vec<PathBuf>,
+    /// Where the references are cached.
+    pub cache: PathBuf,
+    /// A shard's output directory.
+    pub out: Option<PathBuf>,
+    /// The step solver.
+    pub linear_solver: LinearSolver,
+    /// The limits each reference is held to.
+    pub limits: Limits,
+}
+
 /// The references of the box scenes `scenes` in `cache`, solved with `linear_solver`, each held
 /// to `limits`: under a shard only its share of the scenes (the most work first), written with
-/// the shard's file into `out`; a merge finds every reference in the cache. Returns what it
-/// did, for the user.
+/// the shard's file into `out`; a merge finds every reference in the cache. Tells `say` how
+/// each reference was obtained as it is, and returns what was written last, for the user.
 pub fn references(
-    scenes: &[PathBuf],
-    cache: &Path,
-    out: Option<&Path>,
-    linear_solver: LinearSolver,
-    limits: &Limits,
+    request: ReferenceRequest,
     executor: &Executor,
     invocation: &Invocation,
+    say: &(dyn Fn(&str) + Sync),
 ) -> Result<String, CommandError> {
+    let ReferenceRequest {
+        scenes,
+        cache,
+        out,
+        linear_solver,
+        limits,
+    } = request;
+    let (cache, out) = (cache.as_path(), out.as_deref());
     if out.is_some() && !matches!(executor, Executor::Shard(_)) {
         return Err(CommandError::Refused(
             "--out is where a shard's file goes: it takes --shard K/N (the references \
@@ -65,7 +84,7 @@ pub fn references(
     cache_is_a_directory(cache)?;
     let mut jobs = Vec::with_capacity(scenes.len());
     let mut work = Vec::with_capacity(scenes.len());
-    for path in scenes {
+    for path in &scenes {
         let scene = Scene::load(path)?;
         let problem = scene
             .box_problem("box scenes: a reference is for them (a bar1d has an exact solution)")?;
@@ -81,7 +100,7 @@ pub fn references(
             0,
         );
         work.push(estimate.dof_steps as usize);
-        estimate.check(limits).map_err(Error::from)?;
+        estimate.check(&limits).map_err(Error::from)?;
         jobs.push(ReferenceJob {
             index: jobs.len(),
             scene,
@@ -92,31 +111,34 @@ pub fn references(
     let executed = executor.execute_in_turn(&Jobs {
         items: &jobs,
         size: &|job: &ReferenceJob| work[job.index],
-        run: &|job: &ReferenceJob| obtain_and_report(job, cache),
+        run: &|job: &ReferenceJob| obtain_and_report(job, cache, say),
     })?;
-    let said = match complete_or_write(executed, shard, invocation)? {
-        Received::Complete(said) => said.results,
+    let names = match complete_or_write(executed, shard, invocation)? {
+        Received::Complete(names) => names.results,
         Received::ShardWritten(line) => return Ok(line),
     };
-    if !matches!(executor, Executor::Merge(_)) {
-        return Ok(said.join("\n"));
-    }
-    let mut again = Vec::with_capacity(jobs.len());
-    for (job, line) in jobs.iter().zip(&said) {
-        if !line.starts_with(&format!("{}:", job.scene.name)) {
-            return Err(CommandError::Refused(format!(
-                "the shards did not compute the reference of scene {}: {line}",
-                job.scene.name
-            )));
+    if matches!(executor, Executor::Merge(_)) {
+        for (job, name) in jobs.iter().zip(&names) {
+            if *name != job.scene.name {
+                return Err(CommandError::Refused(format!(
+                    "the shards computed the reference of scene {name}, not of {}",
+                    job.scene.name
+                )));
+            }
+            obtain_and_report(job, cache, say)?;
         }
-        again.push(obtain_and_report(job, cache)?);
     }
-    Ok(again.join("\n"))
+    Ok(format!("the references are in {}", cache.display()))
 }
 
 /// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
-/// not match) and says which it was, with the time it took now.
-fn obtain_and_report(job: &ReferenceJob, cache: &Path) -> Result<String, Error> {
+/// not match), tells `say` which it was, with the time it took now, and returns the scene's
+/// name.
+fn obtain_and_report(
+    job: &ReferenceJob,
+    cache: &Path,
+    say: &(dyn Fn(&str) + Sync),
+) -> Result<String, Error> {
     let clock = Instant::now();
     let store = ReferenceCache::ReadWrite(cache.to_path_buf());
     let reference = obtain_reference(&job.problem, &job.config, &store, &mut |why| {
@@ -126,22 +148,24 @@ fn obtain_and_report(job: &ReferenceJob, cache: &Path) -> Result<String, Error> 
     let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
     let how = match reference.from_cache {
         false => format!(
-            "computed in {seconds:.1} s; wrote {} and {}",
+            "computed and cached in {seconds:.1} s (wrote {} and {})",
             json.display(),
             bin.display()
         ),
         true => format!(
-            "read from {} in {seconds:.1} s (computing it took {:.1} s)",
+            "the cache matches the scene's parameters; read from {} in {seconds:.1} s \
+             (computing it took {:.1} s)",
             json.display(),
             reference.histories.seconds
         ),
     };
-    Ok(format!(
+    say(&format!(
         "{}: reference {} on {:?} elements, {} unknowns, {} samples: {how}",
         job.scene.name,
         reference.histories.key.scheme,
         reference.mesh.counts(),
         reference.histories.dofs,
         reference.samples(),
-    ))
+    ));
+    Ok(job.scene.name.clone())
 }

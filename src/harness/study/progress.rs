@@ -19,7 +19,7 @@ use crate::harness::files::error::Error;
 use crate::harness::run::{Observer, TimeIntegrator};
 
 /// Whether progress is drawn: stderr is a terminal and `CI` is not set.
-pub fn visible() -> bool {
+fn visible() -> bool {
     std::io::stderr().is_terminal() && std::env::var_os("CI").is_none()
 }
 
