@@ -159,13 +159,14 @@ fn obtain_and_report(
             reference.histories.seconds
         ),
     };
-    say(&format!(
+    let said = format!(
         "{}: reference {} on {:?} elements, {} unknowns, {} samples: {how}",
         job.scene.name,
         reference.histories.key.scheme,
         reference.mesh.counts(),
         reference.histories.dofs,
         reference.samples(),
-    ));
+    );
+    progress::suspended(|| say(&said));
     Ok(job.scene.name.clone())
 }

@@ -125,7 +125,7 @@ fn a_box_study_and_a_reference_show_progress_on_a_terminal_and_none_through_a_pi
             .any(|l| l.starts_with("signorini reference:") && l.contains("steps")),
         "no progress of the reference's steps: {drawn}"
     );
-    assert!(drawn.contains("computed in"), "{drawn}");
+    assert!(drawn.contains("computed and cached in"), "{drawn}");
     // The same commands with CI set on a terminal, and through pipes: nothing drawn.
     for args in [&study[..], &reference[..]] {
         let _ = std::fs::remove_dir_all(cache);

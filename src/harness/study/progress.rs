@@ -77,6 +77,8 @@ impl Display {
             .with_message(what)
             .with_elapsed(top.started.elapsed())
             .with_position(top.done);
+        // Drawn now, whether or not the ticker's thread runs before the stage ends.
+        bar.tick();
         bar.enable_steady_tick(Duration::from_millis(500));
         self.bar = Some(bar);
     }
@@ -110,9 +112,16 @@ pub fn show(command: &str) -> Shown {
 
 /// Prints `line` on stderr, above the progress bar when one is drawn.
 pub fn note(line: &str) {
-    match shown().as_ref().and_then(|d| d.bar.clone()) {
-        Some(bar) => bar.suspend(|| eprintln!("{line}")),
-        None => eprintln!("{line}"),
+    suspended(|| eprintln!("{line}"));
+}
+
+/// Runs `f` (which prints a result, say) with the progress bar, when one is drawn, cleared
+/// first and drawn again after.
+pub fn suspended<R>(f: impl FnOnce() -> R) -> R {
+    let bar = shown().as_ref().and_then(|d| d.bar.clone());
+    match bar {
+        Some(bar) => bar.suspend(f),
+        None => f(),
     }
 }
 
