@@ -12,7 +12,7 @@ report: build
 	$(BIN) study scenes/bar2d.json --out reports
 	$(BIN) study scenes/bar3d.json --out reports
 	$(BIN) getfem --out reports
-	$(BIN) figures --reports reports
+	$(BIN) figures --out reports
 
 ## The finer 2D/3D studies into reports/fine/: 2D levels 10–160 against a reference on
 ## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
@@ -21,7 +21,7 @@ report: build
 report-fine: build
 	$(BIN) study scenes/bar2d-fine.json --out reports/fine
 	$(BIN) study scenes/bar3d-fine.json --out reports/fine
-	$(BIN) figures --reports reports/fine
+	$(BIN) figures --out reports/fine
 
 ## The finest 3D study into reports/finest/: levels 10–160 against a reference on 640 elements
 ## along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and figures. The
@@ -30,7 +30,7 @@ report-fine: build
 ## reports/finest/data/references/.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
-	$(BIN) figures --reports reports/finest
+	$(BIN) figures --out reports/finest
 
 ## The fine-mesh references of the 2D/3D studies (reports/data/references/): the cache is kept
 ## when its parameters match the scenes', recomputed otherwise (make report does the same).
@@ -52,7 +52,7 @@ test-report-shards:
 
 ## Regenerate the golden rates and the table snapshot (the only way they change).
 golden: build
-	$(BIN) golden --root .
+	$(BIN) golden --out .
 	INSTA_UPDATE=always $(CARGO) nextest run --test convergence -E 'test(/^gate::/)'
 
 ## The experiment behind the default horizon and levels (also part of `make report`).
@@ -62,12 +62,12 @@ experiment: build
 ## The stability suite: every scheme × mass on the hard cases (a few minutes: NX = 5000 is one).
 stability: build
 	$(BIN) stability --out reports
-	$(BIN) figures --reports reports
+	$(BIN) figures --out reports
 
 ## The figures from the data in reports/, and one rendered to PNG for a person to look at
 ## (rsvg-convert, from Debian's librsvg2-bin, installed if missing).
 figures: build
-	$(BIN) figures --reports reports
+	$(BIN) figures --out reports
 	@command -v rsvg-convert >/dev/null || (apt-get update -qq && apt-get install -y -qq librsvg2-bin)
 	rsvg-convert -o reports/figures/contact-crank-nicolson.png reports/figures/contact-crank-nicolson.svg
 

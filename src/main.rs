@@ -57,12 +57,15 @@ enum Command {
     /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
     /// parameters match the scene's, says which differ otherwise, and recomputes it.
     Reference(ReferenceArgs),
-    /// What `make report` runs: Tables 1–2 beside the paper into reports/.
+    /// The 1D part of `make report`: the gravity benchmark (gravity.md, gravity/), Tables 1–2
+    /// beside the paper (tables.md, rates.json) and the extended table (extended.md) into
+    /// --out. `make report` also runs `experiment`, `study` on the 2D and 3D bars, `getfem` and
+    /// `figures`.
     Report(ReportArgs),
     /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
     Experiment(ExperimentArgs),
-    /// Draw the figures (SVG) from the data under a reports directory into its figures/
-    /// (`make figures`), and write its README.md index.
+    /// Draw the figures (SVG) from the data under a reports directory (--out) into its
+    /// figures/ (`make figures`), and write its README.md index.
     Figures(FiguresArgs),
     /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
     /// verdict each; writes stability.md and stability.json.
@@ -87,7 +90,9 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let result: Result<(), Failure> = match Cli::parse().command {
+    let cli = Cli::parse();
+    let progress = commands::show_progress();
+    let result: Result<(), Failure> = match cli.command {
         Command::Run(args) => commands::run_scene(args),
         Command::Study(args) => commands::study_scene(args),
         Command::Sensitivity(args) => commands::sensitivity(args),
@@ -102,6 +107,7 @@ fn main() -> ExitCode {
         Command::List(args) => commands::list(args),
         Command::Merge(args) => commands::merge(args),
     };
+    drop(progress);
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {

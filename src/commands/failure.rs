@@ -1,11 +1,9 @@
 //! How a command fails: a message and its exit code, from every error of the layers below.
 
-use std::path::Path;
-
-use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
 use crate::harness::study::scene::SceneError;
+use crate::studies::outputs::CommandError;
 
 /// A failure with its exit code.
 pub struct Failure {
@@ -76,7 +74,13 @@ impl From<OutputDirError> for Failure {
     }
 }
 
-/// Writes `contents` to `path` whole or not at all.
-pub(crate) fn write_output(path: &Path, contents: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, contents).map_err(Failure::from)
+impl From<CommandError> for Failure {
+    fn from(e: CommandError) -> Self {
+        match e {
+            CommandError::Harness(e) => e.into(),
+            CommandError::OutputDir(e) => e.into(),
+            CommandError::Refused(why) => Self::usage(why),
+            CommandError::Failed(why) => Self::runtime(why),
+        }
+    }
 }

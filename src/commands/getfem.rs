@@ -1,17 +1,15 @@
 //! `signorini getfem`: GetFEM's demo runs solved again with its conventions
 //! (`make verify-getfem`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
-use crate::harness::files::output_dir::{Replace, StagedDir};
-use crate::studies::getfem::{
-    export_runs, write_getfem_report, Expectation, GETFEM_REPORT, GETFEM_RUNS,
-};
+use crate::studies::getfem::GETFEM_RUNS;
+use crate::studies::getfem_run;
 
 /// The arguments of `signorini getfem`.
 #[derive(Debug, Args)]
@@ -33,34 +31,9 @@ pub struct GetfemArgs {
 
 /// Reproduces every run and writes getfem.md.
 pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
-    let GetfemArgs {
-        runs,
-        out,
-        export,
-        limits,
-    } = args;
-    let limits = limits.limits();
-    let staged_out = StagedDir::begin("--out", &out, Replace::Files)?;
-    if let Some(dir) = export {
-        let staged = StagedDir::begin("--export", &dir, Replace::Whole)?;
-        let written = export_runs(&runs, staged.path(), &limits)?;
-        staged.commit()?;
-        out!(
-            "wrote {} external-run files to {}",
-            written.len(),
-            dir.display()
-        );
-    }
-    let all = write_getfem_report(Path::new("."), &runs, staged_out.path(), &limits)?;
-    staged_out.commit()?;
-    let reproducible = all
-        .iter()
-        .filter(|r| r.expectation == Expectation::RoundOff)
-        .count();
-    out!(
-        "wrote {}/{GETFEM_REPORT} ({} runs, {reproducible} expected to agree at every step)",
-        out.display(),
-        all.len()
-    );
-    Ok(())
+    let (export, limits) = (args.export.as_deref(), args.limits.limits());
+    let mut say = |said: &str| out!("{said}");
+    Ok(getfem_run::getfem(
+        &args.runs, &args.out, export, &limits, &mut say,
+    )?)
 }

@@ -37,7 +37,9 @@ pub use reports::{
     ReportArgs, StabilityArgs,
 };
 pub use run::{run_scene, RunArgs};
-pub use sharding::ShardArgs;
+pub use sharding::{
+    EnsembleShardArgs, ReferenceShardArgs, ReportShardArgs, ShardArgs, SuiteShardArgs,
+};
 pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
 pub use verify::{verify_runs, VerifyArgs};
 
@@ -45,12 +47,22 @@ use std::path::PathBuf;
 
 use options::REPORTS;
 
-/// `signorini merge`: reads the shards of one invocation ([`merge::read_shards`]) and runs their
+use crate::harness::study::progress::{self, Shown};
+use crate::studies::outputs::read_shards;
+
+/// Shows the progress of this process's subcommand on stderr while the guard lives (on a
+/// terminal, without `CI`).
+pub fn show_progress() -> Shown {
+    let command: Vec<String> = std::env::args().skip(1).take(1).collect();
+    progress::show(&format!("signorini {}", command.join(" ")))
+}
+
+/// `signorini merge`: reads the shards of one invocation ([`read_shards`]) and runs their
 /// recorded request again with every job's result taken from them, with `--out` when given (else
 /// the command's default): it writes, or prints, what the unsharded command does. A `reference`
 /// merge finds every reference in the shared cache.
 pub fn merge(args: MergeArgs) -> Result<(), Failure> {
-    let shards = merge::read_shards(&args)?;
+    let shards = read_shards(&args.shards, args.out.as_deref(), &args.limits.limits())?;
     let (executor, out) = (&shards.executor, args.out);
     let reports = out.clone().unwrap_or_else(|| PathBuf::from(REPORTS));
     match shards.command.as_str() {

@@ -1,27 +1,21 @@
 //! The options and parsers that several subcommands share: schemes, masses, norms, contact
-//! treatments, the schemes' conventions, the step solver, and the progress bar of long runs.
+//! treatments, the schemes' conventions and the step solver.
 
-use std::io::IsTerminal;
+use std::str::FromStr;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::ParameterError;
-use crate::harness::problem::{
-    ContactTreatment, Conventions, LinearSolver, MassVariant, Scheme, Start,
-};
-use crate::harness::run::norms::Norm;
+use crate::harness::problem::{Conventions, LinearSolver, Start};
 use crate::studies::scene_study::ConventionChoice;
 
 /// The reports directory of `make report`, relative to the repository root: the default
 /// `--out` of the commands that write reports.
 pub(crate) const REPORTS: &str = "reports";
 
-pub(crate) fn parse_scheme(s: &str) -> Result<Scheme, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-pub(crate) fn parse_contact(s: &str) -> Result<ContactTreatment, String> {
+/// A value of an option read with its type's parser (a scheme, a mass, a norm, a contact
+/// treatment, …): a refused value names what is allowed.
+pub(crate) fn parsed<T: FromStr<Err = ParameterError>>(s: &str) -> Result<T, String> {
     s.parse().map_err(|e: ParameterError| e.to_string())
 }
 
@@ -31,12 +25,12 @@ pub(crate) fn parse_contact(s: &str) -> Result<ContactTreatment, String> {
 pub struct ConventionArgs {
     /// The schemes' implementation choices: harness or getfem-demo (GetFEM demo's start,
     /// Nitsche acceleration and Paoli–Schatzman rows). Default: the scene's, else harness.
-    #[arg(long, value_parser = parse_conventions)]
+    #[arg(long, value_parser = parsed::<Conventions>)]
     pub conventions: Option<Conventions>,
     /// The start with a massless contact node: static (its data moved into static
     /// equilibrium) or implicit-multiplier (data kept, the paper's and GetFEM's). Default: the
     /// conventions', else the scene's, else static.
-    #[arg(long, value_parser = parse_start)]
+    #[arg(long, value_parser = parsed::<Start>)]
     pub start: Option<Start>,
 }
 
@@ -57,51 +51,6 @@ pub struct LinearSolverArgs {
     /// Step solver on 2D/3D boxes: direct (sparse Cholesky), cg (matrix-free conjugate
     /// gradients with the product preconditioner) or auto (cg on 2D/3D boxes from 10 000
     /// unknowns on, direct below). 1D bars always use the tridiagonal solver.
-    #[arg(long, value_parser = parse_linear_solver, default_value = "auto")]
+    #[arg(long, value_parser = parsed::<LinearSolver>, default_value = "auto")]
     pub linear_solver: LinearSolver,
-}
-
-pub(crate) fn parse_linear_solver(s: &str) -> Result<LinearSolver, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-fn parse_conventions(s: &str) -> Result<Conventions, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-fn parse_start(s: &str) -> Result<Start, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-/// Prints on stderr why each of `schemes` whose parameters make it unstable is so
-/// ([`Scheme::warning`]); the run goes on.
-pub(crate) fn warn_schemes(schemes: &[Scheme]) {
-    for w in schemes.iter().filter_map(|s| s.warning()) {
-        eprintln!("warning: {w}");
-    }
-}
-
-pub(crate) fn parse_mass(s: &str) -> Result<MassVariant, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-pub(crate) fn parse_norm(s: &str) -> Result<Norm, String> {
-    s.parse().map_err(|e: ParameterError| e.to_string())
-}
-
-pub(crate) fn progress_bar(len: usize) -> ProgressBar {
-    let visible = std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
-    let bar = ProgressBar::with_draw_target(
-        Some(len as u64),
-        if visible {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    );
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
-            .expect("valid template"),
-    );
-    bar
 }

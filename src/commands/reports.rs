@@ -1,32 +1,21 @@
 //! The commands behind the make targets that write `reports/` and `golden/`: `report`,
-//! `experiment`, `figures`, `stability` and `golden`. `report`, `experiment` and `stability`
-//! shard: each hands its job lists to the executor `--shard` asks for.
+//! `experiment`, `figures`, `stability` and `golden` ([`crate::studies::report_run`] does
+//! them). `report`, `experiment` and `stability` shard.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
-
 use serde::{Deserialize, Serialize};
 
-use super::failure::{write_output, Failure};
+use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
-use super::sharding::{share_of_work, this_invocation, Destination, ShardArgs};
-use crate::harness::files::error::Error;
-use crate::harness::files::output_dir::{Replace, StagedDir};
-use crate::harness::study::budget::Estimate;
-use crate::harness::study::executor::{computed_here, Executor};
-use crate::harness::study::Case;
+use super::sharding::{ReportShardArgs, SuiteShardArgs};
+use crate::harness::study::executor::Executor;
 use crate::studies::benchmark::DIRICHLET_SCENE;
-use crate::studies::estimate;
-use crate::studies::experiment::{defaults_experiment, write_defaults_experiment};
-use crate::studies::extended::{extended_studies_in, write_extended_report};
-use crate::studies::figures::from_reports::write_figures;
-use crate::studies::golden::write_golden;
-use crate::studies::gravity::{gravity_benchmark, write_gravity_report, GRAVITY_SCENE};
-use crate::studies::report::{tables_report, write_report};
-use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
-use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files};
+use crate::studies::gravity::GRAVITY_SCENE;
+use crate::studies::outputs::this_invocation;
+use crate::studies::report_run;
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
@@ -37,84 +26,33 @@ pub struct ReportArgs {
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
-    /// Run one shard of the studies' jobs (all of the report's lists dealt as one).
+    /// The shard to run.
     #[command(flatten)]
-    pub shard: ShardArgs,
+    pub shard: ReportShardArgs,
 }
 
-/// The files `report` reads: the scenes of its benchmarks.
-fn report_inputs() -> Vec<PathBuf> {
-    vec![PathBuf::from(GRAVITY_SCENE), PathBuf::from(DIRICHLET_SCENE)]
-}
-
-/// What `make report` runs: Tables 1–2 beside the paper into reports/.
+/// The 1D part of `make report`: the gravity benchmark, Tables 1–2 beside the paper and the
+/// extended table.
 pub fn report(args: ReportArgs) -> Result<(), Failure> {
     let executor = args.shard.executor();
     report_with(args, &executor)
 }
 
-/// [`report`] with the job lists of its studies (the gravity benchmark's, the tables' and the
-/// extended table's, one after the other) handed to `executor`.
+/// [`report`] with its job lists handed to `executor`.
 pub(crate) fn report_with(args: ReportArgs, executor: &Executor) -> Result<(), Failure> {
-    let invocation = this_invocation(
-        "report",
-        &ReportArgs {
-            out: PathBuf::from(REPORTS),
-            shard: ShardArgs::default(),
-            ..args.clone()
-        },
-        report_inputs(),
-    )?;
-    let ReportArgs {
-        out,
-        limits,
-        shard: _,
-    } = args;
-    let root = Path::new(".");
-    limits.check(share_of_work(estimate::report(root)?, executor))?;
-    let destination = Destination::begin(executor, &out)?;
-    let executed = executor
-        .execute_lists(|batch| {
-            let gravity = gravity_benchmark(root, batch)?;
-            let tables = tables_report(root, batch)?;
-            let extended = extended_studies_in(root, batch)?;
-            Ok(gravity.zip(tables).zip(extended))
-        })
-        .map_err(study_failure)?;
-    let Some((((gravity, tables), extended), staged)) =
-        destination.receive(executed, &invocation)?
-    else {
-        return Ok(());
+    let recorded = ReportArgs {
+        out: PathBuf::from(REPORTS),
+        shard: ReportShardArgs::default(),
+        ..args.clone()
     };
-    write_gravity_report(&gravity, staged.path()).map_err(Failure::runtime)?;
+    let inputs = vec![PathBuf::from(GRAVITY_SCENE), PathBuf::from(DIRICHLET_SCENE)];
+    let invocation = this_invocation("report", &recorded, inputs)?;
+    let limits = args.limits.limits();
     out!(
-        "wrote {}/gravity.md and {}/gravity/ ({} cases)",
-        out.display(),
-        out.display(),
-        gravity.study.cases.len()
+        "{}",
+        report_run::report(&args.out, &limits, executor, &invocation)?
     );
-    write_report(&tables, staged.path(), &staged.final_path(staged.path()))
-        .map_err(Failure::runtime)?;
-    out!(
-        "wrote {}/tables.md and {}/rates.json ({} cases, study {:.1} s wall)",
-        out.display(),
-        out.display(),
-        tables.study.cases.len(),
-        tables.study.wall_seconds
-    );
-    write_extended_report(&extended, staged.path()).map_err(Failure::runtime)?;
-    staged.commit()?;
-    out!("wrote {}/extended.md", out.display());
     Ok(())
-}
-
-/// A failure of a study of `report` or `experiment`: shards a merge refuses are a usage error
-/// (exit 2), as for every sharded command; anything else a failure (exit 1).
-fn study_failure(e: Error) -> Failure {
-    match e {
-        Error::Shard(_) => e.into(),
-        e => Failure::runtime(e),
-    }
 }
 
 /// The arguments of `signorini experiment`.
@@ -123,9 +61,12 @@ pub struct ExperimentArgs {
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
-    /// Run one shard of the studies' jobs (the three horizons' lists dealt as one).
+    /// The resource limits.
     #[command(flatten)]
-    pub shard: ShardArgs,
+    pub limits: LimitArgs,
+    /// The shard to run.
+    #[command(flatten)]
+    pub shard: ReportShardArgs,
 }
 
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
@@ -134,31 +75,18 @@ pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
     experiment_with(args, &executor)
 }
 
-/// [`experiment`] with the job lists of its studies handed to `executor`.
+/// [`experiment`] with its job lists handed to `executor`.
 pub(crate) fn experiment_with(args: ExperimentArgs, executor: &Executor) -> Result<(), Failure> {
-    let invocation = this_invocation(
-        "experiment",
-        &ExperimentArgs {
-            out: PathBuf::from(REPORTS),
-            shard: ShardArgs::default(),
-        },
-        vec![PathBuf::from(DIRICHLET_SCENE)],
-    )?;
-    let out = args.out;
-    let destination = Destination::begin(executor, &out)?;
-    let executed = executor
-        .execute_lists(|batch| defaults_experiment(Path::new("."), batch))
-        .map_err(study_failure)?;
-    let Some((experiment, staged)) = destination.receive(executed, &invocation)? else {
-        return Ok(());
+    let recorded = ExperimentArgs {
+        out: PathBuf::from(REPORTS),
+        shard: ReportShardArgs::default(),
+        ..args.clone()
     };
-    let md = write_defaults_experiment(&experiment, staged.path()).map_err(Failure::runtime)?;
-    staged.commit()?;
-    let summary: Vec<&str> = md.lines().skip(4).take(7).collect();
+    let invocation = this_invocation("experiment", &recorded, vec![DIRICHLET_SCENE.into()])?;
+    let limits = args.limits.limits();
     out!(
-        "{}\nwrote {}/defaults-experiment.md",
-        summary.join("\n"),
-        out.display()
+        "{}",
+        report_run::experiment(&args.out, &limits, executor, &invocation)?
     );
     Ok(())
 }
@@ -166,29 +94,18 @@ pub(crate) fn experiment_with(args: ExperimentArgs, executor: &Executor) -> Resu
 /// The arguments of `signorini figures`.
 #[derive(Debug, Args)]
 pub struct FiguresArgs {
-    /// The reports directory.
-    #[arg(long, default_value = REPORTS)]
-    pub reports: PathBuf,
+    /// The reports directory: its data is read, its figures/ and README.md written.
+    #[arg(long, alias = "reports", default_value = REPORTS)]
+    pub out: PathBuf,
+    /// The resource limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// Draw the figures (SVG) from the data under a reports directory into its figures/
 /// (`make figures`), and write its README.md index.
 pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
-    let FiguresArgs { reports } = args;
-    let staged = StagedDir::begin("--reports", &reports, Replace::Files)?;
-    let (names, missing) = write_figures(&reports, staged.path()).map_err(Failure::runtime)?;
-    let index = reports_index(&reports, &names);
-    write_output(&staged.path().join(REPORTS_INDEX), index.as_bytes())?;
-    staged.commit()?;
-    out!(
-        "wrote {} figures into {}/figures and {}/README.md",
-        names.len(),
-        reports.display(),
-        reports.display()
-    );
-    for m in missing {
-        out!("skipped (input missing): {m}");
-    }
+    out!("{}", report_run::figures(&args.out, &args.limits.limits())?);
     Ok(())
 }
 
@@ -201,19 +118,12 @@ pub struct StabilityArgs {
     /// Only the fast subset that CI guards.
     #[arg(long)]
     pub ci_subset: bool,
-    /// Run one shard of the suite's runs.
+    /// The shard to run.
     #[command(flatten)]
-    pub shard: ShardArgs,
+    pub shard: SuiteShardArgs,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
-}
-
-impl StabilityArgs {
-    /// The files the suite reads: the Signorini–Dirichlet scene.
-    pub(crate) fn inputs(&self) -> Vec<PathBuf> {
-        vec![PathBuf::from(DIRICHLET_SCENE)]
-    }
 }
 
 /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
@@ -225,75 +135,32 @@ pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
 
 /// [`stability`] with its runs handed to `executor`.
 pub(crate) fn stability_with(args: StabilityArgs, executor: &Executor) -> Result<(), Failure> {
-    let invocation = this_invocation(
-        "stability",
-        &StabilityArgs {
-            out: PathBuf::from(REPORTS),
-            shard: ShardArgs::default(),
-            ..args.clone()
-        },
-        args.inputs(),
-    )?;
-    let StabilityArgs {
-        out,
-        ci_subset,
-        shard: _,
-        limits,
-    } = args;
-    let hard = hard_cases(Path::new("."), ci_subset)?;
-    let suite = estimate::stability(&hard);
-    // A shard runs its share of the jobs, at most the whole suite's memory; a merge runs none.
-    let jobs = hard.len() * Case::paper_matrix().len();
-    let share = computed_here(&vec![1; jobs], executor).len() as f64 / jobs.max(1) as f64;
-    limits.check(Estimate {
-        dof_steps: suite.dof_steps * share,
-        ..suite
-    })?;
-    let destination = Destination::begin(executor, &out)?;
-    let executed = run_suite_on(executor, &hard, &Case::paper_matrix())?;
-    let Some((records, staged)) = destination.receive(executed, &invocation)? else {
-        return Ok(());
+    let recorded = StabilityArgs {
+        out: PathBuf::from(REPORTS),
+        shard: SuiteShardArgs::default(),
+        ..args.clone()
     };
-    write_stability_files(staged.path(), &hard, &records).map_err(Failure::runtime)?;
-    staged.commit()?;
-    let flagged = records
-        .iter()
-        .filter(|r| {
-            !matches!(
-                r.verdict,
-                crate::studies::stability::Verdict::Stable
-                    | crate::studies::stability::Verdict::Dissipative
-            )
-        })
-        .count();
-    out!(
-        "wrote {}/stability.md ({} runs, {} flagged)",
-        out.display(),
-        records.len(),
-        flagged
-    );
+    let invocation = this_invocation("stability", &recorded, vec![DIRICHLET_SCENE.into()])?;
+    let (limits, subset) = (args.limits.limits(), args.ci_subset);
+    let said = report_run::stability(&args.out, subset, &limits, executor, &invocation)?;
+    out!("{said}");
     Ok(())
 }
 
 /// The arguments of `signorini golden`.
 #[derive(Debug, Args)]
 pub struct GoldenArgs {
-    /// The repository root (scenes/ and golden/ are under it).
-    #[arg(long, default_value = ".")]
-    pub root: PathBuf,
+    /// The repository root: its scenes/ are read and its golden/ written.
+    #[arg(long, alias = "root", default_value = ".")]
+    pub out: PathBuf,
     /// The resource limits.
     #[command(flatten)]
     pub limits: LimitArgs,
 }
 
 /// Regenerate the golden rates of the gated studies with their round-off sensitivity (`make
-/// golden`; nothing else writes them): golden/rates-1d-dirichlet.json,
-/// rates-1d-gravity.json, rates-1d-extended.json and rates-2d.json.
+/// golden`; nothing else writes them).
 pub fn golden(args: GoldenArgs) -> Result<(), Failure> {
-    let GoldenArgs { root, limits } = args;
-    limits.check(estimate::golden(&root)?.writing(4.0))?;
-    for (name, golden) in write_golden(&root).map_err(Failure::runtime)? {
-        out!("wrote {name} ({} cases)", golden.cases.len());
-    }
+    out!("{}", report_run::golden(&args.out, &args.limits.limits())?);
     Ok(())
 }

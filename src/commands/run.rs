@@ -1,20 +1,15 @@
 //! `signorini run`: one run of a scene, bar or box, with its summary on the terminal and,
 //! with `--out`, its result and histories as files.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
-use super::failure::{write_output, Failure};
+use super::failure::Failure;
 use super::limits::LimitArgs;
-use super::options::{
-    parse_contact, parse_mass, parse_scheme, warn_schemes, ConventionArgs, LinearSolverArgs,
-};
-use crate::harness::files::output_dir::{Replace, StagedDir};
+use super::options::{parsed, ConventionArgs, LinearSolverArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
-use crate::harness::run::run_files::RUN_JSON;
-use crate::harness::study::scene::Scene;
-use crate::studies::scene_run::{RunChoices, SceneRun};
+use crate::studies::scene_run::{run_scene as run_scene_of, RunChoices};
 
 /// The arguments of `signorini run`.
 #[derive(Debug, Args)]
@@ -23,11 +18,11 @@ pub struct RunArgs {
     pub scene: PathBuf,
     /// Scheme: a preset name (see `signorini list`) or newmark(beta=B,gamma=G),
     /// theta(theta=T), paoli-schatzman(beta=B,e=E).
-    #[arg(long, value_parser = parse_scheme)]
+    #[arg(long, value_parser = parsed::<Scheme>)]
     pub scheme: Scheme,
     /// Mass matrix: standard, redistributed, lumped, redistributed-conserving,
     /// singular-dynamic, getfem-redistributed or getfem-singular (see `signorini list`).
-    #[arg(long, value_parser = parse_mass)]
+    #[arg(long, value_parser = parsed::<MassVariant>)]
     pub mass: MassVariant,
     /// Number of elements NX (>= 1; along the bar for a 2D/3D box). Default: the scene's
     /// finest level.
@@ -42,7 +37,7 @@ pub struct RunArgs {
     pub out: Option<PathBuf>,
     /// Contact treatment: multiplier, penalty(gamma0=G), nitsche(theta=T,gamma0=G) (1D
     /// only). Default: the scene's, else multiplier.
-    #[arg(long, value_parser = parse_contact)]
+    #[arg(long, value_parser = parsed::<ContactTreatment>)]
     pub contact: Option<ContactTreatment>,
     /// Print the largest per-step residual of the scheme's discrete energy balance (1D paper
     /// eqs. 33, 35, 37, on a bar or a box) relative to its scale (also in run.json with --out).
@@ -64,61 +59,23 @@ pub struct RunArgs {
 /// plus the histories the scene asks for (CSV, and a box's VTK snapshots), staged and moved
 /// into place whole at the end.
 pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
-    let RunArgs {
-        scene,
-        scheme,
-        mass,
-        nx,
-        ratio,
+    let choices = RunChoices {
+        scheme: args.scheme,
+        mass: args.mass,
+        nx: args.nx,
+        ratio: args.ratio,
+        contact: args.contact,
+        conventions: args.conventions.choice(),
+        linear_solver: args.solver.linear_solver,
+        check_balance: args.check_balance,
+        writes_files: args.out.is_some(),
+    };
+    let (out, limits) = (args.out.as_deref(), args.limits.limits());
+    Ok(run_scene_of(
+        &args.scene,
+        choices,
         out,
-        contact,
-        check_balance,
-        conventions,
-        solver,
-        limits,
-    } = args;
-    let scene = Scene::load(&scene)?;
-    warn_schemes(&[scheme]);
-    let run = SceneRun::of(
-        &scene,
-        RunChoices {
-            scheme,
-            mass,
-            nx,
-            ratio,
-            contact,
-            conventions: conventions.choice(),
-            linear_solver: solver.linear_solver,
-            check_balance,
-            writes_files: out.is_some(),
-        },
-    )?;
-    limits.check(run.estimate())?;
-    let staged = stage(out.as_deref())?;
-    if let Some(advice) = run.advice() {
-        out!("{advice}");
-    }
-    let mut outcome = run.run(staged.as_ref().map(StagedDir::path))?;
-    out!("{}", outcome.summary(&run, check_balance));
-    if let (Some(dir), Some(staged)) = (out, staged) {
-        let (json, histories) = outcome.files(|f| staged.final_path(f))?;
-        write_output(&staged.path().join(RUN_JSON), json.as_bytes())?;
-        for (name, text) in histories {
-            write_output(&staged.path().join(&name), text.as_bytes())?;
-        }
-        staged.commit()?;
-        for f in outcome.vtk_files() {
-            out!("wrote {}", f.display());
-        }
-        out!("wrote {}", dir.display());
-    }
-    Ok(())
-}
-
-/// The staged `--out` directory of a run: refused when it holds files the harness did not
-/// write, its old files replaced by the run's at the end.
-fn stage(out: Option<&Path>) -> Result<Option<StagedDir>, Failure> {
-    Ok(out
-        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
-        .transpose()?)
+        &limits,
+        &mut |said| out!("{said}"),
+    )?)
 }

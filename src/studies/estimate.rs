@@ -1,4 +1,4 @@
-//! What the fixed studies of `signorini report`, `golden` and `stability` will cost
+//! What the fixed studies of `signorini report`, `experiment`, `golden` and `stability` will cost
 //! ([`crate::harness::study::budget`]), so that their commands are held to the same limits as `run`
 //! and `study` before they start: each study's case × level runs with its round-off ensemble's
 //! members, as one job list ([`budget::bar_runs`]), and the studies one after the other.
@@ -15,6 +15,7 @@ use crate::harness::study::{Case, StudyConfig};
 use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::gate::ELASTIC_2D_SCENE;
 use crate::studies::elastic_study::ElasticStudyConfig;
+use crate::studies::experiment::EXPERIMENT_HORIZONS;
 use crate::studies::extended::{extended_cases, extended_config, extended_problem, TREATMENTS};
 use crate::studies::gravity::GRAVITY_SCENE;
 use crate::studies::stability::{HardCase, STABILITY_ENSEMBLE};
@@ -96,4 +97,20 @@ pub fn stability(hard: &[HardCase]) -> Estimate {
     let cases = Case::paper_matrix().len();
     let runs = (cases * (1 + STABILITY_ENSEMBLE.members)) as f64;
     budget::bar_runs(hard.iter().map(|h| (&h.problem, h.nx, h.ratio, runs)))
+}
+
+/// What `signorini experiment` runs: the Tables 1–2 study at every horizon of
+/// [`EXPERIMENT_HORIZONS`], without ensembles.
+pub fn experiment(root: &Path) -> Result<Estimate, Error> {
+    let cases = Case::paper_matrix().len();
+    EXPERIMENT_HORIZONS
+        .iter()
+        .try_fold(Estimate::default(), |total, &horizon| {
+            let config = StudyConfig {
+                horizon,
+                ..StudyConfig::paper_default()
+            };
+            let problem = dirichlet(root, horizon)?;
+            Ok(total.then(study(&problem, &config, cases, 0)))
+        })
 }

@@ -18,7 +18,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::Scene;
-use crate::harness::study::{run_study_on, study_size, Case, Study, StudyConfig, StudyJobs};
+use crate::harness::study::{run_study_on, Case, Study, StudyConfig, StudyJobs};
 use crate::studies::elastic_study::files::write_elastic_files;
 use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::elastic_study::{
@@ -218,14 +218,6 @@ impl SceneStudy {
         }
     }
 
-    /// The number of runs the study makes here (its progress), ensemble members aside.
-    pub fn runs(&self) -> usize {
-        match self {
-            Self::Bar { cases, config, .. } => study_size(cases, config),
-            Self::Box { config, .. } => config.cases.len() * config.levels.len(),
-        }
-    }
-
     /// The estimate of what `executor` computes of the study here ([`budget`]).
     pub fn estimate(&self, executor: &Executor) -> Estimate {
         match self {
@@ -255,13 +247,12 @@ impl SceneStudy {
         }
     }
 
-    /// Runs the study's jobs through `executor` (calling `done` after each bar run); a box
-    /// study obtains its reference from `cache` first (`note` hears why a cache was not used).
+    /// Runs the study's jobs through `executor`; a box study obtains its reference from
+    /// `cache` first (`note` hears why a cache was not used).
     pub fn run_on(
         &self,
         executor: &Executor,
         cache: &ReferenceCache,
-        done: &(dyn Fn() + Sync),
         note: &mut dyn FnMut(String),
     ) -> Result<Executed<StudyOutcome>, Error> {
         match self {
@@ -272,7 +263,7 @@ impl SceneStudy {
                 norms,
                 config,
             } => {
-                let jobs = StudyJobs::new(problem, cases, norms, config)?.reporting(done);
+                let jobs = StudyJobs::new(problem, cases, norms, config)?;
                 run_study_on(executor, &jobs)?.reduce(|(study, _)| {
                     Ok(StudyOutcome::Bar {
                         scene: scene.clone(),

@@ -19,6 +19,8 @@ mod getfem;
 mod hostile;
 mod outputs;
 mod paraview;
+mod progress;
+mod readme_commands;
 mod reliability;
 mod report_figures;
 mod scenes;

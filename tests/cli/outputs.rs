@@ -278,7 +278,7 @@ fn a_shared_directory_keeps_its_other_files() {
     fs::create_dir(&reports).unwrap();
     fs::write(reports.join("tables.md"), "committed").unwrap();
     let r = reports.to_string_lossy().into_owned();
-    success_stdout(&signorini(&["figures", "--reports", &r]));
+    success_stdout(&signorini(&["figures", "--out", &r]));
     assert_eq!(names(&reports), [MANIFEST, "README.md", "tables.md"]);
     assert_eq!(
         fs::read_to_string(reports.join("tables.md")).unwrap(),

@@ -238,6 +238,7 @@ fn a_shared_directory_refuses_to_replace_a_users_namesake() {
     fs::write(reports.join("README.md"), "my notes").unwrap();
     exits(
         None,
+        // `--reports`, the old name of `--out`, is kept as a hidden alias.
         &["figures", "--reports", &arg(&reports)],
         2,
         &["README.md", "would be replaced"],

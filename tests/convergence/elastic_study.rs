@@ -121,7 +121,7 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
     let md = std::fs::read_to_string(out.join("elastic-2d.md")).unwrap();
     assert!(md.contains("## The note's findings, tested"));
     assert!(md.contains("Is the reference fine enough?"));
-    success_stdout(&signorini(&["figures", "--reports", &o]));
+    success_stdout(&signorini(&["figures", "--out", &o]));
     for scheme in ["crank-nicolson", "backward-euler"] {
         for kind in ["contact", "energy", "von-mises", "convergence"] {
             let name = match kind {

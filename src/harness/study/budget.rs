@@ -500,3 +500,32 @@ fn study_of(levels: impl Iterator<Item = (Estimate, f64)>) -> Estimate {
         dof_steps: work,
     }
 }
+
+/// Bytes: an integer with an optional suffix K, M, G or T (powers of 1024).
+pub fn parse_bytes(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let (digits, shift) = match t.char_indices().last() {
+        Some((i, c)) if c.eq_ignore_ascii_case(&'k') => (&t[..i], 10),
+        Some((i, c)) if c.eq_ignore_ascii_case(&'m') => (&t[..i], 20),
+        Some((i, c)) if c.eq_ignore_ascii_case(&'g') => (&t[..i], 30),
+        Some((i, c)) if c.eq_ignore_ascii_case(&'t') => (&t[..i], 40),
+        _ => (t, 0),
+    };
+    digits
+        .trim()
+        .parse::<u64>()
+        .ok()
+        .and_then(|n| n.checked_mul(1_u64 << shift))
+        .ok_or_else(|| {
+            format!("{s:?}: allowed: a number of bytes, optionally with K, M, G or T (e.g. 512M)")
+        })
+}
+
+/// Dof-steps: a finite number > 0.
+pub fn parse_dof_steps(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .ok_or_else(|| format!("{s:?}: allowed: a finite number of dof-steps > 0 (e.g. 1e9)"))
+}

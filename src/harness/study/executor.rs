@@ -14,7 +14,8 @@
 //! ([`Executor::execute_lists`]), which a shard deals as one list and writes as one file. Each
 //! list's results come with its wall time ([`ListResults`]): a shard records its time on each
 //! list, and a merge reports the longest shard's. The executor holds no state between calls and
-//! nothing of it is global.
+//! nothing of it is global; the jobs it computes are counted in the progress a command shows
+//! ([`progress::stage`]).
 
 use std::time::Instant;
 
@@ -23,6 +24,7 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use crate::harness::files::error::Error;
+use crate::harness::study::progress::{self, Stage};
 use crate::harness::study::shard::{
     codec, EncodedResult, InRange, ListRun, MergedJobs, ShardError, ShardSpec, Share,
 };
@@ -181,12 +183,13 @@ impl Batch<'_> {
         let clock = Instant::now();
         let (results, wall_seconds) = match self.executor {
             Executor::Local => (
-                Some(run_all(list, parallel)?),
+                Some(run_all(list, parallel, &self.lists)?),
                 clock.elapsed().as_secs_f64(),
             ),
             Executor::Shard(spec) => {
                 let order = spec.share(&largest_first(&sizes_of(list)), dealt);
-                for (index, r) in run_in_order(list, &order, parallel)? {
+                let stage = list_stage(&self.lists, order.len());
+                for (index, r) in run_in_order(list, &order, parallel, &stage)? {
                     self.results.push(EncodedResult {
                         index: dealt + index,
                         result: codec::encode(&r)?,
@@ -265,17 +268,23 @@ fn decode_all<T: DeserializeOwned + InRange>(
 /// error stops the rest. What [`Executor::Local`] does, for the studies that are never sharded.
 pub fn run_local<L: JobList>(list: &L) -> Result<ListResults<L::Output>, Error> {
     let clock = Instant::now();
-    let results = run_all(list, Parallel::Yes)?;
+    let results = run_all(list, Parallel::Yes, &[])?;
     Ok(ListResults {
         results,
         wall_seconds: clock.elapsed().as_secs_f64(),
     })
 }
 
-/// Every job of `list`, the largest started first; the results in list order.
-fn run_all<L: JobList>(list: &L, parallel: Parallel) -> Result<Vec<L::Output>, Error> {
+/// Every job of `list`, the largest started first, after the lists `before` of its batch; the
+/// results in list order.
+fn run_all<L: JobList>(
+    list: &L,
+    parallel: Parallel,
+    before: &[ListRun],
+) -> Result<Vec<L::Output>, Error> {
     let order = largest_first(&sizes_of(list));
-    Ok(run_in_order(list, &order, parallel)?
+    let stage = list_stage(before, order.len());
+    Ok(run_in_order(list, &order, parallel, &stage)?
         .into_iter()
         .map(|(_, r)| r)
         .collect())
@@ -288,14 +297,28 @@ enum Parallel {
     No,
 }
 
+/// The progress stage of the `jobs` computed here of a batch's list that comes after the lists
+/// `before`.
+fn list_stage(before: &[ListRun], jobs: usize) -> Stage {
+    match before.len() {
+        0 => progress::stage("jobs", jobs, "jobs"),
+        n => progress::stage(&format!("job list {}", n + 1), jobs, "jobs"),
+    }
+}
+
 /// Runs the jobs `order` of `list`, starting them in that order (in parallel or one at a time),
-/// and returns their results with their indices, by index.
+/// and returns their results with their indices, by index; each job done is counted in `stage`.
 fn run_in_order<L: JobList>(
     list: &L,
     order: &[usize],
     parallel: Parallel,
+    stage: &Stage,
 ) -> Result<Vec<(usize, L::Output)>, Error> {
-    let run = |&k: &usize| list.run(k).map(|r| (k, r));
+    let run = |&k: &usize| {
+        let result = list.run(k).map(|r| (k, r));
+        stage.advance(1);
+        result
+    };
     let mut results = match parallel {
         Parallel::Yes => order
             .par_iter()

@@ -20,6 +20,7 @@
 pub mod budget;
 pub mod executor;
 pub mod golden;
+pub mod progress;
 pub mod rates;
 pub mod scene;
 pub mod sensitivity;
@@ -367,11 +368,6 @@ pub fn run_study(
     Ok(jobs.reduce(ran, cases))
 }
 
-/// The number of runs a study makes.
-pub fn study_size(cases: &[Case], config: &StudyConfig) -> usize {
-    cases.len() * config.levels.len()
-}
-
 /// A study of any geometry against its reference: its case × level jobs handed to `executor`,
 /// each measured by `jobs`' [`LevelMeasure`], then fitted ([`Study::assemble`]). What the
 /// study, or a shard's share of its jobs, gives back: the study and what each case it fitted
@@ -460,7 +456,6 @@ pub struct StudyJobs<'a, M = AgainstExact<'a>> {
     cases: &'a [Case],
     norms: Vec<Norm>,
     config: &'a StudyConfig,
-    done: &'a (dyn Fn() + Sync),
 }
 
 impl<'a> StudyJobs<'a> {
@@ -500,13 +495,7 @@ impl<'a, M: LevelMeasure> StudyJobs<'a, M> {
             cases,
             norms: norms.iter().copied().collect(),
             config,
-            done: &|| {},
         }
-    }
-
-    /// The same jobs calling `done` after each (from the worker threads: a progress count).
-    pub fn reporting(self, done: &'a (dyn Fn() + Sync)) -> Self {
-        Self { done, ..self }
     }
 
     /// The measure of each job.
@@ -517,9 +506,7 @@ impl<'a, M: LevelMeasure> StudyJobs<'a, M> {
     /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
     pub fn list(&self) -> impl JobList<Output = Measured<M::Kept>> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
-            let measured = self.measure.measure(self.cases[c], self.config.levels[l]);
-            (self.done)();
-            measured
+            self.measure.measure(self.cases[c], self.config.levels[l])
         })
     }
 

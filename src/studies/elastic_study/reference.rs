@@ -38,6 +38,7 @@ use crate::harness::run::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
 use crate::harness::run::{run, Observables, RunConfig};
+use crate::harness::study::progress::StepProgress;
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
 /// projections on the fitted levels and the lockstep check replace the displacement samples;
@@ -338,7 +339,15 @@ impl Reference {
                 let mut send = CheckSender::new(sender, check_stride);
                 run(problem, &check_config, &mut [&mut send])
             });
-            let run = run(problem, &config, &mut [&mut recorder, &mut comparison]);
+            let mut steps = StepProgress::new(
+                &format!("reference on {} elements", key.n_axis),
+                problem.horizon,
+            );
+            let run = run(
+                problem,
+                &config,
+                &mut [&mut recorder, &mut comparison, &mut steps],
+            );
             let distance = comparison.finish();
             let check_run = check
                 .join()
@@ -564,18 +573,20 @@ impl Reference {
         let (dir, stem) = (cache.dir(), key.stem());
         match Self::load(problem, dir, &stem, &key)? {
             CacheLookup::Hit(reference) => return Ok(*reference),
-            CacheLookup::Missing => note(format!(
-                "no cached reference for these parameters in {}{}",
-                dir.display(),
-                closest_other(dir, &key)
-                    .map(|(name, fields)| format!(
-                        " (the closest, {name}, differs in {})",
-                        fields.join("; ")
-                    ))
-                    .unwrap_or_default()
-            )),
+            CacheLookup::Missing => note(
+                format!(
+                    "no cached reference for these parameters in {}{}",
+                    dir.display(),
+                    closest_other(dir, &key)
+                        .map(|(name, fields)| format!(
+                            " (the closest, {name}, differs in {})",
+                            fields.join("; ")
+                        ))
+                        .unwrap_or_default()
+                ) + "; computing it",
+            ),
             CacheLookup::Stale(why) => note(format!(
-                "cached reference {stem} is stale ({})",
+                "cached reference {stem} is stale ({}); computing it",
                 why.join("; ")
             )),
         }

@@ -15,6 +15,7 @@ use crate::harness::files::error::Error;
 use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate, Limits};
+use crate::harness::study::progress;
 use crate::harness::study::rates::observed_orders;
 use crate::harness::study::sensitivity::EnsembleConfig;
 
@@ -49,7 +50,9 @@ pub fn write_getfem_report(
 ) -> Result<Vec<Reproduction>, Error> {
     let mut rows = Vec::new();
     let mut total = Estimate::default().writing(1.0);
-    for file in list_runs(runs)? {
+    let files = list_runs(runs)?;
+    let stage = progress::stage("GetFEM's demo runs solved again", files.len(), "runs");
+    for file in files {
         let run = read_run(&file.path)?;
         total = total.then(reproduction_cost(&run));
         total.check(limits)?;
@@ -87,7 +90,9 @@ pub fn write_getfem_report(
             ensemble,
             horizons,
         });
+        stage.advance(1);
     }
+    drop(stage);
     let mut md = String::new();
     step_by_step(&mut md, &rows);
     harness_norms(&mut md, &rows);

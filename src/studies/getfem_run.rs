@@ -1,0 +1,45 @@
+//! `signorini getfem` below the command line: GetFEM's demo runs solved again with its
+//! conventions and compared step by step into `getfem.md`, and optionally exported as
+//! external-run files for `signorini verify`.
+
+use std::path::Path;
+
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::study::budget::Limits;
+use crate::studies::getfem::{export_runs, write_getfem_report, Expectation, GETFEM_REPORT};
+use crate::studies::outputs::CommandError;
+
+/// Reproduces every demo run under `runs` into `out`'s `getfem.md` (each run's work and memory
+/// held to `limits` as it is read), after exporting them into `export` when given; tells `say`
+/// what it wrote.
+pub fn getfem(
+    runs: &Path,
+    out: &Path,
+    export: Option<&Path>,
+    limits: &Limits,
+    say: &mut dyn FnMut(&str),
+) -> Result<(), CommandError> {
+    let staged_out = StagedDir::begin("--out", out, Replace::Files)?;
+    if let Some(dir) = export {
+        let staged = StagedDir::begin("--export", dir, Replace::Whole)?;
+        let written = export_runs(runs, staged.path(), limits)?;
+        staged.commit()?;
+        let n = written.len();
+        say(&format!(
+            "wrote {n} external-run files to {}",
+            dir.display()
+        ));
+    }
+    let all = write_getfem_report(Path::new("."), runs, staged_out.path(), limits)?;
+    staged_out.commit()?;
+    let reproducible = all
+        .iter()
+        .filter(|r| r.expectation == Expectation::RoundOff)
+        .count();
+    say(&format!(
+        "wrote {}/{GETFEM_REPORT} ({} runs, {reproducible} expected to agree at every step)",
+        out.display(),
+        all.len()
+    ));
+    Ok(())
+}

@@ -1,0 +1,296 @@
+//! Where a command's results go, below the command line: the request its shards record
+//! ([`this_invocation`]), a shard's partial result file ([`ShardOutput`]) or the reports staged
+//! in `--out` ([`Destination`]), the share of the work a shard is held to ([`share_of_work`]),
+//! the shards of one invocation read back for `merge` ([`read_shards`]), and how a command
+//! below the command line fails ([`CommandError`]).
+
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::harness::files::artifacts::{read_json, write_json};
+use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::output_dir::{OutputDirError, Replace, StagedDir};
+use crate::harness::study::budget::{self, Estimate, Limits};
+use crate::harness::study::executor::{Executed, Executor};
+use crate::harness::study::scene::SceneError;
+use crate::harness::study::shard::merge::{merge, Merged};
+use crate::harness::study::shard::{
+    codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
+};
+
+/// How a command fails below the command line; the command gives each its exit code.
+#[derive(Debug, Error)]
+pub enum CommandError {
+    /// An error of the harness (its own exit code: usage or failure).
+    #[error(transparent)]
+    Harness(#[from] Error),
+    /// An output directory that cannot be staged or committed.
+    #[error(transparent)]
+    OutputDir(#[from] OutputDirError),
+    /// Options that do not go together (a usage error).
+    #[error("{0}")]
+    Refused(String),
+    /// A step that could not be done (a failure).
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl From<SceneError> for CommandError {
+    fn from(e: SceneError) -> Self {
+        Self::Harness(e.into())
+    }
+}
+
+impl From<ParameterError> for CommandError {
+    fn from(e: ParameterError) -> Self {
+        Self::Harness(e.into())
+    }
+}
+
+/// The options that the shards of one invocation may give differently: dropped from the
+/// recorded arguments (`--out` is the merge's to give).
+const PER_SHARD_OPTIONS: [&str; 2] = ["--shard", "--out"];
+
+/// This process's arguments after the subcommand, less [`PER_SHARD_OPTIONS`] and their values.
+fn shard_arguments() -> Vec<String> {
+    let mut kept = Vec::new();
+    let mut args = std::env::args().skip(2);
+    while let Some(a) = args.next() {
+        if PER_SHARD_OPTIONS.contains(&a.as_str()) {
+            args.next();
+        } else if !PER_SHARD_OPTIONS
+            .iter()
+            .any(|o| a.starts_with(&format!("{o}=")))
+        {
+            kept.push(a);
+        }
+    }
+    kept
+}
+
+/// This process's command as its shards record it: `command`, its arguments (less
+/// [`PER_SHARD_OPTIONS`]), its parsed options `request` (with `--shard` and `--out` cleared by
+/// the caller) and the files it reads.
+pub fn this_invocation<A: Serialize>(
+    command: &str,
+    request: &A,
+    inputs: Vec<PathBuf>,
+) -> Result<Invocation, CommandError> {
+    Ok(Invocation {
+        command: command.to_string(),
+        arguments: shard_arguments(),
+        request: codec::encode(request).map_err(|e| CommandError::Failed(e.to_string()))?,
+        inputs,
+    })
+}
+
+/// Where a shard's partial result file goes: `out`, staged before the shard runs (an `--out`
+/// that cannot be written is refused before any job).
+pub struct ShardOutput {
+    spec: ShardSpec,
+    out: PathBuf,
+    staged: StagedDir,
+}
+
+impl ShardOutput {
+    /// Stages `out` for shard `spec`'s file.
+    pub fn begin(spec: ShardSpec, out: &Path) -> Result<Self, CommandError> {
+        Ok(Self {
+            spec,
+            out: out.to_path_buf(),
+            staged: StagedDir::begin("--out", out, Replace::Files)?,
+        })
+    }
+
+    /// Writes the shard's `share` of `invocation`, commits it and says what it wrote.
+    pub fn write(self, invocation: &Invocation, share: Share) -> Result<String, CommandError> {
+        let Self { spec, out, staged } = self;
+        let name = shard_file_name(&invocation.command, spec);
+        let (ran, jobs) = (share.results.len(), share.jobs());
+        let file = invocation.shard_file(spec, share)?;
+        write_json(&staged.path().join(&name), &file)?;
+        staged.commit()?;
+        Ok(format!(
+            "wrote {} (shard {spec}: {ran} of {jobs} jobs)",
+            out.join(&name).display()
+        ))
+    }
+}
+
+/// What an executor's results became: the complete result, or a shard's file, written.
+pub enum Received<T> {
+    /// The complete result, to write or print.
+    Complete(T),
+    /// A shard's share written into its file: what was written, for the user.
+    ShardWritten(String),
+}
+
+/// The complete result of a study, or what a shard wrote once its share is written into its
+/// file (`shard`, begun when the executor is a shard's).
+pub fn complete_or_write<T>(
+    executed: Executed<T>,
+    shard: Option<ShardOutput>,
+    invocation: &Invocation,
+) -> Result<Received<T>, CommandError> {
+    match (executed, shard) {
+        (Executed::Complete(value), _) => Ok(Received::Complete(value)),
+        (Executed::Share(share), Some(shard)) => {
+            shard.write(invocation, share).map(Received::ShardWritten)
+        }
+        (Executed::Share(_), None) => Err(CommandError::Failed(
+            "the study ran a shard's share without the shard's --out".into(),
+        )),
+    }
+}
+
+/// Where a command that writes into a reports directory `--out` puts what its executor hands
+/// back: a shard's partial result file, or the reports, staged.
+pub enum Destination {
+    /// A shard's file.
+    Shard(ShardOutput),
+    /// The reports, staged in `--out`.
+    Reports(StagedDir),
+}
+
+impl Destination {
+    /// The destination of `executor`'s results in `out`, begun before any job runs.
+    pub fn begin(executor: &Executor, out: &Path) -> Result<Self, CommandError> {
+        Ok(match executor {
+            Executor::Shard(spec) => Self::Shard(ShardOutput::begin(*spec, out)?),
+            Executor::Local | Executor::Merge(_) => {
+                Self::Reports(StagedDir::begin("--out", out, Replace::Files)?)
+            }
+        })
+    }
+
+    /// The complete result with the staged reports to write it into, or what a shard wrote
+    /// once its share is written into its file.
+    pub fn receive<T>(
+        self,
+        executed: Executed<T>,
+        invocation: &Invocation,
+    ) -> Result<Received<(T, StagedDir)>, CommandError> {
+        match (executed, self) {
+            (Executed::Complete(value), Self::Reports(staged)) => {
+                Ok(Received::Complete((value, staged)))
+            }
+            (Executed::Share(share), Self::Shard(shard)) => {
+                shard.write(invocation, share).map(Received::ShardWritten)
+            }
+            (Executed::Complete(_), Self::Shard(_)) | (Executed::Share(_), Self::Reports(_)) => {
+                Err(CommandError::Failed(
+                    "the study's executor and its output disagree (a shard's share is written \
+                     only into a shard's file)"
+                        .into(),
+                ))
+            }
+        }
+    }
+}
+
+/// The part of a command's work `estimate` that `executor` computes here: all of it locally,
+/// about 1/n of its dof-steps for shard k/n (its share of every job list, dealt round the
+/// shards), none of them for a merge. Its memory is a run's whatever the executor.
+pub fn share_of_work(estimate: Estimate, executor: &Executor) -> Estimate {
+    let share = match executor {
+        Executor::Local => 1.0,
+        Executor::Shard(spec) => 1.0 / spec.n as f64,
+        Executor::Merge(_) => 0.0,
+    };
+    Estimate {
+        dof_steps: estimate.dof_steps * share,
+        ..estimate
+    }
+}
+
+/// The output of shard `executor` in `out` (`None` for another executor), begun; `--shard`
+/// without `--out` is refused.
+pub fn shard_output(
+    executor: &Executor,
+    out: Option<&Path>,
+) -> Result<Option<ShardOutput>, CommandError> {
+    match (executor, out) {
+        (Executor::Shard(spec), Some(out)) => ShardOutput::begin(*spec, out).map(Some),
+        (Executor::Shard(_), None) => Err(CommandError::Refused(
+            "--shard needs --out DIR: the directory its partial result file goes into".into(),
+        )),
+        _ => Ok(None),
+    }
+}
+
+/// The memory a shard file takes per byte of it ([`SHARD_FILE`]'s bound) and its results'
+/// decoding, at most half a byte per hexadecimal digit.
+const SHARD_MEMORY_PER_BYTE: f64 = 8.5;
+
+/// The shards of one invocation, read and checked: what `merge` runs again, with every job's
+/// result taken from them.
+pub struct MergedShards {
+    /// The subcommand the shards ran.
+    pub command: String,
+    /// Its recorded request, encoded.
+    request: String,
+    /// The command line the reports say they were made by.
+    pub command_line: String,
+    /// The executor that hands every job's result from the shards to the study.
+    pub executor: Executor,
+}
+
+impl MergedShards {
+    /// The request the shards recorded, as the options of their command.
+    pub fn request<A: DeserializeOwned>(&self) -> Result<A, CommandError> {
+        codec::read(&self.request).map_err(|e| {
+            CommandError::Refused(format!(
+                "the shards' request does not read as `{}` options: {e}",
+                self.command
+            ))
+        })
+    }
+}
+
+/// Reads the shard files `paths` (their reading held to `limits`), checks they are the `n`
+/// shards of one invocation whose inputs are unchanged, and returns what `merge` runs again
+/// (with `--out out` on the command line its reports name, when given).
+pub fn read_shards(
+    paths: &[PathBuf],
+    out: Option<&Path>,
+    limits: &Limits,
+) -> Result<MergedShards, CommandError> {
+    let bytes: f64 = budget::file_sizes(paths).iter().sum();
+    budget::reading(bytes, SHARD_MEMORY_PER_BYTE)
+        .check(limits)
+        .map_err(Error::from)?;
+    let files = paths
+        .iter()
+        .map(|path| {
+            read_json::<ShardFile>(path, SHARD_FILE)
+                .map(|file| (path.clone(), file))
+                .map_err(|e| CommandError::Refused(e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let Merged {
+        invocation,
+        identity,
+        jobs,
+    } = merge(files).map_err(Error::from)?;
+    if invocation.identity()? != identity {
+        let changed = ShardError::InputsChanged {
+            command: invocation.command,
+            inputs: invocation.inputs,
+        };
+        return Err(Error::from(changed).into());
+    }
+    let mut argv = vec!["signorini".to_string(), invocation.command.clone()];
+    argv.extend(invocation.arguments.iter().cloned());
+    if let Some(out) = out {
+        argv.extend(["--out".to_string(), out.display().to_string()]);
+    }
+    Ok(MergedShards {
+        command: invocation.command,
+        request: invocation.request,
+        command_line: argv.join(" "),
+        executor: Executor::Merge(jobs),
+    })
+}

@@ -1,0 +1,172 @@
+//! `signorini reference` below the command line: the fine-mesh references of box scenes,
+//! taken from their cache when it matches, computed (their steps counted in the progress shown)
+//! and cached otherwise, one scene at a time.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::harness::files::error::Error;
+use crate::harness::files::input::Shown;
+use crate::harness::problem::{BoxProblem, LinearSolver};
+use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::executor::{Executor, Jobs};
+use crate::harness::study::progress;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::shard::Invocation;
+use crate::studies::elastic_study::reference::{Reference, ReferenceCache};
+use crate::studies::elastic_study::{obtain_reference, ElasticStudyConfig};
+use crate::studies::outputs::{complete_or_write, shard_output, CommandError, Received};
+
+/// The references `make report` keeps, relative to the repository root.
+pub const REPORT_REFERENCES: &str = "reports/data/references";
+
+/// Refuses a reference cache `dir` that exists and is not a directory, before anything is
+/// computed (its references could not be saved there).
+pub fn cache_is_a_directory(dir: &Path) -> Result<(), CommandError> {
+    match std::fs::metadata(dir) {
+        Ok(meta) if !meta.is_dir() => Err(CommandError::Refused(format!(
+            "--cache {}: is not a directory; allowed: a directory, or a path to create one",
+            Shown(dir)
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// A box scene whose reference is to be obtained, with its study configuration.
+struct ReferenceJob {
+    /// Its place among the command's scenes.
+    index: usize,
+    scene: Scene,
+    problem: BoxProblem,
+    config: ElasticStudyConfig,
+}
+
+/// The references a user asked for.
+pub struct ReferenceRequest {
+    /// The box scene files.
+    pub scenes: Vec<PathBuf>,
+    /// Where the references are cached.
+    pub cache: PathBuf,
+    /// A shard's output directory.
+    pub out: Option<PathBuf>,
+    /// The step solver.
+    pub linear_solver: LinearSolver,
+    /// The limits each reference is held to.
+    pub limits: Limits,
+}
+
+/// The references of the box scenes `scenes` in `cache`, solved with `linear_solver`, each held
+/// to `limits`: under a shard only its share of the scenes (the most work first), written with
+/// the shard's file into `out`; a merge finds every reference in the cache. Tells `say` how
+/// each reference was obtained as it is, and returns what was written last, for the user.
+pub fn references(
+    request: ReferenceRequest,
+    executor: &Executor,
+    invocation: &Invocation,
+    say: &(dyn Fn(&str) + Sync),
+) -> Result<String, CommandError> {
+    let ReferenceRequest {
+        scenes,
+        cache,
+        out,
+        linear_solver,
+        limits,
+    } = request;
+    let (cache, out) = (cache.as_path(), out.as_deref());
+    if out.is_some() && !matches!(executor, Executor::Shard(_)) {
+        return Err(CommandError::Refused(
+            "--out is where a shard's file goes: it takes --shard K/N (the references \
+             go into --cache)"
+                .into(),
+        ));
+    }
+    let shard = shard_output(executor, out)?;
+    cache_is_a_directory(cache)?;
+    let mut jobs = Vec::with_capacity(scenes.len());
+    let mut work = Vec::with_capacity(scenes.len());
+    for path in &scenes {
+        let scene = Scene::load(path)?;
+        let problem = scene
+            .box_problem("box scenes: a reference is for them (a bar1d has an exact solution)")?;
+        let mut config = ElasticStudyConfig::from_scene(&scene, None)?;
+        config.settings.linear_solver = linear_solver;
+        let estimate = budget::box_study(
+            &problem,
+            &config.settings,
+            &config.levels,
+            config.reference_level,
+            config.ratio,
+            &[],
+            0,
+        );
+        work.push(estimate.dof_steps as usize);
+        estimate.check(&limits).map_err(Error::from)?;
+        jobs.push(ReferenceJob {
+            index: jobs.len(),
+            scene,
+            problem,
+            config,
+        });
+    }
+    let executed = executor.execute_in_turn(&Jobs {
+        items: &jobs,
+        size: &|job: &ReferenceJob| work[job.index],
+        run: &|job: &ReferenceJob| obtain_and_report(job, cache, say),
+    })?;
+    let names = match complete_or_write(executed, shard, invocation)? {
+        Received::Complete(names) => names.results,
+        Received::ShardWritten(line) => return Ok(line),
+    };
+    if matches!(executor, Executor::Merge(_)) {
+        for (job, name) in jobs.iter().zip(&names) {
+            if *name != job.scene.name {
+                return Err(CommandError::Refused(format!(
+                    "the shards computed the reference of scene {name}, not of {}",
+                    job.scene.name
+                )));
+            }
+            obtain_and_report(job, cache, say)?;
+        }
+    }
+    Ok(format!("the references are in {}", cache.display()))
+}
+
+/// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
+/// not match), tells `say` which it was, with the time it took now, and returns the scene's
+/// name.
+fn obtain_and_report(
+    job: &ReferenceJob,
+    cache: &Path,
+    say: &(dyn Fn(&str) + Sync),
+) -> Result<String, Error> {
+    let clock = Instant::now();
+    let store = ReferenceCache::ReadWrite(cache.to_path_buf());
+    let reference = obtain_reference(&job.problem, &job.config, &store, &mut |why| {
+        progress::note(&why);
+    })?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
+    let how = match reference.from_cache {
+        false => format!(
+            "computed and cached in {seconds:.1} s (wrote {} and {})",
+            json.display(),
+            bin.display()
+        ),
+        true => format!(
+            "the cache matches the scene's parameters; read from {} in {seconds:.1} s \
+             (computing it took {:.1} s)",
+            json.display(),
+            reference.histories.seconds
+        ),
+    };
+    let said = format!(
+        "{}: reference {} on {:?} elements, {} unknowns, {} samples: {how}",
+        job.scene.name,
+        reference.histories.key.scheme,
+        reference.mesh.counts(),
+        reference.histories.dofs,
+        reference.samples(),
+    );
+    progress::suspended(|| say(&said));
+    Ok(job.scene.name.clone())
+}

@@ -1,0 +1,150 @@
+//! `signorini study` and `sensitivity` below the command line: a scene's refinement study
+//! (its rate tables printed, or a box's reports written) and a bar's round-off ensembles, held
+//! to their limits, their jobs handed to the executor they are given.
+
+use std::path::{Path, PathBuf};
+
+use crate::harness::files::error::Error;
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::problem::MassVariant;
+use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::executor::Executor;
+use crate::harness::study::progress;
+use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::{run_sensitivity_on, EnsembleConfig};
+use crate::harness::study::shard::Invocation;
+use crate::harness::study::Case;
+use crate::studies::elastic_study::files::REFERENCE_CACHE;
+use crate::studies::elastic_study::reference::ReferenceCache;
+use crate::studies::outputs::{
+    complete_or_write, shard_output, CommandError, Destination, Received,
+};
+use crate::studies::reference_run::{cache_is_a_directory, REPORT_REFERENCES};
+use crate::studies::scene_study::{SceneStudy, StudyChoices};
+use crate::studies::tables::write_sensitivity_files;
+
+/// A study as the user asked for it.
+pub struct StudyRequest {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The cases, norms and levels chosen over the scene's.
+    pub choices: StudyChoices,
+    /// Print JSON instead of markdown.
+    pub json: bool,
+    /// A box study's reports directory (or a shard's).
+    pub out: Option<PathBuf>,
+    /// A box study's reference cache, when given.
+    pub cache: Option<PathBuf>,
+    /// The limits it is held to.
+    pub limits: Limits,
+}
+
+/// Runs the study of `request` through `executor` and returns what to print: a bar's tables
+/// (or JSON), a box's report, or what it wrote; a box report says it was made by
+/// `command_line`.
+pub fn study(
+    request: StudyRequest,
+    executor: &Executor,
+    invocation: &Invocation,
+    command_line: &str,
+) -> Result<String, CommandError> {
+    let StudyRequest {
+        scene,
+        choices,
+        json,
+        out,
+        cache,
+        limits,
+    } = request;
+    let shard = shard_output(executor, out.as_deref())?;
+    let study = SceneStudy::of(&Scene::load(&scene)?, choices)?;
+    let cache = match (cache, &out) {
+        (Some(dir), _) => ReferenceCache::ReadWrite(dir),
+        (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
+        (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
+    };
+    if study.has_reference() {
+        cache_is_a_directory(cache.dir())?;
+    }
+    for w in study.schemes().iter().filter_map(|s| s.warning()) {
+        progress::note(&format!("warning: {w}"));
+    }
+    study
+        .estimate(executor)
+        .check(&limits)
+        .map_err(Error::from)?;
+    let reports = match (&shard, out) {
+        (None, Some(dir)) => {
+            study.check_reports_dir(&dir)?;
+            Some((StagedDir::begin("--out", &dir, Replace::Files)?, dir))
+        }
+        _ => None,
+    };
+    let executed = study.run_on(executor, &cache, &mut |why| progress::note(&why))?;
+    let outcome = match complete_or_write(executed, shard, invocation)? {
+        Received::Complete(outcome) => outcome,
+        Received::ShardWritten(line) => return Ok(line),
+    };
+    Ok(match reports {
+        Some((staged, dir)) => {
+            let kept_from = staged.final_path(staged.path());
+            let written = outcome.write_reports(staged.path(), &kept_from, &dir, command_line)?;
+            staged.commit()?;
+            written
+        }
+        None => outcome.render(json, command_line)?,
+    })
+}
+
+/// `signorini sensitivity`: the round-off ensembles of `members` members (noise of relative
+/// size `amplitude`) of every case and level of the bar scene `scene`, into `out`.
+pub fn sensitivity(
+    scene: &Path,
+    ensemble: EnsembleConfig,
+    out: &Path,
+    limits: &Limits,
+    executor: &Executor,
+    invocation: &Invocation,
+) -> Result<String, CommandError> {
+    let scene = Scene::load(scene)?;
+    let problem = scene.bar_problem(
+        "bar1d scenes: the sensitivity command is for them (a box scene's ensemble is its \
+         discretisation.sensitivity, run by `signorini study`)",
+    )?;
+    let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
+    let norms = &scene.observables.norms;
+    let config = scene.study_config();
+    let runs_per_job = ensemble.members as f64 + 1.0;
+    let jobs = budget::jobs_per_level(&config.levels, cases.len(), executor);
+    let runs: Vec<f64> = jobs.iter().map(|j| j * runs_per_job).collect();
+    budget::bar_study(&problem, &config.levels, config.ratio, &runs)
+        .check(limits)
+        .map_err(Error::from)?;
+    let destination = Destination::begin(executor, out)?;
+    let executed = run_sensitivity_on(executor, &problem, &cases, norms, &config, ensemble)?;
+    let (s, staged) = match destination.receive(executed, invocation)? {
+        Received::Complete(value) => value,
+        Received::ShardWritten(line) => return Ok(line),
+    };
+    write_sensitivity_files(&s, staged.path())?;
+    staged.commit()?;
+    let mut said: Vec<String> = s
+        .cases
+        .iter()
+        .map(|c| format!("  {:36} {}", c.case, c.class.name()))
+        .collect();
+    let o = out.display();
+    said.push(format!(
+        "wrote {o}/sensitivity.md and {o}/sensitivity.json ({} × {} levels × {} members, {:.1} s wall)",
+        plural(s.cases.len(), "case"),
+        s.config.levels.len(),
+        ensemble.members,
+        s.wall_seconds
+    ));
+    Ok(said.join("\n"))
+}
+
+/// `n` and `noun`, in the plural unless `n` is 1.
+fn plural(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
