@@ -103,7 +103,8 @@ fn empty(what: impl Into<String>) -> FigureError {
 /// `time`, on the bottom the multiplier `λ_h` against `multiplier_time`. Each chart also shows
 /// the exact curve (black, thick, beneath the runs) taken from the panel's first run
 /// (`displacement_exact` at `time`, `multiplier_exact` at `multiplier_time`). The legend is in
-/// the top chart; the bottom chart uses the same colours. The colour of a run is its position
+/// the bottom chart, where the multiplier's long stretches at zero leave room; the top chart
+/// uses the same colours. The colour of a run is its position
 /// in its panel, so list the runs in the same order in every panel.
 ///
 /// Errors: `EmptyData` without panels, for a panel without runs, or when a chart has no
@@ -169,7 +170,7 @@ pub fn contact_node_figure_labelled(
                 x: (TIME, Scale::Linear),
                 y: (axes.0, Scale::Linear),
                 curves: top,
-                legend: Legend::Inside,
+                legend: Legend::None,
                 x_at_levels: false,
             },
             ChartSpec {
@@ -178,7 +179,7 @@ pub fn contact_node_figure_labelled(
                 x: (TIME, Scale::Linear),
                 y: (axes.1, Scale::Linear),
                 curves: bottom,
-                legend: Legend::None,
+                legend: Legend::Inside,
                 x_at_levels: false,
             },
         ]);
