@@ -37,9 +37,11 @@ report-finest: build
 reference: build
 	$(BIN) reference scenes/bar2d.json scenes/bar3d.json
 
-## Run the test suite with cargo-nextest (installed first if missing).
+## Run the test suite with cargo-nextest (installed first if missing), and a system font for the
+## figure test to lay text out with (Debian's fonts-dejavu-core, installed if no font is).
 test:
 	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
+	@ls /usr/share/fonts/truetype/*/*.ttf >/dev/null 2>&1 || (apt-get update -qq && apt-get install -y -qq fonts-dejavu-core)
 	$(CARGO) nextest run
 
 ## The long tests of `report` and `experiment` sharded, which `make test` skips: in process, the

@@ -381,17 +381,21 @@ fn convergence_legend_shows_the_fitted_slope_to_two_decimals() {
     assert_eq!(svg.legend_symbols().len(), 3);
     // One marker per level and one per legend entry.
     assert_eq!(svg.circles, 3 * 7 + 3);
-    assert!(svg.has_text("u L∞(H), standard (slope 0.50)"));
-    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00)"));
+    // The rate with the half-width of its 95 % interval.
+    assert!(svg.has_text("u L∞(H), standard (slope 0.50 ± 0.10)"));
+    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00 ± 0.10)"));
     let plain = svg
         .texts
         .iter()
         .find(|t| t.starts_with("energy L2"))
         .unwrap();
     assert_eq!(plain, "energy L2, redistributed");
-    // The h axis is labelled at powers of two.
+    // The h axis is labelled at every level, not at powers of two.
     assert!(
-        svg.has_text("1/16") && svg.has_text("1/256"),
+        ["1/10", "1/20", "1/40", "1/80", "1/160", "1/320", "1/640"]
+            .iter()
+            .all(|l| svg.has_text(l))
+            && !svg.texts.iter().any(|t| t == "1/16"),
         "{:?}",
         svg.texts
     );
@@ -483,7 +487,7 @@ fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
     assert_eq!(swatches[0].fill, FIRST);
     assert!(svg.has_text("u L∞(H), standard (slope 0.52 [0.41, 0.63])"));
     assert!(!svg.has_text("slope 0.50"));
-    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00)"));
+    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00 ± 0.10)"));
 }
 
 #[test]
@@ -506,7 +510,7 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
     assert!(!text.contains("NaN"));
     let svg = Svg::parse(&text);
     assert_eq!(svg.bands()[0].0.points.len(), 2 * 5);
-    assert!(svg.has_text("u L∞(H), standard (slope 0.50)"));
+    assert!(svg.has_text("u L∞(H), standard (slope 0.50 ± 0.10)"));
 
     let mut series = banded_series();
     series[0].band.as_mut().unwrap().upper.pop();

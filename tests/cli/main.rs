@@ -14,6 +14,7 @@ mod watched;
 mod commands;
 mod docs;
 mod elastic;
+mod figure_geometry;
 mod figures;
 mod getfem;
 mod hostile;

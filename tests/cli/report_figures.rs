@@ -275,10 +275,8 @@ fn a_chaotic_case_is_drawn_as_its_ensemble_median_with_a_band_and_the_others_as_
             "{name}"
         );
         if name.ends_with("u_Linf_H.svg") {
-            assert!(!svg.contains(&format!("standard mass (slope {standard_fit:.2})")));
-            assert!(svg.contains(&format!(
-                "redistributed mass (slope {redistributed_fit:.2})"
-            )));
+            assert!(!svg.contains(&format!("standard mass (slope {standard_fit:.2}")));
+            assert!(svg.contains(&format!("redistributed mass (slope {redistributed_fit:.2}")));
         }
     }
 }

@@ -68,7 +68,12 @@ fn convergence_figures_of(
                 let chaotic = sensitivity
                     .and_then(|s| s.case(&c.case.id()))
                     .filter(|e| e.chaotic);
-                series.extend(convergence_series(c, norm, chaotic)?);
+                series.extend(convergence_series(
+                    c,
+                    norm,
+                    chaotic,
+                    &panel_label(c.case.mass),
+                )?);
             }
             out.push((
                 format!("{prefix}-{}-{}.svg", scheme.name(), norm.key()),
@@ -82,12 +87,14 @@ fn convergence_figures_of(
     Ok(out)
 }
 
-/// The series of `case`'s errors in `norm` (`None` when the study did not compute it): from
-/// `chaotic`, the case's ensemble, when given; from the study's one run otherwise.
-fn convergence_series(
+/// The series of `case`'s errors in `norm`, its legend starting with `label` (`None` when the
+/// study did not compute it): from `chaotic`, the case's ensemble, when given (the median error
+/// at each level, the min–max band and the members' rates); from the study's one run otherwise.
+pub(super) fn convergence_series(
     case: &CaseStudy,
     norm: Norm,
     chaotic: Option<&CaseSensitivity>,
+    label: &str,
 ) -> Result<Option<ConvergenceSeries>, FigureError> {
     let Some(rates) = case.norm(norm) else {
         return Ok(None);
@@ -95,7 +102,7 @@ fn convergence_series(
     let h: Vec<f64> = case.levels.iter().map(|l| l.h).collect();
     let Some(ensemble) = chaotic else {
         return Ok(Some(ConvergenceSeries {
-            label: panel_label(case.case.mass),
+            label: label.to_owned(),
             h,
             errors: rates.errors.clone(),
             fit: rates.fit,
@@ -117,8 +124,7 @@ fn convergence_series(
         })?;
     Ok(Some(ConvergenceSeries {
         label: format!(
-            "{}, chaotic: median and min–max of {}",
-            panel_label(case.case.mass),
+            "{label}, chaotic: median and min–max of {}",
             ensemble.members
         ),
         h,

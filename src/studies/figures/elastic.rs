@@ -8,7 +8,7 @@ use super::convergence::convergence_figures_named;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::render::figures::heatmap::{space_time_map, SpaceTimePanel};
 use crate::harness::render::figures::{
-    contact_node_figure, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
+    contact_node_figure_labelled, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
 };
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::studies::elastic_study::{
@@ -110,12 +110,16 @@ pub fn elastic_figures(
         let title = |what: &str| format!("{}D bar, {}: {what}", study.dimension, scheme.label());
         out.push((
             format!("{prefix}-contact-{}.svg", scheme.name()),
-            contact_node_figure(
-                &title(if d == 2 {
-                    "centre contact node, λ as pressure λ/h"
-                } else {
-                    "centre contact node, λ as pressure λ/h²"
-                }),
+            contact_node_figure_labelled(
+                &title("centre contact node"),
+                (
+                    "u_n(centre, t)",
+                    if d == 2 {
+                        "λ/h (pressure)"
+                    } else {
+                        "λ/h² (pressure)"
+                    },
+                ),
                 &contact,
             )?,
         ));

@@ -12,15 +12,15 @@
 
 use std::path::Path;
 
-use super::convergence::{convergence_figures, panel_label};
+use super::convergence::{convergence_figures, convergence_series, panel_label};
 use super::elastic::elastic_figures;
 use crate::harness::files::artifacts::{read_json, write_atomic};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::figures::{
-    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, Figure, FigureError,
+    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
+    work_precision_figure, Colouring, ContactPanel, EnergyPanel, Figure, FigureError,
     WorkPrecisionSeries,
 };
 use crate::harness::run::norms::Norm;
@@ -82,11 +82,28 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
     ])
 }
 
-/// The gravity benchmark's Figures 2–4 from its study and its NX = 160 runs (one per mass).
+/// The gravity benchmark's Figures 2–4 from its study, its round-off sensitivity (a chaotic
+/// case is drawn as its ensemble, as in [`convergence_figures`]) and its NX = 160 runs (one per
+/// mass). In Figures 2 and 4 a computed curve and its exact counterpart share a hue, the exact
+/// one lighter and beneath.
+///
+/// Errors: `Inconsistent` when `sensitivity` was run at other levels, ratio or horizon than
+/// `study`, or lacks a norm's errors for a chaotic case; the errors of the figures.
 pub fn gravity_figures(
     study: &Study,
+    sensitivity: Option<&Sensitivity>,
     runs: &[(MassVariant, BarRun)],
 ) -> Result<Vec<Figure>, FigureError> {
+    if let Some(s) = sensitivity {
+        if s.config != study.config {
+            return Err(FigureError::Inconsistent {
+                what: format!(
+                    "the gravity sensitivity study ran with {:?}, the gravity study with {:?}",
+                    s.config, study.config
+                ),
+            });
+        }
+    }
     let mut out = Vec::new();
     for (mass, r) in runs {
         if let Some(p) = &r.observed.point_history {
@@ -98,20 +115,21 @@ pub fn gravity_figures(
                     p.displacement[k].clone(),
                 ));
                 series.push((
-                    format!("u(x = {x})"),
+                    format!("u(x = {x}), exact"),
                     p.time.clone(),
                     p.displacement_exact[k].clone(),
                 ));
             }
             out.push((
                 format!("gravity-points-{}.svg", mass.name()),
-                time_series_figure(
+                line_figure(
                     &format!(
-                        "Gravity benchmark, {}: displacement at points of the bar (Figure 2)",
+                        "Gravity, {}: displacement at points (Figure 2)",
                         panel_label(*mass)
                     ),
-                    "u",
+                    ("t", "u"),
                     &series,
+                    Colouring::ComputedAndExact,
                 )?,
             ));
         }
@@ -123,7 +141,7 @@ pub fn gravity_figures(
                 f.strain.clone(),
             ));
             strain.push((
-                format!("∂x u, t = {:.2}", f.time),
+                format!("∂x u, t = {:.2}, exact", f.time),
                 f.x_mid.clone(),
                 f.strain_exact.clone(),
             ));
@@ -131,41 +149,36 @@ pub fn gravity_figures(
         if !strain.is_empty() {
             out.push((
                 format!("gravity-strain-{}.svg", mass.name()),
-                time_series_figure(
+                line_figure(
                     &format!(
-                        "Gravity benchmark, {}: ∂x u along the bar (Figure 4; abscissa x)",
+                        "Gravity, {}: strain along the bar (Figure 4)",
                         panel_label(*mass)
                     ),
-                    "∂x u",
+                    ("x", "∂x u"),
                     &strain,
+                    Colouring::ComputedAndExact,
                 )?,
             ));
         }
     }
     for c in &study.cases {
-        let series: Vec<ConvergenceSeries> = [
+        let chaotic = sensitivity
+            .and_then(|s| s.case(&c.case.id()))
+            .filter(|e| e.chaotic);
+        let mut series = Vec::new();
+        for norm in [
             Norm::DisplacementLinfH,
             Norm::DisplacementL2H,
             Norm::DisplacementLinfV,
             Norm::DisplacementL2V,
-        ]
-        .iter()
-        .filter_map(|&n| {
-            let r = c.norm(n)?;
-            Some(ConvergenceSeries {
-                label: n.key().to_string(),
-                h: c.levels.iter().map(|l| l.h).collect(),
-                errors: r.errors.clone(),
-                fit: r.fit,
-                band: None,
-            })
-        })
-        .collect();
+        ] {
+            series.extend(convergence_series(c, norm, chaotic, norm.key())?);
+        }
         out.push((
             format!("gravity-convergence-{}.svg", c.case.mass.name()),
             convergence_figure(
                 &format!(
-                    "Gravity benchmark, {}: errors in H and V (Figure 3)",
+                    "Gravity, {}: errors in H and V (Figure 3)",
                     panel_label(c.case.mass)
                 ),
                 &series,
@@ -196,7 +209,9 @@ pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, Fig
 }
 
 /// The long-horizon energy histories, `E/E_0`, one figure per mass (diverged runs left out and
-/// named in the title).
+/// named in the title). Each curve's legend gives the study's verdict and its largest energy
+/// drift `max |E − E₀|/E₀` as a percentage, so that a "stable" run that lost energy says how
+/// much.
 pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
     for mass in MassVariant::PAPER {
@@ -215,7 +230,12 @@ pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, Fig
             .map(|r| {
                 let e0 = r.energy_samples[0].1;
                 (
-                    format!("{} ({})", r.case, r.verdict.word()),
+                    format!(
+                        "{}: {}, max |E − E₀|/E₀ = {}",
+                        r.case.split('/').next().unwrap_or(&r.case),
+                        r.verdict.word(),
+                        percent(r.max_energy_drift)
+                    ),
                     r.energy_samples.iter().map(|s| s.0).collect(),
                     r.energy_samples.iter().map(|s| s.1 / e0).collect(),
                 )
@@ -236,6 +256,17 @@ pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, Fig
         ));
     }
     Ok(out)
+}
+
+/// A relative drift as a percentage with two significant digits (`15 %`, `0.033 %`).
+fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction;
+    if p >= 10.0 {
+        format!("{p:.0} %")
+    } else {
+        let decimals = (1.0 - p.log10().floor()).clamp(1.0, 6.0) as usize;
+        format!("{p:.decimals$} %")
+    }
 }
 
 /// Why an input of the figures could not be read: a missing file is `make report`'s to write.
@@ -291,11 +322,21 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
                 .map(|r| (m, r))
         })
         .collect();
+    let gravity_sensitivity = gravity_dir.join(gravity::SENSITIVITY_JSON);
+    let gravity_sensitivity = if gravity_sensitivity.exists() {
+        Some(read_json::<Sensitivity>(&gravity_sensitivity, REPORT_DATA)?)
+    } else {
+        None
+    };
     match (
         read_json::<Study>(&gravity_dir.join(gravity::STUDY_JSON), REPORT_DATA),
         gravity_runs,
     ) {
-        (Ok(study), Ok(runs)) => figures.extend(gravity_figures(&study, &runs)?),
+        (Ok(study), Ok(runs)) => figures.extend(gravity_figures(
+            &study,
+            gravity_sensitivity.as_ref(),
+            &runs,
+        )?),
         (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
     }
     match read_json::<WorkPrecisionFile>(&reports.join(WORK_PRECISION_JSON), REPORT_DATA) {

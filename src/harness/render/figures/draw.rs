@@ -1,8 +1,10 @@
 //! The figures: data in, SVG text out.
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::chart::{drawing, Area, ChartSpec, Curve, Look, Scale};
+use super::chart::{drawing, Area, ChartSpec, Curve, Legend, Look, Scale};
+use super::layout::{centred_text, text_width, FigureLayout, TextBox};
 use super::{
     style, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError, WorkPrecisionSeries,
 };
@@ -11,8 +13,9 @@ const TIME: &str = "t";
 const ERROR: &str = "error";
 
 /// Checks every chart, then draws the figure: the title on top, then one column per entry of
-/// `columns` (800 px wide for one, 600 px each for several, 500 px high), each holding its
-/// charts stacked top to bottom.
+/// `columns` (800 px wide for one, 600 px each for several, 500 px high; widened by the legend
+/// of a chart whose legend stands on its right), each holding its charts stacked top to
+/// bottom. The figure's [`FigureLayout`] is embedded in the SVG.
 fn render(title: &str, columns: Vec<Vec<ChartSpec<'_>>>) -> Result<String, FigureError> {
     let columns = columns
         .into_iter()
@@ -23,27 +26,70 @@ fn render(title: &str, columns: Vec<Vec<ChartSpec<'_>>>) -> Result<String, Figur
                 .collect::<Result<Vec<_>, _>>()
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let size = match columns.len() {
+    let (mut width, height) = match columns.len() {
         1 => style::SINGLE,
         n => (style::PANEL_WIDTH * n as u32, style::HEIGHT),
     };
+    width += columns
+        .iter()
+        .map(|charts| {
+            charts
+                .iter()
+                .filter(|c| c.legend == Legend::Right)
+                .map(|c| c.legend_width() as u32 + 10)
+                .max()
+                .unwrap_or(0)
+        })
+        .sum::<u32>();
     let mut svg = String::new();
+    let mut charts = Vec::new();
+    let title_box;
     {
-        let root: Area<'_> = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        let root: Area<'_> = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
-        let body = root
-            .titled(title, (style::FONT, style::TITLE_SIZE))
-            .map_err(drawing)?;
+        let (text, body) = draw_title(&root, title)?;
+        title_box = text;
         let areas = body.split_evenly((1, columns.len()));
-        for (charts, area) in columns.into_iter().zip(&areas) {
-            let cells = area.split_evenly((charts.len(), 1));
-            for (chart, cell) in charts.into_iter().zip(&cells) {
-                chart.draw(cell)?;
+        for (column, area) in columns.into_iter().zip(&areas) {
+            let cells = area.split_evenly((column.len(), 1));
+            for (chart, cell) in column.into_iter().zip(&cells) {
+                charts.push(chart.draw(cell)?);
             }
         }
         root.present().map_err(drawing)?;
     }
+    let layout = FigureLayout {
+        width,
+        height,
+        title: title_box,
+        charts,
+    };
+    layout.embed(&mut svg).map_err(drawing)?;
     Ok(svg)
+}
+
+/// Draws `title` centred at the top of `root`, at the title size or smaller so that it fits
+/// the canvas' width with 10 px to spare each side; returns its box and the area below it.
+pub(super) fn draw_title<'b>(
+    root: &Area<'b>,
+    title: &str,
+) -> Result<(TextBox, Area<'b>), FigureError> {
+    let (width, _) = root.dim_in_pixel();
+    let mut size = style::TITLE_SIZE as f64;
+    while size > 10.0 && text_width(title, size) > width as i32 - 20 {
+        size -= 1.0;
+    }
+    let top = 6;
+    let font = (style::FONT, size)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    root.draw(&Text::new(title, (width as i32 / 2, top), font))
+        .map_err(drawing)?;
+    let text = centred_text(title, size, width as i32 / 2, top);
+    let below = (text.rect.y1 + 6) as u32;
+    let (_, body) = root.split_vertically(below);
+    Ok((text, body))
 }
 
 fn empty(what: impl Into<String>) -> FigureError {
@@ -57,12 +103,25 @@ fn empty(what: impl Into<String>) -> FigureError {
 /// `time`, on the bottom the multiplier `λ_h` against `multiplier_time`. Each chart also shows
 /// the exact curve (black, thick, beneath the runs) taken from the panel's first run
 /// (`displacement_exact` at `time`, `multiplier_exact` at `multiplier_time`). The legend is in
-/// the top chart; the bottom chart uses the same colours. The colour of a run is its position
+/// the bottom chart, where the multiplier's long stretches at zero leave room; the top chart
+/// uses the same colours. The colour of a run is its position
 /// in its panel, so list the runs in the same order in every panel.
 ///
 /// Errors: `EmptyData` without panels, for a panel without runs, or when a chart has no
 /// finite point; `LengthMismatch` when a run's times and values differ in length.
 pub fn contact_node_figure(title: &str, panels: &[ContactPanel]) -> Result<String, FigureError> {
+    contact_node_figure_labelled(title, ("u(0, t)", "λ(t)"), panels)
+}
+
+/// [`contact_node_figure`] with the y axes described as `axes` (displacement, multiplier),
+/// for a contact node other than the 1D bar's `x = 0`.
+///
+/// Errors: those of [`contact_node_figure`].
+pub fn contact_node_figure_labelled(
+    title: &str,
+    axes: (&str, &str),
+    panels: &[ContactPanel],
+) -> Result<String, FigureError> {
     if panels.is_empty() {
         return Err(empty("contact figure: no panel"));
     }
@@ -109,17 +168,19 @@ pub fn contact_node_figure(title: &str, panels: &[ContactPanel]) -> Result<Strin
                 what: what_u,
                 caption: Some(panel.label.as_str()),
                 x: (TIME, Scale::Linear),
-                y: ("u(0, t)", Scale::Linear),
+                y: (axes.0, Scale::Linear),
                 curves: top,
-                legend: true,
+                legend: Legend::None,
+                x_at_levels: false,
             },
             ChartSpec {
                 what: what_l,
                 caption: None,
                 x: (TIME, Scale::Linear),
-                y: ("λ(t)", Scale::Linear),
+                y: (axes.1, Scale::Linear),
                 curves: bottom,
-                legend: false,
+                legend: Legend::Inside,
+                x_at_levels: false,
             },
         ]);
     }
@@ -165,15 +226,18 @@ pub fn energy_figure(title: &str, panels: &[EnergyPanel]) -> Result<String, Figu
             x: (TIME, Scale::Linear),
             y: ("E(t)", Scale::Linear),
             curves,
-            legend: true,
+            legend: Legend::Inside,
+            x_at_levels: false,
         }]);
     }
     render(title, columns)
 }
 
 /// Errors against the mesh size on log–log axes (the paper's Figures 9–10): one line with a
-/// marker at each level per series, `h` on a base-2 axis, the legend `"label (slope 0.95)"`
-/// with the caller's fitted rate to two decimals (just `"label"` without a fit). A series with
+/// marker at each level per series, `h` on a base-2 axis ticked at every level (`1/N`), the
+/// legend `"label (slope 0.95 ± 0.04)"` with the caller's fitted rate and the half-width of its
+/// 95 % interval to two decimals (`"label (slope 0.95)"` without an interval, just `"label"`
+/// without a fit). A series with
 /// a band also gets the band shaded in its colour (beneath every line) and a shaded swatch in
 /// the legend; the band's rate, when given, replaces the fit in the legend as
 /// `"label (slope 0.52 [0.41, 0.63])"`: median, then minimum and maximum. Levels with a
@@ -197,25 +261,36 @@ pub fn convergence_figure(
                     "{} (slope {:.2} [{:.2}, {:.2}])",
                     s.label, r.median, r.min, r.max
                 ),
-                (None, Some(fit)) => format!("{} (slope {:.2})", s.label, fit.rate),
+                (None, Some(fit)) => match (fit.ci_low, fit.ci_high) {
+                    (Some(low), Some(high)) => format!(
+                        "{} (slope {:.2} ± {:.2})",
+                        s.label,
+                        fit.rate,
+                        0.5 * (high - low)
+                    ),
+                    _ => format!("{} (slope {:.2})", s.label, fit.rate),
+                },
                 (None, None) => s.label.clone(),
             };
-            let curve = Curve::new(what, &label, &s.h, &s.errors, Look::Marked(i))?;
+            let curve = Curve::new(what, &label, &s.h, &s.errors, Look::Marked(i, false))?;
             match &s.band {
                 Some(band) => curve.with_band(what, &band.lower, &band.upper),
                 None => Ok(curve),
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
-    error_figure(title, what, ("h", Scale::Log(2.0)), curves)
+    error_figure(title, what, ("h", Scale::Log(2.0)), curves, true)
 }
 
-/// One log–log chart of errors (y, base 10) against `x`, with a legend.
+/// One log–log chart of errors (y, base 10) against `x`, with a legend inside the chart where
+/// it covers no data (`levels`: the x axis is ticked at the data's abscissae) or, for a
+/// work–precision chart, on its right.
 fn error_figure(
     title: &str,
     what: &str,
     x: (&'static str, Scale),
     curves: Vec<Curve>,
+    levels: bool,
 ) -> Result<String, FigureError> {
     render(
         title,
@@ -225,14 +300,21 @@ fn error_figure(
             x,
             y: (ERROR, Scale::Log(10.0)),
             curves,
-            legend: true,
+            legend: if levels {
+                Legend::Inside
+            } else {
+                Legend::Right
+            },
+            x_at_levels: levels,
         }]],
     )
 }
 
 /// Errors against wall-clock time on log–log axes: one line with a marker at each level per
-/// series (one series per scheme and mass). Levels with a non-positive or non-finite time or
-/// error are skipped.
+/// series (one series per scheme and mass), the legend on the right of the chart. Up to ten
+/// series take one hue each; with more, consecutive pairs share a hue (from hues whose shades
+/// all stay apart), the second of each pair in its lighter shade (so list each scheme's masses next to each other). Levels with a
+/// non-positive or non-finite time or error are skipped.
 ///
 /// Errors: `EmptyData` without series or when no series has a drawable level;
 /// `LengthMismatch` when a series' `seconds` and `errors` differ in length.
@@ -244,13 +326,52 @@ pub fn work_precision_figure(
     let curves = series
         .iter()
         .enumerate()
-        .map(|(i, s)| Curve::new(what, &s.label, &s.seconds, &s.errors, Look::Marked(i)))
+        .map(|(i, s)| {
+            let look = if series.len() > style::HUES {
+                Look::Marked(style::pair_hue(i / 2), i % 2 == 1)
+            } else {
+                Look::Marked(i, false)
+            };
+            Curve::new(what, &s.label, &s.seconds, &s.errors, look)
+        })
         .collect::<Result<Vec<_>, _>>()?;
-    error_figure(title, what, ("wall time (s)", Scale::Log(10.0)), curves)
+    error_figure(
+        title,
+        what,
+        ("wall time (s)", Scale::Log(10.0)),
+        curves,
+        false,
+    )
+}
+
+/// How the curves of a [`line_figure`] are coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Colouring {
+    /// One hue per series, in order.
+    OnePerSeries,
+    /// The series come in pairs, a computed curve then its exact counterpart: each pair takes
+    /// one hue, the exact curve in its lighter shade, thicker, drawn beneath the computed one.
+    ComputedAndExact,
+}
+
+/// Generic lines on linear axes described `x_label` and `y_label`, with a legend inside the
+/// chart where it covers no data. Each entry of `series` is `(legend, x, y)`; non-finite points
+/// are skipped.
+///
+/// Errors: `EmptyData` without series or when no point is finite; `LengthMismatch` when an
+/// entry's `x` and `y` differ in length.
+pub fn line_figure(
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    series: &[(String, Vec<f64>, Vec<f64>)],
+    colouring: Colouring,
+) -> Result<String, FigureError> {
+    lines(title, (x_label, y_label), series, colouring, Legend::Inside)
 }
 
 /// Generic lines against time on linear axes, e.g. the energy histories of a stability
-/// report. Each entry of `series` is `(legend, t, y)`; non-finite points are skipped.
+/// report, one hue per series, the legend on the right of the chart (long legends would hide
+/// the curves). Each entry of `series` is `(legend, t, y)`; non-finite points are skipped.
 ///
 /// Errors: `EmptyData` without series or when no point is finite; `LengthMismatch` when an
 /// entry's `t` and `y` differ in length.
@@ -259,21 +380,52 @@ pub fn time_series_figure(
     y_label: &str,
     series: &[(String, Vec<f64>, Vec<f64>)],
 ) -> Result<String, FigureError> {
-    let what = "time-series figure";
-    let curves = series
+    lines(
+        title,
+        (TIME, y_label),
+        series,
+        Colouring::OnePerSeries,
+        Legend::Right,
+    )
+}
+
+/// The chart of [`line_figure`] and [`time_series_figure`].
+fn lines(
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    series: &[(String, Vec<f64>, Vec<f64>)],
+    colouring: Colouring,
+    legend: Legend,
+) -> Result<String, FigureError> {
+    let what = "line figure";
+    let mut curves = series
         .iter()
         .enumerate()
-        .map(|(i, (label, t, y))| Curve::new(what, label, t, y, Look::Line(i)))
+        .map(|(i, (label, x, y))| {
+            let look = match colouring {
+                Colouring::OnePerSeries => Look::Line(i),
+                Colouring::ComputedAndExact if i % 2 == 0 => Look::Line(i / 2),
+                Colouring::ComputedAndExact => Look::ExactOf(i / 2),
+            };
+            Curve::new(what, label, x, y, look)
+        })
         .collect::<Result<Vec<_>, _>>()?;
+    if colouring == Colouring::ComputedAndExact {
+        // Each exact curve beneath its computed one.
+        for pair in curves.chunks_mut(2) {
+            pair.reverse();
+        }
+    }
     render(
         title,
         vec![vec![ChartSpec {
             what: what.into(),
             caption: None,
-            x: (TIME, Scale::Linear),
+            x: (x_label, Scale::Linear),
             y: (y_label, Scale::Linear),
             curves,
-            legend: true,
+            legend,
+            x_at_levels: false,
         }]],
     )
 }

@@ -1,9 +1,14 @@
 //! Space–time maps: a field sampled on a grid of times × positions drawn as coloured cells (the
 //! note's Figures 4–5, the von Mises stress along the bar over time).
 
+use std::cell::RefCell;
+
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{drawing, Area};
+use super::draw::draw_title;
+use super::layout::{centred_text, AxisLayout, ChartLayout, FigureLayout, Rect, Tick};
 use super::{style, FigureError};
 
 /// One panel of [`space_time_map`].
@@ -38,17 +43,19 @@ fn colour_of(fraction: f64) -> RGBColor {
 }
 
 /// Panels side by side (600 px each, 500 px high), time on the x axis, position on the y axis,
-/// each cell coloured by its value on one scale shared by all panels (0 to the largest finite
-/// value; the caption of each panel states that maximum). Non-finite values are left white.
+/// each cell coloured by its value on its panel's own scale, from 0 to the panel's largest
+/// finite value, which a colour bar right of the panel shows with its ticks. Non-finite values
+/// are left white. The figure's layout is embedded as in every figure.
 ///
-/// Errors: `EmptyData` without panels or when no value is finite; `LengthMismatch` when a
-/// panel has not one row per time or not one value per position.
+/// Errors: `EmptyData` without panels or when a panel has no positive finite value;
+/// `LengthMismatch` when a panel has not one row per time or not one value per position.
 pub fn space_time_map(title: &str, panels: &[SpaceTimePanel]) -> Result<String, FigureError> {
     if panels.is_empty() {
         return Err(FigureError::EmptyData {
             what: "space-time map: no panel".into(),
         });
     }
+    let mut tops = Vec::with_capacity(panels.len());
     for p in panels {
         let what = format!("space-time map '{}'", p.label);
         if p.values.len() != p.time.len() {
@@ -65,31 +72,45 @@ pub fn space_time_map(title: &str, panels: &[SpaceTimePanel]) -> Result<String, 
                 right: row.len(),
             });
         }
+        let top = p
+            .values
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        if !(top.is_finite() && top > 0.0) {
+            return Err(FigureError::EmptyData {
+                what: format!("{what}: no positive finite value"),
+            });
+        }
+        tops.push(top);
     }
-    let top = panels
-        .iter()
-        .flat_map(|p| p.values.iter().flatten())
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
-    if !(top.is_finite() && top > 0.0) {
-        return Err(FigureError::EmptyData {
-            what: "space-time map: no positive finite value".into(),
-        });
-    }
+    let (width, height) = (style::PANEL_WIDTH * panels.len() as u32, style::HEIGHT);
     let mut svg = String::new();
+    let mut charts = Vec::new();
+    let title_box;
     {
-        let size = (style::PANEL_WIDTH * panels.len() as u32, style::HEIGHT);
-        let root: Area<'_> = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        let root: Area<'_> = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
-        let body = root
-            .titled(title, (style::FONT, style::TITLE_SIZE))
-            .map_err(drawing)?;
-        for (panel, area) in panels.iter().zip(body.split_evenly((1, panels.len()))) {
-            draw_panel(panel, &area, top)?;
+        let (text, body) = draw_title(&root, title)?;
+        title_box = text;
+        for ((panel, area), &top) in panels
+            .iter()
+            .zip(body.split_evenly((1, panels.len())))
+            .zip(&tops)
+        {
+            charts.push(draw_panel(panel, &area, top)?);
         }
         root.present().map_err(drawing)?;
     }
+    let layout = FigureLayout {
+        width,
+        height,
+        title: title_box,
+        charts,
+    };
+    layout.embed(&mut svg).map_err(drawing)?;
     Ok(svg)
 }
 
@@ -101,7 +122,22 @@ fn half_step(v: &[f64], k: usize) -> f64 {
     }
 }
 
-fn draw_panel(panel: &SpaceTimePanel, area: &Area<'_>, top: f64) -> Result<(), FigureError> {
+/// Room right of a panel's plotting area for its colour bar and the bar's tick labels.
+const BAR_ROOM: i32 = 95;
+/// Width of the colour bar.
+const BAR_WIDTH: i32 = 16;
+/// Number of colour steps drawn in the bar.
+const BAR_STEPS: i32 = 64;
+/// Number of intervals between the bar's ticks, at least (the step is rounded up to 1, 2 or 5
+/// times a power of ten).
+const BAR_INTERVALS: usize = 4;
+
+/// Draws one panel, coloured from 0 to `top`, and its colour bar; returns its layout.
+fn draw_panel(
+    panel: &SpaceTimePanel,
+    area: &Area<'_>,
+    top: f64,
+) -> Result<ChartLayout, FigureError> {
     let (Some(&t0), Some(&t1)) = (panel.time.first(), panel.time.last()) else {
         return Err(FigureError::EmptyData {
             what: format!("space-time map '{}': no time", panel.label),
@@ -113,14 +149,26 @@ fn draw_panel(panel: &SpaceTimePanel, area: &Area<'_>, top: f64) -> Result<(), F
         });
     };
     let dx = half_step(&panel.position, 0);
-    let caption = format!("{} (colour 0 – {top:.3})", panel.label);
+    let (t_hi, x_lo, x_hi) = (t1.max(t0 + 1e-12), x0 - dx, x1 + dx);
     let mut chart = ChartBuilder::on(area)
-        .caption(caption, (style::FONT, style::CAPTION_SIZE))
+        .caption(panel.label.as_str(), (style::FONT, style::CAPTION_SIZE))
         .margin(10)
+        .margin_right(BAR_ROOM)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d(t0..t1.max(t0 + 1e-12), (x0 - dx)..(x1 + dx))
+        .build_cartesian_2d(t0..t_hi, x_lo..x_hi)
         .map_err(drawing)?;
+    let x_ticks = RefCell::new(Vec::new());
+    let y_ticks = RefCell::new(Vec::new());
+    let (x_step, y_step) = ((t_hi - t0) / 10.0, (x_hi - x_lo) / 10.0);
+    let record = |ticks: &RefCell<Vec<Tick>>, v: f64, step: f64| {
+        let label = style::linear_tick(v, step);
+        ticks.borrow_mut().push(Tick {
+            value: v,
+            label: label.clone(),
+        });
+        label
+    };
     chart
         .configure_mesh()
         .disable_mesh()
@@ -128,8 +176,8 @@ fn draw_panel(panel: &SpaceTimePanel, area: &Area<'_>, top: f64) -> Result<(), F
         .y_desc("height above the contact face")
         .axis_desc_style((style::FONT, style::AXIS_DESC_SIZE))
         .label_style((style::FONT, style::TICK_SIZE))
-        .x_label_formatter(&|v| style::linear_tick(*v))
-        .y_label_formatter(&|v| style::linear_tick(*v))
+        .x_label_formatter(&|v| record(&x_ticks, *v, x_step))
+        .y_label_formatter(&|v| record(&y_ticks, *v, y_step))
         .draw()
         .map_err(drawing)?;
     let cells = panel.time.iter().enumerate().flat_map(|(k, &t)| {
@@ -150,7 +198,87 @@ fn draw_panel(panel: &SpaceTimePanel, area: &Area<'_>, top: f64) -> Result<(), F
             })
     });
     chart.draw_series(cells).map_err(drawing)?;
-    Ok(())
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let plot = Rect {
+        x0: xr.start,
+        y0: yr.start,
+        x1: xr.end,
+        y1: yr.end,
+    };
+    let bar = colour_bar(area, plot, top)?;
+    let (ax, ay) = area.get_base_pixel();
+    let (aw, _) = area.dim_in_pixel();
+    Ok(ChartLayout {
+        plot,
+        caption: Some(centred_text(
+            &panel.label,
+            style::CAPTION_SIZE as f64,
+            ax + aw as i32 / 2,
+            ay + 10,
+        )),
+        x: AxisLayout {
+            label: "t".into(),
+            ticks: x_ticks.into_inner(),
+            ..AxisLayout::default()
+        },
+        y: AxisLayout {
+            label: "height above the contact face".into(),
+            ticks: y_ticks.into_inner(),
+            ..AxisLayout::default()
+        },
+        legend: None,
+        series: Vec::new(),
+        colour_bar: Some(bar),
+    })
+}
+
+/// Draws the colour bar of a panel whose plotting area is `plot` (canvas pixels), from 0 at
+/// the bottom to `top`, with its ticks; returns its box and axis.
+fn colour_bar(area: &Area<'_>, plot: Rect, top: f64) -> Result<(Rect, AxisLayout), FigureError> {
+    let (bx, by) = area.get_base_pixel();
+    let bar = Rect {
+        x0: plot.x1 + 12,
+        y0: plot.y0,
+        x1: plot.x1 + 12 + BAR_WIDTH,
+        y1: plot.y1,
+    };
+    let (x0, x1) = (bar.x0 - bx, bar.x1 - bx);
+    let row = |k: i32| bar.y1 - by - (bar.y1 - bar.y0) * k / BAR_STEPS;
+    for k in 0..BAR_STEPS {
+        let fraction = (f64::from(k) + 0.5) / f64::from(BAR_STEPS);
+        area.draw(&Rectangle::new(
+            [(x0, row(k + 1)), (x1, row(k))],
+            colour_of(fraction).filled(),
+        ))
+        .map_err(drawing)?;
+    }
+    area.draw(&Rectangle::new([(x0, row(BAR_STEPS)), (x1, row(0))], BLACK))
+        .map_err(drawing)?;
+    let font = (style::FONT, style::TICK_SIZE)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let step = style::nice_step(top / BAR_INTERVALS as f64);
+    let mut ticks = Vec::new();
+    let count = (top / step * (1.0 + 1e-9)).floor() as usize;
+    for k in 0..=count {
+        let value = step * k as f64;
+        let y = bar.y1 - by - (f64::from(bar.y1 - bar.y0) * value / top).round() as i32;
+        area.draw(&PathElement::new(vec![(x1, y), (x1 + 4, y)], BLACK))
+            .map_err(drawing)?;
+        let label = style::linear_tick(value, step);
+        area.draw(&Text::new(label.clone(), (x1 + 7, y), font.clone()))
+            .map_err(drawing)?;
+        ticks.push(Tick { value, label });
+    }
+    Ok((
+        bar,
+        AxisLayout {
+            label: "von Mises stress".into(),
+            ticks,
+            ..AxisLayout::default()
+        },
+    ))
 }
 
 #[cfg(test)]
@@ -171,11 +299,33 @@ mod tests {
     }
 
     #[test]
-    fn draws_one_cell_per_finite_value_on_a_shared_scale() {
+    fn each_panel_has_its_own_scale_and_colour_bar() {
         let svg = space_time_map("t", &[panel("a", 1.0), panel("b", 2.0)]).unwrap();
-        assert!(svg.contains("colour 0 – 2.000"));
+        // The largest value of each panel is yellow on its own scale (the bars' top steps stop
+        // half a step short of it).
         let yellow = svg.matches("#FDE725").count();
-        assert_eq!(yellow, 2, "the largest value of the second panel, twice");
+        assert_eq!(yellow, 4, "the largest value of each panel, twice in each");
+        let layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
+        let tops: Vec<String> = layout
+            .charts
+            .iter()
+            .map(|c| {
+                c.colour_bar
+                    .as_ref()
+                    .unwrap()
+                    .1
+                    .ticks
+                    .last()
+                    .unwrap()
+                    .label
+                    .clone()
+            })
+            .collect();
+        assert_eq!(
+            tops,
+            ["1", "2"],
+            "ticks at 0.2, 0.4, … up to each panel's top"
+        );
     }
 
     #[test]

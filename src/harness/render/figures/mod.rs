@@ -7,11 +7,15 @@
 //! callers write it where they want.
 //!
 //! The style is the same everywhere: white background, 800×500 px for one panel and 600 px of
-//! width per panel when there are several side by side (1200×500 for two), labelled axes, a
-//! legend inside each chart placed in the corner where it covers the fewest data, log–log axes
-//! wherever errors are shown, and colours taken in order from a fixed palette (the exact
-//! solution is always black and thicker, drawn beneath the computed curves). The output is
-//! deterministic: the same input gives the same bytes.
+//! width per panel when there are several side by side (1200×500 for two; wider by its legend
+//! when a legend stands right of its chart), a title shrunk to fit the canvas, labelled axes,
+//! a legend where it covers no data (inside the chart, in headroom above the data, or on its
+//! right), log–log axes wherever errors are shown with a tick at every level of a convergence
+//! plot, tick labels with as many decimals as their spacing needs, and colours taken in order
+//! from a fixed palette of dark and light pairs (an exact solution is black, or the light shade
+//! of its computed curve's colour, thicker, drawn beneath the computed curves). Every figure
+//! embeds its [`FigureLayout`] (see [`layout`]). The output is deterministic: the same input
+//! gives the same bytes.
 //!
 //! Non-finite values (and non-positive ones on a log axis) are skipped point by point; a series
 //! left with no point is dropped. When nothing drawable is left in a chart the function returns
@@ -21,12 +25,14 @@
 mod chart;
 mod draw;
 pub mod heatmap;
+pub mod layout;
 mod style;
 
 pub use draw::{
-    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure,
+    contact_node_figure, contact_node_figure_labelled, convergence_figure, energy_figure,
+    line_figure, time_series_figure, work_precision_figure, Colouring,
 };
+pub use layout::FigureLayout;
 
 pub use crate::harness::files::error::FigureError;
 use crate::harness::run::{ContactHistory, EnergyHistory};

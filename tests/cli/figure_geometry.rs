@@ -1,0 +1,538 @@
+//! Every committed figure checked against its own geometry: the layout the drawing code embeds
+//! in each SVG (`signorini::harness::render::figures::layout`) and the SVG as resvg lays it
+//! out with a real font.
+//!
+//! What a figure must satisfy:
+//! - **text inside the canvas**: every `<text>` element, laid out by resvg (usvg) with a system
+//!   sans-serif font, has its glyphs' box inside the canvas, and the title, captions, axis
+//!   descriptions and legend labels of the layout are among them;
+//! - **legends clear of the data**: no data element drawn before a legend's box (a curve, a
+//!   marker, a band) reaches into that box, and the legend's labels lie inside it;
+//! - **distinct colours**: two series with different labels differ by at least
+//!   [`MIN_COLOUR_DISTANCE`] in RGB;
+//! - **distinct tick labels** along every axis and colour bar;
+//! - **a tick at every level** of a logarithmic axis that has levels, and every `h` axis of a
+//!   convergence plot has them.
+//!
+//! Figures of `reports/fine/` and `reports/finest/` drawn before layouts were embedded get the
+//! rendered-text check alone (see [`FIGURE_DIRS`]).
+//!
+//! The `deliberate_*` tests feed a clipped title and a legend over the data and see each
+//! reported, so that the checks are known to bite.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, OnceLock};
+
+use resvg::usvg;
+use signorini::harness::render::figures::layout::{FigureLayout, Rect, METADATA_ID};
+use signorini::harness::render::figures::{convergence_figure, ConvergenceSeries};
+
+/// The smallest RGB distance between the colours of two series of one figure.
+const MIN_COLOUR_DISTANCE: f64 = 40.0;
+
+/// The directories whose figures are committed (those present), and whether each must carry
+/// layouts: the figures of `reports/fine/` and `reports/finest/` are redrawn only with their
+/// studies' data, which are not committed (`make report-fine`, `make report-finest`), so a
+/// figure there drawn before layouts were embedded gets the rendered-text check alone.
+const FIGURE_DIRS: [(&str, bool); 3] = [
+    ("reports/figures", true),
+    ("reports/fine/figures", false),
+    ("reports/finest/figures", false),
+];
+
+/// The system fonts, with `sans-serif` resolved to DejaVu Sans when it is installed.
+fn fonts() -> Arc<usvg::fontdb::Database> {
+    static FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    FONTS
+        .get_or_init(|| {
+            let mut db = usvg::fontdb::Database::new();
+            db.load_system_fonts();
+            assert!(
+                !db.is_empty(),
+                "no system font: the figure checks lay text out with one \
+                 (Debian: apt-get install fonts-dejavu-core; `make test` does it)"
+            );
+            let family = db
+                .faces()
+                .flat_map(|f| f.families.iter().map(|(name, _)| name.clone()))
+                .find(|name| name == "DejaVu Sans")
+                .or_else(|| db.faces().next().map(|f| f.families[0].0.clone()))
+                .expect("a font family");
+            db.set_sans_serif_family(family);
+            Arc::new(db)
+        })
+        .clone()
+}
+
+/// A rendered `<text>`: its content and its glyphs' box in canvas pixels.
+struct RenderedText {
+    text: String,
+    left: f32,
+    top: f32,
+    right: f32,
+    bottom: f32,
+}
+
+/// Every text of `svg` as resvg lays it out, and the number of `<text>` elements with content.
+fn rendered_texts(svg: &str) -> (Vec<RenderedText>, usize) {
+    let options = usvg::Options {
+        fontdb: fonts(),
+        ..usvg::Options::default()
+    };
+    let tree = usvg::Tree::from_str(svg, &options).expect("resvg parses the figure");
+    let mut out = Vec::new();
+    fn walk(group: &usvg::Group, out: &mut Vec<RenderedText>) {
+        for node in group.children() {
+            match node {
+                usvg::Node::Group(g) => walk(g, out),
+                usvg::Node::Text(t) => {
+                    let b = t.abs_bounding_box();
+                    out.push(RenderedText {
+                        text: t.chunks().iter().map(|c| c.text()).collect::<String>(),
+                        left: b.left(),
+                        top: b.top(),
+                        right: b.right(),
+                        bottom: b.bottom(),
+                    });
+                }
+                _ => {}
+            }
+        }
+    }
+    walk(tree.root(), &mut out);
+    let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
+    let elements = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter(|n| !n.text().unwrap_or("").trim().is_empty())
+        .count();
+    (out, elements)
+}
+
+/// A data element drawn before a legend: where its ink goes.
+enum Ink {
+    /// A polyline of this stroke width.
+    Line(Vec<(f64, f64)>, f64),
+    /// A filled circle: centre and radius.
+    Dot((f64, f64), f64),
+    /// A filled polygon.
+    Area(Vec<(f64, f64)>),
+}
+
+fn points(n: roxmltree::Node) -> Vec<(f64, f64)> {
+    n.attribute("points")
+        .unwrap_or("")
+        .split_whitespace()
+        .filter_map(|p| {
+            let (x, y) = p.split_once(',')?;
+            Some((x.parse().ok()?, y.parse().ok()?))
+        })
+        .collect()
+}
+
+fn num(n: roxmltree::Node, a: &str) -> f64 {
+    n.attribute(a).and_then(|v| v.parse().ok()).unwrap_or(0.0)
+}
+
+/// Whether the segment `a`–`b` meets the box `(x0, y0, x1, y1)`.
+fn segment_meets(a: (f64, f64), b: (f64, f64), (x0, y0, x1, y1): (f64, f64, f64, f64)) -> bool {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 - x0),
+        (dx, x1 - a.0),
+        (-dy, a.1 - y0),
+        (dy, y1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    t0 <= t1
+}
+
+impl Ink {
+    /// Whether this ink reaches into the interior of `r` (one pixel in from its edges).
+    fn meets(&self, r: &Rect) -> bool {
+        let inner = |grow: f64| {
+            (
+                f64::from(r.x0) + 1.0 - grow,
+                f64::from(r.y0) + 1.0 - grow,
+                f64::from(r.x1) - 1.0 + grow,
+                f64::from(r.y1) - 1.0 + grow,
+            )
+        };
+        match self {
+            Ink::Line(pts, width) => {
+                let b = inner(width / 2.0);
+                match pts.as_slice() {
+                    [p] => segment_meets(*p, *p, b),
+                    _ => pts.windows(2).any(|w| segment_meets(w[0], w[1], b)),
+                }
+            }
+            Ink::Dot(c, radius) => segment_meets(*c, *c, inner(*radius)),
+            Ink::Area(outline) => {
+                let b = inner(0.0);
+                let edges = outline.iter().zip(outline.iter().cycle().skip(1));
+                let corner = (b.0, b.1);
+                let mut inside = false;
+                for (a, c) in outline.iter().zip(outline.iter().cycle().skip(1)) {
+                    if (a.1 > corner.1) != (c.1 > corner.1)
+                        && corner.0 < a.0 + (corner.1 - a.1) / (c.1 - a.1) * (c.0 - a.0)
+                    {
+                        inside = !inside;
+                    }
+                }
+                inside || edges.into_iter().any(|(&a, &c)| segment_meets(a, c, b))
+            }
+        }
+    }
+}
+
+/// The data elements of `svg` drawn before its `<rect>` at `(x, y)` (a legend's background),
+/// or `None` when there is no such rect.
+fn ink_before_legend(doc: &roxmltree::Document, at: (i32, i32)) -> Option<Vec<Ink>> {
+    let mut ink = Vec::new();
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        match n.tag_name().name() {
+            "rect"
+                if num(n, "x") as i32 == at.0
+                    && num(n, "y") as i32 == at.1
+                    && n.attribute("fill") != Some("none") =>
+            {
+                return Some(ink)
+            }
+            "polyline" if num(n, "stroke-width") > 1.0 => {
+                ink.push(Ink::Line(points(n), num(n, "stroke-width")))
+            }
+            "circle" => ink.push(Ink::Dot((num(n, "cx"), num(n, "cy")), num(n, "r"))),
+            "polygon" => ink.push(Ink::Area(points(n))),
+            _ => {}
+        }
+    }
+    None
+}
+
+fn rgb_distance(a: [u8; 3], b: [u8; 3]) -> f64 {
+    a.iter()
+        .zip(&b)
+        .map(|(&x, &y)| (f64::from(x) - f64::from(y)).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The `width` and `height` attributes of the root of `svg`.
+fn canvas_size(svg: &str) -> (f32, f32) {
+    let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
+    let root = doc.root_element();
+    let size = |a: &str| {
+        root.attribute(a)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(0.0)
+    };
+    (size("width"), size("height"))
+}
+
+/// Every text of `svg` (named `name`) whose glyphs, laid out by resvg, leave the canvas, and
+/// texts resvg could not lay out; returns the problems and the rendered texts.
+fn text_problems(name: &str, svg: &str) -> (Vec<String>, Vec<RenderedText>) {
+    let mut out = Vec::new();
+    let (width, height) = canvas_size(svg);
+    let (texts, elements) = rendered_texts(svg);
+    if texts.len() != elements {
+        out.push(format!(
+            "{name}: resvg laid out {} of {elements} texts (a font is missing?)",
+            texts.len()
+        ));
+    }
+    for t in &texts {
+        if t.left < 0.0 || t.top < 0.0 || t.right > width || t.bottom > height {
+            out.push(format!(
+                "{name}: text {:?} spans x {:.0}..{:.0}, y {:.0}..{:.0}, outside the {width}×{height} canvas",
+                t.text, t.left, t.right, t.top, t.bottom
+            ));
+        }
+    }
+    (out, texts)
+}
+
+/// Everything wrong with the figure `svg` (named `name` in the messages), by the rules of the
+/// module's doc; empty when nothing is. A figure without an embedded layout is a problem
+/// unless `layout_optional`, when it gets the rendered-text check alone.
+fn problems(name: &str, svg: &str, layout_optional: bool) -> Vec<String> {
+    let (mut out, texts) = text_problems(name, svg);
+    let layout = match FigureLayout::from_svg(svg) {
+        Some(Ok(layout)) => layout,
+        Some(Err(e)) => return vec![format!("{name}: its layout does not parse: {e}")],
+        None if layout_optional => return out,
+        None => {
+            out.push(format!("{name}: no embedded layout (`{METADATA_ID}`)"));
+            return out;
+        }
+    };
+    let canvas = layout.canvas();
+    let rendered = |s: &str| texts.iter().any(|t| t.text.trim() == s.trim());
+    if !canvas.contains(&layout.title.rect) {
+        out.push(format!(
+            "{name}: the title {:?} is laid out at {:?}, outside the canvas",
+            layout.title.text, layout.title.rect
+        ));
+    }
+    let mut labels = vec![layout.title.text.clone()];
+    for c in &layout.charts {
+        labels.extend(c.caption.iter().map(|t| t.text.clone()));
+        labels.extend([c.x.label.clone(), c.y.label.clone()]);
+        if let Some(caption) = c.caption.as_ref().filter(|t| !canvas.contains(&t.rect)) {
+            out.push(format!(
+                "{name}: caption {:?} is laid out outside the canvas",
+                caption.text
+            ));
+        }
+    }
+    for l in labels.iter().filter(|l| !l.is_empty() && !rendered(l)) {
+        out.push(format!("{name}: {l:?} is not among the rendered texts"));
+    }
+
+    // Legends clear of the data, and holding their labels.
+    let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
+    for (k, c) in layout.charts.iter().enumerate() {
+        let Some(legend) = c.legend else { continue };
+        match ink_before_legend(&doc, (legend.x0, legend.y0)) {
+            None => out.push(format!(
+                "{name}: chart {k}: no legend box at ({}, {}) in the SVG",
+                legend.x0, legend.y0
+            )),
+            Some(ink) => {
+                let covered = ink.iter().filter(|i| i.meets(&legend)).count();
+                if covered > 0 {
+                    out.push(format!(
+                        "{name}: chart {k}: the legend at {legend:?} covers {covered} data elements"
+                    ));
+                }
+            }
+        }
+        for s in &c.series {
+            let inside = texts.iter().any(|t| {
+                t.text.trim() == s.label
+                    && t.left >= legend.x0 as f32
+                    && t.right <= legend.x1 as f32
+                    && t.top >= legend.y0 as f32
+                    && t.bottom <= legend.y1 as f32
+            });
+            if !inside {
+                out.push(format!(
+                    "{name}: chart {k}: legend label {:?} is not inside the legend box {legend:?}",
+                    s.label
+                ));
+            }
+        }
+    }
+
+    // Distinct colours: series with different labels, across the whole figure.
+    let series: Vec<_> = layout.charts.iter().flat_map(|c| &c.series).collect();
+    for (i, a) in series.iter().enumerate() {
+        for b in &series[i + 1..] {
+            let d = rgb_distance(a.colour, b.colour);
+            if a.label != b.label && d < MIN_COLOUR_DISTANCE {
+                out.push(format!(
+                    "{name}: series {:?} and {:?} have colours {:?} and {:?}, {d:.0} apart",
+                    a.label, b.label, a.colour, b.colour
+                ));
+            }
+        }
+    }
+
+    // Tick labels distinct along each axis; a tick at every level of a log axis.
+    for (k, c) in layout.charts.iter().enumerate() {
+        let axes = [("x", &c.x), ("y", &c.y)]
+            .into_iter()
+            .chain(c.colour_bar.as_ref().map(|(_, a)| ("colour bar", a)));
+        for (which, axis) in axes {
+            let labels: Vec<&str> = axis.ticks.iter().map(|t| t.label.as_str()).collect();
+            for (i, l) in labels.iter().enumerate() {
+                if labels[..i].contains(l) {
+                    out.push(format!(
+                        "{name}: chart {k}: the {which} axis repeats the tick label {l:?} ({labels:?})"
+                    ));
+                }
+            }
+            if axis.log && axis.label == "h" && axis.levels.is_empty() {
+                out.push(format!(
+                    "{name}: chart {k}: the log {which} axis `h` has no levels"
+                ));
+            }
+            for level in &axis.levels {
+                let ticked = axis
+                    .ticks
+                    .iter()
+                    .any(|t| (t.value / level - 1.0).abs() < 1e-9 && !t.label.is_empty());
+                if axis.log && !ticked {
+                    out.push(format!(
+                        "{name}: chart {k}: the log {which} axis has no tick at the level {level} (ticks {labels:?})"
+                    ));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The committed figures: `(path, svg, layout optional)` of every `.svg` under [`FIGURE_DIRS`].
+fn committed_figures() -> Vec<(PathBuf, String, bool)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = Vec::new();
+    for (dir, layouts) in FIGURE_DIRS {
+        let Ok(entries) = std::fs::read_dir(root.join(dir)) else {
+            continue;
+        };
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+            .collect();
+        paths.sort();
+        for p in paths {
+            let svg = std::fs::read_to_string(&p).unwrap();
+            out.push((p.strip_prefix(root).unwrap().to_owned(), svg, !layouts));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_committed_figure_keeps_its_text_legends_colours_and_ticks_in_order() {
+    let figures = committed_figures();
+    assert!(
+        figures.len() >= 100,
+        "only {} committed figures found",
+        figures.len()
+    );
+    let mut all = Vec::new();
+    for (path, svg, layout_optional) in &figures {
+        all.extend(problems(&path.display().to_string(), svg, *layout_optional));
+    }
+    assert!(
+        all.is_empty(),
+        "{} problems in the committed figures (redraw them with `make figures`):\n{}",
+        all.len(),
+        all.join("\n")
+    );
+}
+
+/// A convergence figure of two series over seven levels, for the deliberate violations.
+fn sample_figure() -> String {
+    let h: Vec<f64> = (0..7).map(|k| 0.1 / 2f64.powi(k)).collect();
+    let series =
+        [("first", 1.0, 0.5), ("second", 2.0, 1.0)].map(|(label, rate, c)| ConvergenceSeries {
+            label: label.into(),
+            errors: h.iter().map(|x| c * x.powf(rate)).collect(),
+            h: h.clone(),
+            ..ConvergenceSeries::default()
+        });
+    convergence_figure("A convergence figure", &series).unwrap()
+}
+
+/// `svg` with its embedded layout replaced by `layout`.
+fn with_layout(svg: &str, layout: &FigureLayout) -> String {
+    let start = svg.find("<metadata").unwrap();
+    let end = svg.find("</metadata>").unwrap() + "</metadata>".len();
+    let json = serde_json::to_string(layout)
+        .unwrap()
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;");
+    format!(
+        "{}<metadata id=\"{METADATA_ID}\">{json}</metadata>{}",
+        &svg[..start],
+        &svg[end..]
+    )
+}
+
+#[test]
+fn the_sample_figure_passes_the_checks() {
+    let svg = sample_figure();
+    assert_eq!(problems("sample", &svg, false), Vec::<String>::new());
+}
+
+#[test]
+fn deliberate_clipped_title_is_reported_by_the_layout_and_by_the_rendered_text() {
+    let svg = sample_figure();
+    let mut layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
+    // A title too long for the canvas, drawn at the size it had: it runs off both sides.
+    let long = "A convergence figure whose title goes on and on, far wider than its canvas";
+    layout.title.text = long.into();
+    layout.title.rect.x0 = -150;
+    layout.title.rect.x1 = 950;
+    let clipped = with_layout(&svg.replace("A convergence figure", long), &layout);
+    let found = problems("clipped", &clipped, false);
+    println!("{}", found.join("\n"));
+    assert!(
+        found
+            .iter()
+            .any(|p| p.contains("the title") && p.contains("outside the canvas")),
+        "{found:?}"
+    );
+    assert!(
+        found
+            .iter()
+            .any(|p| p.contains(&format!("text {long:?} spans")) && p.contains("outside")),
+        "{found:?}"
+    );
+}
+
+#[test]
+fn deliberate_legend_over_the_data_is_reported() {
+    let svg = sample_figure();
+    let mut layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
+    let legend = layout.charts[0].legend.unwrap();
+    // Move the legend (its box in the layout and in the SVG) onto the middle of the plot.
+    let plot = layout.charts[0].plot;
+    let (w, h) = (legend.x1 - legend.x0, legend.y1 - legend.y0);
+    let (x, y) = ((plot.x0 + plot.x1 - w) / 2, (plot.y0 + plot.y1 - h) / 2);
+    let moved = Rect {
+        x0: x,
+        y0: y,
+        x1: x + w,
+        y1: y + h,
+    };
+    layout.charts[0].legend = Some(moved);
+    let svg = svg.replace(
+        &format!("<rect x=\"{}\" y=\"{}\"", legend.x0, legend.y0),
+        &format!("<rect x=\"{x}\" y=\"{y}\""),
+    );
+    let found = problems("overlapping", &with_layout(&svg, &layout), false);
+    println!("{}", found.join("\n"));
+    assert!(
+        found
+            .iter()
+            .any(|p| p.contains("the legend at") && p.contains("covers")),
+        "{found:?}"
+    );
+}
+
+#[test]
+fn deliberate_repeated_ticks_missing_levels_and_alike_colours_are_reported() {
+    let svg = sample_figure();
+    let mut layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
+    let chart = &mut layout.charts[0];
+    chart.y.ticks[1].label = chart.y.ticks[0].label.clone();
+    chart.x.ticks.remove(2);
+    chart.series[1].colour = chart.series[0].colour;
+    let found = problems("broken", &with_layout(&svg, &layout), false);
+    println!("{}", found.join("\n"));
+    for needle in [
+        "repeats the tick label",
+        "has no tick at the level",
+        "apart",
+    ] {
+        assert!(
+            found.iter().any(|p| p.contains(needle)),
+            "{needle}: {found:?}"
+        );
+    }
+}
