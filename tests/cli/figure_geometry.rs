@@ -14,8 +14,8 @@
 //! - **a tick at every level** of a logarithmic axis that has levels, and every `h` axis of a
 //!   convergence plot has them.
 //!
-//! Figures of `reports/fine/` and `reports/finest/` drawn before layouts were embedded get the
-//! rendered-text check alone (see [`FIGURE_DIRS`]).
+//! Figures of `reports/finest/`, drawn before layouts were embedded, get the rendered-text check
+//! alone (see [`FIGURE_DIRS`]).
 //!
 //! The `deliberate_*` tests feed a clipped title and a legend over the data and see each
 //! reported, so that the checks are known to bite.
@@ -31,12 +31,12 @@ use signorini::harness::render::figures::{convergence_figure, ConvergenceSeries}
 const MIN_COLOUR_DISTANCE: f64 = 40.0;
 
 /// The directories whose figures are committed (those present), and whether each must carry
-/// layouts: the figures of `reports/fine/` and `reports/finest/` are redrawn only with their
-/// studies' data, which are not committed (`make report-fine`, `make report-finest`), so a
-/// figure there drawn before layouts were embedded gets the rendered-text check alone.
+/// layouts: the figures of `reports/finest/` are redrawn only with its study's data, which are
+/// not committed (`make report-finest`, over an hour), so a figure there drawn before layouts
+/// were embedded gets the rendered-text check alone.
 const FIGURE_DIRS: [(&str, bool); 3] = [
     ("reports/figures", true),
-    ("reports/fine/figures", false),
+    ("reports/fine/figures", true),
     ("reports/finest/figures", false),
 ];
 
