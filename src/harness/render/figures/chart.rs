@@ -473,13 +473,7 @@ fn plot_rect(area: &Area<'_>, caption: Option<&str>, right: i32) -> Result<Rect,
     let chart = builder(&same, caption, right)
         .build_cartesian_2d(0f64..1f64, 0f64..1f64)
         .map_err(drawing)?;
-    let (xr, yr) = chart.plotting_area().get_pixel_range();
-    Ok(Rect {
-        x0: xr.start,
-        y0: yr.start,
-        x1: xr.end,
-        y1: yr.end,
-    })
+    Ok(Rect::spanning(chart.plotting_area().get_pixel_range()))
 }
 
 /// The chart builder with the figures' margins and label areas.
@@ -798,13 +792,7 @@ where
                 .map_err(drawing)?;
         }
     }
-    let (xr, yr) = chart.plotting_area().get_pixel_range();
-    let plot = Rect {
-        x0: xr.start,
-        y0: yr.start,
-        x1: xr.end,
-        y1: yr.end,
-    };
+    let plot = Rect::spanning(chart.plotting_area().get_pixel_range());
     Ok((plot, x_ticks.into_inner(), y_ticks.into_inner()))
 }
 

@@ -198,13 +198,7 @@ fn draw_panel(
             })
     });
     chart.draw_series(cells).map_err(drawing)?;
-    let (xr, yr) = chart.plotting_area().get_pixel_range();
-    let plot = Rect {
-        x0: xr.start,
-        y0: yr.start,
-        x1: xr.end,
-        y1: yr.end,
-    };
+    let plot = Rect::spanning(chart.plotting_area().get_pixel_range());
     let bar = colour_bar(area, plot, top)?;
     let (ax, ay) = area.get_base_pixel();
     let (aw, _) = area.dim_in_pixel();

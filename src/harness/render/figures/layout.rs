@@ -25,6 +25,17 @@ pub struct Rect {
 }
 
 impl Rect {
+    /// The rectangle spanned by the pixel ranges `(x, y)` of a plotting area
+    /// (`get_pixel_range`).
+    pub fn spanning((x, y): (std::ops::Range<i32>, std::ops::Range<i32>)) -> Self {
+        Self {
+            x0: x.start,
+            y0: y.start,
+            x1: x.end,
+            y1: y.end,
+        }
+    }
+
     /// Whether `other` lies wholly inside this rectangle (edges included).
     pub fn contains(&self, other: &Rect) -> bool {
         other.x0 >= self.x0 && other.x1 <= self.x1 && other.y0 >= self.y0 && other.y1 <= self.y1
