@@ -44,6 +44,11 @@ pub struct RunArgs {
     /// Every run checks it: one above 1e-9 ends solver-inaccurate, with exit code 1.
     #[arg(long)]
     pub check_balance: bool,
+    /// Write a box's fields at every step (not only at the scene's `fields_at` times), with
+    /// --out: the ParaView collection `fields.pvd` then holds the whole run, as `signorini
+    /// verify` reads another code's.
+    #[arg(long, requires = "out")]
+    pub fields_every_step: bool,
     /// The schemes' implementation choices.
     #[command(flatten)]
     pub conventions: ConventionArgs,
@@ -69,6 +74,7 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         linear_solver: args.solver.linear_solver,
         check_balance: args.check_balance,
         writes_files: args.out.is_some(),
+        fields_every_step: args.fields_every_step,
     };
     let (out, limits) = (args.out.as_deref(), args.limits.limits());
     Ok(run_scene_of(

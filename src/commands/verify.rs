@@ -7,15 +7,21 @@ use clap::Args;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
+use super::options::parsed;
+use crate::harness::external::box_run::PvdOptions;
+use crate::harness::external::format::Code;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::studies::verify_run::{verify, VerifyRequest};
 
 /// The arguments of `signorini verify`.
 #[derive(Debug, Args)]
 pub struct VerifyArgs {
-    /// The scene file the runs solve (a bar1d scene with an exact solution).
+    /// The scene file the runs solve: a bar1d scene with an exact solution, or a box scene
+    /// (bar2d, bar3d), verified against its fine-mesh reference.
     pub scene: PathBuf,
-    /// Run files of another code (`.json` or `.csv`, see docs/src/external-runs.md); files
-    /// with one label form one refinement series.
+    /// Run files of another code (see docs/src/external-runs.md): `.json` or `.csv` for a bar,
+    /// `.pvd` (ParaView collections) or `.json` (the box form) for a box; files with one label
+    /// form one refinement series.
     #[arg(required = true)]
     pub runs: Vec<PathBuf>,
     /// Gate the rates and errors against this golden file (exit code 1 on a drift).
@@ -30,6 +36,65 @@ pub struct VerifyArgs {
     /// The resource limits (the run files are all held in memory while they are verified).
     #[command(flatten)]
     pub limits: LimitArgs,
+    /// A box scene's `.pvd` files: what they are and how their arrays are named.
+    #[command(flatten)]
+    pub pvd: PvdArgs,
+    /// Box scenes: where the fine-mesh reference is looked up and kept, as `study --cache`
+    /// (default: reports/data/references, read only: a reference computed for want of one
+    /// there is not saved).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+}
+
+/// What a `.pvd` does not say: which code wrote it, the series it belongs to, its scheme and
+/// mass, and the names of its arrays.
+#[derive(Debug, Args)]
+pub struct PvdArgs {
+    /// The code that wrote the `.pvd` files (required with them).
+    #[arg(long, requires = "code_version")]
+    pub code: Option<String>,
+    /// Its version.
+    #[arg(long, requires = "code")]
+    pub code_version: Option<String>,
+    /// The series the `.pvd` files form (default: each collection's file stem).
+    #[arg(long)]
+    pub label: Option<String>,
+    /// The scheme the code ran (a preset name, see `signorini list`): the note's findings are
+    /// judged on series that declare it and their mass.
+    #[arg(long, value_parser = parsed::<Scheme>)]
+    pub scheme: Option<Scheme>,
+    /// The mass matrix the code used: the harness computes the energy from the fields with it
+    /// (standard, redistributed, lumped, …; without it the energy is not computed).
+    #[arg(long, value_parser = parsed::<MassVariant>)]
+    pub mass: Option<MassVariant>,
+    /// The displacement's point array (default: the only vector array, else `displacement`).
+    #[arg(long)]
+    pub displacement: Option<String>,
+    /// The velocity's point array (the energy needs it).
+    #[arg(long)]
+    pub velocity: Option<String>,
+    /// The contact multipliers' point array (one component, λ ≤ 0 on the contact nodes; the
+    /// force norm needs it).
+    #[arg(long)]
+    pub multiplier: Option<String>,
+}
+
+impl PvdArgs {
+    /// The options of the box reader.
+    fn options(self) -> PvdOptions {
+        PvdOptions {
+            code: self
+                .code
+                .zip(self.code_version)
+                .map(|(name, version)| Code { name, version }),
+            label: self.label,
+            scheme: self.scheme,
+            mass: self.mass,
+            displacement: self.displacement,
+            velocity: self.velocity,
+            multiplier: self.multiplier,
+        }
+    }
 }
 
 /// Verifies another code's runs of a scene: prints Tables 1–2 of their series, then gates or
@@ -42,6 +107,8 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         write_golden: args.write_golden,
         out: args.out,
         limits: args.limits.limits(),
+        box_options: args.pvd.options(),
+        references: args.cache,
     };
     Ok(verify(request, &mut |said| out!("{said}"))?)
 }

@@ -9,12 +9,14 @@ use std::path::{Path, PathBuf};
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::{Replace, StagedDir};
-use crate::harness::problem::{ContactTreatment, LinearSolver, MassVariant, Problem, Scheme};
+use crate::harness::problem::{
+    BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Scheme,
+};
 use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::run_files::RUN_JSON;
 use crate::harness::run::run_files::{box_history_csv, history_csv};
-use crate::harness::run::{run, Observables, Observed, RunConfig, RunResult};
+use crate::harness::run::{run, time_grid, Observables, Observed, RunConfig, RunResult};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::progress::{self, StepProgress};
 use crate::harness::study::scene::Scene;
@@ -43,6 +45,36 @@ pub struct RunChoices {
     /// Whether the run's files are written (the histories and fields the scene asks for are
     /// recorded only then).
     pub writes_files: bool,
+    /// Whether a box's fields are written at every step `t_n` (else at the scene's
+    /// `fields_at` times).
+    pub fields_every_step: bool,
+}
+
+/// The most snapshots `--fields-every-step` writes: a run of more steps is refused before
+/// anything is allocated.
+pub const MAX_SNAPSHOTS: usize = 100_000;
+
+/// What `--fields-every-step` allows, for its error.
+const SNAPSHOTS_ALLOWED: &str =
+    "at most 100000 snapshots (MAX_SNAPSHOTS): a coarser level or a larger ratio";
+
+/// Every step's time `t_n = n Δt`, `n = 0..N`, of a run of `problem` on `nx` elements along
+/// the axis with `Δx/Δt = ratio`, as the run steps ([`time_grid`]); more than
+/// [`MAX_SNAPSHOTS`] is refused (an invalid `nx` or ratio is refused by the run itself).
+fn every_step(problem: &BoxProblem, nx: usize, ratio: f64) -> Result<Vec<f64>, ParameterError> {
+    if nx == 0 || !(ratio.is_finite() && ratio > 0.0) {
+        return Ok(Vec::new());
+    }
+    let h = problem.lengths[problem.lengths.len() - 1] / nx as f64;
+    let (steps, dt) = time_grid(problem.horizon, h, ratio);
+    if steps >= MAX_SNAPSHOTS {
+        return Err(ParameterError::new(
+            "--fields-every-step",
+            format!("{} snapshots", steps + 1),
+            SNAPSHOTS_ALLOWED,
+        ));
+    }
+    Ok((0..=steps).map(|n| n as f64 * dt).collect())
 }
 
 /// A run of a scene with the user's choices applied.
@@ -83,10 +115,14 @@ impl SceneRun {
         let (problem, observables) = match scene.problem() {
             Problem::Box(mut problem) => {
                 problem.contact = choices.contact.unwrap_or(problem.contact);
-                let fields_at = if choices.writes_files {
-                    scene.observables.fields_at.clone()
-                } else {
-                    Vec::new()
+                let fields_at = match (choices.writes_files, choices.fields_every_step) {
+                    (false, _) => Vec::new(),
+                    (true, false) => scene.observables.fields_at.clone(),
+                    (true, true) => every_step(
+                        &problem,
+                        nx,
+                        choices.ratio.unwrap_or(scene.discretisation.ratio),
+                    )?,
                 };
                 let observables = Observables {
                     fields_at,

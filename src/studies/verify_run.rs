@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify as verify_runs, ExternalError, VerifyGolden};
@@ -12,10 +13,16 @@ use crate::harness::files::artifacts::{read_json, writable, write_atomic, write_
 use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::problem::Problem;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
+use crate::studies::elastic_study::external::{
+    render as render_box, verify_box, BoxVerification, BoxVerifyRequest,
+};
+use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::outputs::CommandError;
+use crate::studies::reference_run::REPORT_REFERENCES;
 
 /// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
 pub const VERIFY_JSON: &str = "verify.json";
@@ -37,6 +44,11 @@ pub struct VerifyRequest {
     pub out: Option<PathBuf>,
     /// The limits it is held to.
     pub limits: Limits,
+    /// What a box scene's `.pvd` files are (their code, label, scheme, mass and arrays).
+    pub box_options: PvdOptions,
+    /// Where a box scene's reference is read from and saved to (default: read from
+    /// `reports/data/references/`, computed when absent there and not saved).
+    pub references: Option<PathBuf>,
 }
 
 impl From<ExternalError> for CommandError {
@@ -44,6 +56,24 @@ impl From<ExternalError> for CommandError {
         match e {
             ExternalError::Harness(e) => e.into(),
             e => Self::Refused(e.to_string()),
+        }
+    }
+}
+
+/// A verification of either geometry.
+enum Verified {
+    /// A bar scene's, against its exact solution.
+    Bar(crate::harness::external::Verification),
+    /// A box scene's, against its fine-mesh reference.
+    Box(Box<BoxVerification>),
+}
+
+impl Verified {
+    /// Its series, which the golden file records and gates.
+    fn series(&self) -> &crate::harness::external::Verification {
+        match self {
+            Verified::Bar(v) => v,
+            Verified::Box(v) => &v.verification,
         }
     }
 }
@@ -70,6 +100,8 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         write_golden,
         out,
         limits,
+        box_options,
+        references,
     } = request;
     let scene = Scene::load(&scene)?;
     let files = [(out.is_some(), 2.0), (write_golden.is_some(), 1.0)]
@@ -88,22 +120,46 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         .as_deref()
         .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
         .transpose()?;
-    let verification = verify_runs(&scene, &runs)?;
-    let markdown = render(&verification);
+    let (verified, markdown) = match scene.problem() {
+        Problem::Bar(_) => {
+            let verification = verify_runs(&scene, &runs)?;
+            let markdown = render(&verification);
+            (Verified::Bar(verification), markdown)
+        }
+        Problem::Box(_) => {
+            let cache = match references {
+                Some(dir) => ReferenceCache::ReadWrite(dir),
+                None => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
+            };
+            let request = BoxVerifyRequest {
+                scene: &scene,
+                files: &runs,
+                options: &box_options,
+                cache: &cache,
+            };
+            let verification = verify_box(&request, &mut |note| say(&note))?;
+            let markdown = render_box(&verification);
+            (Verified::Box(Box::new(verification)), markdown)
+        }
+    };
+    let verification = verified.series();
     say(markdown.trim_end());
     if let (Some(dir), Some(staged)) = (&out, staged) {
-        write_json(&staged.path().join(VERIFY_JSON), &verification)?;
+        match &verified {
+            Verified::Bar(v) => write_json(&staged.path().join(VERIFY_JSON), v)?,
+            Verified::Box(v) => write_json(&staged.path().join(VERIFY_JSON), v)?,
+        }
         write_atomic(&staged.path().join(VERIFY_MD), markdown.as_bytes())?;
         staged.commit()?;
         let (json, md) = (dir.join(VERIFY_JSON), dir.join(VERIFY_MD));
         say(&format!("wrote {} and {}", json.display(), md.display()));
     }
     if let Some(path) = write_golden {
-        write_json(&path, &VerifyGolden::from_verification(&verification)?)?;
+        write_json(&path, &VerifyGolden::from_verification(verification)?)?;
         say(&format!("wrote the golden file {}", path.display()));
     }
     if let Some(path) = golden {
-        gate(&path, &verification)?;
+        gate(&path, verification)?;
         say(&format!(
             "golden gate passed: every rate and error within its tolerance of {}",
             path.display()

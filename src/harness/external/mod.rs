@@ -9,17 +9,20 @@
 //! | [`format`] | the run in memory, the format's limits and its checks against the scene |
 //! | [`json`], [`csv`] | the two forms of a file, each read into an [`ExternalRun`] |
 //! | [`load`] | a file of either form, read and checked |
+//! | [`pvd`], [`box_run`] | a box scene's run: a ParaView collection or the JSON format's box form, matched to the scene's mesh and time grid |
 //! | [`replay`] | the samples as a [`crate::engine::schemes::TimeIntegrator`], through the observers |
 //! | [`verify`] | every file replayed, grouped into series, fitted |
 //! | [`report`], [`golden`] | the tables; the golden file and its gate |
 //! | [`error`] | what can be wrong, naming the file and the field |
 
+pub mod box_run;
 pub mod csv;
 pub mod error;
 pub mod format;
 pub mod golden;
 pub mod json;
 pub mod load;
+pub mod pvd;
 pub mod replay;
 pub mod report;
 pub mod verify;

@@ -39,6 +39,14 @@ pub fn render(v: &Verification) -> String {
          Each cell: the least-squares rate over the series' levels (`—` with fewer than two).\n",
         v.scene, v.reference, v.horizon
     );
+    out.push_str(&tables(v));
+    out
+}
+
+/// Tables 1–2 of the series of `v`, the norms not computed, and each series' per-level errors
+/// and observed orders: the body of [`render`], and of a box scene's verification.
+pub fn tables(v: &Verification) -> String {
+    let mut out = String::new();
     let _ = writeln!(out, "### Table 1: convergence rates for the displacement\n");
     let _ = writeln!(
         out,

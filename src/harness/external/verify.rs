@@ -15,6 +15,7 @@ use super::replay::{replay, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::files::error::Error;
+use crate::harness::run::nested_comparison::error_series::DisplacementError;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::Timings;
 use crate::harness::study::scene::Scene;
@@ -36,6 +37,10 @@ pub struct RunRecord {
     /// `u_h(0, t) − u(0, t)` in `L∞(0, T)` and `L²(0, T)` over the samples, when the file has
     /// the contact node's displacement (not a table norm: not fitted, not gated).
     pub contact_displacement_error: Option<TimeNorms>,
+    /// A box run's displacement error in `H` and `V` at each sample that has the field, when
+    /// some sample lacks it (its time norms are then not computed).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub displacement_at_samples: Vec<DisplacementError>,
 }
 
 /// A norm a series does not report, and why.
@@ -133,14 +138,20 @@ fn error_of(norm: Norm) -> StateField {
     }
 }
 
-/// One file's results, before the files are grouped.
-struct Level {
-    label: String,
-    code: Code,
-    record: RunRecord,
-    level: LevelRecord,
-    errors: BTreeMap<Norm, f64>,
-    lacks: BTreeMap<Norm, String>,
+/// One file's results, before the files are grouped into series.
+pub struct VerifiedFile {
+    /// Its configuration's label.
+    pub label: String,
+    /// The code that wrote it.
+    pub code: Code,
+    /// What the series lists of it.
+    pub record: RunRecord,
+    /// Its level, as a study's.
+    pub level: LevelRecord,
+    /// The norms computed.
+    pub errors: BTreeMap<Norm, f64>,
+    /// The norms not computed, each with the data the file lacks for it.
+    pub lacks: BTreeMap<Norm, String>,
 }
 
 /// Reads, checks and replays one file against `problem` for the norms `norms`.
@@ -149,7 +160,7 @@ fn verify_file(
     scene: &str,
     problem: &Problem1d,
     norms: &BTreeSet<Norm>,
-) -> Result<Level, ExternalError> {
+) -> Result<VerifiedFile, ExternalError> {
     let run = load(path, scene, problem)?;
     let bar = problem.bar(run.nx()).map_err(Error::from)?;
     let mut lacks: BTreeMap<Norm, String> = norms
@@ -184,7 +195,7 @@ fn verify_file(
     let spacing = run.time.windows(2).map(|w| w[1] - w[0]);
     let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
     let dt_max = spacing.fold(0.0, f64::max);
-    Ok(Level {
+    Ok(VerifiedFile {
         record: RunRecord {
             file: path.display().to_string(),
             nx: run.nx(),
@@ -192,6 +203,7 @@ fn verify_file(
             dt_min,
             dt_max,
             contact_displacement_error: replayed.contact_displacement_error,
+            displacement_at_samples: Vec::new(),
         },
         level: LevelRecord {
             nx: run.nx(),
@@ -223,18 +235,11 @@ pub fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, External
         });
     };
     let norms = &scene.observables.norms;
-    let mut groups: Vec<Vec<Level>> = Vec::new();
-    for path in files {
-        let level = verify_file(path, &scene.name, &problem, norms)?;
-        match groups.iter_mut().find(|g| g[0].label == level.label) {
-            Some(group) => group.push(level),
-            None => groups.push(vec![level]),
-        }
-    }
-    let series = groups
-        .into_iter()
-        .map(|group| series(group, norms))
-        .collect::<Result<_, _>>()?;
+    let verified = files
+        .iter()
+        .map(|path| verify_file(path, &scene.name, &problem, norms))
+        .collect::<Result<Vec<_>, _>>()?;
+    let series = into_series(verified, norms)?;
     Ok(Verification {
         signorini_version: env!("CARGO_PKG_VERSION").to_string(),
         scene: scene.name.clone(),
@@ -245,9 +250,28 @@ pub fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, External
     })
 }
 
+/// The files `verified` grouped by label into series, in the order the labels first appear,
+/// each checked and fitted ([`series`]).
+pub fn into_series(
+    verified: Vec<VerifiedFile>,
+    norms: &BTreeSet<Norm>,
+) -> Result<Vec<Series>, ExternalError> {
+    let mut groups: Vec<Vec<VerifiedFile>> = Vec::new();
+    for file in verified {
+        match groups.iter_mut().find(|g| g[0].label == file.label) {
+            Some(group) => group.push(file),
+            None => groups.push(vec![file]),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|group| series(group, norms))
+        .collect()
+}
+
 /// The series of the files `group` (one label): one code and version, one file per `NX`, the
 /// norms every file has the data of fitted, the others not computed.
-fn series(mut group: Vec<Level>, norms: &BTreeSet<Norm>) -> Result<Series, ExternalError> {
+fn series(mut group: Vec<VerifiedFile>, norms: &BTreeSet<Norm>) -> Result<Series, ExternalError> {
     let label = group[0].label.clone();
     let series_error = |problem: String| ExternalError::Series {
         label: label.clone(),

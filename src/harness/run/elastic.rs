@@ -255,7 +255,20 @@ pub(super) fn run_box(
     ))
 }
 
-/// Writes the displacement, the velocity and the von Mises stress (per cell, and averaged to
+/// The point array of a snapshot that holds the contact multipliers.
+pub const CONTACT_MULTIPLIER: &str = "contact_multiplier";
+
+/// The contact multipliers `λ` (one per node of `Γ_Sig`, in [`BoxMesh::contact_nodes`]'
+/// order) as a nodal array: `λ_i` at contact node `i`, 0 elsewhere and without an obstacle.
+fn nodal_multipliers(mesh: &BoxMesh, lambda: &[f64]) -> Vec<f64> {
+    let mut nodal = vec![0.0; mesh.n_nodes()];
+    for (&node, &l) in mesh.contact_nodes().iter().zip(lambda) {
+        nodal[node] = l;
+    }
+    nodal
+}
+
+/// Writes the displacement, the velocity, the contact multipliers and the von Mises stress (per cell, and averaged to
 /// the nodes) of the current state as an XML unstructured grid (`.vtu`, ParaView).
 pub fn write_vtu(
     mesh: &BoxMesh,
@@ -298,6 +311,8 @@ pub fn write_vtu(
                     Attribute::generic("velocity", 3)
                         .with_data(flat(mesh.nodal_vector(state.velocity()))),
                     Attribute::generic("von_mises", 1).with_data(mesh.nodal_average(&von_mises)),
+                    Attribute::generic(CONTACT_MULTIPLIER, 1)
+                        .with_data(nodal_multipliers(mesh, state.multiplier().value)),
                 ],
                 cell: vec![Attribute::generic("von_mises", 1).with_data(von_mises)],
             },

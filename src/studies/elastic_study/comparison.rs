@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 
 use super::reference::ReferenceHistories;
 use crate::harness::files::error::Error;
-use crate::harness::run::nested_comparison::error_series::ErrorSeries;
+use crate::harness::run::nested_comparison::error_series::{ErrorSeries, Quantity};
 use crate::harness::run::nested_comparison::projection::{LevelProjections, NormMatrices};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{Observer, TimeIntegrator};
@@ -74,41 +74,80 @@ impl<'r> ReferenceComparison<'r> {
     }
 
     /// The oscillation indicator `TV(Σλ_h) / TV(Σλ_ref)` over the coarse steps (the 1D
-    /// tables' indicator with the reference in place of the exact force).
-    pub fn variation_ratio(&self) -> f64 {
-        self.force_variation / self.reference_variation
+    /// tables' indicator with the reference in place of the exact force); `None` when some
+    /// step lacked the force.
+    pub fn variation_ratio(&self) -> Option<f64> {
+        (self.series.lacking(Quantity::Force) == 0)
+            .then(|| self.force_variation / self.reference_variation)
     }
 }
 
-impl Observer for ReferenceComparison<'_> {
-    /// Compares the state at the next coarse step `t_n` (called once per step,
-    /// `n = 0, 1, …`).
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+/// One sample of a run as the comparison takes it: each quantity may be absent (another code's
+/// file), a scheme's state has them all.
+#[derive(Debug, Clone, Copy)]
+pub struct ComparedSample<'s> {
+    /// `U^n`, the level's dofs.
+    pub displacement: Option<&'s [f64]>,
+    /// `Σ_i λ_i`.
+    pub total_force: Option<f64>,
+    /// `E_h(t_n)`.
+    pub energy: Option<f64>,
+}
+
+impl ReferenceComparison<'_> {
+    /// Compares the next coarse step `t_n` (called once per step, `n = 0, 1, …`); a quantity
+    /// the sample lacks is left out, and its norms are then not computed
+    /// ([`ErrorSeries::errors`]). The oscillation indicator needs the force at every step.
+    pub fn compare(&mut self, sample: ComparedSample<'_>) {
         let n = self.step;
         self.step += 1;
         let k = n * self.history_stride;
         let h = self.histories;
         let Some(&t) = h.time.get(k) else {
-            return Ok(());
+            return;
         };
-        let Some(squared) =
-            self.projections
-                .squared_errors(n, state.displacement(), self.norms, &mut self.scratch)
-        else {
-            return Ok(());
+        let squared = match sample.displacement {
+            Some(u) => match self
+                .projections
+                .squared_errors(n, u, self.norms, &mut self.scratch)
+            {
+                Some(squared) => Some(squared),
+                None => return,
+            },
+            None => None,
         };
-        let force: f64 = state.multiplier().value.iter().sum();
-        self.series.push(
+        self.series.push_partial(
             t,
             squared,
-            force - h.total_force[k],
-            state.energy().value - h.energy[k],
+            sample.total_force.map(|f| f - h.total_force[k]),
+            sample.energy.map(|e| e - h.energy[k]),
         );
-        if let Some((previous, previous_reference)) = self.last_force {
-            self.force_variation += (force - previous).abs();
-            self.reference_variation += (h.total_force[k] - previous_reference).abs();
+        match sample.total_force {
+            Some(force) => {
+                if let Some((previous, previous_reference)) = self.last_force {
+                    self.force_variation += (force - previous).abs();
+                    self.reference_variation += (h.total_force[k] - previous_reference).abs();
+                }
+                self.last_force = Some((force, h.total_force[k]));
+            }
+            None => self.last_force = None,
         }
-        self.last_force = Some((force, h.total_force[k]));
+    }
+
+    /// The series of errors compared so far.
+    pub fn series(&self) -> &ErrorSeries {
+        &self.series
+    }
+}
+
+impl Observer for ReferenceComparison<'_> {
+    /// Compares the state at the next coarse step `t_n` ([`ReferenceComparison::compare`]).
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        self.compare(ComparedSample {
+            displacement: Some(state.displacement()),
+            total_force: Some(state.multiplier().value.iter().sum()),
+            energy: Some(state.energy().value),
+        });
         Ok(())
     }
 }

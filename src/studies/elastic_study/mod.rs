@@ -21,6 +21,7 @@
 //! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
 pub mod comparison;
+pub mod external;
 pub mod files;
 pub mod findings;
 pub mod gate;
@@ -718,7 +719,7 @@ fn run_level(
                 steps: result.steps,
                 dofs: result.dofs,
                 timings: result.timings,
-                multiplier_variation_ratio: Some(comparison.variation_ratio()),
+                multiplier_variation_ratio: comparison.variation_ratio(),
             },
             errors: if completed {
                 comparison.errors()

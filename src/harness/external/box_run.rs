@@ -1,0 +1,763 @@
+//! Another code's run of a box scene (`bar2d`, `bar3d`), read from a ParaView collection
+//! ([`super::pvd`]) or from the box form of the JSON format (`signorini-external/2` with a
+//! `mesh` of `lengths` and `elements`), checked against the scene's structured Q1 mesh at the
+//! file's level and handed over step by step in the harness's node order ([`BoxSample`]).
+//!
+//! The checks, each refused with the field and what is allowed: the scene's name (JSON), a mesh
+//! that is the scene's at one of its study levels (every node matched to [`NODE_TOLERANCE`] of
+//! the box's size, in any order; the first node that matches none is named), one sample at
+//! every step `t_n = n Δt` of that level's time grid from 0 to `T` (the first missing step is
+//! named), the clamped face at rest.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use super::error::ExternalError;
+use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_FILE};
+use super::pvd::{read_collection, read_snapshot, CollectionEntry, VtuSnapshot};
+use crate::engine::fem::box_mesh::BoxMesh;
+use crate::engine::problem::{box_mesh, BoxProblem};
+use crate::harness::files::input::{self, JsonError};
+use crate::harness::problem::{MassVariant, Scheme};
+
+/// The box form's format name (the 1D form reads `signorini-external/1` and `/2`).
+pub const BOX_FORMAT: &str = "signorini-external/2";
+
+/// How far a file's node may be from the scene's mesh node it matches, relative to the box's
+/// largest length.
+pub const NODE_TOLERANCE: f64 = 1e-9;
+
+/// How far a sample's time may be from its step's `n Δt`, relative to `Δt`.
+pub const STEP_TIME_TOLERANCE: f64 = 1e-9;
+
+/// The node order of the box form's per-node arrays: `x₁` fastest, then `x₂`, then `x₃`.
+pub const NODE_ORDER: &str = "x1-fastest";
+
+/// What a code reports as its energy, when it does: the definitions a file may declare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnergyDefinition {
+    /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀS Uⁿ` at the sample's time.
+    TotalAtSample,
+    /// A staggered energy `E^{n−½}` between the sample and the one before (Newmark's,
+    /// Paoli–Schatzman's).
+    Staggered,
+    /// The total at the sample plus a contact term (penalty or Nitsche).
+    TotalWithContactTerm,
+}
+
+impl EnergyDefinition {
+    /// The names a file may give, for messages.
+    pub const NAMES: &'static str = "total-at-sample, staggered, total-with-contact-term";
+}
+
+/// How a `.pvd`'s point arrays are named and what its runs are: what the command line gives.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PvdOptions {
+    /// The code and its version.
+    pub code: Option<Code>,
+    /// The series' label (default: the collection's file stem).
+    pub label: Option<String>,
+    /// The scheme the code ran (for the note's findings).
+    pub scheme: Option<Scheme>,
+    /// The mass matrix the code used: the energy is computed with it.
+    pub mass: Option<MassVariant>,
+    /// The displacement's point array (default: the file's only 2- or 3-component array,
+    /// else one named `displacement`).
+    pub displacement: Option<String>,
+    /// The velocity's point array, if any.
+    pub velocity: Option<String>,
+    /// The contact multipliers' point array (one component, `λ_i ≤ 0` on the contact nodes),
+    /// if any.
+    pub multiplier: Option<String>,
+}
+
+/// One step of a box run in the harness's order: what the file has of it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BoxSample {
+    /// The nodal displacements (`d` per node, node by node).
+    pub displacement: Option<Vec<f64>>,
+    /// The nodal velocities, like `displacement`.
+    pub velocity: Option<Vec<f64>>,
+    /// The contact multipliers, one per contact node in the harness's order.
+    pub multipliers: Option<Vec<f64>>,
+    /// `Σ_i λ_i` when the file gives it without the multipliers.
+    pub total_force: Option<f64>,
+    /// The code's own energy ([`BoxExternalRun::energy_definition`]).
+    pub reported_energy: Option<f64>,
+}
+
+impl BoxSample {
+    /// `Σ_i λ_i`: the multipliers' sum (in the harness's order), else the file's total.
+    pub fn total_force(&self) -> Option<f64> {
+        match &self.multipliers {
+            Some(m) => Some(m.iter().sum()),
+            None => self.total_force,
+        }
+    }
+}
+
+/// Where the samples come from.
+#[derive(Debug, Clone)]
+enum Source {
+    /// One snapshot per step, read when its step is asked for.
+    Pvd {
+        entries: Vec<CollectionEntry>,
+        names: ArrayNames,
+        /// Per file node, the scene's node.
+        order: Vec<usize>,
+    },
+    /// Every sample, read.
+    Json(Vec<BoxSample>),
+}
+
+/// The point arrays a collection's snapshots are read through.
+#[derive(Debug, Clone)]
+struct ArrayNames {
+    displacement: String,
+    velocity: Option<String>,
+    multiplier: Option<String>,
+}
+
+/// Another code's run of a box scene, checked against the scene's mesh and time grid.
+#[derive(Debug, Clone)]
+pub struct BoxExternalRun {
+    /// The file (`.pvd` or `.json`).
+    pub path: PathBuf,
+    /// The code and its version.
+    pub code: Code,
+    /// The configuration: files with one label form one refinement series.
+    pub label: String,
+    /// The scheme, when declared.
+    pub scheme: Option<Scheme>,
+    /// The mass matrix, when declared.
+    pub mass: Option<MassVariant>,
+    /// The level: elements along the axis.
+    pub level: usize,
+    /// The mesh of that level.
+    pub mesh: BoxMesh,
+    /// `t_n`, one per step of the level's grid.
+    pub time: Vec<f64>,
+    /// What the code's reported energy is, when it reports one.
+    pub energy_definition: Option<EnergyDefinition>,
+    source: Source,
+}
+
+impl BoxExternalRun {
+    /// The samples, `N + 1`.
+    pub fn samples(&self) -> usize {
+        self.time.len()
+    }
+
+    /// Step `n`'s sample (a collection's snapshot is read now: one at a time is held).
+    pub fn sample(&self, n: usize) -> Result<BoxSample, ExternalError> {
+        match &self.source {
+            Source::Json(samples) => Ok(samples[n].clone()),
+            Source::Pvd {
+                entries,
+                names,
+                order,
+            } => {
+                let snapshot = read_snapshot(&entries[n].file)?;
+                self.sample_of_snapshot(&snapshot, names, order)
+            }
+        }
+    }
+
+    /// The arrays of `snapshot` in the scene's node order (`order`: per file node, the scene's),
+    /// its points first checked to be those of the collection's first snapshot.
+    fn sample_of_snapshot(
+        &self,
+        snapshot: &VtuSnapshot,
+        names: &ArrayNames,
+        order: &[usize],
+    ) -> Result<BoxSample, ExternalError> {
+        let checked = node_order(&self.mesh, &snapshot.points, &snapshot.path)?;
+        if checked != order {
+            return Err(ExternalError::invalid(
+                &snapshot.path,
+                "Points",
+                None,
+                "the nodes in another order",
+                "the points of the collection's first snapshot, in its order",
+            ));
+        }
+        let d = self.mesh.dim();
+        let nodal = |name: &str| -> Result<Vec<f64>, ExternalError> {
+            let array = snapshot.array(name).ok_or_else(|| {
+                ExternalError::invalid(
+                    &snapshot.path,
+                    "PointData",
+                    None,
+                    format!("no array {name:?}"),
+                    format!("the arrays {:?}", array_names(snapshot)),
+                )
+            })?;
+            if array.components < d {
+                return Err(ExternalError::invalid(
+                    &snapshot.path,
+                    format!("PointData {name:?}"),
+                    None,
+                    format!("{} component(s)", array.components),
+                    format!("at least {d} (a vector of the {d}D box)"),
+                ));
+            }
+            let mut values = vec![0.0; self.mesh.n_nodes() * d];
+            for (file_node, &node) in order.iter().enumerate() {
+                let row = &array.values[file_node * array.components..][..d];
+                values[node * d..(node + 1) * d].copy_from_slice(row);
+            }
+            Ok(values)
+        };
+        let multipliers = names
+            .multiplier
+            .as_deref()
+            .map(|name| {
+                let array = snapshot.array(name).filter(|a| a.components == 1);
+                let array = array.ok_or_else(|| {
+                    ExternalError::invalid(
+                        &snapshot.path,
+                        "PointData",
+                        None,
+                        format!("no one-component array {name:?}"),
+                        format!("the arrays {:?}", array_names(snapshot)),
+                    )
+                })?;
+                let mut by_node = vec![0.0; self.mesh.n_nodes()];
+                for (file_node, &node) in order.iter().enumerate() {
+                    by_node[node] = array.values[file_node];
+                }
+                Ok::<_, ExternalError>(
+                    self.mesh
+                        .contact_nodes()
+                        .iter()
+                        .map(|&n| by_node[n])
+                        .collect(),
+                )
+            })
+            .transpose()?;
+        let sample = BoxSample {
+            displacement: Some(nodal(&names.displacement)?),
+            velocity: names.velocity.as_deref().map(nodal).transpose()?,
+            multipliers,
+            total_force: None,
+            reported_energy: None,
+        };
+        check_clamped(&self.mesh, &sample, &snapshot.path, None)?;
+        Ok(sample)
+    }
+}
+
+fn array_names(snapshot: &VtuSnapshot) -> Vec<&str> {
+    snapshot.arrays.iter().map(|a| a.name.as_str()).collect()
+}
+
+/// The scene's levels a file may be at (those the reference is projected on), with the
+/// problem.
+#[derive(Debug, Clone, Copy)]
+pub struct BoxScene<'a> {
+    /// The scene's name.
+    pub name: &'a str,
+    /// Its problem.
+    pub problem: &'a BoxProblem,
+    /// Its study levels.
+    pub levels: &'a [usize],
+    /// `Δx/Δt`.
+    pub ratio: f64,
+}
+
+impl BoxScene<'_> {
+    /// The level whose mesh has `nodes` nodes, if one has.
+    fn level_with(&self, nodes: usize, path: &Path) -> Result<(usize, BoxMesh), ExternalError> {
+        let mut sizes = Vec::new();
+        for &level in self.levels {
+            let mesh = box_mesh(self.problem, level).map_err(|e| {
+                ExternalError::Harness(crate::harness::files::error::Error::from(e))
+            })?;
+            if mesh.n_nodes() == nodes {
+                return Ok((level, mesh));
+            }
+            sizes.push(format!("{} at level {level}", mesh.n_nodes()));
+        }
+        Err(ExternalError::invalid(
+            path,
+            "Points",
+            None,
+            format!("{nodes} nodes"),
+            format!(
+                "the scene's Q1 mesh at one of its study levels: {}",
+                sizes.join(", ")
+            ),
+        ))
+    }
+
+    /// `t_n = n Δt` of `level`, `n = 0..N`, as the harness's runs step.
+    fn time_grid(&self, level: usize) -> Vec<f64> {
+        let h = self.problem.lengths[self.problem.lengths.len() - 1] / level as f64;
+        let (steps, dt) = crate::harness::run::time_grid(self.problem.horizon, h, self.ratio);
+        (0..=steps).map(|n| n as f64 * dt).collect()
+    }
+
+    /// Checks the times `times` (a file's, in its order) against `level`'s grid: one per step.
+    fn check_times(
+        &self,
+        level: usize,
+        times: &[f64],
+        path: &Path,
+        field: &str,
+    ) -> Result<Vec<f64>, ExternalError> {
+        let grid = self.time_grid(level);
+        let dt = grid.get(1).copied().unwrap_or(self.problem.horizon);
+        for (n, &t) in grid.iter().enumerate() {
+            match times.get(n) {
+                Some(&given) if (given - t).abs() <= STEP_TIME_TOLERANCE * dt => {}
+                given => {
+                    return Err(ExternalError::invalid(
+                        path,
+                        field,
+                        Some(format!("step {n}")),
+                        given.map_or("missing".to_string(), |g| g.to_string()),
+                        format!(
+                            "one sample per step of level {level}: t_n = n Δt with Δt = {dt} \
+                             ({} steps to T = {}), within {STEP_TIME_TOLERANCE:e} Δt; step {n} \
+                             is at {t}",
+                            grid.len() - 1,
+                            self.problem.horizon
+                        ),
+                    ))
+                }
+            }
+        }
+        if times.len() > grid.len() {
+            return Err(ExternalError::invalid(
+                path,
+                field,
+                Some(format!("sample {}", grid.len())),
+                times[grid.len()],
+                format!(
+                    "no sample after T = {} (within a relative {HORIZON_TOLERANCE:e})",
+                    self.problem.horizon
+                ),
+            ));
+        }
+        Ok(grid)
+    }
+
+    /// Reads the collection `path` as a run of this scene, its arrays named by `options`.
+    pub fn read_pvd(
+        &self,
+        path: &Path,
+        options: &PvdOptions,
+    ) -> Result<BoxExternalRun, ExternalError> {
+        let entries = read_collection(path)?;
+        let first = read_snapshot(&entries[0].file)?;
+        let (level, mesh) = self.level_with(first.points.len(), &first.path)?;
+        let order = node_order(&mesh, &first.points, &first.path)?;
+        let times: Vec<f64> = entries.iter().map(|e| e.time).collect();
+        let time = self.check_times(level, &times, path, "timestep")?;
+        let names = ArrayNames {
+            displacement: displacement_array(&first, options, mesh.dim())?,
+            velocity: options.velocity.clone(),
+            multiplier: options.multiplier.clone(),
+        };
+        let code = options.code.clone().ok_or_else(|| {
+            ExternalError::invalid(
+                path,
+                "--code",
+                None,
+                "missing",
+                "the code's name and version (--code NAME --code-version VERSION): a .pvd \
+                 does not say which code wrote it",
+            )
+        })?;
+        let label = options.label.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map_or("pvd".into(), |s| s.to_string_lossy().into_owned())
+        });
+        let run = BoxExternalRun {
+            path: path.to_path_buf(),
+            code,
+            label,
+            scheme: options.scheme,
+            mass: options.mass,
+            level,
+            mesh,
+            time,
+            energy_definition: None,
+            source: Source::Pvd {
+                entries,
+                names,
+                order,
+            },
+        };
+        run.sample(0)?;
+        Ok(run)
+    }
+
+    /// Reads the box form of the JSON format `path` as a run of this scene.
+    pub fn read_json(&self, path: &Path) -> Result<BoxExternalRun, ExternalError> {
+        let file: BoxFile = input::read_json(path, RUN_FILE).map_err(|e| match e {
+            JsonError::Input(e) => ExternalError::Input(e),
+            JsonError::Decode { source, .. } => ExternalError::Json {
+                path: path.to_path_buf(),
+                line: source.line(),
+                column: source.column(),
+                message: source.to_string(),
+            },
+        })?;
+        file.into_run(self, path)
+    }
+}
+
+/// The displacement's array of `snapshot`: the one `options` names, else the only array of `d`
+/// or 3 components, else one named `displacement`.
+fn displacement_array(
+    snapshot: &VtuSnapshot,
+    options: &PvdOptions,
+    d: usize,
+) -> Result<String, ExternalError> {
+    if let Some(name) = &options.displacement {
+        return Ok(name.clone());
+    }
+    let vectors: Vec<&str> = snapshot
+        .arrays
+        .iter()
+        .filter(|a| a.components == d || a.components == 3)
+        .map(|a| a.name.as_str())
+        .collect();
+    match vectors.as_slice() {
+        [only] => Ok(only.to_string()),
+        _ if snapshot.array("displacement").is_some() => Ok("displacement".into()),
+        _ => Err(ExternalError::invalid(
+            &snapshot.path,
+            "--displacement",
+            None,
+            format!("not given, and the vector arrays are {vectors:?}"),
+            "the name of the displacement's point array (--displacement NAME)",
+        )),
+    }
+}
+
+/// Per point of `points`, the node of `mesh` it is (within [`NODE_TOLERANCE`] of the box's
+/// largest length, coordinates past the mesh's dimension 0), every node once.
+fn node_order(
+    mesh: &BoxMesh,
+    points: &[[f64; 3]],
+    path: &Path,
+) -> Result<Vec<usize>, ExternalError> {
+    let d = mesh.dim();
+    let scale = mesh.lengths().iter().fold(0.0f64, |a, &b| a.max(b));
+    let tolerance = NODE_TOLERANCE * scale;
+    let sizes = mesh.element_sizes();
+    let counts = mesh.counts();
+    let by_index: HashMap<[usize; 3], usize> = (0..mesh.n_nodes())
+        .map(|node| (mesh.node_index(node), node))
+        .collect();
+    let mut seen = vec![false; mesh.n_nodes()];
+    let mut order = Vec::with_capacity(points.len());
+    for (k, p) in points.iter().enumerate() {
+        let mut index = [0usize; 3];
+        let mut matched = p[d..].iter().all(|x| x.abs() <= tolerance);
+        for c in 0..d {
+            let i = (p[c] / sizes[c]).round();
+            matched &= i >= 0.0
+                && i <= counts[c] as f64
+                && (p[c] - i * sizes[c]).abs() <= tolerance
+                && (i as usize != counts[c] || (p[c] - mesh.lengths()[c]).abs() <= tolerance);
+            index[c] = i.max(0.0) as usize;
+        }
+        let node = by_index.get(&index).copied().filter(|_| matched);
+        match node {
+            Some(node) if !seen[node] => {
+                seen[node] = true;
+                order.push(node);
+            }
+            _ => {
+                return Err(ExternalError::invalid(
+                    path,
+                    "Points",
+                    Some(format!("point {k}")),
+                    format!("{:?}", &p[..]),
+                    format!(
+                        "the nodes of the scene's Q1 mesh of {counts:?} elements on {:?}, each \
+                         once, within {tolerance:e} ({NODE_TOLERANCE:e} of the box's size){}",
+                        mesh.lengths(),
+                        if node.is_some() {
+                            ": this node is listed twice"
+                        } else {
+                            ""
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(order)
+}
+
+/// The clamped face `x_d = L_d` at rest in `sample`: its displacement and velocity within
+/// [`CLAMPED_TOLERANCE`] of 0.
+fn check_clamped(
+    mesh: &BoxMesh,
+    sample: &BoxSample,
+    path: &Path,
+    at: Option<String>,
+) -> Result<(), ExternalError> {
+    let d = mesh.dim();
+    for (name, field) in [
+        ("displacement", &sample.displacement),
+        ("velocity", &sample.velocity),
+    ] {
+        let Some(values) = field else { continue };
+        for node in (0..mesh.n_nodes()).filter(|&n| mesh.on_dirichlet_boundary(n)) {
+            if let Some(v) = values[node * d..(node + 1) * d]
+                .iter()
+                .find(|v| v.abs() > CLAMPED_TOLERANCE)
+            {
+                return Err(ExternalError::invalid(
+                    path,
+                    name,
+                    at.clone().or(Some(format!("node {node}"))),
+                    v,
+                    format!(
+                        "0 within {CLAMPED_TOLERANCE:e} on the clamped face x{d} = {} (node \
+                         {node} is on it)",
+                        mesh.lengths()[d - 1]
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The box form of the JSON format, as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxFile {
+    format: String,
+    scene: String,
+    code: Code,
+    label: String,
+    #[serde(default)]
+    scheme: Option<String>,
+    #[serde(default)]
+    mass: Option<MassVariant>,
+    mesh: BoxFileMesh,
+    #[serde(default)]
+    energy_definition: Option<EnergyDefinition>,
+    samples: Vec<BoxFileSample>,
+}
+
+/// The mesh of a box file: the box's lengths and the elements per direction, its nodes
+/// numbered [`NODE_ORDER`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxFileMesh {
+    lengths: Vec<f64>,
+    elements: Vec<usize>,
+    node_order: String,
+}
+
+/// One sample of a box file: any per-node array may be absent or `null`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxFileSample {
+    time: f64,
+    #[serde(default)]
+    displacement: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    velocity: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    multipliers: Option<Vec<f64>>,
+    #[serde(default)]
+    total_force: Option<f64>,
+    #[serde(default)]
+    energy: Option<f64>,
+}
+
+impl BoxFile {
+    fn into_run(self, scene: &BoxScene<'_>, path: &Path) -> Result<BoxExternalRun, ExternalError> {
+        let invalid = |field: &str, at: Option<String>, value: String, allowed: String| {
+            ExternalError::invalid(path, field, at, value, allowed)
+        };
+        if self.format != BOX_FORMAT {
+            return Err(invalid(
+                "format",
+                None,
+                format!("{:?}", self.format),
+                format!("{BOX_FORMAT:?} for a box scene's run"),
+            ));
+        }
+        if self.scene != scene.name {
+            return Err(invalid(
+                "scene",
+                None,
+                format!("{:?}", self.scene),
+                format!("{:?}, the scene given on the command line", scene.name),
+            ));
+        }
+        for (field, value) in [
+            ("code.name", &self.code.name),
+            ("code.version", &self.code.version),
+            ("label", &self.label),
+        ] {
+            if value.trim().is_empty() {
+                return Err(invalid(
+                    field,
+                    None,
+                    "\"\"".into(),
+                    "a non-empty text".into(),
+                ));
+            }
+        }
+        let scheme = self
+            .scheme
+            .as_deref()
+            .map(|name| {
+                name.parse::<Scheme>()
+                    .map_err(|e| invalid("scheme", None, format!("{name:?}"), e.to_string()))
+            })
+            .transpose()?;
+        if self.mesh.node_order != NODE_ORDER {
+            return Err(invalid(
+                "mesh.node_order",
+                None,
+                format!("{:?}", self.mesh.node_order),
+                format!("{NODE_ORDER:?}: node = i1 + (n1 + 1)·(i2 + (n2 + 1)·i3)"),
+            ));
+        }
+        let lengths = &scene.problem.lengths;
+        let same_box = self.mesh.lengths.len() == lengths.len()
+            && self
+                .mesh
+                .lengths
+                .iter()
+                .zip(lengths)
+                .all(|(a, b)| (a - b).abs() <= NODE_TOLERANCE * b);
+        if !same_box {
+            return Err(invalid(
+                "mesh.lengths",
+                None,
+                format!("{:?}", self.mesh.lengths),
+                format!("the scene's box {lengths:?}"),
+            ));
+        }
+        let nodes: usize = self.mesh.elements.iter().map(|n| n + 1).product();
+        let (level, mesh) = scene.level_with(nodes, path)?;
+        if mesh.counts() != self.mesh.elements.as_slice() {
+            return Err(invalid(
+                "mesh.elements",
+                None,
+                format!("{:?}", self.mesh.elements),
+                format!(
+                    "the elements of the scene's mesh at level {level}: {:?}",
+                    mesh.counts()
+                ),
+            ));
+        }
+        let values: usize = self
+            .samples
+            .iter()
+            .map(|s| {
+                let field =
+                    |f: &Option<Vec<Vec<f64>>>| f.as_ref().map_or(0, |v| v.len() * mesh.dim());
+                field(&s.displacement)
+                    + field(&s.velocity)
+                    + s.multipliers.as_ref().map_or(0, Vec::len)
+            })
+            .sum();
+        if values > MAX_VALUES {
+            return Err(invalid(
+                "samples",
+                None,
+                format!("{values} numbers"),
+                format!("at most {MAX_VALUES}"),
+            ));
+        }
+        let times: Vec<f64> = self.samples.iter().map(|s| s.time).collect();
+        let time = scene.check_times(level, &times, path, "time")?;
+        let d = mesh.dim();
+        let contact = mesh.contact_nodes().len();
+        let mut samples = Vec::with_capacity(self.samples.len());
+        for (k, s) in self.samples.into_iter().enumerate() {
+            let at = || Some(format!("samples[{k}]"));
+            let nodal = |name: &str, field: Option<Vec<Vec<f64>>>| {
+                field
+                    .map(|rows| {
+                        if rows.len() != mesh.n_nodes() || rows.iter().any(|r| r.len() != d) {
+                            return Err(invalid(
+                                name,
+                                at(),
+                                format!("{} rows", rows.len()),
+                                format!("{} rows of {d} numbers (one per node)", mesh.n_nodes()),
+                            ));
+                        }
+                        Ok(rows.concat())
+                    })
+                    .transpose()
+            };
+            let multipliers = s.multipliers;
+            if let Some(m) = &multipliers {
+                if m.len() != contact {
+                    return Err(invalid(
+                        "multipliers",
+                        at(),
+                        format!("{} values", m.len()),
+                        format!("one per contact node: {contact}"),
+                    ));
+                }
+            }
+            let sample = BoxSample {
+                displacement: nodal("displacement", s.displacement)?,
+                velocity: nodal("velocity", s.velocity)?,
+                multipliers,
+                total_force: s.total_force,
+                reported_energy: s.energy,
+            };
+            let numbers = sample
+                .displacement
+                .iter()
+                .chain(&sample.velocity)
+                .chain(&sample.multipliers)
+                .flatten()
+                .chain(&sample.total_force)
+                .chain(&sample.reported_energy);
+            if let Some(bad) = numbers.clone().find(|v| !v.is_finite()) {
+                return Err(invalid(
+                    "samples",
+                    at(),
+                    bad.to_string(),
+                    "finite numbers".into(),
+                ));
+            }
+            check_clamped(&mesh, &sample, path, at())?;
+            samples.push(sample);
+        }
+        if samples.iter().any(|s| s.reported_energy.is_some()) && self.energy_definition.is_none() {
+            return Err(invalid(
+                "energy_definition",
+                None,
+                "missing".into(),
+                format!(
+                    "the definition of the samples' energy: {}",
+                    EnergyDefinition::NAMES
+                ),
+            ));
+        }
+        Ok(BoxExternalRun {
+            path: path.to_path_buf(),
+            code: self.code,
+            label: self.label,
+            scheme,
+            mass: self.mass,
+            level,
+            mesh,
+            time,
+            energy_definition: self.energy_definition,
+            source: Source::Json(samples),
+        })
+    }
+}
