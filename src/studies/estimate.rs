@@ -35,7 +35,7 @@ fn study(problem: &Problem1d, config: &StudyConfig, cases: usize, members: usize
 fn tables(root: &Path) -> Result<Estimate, Error> {
     let config = StudyConfig::paper_default();
     let problem = dirichlet(root, config.horizon)?;
-    let members = EnsembleConfig::default().members;
+    let members = EnsembleConfig::default().perturbed_members();
     Ok(study(
         &problem,
         &config,
@@ -48,14 +48,14 @@ fn tables(root: &Path) -> Result<Estimate, Error> {
 fn gravity(root: &Path) -> Result<Estimate, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     let cases = scene.default_schemes().len() * MassVariant::PAPER.len();
-    let members = EnsembleConfig::default().members;
+    let members = EnsembleConfig::default().perturbed_members();
     Ok(study(&problem, &scene.study_config(), cases, members))
 }
 
 /// The extended table: one study per contact treatment, with its sensitivity.
 fn extended(root: &Path) -> Result<Estimate, Error> {
     let config = extended_config();
-    let members = EnsembleConfig::default().members;
+    let members = EnsembleConfig::default().perturbed_members();
     TREATMENTS
         .iter()
         .try_fold(Estimate::default(), |total, name| {
@@ -78,7 +78,7 @@ pub fn golden(root: &Path) -> Result<Estimate, Error> {
         return report(root);
     };
     let config = ElasticStudyConfig::from_scene(&scene, None)?;
-    let members = config.sensitivity.map_or(0, |e| e.members);
+    let members = config.sensitivity.map_or(0, |e| e.perturbed_members());
     let jobs = budget::jobs_per_level(&config.levels, config.cases.len(), &Executor::Local);
     let elastic = budget::box_study(
         &problem,

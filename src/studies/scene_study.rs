@@ -233,7 +233,7 @@ impl SceneStudy {
                 &budget::jobs_per_level(&config.levels, cases.len(), executor),
             ),
             Self::Box { problem, config } => {
-                let members = config.sensitivity.map_or(0, |e| e.members);
+                let members = config.sensitivity.map_or(0, |e| e.perturbed_members());
                 budget::box_study(
                     problem,
                     &config.settings,

@@ -114,7 +114,7 @@ pub fn sensitivity(
     let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
     let norms = &scene.observables.norms;
     let config = scene.study_config();
-    let runs_per_job = ensemble.members as f64 + 1.0;
+    let runs_per_job = ensemble.perturbed_members() as f64 + 1.0;
     let jobs = budget::jobs_per_level(&config.levels, cases.len(), executor);
     let runs: Vec<f64> = jobs.iter().map(|j| j * runs_per_job).collect();
     budget::bar_study(&problem, &config.levels, config.ratio, &runs)
@@ -138,7 +138,7 @@ pub fn sensitivity(
         "wrote {o}/sensitivity.md and {o}/sensitivity.json ({} × {} levels × {} members, {:.1} s wall)",
         plural(s.cases.len(), "case"),
         s.config.levels.len(),
-        ensemble.members,
+        ensemble.perturbed_members(),
         s.wall_seconds
     ));
     Ok(said.join("\n"))

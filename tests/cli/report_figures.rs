@@ -11,7 +11,7 @@ use signorini::harness::render::figures::FigureError;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
 use signorini::harness::study::sensitivity::{
-    CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread,
+    CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread, STEP_EPSILON,
 };
 use signorini::harness::study::{run_study, Case, Study, StudyConfig};
 use signorini::studies::benchmark;
@@ -154,6 +154,8 @@ fn sensitivity_of(study: &Study, chaotic: Case) -> Sensitivity {
                 chaotic: is_chaotic,
                 members: 16,
                 amplitude: 1e-13,
+                step_members: 16,
+                step_epsilon: STEP_EPSILON,
                 levels: study.config.levels.clone(),
                 rates,
                 errors,

@@ -256,6 +256,7 @@ fn explicit_box_runs_with_massless_contact_nodes() {
             linear_solver: LinearSolver::Direct,
             contact_operator: ContactOperator::Full,
             round_off: None,
+            step_round_off: None,
         },
     };
     for mass in MASSLESS_CONTACT {

@@ -35,3 +35,4 @@ mod run_status;
 mod settings;
 mod signorini_dirichlet;
 mod stencil;
+mod step_perturbation;

@@ -92,6 +92,7 @@ impl Problem1d {
             displacement,
             velocity,
             conventions: settings.conventions,
+            step_perturbation: settings.step_round_off,
         })
     }
 

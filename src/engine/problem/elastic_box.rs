@@ -109,6 +109,7 @@ impl BoxProblem {
             displacement,
             velocity,
             conventions: settings.conventions,
+            step_perturbation: settings.step_round_off,
         })
     }
 }

@@ -5,10 +5,12 @@
 mod bar;
 mod elastic_box;
 mod settings;
+mod step_perturbation;
 
 pub use bar::Problem1d;
 pub use elastic_box::{box_mesh, initial_dofs, BoxProblem};
 pub use settings::Settings;
+pub use step_perturbation::{StepNoise, StepPerturbation, UNIT_ROUNDOFF};
 
 use serde::{Deserialize, Serialize};
 
@@ -59,6 +61,9 @@ pub struct Discretisation<M> {
     pub velocity: Vec<f64>,
     /// The implementation choices the schemes start and step with.
     pub conventions: Conventions,
+    /// A round-off ensemble member's perturbation of the carried state after every step
+    /// ([`Settings::step_round_off`]); `None`: the steps as computed.
+    pub step_perturbation: Option<StepPerturbation>,
 }
 
 impl Problem {

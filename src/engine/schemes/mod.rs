@@ -206,4 +206,11 @@ pub trait TimeIntegrator: Send {
     fn contact_truncation(&self) -> Option<Truncation> {
         None
     }
+
+    /// Hands `perturb` every vector of the state that the last step computed and the next
+    /// step reads (a round-off ensemble member's per-step perturbation,
+    /// [`crate::engine::problem::StepPerturbation`]), then recomputes what the scheme derives
+    /// from them, so that the state stays consistent. A state no step computes (another
+    /// code's run replayed) carries nothing: the default does nothing.
+    fn perturb_carried(&mut self, _perturb: &mut dyn FnMut(&mut [f64])) {}
 }

@@ -404,6 +404,14 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
         &self.state
     }
 
+    /// `U^{n+1}`, `V^{n+1}` and `A^{n+1}`, which the next step's update reads (`U^n`, kept for
+    /// the staggered energy, was perturbed when it was computed).
+    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
+        perturb(&mut self.state.u);
+        perturb(&mut self.state.v);
+        perturb(&mut self.a);
+    }
+
     /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
     /// first step.
     fn energy(&self) -> Timed<f64> {

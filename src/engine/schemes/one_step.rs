@@ -245,6 +245,13 @@ impl TimeIntegrator for OneStepScheme<'_> {
         self.advance_with_gap(|_, g| g)
     }
 
+    /// `U^{n+1}`, `V^{n+1}` and `A^{n+1}`: the predictor of the next step reads all three.
+    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
+        perturb(&mut self.state.u);
+        perturb(&mut self.state.v);
+        perturb(&mut self.a);
+    }
+
     fn state(&self) -> &SchemeState {
         &self.state
     }

@@ -304,6 +304,20 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
         Ok(())
     }
 
+    /// `U^{n+1}`, the one level the step computed (`U^n`, the other level the next step
+    /// reads, was perturbed when it was computed); the half-step velocity and mean are
+    /// recomputed from the perturbed level.
+    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
+        perturb(&mut self.state.u);
+        half_step(
+            self.state.dt,
+            &self.u_prev,
+            &self.state.u,
+            &mut self.state.v,
+            &mut self.mid,
+        );
+    }
+
     fn state(&self) -> &SchemeState {
         &self.state
     }

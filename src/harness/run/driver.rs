@@ -292,7 +292,10 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 
 /// Steps `discretisation` from its initial dofs to `horizon` with `scheme` and
 /// `Δt = T / ⌈T ratio / Δx⌉` ([`time_grid`], `Δx` the element size along the axis), handing
-/// every state to each of `observers` in order. The first non-finite displacement, velocity
+/// every state to each of `observers` in order. With a per-step perturbation
+/// ([`Discretisation::step_perturbation`], an ensemble member's), the state each step carries
+/// forward is perturbed right after the step, before the checks and the observers see it
+/// ([`TimeIntegrator::perturb_carried`]); observers only read. The first non-finite displacement, velocity
 /// or multiplier (the initial state's included), a non-finite value an observer computes
 /// ([`finite`]), or a contact solve that does not converge, stops the run with that
 /// [`RunStatus`]. A `ratio` that makes `Δt` longer than the horizon is refused; a failure to
@@ -341,12 +344,18 @@ pub fn drive<M: AxialMesh>(
     let mut balance = energy_balance::holds_under(&discretisation.conventions, model)
         .then(|| BalanceMonitor::new(model, scheme, dt));
     let mut violation = None;
+    let mut step_noise = discretisation.step_perturbation.map(|p| p.stream());
     'steps: for step in 0..=steps {
         let clock = Instant::now();
         let stepped = if step > 0 {
             integ
                 .advance()
                 .map_err(|e| inaccurate_solve(e, step, step as f64 * dt))
+                .map(|()| {
+                    if let Some(noise) = step_noise.as_mut() {
+                        integ.perturb_carried(&mut |values| noise.perturb(values));
+                    }
+                })
                 .and_then(|()| check_finite(integ.as_ref()))
         } else {
             check_finite(integ.as_ref())

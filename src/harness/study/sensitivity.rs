@@ -1,8 +1,16 @@
-//! Round-off sensitivity of a study: every case and level is run as an ensemble of members whose
-//! initial displacement carries seeded noise of relative size `A` (about 1e-13, far below
-//! anything physical). The spread of the members' errors and rates, and how fast their
-//! contact-node displacements part from the unperturbed run, tell reproducible cases from
-//! round-off chaotic ones.
+//! Round-off sensitivity of a study: every case and level is run as an ensemble beside the
+//! unperturbed run, of two sets of `K` members each ([`Member`]):
+//! - **initial data**: member `m = 1..=K` adds to the initial displacement seeded noise of
+//!   relative size `A` (about 1e-13, far below anything physical);
+//! - **every step**: member `m = 1..=K` perturbs the state its scheme carries after every step
+//!   by a seeded relative amount in `±ε`, `ε` = [`STEP_EPSILON`], the unit round-off
+//!   ([`crate::engine::problem::StepPerturbation`]: why this rule).
+//!
+//! Perturbing the initial data only does not reproduce what another code's round-off at every
+//! step does to a chaotic case (its members start apart and then follow the unperturbed
+//! dynamics); the per-step members do. The spread of all the members' errors and rates, and how
+//! fast their contact-node displacements part from the unperturbed run, tell reproducible cases
+//! from round-off chaotic ones.
 //!
 //! The classification rules were fixed before any result was looked at:
 //! - **reproducible**: no member's contact-node displacement ever differs from the unperturbed
@@ -22,7 +30,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use serde::{Deserialize, Serialize};
 
 use crate::engine::error::{require_positive, ParameterError};
-use crate::engine::problem::Perturbation;
+use crate::engine::problem::{Perturbation, Settings, StepPerturbation, UNIT_ROUNDOFF};
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
@@ -45,14 +53,21 @@ pub const MIN_GROWTH_DECADES: usize = 3;
 /// members run away) is round-off chaotic.
 pub const CHAOTIC_RATE_RANGE: f64 = 0.005;
 
+/// `ε` of the members perturbed at every step: the unit round-off `u = 2⁻⁵³`, the size of one
+/// rounding (not tuned to any comparison).
+pub const STEP_EPSILON: f64 = UNIT_ROUNDOFF;
+
 /// The decade thresholds whose first-crossing times give the separation growth rate.
 const DECADES: [f64; 8] = [1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4];
 
-/// The ensemble: how many perturbed members, and the noise's size relative to `max |u⁰|`.
+/// The ensemble: how many perturbed members of each set, and the initial-data noise's size
+/// relative to `max |u⁰|` (JSON `{"members": K, "amplitude": A}`). A study's ensemble runs `2K`
+/// perturbed members ([`EnsembleConfig::members_of_study`]): `K` on the initial data, `K` at
+/// every step with `ε` = [`STEP_EPSILON`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnsembleConfig {
-    /// Perturbed members per case and level (the unperturbed run comes on top).
+    /// Members of each set per case and level (the unperturbed run comes on top).
     pub members: usize,
     /// Relative amplitude `A`: each displacement dof but the contact dof moves by a uniform
     /// amount in `±A·max|u⁰|`.
@@ -68,7 +83,59 @@ impl Default for EnsembleConfig {
     }
 }
 
+/// One perturbed member of an ensemble, by the seed of its noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Member {
+    /// Seeded noise on the initial data ([`Settings::round_off`]).
+    InitialData {
+        /// The seed.
+        seed: u64,
+    },
+    /// A seeded relative perturbation of `ε` = [`STEP_EPSILON`] of the carried state after
+    /// every step ([`Settings::step_round_off`]).
+    EveryStep {
+        /// The seed.
+        seed: u64,
+    },
+}
+
+impl Member {
+    /// `settings` with this member's perturbation: initial-data noise of absolute amplitude
+    /// `amplitude` (the relative `A` times the data's scale), or the per-step one.
+    pub fn perturb(self, settings: Settings, amplitude: f64) -> Settings {
+        match self {
+            Member::InitialData { seed } => {
+                settings.with_round_off(Perturbation { amplitude, seed })
+            }
+            Member::EveryStep { seed } => settings.with_step_round_off(StepPerturbation {
+                epsilon: STEP_EPSILON,
+                seed,
+            }),
+        }
+    }
+}
+
 impl EnsembleConfig {
+    /// The members perturbed on the initial data, seeds `1..=K`.
+    pub fn initial_data_members(&self) -> impl Iterator<Item = Member> {
+        (1..=self.members as u64).map(|seed| Member::InitialData { seed })
+    }
+
+    /// The members perturbed at every step, seeds `1..=K`.
+    pub fn every_step_members(&self) -> impl Iterator<Item = Member> {
+        (1..=self.members as u64).map(|seed| Member::EveryStep { seed })
+    }
+
+    /// How many perturbed members a study runs per case and level: `2K`, both sets.
+    pub fn perturbed_members(&self) -> usize {
+        2 * self.members
+    }
+
+    /// A study's members: the initial-data set, then the every-step set (`2K`).
+    pub fn members_of_study(&self) -> impl Iterator<Item = Member> {
+        self.initial_data_members().chain(self.every_step_members())
+    }
+
     /// At least two members, an amplitude in (0, 1e-3].
     pub fn validate(&self) -> Result<(), ParameterError> {
         if !(2..=1024).contains(&self.members) {
@@ -209,13 +276,20 @@ pub struct CaseSensitivity {
     pub class: SensitivityClass,
     /// `class == chaotic`.
     pub chaotic: bool,
-    /// Perturbed members per level.
+    /// Members perturbed on the initial data per level.
     pub members: usize,
     /// The relative amplitude `A`.
     pub amplitude: f64,
+    /// Members perturbed at every step per level (0 in a file written before they were run).
+    #[serde(default)]
+    pub step_members: usize,
+    /// Their relative perturbation `ε` per step.
+    #[serde(default)]
+    pub step_epsilon: f64,
     /// `NX` of each level.
     pub levels: Vec<usize>,
-    /// Norm key → the ensemble spread of the rate fitted over all levels, member by member.
+    /// Norm key → the ensemble spread (all members of both sets and levels) of the rate fitted
+    /// over all levels, member by member.
     pub rates: BTreeMap<String, Spread>,
     /// Norm key → the ensemble spread of the error at each level.
     pub errors: BTreeMap<String, Vec<Spread>>,
@@ -261,15 +335,8 @@ impl Sensitivity {
     }
 }
 
-/// Runs `problem` with `config` as an ensemble: the unperturbed run, then member `m = 1..=K`
-/// with the round-off perturbation `settings.round_off` of amplitude `A·max|u⁰|` (`u⁰` the
-/// unperturbed initial displacement, the contact dofs untouched) and seed `m`. Each member's
-/// result is handed to `observe` with its [`Separation`] from the unperturbed run (`None` for
-/// a member that did not complete: its status says why) and dropped, so memory holds the
-/// unperturbed contact history and one member's; an error `observe` returns stops the
-/// ensemble. Returns the unperturbed result; when it did not complete, no member runs. The
-/// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
-/// for it, is evaluated on the unperturbed run only.
+/// Runs `problem` with `config` as an ensemble of its initial-data members
+/// ([`EnsembleConfig::initial_data_members`]; the stability suite's): see [`run_members`].
 pub fn run_ensemble(
     problem: &Problem1d,
     config: &RunConfig,
@@ -277,6 +344,26 @@ pub fn run_ensemble(
     observe: &mut dyn FnMut(BarRun, Option<Separation>) -> Result<(), Error>,
 ) -> Result<BarRun, Error> {
     ensemble.validate()?;
+    let members: Vec<Member> = ensemble.initial_data_members().collect();
+    run_members(problem, config, ensemble.amplitude, &members, observe)
+}
+
+/// Runs `problem` with `config` as an ensemble: the unperturbed run, then each of `members`
+/// ([`Member::perturb`]: initial-data noise of amplitude `amplitude·max|u⁰|`, `u⁰` the
+/// unperturbed initial displacement, the contact dofs untouched; or the per-step perturbation).
+/// Each member's result is handed to `observe` with its [`Separation`] from the unperturbed run
+/// (`None` for a member that did not complete: its status says why) and dropped, so memory
+/// holds the unperturbed contact history and one member's; an error `observe` returns stops the
+/// ensemble. Returns the unperturbed result; when it did not complete, no member runs. The
+/// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
+/// for it, is evaluated on the unperturbed run only.
+pub fn run_members(
+    problem: &Problem1d,
+    config: &RunConfig,
+    amplitude: f64,
+    members: &[Member],
+    observe: &mut dyn FnMut(BarRun, Option<Separation>) -> Result<(), Error>,
+) -> Result<BarRun, Error> {
     let mut config = config.clone();
     config.observables.contact_history = true;
     let (bar, model) = problem.model(config.nx, config.mass)?;
@@ -296,11 +383,8 @@ pub fn run_ensemble(
     };
     config.observables.energy_balance = false;
     let unperturbed = config.settings;
-    for member in 1..=ensemble.members {
-        config.settings = unperturbed.with_round_off(Perturbation {
-            amplitude: ensemble.amplitude * scale,
-            seed: member as u64,
-        });
+    for member in members {
+        config.settings = member.perturb(unperturbed, amplitude * scale);
         let r = run(problem, &config, &mut [])?;
         let separation = r
             .observed
@@ -430,10 +514,11 @@ fn level_ensemble(
         },
         settings: config.settings,
     };
-    let mut errors = Vec::with_capacity(ensemble.members);
-    let mut separations = Vec::with_capacity(ensemble.members);
+    let members: Vec<Member> = ensemble.members_of_study().collect();
+    let mut errors = Vec::with_capacity(members.len());
+    let mut separations = Vec::with_capacity(members.len());
     let mut stopped = None;
-    let outcome = run_ensemble(problem, &config, ensemble, &mut |member, separation| {
+    let observe = &mut |member: BarRun, separation| {
         if let Err(e) = member.status.completed() {
             stopped = Some(member.status);
             return Err(e.into());
@@ -441,7 +526,8 @@ fn level_ensemble(
         errors.push(member.observed.errors);
         separations.extend(separation);
         Ok(())
-    });
+    };
+    let outcome = run_members(problem, &config, ensemble.amplitude, &members, observe);
     let stopped = match outcome {
         Err(_) if stopped.is_some() => stopped,
         outcome => Some(outcome?.status).filter(|s| !s.is_completed()),
@@ -453,8 +539,9 @@ fn level_ensemble(
     })
 }
 
-/// Runs every case at every level as an ensemble ([`run_ensemble`], in parallel over case ×
-/// level) and classifies each case. A problem that declares its own perturbation keeps it: the
+/// Runs every case at every level as an ensemble of both sets of members
+/// ([`EnsembleConfig::members_of_study`], [`run_members`], in parallel over case × level) and
+/// classifies each case. A problem that declares its own perturbation keeps it: the
 /// members' round-off perturbations come on top.
 pub fn run_sensitivity(
     problem: &Problem1d,
@@ -609,8 +696,9 @@ fn classify(
 ) -> CaseSensitivity {
     let mut rates = BTreeMap::new();
     let mut errors = BTreeMap::new();
+    let members = levels.first().map_or(0, |l| l.errors.len());
     for &norm in norms {
-        let per_member: Vec<Vec<f64>> = (0..ensemble.members)
+        let per_member: Vec<Vec<f64>> = (0..members)
             .map(|m| levels.iter().map(|l| l.errors[m][&norm]).collect())
             .collect();
         let member_rates: Vec<f64> = per_member
@@ -652,6 +740,8 @@ fn classify(
         chaotic: class == SensitivityClass::Chaotic,
         members: ensemble.members,
         amplitude: ensemble.amplitude,
+        step_members: members.saturating_sub(ensemble.members),
+        step_epsilon: STEP_EPSILON,
         levels: config.levels.clone(),
         rates,
         errors,
@@ -667,13 +757,16 @@ pub fn render(s: &Sensitivity, nx_shown: usize) -> String {
     let mut md = format!(
         "# Round-off sensitivity\n\nEvery case at every level NX = {:?} (Δx/Δt = {}, T = {}) run \
          as {} members whose initial displacement carries seeded noise of relative size {:e} \
-         (contact dof untouched), beside the unperturbed run. {} Generated by `make report` in \
-         {:.1} s wall.\n\n",
+         (contact dof untouched) and {} members whose carried state is perturbed after every \
+         step by a relative amount in ±{:.2e} (the unit round-off), beside the unperturbed run. \
+         {} Generated by `make report` in {:.1} s wall.\n\n",
         s.config.levels,
         s.config.ratio,
         s.config.horizon,
         s.ensemble.members,
         s.ensemble.amplitude,
+        s.ensemble.members,
+        STEP_EPSILON,
         class_rules(),
         s.wall_seconds
     );

@@ -9,7 +9,7 @@ use super::ElasticStudy;
 use crate::harness::render::report::{chaotic_rate, chaotic_spread, convergence_tables};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{
-    class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,
+    class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass, STEP_EPSILON,
 };
 use crate::harness::study::verdicts::{oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::CaseStudy;
@@ -62,15 +62,18 @@ fn sensitivity_section(s: &Sensitivity) -> String {
         "## Round-off sensitivity\n\n\
          Every case at every level also ran as {} members whose initial velocity carries seeded \
          noise of relative size {:e}: every velocity dof (the contact face's included) moves by \
-         a uniform amount in ±A·max|v⁰|, the displacement is untouched. Each member is compared \
+         a uniform amount in ±A·max|v⁰|, the displacement is untouched; and as many members \
+         whose carried state (displacement, velocity, acceleration) moves after every step by a \
+         seeded relative amount in ±{:.2e}, the unit round-off. Each member is compared \
          with the same (unperturbed) reference; its separation from the unperturbed run is taken \
          on the centre contact node's normal displacement. {} The members ran inside the \
          study's (case, level) jobs, after each job's unperturbed run: {} runs, {:.1} s of run \
          time summed over the jobs on this machine.\n\n",
         s.ensemble.members,
         s.ensemble.amplitude,
+        STEP_EPSILON,
         class_rules(),
-        s.cases.len() * s.config.levels.len() * s.ensemble.members,
+        s.cases.len() * s.config.levels.len() * s.ensemble.perturbed_members(),
         s.wall_seconds
     );
     md.push_str(&class_table(s, finest));
@@ -276,7 +279,8 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
         let _ = writeln!(
             md,
             "\n† round-off chaotic (see *Round-off sensitivity*): the ensemble median rate of {} \
-             members with relative noise {:e} on the initial velocity, and the ensemble [min, \
+             members with relative noise {:e} on the initial velocity and as many perturbed by \
+             the unit round-off after every step, and the ensemble [min, \
              max]; the unperturbed run's rate is one sample of that range (its per-level errors \
              are below).",
             sens.ensemble.members, sens.ensemble.amplitude

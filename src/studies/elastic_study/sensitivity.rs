@@ -1,5 +1,7 @@
 //! The round-off sensitivity of a 2D/3D study: every case × level rerun as an ensemble of `K`
-//! members whose initial velocity carries seeded noise, beside the study's unperturbed run and
+//! members whose initial velocity carries seeded noise and `K` members whose carried state is
+//! perturbed after every step by the unit round-off
+//! ([`crate::harness::study::sensitivity::Member`]), beside the study's unperturbed run and
 //! compared with the same fine-mesh reference (the reference is not perturbed). It measures
 //! what the 1D study measures ([`crate::harness::study::sensitivity`]: each member's errors, their
 //! ensemble spread and that of each member's fitted rate, the predictability step and the
@@ -15,6 +17,9 @@
 //!   velocity is admissible (the 1D study leaves the contact dof's displacement alone only to
 //!   keep `u⁰` admissible). Leaving those dofs out would make the noise less like round-off,
 //!   which touches every dof.
+//! - **The per-step members** perturb every carried value by a relative amount
+//!   ([`crate::harness::problem::StepPerturbation`]): zeros stay zero, so the clamped face and a
+//!   contact dof held at the obstacle stay where they are.
 //! - **The separation** is taken on the centre contact node's gap (its normal displacement plus
 //!   the constant gap) that every box run records (`BoxContactHistory::centre_gap`), with the 1D
 //!   thresholds ([`crate::harness::study::sensitivity::PARTING`],
@@ -29,7 +34,6 @@ use std::collections::BTreeSet;
 
 use super::{axial_element_size, run_compared, Comparator, ElasticStudyConfig};
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::problem::Perturbation;
 use crate::harness::run::elastic::{BoxContactHistory, BoxProblem};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{
@@ -71,8 +75,9 @@ pub(super) struct Noise {
 }
 
 /// The round-off ensemble of `case` on `n_axis` elements, run inside that (case, level) job of
-/// the study right after its unperturbed run, whose contact history is `base`: member
-/// `m = 1..=K` with noise of size `amplitude · scale` and seed `m`, one after the
+/// the study right after its unperturbed run, whose contact history is `base`: the members of
+/// both sets ([`EnsembleConfig::members_of_study`]: initial-velocity noise of size
+/// `amplitude · scale`, or the per-step perturbation), one after the
 /// other, each compared with the reference and measured for its separation from `base`. A
 /// member depends only on its job, so the ensemble shards with the study's one job list.
 pub(super) fn run_members(
@@ -85,13 +90,10 @@ pub(super) fn run_members(
     noise: Noise,
 ) -> Result<LevelEnsemble, Error> {
     let Noise { ensemble, scale } = noise;
-    let mut errors = Vec::with_capacity(ensemble.members);
-    let mut separations = Vec::with_capacity(ensemble.members);
-    for member in 1..=ensemble.members {
-        let perturbed = config.settings.with_round_off(Perturbation {
-            amplitude: ensemble.amplitude * scale,
-            seed: member as u64,
-        });
+    let mut errors = Vec::with_capacity(2 * ensemble.members);
+    let mut separations = Vec::with_capacity(2 * ensemble.members);
+    for member in ensemble.members_of_study() {
+        let perturbed = member.perturb(config.settings, ensemble.amplitude * scale);
         let mut comparison = comparator.comparison(n_axis);
         let run = run_compared(
             problem,

@@ -13,7 +13,8 @@ mod report;
 mod trace;
 
 pub use ensemble::{
-    ensemble_agreement, EnsembleAgreement, NormInEnsemble, AMPLITUDE_DECADES, GETFEM_ENSEMBLE,
+    ensemble_agreement, initial_data_horizon, EnsembleAgreement, Judgement, NormInEnsemble,
+    AMPLITUDE_DECADES, GETFEM_ENSEMBLE,
 };
 pub use report::{write_getfem_report, GETFEM_REPORT};
 pub use trace::{contact_trace, export_runs, label, trace_norms, TRACE_NORMS};
@@ -26,13 +27,11 @@ use crate::harness::files::error::{Error, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
-use crate::harness::problem::{
-    ContactTreatment, Conventions, MassVariant, Perturbation, Scheme, Settings,
-};
+use crate::harness::problem::{ContactTreatment, Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
-use crate::harness::study::sensitivity::PARTING;
+use crate::harness::study::sensitivity::{Member, PARTING};
 use crate::studies::benchmark::dirichlet;
 
 /// Where the demo's runs are kept, relative to the repository root.
@@ -204,19 +203,19 @@ struct HarnessTrace {
 }
 
 /// Solves `config` with the harness under GetFEM's demo conventions
-/// ([`Conventions::GETFEM_DEMO`]; `round_off`: an ensemble member's perturbation of the initial
-/// displacement), recording what the comparisons read.
+/// ([`Conventions::GETFEM_DEMO`]; `member`: an ensemble member with the absolute amplitude of
+/// its initial-displacement noise, [`Member::perturb`]), recording what the comparisons read.
 fn solve(
     root: &Path,
     config: &DemoConfig,
-    round_off: Option<Perturbation>,
+    member: Option<(Member, f64)>,
 ) -> Result<HarnessTrace, Error> {
     let (problem, mass, scheme, ratio) = harness_setup(root, config)?;
-    let settings = Settings {
+    let demo = Settings {
         conventions: Conventions::GETFEM_DEMO,
-        round_off,
         ..Settings::default()
     };
+    let settings = member.map_or(demo, |(m, amplitude)| m.perturb(demo, amplitude));
     let discretisation = problem.discretise(config.nx, mass, &settings)?;
     let initial_scale = discretisation
         .displacement

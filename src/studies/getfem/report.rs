@@ -7,8 +7,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::{
-    ensemble_agreement, label, reproduce, EnsembleAgreement, Expectation, Reproduction,
-    AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
+    ensemble_agreement, initial_data_horizon, label, reproduce, EnsembleAgreement, Expectation,
+    NormInEnsemble, Reproduction, AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
 };
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
@@ -17,7 +17,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::progress;
 use crate::harness::study::rates::observed_orders;
-use crate::harness::study::sensitivity::EnsembleConfig;
+use crate::harness::study::sensitivity::{EnsembleConfig, Spread, STEP_EPSILON};
 
 /// The report's file name.
 pub const GETFEM_REPORT: &str = "getfem.md";
@@ -66,18 +66,20 @@ pub fn write_getfem_report(
             .map(|((_, printed), (_, again))| ((printed - again) / printed).abs())
             .fold(0.0_f64, |m, d| if d.is_nan() { m } else { m.max(d) });
         let chaotic = reproduction.expectation == Expectation::RoundOffChaotic;
-        // GETFEM_ENSEMBLE's amplitude is one of the decades: its agreement comes from the sweep.
-        let (mut horizons, mut ensemble) = (Vec::new(), None);
+        let ensemble = chaotic
+            .then(|| ensemble_agreement(root, &run, GETFEM_ENSEMBLE))
+            .transpose()?;
+        // GETFEM_ENSEMBLE's amplitude is one of the decades: its horizon is the agreement's.
+        let mut horizons = Vec::new();
         for amplitude in AMPLITUDE_DECADES.into_iter().filter(|_| chaotic) {
             let config = EnsembleConfig {
                 amplitude,
                 ..GETFEM_ENSEMBLE
             };
-            let agreement = ensemble_agreement(root, &run, config)?;
-            horizons.push(agreement.horizon);
-            if config == GETFEM_ENSEMBLE {
-                ensemble = Some(agreement);
-            }
+            horizons.push(match &ensemble {
+                Some(agreement) if config == GETFEM_ENSEMBLE => agreement.horizon,
+                _ => initial_data_horizon(root, &run, config)?,
+            });
         }
         rows.push(Row {
             name: file
@@ -104,12 +106,12 @@ pub fn write_getfem_report(
 
 /// What reproducing `run` costs: the run with the demo's series and the harness's trace beside
 /// it (about twenty values per step), and, should it be chaotic, the members of the ensemble at
-/// every amplitude of the sweep.
+/// every amplitude of the sweep and its members perturbed at every step.
 pub fn reproduction_cost(run: &DemoRun) -> Estimate {
     let dofs = run.config.nx as f64 + 1.0;
     let steps = run.series.time.len().saturating_sub(1) as f64;
     let one = budget::bar_run_with_histories(dofs, steps, 20.0);
-    let runs = 1.0 + (GETFEM_ENSEMBLE.members * AMPLITUDE_DECADES.len()) as f64;
+    let runs = 1.0 + (GETFEM_ENSEMBLE.members * (AMPLITUDE_DECADES.len() + 1)) as f64;
     Estimate {
         dof_steps: one.dof_steps * runs,
         ..one
@@ -245,7 +247,22 @@ fn harness_norms(md: &mut String, rows: &[Row]) {
     }
 }
 
-/// The round-off-chaotic runs against the harness's ensemble.
+/// `[min, max]` of a spread.
+fn range(s: &Spread) -> String {
+    format!("[{:.4e}, {:.4e}]", s.min, s.max)
+}
+
+/// `yes`/`no`.
+fn yes(inside: bool) -> &'static str {
+    if inside {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+/// The round-off-chaotic runs against the harness's ensemble: the timing, then each norm
+/// before and after the per-step members.
 fn ensembles(md: &mut String, rows: &[Row]) {
     let Some(config) = rows.iter().find_map(|r| r.ensemble.as_ref()) else {
         return;
@@ -259,50 +276,77 @@ fn ensembles(md: &mut String, rows: &[Row]) {
         "\n## Round-off-chaotic runs against the harness's ensemble\n\n\
          After its predictability horizon a round-off-chaotic run (issue 12) is not reproducible \
          step by step, by GetFEM's own two linear solvers either: there GetFEM's run is measured \
-         as one more member of a harness ensemble, the unperturbed run and {} members whose \
-         initial displacement carries seeded noise of relative size `A` (as `signorini \
-         sensitivity`'s). The horizon of an ensemble is the first step where a member parts from \
-         the unperturbed run by more than 1e-8; `horizons` gives it for `A` = {}, beside the step \
-         where GetFEM's run parts: the two codes' round-off acts like noise of the size where \
-         GetFEM's step falls among them. The agreement is judged with `A` = {:.0e}, the smallest \
-         of these whose members part no later than GetFEM in every run \
-         (`src/studies/getfem/ensemble.rs`): `Δu` is GetFEM's largest difference up to its \
-         horizon; each demo norm that the two codes report alike is GetFEM's value with the \
-         ensemble's [min, max], and agrees when `|GetFEM − median| ≤ max − min`. \
-         `tests/unit/getfem_roundoff.rs` asserts that GetFEM parts no earlier than that horizon \
-         and that every norm agrees.\n\n\
-         | run | horizons | GetFEM parts | horizon at {:.0e} | Δu to it | norms: GetFEM [ensemble min, max] | agrees |\n\
+         as one more member of a harness ensemble, and judged against the ensemble's range, \
+         never against the harness's one unperturbed run. The ensemble is the unperturbed run, \
+         {k} members whose initial displacement carries seeded noise of relative size `A` (as \
+         `signorini sensitivity`'s) and {k} members whose carried state (displacement, velocity, \
+         acceleration; Paoli–Schatzman's new level) moves after every step by a seeded relative \
+         amount in ±ε, ε = {eps:.3e}, the unit round-off (`StepPerturbation`: the rule and why). \
+         The horizon of a set is the first step where one of its members parts from the \
+         unperturbed run by more than 1e-8; `horizons` gives the initial-data set's for `A` = \
+         {decades}, beside the step where GetFEM's run parts: the two codes' round-off acts like \
+         initial noise of the size where GetFEM's step falls among them. The timing is judged \
+         with `A` = {a:.0e}, the smallest of these whose members part no later than GetFEM in \
+         every run (`src/studies/getfem/ensemble.rs`); `Δu` is GetFEM's largest difference up to \
+         that horizon.\n\n\
+         | run | horizons | GetFEM parts | horizon at {a:.0e} | horizon per step | Δu to it | judgement |\n\
          |---|---|---|---|---|---|---|\n",
-        config.ensemble.members,
-        decades.join(", "),
-        config.ensemble.amplitude,
-        config.ensemble.amplitude,
+        k = config.ensemble.members,
+        eps = STEP_EPSILON,
+        decades = decades.join(", "),
+        a = config.ensemble.amplitude,
     );
+    let step = |s: Option<usize>| s.map_or("—".to_string(), |n| n.to_string());
     for row in rows {
         let Some(e) = &row.ensemble else { continue };
-        let norms: Vec<String> = e
-            .norms
-            .iter()
-            .map(|n| {
-                format!(
-                    "{} {:.4e} [{:.4e}, {:.4e}]",
-                    n.name, n.getfem, n.spread.min, n.spread.max
-                )
-            })
-            .collect();
-        let step = |s: Option<usize>| s.map_or("—".to_string(), |n| n.to_string());
         let horizons: Vec<String> = row.horizons.iter().map(|&h| step(h)).collect();
         let _ = writeln!(
             md,
-            "| `{}` | {} | {} | {} | {:.1e} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {:.1e} | {} |",
             row.name,
             horizons.join(", "),
             step(e.getfem_parting),
             step(e.horizon),
+            step(e.step_horizon),
             e.before_horizon.max,
-            norms.join("; "),
-            if e.holds() { "yes" } else { "no" }
+            e.judgement().name()
         );
+    }
+    md.push_str(
+        "\nEach demo norm that the two codes report alike: GetFEM's value; the range [min, max] \
+         of the ensemble before the per-step members (the unperturbed run and the initial-data \
+         members) and its width; the range of the whole ensemble and its width; whether GetFEM's \
+         value is inside each. A run *agrees* when it parts no earlier than the horizon and \
+         every norm is inside the whole ensemble's range; it is *undecided* when some norm is \
+         outside that range but within `|GetFEM − median| ≤ max − min` (the ensemble does not \
+         cover it: no verdict either way); it *disagrees* when it parts early or a norm is \
+         farther than that. `tests/unit/getfem_roundoff.rs` asserts that no chaotic run \
+         disagrees, and that the Crank–Nicolson standard-mass run at NX = 20 is inside in every \
+         norm.\n\n\
+         | run | norm | GetFEM | initial data [min, max] | width | inside | with per-step members [min, max] | width | inside |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    for row in rows {
+        let Some(e) = &row.ensemble else { continue };
+        for n in &e.norms {
+            let NormInEnsemble {
+                name,
+                getfem,
+                initial_data,
+                spread,
+            } = n;
+            let _ = writeln!(
+                md,
+                "| `{}` | {name} | {getfem:.4e} | {} | {:.3e} | {} | {} | {:.3e} | {} |",
+                row.name,
+                range(initial_data),
+                initial_data.range(),
+                yes(n.inside_initial_data()),
+                range(spread),
+                spread.range(),
+                yes(n.inside()),
+            );
+        }
     }
 }
 
