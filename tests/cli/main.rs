@@ -27,3 +27,4 @@ mod report_figures;
 mod scenes;
 mod shards;
 mod verify;
+mod verify_box;

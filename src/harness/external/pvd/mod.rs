@@ -7,6 +7,8 @@
 //! collection with several parts at a time (the harness writes the obstacle as part 1) is read
 //! through its part 0: the body.
 
+mod appended_raw;
+
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -151,6 +153,27 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
     Ok(entries)
 }
 
+/// Where the raw bytes of an `<AppendedData encoding="raw">` block begin (after its `_`), if
+/// the file has one: `vtkio` reads inline and base64 data, not raw bytes inside XML.
+fn raw_appended_start(bytes: &[u8]) -> Option<usize> {
+    let tag = find(bytes, b"<AppendedData", 0)?;
+    let end = find(bytes, b">", tag)?;
+    let head = std::str::from_utf8(&bytes[tag..end]).ok()?;
+    if !head.contains("\"raw\"") {
+        return None;
+    }
+    find(bytes, b"_", end).map(|underscore| underscore + 1)
+}
+
+/// The first position of `needle` in `bytes` at or after `from`.
+fn find(bytes: &[u8], needle: &[u8], from: usize) -> Option<usize> {
+    bytes
+        .get(from..)?
+        .windows(needle.len())
+        .position(|w| w == needle)
+        .map(|p| p + from)
+}
+
 /// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, its points and its
 /// point data as `f64` (field data and cell data are not read).
 pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
@@ -160,6 +183,9 @@ pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
         ExternalError::invalid(path, field, None, value, allowed)
     };
     let bytes = read_bytes(path, RUN_FILE)?;
+    if let Some(start) = raw_appended_start(&bytes) {
+        return appended_raw::read(path, &bytes, start);
+    }
     let vtk = Vtk::parse_xml(Cursor::new(bytes))
         .map_err(|e| invalid("file", format!("unreadable ({e})"), ALLOWED))?;
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {

@@ -1,0 +1,209 @@
+//! A `.vtu` whose arrays are appended raw bytes (`<AppendedData encoding="raw">`, ParaView's
+//! default): the XML before the block gives each array's type, components and offset into the
+//! block; at the offset, a header (`UInt32`, or `UInt64` when `header_type` says so) and the
+//! array's bytes in the file's byte order. A zlib-compressed array
+//! (`compressor="vtkZLibDataCompressor"`) has the header `[blocks, block size, last block's
+//! size, compressed size of each block]` and its blocks one after another.
+
+use std::io::Read;
+use std::path::Path;
+
+use flate2::read::ZlibDecoder;
+
+use super::{PointArray, VtuSnapshot};
+use crate::harness::external::error::ExternalError;
+
+/// The snapshot `path` whose bytes are `bytes` and whose raw block starts at `start`.
+pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, ExternalError> {
+    let invalid = |field: &str, value: String, allowed: &str| {
+        ExternalError::invalid(path, field, None, value, allowed)
+    };
+    let tag = super::find(bytes, b"<AppendedData", 0).unwrap_or(0);
+    let head = std::str::from_utf8(&bytes[..tag])
+        .map_err(|_| invalid("file", "not UTF-8 before <AppendedData>".into(), "XML text"))?;
+    let xml = format!("{head}</VTKFile>");
+    let document = roxmltree::Document::parse(&xml)
+        .map_err(|e| invalid("file", format!("malformed XML ({e})"), "XML text"))?;
+    let root = document.root_element();
+    let layout = Layout {
+        header_u64: root.attribute("header_type") == Some("UInt64"),
+        big_endian: root.attribute("byte_order") == Some("BigEndian"),
+        zlib: match root.attribute("compressor") {
+            None | Some("") => false,
+            Some("vtkZLibDataCompressor") => true,
+            Some(other) => {
+                return Err(invalid(
+                    "compressor",
+                    format!("{other:?}"),
+                    "none or vtkZLibDataCompressor",
+                ))
+            }
+        },
+        block: &bytes[start..],
+    };
+    let piece = root
+        .descendants()
+        .find(|n| n.has_tag_name("Piece"))
+        .ok_or_else(|| invalid("Piece", "missing".into(), "one Piece"))?;
+    let array_of =
+        |node: roxmltree::Node<'_, '_>| -> Result<(String, usize, Vec<f64>), ExternalError> {
+            let name = node.attribute("Name").unwrap_or("").to_string();
+            let field = format!("DataArray {name:?}");
+            let components: usize = node
+                .attribute("NumberOfComponents")
+                .unwrap_or("1")
+                .parse()
+                .map_err(|_| invalid(&field, "NumberOfComponents".into(), "a positive integer"))?;
+            if node.attribute("format") != Some("appended") {
+                return Err(invalid(
+                    &field,
+                    format!("format {:?}", node.attribute("format").unwrap_or("")),
+                    "appended, as every array of a file with raw appended data",
+                ));
+            }
+            let offset: usize = node
+                .attribute("offset")
+                .unwrap_or("")
+                .parse()
+                .map_err(|_| invalid(&field, "offset".into(), "a byte offset into the block"))?;
+            let kind = node.attribute("type").unwrap_or("");
+            let values = layout
+                .values(offset, kind)
+                .map_err(|why| invalid(&field, why, "an array of the block"))?;
+            Ok((name, components.max(1), values))
+        };
+    let points = piece
+        .descendants()
+        .find(|n| n.has_tag_name("Points"))
+        .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
+        .ok_or_else(|| invalid("Points", "missing".into(), "the points' DataArray"))?;
+    let (_, _, coordinates) = array_of(points)?;
+    if coordinates.len() % 3 != 0 {
+        return Err(invalid(
+            "Points",
+            format!("{} coordinates", coordinates.len()),
+            "three per point",
+        ));
+    }
+    let points: Vec<[f64; 3]> = coordinates
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let mut arrays = Vec::new();
+    if let Some(data) = piece.children().find(|n| n.has_tag_name("PointData")) {
+        for node in data.children().filter(|n| n.has_tag_name("DataArray")) {
+            let (name, components, values) = array_of(node)?;
+            if values.len() != components * points.len() {
+                return Err(invalid(
+                    &format!("PointData {name:?}"),
+                    format!("{} values", values.len()),
+                    "NumberOfComponents × points",
+                ));
+            }
+            arrays.push(PointArray {
+                name,
+                components,
+                values,
+            });
+        }
+    }
+    Ok(VtuSnapshot {
+        path: path.to_path_buf(),
+        points,
+        arrays,
+    })
+}
+
+/// How the block is laid out.
+struct Layout<'a> {
+    header_u64: bool,
+    big_endian: bool,
+    zlib: bool,
+    block: &'a [u8],
+}
+
+impl Layout<'_> {
+    /// The unsigned integer of the header's width at `at`.
+    fn header(&self, at: usize) -> Result<usize, String> {
+        let width = if self.header_u64 { 8 } else { 4 };
+        let bytes = self
+            .block
+            .get(at..at + width)
+            .ok_or_else(|| format!("header at byte {at} past the block's end"))?;
+        let mut word = [0u8; 8];
+        if self.big_endian {
+            word[8 - width..].copy_from_slice(bytes);
+            Ok(u64::from_be_bytes(word) as usize)
+        } else {
+            word[..width].copy_from_slice(bytes);
+            Ok(u64::from_le_bytes(word) as usize)
+        }
+    }
+
+    /// The bytes of the array at `offset` (decompressed when the file is compressed).
+    fn bytes(&self, offset: usize) -> Result<Vec<u8>, String> {
+        let width = if self.header_u64 { 8 } else { 4 };
+        if !self.zlib {
+            let length = self.header(offset)?;
+            let from = offset + width;
+            return self
+                .block
+                .get(from..from.saturating_add(length))
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| format!("{length} bytes at {from} past the block's end"));
+        }
+        let blocks = self.header(offset)?;
+        let sizes: Vec<usize> = (0..blocks)
+            .map(|k| self.header(offset + (3 + k) * width))
+            .collect::<Result<_, _>>()?;
+        let mut at = offset + (3 + blocks) * width;
+        let mut out = Vec::new();
+        for size in sizes {
+            let compressed = self
+                .block
+                .get(at..at.saturating_add(size))
+                .ok_or_else(|| format!("a compressed block at {at} past the block's end"))?;
+            ZlibDecoder::new(compressed)
+                .take(crate::harness::external::format::MAX_FILE_BYTES)
+                .read_to_end(&mut out)
+                .map_err(|e| format!("a zlib block that does not inflate ({e})"))?;
+            at += size;
+        }
+        Ok(out)
+    }
+
+    /// The array at `offset` of the VTK type `kind`, as `f64`.
+    fn values(&self, offset: usize, kind: &str) -> Result<Vec<f64>, String> {
+        let bytes = self.bytes(offset)?;
+        let be = self.big_endian;
+        macro_rules! decode {
+            ($t:ty) => {{
+                const N: usize = std::mem::size_of::<$t>();
+                bytes
+                    .chunks_exact(N)
+                    .map(|c| {
+                        let word: [u8; N] = c.try_into().expect("chunks of N bytes");
+                        (if be {
+                            <$t>::from_be_bytes(word)
+                        } else {
+                            <$t>::from_le_bytes(word)
+                        }) as f64
+                    })
+                    .collect()
+            }};
+        }
+        Ok(match kind {
+            "Float64" => decode!(f64),
+            "Float32" => decode!(f32),
+            "Int64" => decode!(i64),
+            "UInt64" => decode!(u64),
+            "Int32" => decode!(i32),
+            "UInt32" => decode!(u32),
+            "Int16" => decode!(i16),
+            "UInt16" => decode!(u16),
+            "Int8" => decode!(i8),
+            "UInt8" => decode!(u8),
+            other => return Err(format!("type {other:?}")),
+        })
+    }
+}
