@@ -10,7 +10,8 @@ use clap::{Parser, Subcommand};
 
 use signorini::commands::{
     self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GoldenArgs, ListArgs, MergeArgs,
-    ReferenceArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
+    ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs,
+    VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -50,6 +51,9 @@ enum Command {
     /// A refinement study of a scene: the rate table of the selected cases and norms, as
     /// markdown or JSON. Nothing outside the selection is computed.
     Study(StudyArgs),
+    /// The findings of a committed 2D/3D study judged again from its elastic-<d>d.json under
+    /// --out, without running anything (`make rejudge`): its report and its findings rewritten.
+    Rejudge(RejudgeArgs),
     /// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
     /// as an ensemble of members with seeded noise of relative size A on the initial
     /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
@@ -95,6 +99,7 @@ fn main() -> ExitCode {
     let result: Result<(), Failure> = match cli.command {
         Command::Run(args) => commands::run_scene(args),
         Command::Study(args) => commands::study_scene(args),
+        Command::Rejudge(args) => commands::rejudge(args),
         Command::Sensitivity(args) => commands::sensitivity(args),
         Command::Reference(args) => commands::reference(args),
         Command::Report(args) => commands::report(args),

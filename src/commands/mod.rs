@@ -40,7 +40,10 @@ pub use run::{run_scene, RunArgs};
 pub use sharding::{
     EnsembleShardArgs, ReferenceShardArgs, ReportShardArgs, ShardArgs, SuiteShardArgs,
 };
-pub use study::{reference, sensitivity, study_scene, ReferenceArgs, SensitivityArgs, StudyArgs};
+pub use study::{
+    reference, rejudge, sensitivity, study_scene, ReferenceArgs, RejudgeArgs, SensitivityArgs,
+    StudyArgs,
+};
 pub use verify::{verify_runs, VerifyArgs};
 
 use std::path::PathBuf;

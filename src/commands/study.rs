@@ -135,6 +135,23 @@ pub(crate) fn study_scene_with(
     Ok(())
 }
 
+/// The arguments of `signorini rejudge`.
+#[derive(Debug, Args)]
+pub struct RejudgeArgs {
+    /// The box scene whose study was written into --out.
+    pub scene: PathBuf,
+    /// The reports directory holding the study's elastic-<d>d.json.
+    #[arg(long, default_value = REPORTS)]
+    pub out: PathBuf,
+}
+
+/// The findings of a committed 2D/3D study judged again from its elastic-<d>d.json, without
+/// running anything (`make rejudge`): its report and its findings rewritten.
+pub fn rejudge(args: RejudgeArgs) -> Result<(), Failure> {
+    out!("{}", study_run::rejudge(&args.scene, &args.out)?);
+    Ok(())
+}
+
 /// The arguments of `signorini sensitivity`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct SensitivityArgs {

@@ -13,6 +13,7 @@ use serde::de::DeserializeOwned;
 
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::Verdict as FindingVerdict;
 use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass};
 use crate::harness::study::{CaseStudy, Study};
 use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
@@ -236,8 +237,10 @@ fn tables_headline(reports: &Path) -> Option<String> {
         .filter(|o| o.word == o.paper_word)
         .count();
     let mut text = format!(
-        "{} of the {compared} rates (case × norm) differ from the paper's by more than 0.1; \
-         `tables.md` diagnoses each, with its rate over the longer horizon T = {}. The \
+        "{} of the {compared} rates (case × norm) are not shown to agree with the paper's \
+         within 0.1 (their 95 % interval lies outside the paper's value ± 0.1 or overlaps an \
+         end); `tables.md` gives each verdict and diagnoses it, with its rate over the longer \
+         horizon T = {}. The \
          oscillation column agrees with the paper's in {agreeing_words} of {} cases.",
         rates.longer_horizon_rates.len(),
         rates.longer_horizon,
@@ -337,18 +340,108 @@ fn stability_headline(reports: &Path) -> Option<String> {
     ))
 }
 
+/// The reports directories that commit a 2D/3D study, relative to the top one: `make
+/// report`'s, `make report-fine`'s and `make report-finest`'s.
+const ELASTIC_STUDY_DIRS: [&str; 3] = [".", "fine", "finest"];
+
+/// A committed study's strength: its reference level, then its finest level, then how many
+/// levels it fits (the larger, the finer the reference and the level range).
+fn strength(study: &ElasticStudy) -> (usize, usize, usize) {
+    let levels = &study.config.levels;
+    (
+        study.config.reference_level,
+        levels.last().copied().unwrap_or(0),
+        levels.len(),
+    )
+}
+
+/// The strongest of `studies` (by [`strength`]; the first of equals).
+fn strongest<'s>(studies: &'s [(&'s str, ElasticStudy)]) -> Option<&'s (&'s str, ElasticStudy)> {
+    studies
+        .iter()
+        .rev()
+        .max_by_key(|(_, study)| strength(study))
+}
+
+/// `dir/elastic-<d>d.md` as a link from the top reports directory.
+fn study_link(dir: &str, dimension: usize) -> String {
+    let file = elastic_files::report_file(dimension);
+    if dir == "." {
+        link(&file)
+    } else {
+        link(&format!("{dir}/{file}"))
+    }
+}
+
+/// The committed `dimension`-D studies under `reports` and its finer studies' directories,
+/// with the directory each is in.
+fn committed_studies(reports: &Path, dimension: usize) -> Vec<(&'static str, ElasticStudy)> {
+    ELASTIC_STUDY_DIRS
+        .iter()
+        .filter_map(|dir| {
+            let study = data(&reports.join(dir), &elastic_files::study_file(dimension))?;
+            Some((*dir, study))
+        })
+        .collect()
+}
+
+/// Each finding of the `dimension`-D studies: the strongest study's verdict, then every
+/// study's, one column per directory.
+fn findings_table(studies: &[(&str, ElasticStudy)], dimension: usize) -> Option<String> {
+    let (best_dir, best) = strongest(studies)?;
+    let mut md = format!(
+        "Each finding of the note with the verdict of the strongest study that tested it (finest \
+         reference and levels: {}, levels {:?} against {} elements), then every study's.\n\n\
+         | finding | strongest study |",
+        study_link(best_dir, dimension),
+        best.config.levels,
+        best.config.reference_level
+    );
+    for (dir, study) in studies {
+        let _ = write!(
+            md,
+            " {} (levels {:?}, reference {}) |",
+            study_link(dir, dimension),
+            study.config.levels,
+            study.config.reference_level
+        );
+    }
+    let _ = write!(md, "\n|---|---|{}\n", "---|".repeat(studies.len()));
+    for finding in &best.findings {
+        let _ = write!(md, "| {} | {} |", finding.claim, finding.verdict.word());
+        for (_, study) in studies {
+            let verdict = study
+                .findings
+                .iter()
+                .find(|f| f.claim == finding.claim)
+                .map_or("—", |f| f.verdict.word());
+            let _ = write!(md, " {verdict} |");
+        }
+        md.push('\n');
+    }
+    Some(md.trim_end().to_string())
+}
+
 fn elastic_headline(reports: &Path, dimension: usize) -> Option<String> {
     let study: ElasticStudy = data(reports, &elastic_files::study_file(dimension))?;
-    let robust = study.findings.iter().filter(|f| f.robust).count();
-    Some(format!(
+    let count = |v: FindingVerdict| study.findings.iter().filter(|f| f.verdict == v).count();
+    let mut text = format!(
         "{} cases on levels {:?} against a reference on {} elements along the axis. Of the \
-         note's {} findings tested, {robust} are robust to the reference's rate-bias bound; \
-         `elastic-{dimension}d.md` gives each verdict with its evidence.",
+         note's {} findings tested, decided by their rates' 95 % intervals widened by the \
+         reference's rate-bias bounds: {} hold, {} fail, {} are undecided; \
+         `elastic-{dimension}d.md` gives each verdict with what decided it or would.",
         study.study.cases.len(),
         study.config.levels,
         study.config.reference_level,
-        study.findings.len()
-    ))
+        study.findings.len(),
+        count(FindingVerdict::Holds),
+        count(FindingVerdict::Fails),
+        count(FindingVerdict::Undecided)
+    );
+    if let Some(table) = findings_table(&committed_studies(reports, dimension), dimension) {
+        let _ = write!(text, "\n\n{table}");
+    }
+    Some(text)
 }
 
 fn extended_headline(reports: &Path) -> Option<String> {
@@ -359,4 +452,82 @@ fn extended_headline(reports: &Path) -> Option<String> {
         count("rows")?,
         count("oscillating")?
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The committed 3D study, its findings judged by the current rule.
+    fn committed_3d() -> ElasticStudy {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports/elastic-3d.json");
+        let mut value: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        value["findings"] = serde_json::json!([]);
+        let mut study: ElasticStudy = serde_json::from_value(value).unwrap();
+        study.findings = study.judged_findings();
+        study
+    }
+
+    /// `base` with other levels and reference, every finding given `verdict`.
+    fn variant(
+        base: &ElasticStudy,
+        levels: &[usize],
+        reference_level: usize,
+        verdict: FindingVerdict,
+    ) -> ElasticStudy {
+        let mut study = base.clone();
+        study.config.levels = levels.to_vec();
+        study.config.reference_level = reference_level;
+        for f in &mut study.findings {
+            f.verdict = verdict;
+        }
+        study
+    }
+
+    #[test]
+    fn the_index_gives_each_finding_the_verdict_of_the_strongest_study() {
+        let base = committed_3d();
+        let studies = vec![
+            (
+                ".",
+                variant(&base, &[10, 20, 40], 160, FindingVerdict::Undecided),
+            ),
+            (
+                "fine",
+                variant(&base, &[10, 20, 40, 80], 320, FindingVerdict::Fails),
+            ),
+            (
+                "finest",
+                variant(&base, &[10, 20, 40, 80, 160], 640, FindingVerdict::Holds),
+            ),
+        ];
+        assert_eq!(strongest(&studies).unwrap().0, "finest");
+        let table = findings_table(&studies, 3).unwrap();
+        assert!(
+            table.contains(
+                "[finest/elastic-3d.md](finest/elastic-3d.md), levels [10, 20, 40, 80, 160]"
+            ),
+            "{table}"
+        );
+        for f in &base.findings {
+            let row = format!("| {} | holds | undecided | fails | holds |", f.claim);
+            assert!(table.contains(&row), "{row} missing:\n{table}");
+        }
+        let same_reference = vec![
+            (
+                "fine",
+                variant(&base, &[10, 20, 40], 320, FindingVerdict::Fails),
+            ),
+            (
+                ".",
+                variant(&base, &[10, 20, 40, 80], 320, FindingVerdict::Holds),
+            ),
+        ];
+        assert_eq!(
+            strongest(&same_reference).unwrap().0,
+            ".",
+            "with equal references, the finer level range"
+        );
+    }
 }

@@ -1,6 +1,7 @@
-//! `signorini study` and `sensitivity` below the command line: a scene's refinement study
-//! (its rate tables printed, or a box's reports written) and a bar's round-off ensembles, held
-//! to their limits, their jobs handed to the executor they are given.
+//! `signorini study`, `rejudge` and `sensitivity` below the command line: a scene's refinement
+//! study (its rate tables printed, or a box's reports written), a box study's findings judged
+//! again from its committed file, and a bar's round-off ensembles, held to their limits, their
+//! jobs handed to the executor they are given.
 
 use std::path::{Path, PathBuf};
 
@@ -8,6 +9,7 @@ use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::MassVariant;
 use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::decision::Verdict;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
@@ -16,6 +18,7 @@ use crate::harness::study::shard::Invocation;
 use crate::harness::study::Case;
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::reference::ReferenceCache;
+use crate::studies::elastic_study::rejudge;
 use crate::studies::outputs::{
     complete_or_write, shard_output, CommandError, Destination, Received,
 };
@@ -94,6 +97,27 @@ pub fn study(
         }
         None => outcome.render(json, command_line)?,
     })
+}
+
+/// `signorini rejudge`: the study of the box scene `scene` committed under `out` judged again
+/// from its `elastic-<d>d.json` without running anything ([`rejudge::rejudge`]), its report and
+/// study rewritten there; returns what it wrote and the verdicts.
+pub fn rejudge(scene: &Path, out: &Path) -> Result<String, CommandError> {
+    let staged = StagedDir::begin("--out", out, Replace::Files)?;
+    let (study, written) = rejudge::rejudge(scene, out, staged.path())?;
+    staged.commit()?;
+    let count = |v: Verdict| study.findings.iter().filter(|f| f.verdict == v).count();
+    let files: Vec<String> = written
+        .iter()
+        .map(|f| out.join(f).display().to_string())
+        .collect();
+    Ok(format!(
+        "re-judged {}: {} findings hold, {} fail, {} undecided",
+        files.join(", "),
+        count(Verdict::Holds),
+        count(Verdict::Fails),
+        count(Verdict::Undecided)
+    ))
 }
 
 /// `signorini sensitivity`: the round-off ensembles of `members` members (noise of relative

@@ -413,7 +413,7 @@ fn the_index_says_what_each_study_found_and_links_every_figure() {
     let disagreements = rates["longer_horizon_rates"].as_array().unwrap().len();
     assert!(
         index.contains(&format!(
-            "{disagreements} of the 98 rates (case × norm) differ"
+            "{disagreements} of the 98 rates (case × norm) are not shown to agree"
         )),
         "{index}"
     );

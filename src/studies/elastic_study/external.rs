@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use super::comparison::ComparedSample;
 use super::findings::{note_findings, Finding};
+use super::report::findings_table;
 use super::reference::ReferenceCache;
 use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, EnergyDefinition, PvdOptions};
@@ -167,11 +168,7 @@ pub fn verify_box(
             wall_seconds: 0.0,
         };
         note_findings(&study, &|n| {
-            rate_bias
-                .get(n.key())
-                .copied()
-                .flatten()
-                .unwrap_or(f64::INFINITY)
+            rate_bias.get(n.key()).copied().flatten()
         })
     };
     let h = &reference.histories;
@@ -420,20 +417,9 @@ pub fn render(v: &BoxVerification) -> String {
     if !v.findings.is_empty() {
         let _ = writeln!(
             out,
-            "\n## The note's findings, on the series that declare a scheme and a mass\n\n\
-             | finding | note | holds | robust | evidence |\n|---|---|---|---|---|"
+            "\n## The note's findings, on the series that declare a scheme and a mass\n\n{}",
+            findings_table(&v.findings)
         );
-        for f in &v.findings {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {} |",
-                f.claim,
-                f.source,
-                if f.holds { "yes" } else { "**no**" },
-                if f.robust { "yes" } else { "no" },
-                f.evidence
-            );
-        }
     }
     out
 }

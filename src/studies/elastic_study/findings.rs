@@ -1,19 +1,28 @@
 //! The note's statements (§3.1, §3.1.1) as verdicts computed from a study, so that a report
 //! says whether they hold rather than repeating them.
 //!
-//! The criteria are fixed here, once, before looking at any particular study:
-//! * a norm **converges** when its least-squares rate over all levels is above
-//!   [`CONVERGENCE_RATE`] = 0: the error decreases as `h` does (the note's "converges to 0"
-//!   against "unfortunately not the case", read from curves; how fast is the rate itself);
+//! The criteria are fixed here, once, before looking at any particular study, and every one
+//! that rests on a rate is decided by its 95 % interval widened by the reference's rate-bias
+//! bound of the norm ([`crate::harness::study::decision`]: holds, fails or undecided):
+//! * a norm **converges** when its rate's widened interval lies entirely above
+//!   [`CONVERGENCE_RATE`] = 0 (the error decreases as `h` does: the note's "converges to 0"
+//!   against "unfortunately not the case", read from curves), and **does not converge** when it
+//!   lies entirely at or below it;
+//! * two cases **behave alike** in a norm when both converge or both do not, and the interval of
+//!   the difference of their rates (half-widths and bias bounds added) lies within
+//!   ±[`ALIKE_RATE_GAP`];
 //! * a case **oscillates** when its indicator `TV(Σλ_h) / TV(Σλ_ref)` on the finest level is at
-//!   least [`verdicts::OSCILLATES_FROM`] (the 1D tables' boundary between "No" and "Small");
-//! * two cases **behave alike** in a norm when both converge or both do not, and their rates
-//!   differ by at most [`ALIKE_RATE_GAP`].
+//!   least [`verdicts::OSCILLATES_FROM`] (the 1D tables' boundary between "No" and "Small"). The
+//!   indicator has no interval: this comparison is decided as measured, holds or fails.
+//!
+//! A finding combines its decisions: it holds when all are made and satisfied, fails when one
+//! is made and contradicted, and is undecided otherwise, with what would decide it.
 
 use serde::{Deserialize, Serialize};
 
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::{all_of, any_of, Decision, Estimate, Verdict};
 use crate::harness::study::{verdicts, Case, CaseStudy, Study};
 
 /// The rate above which a norm counts as converging.
@@ -29,45 +38,77 @@ pub struct Finding {
     pub claim: String,
     /// Where the note makes it.
     pub source: String,
-    /// Whether it holds in this study.
-    pub holds: bool,
-    /// Whether it still holds when every rate it uses moves by the reference's rate-bias bound
-    /// for that norm ([`super::ReferenceCheck::rate_bias`]): a rate decision then needs a
-    /// margin, so an error in the reference of the size measured cannot flip it.
-    pub robust: bool,
+    /// Whether it holds, fails or is undecided in this study.
+    pub verdict: Verdict,
+    /// What decided it, or, undecided, the intervals it has and what would decide it.
+    pub reason: String,
     /// The numbers it was decided on.
     pub evidence: String,
+}
+
+impl Finding {
+    fn new(claim: impl Into<String>, source: &str, decision: Decision, evidence: String) -> Self {
+        Self {
+            claim: claim.into(),
+            source: source.to_string(),
+            verdict: decision.verdict,
+            reason: decision.reason,
+            evidence,
+        }
+    }
 }
 
 fn case(study: &Study, scheme: Scheme, mass: MassVariant) -> Option<&CaseStudy> {
     study.case(&Case { scheme, mass })
 }
 
-fn rate(c: &CaseStudy, norm: Norm) -> f64 {
-    c.norm(norm)
-        .and_then(|r| r.fit)
-        .map_or(f64::NAN, |f| f.rate)
+/// A case of a finding with its label (`STD`, `MOD`).
+#[derive(Clone, Copy)]
+struct Labelled<'c> {
+    label: &'static str,
+    case: &'c CaseStudy,
 }
 
-/// The rate decisions, each required to hold with a margin per norm (0: as measured).
-struct Judge<'m> {
-    margin: &'m dyn Fn(Norm) -> f64,
+/// The rate decisions, every rate's interval widened by its norm's rate-bias bound (`None`:
+/// unbounded, no rate of that norm is decided).
+struct Judge<'b> {
+    rate_bias: &'b dyn Fn(Norm) -> Option<f64>,
 }
 
 impl Judge<'_> {
-    fn converges(&self, c: &CaseStudy, norm: Norm) -> bool {
-        rate(c, norm) - (self.margin)(norm) > CONVERGENCE_RATE
+    fn estimate(&self, c: Labelled<'_>, norm: Norm) -> Estimate {
+        let fit = c.case.norm(norm).and_then(|r| r.fit);
+        Estimate::rate(
+            format!("{} {} rate", c.label, norm.key()),
+            fit,
+            (self.rate_bias)(norm),
+        )
     }
 
-    fn does_not_converge(&self, c: &CaseStudy, norm: Norm) -> bool {
-        rate(c, norm) + (self.margin)(norm) <= CONVERGENCE_RATE
+    fn converges(&self, c: Labelled<'_>, norm: Norm) -> Decision {
+        self.estimate(c, norm).above(CONVERGENCE_RATE)
     }
 
-    /// Both converge or neither does, and the rates are within [`ALIKE_RATE_GAP`].
-    fn alike(&self, a: &CaseStudy, b: &CaseStudy, norm: Norm) -> bool {
-        let same = (self.converges(a, norm) && self.converges(b, norm))
-            || (self.does_not_converge(a, norm) && self.does_not_converge(b, norm));
-        same && (rate(a, norm) - rate(b, norm)).abs() + 2.0 * (self.margin)(norm) <= ALIKE_RATE_GAP
+    fn does_not_converge(&self, c: Labelled<'_>, norm: Norm) -> Decision {
+        self.converges(c, norm).negated()
+    }
+
+    /// Both converge or neither does, and the difference of the rates lies within
+    /// ±[`ALIKE_RATE_GAP`].
+    fn alike(&self, a: Labelled<'_>, b: Labelled<'_>, norm: Norm) -> Decision {
+        let same = any_of(vec![
+            all_of(vec![self.converges(a, norm), self.converges(b, norm)]),
+            all_of(vec![
+                self.does_not_converge(a, norm),
+                self.does_not_converge(b, norm),
+            ]),
+        ]);
+        let gap = Estimate::difference(
+            format!("{} − {} {} rate", a.label, b.label, norm.key()),
+            &self.estimate(a, norm),
+            &self.estimate(b, norm),
+        );
+        all_of(vec![same, gap.within(-ALIKE_RATE_GAP, ALIKE_RATE_GAP)])
     }
 }
 
@@ -75,131 +116,155 @@ fn oscillates(c: &CaseStudy) -> bool {
     c.oscillation_indicator().is_some_and(verdicts::oscillates)
 }
 
-fn rates_text(label: &str, c: &CaseStudy, norms: &[Norm]) -> String {
-    let list: Vec<String> = norms
-        .iter()
-        .map(|&n| format!("{} {:.2}", n.key(), rate(c, n)))
-        .collect();
-    format!("{label}: {}", list.join(", "))
+/// Whether `c` oscillates as `expected`, decided as measured (an indicator has no interval).
+fn oscillation(c: Labelled<'_>, expected: bool) -> Decision {
+    let indicator = c.case.oscillation_indicator().unwrap_or(f64::NAN);
+    let (word, relation) = if oscillates(c.case) {
+        ("oscillates", "≥")
+    } else {
+        ("does not oscillate", "<")
+    };
+    Decision {
+        verdict: Verdict::of(oscillates(c.case) == expected),
+        reason: format!(
+            "{} {word}: indicator {indicator:.1} {relation} {} (no interval: as measured)",
+            c.label,
+            verdicts::OSCILLATES_FROM
+        ),
+    }
 }
 
-fn indicator_text(label: &str, c: &CaseStudy) -> String {
+/// `label: norm rate ± half-width, …` (the rate alone without an interval).
+fn rates_text(c: Labelled<'_>, norms: &[Norm]) -> String {
+    let list: Vec<String> = norms
+        .iter()
+        .map(|&n| {
+            let fit = c.case.norm(n).and_then(|r| r.fit);
+            let rate = fit.map_or(f64::NAN, |f| f.rate);
+            match fit.and_then(|f| Some(0.5 * (f.ci_high? - f.ci_low?))) {
+                Some(half) => format!("{} {rate:.2} ± {half:.2}", n.key()),
+                None => format!("{} {rate:.2}", n.key()),
+            }
+        })
+        .collect();
+    format!("{}: {}", c.label, list.join(", "))
+}
+
+fn indicator_text(c: Labelled<'_>) -> String {
     format!(
-        "{label} indicator {:.1}",
-        c.oscillation_indicator().unwrap_or(f64::NAN)
+        "{} indicator {:.1}",
+        c.label,
+        c.case.oscillation_indicator().unwrap_or(f64::NAN)
     )
 }
 
-/// The note's findings for Crank–Nicolson and backward Euler with both masses, judged as
-/// measured (`holds`) and with every rate allowed to move by `rate_bias` of its norm
-/// (`robust`); a finding whose cases are not in the study does not hold, with the reason.
-pub fn note_findings(study: &Study, rate_bias: &dyn Fn(Norm) -> f64) -> Vec<Finding> {
-    let exact = Judge { margin: &|_| 0.0 };
-    let strict = Judge { margin: rate_bias };
-    judged(study, &exact)
-        .into_iter()
-        .zip(judged(study, &strict))
-        .map(|(mut f, g)| {
-            f.robust = f.holds && g.holds;
-            f
-        })
-        .collect()
-}
-
-fn judged(study: &Study, judge: &Judge<'_>) -> Vec<Finding> {
+/// The note's findings for Crank–Nicolson and backward Euler with both masses, every rate
+/// decided by its interval widened by `rate_bias` of its norm (`None`: unbounded); a finding
+/// whose cases are not in the study is undecided, with the reason.
+pub fn note_findings(study: &Study, rate_bias: &dyn Fn(Norm) -> Option<f64>) -> Vec<Finding> {
+    let judge = Judge { rate_bias };
     let cn = Scheme::CRANK_NICOLSON;
     let be = Scheme::BACKWARD_EULER;
     let (std, modified) = (MassVariant::Standard, MassVariant::Redistributed);
-    let missing = |claim: &str, source: &str| Finding {
-        claim: claim.to_string(),
-        source: source.to_string(),
-        holds: false,
-        robust: false,
-        evidence: "not tested: a case is missing from the study".to_string(),
+    let labelled = |scheme| {
+        let s = case(study, scheme, std)?;
+        let m = case(study, scheme, modified)?;
+        Some((
+            Labelled {
+                label: "STD",
+                case: s,
+            },
+            Labelled {
+                label: "MOD",
+                case: m,
+            },
+        ))
+    };
+    let missing = |claim: &str, source: &str| {
+        Finding::new(
+            claim,
+            source,
+            Decision::undecided("not tested: a case is missing from the study"),
+            String::new(),
+        )
     };
     let energy = [Norm::EnergyLinf, Norm::EnergyL2];
     let mut out = Vec::new();
-    match (case(study, cn, std), case(study, cn, modified)) {
-        (Some(s), Some(m)) => {
-            out.push(Finding {
-                claim: "Crank–Nicolson: the redistributed mass removes the contact oscillations \
-                        that the standard mass shows"
-                    .into(),
-                source: "§3.1, Figure 1".into(),
-                holds: oscillates(s) && !oscillates(m),
-                robust: false,
-                evidence: format!("{}; {}", indicator_text("STD", s), indicator_text("MOD", m)),
-            });
-            out.push(Finding {
-                claim: "Crank–Nicolson: with the redistributed mass the energy error converges"
-                    .into(),
-                source: "§3.1, Figures 2, 3e–f".into(),
-                holds: energy.iter().all(|&n| judge.converges(m, n)),
-                robust: false,
-                evidence: rates_text("MOD", m, &energy),
-            });
-            out.push(Finding {
-                claim: "Crank–Nicolson: with the standard mass the energy error does not converge"
-                    .into(),
-                source: "§3.1, Figures 2, 3e–f".into(),
-                holds: energy.iter().all(|&n| judge.does_not_converge(s, n)),
-                robust: false,
-                evidence: rates_text("STD", s, &energy),
-            });
-            let vl = [Norm::DisplacementL2V, Norm::MultiplierL2];
-            out.push(Finding {
-                claim: "Crank–Nicolson: u in L²(0,T;V) and the contact force in L²(0,T) converge \
-                        with the redistributed mass and not with the standard one"
-                    .into(),
-                source: "§3.1, Figure 3c–d".into(),
-                holds: vl
-                    .iter()
-                    .all(|&n| judge.converges(m, n) && judge.does_not_converge(s, n)),
-                robust: false,
-                evidence: format!(
-                    "{}; {}",
-                    rates_text("MOD", m, &vl),
-                    rates_text("STD", s, &vl)
+    match labelled(cn) {
+        Some((s, m)) => {
+            out.push(Finding::new(
+                "Crank–Nicolson: the redistributed mass removes the contact oscillations that \
+                 the standard mass shows",
+                "§3.1, Figure 1",
+                all_of(vec![oscillation(s, true), oscillation(m, false)]),
+                format!("{}; {}", indicator_text(s), indicator_text(m)),
+            ));
+            out.push(Finding::new(
+                "Crank–Nicolson: with the redistributed mass the energy error converges",
+                "§3.1, Figures 2, 3e–f",
+                all_of(energy.iter().map(|&n| judge.converges(m, n)).collect()),
+                rates_text(m, &energy),
+            ));
+            out.push(Finding::new(
+                "Crank–Nicolson: with the standard mass the energy error does not converge",
+                "§3.1, Figures 2, 3e–f",
+                all_of(
+                    energy
+                        .iter()
+                        .map(|&n| judge.does_not_converge(s, n))
+                        .collect(),
                 ),
-            });
+                rates_text(s, &energy),
+            ));
+            let vl = [Norm::DisplacementL2V, Norm::MultiplierL2];
+            out.push(Finding::new(
+                "Crank–Nicolson: u in L²(0,T;V) and the contact force in L²(0,T) converge with \
+                 the redistributed mass and not with the standard one",
+                "§3.1, Figure 3c–d",
+                all_of(
+                    vl.iter()
+                        .flat_map(|&n| [judge.converges(m, n), judge.does_not_converge(s, n)])
+                        .collect(),
+                ),
+                format!("{}; {}", rates_text(m, &vl), rates_text(s, &vl)),
+            ));
             let h = [Norm::DisplacementLinfH, Norm::DisplacementL2H];
-            out.push(Finding {
-                claim: "Crank–Nicolson: u in L∞(0,T;H) and L²(0,T;H) converges with both masses"
-                    .into(),
-                source: "§3.1, Figure 3a–b".into(),
-                holds: h
-                    .iter()
-                    .all(|&n| judge.converges(m, n) && judge.converges(s, n)),
-                robust: false,
-                evidence: format!("{}; {}", rates_text("MOD", m, &h), rates_text("STD", s, &h)),
-            });
+            out.push(Finding::new(
+                "Crank–Nicolson: u in L∞(0,T;H) and L²(0,T;H) converges with both masses",
+                "§3.1, Figure 3a–b",
+                all_of(
+                    h.iter()
+                        .flat_map(|&n| [judge.converges(m, n), judge.converges(s, n)])
+                        .collect(),
+                ),
+                format!("{}; {}", rates_text(m, &h), rates_text(s, &h)),
+            ));
         }
-        _ => out.push(missing("Crank–Nicolson findings", "§3.1")),
+        None => out.push(missing("Crank–Nicolson findings", "§3.1")),
     }
-    match (case(study, be, std), case(study, be, modified)) {
-        (Some(s), Some(m)) => {
-            let alike: Vec<Norm> = Norm::ALL
-                .into_iter()
-                .filter(|&n| judge.alike(s, m, n))
-                .collect();
-            out.push(Finding {
-                claim: format!(
+    match labelled(be) {
+        Some((s, m)) => {
+            let mut decisions: Vec<Decision> =
+                Norm::ALL.iter().map(|&n| judge.alike(s, m, n)).collect();
+            decisions.push(oscillation(s, false));
+            decisions.push(oscillation(m, false));
+            out.push(Finding::new(
+                format!(
                     "Backward Euler: both masses behave alike (in every norm both converge or \
                      neither does, with rates within {ALIKE_RATE_GAP}) and neither oscillates"
                 ),
-                source: "§3.1.1, Figures 6–8".into(),
-                holds: alike.len() == Norm::ALL.len() && !oscillates(s) && !oscillates(m),
-                robust: false,
-                evidence: format!(
+                "§3.1.1, Figures 6–8",
+                all_of(decisions),
+                format!(
                     "{}; {}; {}; {}",
-                    rates_text("STD", s, &Norm::ALL),
-                    rates_text("MOD", m, &Norm::ALL),
-                    indicator_text("STD", s),
-                    indicator_text("MOD", m)
+                    rates_text(s, &Norm::ALL),
+                    rates_text(m, &Norm::ALL),
+                    indicator_text(s),
+                    indicator_text(m)
                 ),
-            });
+            ));
         }
-        _ => out.push(missing("Backward Euler findings", "§3.1.1")),
+        None => out.push(missing("Backward Euler findings", "§3.1.1")),
     }
     out
 }
@@ -267,36 +332,65 @@ mod tests {
         }
     }
 
+    fn verdicts(findings: &[Finding]) -> Vec<Verdict> {
+        findings.iter().map(|f| f.verdict).collect()
+    }
+
     #[test]
-    fn every_finding_holds_on_the_notes_picture_and_is_robust_to_a_small_bias() {
-        let findings = note_findings(&note_like(1.0), &|_| 0.01);
+    fn every_finding_holds_on_the_notes_picture_with_a_small_bias() {
+        let findings = note_findings(&note_like(1.0), &|_| Some(0.01));
         assert_eq!(findings.len(), 6);
         for f in &findings {
-            assert!(f.holds && f.robust, "{f:?}");
+            assert_eq!(f.verdict, Verdict::Holds, "{f:?}");
         }
     }
 
     #[test]
-    fn an_oscillating_redistributed_case_breaks_the_first_finding_only() {
-        let findings = note_findings(&note_like(10.0), &|_| 0.0);
-        assert!(!findings[0].holds, "{:?}", findings[0]);
-        assert!(findings[1..].iter().all(|f| f.holds));
+    fn an_oscillating_redistributed_case_fails_the_first_finding_only() {
+        let findings = note_findings(&note_like(10.0), &|_| Some(0.0));
+        assert_eq!(findings[0].verdict, Verdict::Fails, "{:?}", findings[0]);
+        assert!(findings[0].reason.contains("no interval"));
+        assert!(findings[1..].iter().all(|f| f.verdict == Verdict::Holds));
     }
 
     #[test]
-    fn a_large_rate_bias_leaves_rate_findings_unproven_but_not_the_oscillation_one() {
-        let findings = note_findings(&note_like(1.0), &|_| 1.0);
-        assert!(findings.iter().all(|f| f.holds));
-        assert!(findings[0].robust, "the indicator does not depend on rates");
-        assert!(findings[1..].iter().all(|f| !f.robust));
+    fn a_finding_flips_from_holds_to_undecided_when_its_bias_grows() {
+        let small = note_findings(&note_like(1.0), &|_| Some(0.05));
+        assert!(verdicts(&small).iter().all(|&v| v == Verdict::Holds));
+        let large = note_findings(&note_like(1.0), &|_| Some(1.0));
+        assert_eq!(
+            large[0].verdict,
+            Verdict::Holds,
+            "the indicator has no rate"
+        );
+        for f in &large[1..] {
+            assert_eq!(f.verdict, Verdict::Undecided, "{f:?}");
+            assert!(f.reason.contains("finer reference"), "{}", f.reason);
+        }
+        let unbounded = note_findings(&note_like(1.0), &|n| (n != Norm::EnergyLinf).then_some(0.0));
+        assert_eq!(unbounded[1].verdict, Verdict::Undecided);
+        assert!(
+            unbounded[1].reason.contains("unbounded"),
+            "{}",
+            unbounded[1].reason
+        );
     }
 
     #[test]
-    fn a_missing_case_is_reported_as_not_tested() {
+    fn a_missing_case_leaves_its_findings_undecided() {
         let mut study = note_like(1.0);
         study.cases.truncate(2);
-        let findings = note_findings(&study, &|_| 0.0);
+        let findings = note_findings(&study, &|_| Some(0.0));
         let last = findings.last().unwrap();
-        assert!(!last.holds && last.evidence.contains("not tested"));
+        assert_eq!(last.verdict, Verdict::Undecided);
+        assert!(last.reason.contains("not tested"));
+    }
+
+    #[test]
+    fn the_verdict_is_written_as_a_word() {
+        let f = &note_findings(&note_like(1.0), &|_| Some(0.0))[0];
+        let json = serde_json::to_value(f).unwrap();
+        assert_eq!(json["verdict"], "holds");
+        assert!(json.get("holds").is_none() && json.get("robust").is_none());
     }
 }

@@ -17,7 +17,8 @@
 //!
 //! The result is a [`Study`] like the 1D tables' (so the golden gate, the rate tables and the
 //! convergence figures apply unchanged), the reference check, the note's findings as tested
-//! verdicts ([`findings`]), the round-off sensitivity of every case when the config asks for an
+//! verdicts ([`findings`], which [`rejudge`] applies again to a committed study's file), the
+//! round-off sensitivity of every case when the config asks for an
 //! ensemble ([`mod@sensitivity`]), and the histories behind Figures 1, 2, 4–7.
 
 pub mod comparison;
@@ -26,6 +27,7 @@ pub mod files;
 pub mod findings;
 pub mod gate;
 pub mod reference;
+pub mod rejudge;
 pub mod report;
 pub mod sensitivity;
 
@@ -179,14 +181,10 @@ pub struct ReferenceCheck {
 }
 
 impl ReferenceCheck {
-    /// The rate-bias bound of `norm`, infinite when none can be formed (no rate decision
-    /// survives it).
-    pub fn bias_or_infinite(&self, norm: &str) -> f64 {
-        self.rate_bias
-            .get(norm)
-            .copied()
-            .flatten()
-            .unwrap_or(f64::INFINITY)
+    /// The rate-bias bound of `norm`; `None` when none can be formed (no rate of that norm is
+    /// then decided).
+    pub fn bias(&self, norm: &str) -> Option<f64> {
+        self.rate_bias.get(norm).copied().flatten()
     }
 
     /// Whether some norm has no rate-bias bound.
@@ -268,6 +266,14 @@ pub struct ElasticStudy {
     /// The round-off sensitivity of every case, when `config.sensitivity` asks for an ensemble.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<Sensitivity>,
+}
+
+impl ElasticStudy {
+    /// The note's findings judged again from the study's rates and its reference's rate-bias
+    /// bounds: what the study itself computed, since the findings are a function of both alone.
+    pub fn judged_findings(&self) -> Vec<Finding> {
+        note_findings(&self.study, &|n| self.reference.bias(n.key()))
+    }
 }
 
 /// The figure data of a study.
@@ -559,7 +565,7 @@ impl AgainstFineMesh<'_> {
             total_force: h.total_force.clone(),
             energy: h.energy.clone(),
         };
-        let findings = note_findings(&study, &|n| reference_check.bias_or_infinite(n.key()));
+        let findings = note_findings(&study, &|n| reference_check.bias(n.key()));
         let run_config = ElasticStudyConfig {
             cases: run_cases,
             ..config.clone()

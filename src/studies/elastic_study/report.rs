@@ -4,10 +4,11 @@
 
 use std::fmt::Write as _;
 
-use super::findings::{ALIKE_RATE_GAP, CONVERGENCE_RATE};
+use super::findings::{Finding, ALIKE_RATE_GAP, CONVERGENCE_RATE};
 use super::ElasticStudy;
 use crate::harness::render::report::{chaotic_rate, chaotic_spread, convergence_tables};
 use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::{
     class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass, STEP_EPSILON,
 };
@@ -189,39 +190,61 @@ fn unbounded_note(r: &super::ReferenceCheck) -> String {
     )
 }
 
-/// Which findings are robust, and what the others would need: a reference one level finer
-/// (twice the elements along the axis, `2^d` times the unknowns and twice the steps).
-fn robustness_summary(study: &ElasticStudy) -> String {
+/// The findings by verdict, and what a reference one level finer would take (twice the
+/// elements along the axis, `2^d` times the unknowns and twice the steps) for those undecided.
+fn verdict_summary(study: &ElasticStudy) -> String {
     let r = &study.reference;
-    let (robust, fragile): (Vec<_>, Vec<_>) = study
-        .findings
-        .iter()
-        .filter(|f| f.holds)
-        .partition(|f| f.robust);
-    let list = |v: &[&super::findings::Finding]| {
-        if v.is_empty() {
+    let list = |verdict: Verdict| {
+        let claims: Vec<String> = study
+            .findings
+            .iter()
+            .filter(|f| f.verdict == verdict)
+            .map(|f| format!("*{}*", f.claim))
+            .collect();
+        if claims.is_empty() {
             "none".to_string()
         } else {
-            v.iter()
-                .map(|f| format!("*{}*", f.claim))
-                .collect::<Vec<_>>()
-                .join("; ")
+            claims.join("; ")
         }
     };
     let finer_dofs = r.dofs as f64 * f64::from(1u32 << study.dimension);
     format!(
-        "\nRobust with the reference on {} elements: {}. Holding but not robust: {}; these would \
-         need a reference one level finer ({} elements along the axis, about {:.1e} unknowns and \
-         {} steps) to shrink the rate-bias bounds they fail on. That reference is one run, which \
-         `--shard` cannot split: only the study's other jobs shard (docs/src/sharding-and-clusters.md, \
-         and *What a finer reference would take* in docs/src/convergence-2d-3d.md).\n",
+        "\nWith the reference on {} elements and levels {:?}: holding: {}. Failing: {}. \
+         Undecided: {}. An undecided finding's reason names the interval that straddles and what \
+         would decide it: more levels narrow an interval; a reference one level finer ({} \
+         elements along the axis, about {:.1e} unknowns and {} steps) shrinks the rate-bias \
+         bounds. That reference is one run, which `--shard` cannot split: only the study's other \
+         jobs shard (docs/src/sharding-and-clusters.md, and *What a finer reference would take* \
+         in docs/src/convergence-2d-3d.md).\n",
         r.level,
-        list(&robust),
-        list(&fragile),
+        study.study.config.levels,
+        list(Verdict::Holds),
+        list(Verdict::Fails),
+        list(Verdict::Undecided),
         2 * r.level,
         finer_dofs,
         2 * r.steps
     )
+}
+
+/// The findings as a markdown table: the claim, where the note makes it, the verdict (in bold
+/// unless it holds), what decided it and the evidence.
+pub fn findings_table(findings: &[Finding]) -> String {
+    let mut md = String::from(
+        "| finding | note | verdict | decided by | evidence |\n|---|---|---|---|---|\n",
+    );
+    for f in findings {
+        let verdict = match f.verdict {
+            Verdict::Holds => "holds".to_string(),
+            other => format!("**{}**", other.word()),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {verdict} | {} | {} |",
+            f.claim, f.source, f.reason, f.evidence
+        );
+    }
+    md
 }
 
 /// The whole report; `command` is the command line that made it.
@@ -288,30 +311,25 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
     }
 
     md.push_str(&interval_section(study));
-    let _ = writeln!(
+    let _ = write!(
         md,
         "\n## The note's findings, tested\n\n\
-         A norm converges when its rate is above {CONVERGENCE_RATE} (its error decreases with h); a case oscillates when \
-         its indicator is at least {OSCILLATES_FROM}; two cases behave alike in a norm when \
-         both converge or neither does and their rates differ by at most {ALIKE_RATE_GAP}.\n\n\
-         A finding is *robust* when it still holds with every rate it uses moved by the \
-         reference's rate-bias bound for that norm (see the last section): an error in the \
-         reference of the measured size could not overturn it.\n\n\
-         | finding | note | holds | robust | evidence |\n|---|---|---|---|---|"
+         Every rate is decided by its 95 % interval widened on both sides by the reference's \
+         rate-bias bound for its norm (see the last section; no bound: undecided). A norm \
+         converges when the widened interval lies above {CONVERGENCE_RATE}, does not converge \
+         when it lies at or below it, and is undecided otherwise, as is a rate fitted on fewer \
+         than three levels (no interval). Two cases behave alike in a norm when both converge \
+         or neither does and the interval of the difference of their rates (half-widths and \
+         bounds added) lies within ±{ALIKE_RATE_GAP}. A case oscillates when its indicator is \
+         at least {OSCILLATES_FROM}: an indicator has no interval, so that comparison is made \
+         as measured.\n\n\
+         A finding *holds* when every decision it needs is made and satisfied, *fails* when one \
+         is made and contradicted, and is *undecided* otherwise.\n\n\
+         {}",
+        findings_table(&study.findings)
     );
-    for f in &study.findings {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} |",
-            f.claim,
-            f.source,
-            if f.holds { "yes" } else { "**no**" },
-            if f.robust { "yes" } else { "no" },
-            f.evidence
-        );
-    }
 
-    md.push_str(&robustness_summary(study));
+    md.push_str(&verdict_summary(study));
     if let Some(sens) = sensitivity {
         let _ = write!(md, "\n{}", sensitivity_section(sens));
     }
