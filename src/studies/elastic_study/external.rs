@@ -23,8 +23,8 @@ use serde::{Deserialize, Serialize};
 
 use super::comparison::ComparedSample;
 use super::findings::{note_findings, Finding};
-use super::report::findings_table;
 use super::reference::ReferenceCache;
+use super::report::findings_table;
 use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, EnergyDefinition, PvdOptions};
 use crate::harness::external::report::tables;
@@ -167,9 +167,7 @@ pub fn verify_box(
             not_run: Vec::new(),
             wall_seconds: 0.0,
         };
-        note_findings(&study, &|n| {
-            rate_bias.get(n.key()).copied().flatten()
-        })
+        note_findings(&study, &|n| rate_bias.get(n.key()).copied().flatten())
     };
     let h = &reference.histories;
     Ok(BoxVerification {

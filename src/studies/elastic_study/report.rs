@@ -10,7 +10,7 @@ use crate::harness::render::report::{chaotic_rate, chaotic_spread, convergence_t
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::{
-    class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass, STEP_EPSILON,
+    class_rules, class_table, rate_ranges, Sensitivity, SensitivityClass,
 };
 use crate::harness::study::verdicts::{oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::CaseStudy;
@@ -54,27 +54,42 @@ fn rate_cell(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> St
     }
 }
 
+/// The members perturbed at every step per case and level, and their `ε`, as the ensembles
+/// record them (0 in a study run before there were any).
+fn step_members(s: &Sensitivity) -> (usize, f64) {
+    let members = s.cases.iter().map(|c| c.step_members).max().unwrap_or(0);
+    let epsilon = s.cases.iter().map(|c| c.step_epsilon).fold(0.0, f64::max);
+    (members, epsilon)
+}
+
 /// The round-off sensitivity section: how the ensemble was made, each case's class with its
 /// predictability step and separation growth at the finest level, and the rate ranges of the
 /// chaotic cases.
 fn sensitivity_section(s: &Sensitivity) -> String {
     let finest = s.config.levels.last().copied().unwrap_or(0);
+    let (step_members, epsilon) = step_members(s);
+    let every_step = if step_members > 0 {
+        format!(
+            "; and {step_members} members whose carried state (displacement, velocity, \
+             acceleration) moves after every step by a seeded relative amount in ±{epsilon:.2e}, \
+             the unit round-off"
+        )
+    } else {
+        String::new()
+    };
     let mut md = format!(
         "## Round-off sensitivity\n\n\
          Every case at every level also ran as {} members whose initial velocity carries seeded \
          noise of relative size {:e}: every velocity dof (the contact face's included) moves by \
-         a uniform amount in ±A·max|v⁰|, the displacement is untouched; and as many members \
-         whose carried state (displacement, velocity, acceleration) moves after every step by a \
-         seeded relative amount in ±{:.2e}, the unit round-off. Each member is compared \
-         with the same (unperturbed) reference; its separation from the unperturbed run is taken \
-         on the centre contact node's normal displacement. {} The members ran inside the \
-         study's (case, level) jobs, after each job's unperturbed run: {} runs, {:.1} s of run \
-         time summed over the jobs on this machine.\n\n",
+         a uniform amount in ±A·max|v⁰|, the displacement is untouched{every_step}. Each member \
+         is compared with the same (unperturbed) reference; its separation from the \
+         unperturbed run is taken on the centre contact node's normal displacement. {} The \
+         members ran inside the study's (case, level) jobs, after each job's unperturbed run: \
+         {} runs, {:.1} s of run time summed over the jobs on this machine.\n\n",
         s.ensemble.members,
         s.ensemble.amplitude,
-        STEP_EPSILON,
         class_rules(),
-        s.cases.len() * s.config.levels.len() * s.ensemble.perturbed_members(),
+        s.cases.len() * s.config.levels.len() * (s.ensemble.members + step_members),
         s.wall_seconds
     );
     md.push_str(&class_table(s, finest));
@@ -302,11 +317,15 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
         let _ = writeln!(
             md,
             "\n† round-off chaotic (see *Round-off sensitivity*): the ensemble median rate of {} \
-             members with relative noise {:e} on the initial velocity and as many perturbed by \
-             the unit round-off after every step, and the ensemble [min, \
+             members with relative noise {:e} on the initial velocity{}, and the ensemble [min, \
              max]; the unperturbed run's rate is one sample of that range (its per-level errors \
              are below).",
-            sens.ensemble.members, sens.ensemble.amplitude
+            sens.ensemble.members,
+            sens.ensemble.amplitude,
+            match step_members(sens) {
+                (0, _) => String::new(),
+                (n, _) => format!(" and {n} perturbed by the unit round-off after every step"),
+            }
         );
     }
 
