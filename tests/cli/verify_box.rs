@@ -81,8 +81,23 @@ fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
-/// The study's errors of Crank–Nicolson with the standard mass.
-fn study_errors(study: &Value) -> Vec<(String, Vec<f64>)> {
+/// The errors of Crank–Nicolson with the standard mass in the study of `scene` (a
+/// `dimension`-D box) run with the reference cache `cache` into `out`.
+fn study_errors(
+    scene: &Path,
+    cache: &Path,
+    out: &Path,
+    dimension: usize,
+) -> Vec<(String, Vec<f64>)> {
+    success_stdout(&signorini(&[
+        "study",
+        s(scene),
+        "--cache",
+        s(cache),
+        "--out",
+        s(out),
+    ]));
+    let study = read_json(&out.join(format!("elastic-{dimension}d.json")));
     let case = study["study"]["cases"]
         .as_array()
         .unwrap()
@@ -254,18 +269,8 @@ fn round_trip(scene_file: &str, name: &str) {
     let dir = scratch(name);
     let scene = small_scene(&dir, scene_file);
     let cache = dir.join("references");
-    let study_out = dir.join("study");
-    success_stdout(&signorini(&[
-        "study",
-        s(&scene),
-        "--cache",
-        s(&cache),
-        "--out",
-        s(&study_out),
-    ]));
     let dimension = if scene_file.contains("3d") { 3 } else { 2 };
-    let study = read_json(&study_out.join(format!("elastic-{dimension}d.json")));
-    let expected = study_errors(&study);
+    let expected = study_errors(&scene, &cache, &dir.join("study"), dimension);
     let binary: Vec<PathBuf> = [5, 10]
         .iter()
         .map(|&nx| run_every_step(&scene, nx, &dir.join(format!("run{nx}"))))
@@ -313,16 +318,7 @@ fn a_json_box_run_with_fields_at_some_steps_gets_the_force_and_the_sampled_error
     let dir = scratch("partial");
     let scene = small_scene(&dir, "scenes/bar2d.json");
     let cache = dir.join("references");
-    let study_out = dir.join("study");
-    success_stdout(&signorini(&[
-        "study",
-        s(&scene),
-        "--cache",
-        s(&cache),
-        "--out",
-        s(&study_out),
-    ]));
-    let expected = study_errors(&read_json(&study_out.join("elastic-2d.json")));
+    let expected = study_errors(&scene, &cache, &dir.join("study"), 2);
     let mut files = Vec::new();
     for nx in [5, 10] {
         let pvd = run_every_step(&scene, nx, &dir.join(format!("run{nx}")));

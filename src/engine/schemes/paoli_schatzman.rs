@@ -287,12 +287,9 @@ impl<'m> PaoliSchatzman<'m> {
     }
 }
 
-impl TimeIntegrator for PaoliSchatzman<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        match self.pending_start.take() {
-            Some(start) => self.start_step(start)?,
-            None => self.two_step()?,
-        }
+impl PaoliSchatzman<'_> {
+    /// The half-step velocity and mean from the two levels `U^{n−1}`, `U^n` ([`half_step`]).
+    fn update_half_step(&mut self) {
         half_step(
             self.state.dt,
             &self.u_prev,
@@ -300,6 +297,16 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
             &mut self.state.v,
             &mut self.mid,
         );
+    }
+}
+
+impl TimeIntegrator for PaoliSchatzman<'_> {
+    fn advance(&mut self) -> Result<(), SolveError> {
+        match self.pending_start.take() {
+            Some(start) => self.start_step(start)?,
+            None => self.two_step()?,
+        }
+        self.update_half_step();
         self.state.step += 1;
         Ok(())
     }
@@ -309,13 +316,7 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
     /// recomputed from the perturbed level.
     fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
         perturb(&mut self.state.u);
-        half_step(
-            self.state.dt,
-            &self.u_prev,
-            &self.state.u,
-            &mut self.state.v,
-            &mut self.mid,
-        );
+        self.update_half_step();
     }
 
     fn state(&self) -> &SchemeState {

@@ -19,7 +19,7 @@ use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_
 use super::pvd::{read_collection, read_snapshot, CollectionEntry, VtuSnapshot};
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::{box_mesh, BoxProblem};
-use crate::harness::files::input::{self, JsonError};
+use crate::harness::files::input;
 use crate::harness::problem::{MassVariant, Scheme};
 
 /// The box form's format name (the 1D form reads `signorini-external/1` and `/2`).
@@ -398,15 +398,8 @@ impl BoxScene<'_> {
 
     /// Reads the box form of the JSON format `path` as a run of this scene.
     pub fn read_json(&self, path: &Path) -> Result<BoxExternalRun, ExternalError> {
-        let file: BoxFile = input::read_json(path, RUN_FILE).map_err(|e| match e {
-            JsonError::Input(e) => ExternalError::Input(e),
-            JsonError::Decode { source, .. } => ExternalError::Json {
-                path: path.to_path_buf(),
-                line: source.line(),
-                column: source.column(),
-                message: source.to_string(),
-            },
-        })?;
+        let file: BoxFile =
+            input::read_json(path, RUN_FILE).map_err(|e| ExternalError::of_json(path, e))?;
         file.into_run(self, path)
     }
 }

@@ -7,7 +7,7 @@ use thiserror::Error;
 
 use crate::engine::error::compact;
 use crate::harness::files::error::Error;
-use crate::harness::files::input::{InputError, Shown};
+use crate::harness::files::input::{InputError, JsonError, Shown};
 
 /// A run file that cannot be read, or whose content is not a valid run of the scene; a series
 /// of runs that cannot be fitted; or an error of the harness while verifying.
@@ -70,6 +70,20 @@ pub enum ExternalError {
 }
 
 impl ExternalError {
+    /// The error of reading the JSON run file `path`: unreadable, or malformed at a line and
+    /// column.
+    pub fn of_json(path: &std::path::Path, error: JsonError) -> Self {
+        match error {
+            JsonError::Input(e) => ExternalError::Input(e),
+            JsonError::Decode { source, .. } => ExternalError::Json {
+                path: path.to_path_buf(),
+                line: source.line(),
+                column: source.column(),
+                message: source.to_string(),
+            },
+        }
+    }
+
     /// The error of the field `field` of `path`, at `at` when given.
     pub fn invalid(
         path: &std::path::Path,

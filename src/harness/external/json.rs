@@ -15,7 +15,7 @@ use serde::Deserialize;
 
 use super::error::ExternalError;
 use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
-use crate::harness::files::input::{self, JsonError};
+use crate::harness::files::input;
 
 /// The top-level fields.
 #[derive(Deserialize)]
@@ -81,15 +81,7 @@ pub fn read(path: &Path) -> Result<ExternalRun, ExternalError> {
     if let Some(problem) = arrays.problem.take() {
         return Err(problem);
     }
-    let head = parsed.map_err(|e| match e {
-        JsonError::Input(e) => ExternalError::Input(e),
-        JsonError::Decode { source, .. } => ExternalError::Json {
-            path: path.to_path_buf(),
-            line: source.line(),
-            column: source.column(),
-            message: source.to_string(),
-        },
-    })?;
+    let head = parsed.map_err(|e| ExternalError::of_json(path, e))?;
     arrays.finish(head)
 }
 

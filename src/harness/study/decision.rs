@@ -220,18 +220,23 @@ impl Estimate {
         }
     }
 
+    /// What is decided, its value and its widened interval `widened`, as a reason begins.
+    fn head(&self, widened: (f64, f64)) -> String {
+        format!(
+            "{} {:.2} {}",
+            self.what,
+            self.value,
+            self.interval_text(widened)
+        )
+    }
+
     /// "The value is above `threshold`" (see the module).
     pub fn above(&self, threshold: f64) -> Decision {
         let (low, high) = match self.widened() {
             Ok(w) => w,
             Err(undecided) => return undecided,
         };
-        let head = format!(
-            "{} {:.2} {}",
-            self.what,
-            self.value,
-            self.interval_text((low, high))
-        );
+        let head = self.head((low, high));
         if low > threshold {
             Decision {
                 verdict: Verdict::Holds,
@@ -257,12 +262,7 @@ impl Estimate {
             Ok(w) => w,
             Err(undecided) => return undecided,
         };
-        let head = format!(
-            "{} {:.2} {}",
-            self.what,
-            self.value,
-            self.interval_text((wl, wh))
-        );
+        let head = self.head((wl, wh));
         if wl >= low && wh <= high {
             Decision {
                 verdict: Verdict::Holds,

@@ -78,28 +78,10 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
         .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
         .ok_or_else(|| invalid("Points", "missing".into(), "the points' DataArray"))?;
     let (_, _, coordinates) = array_of(points)?;
-    if coordinates.len() % 3 != 0 {
-        return Err(invalid(
-            "Points",
-            format!("{} coordinates", coordinates.len()),
-            "three per point",
-        ));
-    }
-    let points: Vec<[f64; 3]> = coordinates
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
     let mut arrays = Vec::new();
     if let Some(data) = piece.children().find(|n| n.has_tag_name("PointData")) {
         for node in data.children().filter(|n| n.has_tag_name("DataArray")) {
             let (name, components, values) = array_of(node)?;
-            if values.len() != components * points.len() {
-                return Err(invalid(
-                    &format!("PointData {name:?}"),
-                    format!("{} values", values.len()),
-                    "NumberOfComponents × points",
-                ));
-            }
             arrays.push(PointArray {
                 name,
                 components,
@@ -107,13 +89,8 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
             });
         }
     }
-    Ok(VtuSnapshot {
-        path: path.to_path_buf(),
-        points,
-        arrays,
-    })
+    VtuSnapshot::new(path, coordinates, arrays)
 }
-
 /// How the block is laid out.
 struct Layout<'a> {
     header_u64: bool,

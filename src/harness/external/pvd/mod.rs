@@ -52,6 +52,47 @@ pub struct VtuSnapshot {
 }
 
 impl VtuSnapshot {
+    /// The snapshot of `path` from its points' coordinates (three per point) and its point
+    /// arrays, each checked to hold `NumberOfComponents` values per point.
+    fn new(
+        path: &Path,
+        coordinates: Vec<f64>,
+        arrays: Vec<PointArray>,
+    ) -> Result<Self, ExternalError> {
+        let invalid = |field: &str, value: String, allowed: String| {
+            ExternalError::invalid(path, field, None, value, allowed)
+        };
+        if coordinates.len() % 3 != 0 {
+            return Err(invalid(
+                "Points",
+                format!("{} coordinates", coordinates.len()),
+                "three coordinates per point".into(),
+            ));
+        }
+        let points: Vec<[f64; 3]> = coordinates
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        for a in &arrays {
+            if a.components == 0 || a.values.len() != a.components * points.len() {
+                return Err(invalid(
+                    &format!("PointData {:?}", a.name),
+                    format!("{} values", a.values.len()),
+                    format!(
+                        "NumberOfComponents × points = {} × {}",
+                        a.components,
+                        points.len()
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            points,
+            arrays,
+        })
+    }
+
     /// The point array named `name`.
     pub fn array(&self, name: &str) -> Option<&PointArray> {
         self.arrays.iter().find(|a| a.name == name)
@@ -200,45 +241,19 @@ pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
         .points
         .cast_into()
         .ok_or_else(|| invalid("Points", "not numbers".into(), ALLOWED))?;
-    if coordinates.len() % 3 != 0 {
-        return Err(invalid(
-            "Points",
-            format!("{} coordinates", coordinates.len()),
-            "three coordinates per point",
-        ));
-    }
-    let points: Vec<[f64; 3]> = coordinates
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
     let mut arrays = Vec::new();
     for attribute in piece.data.point {
         let Attribute::DataArray(array) = attribute else {
             continue;
         };
-        let components = array.elem.num_comp() as usize;
         let Some(values) = array.data.cast_into::<f64>() else {
             continue;
         };
-        if components == 0 || values.len() != components * points.len() {
-            return Err(invalid(
-                &format!("PointData {:?}", array.name),
-                format!("{} values", values.len()),
-                &format!(
-                    "NumberOfComponents × points = {components} × {}",
-                    points.len()
-                ),
-            ));
-        }
         arrays.push(PointArray {
+            components: array.elem.num_comp() as usize,
             name: array.name,
-            components,
             values,
         });
     }
-    Ok(VtuSnapshot {
-        path: path.to_path_buf(),
-        points,
-        arrays,
-    })
+    VtuSnapshot::new(path, coordinates, arrays)
 }
