@@ -9,9 +9,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GoldenArgs, ListArgs, MergeArgs,
-    ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs, StudyArgs,
-    VerifyArgs,
+    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs, GoldenArgs, ListArgs,
+    MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs,
+    StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -85,6 +85,9 @@ enum Command {
     /// GetFEM's demo runs (tests/data/getfem) solved again with its conventions and compared
     /// step by step (`make verify-getfem`); writes getfem.md.
     Getfem(GetfemArgs),
+    /// GetFEM's own runs of the 2D and 3D bars (tests/data/getfem2d, getfem3d) written as run
+    /// files of the external format's box form, for `signorini verify` (`make league`).
+    GetfemBox(GetfemBoxArgs),
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List(ListArgs),
     /// The reports of a command run as shards (`--shard k/n` on study, stability, sensitivity
@@ -109,6 +112,7 @@ fn main() -> ExitCode {
         Command::Golden(args) => commands::golden(args),
         Command::Verify(args) => commands::verify_runs(args),
         Command::Getfem(args) => commands::getfem(args),
+        Command::GetfemBox(args) => commands::getfem_box(args),
         Command::List(args) => commands::list(args),
         Command::Merge(args) => commands::merge(args),
     };

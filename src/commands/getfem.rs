@@ -37,3 +37,21 @@ pub fn getfem(args: GetfemArgs) -> Result<(), Failure> {
         &args.runs, &args.out, export, &limits, &mut say,
     )?)
 }
+
+/// The arguments of `signorini getfem-box`.
+#[derive(Debug, Args)]
+pub struct GetfemBoxArgs {
+    /// GetFEM's runs of the 2D and 3D bars (`signorini-getfem2d-anchor/1`, `…3d…/1`, gzipped:
+    /// tests/data/getfem2d/ and getfem3d/).
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// Output directory: one box-form run file per run, for `signorini verify`.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Writes each GetFEM 2D/3D run as a run file of the external format's box form.
+pub fn getfem_box(args: GetfemBoxArgs) -> Result<(), Failure> {
+    let mut say = |said: &str| out!("{said}");
+    Ok(getfem_run::getfem_box(&args.runs, &args.out, &mut say)?)
+}

@@ -27,7 +27,7 @@ mod study;
 mod verify;
 
 pub use failure::Failure;
-pub use getfem::{getfem, GetfemArgs};
+pub use getfem::{getfem, getfem_box, GetfemArgs, GetfemBoxArgs};
 pub use limits::LimitArgs;
 pub use list::{list, ListArgs};
 pub use merge::MergeArgs;

@@ -1,10 +1,13 @@
 //! `signorini getfem` below the command line: GetFEM's demo runs solved again with its
 //! conventions and compared step by step into `getfem.md`, and optionally exported as
-//! external-run files for `signorini verify`.
+//! external-run files for `signorini verify`; GetFEM's own 2D/3D runs written in the box form
+//! (`signorini getfem-box`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
+use crate::harness::files::artifacts::write_json;
 use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::getfem::anchor::convert_anchor;
 use crate::harness::study::budget::Limits;
 use crate::studies::getfem::{export_runs, write_getfem_report, Expectation, GETFEM_REPORT};
 use crate::studies::outputs::CommandError;
@@ -41,5 +44,27 @@ pub fn getfem(
         out.display(),
         all.len()
     ));
+    Ok(())
+}
+
+/// Writes GetFEM's 2D/3D runs `runs` ([`convert_anchor`]) into `out` as box-form run files
+/// (the directory written whole or not at all); tells `say` each file written.
+pub fn getfem_box(
+    runs: &[PathBuf],
+    out: &Path,
+    say: &mut dyn FnMut(&str),
+) -> Result<(), CommandError> {
+    let converted = runs
+        .iter()
+        .map(|path| convert_anchor(path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let staged = StagedDir::begin("--out", out, Replace::Whole)?;
+    for c in &converted {
+        write_json(&staged.path().join(&c.file_name), &c.run)?;
+    }
+    staged.commit()?;
+    for c in &converted {
+        say(&out.join(&c.file_name).display().to_string());
+    }
     Ok(())
 }

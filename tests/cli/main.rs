@@ -17,6 +17,7 @@ mod elastic;
 mod figure_geometry;
 mod figures;
 mod getfem;
+mod getfem_box;
 mod hostile;
 mod outputs;
 mod paraview;

@@ -15,11 +15,16 @@ use signorini::harness::external::pvd::{read_collection, read_snapshot};
 /// A box scene of the repository made small: study levels 5 and 10, reference on 40 (nested:
 /// one element across at levels 5 and 10, four at 40), no ensemble.
 fn small_scene(dir: &Path, scene: &str) -> PathBuf {
+    scene_at_levels(dir, scene, &[5, 10])
+}
+
+/// The box scene `scene` with the study levels `levels` and the reference on 40, no ensemble.
+pub(crate) fn scene_at_levels(dir: &Path, scene: &str, levels: &[usize]) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut s: Value =
         serde_json::from_str(&std::fs::read_to_string(root.join(scene)).unwrap()).unwrap();
     let d = &mut s["discretisation"];
-    d["levels"] = serde_json::json!([5, 10]);
+    d["levels"] = serde_json::json!(levels);
     d["reference_level"] = serde_json::json!(40);
     d.as_object_mut().unwrap().remove("sensitivity");
     let path = dir.join("scene.json");
@@ -27,7 +32,7 @@ fn small_scene(dir: &Path, scene: &str) -> PathBuf {
     path
 }
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
         "signorini-verify-box-{}-{name}",
         std::process::id()
@@ -37,20 +42,31 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-fn s(p: &Path) -> &str {
+pub(crate) fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
 /// Crank–Nicolson with the standard mass on `nx` elements, its fields at every step in `out`.
 fn run_every_step(scene: &Path, nx: usize, out: &Path) -> PathBuf {
+    run_case_every_step(scene, "crank-nicolson", "standard", nx, out)
+}
+
+/// `scheme` with `mass` on `nx` elements, its fields at every step in `out`.
+pub(crate) fn run_case_every_step(
+    scene: &Path,
+    scheme: &str,
+    mass: &str,
+    nx: usize,
+    out: &Path,
+) -> PathBuf {
     let nx = nx.to_string();
     success_stdout(&signorini(&[
         "run",
         s(scene),
         "--scheme",
-        "crank-nicolson",
+        scheme,
         "--mass",
-        "standard",
+        mass,
         "--nx",
         &nx,
         "--out",
@@ -77,7 +93,7 @@ fn errors(rates: &Value) -> Vec<(String, Vec<f64>)> {
         .collect()
 }
 
-fn read_json(path: &Path) -> Value {
+pub(crate) fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 

@@ -526,49 +526,69 @@ fn check_clamped(
     Ok(())
 }
 
-/// The box form of the JSON format, as written.
-#[derive(Debug, Deserialize)]
+/// The box form of the JSON format (`signorini-external/2` with a box `mesh`), as a file holds
+/// it: read by [`BoxScene::read_json`], written by converters of other codes' output
+/// ([`crate::harness::getfem::anchor`]).
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
-struct BoxFile {
-    format: String,
-    scene: String,
-    code: Code,
-    label: String,
-    #[serde(default)]
-    scheme: Option<String>,
-    #[serde(default)]
-    mass: Option<MassVariant>,
-    mesh: BoxFileMesh,
-    #[serde(default)]
-    energy_definition: Option<EnergyDefinition>,
-    samples: Vec<BoxFileSample>,
+pub struct BoxFile {
+    /// [`BOX_FORMAT`].
+    pub format: String,
+    /// The scene's name.
+    pub scene: String,
+    /// The code and its version.
+    pub code: Code,
+    /// The series the file belongs to.
+    pub label: String,
+    /// The scheme, a preset name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scheme: Option<String>,
+    /// The mass matrix.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<MassVariant>,
+    /// The mesh.
+    pub mesh: BoxFileMesh,
+    /// What `energy` is, when the samples give it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_definition: Option<EnergyDefinition>,
+    /// One sample per step.
+    pub samples: Vec<BoxFileSample>,
 }
 
 /// The mesh of a box file: the box's lengths and the elements per direction, its nodes
 /// numbered [`NODE_ORDER`].
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
-struct BoxFileMesh {
-    lengths: Vec<f64>,
-    elements: Vec<usize>,
-    node_order: String,
+pub struct BoxFileMesh {
+    /// The box's lengths, `x_d` (the axis) last.
+    pub lengths: Vec<f64>,
+    /// The elements per direction.
+    pub elements: Vec<usize>,
+    /// [`NODE_ORDER`].
+    pub node_order: String,
 }
 
 /// One sample of a box file: any per-node array may be absent or `null`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
-struct BoxFileSample {
-    time: f64,
-    #[serde(default)]
-    displacement: Option<Vec<Vec<f64>>>,
-    #[serde(default)]
-    velocity: Option<Vec<Vec<f64>>>,
-    #[serde(default)]
-    multipliers: Option<Vec<f64>>,
-    #[serde(default)]
-    total_force: Option<f64>,
-    #[serde(default)]
-    energy: Option<f64>,
+pub struct BoxFileSample {
+    /// `t_n`.
+    pub time: f64,
+    /// `d` numbers per node, nodes in [`NODE_ORDER`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<Vec<Vec<f64>>>,
+    /// Like `displacement`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<Vec<f64>>>,
+    /// `λ_i ≤ 0` per contact node (`x_d = 0`), in [`NODE_ORDER`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub multipliers: Option<Vec<f64>>,
+    /// `Σ_i λ_i`, for a code that reports only the resultant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub total_force: Option<f64>,
+    /// The code's own energy ([`BoxFile::energy_definition`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy: Option<f64>,
 }
 
 impl BoxFile {

@@ -4,6 +4,7 @@
 //! harness run on the Signorini–Dirichlet bar ([`DemoNorms`]), and its energy from the states of
 //! a harness run ([`DemoEnergy`]).
 
+pub mod anchor;
 mod demo_run;
 mod energy;
 mod exact;

@@ -166,6 +166,12 @@ impl Estimate {
 
     /// The interval widened by the bias bound, or why there is none to decide with.
     fn widened(&self) -> Result<(f64, f64), Decision> {
+        if self.levels == 0 {
+            return Err(Decision::undecided(format!(
+                "{} is not computed on any level (the runs lack what it needs)",
+                self.what
+            )));
+        }
         let Some((low, high)) = self.interval.filter(|_| self.value.is_finite()) else {
             return Err(Decision::undecided(format!(
                 "{} {:.2} has no 95 % interval: it is fitted on {} levels and an interval needs \

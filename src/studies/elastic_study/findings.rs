@@ -134,16 +134,20 @@ fn oscillation(c: Labelled<'_>, expected: bool) -> Decision {
     }
 }
 
-/// `label: norm rate ± half-width, …` (the rate alone without an interval).
+/// `label: norm rate ± half-width, …` (the rate alone without an interval, `not computed`
+/// without a fit).
 fn rates_text(c: Labelled<'_>, norms: &[Norm]) -> String {
     let list: Vec<String> = norms
         .iter()
         .map(|&n| {
-            let fit = c.case.norm(n).and_then(|r| r.fit);
-            let rate = fit.map_or(f64::NAN, |f| f.rate);
-            match fit.and_then(|f| Some(0.5 * (f.ci_high? - f.ci_low?))) {
-                Some(half) => format!("{} {rate:.2} ± {half:.2}", n.key()),
-                None => format!("{} {rate:.2}", n.key()),
+            let Some(fit) = c.case.norm(n).and_then(|r| r.fit) else {
+                return format!("{} not computed", n.key());
+            };
+            match fit.ci_low.zip(fit.ci_high) {
+                Some((low, high)) => {
+                    format!("{} {:.2} ± {:.2}", n.key(), fit.rate, 0.5 * (high - low))
+                }
+                None => format!("{} {:.2}", n.key(), fit.rate),
             }
         })
         .collect();
