@@ -9,9 +9,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs, GoldenArgs, ListArgs,
-    MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs, StabilityArgs,
-    StudyArgs, VerifyArgs,
+    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs, GoldenArgs, LeagueArgs,
+    ListArgs, MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs,
+    StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -88,6 +88,10 @@ enum Command {
     /// GetFEM's own runs of the 2D and 3D bars (tests/data/getfem2d, getfem3d) written as run
     /// files of the external format's box form, for `signorini verify` (`make league`).
     GetfemBox(GetfemBoxArgs),
+    /// The league table (`make league`): every verification under a directory
+    /// (`<entry>/verify.json`, from `verify --out DIR/<entry>`) side by side in league.md and
+    /// league.json.
+    League(LeagueArgs),
     /// The schemes with their parameters, the mass variants, the norms and the scenes found.
     List(ListArgs),
     /// The reports of a command run as shards (`--shard k/n` on study, stability, sensitivity
@@ -113,6 +117,7 @@ fn main() -> ExitCode {
         Command::Verify(args) => commands::verify_runs(args),
         Command::Getfem(args) => commands::getfem(args),
         Command::GetfemBox(args) => commands::getfem_box(args),
+        Command::League(args) => commands::league(args),
         Command::List(args) => commands::list(args),
         Command::Merge(args) => commands::merge(args),
     };

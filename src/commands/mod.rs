@@ -44,7 +44,7 @@ pub use study::{
     reference, rejudge, sensitivity, study_scene, ReferenceArgs, RejudgeArgs, SensitivityArgs,
     StudyArgs,
 };
-pub use verify::{verify_runs, VerifyArgs};
+pub use verify::{league, verify_runs, LeagueArgs, VerifyArgs};
 
 use std::path::PathBuf;
 

@@ -7,10 +7,11 @@ use clap::Args;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
-use super::options::parsed;
+use super::options::{parsed, REPORTS};
 use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::Code;
 use crate::harness::problem::{MassVariant, Scheme};
+use crate::studies::league::write_league;
 use crate::studies::verify_run::{verify, VerifyRequest};
 
 /// The arguments of `signorini verify`.
@@ -67,6 +68,9 @@ pub struct PvdArgs {
     /// (standard, redistributed, lumped, …; without it the energy is not computed).
     #[arg(long, value_parser = parsed::<MassVariant>)]
     pub mass: Option<MassVariant>,
+    /// How the code enforces contact, in its words (shown in verify.md and the league table).
+    #[arg(long)]
+    pub contact: Option<String>,
     /// The displacement's point array (default: the only vector array, else `displacement`).
     #[arg(long)]
     pub displacement: Option<String>,
@@ -90,6 +94,7 @@ impl PvdArgs {
             label: self.label,
             scheme: self.scheme,
             mass: self.mass,
+            contact: self.contact,
             displacement: self.displacement,
             velocity: self.velocity,
             multiplier: self.multiplier,
@@ -111,4 +116,22 @@ pub fn verify_runs(args: VerifyArgs) -> Result<(), Failure> {
         references: args.cache,
     };
     Ok(verify(request, &mut |said| out!("{said}"))?)
+}
+
+/// The arguments of `signorini league`.
+#[derive(Debug, Args)]
+pub struct LeagueArgs {
+    /// The directory of the entries: each `<entry>/verify.json` (`signorini verify --out
+    /// DIR/<entry>`) is one entry of the table.
+    #[arg(default_value = "reports/league")]
+    pub entries: PathBuf,
+    /// Output directory: league.md and league.json.
+    #[arg(long, default_value = REPORTS)]
+    pub out: PathBuf,
+}
+
+/// Writes the league table of every verification under the entries' directory.
+pub fn league(args: LeagueArgs) -> Result<(), Failure> {
+    let mut say = |said: &str| out!("{said}");
+    Ok(write_league(&args.entries, &args.out, &mut say)?)
 }

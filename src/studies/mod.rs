@@ -18,6 +18,7 @@ pub mod getfem_run;
 pub mod golden;
 pub mod gravity;
 pub mod histories;
+pub mod league;
 pub mod outputs;
 pub mod reference_run;
 pub mod report;

@@ -141,6 +141,10 @@ const ELSEWHERE: &[(&str, &str)] = &[
         "finest/README.md",
         "the 3D study against a reference on 640 elements (`make report-finest`)",
     ),
+    (
+        "league.md",
+        "every external run set verified side by side (`make league`)",
+    ),
     ("bench.md", "the speed and memory figures (`make bench`)"),
 ];
 

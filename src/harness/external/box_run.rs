@@ -64,6 +64,8 @@ pub struct PvdOptions {
     pub scheme: Option<Scheme>,
     /// The mass matrix the code used: the energy is computed with it.
     pub mass: Option<MassVariant>,
+    /// How the code enforces contact, in its words (shown, not interpreted).
+    pub contact: Option<String>,
     /// The displacement's point array (default: the file's only 2- or 3-component array,
     /// else one named `displacement`).
     pub displacement: Option<String>,
@@ -134,6 +136,8 @@ pub struct BoxExternalRun {
     pub scheme: Option<Scheme>,
     /// The mass matrix, when declared.
     pub mass: Option<MassVariant>,
+    /// How contact is enforced, when declared.
+    pub contact: Option<String>,
     /// The level: elements along the axis.
     pub level: usize,
     /// The mesh of that level.
@@ -382,6 +386,7 @@ impl BoxScene<'_> {
             label,
             scheme: options.scheme,
             mass: options.mass,
+            contact: options.contact.clone(),
             level,
             mesh,
             time,
@@ -546,6 +551,9 @@ pub struct BoxFile {
     /// The mass matrix.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass: Option<MassVariant>,
+    /// How contact is enforced, in the code's words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<String>,
     /// The mesh.
     pub mesh: BoxFileMesh,
     /// What `energy` is, when the samples give it.
@@ -766,6 +774,7 @@ impl BoxFile {
             label: self.label,
             scheme,
             mass: self.mass,
+            contact: self.contact,
             level,
             mesh,
             time,

@@ -52,6 +52,28 @@ pub struct NotComputed {
     pub reason: String,
 }
 
+/// What a run file declares about how it was computed; each `None` when it does not say.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Declared {
+    /// The scheme: a preset name or a parametrised form (`signorini list`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scheme: Option<String>,
+    /// The mass matrix: a mass variant's name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<String>,
+    /// How contact is enforced, in the code's words (e.g. `nodal Alart–Curnier, exact`,
+    /// `penalty, γ₀ = 100`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<String>,
+}
+
+impl Declared {
+    /// Whether nothing is declared.
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// One refinement series: the files with one label, by increasing `NX`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
@@ -59,6 +81,9 @@ pub struct Series {
     pub label: String,
     /// The code and its version.
     pub code: Code,
+    /// What its files declare (the same for every file of the series); left out when nothing.
+    #[serde(default, skip_serializing_if = "Declared::is_empty")]
+    pub declared: Declared,
     /// One record per file, by increasing `NX`.
     pub runs: Vec<RunRecord>,
     /// One level per file (`dt` the largest spacing of its sample times, `steps` its samples
@@ -144,6 +169,8 @@ pub struct VerifiedFile {
     pub label: String,
     /// The code that wrote it.
     pub code: Code,
+    /// What it declares about how it was computed.
+    pub declared: Declared,
     /// What the series lists of it.
     pub record: RunRecord,
     /// Its level, as a study's.
@@ -196,6 +223,7 @@ fn verify_file(
     let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
     let dt_max = spacing.fold(0.0, f64::max);
     Ok(VerifiedFile {
+        declared: Declared::default(),
         record: RunRecord {
             file: path.display().to_string(),
             nx: run.nx(),
@@ -277,6 +305,13 @@ fn series(mut group: Vec<VerifiedFile>, norms: &BTreeSet<Norm>) -> Result<Series
         label: label.clone(),
         problem,
     };
+    if let Some(other) = group.iter().find(|l| l.declared != group[0].declared) {
+        return Err(series_error(format!(
+            "{} declares {:?} but {} declares {:?}: the files of one label must declare one \
+             scheme, mass and contact treatment",
+            group[0].record.file, group[0].declared, other.record.file, other.declared
+        )));
+    }
     if let Some(other) = group.iter().find(|l| l.code != group[0].code) {
         return Err(series_error(format!(
             "{} is from {} {} but {} from {} {}: the files of one label must come from one \
@@ -315,6 +350,7 @@ fn series(mut group: Vec<VerifiedFile>, norms: &BTreeSet<Norm>) -> Result<Series
     let levels: Vec<LevelRecord> = group.iter().map(|l| l.level.clone()).collect();
     Ok(Series {
         code: group[0].code.clone(),
+        declared: group[0].declared.clone(),
         rates: fit_norm_rates(&levels, errors),
         runs: group.into_iter().map(|l| l.record).collect(),
         levels,

@@ -249,6 +249,11 @@ impl AnchorFile {
             label: format!("GetFEM {}, {}", p.scheme, p.mass),
             scheme: Some(p.scheme.clone()),
             mass: Some(mass),
+            contact: Some(
+                "GetFEM's nodal contact brick with a rigid obstacle (Alart–Curnier, exact \
+                 complementarity)"
+                    .to_string(),
+            ),
             mesh: BoxFileMesh {
                 lengths: p.lengths.clone(),
                 elements: p.elements.clone(),

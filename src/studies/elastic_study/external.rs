@@ -28,7 +28,7 @@ use super::report::findings_table;
 use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, EnergyDefinition, PvdOptions};
 use crate::harness::external::report::tables;
-use crate::harness::external::verify::{into_series, RunRecord, VerifiedFile};
+use crate::harness::external::verify::{into_series, Declared, RunRecord, VerifiedFile};
 use crate::harness::external::{ExternalError, Verification};
 use crate::harness::files::error::Error;
 use crate::harness::problem::{BoxProblem, Problem, Settings};
@@ -330,6 +330,11 @@ fn verify_file(
         VerifiedFile {
             label: run.label.clone(),
             code: run.code.clone(),
+            declared: Declared {
+                scheme: run.scheme.map(|s| s.name()),
+                mass: run.mass.map(|m| m.name().to_string()),
+                contact: run.contact.clone(),
+            },
             record: RunRecord {
                 file,
                 nx: run.level,

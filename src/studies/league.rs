@@ -1,0 +1,344 @@
+//! The league table (`signorini league`, `make league`): every verification kept under one
+//! directory (`<dir>/<entry>/verify.json`, as `signorini verify --out <dir>/<entry>` writes
+//! it) side by side, one row per refinement series: the code and version, the scheme, mass
+//! and contact treatment the files declare, the levels, the rates with their 95 % intervals,
+//! the oscillation indicator's verdict, the energy verdict and, per entry, the note's findings.
+//!
+//! The energy verdict is "the energy error converges" (`energy_Linf`'s rate above 0), decided
+//! by [`crate::harness::study::decision`]: the rate's interval widened by the reference's
+//! rate-bias bound (0 against an exact solution, the entry's `rate_bias` against a fine-mesh
+//! reference) must lie above 0 to hold, at or below it to fail; otherwise it is undecided and
+//! says what would decide it. The oscillation verdict is the indicator's word as measured (an
+//! indicator has no interval).
+//!
+//! `league.json` (format `signorini-league/1`): `format`; `entries`, one per directory, each
+//! with `entry` (the directory's name), `scene`, `reference`, `findings` (as in verify.json) and
+//! `rows`, one per series: `label`, `code`, `declared` (`scheme`, `mass`, `contact`, each
+//! omitted when not declared), `levels` (NX), `rates` (per computed norm: `norm`, `rate`,
+//! `ci_low`, `ci_high` (null with fewer than three levels), `levels`, `bias`), `not_computed`
+//! (norm keys), `oscillation_indicator` and `oscillation` (the word, null without λ),
+//! `energy_verdict` (`holds`, `fails`, `undecided`) and `energy_reason`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::elastic_study::findings::Finding;
+use super::elastic_study::report::findings_table;
+use crate::harness::external::verify::{Declared, Series, Verification};
+use crate::harness::external::ExternalError;
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::input::{read_json, Limit};
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::{Estimate, Verdict};
+use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
+use crate::studies::outputs::CommandError;
+
+/// `league.json`'s format.
+pub const LEAGUE_FORMAT: &str = "signorini-league/1";
+
+/// The file each entry directory holds.
+const VERIFY_JSON: &str = "verify.json";
+
+/// A verify.json, as read (64 MiB at most).
+const VERIFY_FILE: Limit = Limit {
+    what: "verification",
+    max_bytes: 64 << 20,
+};
+
+/// The norms the markdown table shows (league.json has every computed norm).
+const SHOWN: [Norm; 4] = [
+    Norm::DisplacementLinfH,
+    Norm::DisplacementL2V,
+    Norm::MultiplierL2,
+    Norm::EnergyLinf,
+];
+
+/// A verify.json of either geometry: a box scene's adds the rate-bias bounds and the findings.
+#[derive(Debug, Deserialize)]
+struct VerifyFile {
+    #[serde(flatten)]
+    verification: Verification,
+    #[serde(default)]
+    rate_bias: Option<BTreeMap<String, Option<f64>>>,
+    #[serde(default)]
+    findings: Vec<Finding>,
+}
+
+/// One norm's rate in a row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LeagueRate {
+    /// The norm.
+    pub norm: Norm,
+    /// The least-squares rate over the series' levels.
+    pub rate: f64,
+    /// The 95 % interval's lower end (null with fewer than three levels).
+    pub ci_low: Option<f64>,
+    /// Its upper end.
+    pub ci_high: Option<f64>,
+    /// The levels fitted.
+    pub levels: usize,
+    /// The reference's rate-bias bound (0 for an exact solution; null: unbounded).
+    pub bias: Option<f64>,
+}
+
+/// One series of one entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LeagueRow {
+    /// The series' label.
+    pub label: String,
+    /// The code and its version.
+    pub code: crate::harness::external::format::Code,
+    /// What the files declare.
+    pub declared: Declared,
+    /// `NX` of each level.
+    pub levels: Vec<usize>,
+    /// The computed norms' rates.
+    pub rates: Vec<LeagueRate>,
+    /// The norms not computed (keys).
+    pub not_computed: Vec<String>,
+    /// `TV(λ_h) / TV(λ)` on the finest level.
+    pub oscillation_indicator: Option<f64>,
+    /// Its word (`No`, `Small`, `Yes`, `Big`).
+    pub oscillation: Option<String>,
+    /// "The energy error converges".
+    pub energy_verdict: Verdict,
+    /// Why.
+    pub energy_reason: String,
+}
+
+/// One directory's verification.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LeagueEntry {
+    /// The directory's name.
+    pub entry: String,
+    /// The scene.
+    pub scene: String,
+    /// What the errors are measured against.
+    pub reference: String,
+    /// The note's findings judged on its series (box scenes).
+    pub findings: Vec<Finding>,
+    /// One row per series.
+    pub rows: Vec<LeagueRow>,
+}
+
+/// `league.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct League {
+    /// [`LEAGUE_FORMAT`].
+    pub format: String,
+    /// One per entry directory, by name.
+    pub entries: Vec<LeagueEntry>,
+}
+
+/// Reads every `<dir>/<entry>/verify.json` into the league (entries by name).
+pub fn read_league(dir: &Path) -> Result<League, CommandError> {
+    let listing = std::fs::read_dir(dir).map_err(|e| {
+        CommandError::Refused(format!(
+            "cannot read the league's directory {}: {e}",
+            dir.display()
+        ))
+    })?;
+    let mut files: Vec<(String, PathBuf)> = listing
+        .filter_map(Result::ok)
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .map(|(name, path)| (name, path.join(VERIFY_JSON)))
+        .filter(|(_, file)| file.is_file())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(CommandError::Refused(format!(
+            "{} holds no <entry>/{VERIFY_JSON}: write one with `signorini verify SCENE RUN... \
+             --out {}/<entry>`",
+            dir.display(),
+            dir.display()
+        )));
+    }
+    let entries = files
+        .into_iter()
+        .map(|(name, file)| {
+            let v: VerifyFile = read_json(&file, VERIFY_FILE)
+                .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
+            Ok(entry(name, v))
+        })
+        .collect::<Result<Vec<_>, CommandError>>()?;
+    Ok(League {
+        format: LEAGUE_FORMAT.to_string(),
+        entries,
+    })
+}
+
+fn entry(name: String, v: VerifyFile) -> LeagueEntry {
+    let bias = |norm: Norm| -> Option<f64> {
+        match &v.rate_bias {
+            None => Some(0.0),
+            Some(map) => map.get(norm.key()).copied().flatten(),
+        }
+    };
+    let rows = v
+        .verification
+        .series
+        .iter()
+        .map(|s| row(s, &bias))
+        .collect();
+    LeagueEntry {
+        entry: name,
+        scene: v.verification.scene,
+        reference: v.verification.reference,
+        findings: v.findings,
+        rows,
+    }
+}
+
+fn row(s: &Series, bias: &dyn Fn(Norm) -> Option<f64>) -> LeagueRow {
+    let rates = s
+        .rates
+        .iter()
+        .filter_map(|r| {
+            let fit = r.fit?;
+            Some(LeagueRate {
+                norm: r.norm,
+                rate: fit.rate,
+                ci_low: fit.ci_low,
+                ci_high: fit.ci_high,
+                levels: fit.levels,
+                bias: bias(r.norm),
+            })
+        })
+        .collect();
+    let energy = Estimate::rate(
+        format!("{} rate", Norm::EnergyLinf.key()),
+        s.norm(Norm::EnergyLinf).and_then(|r| r.fit),
+        bias(Norm::EnergyLinf),
+    )
+    .above(0.0);
+    let indicator = s.oscillation_indicator();
+    LeagueRow {
+        label: s.label.clone(),
+        code: s.code.clone(),
+        declared: s.declared.clone(),
+        levels: s.levels.iter().map(|l| l.nx).collect(),
+        rates,
+        not_computed: s
+            .not_computed
+            .iter()
+            .map(|n| n.norm.key().to_string())
+            .collect(),
+        oscillation_indicator: indicator,
+        oscillation: indicator.map(|r| oscillation_word(r).to_string()),
+        energy_verdict: energy.verdict,
+        energy_reason: energy.reason,
+    }
+}
+
+/// A rate as the table shows it: `r [low, high]`, `r (n levels)` without an interval, `—`
+/// when not computed.
+fn rate_cell(row: &LeagueRow, norm: Norm) -> String {
+    match row.rates.iter().find(|r| r.norm == norm) {
+        None => "—".to_string(),
+        Some(r) => match r.ci_low.zip(r.ci_high) {
+            Some((low, high)) => format!("{:.2} [{low:.2}, {high:.2}]", r.rate),
+            None => format!("{:.2} ({} levels)", r.rate, r.levels),
+        },
+    }
+}
+
+/// `league.md`.
+pub fn render(league: &League) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# The league table\n\nEvery external run set verified side by side (`make league`; \
+         your own code: docs/src/external-runs.md, \"The league table\"). One row per \
+         refinement series. Rates: the least-squares rate over the series' levels with its \
+         95 % interval (`(n levels)` without one: an interval needs three; `—` not computed). \
+         Energy: \"the energy error converges\", decided by the interval of the \
+         `{}` rate widened by the reference's rate-bias bound. Oscillations: \
+         the indicator TV(λ_h)/TV(λ) on the finest level, as measured.\n",
+        Norm::EnergyLinf.key()
+    );
+    let names: Vec<&str> = SHOWN.iter().map(|n| n.key()).collect();
+    let _ = writeln!(
+        out,
+        "| entry | code | series | scheme | mass | contact | levels | {} | oscillations | \
+         energy |\n|---|---|---|---|---|---|---|{}---|---|",
+        names.join(" | "),
+        "---|".repeat(SHOWN.len())
+    );
+    let declared = |d: &Option<String>| d.clone().unwrap_or_else(|| "not declared".into());
+    for e in &league.entries {
+        for r in &e.rows {
+            let levels: Vec<String> = r.levels.iter().map(usize::to_string).collect();
+            let rates: Vec<String> = SHOWN.iter().map(|&n| rate_cell(r, n)).collect();
+            let oscillation = r.oscillation_indicator.map_or("—".to_string(), |i| {
+                format!("{} ({})", oscillation_word(i), oscillation_ratio_text(i))
+            });
+            let energy = match r.energy_verdict {
+                Verdict::Holds => "converges".to_string(),
+                Verdict::Fails => "**does not converge**".to_string(),
+                Verdict::Undecided => "*undecided*".to_string(),
+            };
+            let _ = writeln!(
+                out,
+                "| [{}]({}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | {oscillation} | \
+                 {energy} |",
+                e.entry,
+                e.entry,
+                r.code.name,
+                r.code.version,
+                r.label,
+                declared(&r.declared.scheme),
+                declared(&r.declared.mass),
+                declared(&r.declared.contact),
+                levels.join(", "),
+                rates.join(" | ")
+            );
+        }
+    }
+    let _ = writeln!(out, "\n## Against what\n");
+    for e in &league.entries {
+        let _ = writeln!(out, "- `{}`: scene `{}`, {}", e.entry, e.scene, e.reference);
+    }
+    let _ = writeln!(out, "\n## The energy verdicts' reasons\n");
+    for e in &league.entries {
+        for r in &e.rows {
+            let _ = writeln!(
+                out,
+                "- `{}` {}: {}: {}",
+                e.entry,
+                r.label,
+                r.energy_verdict.word(),
+                r.energy_reason
+            );
+        }
+    }
+    for e in league.entries.iter().filter(|e| !e.findings.is_empty()) {
+        let _ = writeln!(
+            out,
+            "\n## The note's findings on `{}`\n\n{}",
+            e.entry,
+            findings_table(&e.findings)
+        );
+    }
+    out
+}
+
+/// Reads the league under `dir` and writes `league.md` and `league.json` into `out`; tells
+/// `say` what it wrote.
+pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result<(), CommandError> {
+    let league = read_league(dir)?;
+    let staged = StagedDir::begin("--out", out, Replace::Files)?;
+    write_json(&staged.path().join("league.json"), &league)?;
+    write_atomic(&staged.path().join("league.md"), render(&league).as_bytes())?;
+    staged.commit()?;
+    let rows: usize = league.entries.iter().map(|e| e.rows.len()).sum();
+    say(&format!(
+        "wrote {}/league.md and league.json ({} entries, {rows} series)",
+        out.display(),
+        league.entries.len()
+    ));
+    Ok(())
+}

@@ -1,0 +1,118 @@
+//! `signorini league`: the verifications under a directory side by side. A bar entry (two
+//! contact traces) and a box entry (GetFEM's 2D runs at levels 10 and 20) give one row per
+//! series with what the files declare, the rates with their intervals, the oscillation word and
+//! the energy verdict; a directory without entries is refused.
+
+use std::path::{Path, PathBuf};
+
+use super::verify_box::{read_json, s, scene_at_levels, scratch};
+use crate::common::{expect_error, signorini, success_stdout};
+
+const TRACE4: &str = "tests/data/external/contact-trace-nx4.csv";
+const TRACE8: &str = "tests/data/external/contact-trace-nx8.csv";
+
+/// GetFEM's 2D runs in the box form, written into `out`.
+fn getfem_2d(out: &Path) -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut runs: Vec<PathBuf> = std::fs::read_dir(root.join("tests/data/getfem2d"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with(".json.gz"))
+        .collect();
+    runs.sort();
+    let mut args = vec!["getfem-box"];
+    args.extend(runs.iter().map(|p| s(p)));
+    args.extend(["--out", s(out)]);
+    success_stdout(&signorini(&args))
+        .lines()
+        .map(PathBuf::from)
+        .collect()
+}
+
+#[test]
+fn the_league_puts_every_verification_under_a_directory_side_by_side() {
+    let dir = scratch("league");
+    let entries = dir.join("entries");
+    success_stdout(&signorini(&[
+        "verify",
+        "scenes/bar1d-dirichlet.json",
+        TRACE4,
+        TRACE8,
+        "--out",
+        s(&entries.join("traces")),
+    ]));
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10, 20]);
+    let files = getfem_2d(&dir.join("getfem"));
+    let mut args = vec!["verify", s(&scene)];
+    args.extend(files.iter().map(|p| s(p)));
+    let cache = dir.join("references");
+    let out = entries.join("getfem-2d");
+    args.extend(["--cache", s(&cache), "--out", s(&out)]);
+    success_stdout(&signorini(&args));
+    let reports = dir.join("reports");
+    let said = success_stdout(&signorini(&["league", s(&entries), "--out", s(&reports)]));
+    assert!(said.contains("2 entries, 5 series"), "{said}");
+    let league = read_json(&reports.join("league.json"));
+    assert_eq!(league["format"], "signorini-league/1");
+    let names: Vec<&str> = league["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["entry"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["getfem-2d", "traces"], "by name");
+    let getfem = &league["entries"][0];
+    let verified = read_json(&out.join("verify.json"));
+    assert_eq!(
+        getfem["rows"].as_array().unwrap().len(),
+        verified["series"].as_array().unwrap().len()
+    );
+    assert_eq!(
+        getfem["findings"], verified["findings"],
+        "the findings as verify judged them"
+    );
+    for row in getfem["rows"].as_array().unwrap() {
+        let label = row["label"].as_str().unwrap();
+        let declared = &row["declared"];
+        assert!(
+            label.contains(declared["scheme"].as_str().unwrap())
+                && label.contains(declared["mass"].as_str().unwrap()),
+            "{label}: {declared}"
+        );
+        assert!(declared["contact"].as_str().unwrap().contains("Alart"));
+        assert_eq!(row["levels"], serde_json::json!([10, 20]));
+        let lambda = &row["rates"][0];
+        assert_eq!(lambda["norm"], "lambda_L2", "{row}");
+        assert!(lambda["ci_low"].is_null(), "two levels: no interval");
+        assert_eq!(
+            lambda["bias"], verified["rate_bias"]["lambda_L2"],
+            "the reference's bias bound"
+        );
+        assert!(row["not_computed"].to_string().contains("energy_Linf"));
+        assert_eq!(row["energy_verdict"], "undecided");
+        assert!(row["energy_reason"]
+            .as_str()
+            .unwrap()
+            .contains("not computed"));
+    }
+    let traces = &league["entries"][1]["rows"][0];
+    assert!(traces["declared"].is_object());
+    for rate in traces["rates"].as_array().unwrap() {
+        assert_eq!(rate["bias"], 0.0, "an exact solution has no bias");
+    }
+    let md = std::fs::read_to_string(reports.join("league.md")).unwrap();
+    assert!(md.contains("| [getfem-2d](getfem-2d/verify.md) | GetFEM 5.4.2"));
+    assert!(md.contains("| [traces](traces/verify.md) | hand-copied 1 |"));
+    assert!(md.contains("## The note's findings on `getfem-2d`"));
+}
+
+#[test]
+fn a_league_without_entries_is_refused() {
+    let dir = scratch("league-empty");
+    expect_error(
+        &["league", s(&dir), "--out", s(&dir.join("out"))],
+        2,
+        &["holds no <entry>/verify.json", "signorini verify"],
+    );
+    assert!(!dir.join("out").exists(), "nothing is written");
+}
