@@ -141,9 +141,13 @@ fn obtain_and_report(
 ) -> Result<String, Error> {
     let clock = Instant::now();
     let store = ReferenceCache::ReadWrite(cache.to_path_buf());
-    let reference = obtain_reference(&job.problem, &job.config, &store, &mut |why| {
-        progress::note(&why);
-    })?;
+    let reference = obtain_reference(
+        &job.problem,
+        &job.config,
+        &store,
+        &mut |why| progress::note(&why),
+        &|| Ok(()),
+    )?;
     let seconds = clock.elapsed().as_secs_f64();
     let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
     let how = match reference.from_cache {

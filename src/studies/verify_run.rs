@@ -136,6 +136,7 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
                 files: &runs,
                 options: &box_options,
                 cache: &cache,
+                limits: &limits,
             };
             let verification = verify_box(&request, &mut |note| say(&note))?;
             let markdown = render_box(&verification);

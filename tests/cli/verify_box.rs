@@ -494,3 +494,35 @@ fn a_box_run_that_is_not_the_scenes_is_refused_with_the_reason() {
         &["--code", "does not say which code wrote it"],
     );
 }
+
+/// A reference missing from the cache is computed only within the limits: over
+/// `--max-dof-steps`, exit code 2 naming the limit, and nothing is computed or written.
+#[test]
+fn a_reference_over_the_limits_is_not_computed() {
+    let dir = scratch("over-limits");
+    let scene = small_scene(&dir, "scenes/bar2d.json");
+    let pvd = run_every_step(&scene, 5, &dir.join("run5"));
+    let cache = dir.join("references");
+    expect_error(
+        &[
+            "verify",
+            s(&scene),
+            s(&pvd),
+            "--code",
+            "x",
+            "--code-version",
+            "1",
+            "--cache",
+            s(&cache),
+            "--max-dof-steps",
+            "1000",
+            "--out",
+            s(&dir.join("verified")),
+        ],
+        2,
+        &["--max-dof-steps"],
+    );
+    assert!(!dir.join("verified").exists(), "nothing is written");
+    let cached = std::fs::read_dir(&cache).map_or(0, |d| d.count());
+    assert_eq!(cached, 0, "no reference is computed");
+}

@@ -13,6 +13,9 @@
 //!   displacement and velocity with its own `M` (of the mass the file declares) and `S`, at every
 //!   step. An energy the code reports itself is never used for these norms: its distance to the
 //!   reference is shown beside them, under its declared definition.
+//!
+//! A reference that is not in the cache is computed only when its estimated work and memory fit
+//! the request's limits (`--max-*`), as `signorini reference` checks them.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
@@ -35,6 +38,7 @@ use crate::harness::problem::{BoxProblem, Problem, Settings};
 use crate::harness::run::nested_comparison::error_series::Quantity;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::Timings;
+use crate::harness::study::budget::{self, Limits};
 use crate::harness::study::scene::Scene;
 use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
 
@@ -78,6 +82,8 @@ pub struct BoxVerifyRequest<'a> {
     pub options: &'a PvdOptions,
     /// Where the reference is read from (and saved to, when writable).
     pub cache: &'a ReferenceCache,
+    /// The resource limits a reference computed for want of a cached one must fit.
+    pub limits: &'a Limits,
 }
 
 /// Verifies the box runs of `request` against the scene's reference (read from the cache when
@@ -103,7 +109,19 @@ pub fn verify_box(
         .iter()
         .map(|path| read_run(&box_scene, path, request.options))
         .collect::<Result<Vec<_>, _>>()?;
-    let reference = obtain_reference(&problem, &config, request.cache, note)?;
+    let afford = || -> Result<(), Error> {
+        let estimate = budget::box_study(
+            &problem,
+            &config.settings,
+            &config.levels,
+            config.reference_level,
+            config.ratio,
+            &[],
+            0,
+        );
+        estimate.check(request.limits).map_err(Error::from)
+    };
+    let reference = obtain_reference(&problem, &config, request.cache, note, &afford)?;
     let comparator = Comparator::new(&problem, reference, finest)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let mut verified = Vec::new();

@@ -410,7 +410,7 @@ impl<'a> PreparedBoxStudy<'a> {
                     .map(|scale| sensitivity::Noise { ensemble, scale })
             })
             .transpose()?;
-        let reference = obtain_reference(problem, config, cache, note)?;
+        let reference = obtain_reference(problem, config, cache, note, &|| Ok(()))?;
         let measure = AgainstFineMesh {
             problem,
             config,
@@ -624,12 +624,14 @@ fn rate_bias(case: &CaseStudy, norm: Norm, delta: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The reference of a study: read from `cache` when the key matches, computed otherwise.
+/// The reference of a study: read from `cache` when the key matches, computed otherwise
+/// (when `afford` allows it: see [`Reference::obtain`]).
 pub fn obtain_reference(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
     cache: &ReferenceCache,
     note: &mut dyn FnMut(String),
+    afford: &dyn Fn() -> Result<(), Error>,
 ) -> Result<Reference, Error> {
     let finest = config.validate()?;
     let case = ElasticStudyConfig::reference_case();
@@ -642,7 +644,7 @@ pub fn obtain_reference(
         &config.levels,
         config.reference_level / finest,
     );
-    Reference::obtain(problem, &config.settings, cache, key, note)
+    Reference::obtain(problem, &config.settings, cache, key, note, afford)
 }
 
 /// One run of `case` on `n_axis` elements with `Δx/Δt = ratio`, solved with `settings`,

@@ -554,13 +554,15 @@ impl Reference {
     /// key (with the closest other reference of the same dimension and the fields it differs
     /// in), or a file whose content does not match. The run is solved with `settings`; settings
     /// with a round-off perturbation are refused: the key cannot tell it from the problem as
-    /// stated.
+    /// stated. `afford` is asked before a run is started (a caller's budget check: its error
+    /// is returned and nothing is run).
     pub fn obtain(
         problem: &BoxProblem,
         settings: &Settings,
         cache: &ReferenceCache,
         key: ReferenceKey,
         note: &mut dyn FnMut(String),
+        afford: &dyn Fn() -> Result<(), Error>,
     ) -> Result<Self, Error> {
         if settings.round_off.is_some() {
             return Err(ParameterError::new(
@@ -590,6 +592,7 @@ impl Reference {
                 why.join("; ")
             )),
         }
+        afford()?;
         let reference = Self::compute(problem, settings, key)?;
         if let ReferenceCache::ReadWrite(dir) = cache {
             reference.save(dir, &stem)?;
