@@ -427,7 +427,7 @@ impl<'a> Reader<'a> {
 mod tests {
     use super::*;
     use crate::engine::fem::MassVariant;
-    use crate::harness::external::box_run::EnergyDefinition;
+    use crate::harness::external::format::EnergyDefinition;
 
     /// `text` written as `name` into a scratch directory, then read.
     fn read_text(name: &str, text: &str) -> Result<ExternalRun, ExternalError> {

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::box_run::{EnergyDefinition, BOX_FORMAT};
 use super::error::ExternalError;
 use crate::engine::fem::{EndCondition, MassVariant};
 use crate::engine::problem::Problem1d;
@@ -17,13 +16,35 @@ use crate::harness::files::input::Limit;
 /// The format's first version, the first thing a file states (`format`).
 pub const FORMAT: &str = "signorini-external/1";
 
+/// The format's second version: the box form's, and the bar's with null values and declared
+/// quantities ([`Version::Two`]).
+pub const FORMAT_2: &str = "signorini-external/2";
+
+/// What a code reports as its energy, when it does: the definitions a file may declare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnergyDefinition {
+    /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀS Uⁿ` at the sample's time.
+    TotalAtSample,
+    /// A staggered energy `E^{n−½}` between the sample and the one before (Newmark's,
+    /// Paoli–Schatzman's).
+    Staggered,
+    /// The total at the sample plus a contact term (penalty or Nitsche).
+    TotalWithContactTerm,
+}
+
+impl EnergyDefinition {
+    /// The names a file may give, for messages.
+    pub const NAMES: &'static str = "total-at-sample, staggered, total-with-contact-term";
+}
+
 /// The versions of the format a bar's run file may state (`format`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Version {
     /// [`FORMAT`]: every sample carries the same fields, every value a number; the energy
     /// norms measure the file's `energy`.
     One,
-    /// [`BOX_FORMAT`], the version the box form has too: `lambda`, `displacement` and
+    /// [`FORMAT_2`], the version the box form has too: `lambda`, `displacement` and
     /// `velocity` may be null (not computed) at any sample; the energy norms measure the energy
     /// the harness computes from the fields with the declared `mass`, and a reported `energy`
     /// needs its `energy_definition` and is shown beside them.
@@ -35,13 +56,13 @@ impl Version {
     pub fn parse(path: &Path, format: &str) -> Result<Self, ExternalError> {
         match format {
             FORMAT => Ok(Version::One),
-            BOX_FORMAT => Ok(Version::Two),
+            FORMAT_2 => Ok(Version::Two),
             other => Err(ExternalError::invalid(
                 path,
                 "format",
                 None,
                 format!("{other:?}"),
-                format!("{FORMAT:?} or {BOX_FORMAT:?}"),
+                format!("{FORMAT:?} or {FORMAT_2:?}"),
             )),
         }
     }
@@ -409,7 +430,7 @@ impl ExternalRun {
                     *field,
                     None,
                     "given",
-                    format!("absent in {FORMAT:?}: it is read in {BOX_FORMAT:?}"),
+                    format!("absent in {FORMAT:?}: it is read in {FORMAT_2:?}"),
                 )),
                 None => Ok(()),
             },

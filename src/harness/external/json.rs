@@ -663,7 +663,7 @@ impl<'de> Visitor<'de> for RowSeed<'_, '_, '_> {
 mod tests {
     use super::*;
     use crate::engine::fem::MassVariant;
-    use crate::harness::external::box_run::EnergyDefinition;
+    use crate::harness::external::format::EnergyDefinition;
 
     /// `text` written as `name` into a scratch directory, then read.
     fn read_text(name: &str, text: &str) -> Result<ExternalRun, ExternalError> {

@@ -11,9 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::box_run::EnergyDefinition;
 use super::error::ExternalError;
-use super::format::{Code, ExternalRun, SampledField, Version};
+use super::format::{Code, EnergyDefinition, ExternalRun, SampledField, Version};
 use super::load::load;
 use super::replay::{replay, EnergySource, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
