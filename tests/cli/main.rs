@@ -30,3 +30,4 @@ mod scenes;
 mod shards;
 mod verify;
 mod verify_box;
+mod verify_format2;

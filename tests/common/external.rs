@@ -33,7 +33,7 @@ pub struct Export {
 }
 
 /// Runs `scheme` with `mass` on `problem` at `nx` (Δx/Δt = `ratio`) through the harness's
-/// time loop and records every state.
+/// time loop with its default settings and records every state.
 pub fn export_run(
     problem: &Problem1d,
     nx: usize,
@@ -41,7 +41,18 @@ pub fn export_run(
     scheme: Scheme,
     mass: MassVariant,
 ) -> Export {
-    let d = problem.discretise(nx, mass, &Settings::default()).unwrap();
+    export_run_with(problem, nx, ratio, (scheme, mass), &Settings::default())
+}
+
+/// [`export_run`] of the case `(scheme, mass)` solved with `settings` (another start, for one).
+pub fn export_run_with(
+    problem: &Problem1d,
+    nx: usize,
+    ratio: f64,
+    (scheme, mass): (Scheme, MassVariant),
+    settings: &Settings,
+) -> Export {
+    let d = problem.discretise(nx, mass, settings).unwrap();
     let bar = d.mesh.clone();
     let mut e = Export {
         nodes: (0..=nx).map(|i| bar.node(i)).collect(),

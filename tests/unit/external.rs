@@ -261,7 +261,7 @@ fn malformed_or_inconsistent_files_are_errors_naming_the_field() {
         ),
         (
             "format",
-            csv("o.csv", "external/1", "external/2"),
+            csv("o.csv", "external/1", "external/9"),
             "format",
             None,
         ),

@@ -22,8 +22,8 @@ use crate::engine::problem::{box_mesh, BoxProblem};
 use crate::harness::files::input;
 use crate::harness::problem::{MassVariant, Scheme};
 
-/// The box form's format name (the 1D form reads `signorini-external/1` and `/2`).
-pub const BOX_FORMAT: &str = "signorini-external/2";
+/// The box form's format name, version 2 of the format (the 1D form reads `/1` and `/2`).
+pub use super::format::FORMAT_2 as BOX_FORMAT;
 
 /// How far a file's node may be from the scene's mesh node it matches, relative to the box's
 /// largest length.
@@ -35,23 +35,8 @@ pub const STEP_TIME_TOLERANCE: f64 = 1e-9;
 /// The node order of the box form's per-node arrays: `x₁` fastest, then `x₂`, then `x₃`.
 pub const NODE_ORDER: &str = "x1-fastest";
 
-/// What a code reports as its energy, when it does: the definitions a file may declare.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum EnergyDefinition {
-    /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀS Uⁿ` at the sample's time.
-    TotalAtSample,
-    /// A staggered energy `E^{n−½}` between the sample and the one before (Newmark's,
-    /// Paoli–Schatzman's).
-    Staggered,
-    /// The total at the sample plus a contact term (penalty or Nitsche).
-    TotalWithContactTerm,
-}
-
-impl EnergyDefinition {
-    /// The names a file may give, for messages.
-    pub const NAMES: &'static str = "total-at-sample, staggered, total-with-contact-term";
-}
+/// What a code reports as its energy, when it does (one list for both forms of the format).
+pub use super::format::EnergyDefinition;
 
 /// How a `.pvd`'s point arrays are named and what its runs are: what the command line gives.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -3,12 +3,19 @@
 //! `energy`, `energy_time`, in any order), then one row of numbers per sample. Read line by
 //! line ([`input::Lines`], each line at most [`MAX_LINE_BYTES`]), so a file never needs more
 //! memory than its numbers and one line; the header is checked in time linear in its columns.
+//!
+//! Version 2 ([`Version::Two`]) adds the metadata `mass` and `energy_definition`
+//! ([`OPTIONAL_METADATA_KEYS`]) and lets a `lambda` cell, or all the `u` (or `v`) cells of a
+//! row, be empty or `null`: not computed at that sample.
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 
 use super::error::ExternalError;
-use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
+use super::format::{
+    parse_energy_definition, parse_mass, Code, ExternalRun, SampleOrigin, SampledField, Version,
+    MAX_VALUES, RUN_FILE,
+};
 use crate::harness::files::input::{self, InputError};
 
 /// The longest line read, in bytes (64 MiB: a row of a million nodes' displacement and
@@ -25,6 +32,12 @@ pub const METADATA_KEYS: [&str; 6] = [
     "mesh.nodes",
 ];
 
+/// The metadata keys a version 2 file may add, each at most once.
+pub const OPTIONAL_METADATA_KEYS: [&str; 2] = ["mass", "energy_definition"];
+
+/// The cell that stands for "not computed" in version 2, besides an empty one.
+const NULL: &str = "null";
+
 /// The columns with one value per sample besides the fields (`time` is required).
 pub const SCALAR_COLUMNS: [&str; 6] = [
     "time",
@@ -34,6 +47,12 @@ pub const SCALAR_COLUMNS: [&str; 6] = [
     "energy",
     "energy_time",
 ];
+
+/// Counts the null cell in column `c` of a field's row: `(first null column, nulls)`.
+fn null_cell(nulls: &mut (Option<usize>, usize), c: usize) {
+    nulls.0.get_or_insert(c);
+    nulls.1 += 1;
+}
 
 /// How many cells beyond the header's a row's error message counts.
 const MAX_REPORTED_CELLS: usize = 1000;
@@ -135,15 +154,17 @@ impl<'a> Reader<'a> {
         };
         let label = meta("label")?;
         let nodes_text = meta("mesh.nodes")?;
-        if format != FORMAT {
-            return Err(ExternalError::invalid(
-                self.path,
-                "format",
-                None,
-                format!("{format:?}"),
-                format!("{FORMAT:?}"),
-            ));
-        }
+        let version = Version::parse(self.path, &format)?;
+        let mass = self
+            .metadata
+            .remove("mass")
+            .map(|m| parse_mass(self.path, &m))
+            .transpose()?;
+        let energy_definition = self
+            .metadata
+            .remove("energy_definition")
+            .map(|d| parse_energy_definition(self.path, &d))
+            .transpose()?;
         let nodes = self.nodes(&nodes_text)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         let columns = self.header(header_line, &names, nodes.len())?;
@@ -151,10 +172,11 @@ impl<'a> Reader<'a> {
         let has = |c: fn(usize) -> Column| columns.contains(&c(0));
         let (has_u, has_v) = (has(Column::Displacement), has(Column::Velocity));
         let mut time = Vec::new();
-        let mut u = Vec::new();
-        let mut v = Vec::new();
-        let mut scalars: [Option<Vec<f64>>; 5] =
-            std::array::from_fn(|k| columns.contains(&Column::Scalar(k + 1)).then(Vec::new));
+        let mut fields = [has_u, has_v].map(|has| has.then(SampledField::default));
+        let mut rows = [vec![0.0; n], vec![0.0; n]];
+        let mut lambda = columns.contains(&Column::Scalar(1)).then(Vec::new);
+        let mut scalars: [Option<Vec<f64>>; 4] =
+            std::array::from_fn(|k| columns.contains(&Column::Scalar(k + 2)).then(Vec::new));
         let mut first_line = None;
         let mut blank = None;
         for line in lines {
@@ -180,48 +202,83 @@ impl<'a> Reader<'a> {
                     format!("at most {MAX_VALUES} values in one file"),
                 ));
             }
-            if has_u {
-                u.resize(u.len() + n, 0.0);
-            }
-            if has_v {
-                v.resize(v.len() + n, 0.0);
-            }
             let row = time.len();
+            // Per field, the first of its cells that is null in this row and how many are.
+            let mut nulls: [(Option<usize>, usize); 2] = [(None, 0); 2];
             let mut cells = text.split(',');
             for (c, &column) in columns.iter().enumerate() {
                 let Some(cell) = cells.next() else {
                     return Err(self.wrong_width(number, c, columns.len()));
                 };
-                let x = self.number(names[c], number, c, cell)?;
+                let null = version == Version::Two && matches!(cell.trim(), "" | NULL);
+                let parse = || self.number(names[c], number, c, cell);
                 match column {
-                    Column::Scalar(0) => time.push(x),
-                    Column::Scalar(k) => {
-                        if let Some(values) = scalars[k - 1].as_mut() {
+                    Column::Scalar(0) => time.push(parse()?),
+                    Column::Scalar(1) => {
+                        let x = if null { None } else { Some(parse()?) };
+                        if let Some(values) = lambda.as_mut() {
                             values.push(x);
                         }
                     }
-                    Column::Displacement(i) => u[row * n + i] = x,
-                    Column::Velocity(i) => v[row * n + i] = x,
+                    Column::Scalar(k) => {
+                        let x = parse()?;
+                        if let Some(values) = scalars[k - 2].as_mut() {
+                            values.push(x);
+                        }
+                    }
+                    Column::Displacement(i) | Column::Velocity(i) => {
+                        let f = usize::from(matches!(column, Column::Velocity(_)));
+                        match null {
+                            true => null_cell(&mut nulls[f], c),
+                            false => rows[f][i] = parse()?,
+                        }
+                    }
                 }
             }
             if cells.next().is_some() {
                 let more = columns.len() + 1 + cells.take(MAX_REPORTED_CELLS).count();
                 return Err(self.wrong_width(number, more, columns.len()));
             }
+            for ((field, values), (first_null, count)) in fields.iter_mut().zip(&rows).zip(nulls) {
+                let Some(field) = field else { continue };
+                match first_null {
+                    None => field.begin_row(row).extend_from_slice(values),
+                    Some(_) if count == n => {}
+                    Some(c) => {
+                        return Err(self.invalid(
+                            names[c],
+                            format!("line {number}, column {}", c + 1),
+                            "empty or null",
+                            "a number, or every cell of the field in this row empty or null \
+                             (no field at this sample)",
+                        ))
+                    }
+                }
+            }
         }
-        let [lambda, lambda_time, contact_displacement, energy, energy_time] = scalars;
+        let samples = time.len();
+        let [displacement, velocity] = fields.map(|field| {
+            field.map(|mut f| {
+                f.finish(samples);
+                f
+            })
+        });
+        let [lambda_time, contact_displacement, energy, energy_time] = scalars;
         Ok(ExternalRun {
             path: self.path.to_path_buf(),
             origin: SampleOrigin::Csv {
                 first_line: first_line.unwrap_or(header_line + 1),
             },
+            version,
             scene,
             code,
             label,
+            mass,
+            energy_definition,
             nodes,
             time,
-            displacement: has_u.then_some(u),
-            velocity: has_v.then_some(v),
+            displacement,
+            velocity,
             lambda,
             lambda_time,
             contact_displacement,
@@ -249,14 +306,17 @@ impl<'a> Reader<'a> {
     /// Takes in the metadata line `# key: value` (the text after `#`) at line `number`.
     fn metadata_line(&mut self, number: usize, meta: &str) -> Result<(), ExternalError> {
         let allowed = format!(
-            "`# key: value` lines with a key among {}, each once",
-            METADATA_KEYS.join(", ")
+            "`# key: value` lines with a key among {} (and, in signorini-external/2, {}), each \
+             once",
+            METADATA_KEYS.join(", "),
+            OPTIONAL_METADATA_KEYS.join(", ")
         );
         let Some((key, value)) = meta.split_once(':') else {
             return Err(self.invalid("metadata", format!("line {number}"), meta.trim(), allowed));
         };
         let key = key.trim();
-        match METADATA_KEYS.iter().find(|&&k| k == key) {
+        let mut known = METADATA_KEYS.iter().chain(&OPTIONAL_METADATA_KEYS);
+        match known.find(|&&k| k == key) {
             Some(&k) if !self.metadata.contains_key(k) => {
                 self.metadata.insert(k, value.trim().to_string());
                 Ok(())
@@ -360,5 +420,81 @@ impl<'a> Reader<'a> {
             )),
             Err(_) => Err(self.invalid(name, at, format!("{:?}", cell.trim()), "a number")),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::fem::MassVariant;
+    use crate::harness::external::format::EnergyDefinition;
+
+    /// `text` written as `name` into a scratch directory, then read.
+    fn read_text(name: &str, text: &str) -> Result<ExternalRun, ExternalError> {
+        let dir = std::env::temp_dir().join(format!("signorini-csv-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        read(&path)
+    }
+
+    /// A version 2 file: λ null at t = 0, the fields at the last two samples.
+    const V2: &str = "\
+# format: signorini-external/2
+# scene: bar1d-dirichlet
+# code.name: test
+# code.version: 0
+# label: v2
+# mass: lumped
+# energy_definition: staggered
+# mesh.nodes: 0, 0.5, 1
+time,u0,u1,u2,lambda,energy
+0,,,,null,0.125
+1.5,0,-0.25,0,-0.5,0.125
+3,0.5,0.25,0,,0.125
+";
+
+    fn field_and_place(result: Result<ExternalRun, ExternalError>) -> (String, Option<String>) {
+        match result {
+            Err(ExternalError::Invalid { field, at, .. }) => (field, at),
+            other => panic!("expected an invalid field, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn version_2_reads_null_cells_and_its_declarations() {
+        let run = read_text("v2.csv", V2).unwrap();
+        assert_eq!(run.version, Version::Two);
+        assert_eq!(run.mass, Some(MassVariant::Lumped));
+        assert_eq!(run.energy_definition, Some(EnergyDefinition::Staggered));
+        assert_eq!(run.lambda, Some(vec![None, Some(-0.5), None]));
+        assert_eq!(run.displacement.as_ref().unwrap().sampled(), 2);
+        assert_eq!(run.row(&run.displacement, 0), None);
+        assert_eq!(run.row(&run.displacement, 1), Some(&[0.0, -0.25, 0.0][..]));
+        assert_eq!(run.energy, Some(vec![0.125; 3]));
+    }
+
+    #[test]
+    fn null_cells_are_refused_in_version_1_and_in_part_of_a_row() {
+        let part = V2.replace("\n1.5,0,-0.25,", "\n1.5,0,,");
+        let expected = ("u1".to_string(), Some("line 11, column 3".to_string()));
+        assert_eq!(field_and_place(read_text("part.csv", &part)), expected);
+        let v1 = V2
+            .replace("external/2", "external/1")
+            .replace("# mass: lumped\n# energy_definition: staggered\n", "");
+        let expected = ("u0".to_string(), Some("line 8, column 2".to_string()));
+        assert_eq!(field_and_place(read_text("v1.csv", &v1)), expected);
+        let energy_null = V2.replace(",0.125\n3,", ",null\n3,");
+        let expected = ("energy".to_string(), Some("line 11, column 6".to_string()));
+        assert_eq!(
+            field_and_place(read_text("energy.csv", &energy_null)),
+            expected
+        );
+        let bad_mass = V2.replace("# mass: lumped", "# mass: heavy");
+        let message = read_text("mass.csv", &bad_mass).unwrap_err().to_string();
+        assert!(
+            message.contains("invalid mass = \"heavy\"") && message.contains("singular-dynamic"),
+            "{message}"
+        );
     }
 }

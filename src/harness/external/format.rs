@@ -1,19 +1,93 @@
 //! Another code's run in memory ([`ExternalRun`]), as the JSON and CSV readers hand it over,
 //! the limits a file must respect, and the checks of its content against the scene it claims
 //! to solve ([`ExternalRun::check_against`]): the scene's name, a uniform P1 mesh of the
-//! scene's bar, sample times from 0 to the horizon, a clamped end at rest.
+//! scene's bar, sample times from 0 to the horizon, a clamped end at rest, and what the
+//! format's version allows ([`Version`]).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::error::ExternalError;
-use crate::engine::fem::EndCondition;
+use crate::engine::fem::{EndCondition, MassVariant};
 use crate::engine::problem::Problem1d;
 use crate::harness::files::input::Limit;
 
-/// The format's name and version, the first thing a file states (`format`).
+/// The format's first version, the first thing a file states (`format`).
 pub const FORMAT: &str = "signorini-external/1";
+
+/// The format's second version: the box form's, and the bar's with null values and declared
+/// quantities ([`Version::Two`]).
+pub const FORMAT_2: &str = "signorini-external/2";
+
+/// What a code reports as its energy, when it does: the definitions a file may declare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnergyDefinition {
+    /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀS Uⁿ` at the sample's time.
+    TotalAtSample,
+    /// A staggered energy `E^{n−½}` between the sample and the one before (Newmark's,
+    /// Paoli–Schatzman's).
+    Staggered,
+    /// The total at the sample plus a contact term (penalty or Nitsche).
+    TotalWithContactTerm,
+}
+
+impl EnergyDefinition {
+    /// The names a file may give, for messages.
+    pub const NAMES: &'static str = "total-at-sample, staggered, total-with-contact-term";
+}
+
+/// The versions of the format a bar's run file may state (`format`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Version {
+    /// [`FORMAT`]: every sample carries the same fields, every value a number; the energy
+    /// norms measure the file's `energy`.
+    One,
+    /// [`FORMAT_2`], the version the box form has too: `lambda`, `displacement` and
+    /// `velocity` may be null (not computed) at any sample; the energy norms measure the energy
+    /// the harness computes from the fields with the declared `mass`, and a reported `energy`
+    /// needs its `energy_definition` and is shown beside them.
+    Two,
+}
+
+impl Version {
+    /// The version the text `format` of the file `path` states.
+    pub fn parse(path: &Path, format: &str) -> Result<Self, ExternalError> {
+        match format {
+            FORMAT => Ok(Version::One),
+            FORMAT_2 => Ok(Version::Two),
+            other => Err(ExternalError::invalid(
+                path,
+                "format",
+                None,
+                format!("{other:?}"),
+                format!("{FORMAT:?} or {FORMAT_2:?}"),
+            )),
+        }
+    }
+}
+
+/// The mass matrix `text` names (`mass`, version 2), refused naming the allowed names.
+pub fn parse_mass(path: &Path, text: &str) -> Result<MassVariant, ExternalError> {
+    text.parse::<MassVariant>()
+        .map_err(|e| ExternalError::invalid(path, "mass", None, format!("{text:?}"), e.allowed))
+}
+
+/// The energy definition `text` names (`energy_definition`, version 2), refused naming the
+/// allowed names.
+pub fn parse_energy_definition(path: &Path, text: &str) -> Result<EnergyDefinition, ExternalError> {
+    use serde::de::value::{Error, StrDeserializer};
+    EnergyDefinition::deserialize(StrDeserializer::<Error>::new(text)).map_err(|_| {
+        ExternalError::invalid(
+            path,
+            "energy_definition",
+            None,
+            format!("{text:?}"),
+            format!("one of: {}", EnergyDefinition::NAMES),
+        )
+    })
+}
 
 /// The largest run file read, in bytes (256 MiB): a larger one is refused before it is read.
 pub const MAX_FILE_BYTES: u64 = 256 * 1024 * 1024;
@@ -74,6 +148,46 @@ impl SampleOrigin {
     }
 }
 
+/// A nodal field (`displacement`, `velocity`) at the samples that have it: their rows one
+/// after another, and per sample where its row starts. A version 1 file has a row at every
+/// sample; a version 2 file may leave any sample without one.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SampledField {
+    values: Vec<f64>,
+    /// Per sample, where its row starts in `values`; `None` for a sample without the field.
+    rows: Vec<Option<usize>>,
+}
+
+impl SampledField {
+    /// Starts sample `k`'s row (the samples before it that have none lack the field) and
+    /// returns the values to append it to.
+    pub fn begin_row(&mut self, k: usize) -> &mut Vec<f64> {
+        self.rows.resize(k, None);
+        self.rows.push(Some(self.values.len()));
+        &mut self.values
+    }
+
+    /// Ends the field at `samples` samples: those after the last row lack it.
+    pub fn finish(&mut self, samples: usize) {
+        self.rows.resize(samples, None);
+    }
+
+    /// The nodal values of sample `k` (`nodes` per row), if it has the field.
+    pub fn at(&self, k: usize, nodes: usize) -> Option<&[f64]> {
+        self.rows[k].map(|start| &self.values[start..start + nodes])
+    }
+
+    /// The number of samples that have the field.
+    pub fn sampled(&self) -> usize {
+        self.rows.iter().flatten().count()
+    }
+
+    /// Whether every sample has the field.
+    pub fn is_complete(&self) -> bool {
+        self.rows.iter().all(Option::is_some)
+    }
+}
+
 /// One run of another code, as read: every value finite, every per-sample series as long as
 /// `time`, every field row as long as `nodes` (the readers check this). The rest is checked
 /// against the scene by [`ExternalRun::check_against`].
@@ -83,27 +197,34 @@ pub struct ExternalRun {
     pub path: PathBuf,
     /// How sample indices read in messages.
     pub origin: SampleOrigin,
+    /// The format's version the file states.
+    pub version: Version,
     /// The scene's name (`bar1d-dirichlet`).
     pub scene: String,
     /// The code and its version.
     pub code: Code,
     /// The configuration: files with one label form one refinement series.
     pub label: String,
+    /// The mass matrix the code integrated (version 2): the energy is computed with it.
+    pub mass: Option<MassVariant>,
+    /// What the reported `energy` is (version 2).
+    pub energy_definition: Option<EnergyDefinition>,
     /// The mesh nodes `x_0 < … < x_NX`.
     pub nodes: Vec<f64>,
     /// The sample times `t_0 = 0 < … < t_N = T`.
     pub time: Vec<f64>,
-    /// `u_h(x_i, t_n)`, sample by sample (`(N + 1) × (NX + 1)`, row-major).
-    pub displacement: Option<Vec<f64>>,
+    /// `u_h(x_i, t_n)` at the samples that have it.
+    pub displacement: Option<SampledField>,
     /// `∂t u_h(x_i, t_n)`, like `displacement`.
-    pub velocity: Option<Vec<f64>>,
-    /// The contact multiplier (stress) at `x = 0`, one per sample.
-    pub lambda: Option<Vec<f64>>,
+    pub velocity: Option<SampledField>,
+    /// The contact multiplier (stress) at `x = 0`, one per sample; `None` where the code did
+    /// not compute it (version 2).
+    pub lambda: Option<Vec<Option<f64>>>,
     /// The time each `lambda` approximates (default: the sample's).
     pub lambda_time: Option<Vec<f64>>,
     /// `u_h(0, t_n)`, one per sample.
     pub contact_displacement: Option<Vec<f64>>,
-    /// The discrete energy, one per sample.
+    /// The discrete energy the code reports, one per sample.
     pub energy: Option<Vec<f64>>,
     /// The time each `energy` approximates (default: the sample's).
     pub energy_time: Option<Vec<f64>>,
@@ -120,19 +241,23 @@ impl ExternalRun {
         self.time.len()
     }
 
-    /// The nodal values of sample `k` of a field (`displacement`, `velocity`).
-    pub fn row(field: &[f64], nodes: usize, k: usize) -> &[f64] {
-        &field[k * nodes..(k + 1) * nodes]
+    /// The nodal values of `field` (`displacement`, `velocity`) at sample `k`, if it has them.
+    pub fn row<'f>(&self, field: &'f Option<SampledField>, k: usize) -> Option<&'f [f64]> {
+        field.as_ref()?.at(k, self.nodes.len())
     }
 
     /// The contact node's displacement at sample `k`: the file's `contact_displacement`, else
-    /// the field's value at `x = 0`; `None` when the file has neither.
+    /// the field's value at `x = 0`; `None` when the file has neither at that sample.
     pub fn contact_displacement_at(&self, k: usize) -> Option<f64> {
-        match (&self.contact_displacement, &self.displacement) {
-            (Some(c), _) => Some(c[k]),
-            (None, Some(u)) => Some(u[k * self.nodes.len()]),
-            (None, None) => None,
+        match &self.contact_displacement {
+            Some(c) => Some(c[k]),
+            None => self.row(&self.displacement, k).map(|u| u[0]),
         }
+    }
+
+    /// The multiplier at sample `k`, if the file has it there.
+    pub fn lambda_at(&self, k: usize) -> Option<f64> {
+        self.lambda.as_ref().and_then(|l| l[k])
     }
 
     fn invalid(
@@ -177,6 +302,7 @@ impl ExternalRun {
                 "nodal displacements, or a contact trace (contact_displacement and/or lambda)",
             ));
         }
+        self.check_declarations()?;
         self.check_mesh(problem)?;
         self.check_times(problem.horizon)?;
         if problem.far_end == EndCondition::Clamped {
@@ -266,10 +392,10 @@ impl ExternalRun {
             }
         }
         for (field, times, values) in [
-            ("lambda_time", &self.lambda_time, &self.lambda),
-            ("energy_time", &self.energy_time, &self.energy),
+            ("lambda_time", &self.lambda_time, self.lambda.is_some()),
+            ("energy_time", &self.energy_time, self.energy.is_some()),
         ] {
-            if times.is_some() && values.is_none() {
+            if times.is_some() && !values {
                 let base = field.trim_end_matches("_time");
                 return Err(self.invalid(
                     field,
@@ -291,17 +417,56 @@ impl ExternalRun {
         Ok(())
     }
 
+    /// What the version allows: `mass` and `energy_definition` only in version 2, where a
+    /// reported `energy` needs its `energy_definition` and an `energy_definition` its `energy`.
+    fn check_declarations(&self) -> Result<(), ExternalError> {
+        let declared = [
+            ("mass", self.mass.is_some()),
+            ("energy_definition", self.energy_definition.is_some()),
+        ];
+        match self.version {
+            Version::One => match declared.iter().find(|(_, given)| *given) {
+                Some((field, _)) => Err(self.invalid(
+                    *field,
+                    None,
+                    "given",
+                    format!("absent in {FORMAT:?}: it is read in {FORMAT_2:?}"),
+                )),
+                None => Ok(()),
+            },
+            Version::Two => match (&self.energy, self.energy_definition) {
+                (Some(_), None) => Err(self.invalid(
+                    "energy_definition",
+                    None,
+                    "missing",
+                    format!(
+                        "the definition of the reported energy, one of: {}",
+                        EnergyDefinition::NAMES
+                    ),
+                )),
+                (None, Some(_)) => Err(self.invalid(
+                    "energy_definition",
+                    None,
+                    "given",
+                    "only with energy (the definition of the code's reported energy)",
+                )),
+                _ => Ok(()),
+            },
+        }
+    }
+
     /// The clamped end `x = L` at rest: its displacement and velocity within
-    /// [`CLAMPED_TOLERANCE`] of 0 at every sample.
+    /// [`CLAMPED_TOLERANCE`] of 0 at every sample that has them.
     fn check_clamped_end(&self) -> Result<(), ExternalError> {
-        let nodes = self.nodes.len();
+        let last = self.nodes.len() - 1;
         for (name, field) in [("u", &self.displacement), ("v", &self.velocity)] {
-            let Some(field) = field else { continue };
             for k in 0..self.samples() {
-                let value = Self::row(field, nodes, k)[nodes - 1];
+                let Some(value) = self.row(field, k).map(|row| row[last]) else {
+                    continue;
+                };
                 if value.abs() > CLAMPED_TOLERANCE {
                     return Err(self.invalid(
-                        format!("{name}{}", nodes - 1),
+                        format!("{name}{last}"),
                         Some(self.origin.at(k)),
                         value,
                         format!(
@@ -315,14 +480,16 @@ impl ExternalRun {
         Ok(())
     }
 
-    /// `contact_displacement` equal to the field's value at `x = 0` when both are given.
+    /// `contact_displacement` equal to the field's value at `x = 0` at every sample that has
+    /// both.
     fn check_contact_displacement(&self) -> Result<(), ExternalError> {
-        let (Some(contact), Some(u)) = (&self.contact_displacement, &self.displacement) else {
+        let Some(contact) = &self.contact_displacement else {
             return Ok(());
         };
-        let nodes = self.nodes.len();
         for (k, &c) in contact.iter().enumerate() {
-            let u0 = u[k * nodes];
+            let Some(u0) = self.row(&self.displacement, k).map(|row| row[0]) else {
+                continue;
+            };
             if (c - u0).abs() > CONTACT_TOLERANCE * u0.abs().max(1.0) {
                 return Err(self.invalid(
                     "contact_displacement",

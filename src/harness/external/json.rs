@@ -1,8 +1,12 @@
 //! The JSON form of an external run, read as a stream: every number goes from the file
 //! straight into the flat arrays of the [`ExternalRun`] (no sample, row or text is held
 //! whole), each checked finite as it comes and counted against [`MAX_VALUES`], every sample
-//! checked to carry the fields sample 0 carries, each row as long as sample 0's (and, at the
+//! checked to carry the fields sample 0 carries, each row as long as the first (and, at the
 //! end, as the mesh). Unknown and duplicate fields are refused.
+//!
+//! Version 2 ([`Version::Two`]) lets `lambda`, `displacement` and `velocity` be `null` or absent
+//! at any sample. The format may come after the samples: a departure from version 1's rules
+//! met before it is kept, and is the file's error if the format then says version 1.
 //!
 //! Memory: the arrays, at most [`MAX_VALUES`] numbers of 8 bytes, grow by doubling, so reading
 //! takes at most three times their final size, 384 MiB, whatever the file holds.
@@ -14,7 +18,10 @@ use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 
 use super::error::ExternalError;
-use super::format::{Code, ExternalRun, SampleOrigin, FORMAT, MAX_VALUES, RUN_FILE};
+use super::format::{
+    parse_energy_definition, parse_mass, Code, ExternalRun, SampleOrigin, SampledField, Version,
+    MAX_VALUES, RUN_FILE,
+};
 use crate::harness::files::input;
 
 /// The top-level fields.
@@ -25,6 +32,8 @@ enum Field {
     Scene,
     Code,
     Label,
+    Mass,
+    EnergyDefinition,
     Mesh,
     Samples,
 }
@@ -50,9 +59,8 @@ enum SampleField {
     EnergyTime,
 }
 
-/// The per-sample scalar fields besides `time`, in [`ExternalRun`]'s order.
-const SCALARS: [&str; 5] = [
-    "lambda",
+/// The per-sample scalar fields besides `time` and `lambda`, in [`ExternalRun`]'s order.
+const SCALARS: [&str; 4] = [
     "lambda_time",
     "contact_displacement",
     "energy",
@@ -61,6 +69,13 @@ const SCALARS: [&str; 5] = [
 
 /// The nodal fields.
 const FIELDS: [&str; 2] = ["displacement", "velocity"];
+
+/// The fields of [`SampleField`] that version 2 lets a sample leave null or absent.
+const NULLABLE: [usize; 3] = [
+    SampleField::Displacement as usize,
+    SampleField::Velocity as usize,
+    SampleField::Lambda as usize,
+];
 
 /// The names of [`SampleField`]'s fields, in its order.
 const SAMPLE_FIELDS: [&str; 8] = [
@@ -91,6 +106,8 @@ struct Head {
     scene: String,
     code: Code,
     label: String,
+    mass: Option<String>,
+    energy_definition: Option<String>,
     nodes: Vec<f64>,
 }
 
@@ -99,10 +116,16 @@ struct Head {
 struct Arrays<'a> {
     path: &'a Path,
     values: usize,
+    /// The version, once `format` is read (unknown while a format that is neither).
+    version: Option<Version>,
+    /// The first departure from version 1's rules met before the format was read.
+    deferred: Option<ExternalError>,
     time: Vec<f64>,
-    fields: [Option<Vec<f64>>; 2],
-    row_len: [Option<usize>; 2],
-    scalars: [Option<Vec<f64>>; 5],
+    fields: [Option<SampledField>; 2],
+    /// Per field, its first row's length and sample.
+    row_len: [Option<(usize, usize)>; 2],
+    lambda: Option<Vec<Option<f64>>>,
+    scalars: [Option<Vec<f64>>; 4],
     /// Which of [`SAMPLE_FIELDS`] sample 0 carries.
     first_sample: Option<[bool; 8]>,
     problem: Option<ExternalError>,
@@ -113,9 +136,12 @@ impl<'a> Arrays<'a> {
         Self {
             path,
             values: 0,
+            version: None,
+            deferred: None,
             time: Vec::new(),
             fields: [None, None],
             row_len: [None, None],
+            lambda: None,
             scalars: Default::default(),
             first_sample: None,
             problem: None,
@@ -126,6 +152,20 @@ impl<'a> Arrays<'a> {
     fn stop<E: de::Error>(&mut self, problem: ExternalError) -> E {
         self.problem.get_or_insert(problem);
         E::custom("stopped")
+    }
+
+    /// A departure from version 1's rules that version 2 allows (`problem` names it): the
+    /// file's error in a version 1 file, nothing in a version 2 one, kept for
+    /// [`Self::finish`] while the format is not read.
+    fn v1_rule<E: de::Error>(&mut self, problem: impl FnOnce() -> ExternalError) -> Result<(), E> {
+        match self.version {
+            Some(Version::Two) => Ok(()),
+            Some(Version::One) => Err(self.stop(problem())),
+            None => {
+                self.deferred.get_or_insert_with(problem);
+                Ok(())
+            }
+        }
     }
 
     /// Counts one more number against [`MAX_VALUES`].
@@ -169,14 +209,9 @@ impl<'a> Arrays<'a> {
     /// The run: the head, the arrays, each row as long as the mesh.
     fn finish(self, head: Head) -> Result<ExternalRun, ExternalError> {
         let path = self.path;
-        if head.format != FORMAT {
-            return Err(ExternalError::invalid(
-                path,
-                "format",
-                None,
-                format!("{:?}", head.format),
-                format!("{FORMAT:?}"),
-            ));
+        let version = Version::parse(path, &head.format)?;
+        if let (Version::One, Some(problem)) = (version, self.deferred) {
+            return Err(problem);
         }
         if self.time.is_empty() {
             return Err(ExternalError::invalid(
@@ -189,24 +224,42 @@ impl<'a> Arrays<'a> {
         }
         let n = head.nodes.len();
         for (field, len) in FIELDS.iter().zip(self.row_len) {
-            if let Some(len) = len.filter(|&len| len != n) {
+            if let Some((len, k)) = len.filter(|&(len, _)| len != n) {
                 return Err(ExternalError::invalid(
                     path,
                     *field,
-                    Some(SampleOrigin::Json.at(0)),
+                    Some(SampleOrigin::Json.at(k)),
                     format!("{len} values"),
                     format!("one value per mesh node ({n})"),
                 ));
             }
         }
-        let [displacement, velocity] = self.fields;
-        let [lambda, lambda_time, contact_displacement, energy, energy_time] = self.scalars;
+        let mass = head.mass.map(|m| parse_mass(path, &m)).transpose()?;
+        let energy_definition = head
+            .energy_definition
+            .map(|d| parse_energy_definition(path, &d))
+            .transpose()?;
+        let samples = self.time.len();
+        let [displacement, velocity] = self.fields.map(|field| {
+            field.map(|mut f| {
+                f.finish(samples);
+                f
+            })
+        });
+        let lambda = self.lambda.map(|mut l| {
+            l.resize(samples, None);
+            l
+        });
+        let [lambda_time, contact_displacement, energy, energy_time] = self.scalars;
         Ok(ExternalRun {
             path: path.to_path_buf(),
             origin: SampleOrigin::Json,
+            version,
             scene: head.scene,
             code: head.code,
             label: head.label,
+            mass,
+            energy_definition,
             nodes: head.nodes,
             time: self.time,
             displacement,
@@ -242,6 +295,7 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
         let arrays = self.0;
         let (mut format, mut scene, mut code, mut label, mut nodes) =
             (None, None, None, None, None);
+        let (mut mass, mut energy_definition) = (None, None);
         let mut samples = false;
         fn once<T, E: de::Error>(slot: &mut Option<T>, name: &'static str, v: T) -> Result<(), E> {
             match slot.replace(v) {
@@ -251,10 +305,20 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
         }
         while let Some(key) = map.next_key::<Field>()? {
             match key {
-                Field::Format => once(&mut format, "format", map.next_value()?)?,
+                Field::Format => {
+                    let text: String = map.next_value()?;
+                    arrays.version = Version::parse(arrays.path, &text).ok();
+                    once(&mut format, "format", text)?
+                }
                 Field::Scene => once(&mut scene, "scene", map.next_value()?)?,
                 Field::Code => once(&mut code, "code", map.next_value()?)?,
                 Field::Label => once(&mut label, "label", map.next_value()?)?,
+                Field::Mass => once(&mut mass, "mass", map.next_value()?)?,
+                Field::EnergyDefinition => once(
+                    &mut energy_definition,
+                    "energy_definition",
+                    map.next_value()?,
+                )?,
                 Field::Mesh => once(&mut nodes, "mesh", map.next_value_seed(MeshSeed(arrays))?)?,
                 Field::Samples => {
                     if samples {
@@ -273,6 +337,8 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
             scene: scene.ok_or_else(|| de::Error::missing_field("scene"))?,
             code: code.ok_or_else(|| de::Error::missing_field("code"))?,
             label: label.ok_or_else(|| de::Error::missing_field("label"))?,
+            mass,
+            energy_definition,
             nodes: nodes.ok_or_else(|| de::Error::missing_field("mesh"))?,
         })
     }
@@ -392,34 +458,42 @@ impl<'de> Visitor<'de> for SampleSeed<'_, '_> {
                 }
                 SampleField::Displacement | SampleField::Velocity => {
                     let f = index - 1;
-                    let mut row = arrays.fields[f].take().unwrap_or_default();
-                    let before = row.len();
-                    let appended = map.next_value_seed(RowSeed {
+                    let mut field = arrays.fields[f].take();
+                    let read = map.next_value_seed(FieldSeed {
                         arrays: &mut *arrays,
-                        field: FIELDS[f],
-                        sample: Some(k),
-                        out: &mut row,
+                        f,
+                        k,
+                        out: &mut field,
                     });
-                    let len = row.len() - before;
-                    arrays.fields[f] = Some(row);
-                    appended?;
-                    match arrays.row_len[f] {
-                        None if k == 0 => arrays.row_len[f] = Some(len),
-                        Some(first) if first != len => {
-                            let problem = ExternalError::invalid(
-                                arrays.path,
-                                FIELDS[f],
-                                Some(at()),
-                                format!("{len} values"),
-                                format!("one value per mesh node ({first}): as many as samples[0]"),
-                            );
-                            return Err(arrays.stop(problem));
+                    arrays.fields[f] = field;
+                    read?;
+                }
+                SampleField::Lambda => {
+                    let x = map.next_value::<Option<f64>>()?;
+                    arrays.count(at)?;
+                    let x = match x {
+                        Some(x) => Some(arrays.finite("lambda", at, Some(x))?),
+                        None => {
+                            let path = arrays.path;
+                            arrays.v1_rule(|| {
+                                ExternalError::invalid(
+                                    path,
+                                    "lambda",
+                                    Some(at()),
+                                    "null (not a finite number)",
+                                    "a finite number: a run that went non-finite has no error \
+                                     norm (null, not computed, is read in signorini-external/2)",
+                                )
+                            })?;
+                            None
                         }
-                        _ => {}
-                    }
+                    };
+                    let lambda = arrays.lambda.get_or_insert_with(Vec::new);
+                    lambda.resize(k, None);
+                    lambda.push(x);
                 }
                 _ => {
-                    let s = index - 3;
+                    let s = index - 4;
                     let x = map.next_value::<Option<f64>>()?;
                     arrays.count(at)?;
                     let x = arrays.finite(SCALARS[s], at, x)?;
@@ -436,9 +510,15 @@ impl<'de> Visitor<'de> for SampleSeed<'_, '_> {
         match arrays.first_sample {
             None => arrays.first_sample = Some(seen),
             Some(first) => {
-                if let Some(i) = (1..seen.len()).find(|&i| seen[i] != first[i]) {
-                    let problem = inconsistent(arrays.path, SAMPLE_FIELDS[i], k, seen[i]);
-                    return Err(arrays.stop(problem));
+                let path = arrays.path;
+                for i in (1..seen.len()).filter(|&i| seen[i] != first[i]) {
+                    let problem = || inconsistent(path, SAMPLE_FIELDS[i], k, seen[i]);
+                    if NULLABLE.contains(&i) {
+                        arrays.v1_rule(problem)?;
+                    } else {
+                        let problem = problem();
+                        return Err(arrays.stop(problem));
+                    }
                 }
             }
         }
@@ -460,6 +540,83 @@ fn inconsistent(path: &Path, field: &str, k: usize, here: bool) -> ExternalError
         )
     };
     ExternalError::invalid(path, field, Some(SampleOrigin::Json.at(k)), value, allowed)
+}
+
+/// Sample `k`'s row of the nodal field `f` (index in [`FIELDS`]) appended to `out`, as long as
+/// the field's first row; `null` (version 2) leaves the sample without it.
+struct FieldSeed<'s, 'a, 'o> {
+    arrays: &'s mut Arrays<'a>,
+    f: usize,
+    k: usize,
+    out: &'o mut Option<SampledField>,
+}
+
+impl<'de> DeserializeSeed<'de> for FieldSeed<'_, '_, '_> {
+    type Value = ();
+
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_option(self)
+    }
+}
+
+impl<'de> Visitor<'de> for FieldSeed<'_, '_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "an array of numbers ({}), or null", FIELDS[self.f])
+    }
+
+    fn visit_none<E: de::Error>(self) -> Result<(), E> {
+        let (path, field, at) = (
+            self.arrays.path,
+            FIELDS[self.f],
+            SampleOrigin::Json.at(self.k),
+        );
+        self.arrays.v1_rule(|| {
+            ExternalError::invalid(
+                path,
+                field,
+                Some(at),
+                "null",
+                "one number per mesh node (null, not computed, is read in signorini-external/2)",
+            )
+        })
+    }
+
+    fn visit_some<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        let (arrays, f, k) = (self.arrays, self.f, self.k);
+        let row = self
+            .out
+            .get_or_insert_with(SampledField::default)
+            .begin_row(k);
+        let before = row.len();
+        RowSeed {
+            arrays: &mut *arrays,
+            field: FIELDS[f],
+            sample: Some(k),
+            out: row,
+        }
+        .deserialize(d)?;
+        let len = row.len() - before;
+        match arrays.row_len[f] {
+            None => arrays.row_len[f] = Some((len, k)),
+            Some((first, j)) if first != len => {
+                let problem = ExternalError::invalid(
+                    arrays.path,
+                    FIELDS[f],
+                    Some(SampleOrigin::Json.at(k)),
+                    format!("{len} values"),
+                    format!(
+                        "one value per mesh node ({first}): as many as {}",
+                        SampleOrigin::Json.at(j)
+                    ),
+                );
+                return Err(arrays.stop(problem));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
 }
 
 /// An array of numbers appended to `out`, each counted and checked finite.
@@ -499,5 +656,103 @@ impl<'de> Visitor<'de> for RowSeed<'_, '_, '_> {
             i += 1;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::fem::MassVariant;
+    use crate::harness::external::format::EnergyDefinition;
+
+    /// `text` written as `name` into a scratch directory, then read.
+    fn read_text(name: &str, text: &str) -> Result<ExternalRun, ExternalError> {
+        let dir = std::env::temp_dir().join(format!("signorini-json-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        read(&path)
+    }
+
+    /// A version 2 file: λ null at t = 0, the fields at the last sample only.
+    const V2: &str = r#"{
+  "format": "signorini-external/2",
+  "scene": "bar1d-dirichlet",
+  "code": { "name": "test", "version": "0" },
+  "label": "v2",
+  "mass": "standard",
+  "mesh": { "nodes": [0, 0.5, 1] },
+  "samples": [
+    { "time": 0, "lambda": null, "velocity": null },
+    { "time": 1.5, "lambda": -0.5 },
+    { "time": 3, "displacement": [0.5, 0.25, 0], "velocity": [0, 0, 0], "lambda": 0 }
+  ]
+}"#;
+
+    fn field_and_place(result: Result<ExternalRun, ExternalError>) -> (String, Option<String>) {
+        match result {
+            Err(ExternalError::Invalid { field, at, .. }) => (field, at),
+            other => panic!("expected an invalid field, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn version_2_reads_null_multipliers_and_fields_at_some_samples() {
+        let run = read_text("v2.json", V2).unwrap();
+        assert_eq!(run.version, Version::Two);
+        assert_eq!(run.mass, Some(MassVariant::Standard));
+        assert_eq!(run.lambda, Some(vec![None, Some(-0.5), Some(0.0)]));
+        for field in [&run.displacement, &run.velocity] {
+            let f = field.as_ref().unwrap();
+            assert_eq!((f.sampled(), f.is_complete()), (1, false));
+        }
+        assert_eq!(run.row(&run.displacement, 0), None);
+        assert_eq!(run.row(&run.displacement, 2), Some(&[0.5, 0.25, 0.0][..]));
+        assert_eq!(run.contact_displacement_at(1), None);
+        assert_eq!(run.contact_displacement_at(2), Some(0.5));
+    }
+
+    /// What version 2 allows is refused in a version 1 file, whether its format comes before
+    /// the samples (refused as met) or after them (refused once the format is read).
+    #[test]
+    fn version_1_refuses_null_wherever_its_format_stands() {
+        let v1 = V2
+            .replace("external/2", "external/1")
+            .replace("\"mass\": \"standard\",", "");
+        let format_last = v1
+            .replace("\"format\": \"signorini-external/1\",", "")
+            .replace(
+                "\n  ]\n}",
+                "\n  ],\n  \"format\": \"signorini-external/1\"\n}",
+            );
+        for (name, text) in [("first.json", &v1), ("last.json", &format_last)] {
+            let expected = ("lambda".to_string(), Some("samples[0]".to_string()));
+            assert_eq!(field_and_place(read_text(name, text)), expected, "{name}");
+        }
+    }
+
+    #[test]
+    fn declarations_are_refused_naming_the_allowed_values() {
+        let bad_mass = V2.replace("\"standard\"", "\"heavy\"");
+        let message = read_text("mass.json", &bad_mass).unwrap_err().to_string();
+        assert!(
+            message.contains("invalid mass = \"heavy\"") && message.contains("redistributed"),
+            "{message}"
+        );
+        let bad_definition = V2.replace(
+            "\"mass\": \"standard\",",
+            "\"energy_definition\": \"kinetic\",",
+        );
+        let message = read_text("definition.json", &bad_definition)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("invalid energy_definition = \"kinetic\"")
+                && message.contains(EnergyDefinition::NAMES),
+            "{message}"
+        );
+        let short = V2.replace("[0.5, 0.25, 0]", "[0.5, 0.25]");
+        let expected = ("displacement".to_string(), Some("samples[2]".to_string()));
+        assert_eq!(field_and_place(read_text("short.json", &short)), expected);
     }
 }

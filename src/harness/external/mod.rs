@@ -6,7 +6,7 @@
 //!
 //! | file | what |
 //! |---|---|
-//! | [`format`] | the run in memory, the format's limits and its checks against the scene |
+//! | [`format`] | the run in memory, the format's versions, limits and declarations (mass, energy definition), and its checks against the scene |
 //! | [`json`], [`csv`] | the two forms of a file, each read into an [`ExternalRun`] |
 //! | [`load`] | a file of either form, read and checked |
 //! | [`pvd`], [`box_run`] | a box scene's run: a ParaView collection or the JSON format's box form, matched to the scene's mesh and time grid |

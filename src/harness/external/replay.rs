@@ -1,7 +1,9 @@
 //! Another code's run replayed as a time integrator ([`Replay`]): each sample of the file is a
 //! state that the harness's own observers (`crate::harness::run::exact`) take in exactly as
 //! they take in a scheme's, so the norms of a file are computed by the code that computes the
-//! harness's runs, over the file's own sample times.
+//! harness's runs, over the file's own sample times. A sample without `λ` (version 2) is left
+//! out of the multiplier's observer; a file with fields at some samples only has its
+//! displacement errors at those samples measured one by one.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
@@ -9,14 +11,30 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::format::ExternalRun;
-use crate::engine::error::SolveError;
+use crate::engine::error::{SolveError, StateField};
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
+use crate::engine::model::Model;
 use crate::engine::schemes::{SchemeState, TimeIntegrator, Timed};
 use crate::harness::files::error::Error;
 use crate::harness::run::exact::ErrorObservers;
-use crate::harness::run::norms::{Norm, TimeSeriesNorm};
-use crate::harness::run::{MultiplierVariation, Observer};
+use crate::harness::run::nested_comparison::error_series::DisplacementError;
+use crate::harness::run::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
+use crate::harness::run::{finite, MultiplierVariation, Observer};
+
+/// Where a replay's energy, the one the energy norms measure, comes from.
+#[derive(Debug, Clone, Copy)]
+pub enum EnergySource<'a> {
+    /// The file's `energy` at its `energy_time` (version 1, and GetFEM's contact traces).
+    Reported,
+    /// The harness's `E_h(Uⁿ, Vⁿ) = ½ VⁿᵀM Vⁿ + ½ UⁿᵀS Uⁿ − FᵀUⁿ` (plus the contact term of a
+    /// penalty or Nitsche treatment; 1D paper eq. 31, [`Model::energy`]) of the file's fields
+    /// at the sample's time, with the model of the mass the file declares (version 2).
+    Fields(&'a Model),
+    /// None: no energy norm is asked for (version 2 without a mass, or without both fields at
+    /// every sample).
+    Absent,
+}
 
 /// The samples of a run file as the states of a time integrator on the scene's bar: sample `n`
 /// is state `n` at the file's time `t_n`; the fields are the file's nodal values (without a
@@ -24,24 +42,25 @@ use crate::harness::run::{MultiplierVariation, Observer};
 /// the times they approximate.
 pub struct Replay<'a> {
     run: &'a ExternalRun,
-    /// Nodes per field row.
-    nodes: usize,
     /// The bar's dofs: the nodes less a clamped end.
     dofs: usize,
     /// The current sample: its index, the spacing to the previous sample (to the next one at
     /// the first sample), the file's nodal displacements and velocities (empty when the file
     /// has none) and its multiplier (none when the file has none).
     state: SchemeState,
+    /// What [`TimeIntegrator::energy`] reports.
+    energy: EnergySource<'a>,
 }
 
 impl<'a> Replay<'a> {
-    /// The replay of `run` on `bar` (the scene's bar with the file's `NX`), at its first sample.
-    pub fn new(run: &'a ExternalRun, bar: &Bar1d) -> Self {
+    /// The replay of `run` on `bar` (the scene's bar with the file's `NX`), at its first
+    /// sample, its energy from `energy`.
+    pub fn new(run: &'a ExternalRun, bar: &Bar1d, energy: EnergySource<'a>) -> Self {
         let mut replay = Self {
             run,
-            nodes: run.nodes.len(),
             dofs: bar.n_dofs(),
             state: SchemeState::start(0.0, Vec::new(), Vec::new(), Vec::new()),
+            energy,
         };
         replay.load();
         replay
@@ -49,19 +68,14 @@ impl<'a> Replay<'a> {
 
     /// Copies the current sample of the file into the state.
     fn load(&mut self) {
-        let (n, nodes, dofs) = (self.state.step, self.nodes, self.dofs);
-        let row = |field: &Option<Vec<f64>>| -> Vec<f64> {
-            field
-                .as_ref()
-                .map_or_else(Vec::new, |f| ExternalRun::row(f, nodes, n)[..dofs].to_vec())
+        let (run, n, dofs) = (self.run, self.state.step, self.dofs);
+        let row = |field| {
+            run.row(field, n)
+                .map_or_else(Vec::new, |r| r[..dofs].to_vec())
         };
-        self.state.u = row(&self.run.displacement);
-        self.state.v = row(&self.run.velocity);
-        self.state.lambda = self
-            .run
-            .lambda
-            .as_ref()
-            .map_or_else(Vec::new, |l| vec![l[n]]);
+        self.state.u = row(&run.displacement);
+        self.state.v = row(&run.velocity);
+        self.state.lambda = run.lambda_at(n).into_iter().collect();
         let (t, k) = (&self.run.time, n.max(1));
         self.state.dt = t[k] - t[k - 1];
     }
@@ -101,16 +115,22 @@ impl TimeIntegrator for Replay<'_> {
         }
     }
 
-    /// The file's energy at `energy_time` (default: the sample's time); NaN when the file has
-    /// none, which no observer is then built to read.
+    /// The energy of the [`EnergySource`]: the file's at `energy_time` (default: the sample's
+    /// time), or the harness's of the sample's fields at its time; NaN when there is none,
+    /// which no observer is then built to read.
     fn energy(&self) -> Timed<f64> {
-        Timed {
-            time: self.reported_time(&self.run.energy_time),
-            value: self
-                .run
-                .energy
-                .as_ref()
-                .map_or(f64::NAN, |e| e[self.state.step]),
+        match self.energy {
+            EnergySource::Fields(model) => Timed {
+                time: self.time(),
+                value: model.energy(&self.state.u, &self.state.v),
+            },
+            EnergySource::Reported | EnergySource::Absent => Timed {
+                time: self.reported_time(&self.run.energy_time),
+                value: match (self.energy, &self.run.energy) {
+                    (EnergySource::Reported, Some(e)) => e[self.state.step],
+                    _ => f64::NAN,
+                },
+            },
         }
     }
 
@@ -147,49 +167,91 @@ pub struct Replayed {
     /// The total variations of `λ_h` and `λ`, when the multiplier's norm was asked for.
     pub multiplier_variation: Option<MultiplierVariation>,
     /// `u_h(0, t) − u(0, t)` over the samples, when the file has the contact node's
-    /// displacement (given, or the fields').
+    /// displacement (given, or the fields') at every sample.
     pub contact_displacement_error: Option<TimeNorms>,
+    /// The displacement's errors in `H` (`L²` in space) and `V` (`H¹`) at each sample that has
+    /// the field, when some sample lacks it.
+    pub displacement_at_samples: Vec<DisplacementError>,
+    /// The file's own energy's error `E_code − E` over its samples, when it reports one and the
+    /// energy norms measure the harness's ([`EnergySource::Fields`] or
+    /// [`EnergySource::Absent`]).
+    pub reported_energy_error: Option<TimeNorms>,
     /// Wall-clock seconds of the observers.
     pub seconds: f64,
 }
 
+/// `L∞` and `L²` of `norm`.
+fn time_norms(norm: &TimeSeriesNorm) -> TimeNorms {
+    TimeNorms {
+        linf: norm.linf(),
+        l2: norm.l2(),
+    }
+}
+
 /// Replays `run` on `bar` against `exact` and computes the norms `norms` (which the file must
-/// have the data of) with the harness's observers, as [`crate::harness::run::run`] does for a
-/// scheme.
+/// have the data of: the multiplier's over the samples that have `λ`) with the harness's
+/// observers, as [`crate::harness::run::run`] does for a scheme, the energy from `energy`.
 pub fn replay(
     run: &ExternalRun,
     bar: &Bar1d,
     exact: &dyn ExactSolution,
     norms: &BTreeSet<Norm>,
+    energy: EnergySource<'_>,
 ) -> Result<Replayed, Error> {
     let clock = Instant::now();
     let mut errors = ErrorObservers::new(bar, exact, norms, false);
-    let mut contact = run
-        .contact_displacement_at(0)
-        .map(|_| TimeSeriesNorm::default());
-    let mut state = Replay::new(run, bar);
-    {
-        let mut observers: Vec<&mut dyn Observer> = errors.observers().collect();
-        for k in 0..run.samples() {
-            if k > 0 {
-                state.advance()?;
-            }
-            for o in observers.iter_mut() {
-                o.observe(&state)?;
-            }
-            if let (Some(c), Some(u0)) = (contact.as_mut(), run.contact_displacement_at(k)) {
-                let t = state.time();
-                c.push(t, u0 - exact.eval(0.0, t).u);
-            }
+    let samples = run.samples();
+    let mut contact = (0..samples)
+        .all(|k| run.contact_displacement_at(k).is_some())
+        .then(TimeSeriesNorm::default);
+    let partial = run.displacement.as_ref().filter(|u| !u.is_complete());
+    let mut space = partial.map(|_| SpaceErrorIntegrator::new());
+    let mut displacement_at_samples = Vec::new();
+    let mut reported = match (energy, &run.energy) {
+        (EnergySource::Reported, _) | (_, None) => None,
+        (_, Some(_)) => Some(TimeSeriesNorm::default()),
+    };
+    let mut state = Replay::new(run, bar, energy);
+    for k in 0..samples {
+        if k > 0 {
+            state.advance()?;
+        }
+        if let Some(o) = errors.displacement.as_mut() {
+            o.observe(&state)?;
+        }
+        if let (Some(o), Some(_)) = (errors.multiplier.as_mut(), run.lambda_at(k)) {
+            o.observe(&state)?;
+        }
+        if let Some(o) = errors.energy.as_mut() {
+            o.observe(&state)?;
+        }
+        let t = state.time();
+        if let (Some(space), Some(u)) = (space.as_mut(), run.row(&run.displacement, k)) {
+            let e = space.errors(bar, &u[..bar.n_dofs()], exact, t);
+            let quantity = StateField::DisplacementError;
+            displacement_at_samples.push(DisplacementError {
+                time: t,
+                h: finite(&state, quantity, e.l2)?,
+                v: finite(&state, quantity, e.h1)?,
+            });
+        }
+        if let (Some(c), Some(u0)) = (contact.as_mut(), run.contact_displacement_at(k)) {
+            c.push(t, u0 - exact.eval(0.0, t).u);
+        }
+        if let (Some(r), Some(e)) = (reported.as_mut(), &run.energy) {
+            let te = state.reported_time(&run.energy_time);
+            r.push(
+                te,
+                finite(&state, StateField::Energy, e[k])? - exact.energy(te),
+            );
         }
     }
     Ok(Replayed {
         errors: errors.norms(norms),
         multiplier_variation: errors.multiplier.as_ref().and_then(|m| m.variation()),
-        contact_displacement_error: contact.map(|c| TimeNorms {
-            linf: c.linf(),
-            l2: c.l2(),
-        }),
+        contact_displacement_error: contact.as_ref().map(time_norms),
+        displacement_at_samples,
+        reported_energy_error: reported.as_ref().map(time_norms),
         seconds: clock.elapsed().as_secs_f64(),
     })
 }

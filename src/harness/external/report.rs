@@ -1,6 +1,8 @@
 //! The markdown of a verification (`verify.md`, and what `signorini verify` prints): Tables
-//! 1–2 with one row per series, the norms not computed and why, and each series' per-level
-//! errors in the harness's own convergence tables.
+//! 1–2 with one row per series, the norms not computed and why, what the norms leave out, and
+//! each series' per-level errors in the harness's own convergence tables; for a bar, the
+//! displacement errors at the samples of files with fields at some samples only, and the codes'
+//! own energies beside the norms.
 
 use std::fmt::Write as _;
 
@@ -40,6 +42,54 @@ pub fn render(v: &Verification) -> String {
         v.scene, v.reference, v.horizon
     );
     out.push_str(&tables(v));
+    out.push_str(&sampled_displacement(v));
+    out.push_str(&reported_energies(v));
+    out
+}
+
+/// The displacement errors at the samples that have fields, of the files that lack them at
+/// some samples (their `u` norms are not computed); empty when no file does.
+fn sampled_displacement(v: &Verification) -> String {
+    let mut out = String::new();
+    let runs = v.series.iter().flat_map(|s| &s.runs);
+    for r in runs.filter(|r| !r.displacement_at_samples.is_empty()) {
+        if out.is_empty() {
+            out.push_str(
+                "\n## Displacement errors at the samples with fields\n\n| file | t | ‖e‖_H \
+                 (L² in space) | ‖e‖_V (H¹) |\n|---|---|---|---|\n",
+            );
+        }
+        for e in &r.displacement_at_samples {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.6e} | {:.6e} |",
+                r.file, e.time, e.h, e.v
+            );
+        }
+    }
+    out
+}
+
+/// The codes' own energies beside the energy norms; empty when no file reports one.
+fn reported_energies(v: &Verification) -> String {
+    let mut out = String::new();
+    for e in v.series.iter().flat_map(|s| &s.reported_energy) {
+        if out.is_empty() {
+            out.push_str(
+                "\n## The codes' own energies (beside the energy norms, never in them)\n\n| file \
+                 | definition | L∞ distance to the exact energy | L² distance |\n|---|---|---|---|\n",
+            );
+        }
+        let definition = serde_json::to_value(e.definition)
+            .ok()
+            .and_then(|d| d.as_str().map(str::to_string))
+            .unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "| {} | {definition} | {:.6e} | {:.6e} |",
+            e.file, e.linf, e.l2
+        );
+    }
     out
 }
 
@@ -102,6 +152,15 @@ pub fn tables(v: &Verification) -> String {
                     keys.join(", "),
                     same[0].reason
                 );
+            }
+        }
+    }
+    let noted: Vec<&Series> = v.series.iter().filter(|s| !s.notes.is_empty()).collect();
+    if !noted.is_empty() {
+        let _ = writeln!(out, "\n### Notes\n");
+        for s in noted {
+            for note in &s.notes {
+                let _ = writeln!(out, "- {}: {note}", s.label);
             }
         }
     }

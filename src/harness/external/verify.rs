@@ -1,7 +1,10 @@
 //! Verifying another code's runs against a scene: every file read, checked and replayed
 //! ([`super::replay`]), the files grouped by label into refinement series, and each series'
 //! norms fitted into rates by the harness's own fit (`crate::harness::study::fit_norm_rates`).
-//! A norm whose data a series' file lacks is not computed, and says why.
+//! A norm whose data a series' file lacks is not computed, and says why. A version 2 file's
+//! energy norms measure the energy the harness computes from its fields; what a file leaves
+//! out (`λ` null at some samples) is said in the series' notes, and a code's own energy is
+//! shown beside the norms ([`ReportedEnergy`]).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -9,9 +12,9 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::error::ExternalError;
-use super::format::{Code, ExternalRun};
+use super::format::{Code, EnergyDefinition, ExternalRun, SampledField, Version};
 use super::load::load;
-use super::replay::{replay, TimeNorms};
+use super::replay::{replay, EnergySource, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::problem::{Problem, Problem1d};
 use crate::harness::files::error::Error;
@@ -41,6 +44,19 @@ pub struct RunRecord {
     /// some sample lacks it (its time norms are then not computed).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub displacement_at_samples: Vec<DisplacementError>,
+}
+
+/// A code's own energy (version 2) beside the harness's: its distance to the exact energy.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReportedEnergy {
+    /// The file.
+    pub file: String,
+    /// What the code says its energy is.
+    pub definition: EnergyDefinition,
+    /// `max_n |E_code(t_n) − E(t_n)|` over the samples (at `energy_time` when given).
+    pub linf: f64,
+    /// The trapezoidal `L²(0, T)` norm of that difference over the same times.
+    pub l2: f64,
 }
 
 /// A norm a series does not report, and why.
@@ -93,6 +109,13 @@ pub struct Series {
     pub rates: Vec<NormRates>,
     /// The scene's norms that are not computed, with the reason.
     pub not_computed: Vec<NotComputed>,
+    /// What the norms of the series' files leave out, file by file (the samples whose `λ` is
+    /// null).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+    /// The codes' own energies beside the energy norms, file by file (version 2).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reported_energy: Vec<ReportedEnergy>,
 }
 
 impl Series {
@@ -133,21 +156,56 @@ pub struct Verification {
     pub series: Vec<Series>,
 }
 
+/// What a field of `run` lacks to be given at every sample (`what` names it), if anything.
+fn lacking_field(run: &ExternalRun, field: &Option<SampledField>, what: &str) -> Option<String> {
+    let samples = run.samples();
+    match field {
+        None => Some(what.to_string()),
+        Some(f) if !f.is_complete() => Some(format!(
+            "{what} at every sample ({} of {samples} samples have none)",
+            samples - f.sampled()
+        )),
+        Some(_) => None,
+    }
+}
+
 /// The data a file lacks for `norm`, if any.
-fn missing_data(run: &ExternalRun, norm: Norm) -> Option<&'static str> {
+fn missing_data(run: &ExternalRun, norm: Norm) -> Option<String> {
     match norm {
         Norm::DisplacementLinfH
         | Norm::DisplacementL2H
         | Norm::DisplacementLinfV
-        | Norm::DisplacementL2V => run
-            .displacement
-            .is_none()
-            .then_some("displacement fields (u0…uNX)"),
-        Norm::MultiplierL2 => run
-            .lambda
-            .is_none()
-            .then_some("contact multiplier (lambda)"),
-        Norm::EnergyLinf | Norm::EnergyL2 => run.energy.is_none().then_some("energy"),
+        | Norm::DisplacementL2V => {
+            lacking_field(run, &run.displacement, "displacement fields (u0…uNX)").map(|what| {
+                match &run.displacement {
+                    Some(_) => {
+                        format!("{what}: the errors at the samples that have them are listed")
+                    }
+                    None => what,
+                }
+            })
+        }
+        Norm::MultiplierL2 => match &run.lambda {
+            None => Some("contact multiplier (lambda)".to_string()),
+            Some(l) if l.iter().all(Option::is_none) => {
+                Some("contact multiplier (lambda) at any sample: every one is null".to_string())
+            }
+            Some(_) => None,
+        },
+        Norm::EnergyLinf | Norm::EnergyL2 => match run.version {
+            Version::One => run.energy.is_none().then(|| "energy".to_string()),
+            Version::Two if run.mass.is_none() => Some(
+                "declared mass (`mass`: the harness computes the energy from the fields with its \
+                 own matrices for it)"
+                    .to_string(),
+            ),
+            Version::Two => {
+                let from_fields = "the harness computes the energy from both";
+                lacking_field(run, &run.displacement, "displacement fields")
+                    .or_else(|| lacking_field(run, &run.velocity, "velocity fields (v0…vNX)"))
+                    .map(|what| format!("{what}: {from_fields}"))
+            }
+        },
     }
 }
 
@@ -161,6 +219,16 @@ fn error_of(norm: Norm) -> StateField {
         Norm::MultiplierL2 => StateField::MultiplierError,
         Norm::EnergyLinf | Norm::EnergyL2 => StateField::EnergyError,
     }
+}
+
+/// What a bar's file adds to its series beyond its norms.
+struct FileNotes {
+    /// The file, as its record names it.
+    file: String,
+    /// What its norms leave out.
+    notes: Vec<String>,
+    /// Its own energy beside the norms.
+    reported_energy: Option<ReportedEnergy>,
 }
 
 /// One file's results, before the files are grouped into series.
@@ -187,13 +255,30 @@ fn verify_file(
     scene: &str,
     problem: &Problem1d,
     norms: &BTreeSet<Norm>,
-) -> Result<VerifiedFile, ExternalError> {
+) -> Result<(VerifiedFile, FileNotes), ExternalError> {
     let run = load(path, scene, problem)?;
     let bar = problem.bar(run.nx()).map_err(Error::from)?;
+    let model = match run.mass {
+        Some(mass) => {
+            let (_, model) = problem.model(run.nx(), mass).map_err(|e| {
+                let name = format!("{:?}", mass.name());
+                ExternalError::invalid(path, "mass", None, name, e.to_string())
+            })?;
+            Some(model)
+        }
+        None => None,
+    };
     let mut lacks: BTreeMap<Norm, String> = norms
         .iter()
-        .filter_map(|&n| missing_data(&run, n).map(|what| (n, what.to_string())))
+        .filter_map(|&n| missing_data(&run, n).map(|what| (n, what)))
         .collect();
+    let energy = match (run.version, &model) {
+        (Version::One, _) => EnergySource::Reported,
+        (Version::Two, Some(model)) if !lacks.contains_key(&Norm::EnergyLinf) => {
+            EnergySource::Fields(model)
+        }
+        (Version::Two, _) => EnergySource::Absent,
+    };
     // A diverged run's errors overflow: the norms of that error are not computed, the others
     // are replayed again without them.
     let replayed = loop {
@@ -202,7 +287,7 @@ fn verify_file(
             .copied()
             .filter(|n| !lacks.contains_key(n))
             .collect();
-        match replay(&run, &bar, problem.exact.as_ref(), &allowed) {
+        match replay(&run, &bar, problem.exact.as_ref(), &allowed, energy) {
             Ok(replayed) => break replayed,
             Err(Error::Solve(SolveError::NonFinite { step, quantity, .. }))
                 if allowed.iter().any(|&n| error_of(n) == quantity) =>
@@ -222,16 +307,33 @@ fn verify_file(
     let spacing = run.time.windows(2).map(|w| w[1] - w[0]);
     let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
     let dt_max = spacing.fold(0.0, f64::max);
-    Ok(VerifiedFile {
-        declared: Declared::default(),
+    let file = path.display().to_string();
+    let notes = FileNotes {
+        file: file.clone(),
+        notes: lambda_note(&run, &file, &lacks).into_iter().collect(),
+        reported_energy: run
+            .energy_definition
+            .zip(replayed.reported_energy_error)
+            .map(|(definition, e)| ReportedEnergy {
+                file: file.clone(),
+                definition,
+                linf: e.linf,
+                l2: e.l2,
+            }),
+    };
+    let verified = VerifiedFile {
+        declared: Declared {
+            mass: run.mass.map(|m| m.name().to_string()),
+            ..Declared::default()
+        },
         record: RunRecord {
-            file: path.display().to_string(),
+            file,
             nx: run.nx(),
             samples: run.samples(),
             dt_min,
             dt_max,
             contact_displacement_error: replayed.contact_displacement_error,
-            displacement_at_samples: Vec::new(),
+            displacement_at_samples: replayed.displacement_at_samples,
         },
         level: LevelRecord {
             nx: run.nx(),
@@ -249,7 +351,32 @@ fn verify_file(
         lacks,
         label: run.label,
         code: run.code,
-    })
+    };
+    Ok((verified, notes))
+}
+
+/// The note of a file whose `λ` is null at some samples, when its `lambda_L2` is computed: how
+/// many samples it leaves out, and that the norm is over the others.
+fn lambda_note(run: &ExternalRun, file: &str, lacks: &BTreeMap<Norm, String>) -> Option<String> {
+    let lambda = run.lambda.as_ref()?;
+    let null = lambda.iter().filter(|l| l.is_none()).count();
+    if null == 0 || lacks.contains_key(&Norm::MultiplierL2) {
+        return None;
+    }
+    let times: Vec<String> = (0..run.samples())
+        .filter(|&k| lambda[k].is_none())
+        .take(3)
+        .map(|k| format!("t = {}", run.time[k]))
+        .collect();
+    let more = if null > times.len() { ", …" } else { "" };
+    Some(format!(
+        "{file}: λ is null (not computed) at {null} of its {} samples ({}{more}): `{}` and the \
+         oscillation ratio are over the other {} samples",
+        run.samples(),
+        times.join(", "),
+        Norm::MultiplierL2.key(),
+        run.samples() - null
+    ))
 }
 
 /// Verifies the run files `files` against `scene`: each is read, checked against the scene and
@@ -263,11 +390,21 @@ pub fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, External
         });
     };
     let norms = &scene.observables.norms;
-    let verified = files
+    let (verified, notes): (Vec<_>, Vec<_>) = files
         .iter()
         .map(|path| verify_file(path, &scene.name, &problem, norms))
-        .collect::<Result<Vec<_>, _>>()?;
-    let series = into_series(verified, norms)?;
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
+    let mut series = into_series(verified, norms)?;
+    for s in &mut series {
+        for run in &s.runs {
+            if let Some(n) = notes.iter().find(|n| n.file == run.file) {
+                s.notes.extend(n.notes.iter().cloned());
+                s.reported_energy.extend(n.reported_energy.clone());
+            }
+        }
+    }
     Ok(Verification {
         signorini_version: env!("CARGO_PKG_VERSION").to_string(),
         scene: scene.name.clone(),
@@ -355,6 +492,8 @@ fn series(mut group: Vec<VerifiedFile>, norms: &BTreeSet<Norm>) -> Result<Series
         runs: group.into_iter().map(|l| l.record).collect(),
         levels,
         not_computed,
+        notes: Vec::new(),
+        reported_energy: Vec::new(),
         label,
     })
 }

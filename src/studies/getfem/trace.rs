@@ -7,8 +7,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::harness::external::format::{Code, ExternalRun, SampleOrigin};
-use crate::harness::external::replay::replay;
+use crate::harness::external::format::{Code, ExternalRun, SampleOrigin, Version};
+use crate::harness::external::replay::{replay, EnergySource};
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{DemoRunError, Error};
 use crate::harness::getfem::{list_runs, read_run, DemoRun};
@@ -50,17 +50,20 @@ pub fn contact_trace(path: &Path, run: &DemoRun) -> Option<ExternalRun> {
     Some(ExternalRun {
         path: path.to_path_buf(),
         origin: SampleOrigin::Json,
+        version: Version::One,
         scene: SCENE.to_string(),
         code: Code {
             name: "GetFEM demo_dynamic_contact_1D.py".to_string(),
             version: "5.4.2".to_string(),
         },
         label: label(path),
+        mass: None,
+        energy_definition: None,
         nodes: (0..=nx).map(|i| i as f64 / nx as f64).collect(),
         time: series.time.clone(),
         displacement: None,
         velocity: None,
-        lambda: Some(series.s0.clone()),
+        lambda: Some(series.s0.iter().copied().map(Some).collect()),
         lambda_time: None,
         contact_displacement: Some(series.u0.clone()),
         energy: Some(run.energy.clone()),
@@ -85,7 +88,8 @@ pub fn trace_norms(root: &Path, trace: &ExternalRun) -> Result<BTreeMap<Norm, f6
         })?;
     let bar = problem.bar(trace.nx())?;
     let norms: BTreeSet<Norm> = TRACE_NORMS.into_iter().collect();
-    Ok(replay(&trace, &bar, problem.exact.as_ref(), &norms)?.errors)
+    let energy = EnergySource::Reported;
+    Ok(replay(&trace, &bar, problem.exact.as_ref(), &norms, energy)?.errors)
 }
 
 /// The contact trace as the CSV form of the format.
@@ -100,13 +104,13 @@ fn trace_csv(trace: &ExternalRun) -> String {
         trace.label,
         nodes.join(", ")
     );
-    let (u0, lambda, energy) = (
+    let (u0, energy) = (
         trace.contact_displacement.as_deref().unwrap_or_default(),
-        trace.lambda.as_deref().unwrap_or_default(),
         trace.energy.as_deref().unwrap_or_default(),
     );
     for (n, t) in trace.time.iter().enumerate() {
-        let _ = writeln!(csv, "{t:?},{:?},{:?},{:?}", u0[n], lambda[n], energy[n]);
+        let lambda = trace.lambda_at(n).unwrap_or(f64::NAN);
+        let _ = writeln!(csv, "{t:?},{:?},{lambda:?},{:?}", u0[n], energy[n]);
     }
     csv
 }
