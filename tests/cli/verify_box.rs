@@ -408,7 +408,7 @@ fn a_json_box_run_with_fields_at_some_steps_gets_the_force_and_the_sampled_error
         .as_array()
         .unwrap();
     assert_eq!(sampled.len(), 6, "steps 0, 4, …, 20 of level 5");
-    assert!(stdout.contains("## Displacement errors at the steps with fields"));
+    assert!(stdout.contains("## Displacement errors at the samples with fields"));
 }
 
 /// A different mesh, scene or level, and a missing step: exit code 2, the reason named.

@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use super::verify::{Series, Verification};
+use super::verify::{ReportedEnergy, Series, Verification};
 use crate::harness::render::report::convergence_table;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
@@ -43,13 +43,14 @@ pub fn render(v: &Verification) -> String {
     );
     out.push_str(&tables(v));
     out.push_str(&sampled_displacement(v));
-    out.push_str(&reported_energies(v));
+    let energies: Vec<&ReportedEnergy> = v.series.iter().flat_map(|s| &s.reported_energy).collect();
+    out.push_str(&reported_energies(&energies, "the exact energy"));
     out
 }
 
 /// The displacement errors at the samples that have fields, of the files that lack them at
 /// some samples (their `u` norms are not computed); empty when no file does.
-fn sampled_displacement(v: &Verification) -> String {
+pub fn sampled_displacement(v: &Verification) -> String {
     let mut out = String::new();
     let runs = v.series.iter().flat_map(|s| &s.runs);
     for r in runs.filter(|r| !r.displacement_at_samples.is_empty()) {
@@ -70,14 +71,16 @@ fn sampled_displacement(v: &Verification) -> String {
     out
 }
 
-/// The codes' own energies beside the energy norms; empty when no file reports one.
-fn reported_energies(v: &Verification) -> String {
+/// The codes' own energies `energies` beside the energy norms, their distances to `against`
+/// (the exact energy, the reference's); empty when no file reports one.
+pub fn reported_energies(energies: &[&ReportedEnergy], against: &str) -> String {
     let mut out = String::new();
-    for e in v.series.iter().flat_map(|s| &s.reported_energy) {
+    for e in energies {
         if out.is_empty() {
-            out.push_str(
+            let _ = write!(
+                out,
                 "\n## The codes' own energies (beside the energy norms, never in them)\n\n| file \
-                 | definition | L∞ distance to the exact energy | L² distance |\n|---|---|---|---|\n",
+                 | definition | L∞ distance to {against} | L² distance |\n|---|---|---|---|\n",
             );
         }
         let definition = serde_json::to_value(e.definition)

@@ -46,14 +46,16 @@ pub struct RunRecord {
     pub displacement_at_samples: Vec<DisplacementError>,
 }
 
-/// A code's own energy (version 2) beside the harness's: its distance to the exact energy.
+/// A code's own energy (version 2) beside the harness's: its distance to the reference's
+/// energy (the exact one for a bar, the fine-mesh reference's for a box).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReportedEnergy {
     /// The file.
     pub file: String,
     /// What the code says its energy is.
     pub definition: EnergyDefinition,
-    /// `max_n |E_code(t_n) − E(t_n)|` over the samples (at `energy_time` when given).
+    /// `max_n |E_code(t_n) − E_ref(t_n)|` over the samples that report it (at `energy_time`
+    /// when given).
     pub linf: f64,
     /// The trapezoidal `L²(0, T)` norm of that difference over the same times.
     pub l2: f64,

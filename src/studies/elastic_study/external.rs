@@ -29,9 +29,11 @@ use super::findings::{note_findings, Finding};
 use super::reference::ReferenceCache;
 use super::report::findings_table;
 use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
-use crate::harness::external::box_run::{BoxExternalRun, BoxScene, EnergyDefinition, PvdOptions};
-use crate::harness::external::report::tables;
-use crate::harness::external::verify::{into_series, Declared, RunRecord, VerifiedFile};
+use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
+use crate::harness::external::report::{reported_energies, sampled_displacement, tables};
+use crate::harness::external::verify::{
+    into_series, Declared, ReportedEnergy, RunRecord, VerifiedFile,
+};
 use crate::harness::external::{ExternalError, Verification};
 use crate::harness::files::error::Error;
 use crate::harness::problem::{BoxProblem, Problem, Settings};
@@ -41,19 +43,6 @@ use crate::harness::run::Timings;
 use crate::harness::study::budget::{self, Limits};
 use crate::harness::study::scene::Scene;
 use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
-
-/// A code's own energy beside the harness's: its distance to the reference's energy.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ReportedEnergy {
-    /// The file.
-    pub file: String,
-    /// What the code says its energy is.
-    pub definition: EnergyDefinition,
-    /// `max_n |E_code(t_n) − E_ref(t_n)|` over the samples that report it.
-    pub linf: f64,
-    /// The trapezoidal `L²(0, T)` norm of that difference over the same samples.
-    pub l2: f64,
-}
 
 /// The verification of another code's box runs (`verify.json` for a box scene).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -396,45 +385,9 @@ pub fn render(v: &BoxVerification) -> String {
         w.scene, w.reference, w.horizon
     );
     out.push_str(&tables(w));
-    let sampled: Vec<&RunRecord> = w
-        .series
-        .iter()
-        .flat_map(|s| &s.runs)
-        .filter(|r| !r.displacement_at_samples.is_empty())
-        .collect();
-    if !sampled.is_empty() {
-        let _ = writeln!(
-            out,
-            "\n## Displacement errors at the steps with fields\n\n| file | t | ‖e‖_H | ‖e‖_V |\n|---|---|---|---|"
-        );
-        for r in sampled {
-            for e in &r.displacement_at_samples {
-                let _ = writeln!(
-                    out,
-                    "| {} | {} | {:.4e} | {:.4e} |",
-                    r.file, e.time, e.h, e.v
-                );
-            }
-        }
-    }
-    if !v.reported_energy.is_empty() {
-        let _ = writeln!(
-            out,
-            "\n## The codes' own energies (not used by the norms above)\n\n| file | definition | \
-             L∞ distance to the reference's | L² distance |\n|---|---|---|---|"
-        );
-        for e in &v.reported_energy {
-            let definition = serde_json::to_value(e.definition)
-                .ok()
-                .and_then(|d| d.as_str().map(str::to_string))
-                .unwrap_or_default();
-            let _ = writeln!(
-                out,
-                "| {} | {definition} | {:.4e} | {:.4e} |",
-                e.file, e.linf, e.l2
-            );
-        }
-    }
+    out.push_str(&sampled_displacement(w));
+    let energies: Vec<&ReportedEnergy> = v.reported_energy.iter().collect();
+    out.push_str(&reported_energies(&energies, "the reference's energy"));
     if !v.findings.is_empty() {
         let _ = writeln!(
             out,
