@@ -116,3 +116,19 @@ fn a_league_without_entries_is_refused() {
     );
     assert!(!dir.join("out").exists(), "nothing is written");
 }
+
+/// The committed reports/league.md and league.json are what `signorini league` writes from the
+/// committed entries under reports/league/ (`make league` is their only writer).
+#[test]
+fn the_committed_league_is_rendered_from_its_entries() {
+    let dir = scratch("league-committed");
+    success_stdout(&signorini(&["league", "reports/league", "--out", s(&dir)]));
+    for file in ["league.md", "league.json"] {
+        let committed = std::fs::read_to_string(Path::new("reports").join(file)).unwrap();
+        let written = std::fs::read_to_string(dir.join(file)).unwrap();
+        assert!(
+            committed == written,
+            "reports/{file} is not what make league writes"
+        );
+    }
+}
