@@ -132,3 +132,48 @@ fn the_committed_league_is_rendered_from_its_entries() {
         );
     }
 }
+
+/// The harness's own runs in the committed league, exported through `.pvd` and verified, have
+/// the rates of the committed 2D/3D studies to the bits (both come from the same runs against
+/// the same cached reference).
+#[test]
+fn the_harness_league_entries_have_the_committed_studies_rates() {
+    let league = read_json(Path::new("reports/league.json"));
+    let mut compared = 0;
+    for d in [2, 3] {
+        let study = read_json(Path::new(&format!("reports/elastic-{d}d.json")));
+        let cases = study["study"]["cases"].as_array().unwrap();
+        let prefix = format!("signorini-{d}d-");
+        let entries = league["entries"].as_array().unwrap();
+        for entry in entries.iter().filter(|e| {
+            e["entry"]
+                .as_str()
+                .is_some_and(|name| name.starts_with(&prefix))
+        }) {
+            let row = &entry["rows"][0];
+            let crank_nicolson = row["declared"]["scheme"] == "crank-nicolson";
+            let case = cases
+                .iter()
+                .find(|c| {
+                    c["case"]["mass"] == row["declared"]["mass"]
+                        && (c["case"]["scheme"]["family"] == "newmark") == crank_nicolson
+                })
+                .unwrap_or_else(|| panic!("the study has the case of {}", entry["entry"]));
+            for rate in row["rates"].as_array().unwrap() {
+                let theirs = case["rates"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|r| r["norm"] == rate["norm"])
+                    .unwrap();
+                assert_eq!(
+                    theirs["fit"]["rate"], rate["rate"],
+                    "{} {}",
+                    entry["entry"], rate["norm"]
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert_eq!(compared, 2 * 4 * 7, "every norm of the 8 entries");
+}
