@@ -19,6 +19,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::rates::RateFit;
+use super::sensitivity::Spread;
 
 /// A three-valued verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -52,8 +53,9 @@ impl Verdict {
     }
 }
 
-/// A verdict with what decided it or, undecided, what it has and what would decide it.
-#[derive(Debug, Clone, PartialEq)]
+/// A verdict with what decided it or, undecided, what it has and what would decide it (in
+/// JSON `{"verdict": "holds" | "fails" | "undecided", "reason": "…"}`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Decision {
     /// The verdict.
     pub verdict: Verdict,
@@ -143,6 +145,19 @@ impl Estimate {
             interval: fit.and_then(|f| Some((f.ci_low?, f.ci_high?))),
             bias,
             levels: fit.map_or(0, |f| f.levels),
+        }
+    }
+
+    /// An ensemble's `spread` of a quantity fitted on `levels` levels: the median, with the
+    /// members' `[min, max]` in the interval's place (the members are the samples round-off
+    /// gives, so no wider interval is claimed) and no bias.
+    pub fn of_ensemble(what: impl Into<String>, spread: Spread, levels: usize) -> Self {
+        Self {
+            what: what.into(),
+            value: spread.median,
+            interval: Some((spread.min, spread.max)),
+            bias: Some(0.0),
+            levels,
         }
     }
 

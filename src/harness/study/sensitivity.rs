@@ -34,6 +34,8 @@ use crate::engine::problem::{Perturbation, Settings, StepPerturbation, UNIT_ROUN
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
+use crate::harness::study::class_decision::{class_decision, LevelSeparation};
+use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, least_squares_slope};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
@@ -304,6 +306,27 @@ pub struct CaseSensitivity {
 }
 
 impl CaseSensitivity {
+    /// Whether the class is decided by the ensemble ([`class_decision`]).
+    pub fn class_decision(&self) -> Decision {
+        let levels: Vec<LevelSeparation> = self
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(k, &nx)| LevelSeparation {
+                nx: Some(nx),
+                parted: self
+                    .predictability_steps
+                    .get(k)
+                    .copied()
+                    .flatten()
+                    .is_some(),
+                growth: self.separation_growth.get(k).copied().flatten(),
+                largest: self.largest_separation.get(k).copied().unwrap_or(0.0),
+            })
+            .collect();
+        class_decision(&levels, Some(&self.rates))
+    }
+
     /// The largest relative spread `(max − min)/|median|` of any error of `norm` over the levels.
     pub fn relative_error_spread(&self, norm: &str) -> Option<f64> {
         self.errors.get(norm).map(|levels| {
@@ -434,6 +457,18 @@ pub struct RunSensitivity {
 }
 
 impl RunSensitivity {
+    /// Whether the class is decided by the members' separations alone ([`class_decision`] at
+    /// one mesh).
+    pub fn class_decision(&self) -> Decision {
+        let level = LevelSeparation {
+            nx: None,
+            parted: self.predictability_step.is_some(),
+            growth: self.separation_growth,
+            largest: self.largest_separation,
+        };
+        class_decision(&[level], None)
+    }
+
     /// The sensitivity of a run with time step `dt` from its members' separations.
     pub fn of(separations: &[Separation], dt: f64, ensemble: EnsembleConfig) -> Self {
         let predictability_step = separations.iter().filter_map(|s| s.parting_step).min();
@@ -786,8 +821,20 @@ pub(crate) fn class_rules() -> String {
          *reproducible*: no member's contact-node displacement parts from the unperturbed run \
          by more than {PARTING:e}; *chaotic*: the separation grows exponentially to \
          {RUNAWAY:e} and some rate's ensemble range exceeds {CHAOTIC_RATE_RANGE}; \
-         *event-sensitive*: members part, but not so."
+         *event-sensitive*: members part, but not so. A class these cannot decide (the \
+         separation reaches {RUNAWAY:e} in a jump, with no growth fitted; no rate fitted) is \
+         shown *undecided*, with what it lacks (docs/src/roundoff-sensitivity.md)."
     )
+}
+
+/// A class as a table shows it: its name, and when the ensemble cannot decide it
+/// ([`CaseSensitivity::class_decision`], [`RunSensitivity::class_decision`]), `undecided` with
+/// the reason.
+pub(crate) fn class_text(class: SensitivityClass, decision: &Decision) -> String {
+    match decision.verdict {
+        Verdict::Undecided => format!("{} (**undecided**: {})", class.name(), decision.reason),
+        Verdict::Holds | Verdict::Fails => class.name().to_string(),
+    }
 }
 
 /// One row per case: its class, and at `nx_shown` the predictability step and the separation
@@ -817,7 +864,7 @@ pub(crate) fn class_table(s: &Sensitivity, nx_shown: usize) -> String {
         md.push_str(&format!(
             "| {} | {} | {step} | {growth} | {range:.2e} ({norm}) | {spread:.2e} |\n",
             c.case,
-            c.class.name()
+            class_text(c.class, &c.class_decision())
         ));
     }
     md
