@@ -257,7 +257,8 @@ impl ExtendedRow {
         let energy_rate = match rate_ranges.get(energy_key) {
             Some(&spread) => Estimate::of_ensemble(
                 format!("{energy_key} rate (ensemble median, [min, max])"),
-                spread,
+                spread.median,
+                (spread.min, spread.max),
                 energy_fit.map_or(0, |f| f.levels),
             ),
             None => Estimate::rate(format!("{energy_key} rate"), energy_fit, Some(0.0)),
@@ -779,13 +780,12 @@ mod tests {
 
     #[test]
     fn a_chaotic_row_is_decided_by_its_ensemble_range() {
-        let spread = |min, median, max| Spread { min, median, max };
-        let decided = Estimate::of_ensemble("energy_Linf rate", spread(0.7, 0.8, 0.9), 7);
+        let decided = Estimate::of_ensemble("energy_Linf rate", 0.8, (0.7, 0.9), 7);
         assert_eq!(
             EnergyVerdict::decide(&decided, 1e-3).0,
             EnergyVerdict::Converges
         );
-        let straddling = Estimate::of_ensemble("energy_Linf rate", spread(-0.3, -0.1, 0.0), 7);
+        let straddling = Estimate::of_ensemble("energy_Linf rate", -0.1, (-0.3, 0.0), 7);
         assert_eq!(
             EnergyVerdict::decide(&straddling, 1e-3).0,
             EnergyVerdict::Undecided

@@ -27,7 +27,10 @@
 use std::collections::BTreeMap;
 
 use super::decision::{all_of, Decision, Verdict};
-use super::sensitivity::{Spread, CHAOTIC_RATE_RANGE, MIN_GROWTH_DECADES, PARTING, RUNAWAY};
+use super::sensitivity::{
+    CaseSensitivity, RunSensitivity, Spread, CHAOTIC_RATE_RANGE, MIN_GROWTH_DECADES, PARTING,
+    RUNAWAY,
+};
 
 /// One level's separations, as a class reads them.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,6 +49,43 @@ impl LevelSeparation {
     /// `at NX = n ` or nothing for a single run.
     fn at(&self) -> String {
         self.nx.map_or(String::new(), |nx| format!("at NX = {nx} "))
+    }
+}
+
+impl CaseSensitivity {
+    /// Whether the class is decided by the ensemble ([`class_decision`] over its levels).
+    pub fn class_decision(&self) -> Decision {
+        let levels: Vec<LevelSeparation> = self
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(k, &nx)| LevelSeparation {
+                nx: Some(nx),
+                parted: self
+                    .predictability_steps
+                    .get(k)
+                    .copied()
+                    .flatten()
+                    .is_some(),
+                growth: self.separation_growth.get(k).copied().flatten(),
+                largest: self.largest_separation.get(k).copied().unwrap_or(0.0),
+            })
+            .collect();
+        class_decision(&levels, Some(&self.rates))
+    }
+}
+
+impl RunSensitivity {
+    /// Whether the class is decided by the members' separations alone ([`class_decision`] at
+    /// one mesh).
+    pub fn class_decision(&self) -> Decision {
+        let level = LevelSeparation {
+            nx: None,
+            parted: self.predictability_step.is_some(),
+            growth: self.separation_growth,
+            largest: self.largest_separation,
+        };
+        class_decision(&[level], None)
     }
 }
 

@@ -19,7 +19,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::rates::RateFit;
-use super::sensitivity::Spread;
 
 /// A three-valued verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -148,14 +147,19 @@ impl Estimate {
         }
     }
 
-    /// An ensemble's `spread` of a quantity fitted on `levels` levels: the median, with the
-    /// members' `[min, max]` in the interval's place (the members are the samples round-off
-    /// gives, so no wider interval is claimed) and no bias.
-    pub fn of_ensemble(what: impl Into<String>, spread: Spread, levels: usize) -> Self {
+    /// An ensemble's spread of a quantity fitted on `levels` levels: its `median`, with the
+    /// members' `[min, max]` (`range`) in the interval's place (the members are the samples
+    /// round-off gives, so no wider interval is claimed) and no bias.
+    pub fn of_ensemble(
+        what: impl Into<String>,
+        median: f64,
+        range: (f64, f64),
+        levels: usize,
+    ) -> Self {
         Self {
             what: what.into(),
-            value: spread.median,
-            interval: Some((spread.min, spread.max)),
+            value: median,
+            interval: Some(range),
             bias: Some(0.0),
             levels,
         }

@@ -34,7 +34,6 @@ use crate::engine::problem::{Perturbation, Settings, StepPerturbation, UNIT_ROUN
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
-use crate::harness::study::class_decision::{class_decision, LevelSeparation};
 use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, least_squares_slope};
@@ -306,27 +305,6 @@ pub struct CaseSensitivity {
 }
 
 impl CaseSensitivity {
-    /// Whether the class is decided by the ensemble ([`class_decision`]).
-    pub fn class_decision(&self) -> Decision {
-        let levels: Vec<LevelSeparation> = self
-            .levels
-            .iter()
-            .enumerate()
-            .map(|(k, &nx)| LevelSeparation {
-                nx: Some(nx),
-                parted: self
-                    .predictability_steps
-                    .get(k)
-                    .copied()
-                    .flatten()
-                    .is_some(),
-                growth: self.separation_growth.get(k).copied().flatten(),
-                largest: self.largest_separation.get(k).copied().unwrap_or(0.0),
-            })
-            .collect();
-        class_decision(&levels, Some(&self.rates))
-    }
-
     /// The largest relative spread `(max − min)/|median|` of any error of `norm` over the levels.
     pub fn relative_error_spread(&self, norm: &str) -> Option<f64> {
         self.errors.get(norm).map(|levels| {
@@ -457,18 +435,6 @@ pub struct RunSensitivity {
 }
 
 impl RunSensitivity {
-    /// Whether the class is decided by the members' separations alone ([`class_decision`] at
-    /// one mesh).
-    pub fn class_decision(&self) -> Decision {
-        let level = LevelSeparation {
-            nx: None,
-            parted: self.predictability_step.is_some(),
-            growth: self.separation_growth,
-            largest: self.largest_separation,
-        };
-        class_decision(&[level], None)
-    }
-
     /// The sensitivity of a run with time step `dt` from its members' separations.
     pub fn of(separations: &[Separation], dt: f64, ensemble: EnsembleConfig) -> Self {
         let predictability_step = separations.iter().filter_map(|s| s.parting_step).min();

@@ -207,7 +207,8 @@ pub fn agreement(
     let estimate = match ensemble {
         Some(e) => Estimate::of_ensemble(
             format!("{what} (ensemble median, [min, max])"),
-            e,
+            e.median,
+            (e.min, e.max),
             fit.map_or(0, |f| f.levels),
         ),
         None => Estimate::rate(what, fit, Some(0.0)),
