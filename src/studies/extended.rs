@@ -16,6 +16,7 @@ use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
 use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::executor::Batch;
 use crate::harness::study::golden::{check_values, Golden, Tolerances};
 use crate::harness::study::sensitivity::{
@@ -46,10 +47,10 @@ pub const TREATMENTS: [&str; 5] = [
 /// The schemes of the table.
 pub const SCHEMES: [Scheme; 2] = [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER];
 
-/// An energy-error rate above this is [`EnergyVerdict::Converges`].
+/// An energy-error rate whose interval lies above this is [`EnergyVerdict::Converges`].
 pub const CONVERGES_ABOVE: f64 = 0.25;
 
-/// An energy-error rate at or below this is [`EnergyVerdict::Grows`].
+/// An energy-error rate whose interval lies at or below this is [`EnergyVerdict::Grows`].
 pub const GROWS_AT_OR_BELOW: f64 = -0.25;
 
 /// The study of one contact treatment.
@@ -132,11 +133,15 @@ pub fn extended_sensitivity(
     )
 }
 
-/// What the energy error does under refinement, from the least-squares rate `r` of
-/// `‖E_h − E‖_{L∞(0,T)}` over all levels and its value `e` on the finest level:
-/// * `converges`: `r > 0.25` ([`CONVERGES_ABOVE`]) and `e` finite;
-/// * `bounded error`: `−0.25 < r ≤ 0.25` and `e` finite;
-/// * `grows`: `r ≤ −0.25` ([`GROWS_AT_OR_BELOW`]), or `r` undefined, or `e` not finite.
+/// What the energy error does under refinement, decided by the interval of the least-squares
+/// rate `r` of `‖E_h − E‖_{L∞(0,T)}` over all levels (its 95 % interval; for a round-off
+/// chaotic row, the ensemble's `[min, max]`; the exact solution is the reference, so no bias
+/// bound widens it: [`crate::harness::study::decision`]) and its value `e` on the finest level:
+/// * `converges`: the interval lies above 0.25 ([`CONVERGES_ABOVE`]) and `e` is finite;
+/// * `grows`: the interval lies at or below −0.25 ([`GROWS_AT_OR_BELOW`]), or `e` is not
+///   finite;
+/// * `bounded error`: the interval lies within `[−0.25, 0.25]` and `e` is finite;
+/// * `undecided`: none of these (the interval overlaps a threshold, or there is none).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EnergyVerdict {
@@ -146,15 +151,32 @@ pub enum EnergyVerdict {
     BoundedError,
     /// The energy error increases with refinement (or is not finite).
     Grows,
+    /// The rate's interval cannot tell.
+    Undecided,
 }
 
 impl EnergyVerdict {
-    /// The verdict of an energy-error rate and finest-level energy error (see the type).
-    pub fn of(rate: Option<f64>, finest_error: f64) -> Self {
-        match rate {
-            Some(r) if finest_error.is_finite() && r > CONVERGES_ABOVE => Self::Converges,
-            Some(r) if finest_error.is_finite() && r > GROWS_AT_OR_BELOW => Self::BoundedError,
-            _ => Self::Grows,
+    /// The verdict on the energy-error rate `rate` and the finest-level energy error (see the
+    /// type), with what decided it or what would.
+    pub fn decide(rate: &Estimate, finest_error: f64) -> (Self, String) {
+        if !finest_error.is_finite() {
+            return (
+                Self::Grows,
+                format!("the finest-level energy error is {finest_error}"),
+            );
+        }
+        let converges = rate.above(CONVERGES_ABOVE);
+        if converges.verdict == Verdict::Holds {
+            return (Self::Converges, converges.reason);
+        }
+        let grows = rate.above(GROWS_AT_OR_BELOW);
+        if grows.verdict == Verdict::Fails {
+            return (Self::Grows, grows.reason);
+        }
+        let bounded = rate.within(GROWS_AT_OR_BELOW, CONVERGES_ABOVE);
+        match bounded.verdict {
+            Verdict::Holds => (Self::BoundedError, bounded.reason),
+            Verdict::Fails | Verdict::Undecided => (Self::Undecided, bounded.reason),
         }
     }
 
@@ -164,6 +186,7 @@ impl EnergyVerdict {
             Self::Converges => "converges",
             Self::BoundedError => "bounded error",
             Self::Grows => "grows",
+            Self::Undecided => "undecided",
         }
     }
 }
@@ -191,8 +214,11 @@ pub struct ExtendedRow {
     pub oscillation_word: Option<&'static str>,
     /// `‖E_h − E‖_{L∞(0,T)}` on the finest level (for a chaotic case, the ensemble median).
     pub energy_error_finest: f64,
-    /// [`EnergyVerdict::of`] the `energy_Linf` rate and `energy_error_finest`.
+    /// [`EnergyVerdict::decide`] on the `energy_Linf` rate (a chaotic row: its ensemble) and
+    /// `energy_error_finest`.
     pub energy_verdict: EnergyVerdict,
+    /// What decided `energy_verdict`, or what would decide an undecided one.
+    pub energy_verdict_reason: String,
 }
 
 impl ExtendedRow {
@@ -227,16 +253,26 @@ impl ExtendedRow {
                 .and_then(|r| r.errors.last().copied())
                 .unwrap_or(f64::NAN),
         };
+        let energy_fit = case.norm(Norm::EnergyLinf).and_then(|r| r.fit);
+        let energy_rate = match rate_ranges.get(energy_key) {
+            Some(&spread) => Estimate::of_ensemble(
+                format!("{energy_key} rate (ensemble median, [min, max])"),
+                spread.median,
+                (spread.min, spread.max),
+                energy_fit.map_or(0, |f| f.levels),
+            ),
+            None => Estimate::rate(format!("{energy_key} rate"), energy_fit, Some(0.0)),
+        };
+        let (energy_verdict, energy_verdict_reason) =
+            EnergyVerdict::decide(&energy_rate, energy_error_finest);
         let indicator = case.oscillation_indicator();
         Self {
             contact: contact.to_string(),
             scheme: case.case.scheme.name(),
             mass: case.case.mass.name(),
             class: measured.map(|s| s.class),
-            energy_verdict: EnergyVerdict::of(
-                rates.get(energy_key).copied().flatten(),
-                energy_error_finest,
-            ),
+            energy_verdict,
+            energy_verdict_reason,
             rates,
             rate_ranges,
             oscillation_indicator: indicator,
@@ -393,7 +429,8 @@ fn sensitivity_section(
         "\n## Round-off sensitivity\n\nEvery row run as {} members with relative noise {:e} on \
          the initial displacement (the rules of `sensitivity.md`): {} \
          reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
-         whose [min, max] follows; the energy verdict of such a row is the medians'). The \
+         whose [min, max] follows; the energy verdict of such a row is decided by the \
+         `energy_Linf` rate's [min, max]). The \
          ensembles took {wall_seconds:.1} s wall.\n",
         ensemble.members,
         ensemble.amplitude,
@@ -426,6 +463,30 @@ fn sensitivity_section(
     md
 }
 
+/// The rows whose energy verdict is undecided, each with what it has and what would decide it.
+fn undecided_section(rows: &[ExtendedRow]) -> String {
+    let undecided: Vec<&ExtendedRow> = rows
+        .iter()
+        .filter(|r| r.energy_verdict == EnergyVerdict::Undecided)
+        .collect();
+    let mut md = format!(
+        "\n## Undecided energy verdicts\n\n{} of {} rows: the interval of the `energy_Linf` \
+         rate overlaps a threshold or there is none.\n",
+        undecided.len(),
+        rows.len()
+    );
+    if !undecided.is_empty() {
+        md.push_str("\n| scheme | mass | contact | why |\n|---|---|---|---|\n");
+        for r in undecided {
+            md.push_str(&format!(
+                "| {} | {} | {} | {} |\n",
+                r.scheme, r.mass, r.contact, r.energy_verdict_reason
+            ));
+        }
+    }
+    md
+}
+
 /// The markdown and the JSON file of the studies.
 pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
     let rows = extended_rows(studies);
@@ -451,10 +512,12 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         "# Extended table (issue 11)\n\nSignorini–Dirichlet benchmark (1D paper §5), levels NX = \
          {:?}, Δx/Δt = {}, T = {}; every mass variant × contact treatment. Each rate: the \
          least-squares rate over all levels. Oscillation: `TV(λ_h)/TV(λ)` on the finest level \
-         (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the `energy_Linf` rate r \
-         and the finest-level energy error e: *converges* r > {CONVERGES_ABOVE}, *bounded error* \
-         {GROWS_AT_OR_BELOW} < r ≤ {CONVERGES_ABOVE}, *grows* r ≤ {GROWS_AT_OR_BELOW} (or e not \
-         finite). Generated by `make report` (signorini {}); the studies took {:.1} s wall.\n",
+         (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the 95 % interval of the \
+         `energy_Linf` rate (a chaotic row: the ensemble's [min, max]) and the finest-level \
+         energy error e: *converges* when it lies above {CONVERGES_ABOVE}, *grows* when at or \
+         below {GROWS_AT_OR_BELOW} (or e not finite), *bounded error* when within \
+         [{GROWS_AT_OR_BELOW}, {CONVERGES_ABOVE}], *undecided* otherwise (the section \
+         \"Undecided energy verdicts\" gives why). Generated by `make report` (signorini {}); the studies took {:.1} s wall.\n",
         config.levels,
         config.ratio,
         config.horizon,
@@ -491,6 +554,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
             }
         }
     }
+    md.push_str(&undecided_section(&rows));
     let sensitivity_seconds = studies
         .iter()
         .filter_map(|s| s.sensitivity.as_ref())
@@ -675,25 +739,56 @@ pub fn read_extended_golden(path: &Path) -> Result<ExtendedGolden, Error> {
 mod tests {
     use super::*;
 
+    fn rate(value: f64, half: Option<f64>) -> Estimate {
+        Estimate {
+            what: "energy_Linf rate".into(),
+            value,
+            interval: half.map(|h| (value - h, value + h)),
+            bias: Some(0.0),
+            levels: if half.is_some() { 7 } else { 2 },
+        }
+    }
+
+    fn verdict(value: f64, half: Option<f64>, finest: f64) -> EnergyVerdict {
+        EnergyVerdict::decide(&rate(value, half), finest).0
+    }
+
     #[test]
-    fn energy_verdict_thresholds() {
+    fn an_interval_clear_of_the_thresholds_decides_the_energy_verdict() {
+        assert_eq!(verdict(0.9, Some(0.1), 1e-3), EnergyVerdict::Converges);
+        assert_eq!(verdict(0.0, Some(0.1), 1e-3), EnergyVerdict::BoundedError);
+        assert_eq!(verdict(-0.9, Some(0.1), 1e-3), EnergyVerdict::Grows);
+        assert_eq!(verdict(-0.4, Some(0.1), 1e-3), EnergyVerdict::Grows);
+        assert_eq!(verdict(0.9, Some(0.1), f64::INFINITY), EnergyVerdict::Grows);
+    }
+
+    #[test]
+    fn an_interval_straddling_a_threshold_is_undecided_with_what_would_decide_it() {
+        let (v, reason) = EnergyVerdict::decide(&rate(0.26, Some(0.05)), 1e-3);
+        assert_eq!(v, EnergyVerdict::Undecided);
+        assert!(
+            reason.contains("overlaps an end of [-0.25, 0.25]"),
+            "{reason}"
+        );
+        assert!(reason.contains("would decide it"), "{reason}");
+        assert_eq!(verdict(-0.24, Some(0.05), 1e-3), EnergyVerdict::Undecided);
+        assert_eq!(verdict(0.0, Some(1.0), 1e-3), EnergyVerdict::Undecided);
+        let (v, reason) = EnergyVerdict::decide(&rate(3.0, None), 1e-3);
+        assert_eq!(v, EnergyVerdict::Undecided);
+        assert!(reason.contains("no 95 % interval"), "{reason}");
+    }
+
+    #[test]
+    fn a_chaotic_row_is_decided_by_its_ensemble_range() {
+        let decided = Estimate::of_ensemble("energy_Linf rate", 0.8, (0.7, 0.9), 7);
         assert_eq!(
-            EnergyVerdict::of(Some(0.26), 1e-3),
+            EnergyVerdict::decide(&decided, 1e-3).0,
             EnergyVerdict::Converges
         );
+        let straddling = Estimate::of_ensemble("energy_Linf rate", -0.1, (-0.3, 0.0), 7);
         assert_eq!(
-            EnergyVerdict::of(Some(0.25), 1e-3),
-            EnergyVerdict::BoundedError
+            EnergyVerdict::decide(&straddling, 1e-3).0,
+            EnergyVerdict::Undecided
         );
-        assert_eq!(
-            EnergyVerdict::of(Some(-0.24), 1e-3),
-            EnergyVerdict::BoundedError
-        );
-        assert_eq!(EnergyVerdict::of(Some(-0.25), 1e-3), EnergyVerdict::Grows);
-        assert_eq!(
-            EnergyVerdict::of(Some(1.0), f64::INFINITY),
-            EnergyVerdict::Grows
-        );
-        assert_eq!(EnergyVerdict::of(None, 1e-3), EnergyVerdict::Grows);
     }
 }

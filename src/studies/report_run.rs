@@ -119,7 +119,12 @@ pub fn stability(
     staged.commit()?;
     let flagged = records
         .iter()
-        .filter(|r| !matches!(r.verdict, Verdict::Stable | Verdict::Dissipative))
+        .filter(|r| {
+            !matches!(
+                r.shared_verdict(),
+                Some(Verdict::Stable | Verdict::Dissipative)
+            )
+        })
         .count();
     let o = out.display();
     Ok(format!(

@@ -331,13 +331,23 @@ fn stability_headline(reports: &Path) -> Option<String> {
             .collect();
         let kept = runs
             .iter()
-            .filter(|r| matches!(r.verdict, Verdict::Stable | Verdict::Dissipative))
+            .filter(|r| {
+                matches!(
+                    r.shared_verdict(),
+                    Some(Verdict::Stable | Verdict::Dissipative)
+                )
+            })
             .count();
-        format!("{mass} mass {kept} of {}", runs.len())
+        let undecided = runs.iter().filter(|r| r.shared_verdict().is_none()).count();
+        match undecided {
+            0 => format!("{mass} mass {kept} of {}", runs.len()),
+            u => format!("{mass} mass {kept} of {} ({u} undecided)", runs.len()),
+        }
     };
     Some(format!(
-        "Runs judged stable or dissipative on the {} hard cases: {}, {}; `stability.md` gives \
-         every verdict and the round-off ensemble's.",
+        "Runs judged stable or dissipative, with every member of their round-off ensemble, on \
+         the {} hard cases: {}, {}; `stability.md` gives every verdict and the round-off \
+         ensemble's.",
         hard.len(),
         per_mass("standard"),
         per_mass("redistributed")

@@ -16,9 +16,16 @@
 //! Every run is also an ensemble ([`STABILITY_ENSEMBLE`],
 //! `crate::harness::study::sensitivity::run_ensemble`): its members carry round-off-size noise on
 //! the initial displacement, each gets its own verdict, and the run its [`RunSensitivity`]
-//! (reproducible, event-sensitive, or chaotic with its predictability horizon). A pair *stays
-//! numerically stable* on a hard case only when its verdict is `stable` or `dissipative` for the
-//! unperturbed run and every member, and the run is not round-off chaotic.
+//! (reproducible, event-sensitive, or chaotic with its predictability horizon).
+//!
+//! The ensemble decides what one run cannot ([`crate::harness::study::decision`]): the report's
+//! verdict is the one the unperturbed run and every member share, and *undecided*, with the
+//! members' split, when a threshold above is met by some of them and not by the others. A pair
+//! *stays numerically stable* on a hard case when its verdict is `stable` or `dissipative` for
+//! the unperturbed run and every member and the run's class is decided not chaotic
+//! ([`StabilityRecord::stays_stable`]); it does not when no run is stable or dissipative or the
+//! class is decided chaotic; otherwise (the runs split, or the class is undecided) it is
+//! undecided.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -29,10 +36,11 @@ use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
 use crate::harness::run::{BarRun, Observables, RunConfig};
+use crate::harness::study::decision::{self, Decision};
 use crate::harness::study::executor::{run_local, Executed, Executor, Jobs};
 use crate::harness::study::rates::least_squares_slope;
 use crate::harness::study::sensitivity::{
-    run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass,
+    class_text, run_ensemble, EnsembleConfig, RunSensitivity, SensitivityClass,
 };
 use crate::harness::study::shard::range::not_negative;
 use crate::harness::study::shard::InRange;
@@ -229,15 +237,115 @@ pub struct StabilityRecord {
 }
 
 impl StabilityRecord {
+    /// The verdict the unperturbed run and every member share; `None` when they split (no
+    /// members: the run's own).
+    pub fn shared_verdict(&self) -> Option<Verdict> {
+        self.member_verdicts
+            .iter()
+            .all(|&v| v == self.verdict)
+            .then_some(self.verdict)
+    }
+
+    /// The run's verdict and the members', counted: `the run stable; members: 3 stable, 1
+    /// energy growth`.
+    pub fn split(&self) -> String {
+        let mut counts: Vec<(Verdict, usize)> = Vec::new();
+        for &v in &self.member_verdicts {
+            match counts.iter_mut().find(|(w, _)| *w == v) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((v, 1)),
+            }
+        }
+        let members: Vec<String> = counts
+            .iter()
+            .map(|(v, n)| format!("{n} {}", v.word()))
+            .collect();
+        format!(
+            "the run {}; members: {}",
+            self.verdict.word(),
+            members.join(", ")
+        )
+    }
+
+    /// The verdict as the report prints it: the one the run and every member share, or
+    /// `undecided` with their split.
+    pub fn verdict_text(&self) -> String {
+        match self.shared_verdict() {
+            Some(v) => v.word().to_string(),
+            None => format!("**undecided** ({})", self.split()),
+        }
+    }
+
+    /// "Stable or dissipative": holds when the run and every member are, fails when none is,
+    /// undecided when they split (round-off alone moves the verdict across a threshold).
+    fn bounded(&self) -> Decision {
+        let fine = |v: &&&Verdict| matches!(v, Verdict::Stable | Verdict::Dissipative);
+        let runs: Vec<&Verdict> = std::iter::once(&self.verdict)
+            .chain(&self.member_verdicts)
+            .collect();
+        let fine_runs = runs.iter().filter(fine).count();
+        let named = || match self.shared_verdict() {
+            Some(v) => v.word().to_string(),
+            None => self.split(),
+        };
+        if fine_runs == runs.len() {
+            Decision {
+                verdict: decision::Verdict::Holds,
+                reason: format!(
+                    "{} in the run and its {} members",
+                    named(),
+                    self.member_verdicts.len()
+                ),
+            }
+        } else if fine_runs == 0 {
+            Decision {
+                verdict: decision::Verdict::Fails,
+                reason: named(),
+            }
+        } else {
+            Decision::undecided(format!(
+                "{}: round-off alone moves the verdict across a threshold, so no run at this \
+                 mesh and step decides it",
+                self.split()
+            ))
+        }
+    }
+
+    /// "Not round-off chaotic": holds for a decided reproducible or event-sensitive class,
+    /// fails for a decided chaotic one, undecided when the class is not decided or was not
+    /// measured.
+    fn not_chaotic(&self) -> Decision {
+        let Some(s) = self.sensitivity else {
+            return Decision::undecided(
+                "its round-off sensitivity was not measured: the ensemble would decide it",
+            );
+        };
+        let class = s.class_decision();
+        if class.verdict == decision::Verdict::Undecided {
+            return Decision::undecided(format!("round-off class undecided: {}", class.reason));
+        }
+        match s.class {
+            SensitivityClass::Chaotic => Decision {
+                verdict: decision::Verdict::Fails,
+                reason: format!(
+                    "round-off chaotic (predictable to t = {})",
+                    s.predictability_time
+                        .map_or("—".to_string(), |t| format!("{t:.3}"))
+                ),
+            },
+            class => Decision {
+                verdict: decision::Verdict::Holds,
+                reason: format!("round-off {}", class.name()),
+            },
+        }
+    }
+
     /// Whether the pair stays numerically stable on this hard case: `stable` or `dissipative`
-    /// for the unperturbed run and every member, and not round-off chaotic.
-    pub fn stays_stable(&self) -> bool {
-        let fine = |v: &Verdict| matches!(v, Verdict::Stable | Verdict::Dissipative);
-        fine(&self.verdict)
-            && self.member_verdicts.iter().all(fine)
-            && self
-                .sensitivity
-                .is_some_and(|s| s.class != SensitivityClass::Chaotic)
+    /// for the unperturbed run and every member, and not round-off chaotic, in three-valued
+    /// logic ([`decision::all_of`]): a split ensemble or an undecided class leaves it undecided
+    /// unless the other part fails.
+    pub fn stays_stable(&self) -> Decision {
+        decision::all_of(vec![self.bounded(), self.not_chaotic()])
     }
 
     /// The distinct verdicts of the members that differ from the unperturbed run's.
@@ -249,30 +357,6 @@ impl StabilityRecord {
             }
         }
         others
-    }
-
-    /// What keeps the pair from staying stable on this hard case (empty when it does): the
-    /// verdict, the members' other verdicts, round-off chaos with its predictability horizon.
-    pub fn instabilities(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        if !matches!(self.verdict, Verdict::Stable | Verdict::Dissipative) {
-            out.push(self.verdict.word().to_string());
-        }
-        let others = self.other_member_verdicts();
-        if !others.is_empty() {
-            out.push(format!("perturbed members: {}", others.join(", ")));
-        }
-        if let Some(s) = self
-            .sensitivity
-            .filter(|s| s.class == SensitivityClass::Chaotic)
-        {
-            out.push(format!(
-                "round-off chaotic (predictable to t = {})",
-                s.predictability_time
-                    .map_or("—".to_string(), |t| format!("{t:.3}"))
-            ));
-        }
-        out
     }
 }
 
@@ -467,7 +551,7 @@ fn round_off_cell(r: &StabilityRecord) -> String {
     let Some(s) = r.sensitivity else {
         return "—".to_string();
     };
-    let mut cell = s.class.name().to_string();
+    let mut cell = class_text(s.class, &s.class_decision());
     if let Some(t) = s.predictability_time {
         cell.push_str(&format!(", parts at t = {t:.3}"));
     }
@@ -494,7 +578,10 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
          **energy growth** (max E/E₀ − 1 > 5 % and the fitted trend of E gains > 5 % of E₀ over \
          the horizon); **oscillating** (TV(λ_h)/TV(λ) ≥ 100, or TV(λ_h) > 1e-9 when the exact \
          force is constant); **dissipative** (E ends > 1 % below E₀ and no step raises it by \
-         more than 1e-12 E₀); **stable** otherwise. Generated by `make stability`.\n\n",
+         more than 1e-12 E₀); **stable** otherwise. The verdict shown is the one the \
+         unperturbed run and every member of its round-off ensemble share; where a threshold \
+         is met by some of them and not by the others it is **undecided**, with their split. \
+         Generated by `make stability`.\n\n",
     );
     md.push_str(&format!(
         "Round-off: every run is also an ensemble of {} members with relative noise {:e} on the \
@@ -505,7 +592,8 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
          first member parts; *event-sensitive*: members part, but not so. Members whose \
          verdict differs from the unperturbed run's are listed. A pair *stays numerically \
          stable* on a hard case when every run's verdict is stable or dissipative and it is \
-         not chaotic.\n\n",
+         not chaotic; it does not when no run's verdict is or it is chaotic; it is undecided \
+         when the runs split or the class is undecided.\n\n",
         STABILITY_ENSEMBLE.members,
         STABILITY_ENSEMBLE.amplitude,
         crate::harness::study::sensitivity::PARTING,
@@ -541,7 +629,7 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
             md.push_str(&format!(
                 "| {} | {} | {} | {:.2e} | {:+.2e} | {:.1e} | {:.3} | {:.1e} | {} |\n",
                 r.case,
-                r.verdict.word(),
+                r.verdict_text(),
                 round_off_cell(r),
                 r.max_energy_drift,
                 r.energy_trend,
@@ -555,14 +643,24 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
     md.push_str(
         "\n## Pairs that stay numerically stable on every hard case\n\nStable or dissipative \
          for the unperturbed run and every member, and not round-off chaotic; otherwise what \
-         fails, hard case by hard case.\n\n",
+         fails, hard case by hard case, and where the ensemble cannot tell (*undecided*: the \
+         runs split, or the class is undecided) why.\n\n",
     );
     for case in Case::paper_matrix() {
         let id = case.id();
         let bad: Vec<String> = records
             .iter()
-            .filter(|r| r.case == id && !r.stays_stable())
-            .map(|r| format!("{} ({})", r.hard_case, r.instabilities().join("; ")))
+            .filter(|r| r.case == id)
+            .filter_map(|r| {
+                let d = r.stays_stable();
+                match d.verdict {
+                    decision::Verdict::Holds => None,
+                    decision::Verdict::Fails => Some(format!("{} ({})", r.hard_case, d.reason)),
+                    decision::Verdict::Undecided => {
+                        Some(format!("{} (undecided: {})", r.hard_case, d.reason))
+                    }
+                }
+            })
             .collect();
         let line = if bad.is_empty() {
             "stays numerically stable on every hard case".to_string()
@@ -572,4 +670,129 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
         md.push_str(&format!("- `{id}`: {line}\n"));
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::harness::study::decision::Verdict as Decided;
+
+    /// A record of `verdict` with `members`, its class `class` measured with the members'
+    /// median growth `growth` and largest separation `largest`.
+    fn record(
+        verdict: Verdict,
+        members: &[Verdict],
+        class: SensitivityClass,
+        growth: Option<f64>,
+        largest: f64,
+    ) -> StabilityRecord {
+        let parted = (class != SensitivityClass::Reproducible).then_some(400);
+        StabilityRecord {
+            hard_case: "long-horizon".into(),
+            case: "newmark-1/standard".into(),
+            max_energy_drift: 0.0,
+            energy_trend: 0.0,
+            max_energy_step_increase: 0.0,
+            max_multiplier: 1.0,
+            complementarity_violation: 0.0,
+            oscillation_indicator: 1.0,
+            indicator_is_ratio: true,
+            verdict,
+            failure: None,
+            energy_samples: Vec::new(),
+            member_verdicts: members.to_vec(),
+            sensitivity: Some(RunSensitivity {
+                class,
+                members: members.len(),
+                amplitude: 1e-13,
+                predictability_step: parted,
+                predictability_time: parted.map(|n| n as f64 * 0.01),
+                separation_growth: growth,
+                largest_separation: largest,
+            }),
+            max_balance_residual: None,
+        }
+    }
+
+    fn reproducible(verdict: Verdict, members: &[Verdict]) -> StabilityRecord {
+        record(
+            verdict,
+            members,
+            SensitivityClass::Reproducible,
+            None,
+            1e-12,
+        )
+    }
+
+    #[test]
+    fn runs_that_agree_decide_the_verdict() {
+        let r = reproducible(Verdict::Stable, &[Verdict::Stable; 4]);
+        assert_eq!(r.shared_verdict(), Some(Verdict::Stable));
+        assert_eq!(r.verdict_text(), "stable");
+        let stays = r.stays_stable();
+        assert_eq!(stays.verdict, Decided::Holds, "{}", stays.reason);
+        let grows = reproducible(Verdict::EnergyGrowth, &[Verdict::EnergyGrowth; 4]);
+        let stays = grows.stays_stable();
+        assert_eq!(stays.verdict, Decided::Fails);
+        assert_eq!(stays.reason, "energy growth");
+    }
+
+    #[test]
+    fn a_threshold_met_by_some_runs_only_is_undecided_with_the_split() {
+        use Verdict::{EnergyGrowth, Stable};
+        let r = reproducible(EnergyGrowth, &[EnergyGrowth, Stable, EnergyGrowth, Stable]);
+        assert_eq!(r.shared_verdict(), None);
+        assert_eq!(
+            r.verdict_text(),
+            "**undecided** (the run energy growth; members: 2 energy growth, 2 stable)"
+        );
+        let stays = r.stays_stable();
+        assert_eq!(stays.verdict, Decided::Undecided);
+        assert!(stays.reason.contains("round-off alone"), "{}", stays.reason);
+        let members_only = reproducible(Stable, &[Stable, Stable, Stable, EnergyGrowth]);
+        assert_eq!(members_only.stays_stable().verdict, Decided::Undecided);
+    }
+
+    #[test]
+    fn runs_unstable_in_different_ways_fail_to_stay_stable_with_an_undecided_verdict() {
+        let r = reproducible(Verdict::Oscillating, &[Verdict::EnergyGrowth; 4]);
+        assert!(r.verdict_text().starts_with("**undecided**"));
+        let stays = r.stays_stable();
+        assert_eq!(stays.verdict, Decided::Fails);
+        assert_eq!(
+            stays.reason,
+            "the run oscillating; members: 4 energy growth"
+        );
+    }
+
+    #[test]
+    fn a_decided_chaotic_class_fails_and_an_undecided_one_leaves_it_undecided() {
+        let chaotic = record(
+            Verdict::Dissipative,
+            &[Verdict::Dissipative; 4],
+            SensitivityClass::Chaotic,
+            Some(2.9),
+            1.7e-4,
+        );
+        let stays = chaotic.stays_stable();
+        assert_eq!(stays.verdict, Decided::Fails);
+        assert_eq!(stays.reason, "round-off chaotic (predictable to t = 4.000)");
+        let jump = record(
+            Verdict::Stable,
+            &[Verdict::Stable; 4],
+            SensitivityClass::Chaotic,
+            None,
+            2e-3,
+        );
+        let stays = jump.stays_stable();
+        assert_eq!(stays.verdict, Decided::Undecided);
+        assert!(
+            stays
+                .reason
+                .starts_with("round-off class undecided: chaotic or event-sensitive"),
+            "{}",
+            stays.reason
+        );
+        assert!(round_off_cell(&jump).contains("chaotic (**undecided**: "));
+    }
 }

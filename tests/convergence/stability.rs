@@ -9,6 +9,7 @@ use std::path::Path;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::energy_balance::BALANCE_TOLERANCE;
 use signorini::engine::schemes::Scheme;
+use signorini::harness::study::decision::Verdict as Decided;
 use signorini::harness::study::executor::{Executed, Executor};
 use signorini::harness::study::sensitivity::SensitivityClass;
 use signorini::harness::study::Case;
@@ -160,7 +161,7 @@ fn every_run_reports_its_round_off_sensitivity() {
     assert_eq!(s.predictability_step, None);
     assert!(s.largest_separation <= 1e-8, "{:e}", s.largest_separation);
     assert_eq!(calm.member_verdicts, vec![Verdict::Stable; s.members]);
-    assert!(calm.stays_stable() && calm.instabilities().is_empty());
+    assert_eq!(calm.stays_stable().verdict, Decided::Holds);
 
     let chaotic = judge(&hard, case("newmark-2", MassVariant::Standard)).unwrap();
     let s = chaotic.sensitivity.expect("measured");
@@ -168,19 +169,20 @@ fn every_run_reports_its_round_off_sensitivity() {
     let t = s.predictability_time.expect("the members part");
     assert!(t > 1.0 && t < 3.0, "parts at t = {t}");
     assert!(s.separation_growth.is_some_and(|g| g > 0.0));
-    assert!(!chaotic.stays_stable());
+    let stays = chaotic.stays_stable();
+    assert_eq!(stays.verdict, Decided::Fails);
     assert!(
-        chaotic
-            .instabilities()
-            .iter()
-            .any(|i| i.starts_with("round-off chaotic")),
-        "{:?}",
-        chaotic.instabilities()
+        stays
+            .reason
+            .contains("round-off chaotic (predictable to t = "),
+        "{}",
+        stays.reason
     );
 }
 
-/// A stable verdict with a chaotic ensemble does not stay numerically stable, and neither does
-/// one whose perturbed members are judged otherwise.
+/// A stable verdict with a chaotic ensemble does not stay numerically stable; one whose
+/// perturbed members are judged otherwise, or whose sensitivity was not measured, cannot be
+/// decided.
 #[test]
 fn stays_stable_needs_every_member_and_no_chaos() {
     let hard = long_horizon();
@@ -189,14 +191,20 @@ fn stays_stable_needs_every_member_and_no_chaos() {
     if let Some(s) = chaotic.sensitivity.as_mut() {
         s.class = SensitivityClass::Chaotic;
     }
-    assert!(!chaotic.stays_stable());
+    assert_eq!(chaotic.stays_stable().verdict, Decided::Fails);
     let mut split = calm.clone();
     split.member_verdicts[1] = Verdict::Oscillating;
-    assert!(!split.stays_stable());
+    let stays = split.stays_stable();
+    assert_eq!(stays.verdict, Decided::Undecided);
+    assert!(
+        stays.reason.contains("members: 3 stable, 1 oscillating"),
+        "{}",
+        stays.reason
+    );
     assert_eq!(split.other_member_verdicts(), vec!["oscillating"]);
     let mut unmeasured = calm;
     unmeasured.sensitivity = None;
-    assert!(!unmeasured.stays_stable());
+    assert_eq!(unmeasured.stays_stable().verdict, Decided::Undecided);
 }
 
 #[test]

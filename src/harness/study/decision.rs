@@ -52,8 +52,9 @@ impl Verdict {
     }
 }
 
-/// A verdict with what decided it or, undecided, what it has and what would decide it.
-#[derive(Debug, Clone, PartialEq)]
+/// A verdict with what decided it or, undecided, what it has and what would decide it (in
+/// JSON `{"verdict": "holds" | "fails" | "undecided", "reason": "…"}`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Decision {
     /// The verdict.
     pub verdict: Verdict,
@@ -143,6 +144,24 @@ impl Estimate {
             interval: fit.and_then(|f| Some((f.ci_low?, f.ci_high?))),
             bias,
             levels: fit.map_or(0, |f| f.levels),
+        }
+    }
+
+    /// An ensemble's spread of a quantity fitted on `levels` levels: its `median`, with the
+    /// members' `[min, max]` (`range`) in the interval's place (the members are the samples
+    /// round-off gives, so no wider interval is claimed) and no bias.
+    pub fn of_ensemble(
+        what: impl Into<String>,
+        median: f64,
+        range: (f64, f64),
+        levels: usize,
+    ) -> Self {
+        Self {
+            what: what.into(),
+            value: median,
+            interval: Some(range),
+            bias: Some(0.0),
+            levels,
         }
     }
 

@@ -12,6 +12,7 @@
 //! | [`shard`] | `--shard K/N` and `merge`: [`shard::ShardSpec`], [`shard::ShardFile`], [`shard::merge`], [`shard::codec`], [`shard::InRange`] |
 //! | [`rates`] | [`rates::fit_rate`], [`rates::RateFit`], [`rates::observed_orders`] |
 //! | [`sensitivity`] | round-off ensembles: [`sensitivity::run_sensitivity`], [`sensitivity::Sensitivity`], [`sensitivity::SensitivityClass`] |
+//! | [`class_decision`] | how sure a round-off class is: [`class_decision::class_decision`] |
 //! | [`decision`] | verdicts decided by 95 % intervals widened by a bias bound: [`decision::Estimate`], [`decision::Verdict`], [`decision::Decision`], [`decision::all_of`] |
 //! | [`verdicts`] | the oscillation thresholds and words: [`verdicts::oscillates`], [`verdicts::oscillation_word`] |
 //! | [`golden`] | the regression gate: [`golden::Golden`], [`golden::compare`], [`golden::gate`], [`golden::Drift`] |
@@ -19,6 +20,7 @@
 //! | [`budget`] | what a run or a study costs and its limits: [`budget::Estimate`], [`budget::Limits`] |
 
 pub mod budget;
+pub mod class_decision;
 pub mod decision;
 pub mod executor;
 pub mod golden;

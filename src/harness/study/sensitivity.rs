@@ -34,6 +34,7 @@ use crate::engine::problem::{Perturbation, Settings, StepPerturbation, UNIT_ROUN
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
+use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, least_squares_slope};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
@@ -786,8 +787,20 @@ pub(crate) fn class_rules() -> String {
          *reproducible*: no member's contact-node displacement parts from the unperturbed run \
          by more than {PARTING:e}; *chaotic*: the separation grows exponentially to \
          {RUNAWAY:e} and some rate's ensemble range exceeds {CHAOTIC_RATE_RANGE}; \
-         *event-sensitive*: members part, but not so."
+         *event-sensitive*: members part, but not so. A class these cannot decide (the \
+         separation reaches {RUNAWAY:e} in a jump, with no growth fitted; no rate fitted) is \
+         shown *undecided*, with what it lacks (docs/src/roundoff-sensitivity.md)."
     )
+}
+
+/// A class as a table shows it: its name, and when the ensemble cannot decide it
+/// ([`CaseSensitivity::class_decision`], [`RunSensitivity::class_decision`]), `undecided` with
+/// the reason.
+pub(crate) fn class_text(class: SensitivityClass, decision: &Decision) -> String {
+    match decision.verdict {
+        Verdict::Undecided => format!("{} (**undecided**: {})", class.name(), decision.reason),
+        Verdict::Holds | Verdict::Fails => class.name().to_string(),
+    }
 }
 
 /// One row per case: its class, and at `nx_shown` the predictability step and the separation
@@ -817,7 +830,7 @@ pub(crate) fn class_table(s: &Sensitivity, nx_shown: usize) -> String {
         md.push_str(&format!(
             "| {} | {} | {step} | {growth} | {range:.2e} ({norm}) | {spread:.2e} |\n",
             c.case,
-            c.class.name()
+            class_text(c.class, &c.class_decision())
         ));
     }
     md

@@ -205,13 +205,12 @@ pub fn agreement(
 ) -> Decision {
     let what = format!("{} rate", norm.key());
     let estimate = match ensemble {
-        Some(e) => Estimate {
-            what: format!("{what} (ensemble median, [min, max])"),
-            value: e.median,
-            interval: Some((e.min, e.max)),
-            bias: Some(0.0),
-            levels: fit.map_or(0, |f| f.levels),
-        },
+        Some(e) => Estimate::of_ensemble(
+            format!("{what} (ensemble median, [min, max])"),
+            e.median,
+            (e.min, e.max),
+            fit.map_or(0, |f| f.levels),
+        ),
         None => Estimate::rate(what, fit, Some(0.0)),
     };
     estimate.within(paper - PAPER_AGREEMENT, paper + PAPER_AGREEMENT)
