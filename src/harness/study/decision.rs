@@ -185,7 +185,7 @@ impl Estimate {
 
     /// The interval widened by the bias bound, or why there is none to decide with.
     fn widened(&self) -> Result<(f64, f64), Decision> {
-        if self.levels == 0 {
+        if self.levels == 0 && !self.value.is_finite() {
             return Err(Decision::undecided(format!(
                 "{} is not computed on any level (the runs lack what it needs)",
                 self.what
