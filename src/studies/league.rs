@@ -2,7 +2,8 @@
 //! directory (`<dir>/<entry>/verify.json`, as `signorini verify --out <dir>/<entry>` writes
 //! it) side by side, one row per refinement series: the code and version, the scheme, mass
 //! and contact treatment the files declare, the levels, the rates with their 95 % intervals,
-//! the oscillation indicator's verdict, the energy verdict and, per entry, the note's findings.
+//! the oscillation indicator's verdict, the energy verdict; and the note's findings judged on
+//! every series of one code on one scene together, across its entries.
 //!
 //! The energy verdict is "the energy error converges" (`energy_Linf`'s rate above 0), decided
 //! by [`crate::harness::study::decision`]: the rate's interval widened by the reference's
@@ -11,7 +12,8 @@
 //! says what would decide it. The oscillation verdict is the indicator's word as measured (an
 //! indicator has no interval).
 //!
-//! `league.json` (format `signorini-league/1`): `format`; `entries`, one per directory, each
+//! `league.json` (format `signorini-league/1`): `format`; `findings`, one per code and scene
+//! with a declared case (`scene`, `code`, `entries`, `findings`); `entries`, one per directory, each
 //! with `entry` (the directory's name), `scene`, `reference`, `findings` (as in verify.json) and
 //! `rows`, one per series: `label`, `code`, `declared` (`scheme`, `mass`, `contact`, each
 //! omitted when not declared), `levels` (NX), `rates` (per computed norm: `norm`, `rate`,
@@ -25,8 +27,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::elastic_study::findings::Finding;
+use super::elastic_study::external::declared_cases;
+use super::elastic_study::findings::{findings_of_cases, Finding};
 use super::elastic_study::report::findings_table;
+use crate::harness::external::format::Code;
 use crate::harness::external::verify::{Declared, Series, Verification};
 use crate::harness::external::ExternalError;
 use crate::harness::files::artifacts::{write_atomic, write_json};
@@ -91,7 +95,7 @@ pub struct LeagueRow {
     /// The series' label.
     pub label: String,
     /// The code and its version.
-    pub code: crate::harness::external::format::Code,
+    pub code: Code,
     /// What the files declare.
     pub declared: Declared,
     /// `NX` of each level.
@@ -125,6 +129,19 @@ pub struct LeagueEntry {
     pub rows: Vec<LeagueRow>,
 }
 
+/// The note's findings on one code's series of one scene, across the entries that hold them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CodeFindings {
+    /// The scene.
+    pub scene: String,
+    /// The code and its version.
+    pub code: Code,
+    /// The entries whose series were judged together.
+    pub entries: Vec<String>,
+    /// The findings.
+    pub findings: Vec<Finding>,
+}
+
 /// `league.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct League {
@@ -132,6 +149,8 @@ pub struct League {
     pub format: String,
     /// One per entry directory, by name.
     pub entries: Vec<LeagueEntry>,
+    /// The note's findings per code and scene, across entries.
+    pub findings: Vec<CodeFindings>,
 }
 
 /// Reads every `<dir>/<entry>/verify.json` into the league (entries by name).
@@ -157,27 +176,35 @@ pub fn read_league(dir: &Path) -> Result<League, CommandError> {
             dir.display()
         )));
     }
-    let entries = files
+    let read = files
         .into_iter()
         .map(|(name, file)| {
             let v: VerifyFile = read_json(&file, VERIFY_FILE)
                 .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
-            Ok(entry(name, v))
+            Ok((name, v))
         })
         .collect::<Result<Vec<_>, CommandError>>()?;
     Ok(League {
         format: LEAGUE_FORMAT.to_string(),
-        entries,
+        entries: read.iter().map(|(name, v)| entry(name, v)).collect(),
+        findings: findings_by_code(&read),
     })
 }
 
-fn entry(name: String, v: VerifyFile) -> LeagueEntry {
-    let bias = |norm: Norm| -> Option<f64> {
-        match &v.rate_bias {
+impl VerifyFile {
+    /// The reference's rate-bias bound of `norm`: 0 against an exact solution (a bar's
+    /// verification has no `rate_bias`), the recorded bound against a fine-mesh reference
+    /// (`None`: unbounded or not formed).
+    fn bias(&self, norm: Norm) -> Option<f64> {
+        match &self.rate_bias {
             None => Some(0.0),
             Some(map) => map.get(norm.key()).copied().flatten(),
         }
-    };
+    }
+}
+
+fn entry(name: &str, v: &VerifyFile) -> LeagueEntry {
+    let bias = |norm: Norm| v.bias(norm);
     let rows = v
         .verification
         .series
@@ -185,12 +212,64 @@ fn entry(name: String, v: VerifyFile) -> LeagueEntry {
         .map(|s| row(s, &bias))
         .collect();
     LeagueEntry {
-        entry: name,
-        scene: v.verification.scene,
-        reference: v.verification.reference,
-        findings: v.findings,
+        entry: name.to_string(),
+        scene: v.verification.scene.clone(),
+        reference: v.verification.reference.clone(),
+        findings: v.findings.clone(),
         rows,
     }
+}
+
+/// The note's findings judged on every series of one code on one scene, across the entries
+/// (the first series of each declared scheme × mass), each rate's interval widened by the
+/// largest bias bound of the entries that hold them; codes without a declared case have none.
+fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
+    let mut keys: Vec<(String, Code)> = Vec::new();
+    for (_, v) in files {
+        for s in &v.verification.series {
+            let key = (v.verification.scene.clone(), s.code.clone());
+            if !keys.contains(&key) {
+                keys.push(key);
+            }
+        }
+    }
+    keys.into_iter()
+        .filter_map(|(scene, code)| {
+            let mut entries = Vec::new();
+            let mut series: Vec<Series> = Vec::new();
+            let mut holders: Vec<&VerifyFile> = Vec::new();
+            for (name, v) in files.iter().filter(|(_, v)| v.verification.scene == scene) {
+                let own: Vec<Series> = v
+                    .verification
+                    .series
+                    .iter()
+                    .filter(|s| s.code == code)
+                    .cloned()
+                    .collect();
+                if !declared_cases(&own).is_empty() {
+                    entries.push(name.clone());
+                    holders.push(v);
+                    series.extend(own);
+                }
+            }
+            let cases = declared_cases(&series);
+            if cases.is_empty() {
+                return None;
+            }
+            let bias = |norm: Norm| -> Option<f64> {
+                holders
+                    .iter()
+                    .map(|v| v.bias(norm))
+                    .try_fold(0.0f64, |worst, b| b.map(|b| worst.max(b)))
+            };
+            Some(CodeFindings {
+                scene,
+                code,
+                entries,
+                findings: findings_of_cases(&cases, &bias),
+            })
+        })
+        .collect()
 }
 
 fn row(s: &Series, bias: &dyn Fn(Norm) -> Option<f64>) -> LeagueRow {
@@ -315,12 +394,17 @@ pub fn render(league: &League) -> String {
             );
         }
     }
-    for e in league.entries.iter().filter(|e| !e.findings.is_empty()) {
+    for f in &league.findings {
+        let entries: Vec<String> = f.entries.iter().map(|e| format!("`{e}`")).collect();
         let _ = writeln!(
             out,
-            "\n## The note's findings on `{}`\n\n{}",
-            e.entry,
-            findings_table(&e.findings)
+            "\n## The note's findings: {} {} on `{}`\n\nJudged on the series of {} together \
+             (each rate's interval widened by the largest bias bound among them).\n\n{}",
+            f.code.name,
+            f.code.version,
+            f.scene,
+            entries.join(", "),
+            findings_table(&f.findings)
         );
     }
     out

@@ -71,6 +71,12 @@ fn the_league_puts_every_verification_under_a_directory_side_by_side() {
         getfem["findings"], verified["findings"],
         "the findings as verify judged them"
     );
+    let across = &league["findings"][0];
+    assert_eq!(across["entries"], serde_json::json!(["getfem-2d"]));
+    assert_eq!(
+        across["findings"], verified["findings"],
+        "one entry: the findings across entries are verify's"
+    );
     for row in getfem["rows"].as_array().unwrap() {
         let label = row["label"].as_str().unwrap();
         let declared = &row["declared"];
@@ -103,7 +109,7 @@ fn the_league_puts_every_verification_under_a_directory_side_by_side() {
     let md = std::fs::read_to_string(reports.join("league.md")).unwrap();
     assert!(md.contains("| [getfem-2d](getfem-2d/verify.md) | GetFEM 5.4.2"));
     assert!(md.contains("| [traces](traces/verify.md) | hand-copied 1 |"));
-    assert!(md.contains("## The note's findings on `getfem-2d`"));
+    assert!(md.contains("## The note's findings: GetFEM 5.4.2"));
 }
 
 #[test]
@@ -135,13 +141,21 @@ fn the_committed_league_is_rendered_from_its_entries() {
 
 /// The harness's own runs in the committed league, exported through `.pvd` and verified, have
 /// the rates of the committed 2D/3D studies to the bits (both come from the same runs against
-/// the same cached reference).
+/// the same cached reference), and the note's findings judged across those entries are the
+/// studies' own, verdict, reason and evidence.
 #[test]
 fn the_harness_league_entries_have_the_committed_studies_rates() {
     let league = read_json(Path::new("reports/league.json"));
     let mut compared = 0;
     for d in [2, 3] {
         let study = read_json(Path::new(&format!("reports/elastic-{d}d.json")));
+        let judged = league["findings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["code"]["name"] == "signorini" && f["scene"] == format!("bar{d}d"))
+            .expect("the harness's findings across its entries");
+        assert_eq!(judged["findings"], study["findings"], "{d}D findings");
         let cases = study["study"]["cases"].as_array().unwrap();
         let prefix = format!("signorini-{d}d-");
         let entries = league["entries"].as_array().unwrap();

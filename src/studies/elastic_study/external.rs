@@ -25,24 +25,24 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::comparison::ComparedSample;
-use super::findings::{note_findings, Finding};
+use super::findings::{findings_of_cases, Finding};
 use super::reference::ReferenceCache;
 use super::report::findings_table;
 use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
 use crate::harness::external::report::{reported_energies, sampled_displacement, tables};
 use crate::harness::external::verify::{
-    into_series, Declared, ReportedEnergy, RunRecord, VerifiedFile,
+    into_series, Declared, ReportedEnergy, RunRecord, Series, VerifiedFile,
 };
 use crate::harness::external::{ExternalError, Verification};
 use crate::harness::files::error::Error;
-use crate::harness::problem::{BoxProblem, Problem, Settings};
+use crate::harness::problem::{BoxProblem, MassVariant, Problem, Scheme, Settings};
 use crate::harness::run::nested_comparison::error_series::Quantity;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::Timings;
 use crate::harness::study::budget::{self, Limits};
 use crate::harness::study::scene::Scene;
-use crate::harness::study::{Case, CaseStudy, LevelRecord, Study, StudyConfig};
+use crate::harness::study::{Case, CaseStudy, LevelRecord};
 
 /// The verification of another code's box runs (`verify.json` for a box scene).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -114,11 +114,9 @@ pub fn verify_box(
     let comparator = Comparator::new(&problem, reference, finest)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let mut verified = Vec::new();
-    let mut declared = Vec::new();
     let mut reported_energy = Vec::new();
     for run in &runs {
         let (file, energy) = verify_file(run, &problem, &comparator, config.settings)?;
-        declared.push((run.label.clone(), run.scheme.zip(run.mass)));
         reported_energy.extend(energy);
         verified.push(file);
     }
@@ -134,29 +132,7 @@ pub fn verify_box(
             })
             .collect()
     };
-    let study_config = StudyConfig {
-        levels: config.levels.clone(),
-        ratio: config.ratio,
-        horizon: problem.horizon,
-        settings: config.settings,
-    };
-    let mut cases: Vec<CaseStudy> = Vec::new();
-    for s in &series {
-        let Some((_, Some((scheme, mass)))) = declared.iter().find(|(l, _)| *l == s.label) else {
-            continue;
-        };
-        let case = Case {
-            scheme: *scheme,
-            mass: *mass,
-        };
-        if cases.iter().all(|c| c.case != case) {
-            cases.push(CaseStudy {
-                case,
-                levels: s.levels.clone(),
-                rates: s.rates.clone(),
-            });
-        }
-    }
+    let cases = declared_cases(&series);
     let mut rate_bias = BTreeMap::new();
     for case in &cases {
         for (key, bias) in rate_bias_of(case) {
@@ -167,14 +143,7 @@ pub fn verify_box(
     let findings = if cases.is_empty() {
         Vec::new()
     } else {
-        let study = Study {
-            config: study_config,
-            norms: Norm::ALL.to_vec(),
-            cases,
-            not_run: Vec::new(),
-            wall_seconds: 0.0,
-        };
-        note_findings(&study, &|n| rate_bias.get(n.key()).copied().flatten())
+        findings_of_cases(&cases, &|n| rate_bias.get(n.key()).copied().flatten())
     };
     let h = &reference.histories;
     Ok(BoxVerification {
@@ -202,6 +171,36 @@ pub fn verify_box(
         findings,
         reported_energy,
     })
+}
+
+/// The cases of the series that declare a scheme and a mass the harness names (the first
+/// series of each case), with their levels and rates: what the note's findings are judged on.
+pub fn declared_cases(series: &[Series]) -> Vec<CaseStudy> {
+    let mut cases: Vec<CaseStudy> = Vec::new();
+    for s in series {
+        let scheme = s
+            .declared
+            .scheme
+            .as_deref()
+            .and_then(|n| n.parse::<Scheme>().ok());
+        let mass = s
+            .declared
+            .mass
+            .as_deref()
+            .and_then(|n| n.parse::<MassVariant>().ok());
+        let Some((scheme, mass)) = scheme.zip(mass) else {
+            continue;
+        };
+        let case = Case { scheme, mass };
+        if cases.iter().all(|c| c.case != case) {
+            cases.push(CaseStudy {
+                case,
+                levels: s.levels.clone(),
+                rates: s.rates.clone(),
+            });
+        }
+    }
+    cases
 }
 
 /// Reads the run file `path` of `scene`: a `.pvd` collection (its arrays as `options` name

@@ -58,8 +58,9 @@ impl Finding {
     }
 }
 
-fn case(study: &Study, scheme: Scheme, mass: MassVariant) -> Option<&CaseStudy> {
-    study.case(&Case { scheme, mass })
+fn case(cases: &[CaseStudy], scheme: Scheme, mass: MassVariant) -> Option<&CaseStudy> {
+    let wanted = Case { scheme, mass };
+    cases.iter().find(|c| c.case == wanted)
 }
 
 /// A case of a finding with its label (`STD`, `MOD`).
@@ -166,13 +167,22 @@ fn indicator_text(c: Labelled<'_>) -> String {
 /// decided by its interval widened by `rate_bias` of its norm (`None`: unbounded); a finding
 /// whose cases are not in the study is undecided, with the reason.
 pub fn note_findings(study: &Study, rate_bias: &dyn Fn(Norm) -> Option<f64>) -> Vec<Finding> {
+    findings_of_cases(&study.cases, rate_bias)
+}
+
+/// [`note_findings`] on the cases `cases` (a study's, or the series of other codes' runs that
+/// declare their scheme and mass).
+pub fn findings_of_cases(
+    cases: &[CaseStudy],
+    rate_bias: &dyn Fn(Norm) -> Option<f64>,
+) -> Vec<Finding> {
     let judge = Judge { rate_bias };
     let cn = Scheme::CRANK_NICOLSON;
     let be = Scheme::BACKWARD_EULER;
     let (std, modified) = (MassVariant::Standard, MassVariant::Redistributed);
     let labelled = |scheme| {
-        let s = case(study, scheme, std)?;
-        let m = case(study, scheme, modified)?;
+        let s = case(cases, scheme, std)?;
+        let m = case(cases, scheme, modified)?;
         Some((
             Labelled {
                 label: "STD",
