@@ -8,7 +8,7 @@ use std::time::Instant;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
-use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::budget::Limits;
 use crate::harness::study::executor::{Executor, Jobs};
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
@@ -90,15 +90,7 @@ pub fn references(
             .box_problem("box scenes: a reference is for them (a bar1d has an exact solution)")?;
         let mut config = ElasticStudyConfig::from_scene(&scene, None)?;
         config.settings.linear_solver = linear_solver;
-        let estimate = budget::box_study(
-            &problem,
-            &config.settings,
-            &config.levels,
-            config.reference_level,
-            config.ratio,
-            &[],
-            0,
-        );
+        let estimate = config.reference_estimate(&problem);
         work.push(estimate.dof_steps as usize);
         estimate.check(&limits).map_err(Error::from)?;
         jobs.push(ReferenceJob {

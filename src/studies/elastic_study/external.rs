@@ -40,7 +40,7 @@ use crate::harness::problem::{BoxProblem, MassVariant, Problem, Scheme, Settings
 use crate::harness::run::nested_comparison::error_series::Quantity;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::Timings;
-use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::budget::Limits;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::{Case, CaseStudy, LevelRecord};
 
@@ -99,15 +99,7 @@ pub fn verify_box(
         .map(|path| read_run(&box_scene, path, request.options))
         .collect::<Result<Vec<_>, _>>()?;
     let afford = || -> Result<(), Error> {
-        let estimate = budget::box_study(
-            &problem,
-            &config.settings,
-            &config.levels,
-            config.reference_level,
-            config.ratio,
-            &[],
-            0,
-        );
+        let estimate = config.reference_estimate(&problem);
         estimate.check(request.limits).map_err(Error::from)
     };
     let reference = obtain_reference(&problem, &config, request.cache, note, &afford)?;

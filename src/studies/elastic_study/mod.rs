@@ -42,6 +42,7 @@ use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
 use crate::harness::run::nested_comparison::projection::NormMatrices;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BoxRun, Observables, Observer, RunConfig, TimeIntegrator};
+use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::{run_local, Executed, Executor};
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::scene::Scene;
@@ -80,6 +81,20 @@ pub struct ElasticStudyConfig {
 }
 
 impl ElasticStudyConfig {
+    /// The estimated work and memory of this study's fine-mesh reference alone (no level runs,
+    /// no ensemble): what `signorini reference` checks, and `verify` before it computes one.
+    pub fn reference_estimate(&self, problem: &BoxProblem) -> Estimate {
+        budget::box_study(
+            problem,
+            &self.settings,
+            &self.levels,
+            self.reference_level,
+            self.ratio,
+            &[],
+            0,
+        )
+    }
+
     /// The 2D/3D study of a box scene: its levels, ratio and reference level (`reference_level`
     /// when given, the scene's `discretisation.reference_level` otherwise), its schemes with
     /// both masses of the note. Errors when neither gives a reference level.
