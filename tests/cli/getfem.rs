@@ -54,11 +54,14 @@ fn getfem_writes_its_report_and_exports_runs_that_verify() {
             .to_string_lossy()
             .into_owned()
     });
+    let verified_dir = dir.join("verified");
     let verified = common::signorini(&[
         "verify",
         "scenes/bar1d-dirichlet.json",
         &series[0],
         &series[1],
+        "--out",
+        verified_dir.to_str().unwrap(),
     ]);
     let stdout = common::success_stdout(&verified);
     assert!(stdout.contains("getfem_v0_b0.5_g1_m1"), "{stdout}");
@@ -66,5 +69,32 @@ fn getfem_writes_its_report_and_exports_runs_that_verify() {
         stdout.contains("not computed"),
         "a contact trace has no field: {stdout}"
     );
+    // Version 2: the demo's configuration declared as the harness names it, no stress at
+    // t = 0, the demo's energy beside the norms.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(verified_dir.join("verify.json")).unwrap())
+            .unwrap();
+    let s = &json["series"][0];
+    assert_eq!(
+        s["declared"],
+        serde_json::json!({
+            "scheme": "newmark-1",
+            "mass": "getfem-redistributed",
+            "contact": "multiplier",
+        })
+    );
+    let notes = s["notes"].as_array().unwrap();
+    assert!(
+        notes.len() == 2
+            && notes
+                .iter()
+                .all(|n| n.as_str().unwrap().contains("(t = 0)")),
+        "{notes:?}"
+    );
+    let energies = s["reported_energy"].as_array().unwrap();
+    assert_eq!(energies.len(), 2);
+    assert!(energies
+        .iter()
+        .all(|e| e["definition"] == "total-at-sample" && e["linf"].as_f64().unwrap() > 0.0));
     std::fs::remove_dir_all(&dir).unwrap();
 }

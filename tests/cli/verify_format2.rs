@@ -406,6 +406,14 @@ fn version_2_declarations_are_checked() {
             ),
             vec!["invalid energy_definition = given", "only with energy"],
         ),
+        (
+            file("scheme.json", json!({"scheme": "leapfrog"}), false),
+            vec!["invalid scheme = \"leapfrog\"", "crank-nicolson"],
+        ),
+        (
+            file("contact.json", json!({"contact": " "}), false),
+            vec!["invalid contact", "a non-empty text"],
+        ),
     ];
     for (path, needles) in &cases {
         expect_error(&["verify", SCENE, path], 2, needles);
@@ -422,5 +430,49 @@ fn version_2_declarations_are_checked() {
         &["verify", SCENE, &v1.to_string_lossy()],
         2,
         &["invalid mass = given", "signorini-external/2"],
+    );
+    let text = std::fs::read_to_string(&v1).unwrap().replacen(
+        "\"mass\":\"standard\"",
+        "\"scheme\":\"crank-nicolson\"",
+        1,
+    );
+    std::fs::write(&v1, text).unwrap();
+    expect_error(
+        &["verify", SCENE, &v1.to_string_lossy()],
+        2,
+        &["invalid scheme = given", "signorini-external/2"],
+    );
+}
+
+/// A version 2 file's `scheme`, `mass` and `contact` are the series' declarations in
+/// `verify.json`, for the league table.
+#[test]
+fn version_2_declarations_are_the_series_declarations() {
+    let dir = scratch("declared");
+    let case = Case {
+        scheme: Scheme::CRANK_NICOLSON,
+        mass: MassVariant::Redistributed,
+    };
+    let head = json!({
+        "scheme": "newmark(beta=0.25,gamma=0.5)",
+        "mass": "redistributed",
+        "contact": "multiplier, exact",
+    });
+    let files: Vec<PathBuf> = exports(case)
+        .iter()
+        .map(|e| {
+            let path = dir.join(format!("declared-{}.json", e.nodes.len() - 1));
+            write_v2(&path, e, "declared", head.clone(), |_, _| {});
+            path
+        })
+        .collect();
+    let (_, json) = verify(&dir, &files);
+    assert_eq!(
+        series(&json, "declared")["declared"],
+        json!({
+            "scheme": "crank-nicolson",
+            "mass": "redistributed",
+            "contact": "multiplier, exact",
+        })
     );
 }

@@ -4,7 +4,8 @@
 //! line ([`input::Lines`], each line at most [`MAX_LINE_BYTES`]), so a file never needs more
 //! memory than its numbers and one line; the header is checked in time linear in its columns.
 //!
-//! Version 2 ([`Version::Two`]) adds the metadata `mass` and `energy_definition`
+//! Version 2 ([`Version::Two`]) adds the metadata `scheme`, `mass`, `contact` and
+//! `energy_definition`
 //! ([`OPTIONAL_METADATA_KEYS`]) and lets a `lambda` cell, or all the `u` (or `v`) cells of a
 //! row, be empty or `null`: not computed at that sample.
 
@@ -13,8 +14,8 @@ use std::path::Path;
 
 use super::error::ExternalError;
 use super::format::{
-    parse_energy_definition, parse_mass, Code, ExternalRun, SampleOrigin, SampledField, Version,
-    MAX_VALUES, RUN_FILE,
+    parse_energy_definition, parse_mass, parse_scheme, Code, ExternalRun, SampleOrigin,
+    SampledField, Version, MAX_VALUES, RUN_FILE,
 };
 use crate::harness::files::input::{self, InputError};
 
@@ -33,7 +34,7 @@ pub const METADATA_KEYS: [&str; 6] = [
 ];
 
 /// The metadata keys a version 2 file may add, each at most once.
-pub const OPTIONAL_METADATA_KEYS: [&str; 2] = ["mass", "energy_definition"];
+pub const OPTIONAL_METADATA_KEYS: [&str; 4] = ["scheme", "mass", "contact", "energy_definition"];
 
 /// The cell that stands for "not computed" in version 2, besides an empty one.
 const NULL: &str = "null";
@@ -155,11 +156,17 @@ impl<'a> Reader<'a> {
         let label = meta("label")?;
         let nodes_text = meta("mesh.nodes")?;
         let version = Version::parse(self.path, &format)?;
+        let scheme = self
+            .metadata
+            .remove("scheme")
+            .map(|s| parse_scheme(self.path, &s))
+            .transpose()?;
         let mass = self
             .metadata
             .remove("mass")
             .map(|m| parse_mass(self.path, &m))
             .transpose()?;
+        let contact = self.metadata.remove("contact");
         let energy_definition = self
             .metadata
             .remove("energy_definition")
@@ -273,7 +280,9 @@ impl<'a> Reader<'a> {
             scene,
             code,
             label,
+            scheme,
             mass,
+            contact,
             energy_definition,
             nodes,
             time,
@@ -445,7 +454,9 @@ mod tests {
 # code.name: test
 # code.version: 0
 # label: v2
+# scheme: paoli-schatzman(beta=0.25,e=0.5)
 # mass: lumped
+# contact: multiplier, semi-smooth Newton
 # energy_definition: staggered
 # mesh.nodes: 0, 0.5, 1
 time,u0,u1,u2,lambda,energy
@@ -465,7 +476,15 @@ time,u0,u1,u2,lambda,energy
     fn version_2_reads_null_cells_and_its_declarations() {
         let run = read_text("v2.csv", V2).unwrap();
         assert_eq!(run.version, Version::Two);
+        assert_eq!(
+            run.scheme.map(|s| s.name()).as_deref(),
+            Some("paoli-schatzman-e0.5")
+        );
         assert_eq!(run.mass, Some(MassVariant::Lumped));
+        assert_eq!(
+            run.contact.as_deref(),
+            Some("multiplier, semi-smooth Newton")
+        );
         assert_eq!(run.energy_definition, Some(EnergyDefinition::Staggered));
         assert_eq!(run.lambda, Some(vec![None, Some(-0.5), None]));
         assert_eq!(run.displacement.as_ref().unwrap().sampled(), 2);
@@ -477,15 +496,18 @@ time,u0,u1,u2,lambda,energy
     #[test]
     fn null_cells_are_refused_in_version_1_and_in_part_of_a_row() {
         let part = V2.replace("\n1.5,0,-0.25,", "\n1.5,0,,");
-        let expected = ("u1".to_string(), Some("line 11, column 3".to_string()));
+        let expected = ("u1".to_string(), Some("line 13, column 3".to_string()));
         assert_eq!(field_and_place(read_text("part.csv", &part)), expected);
         let v1 = V2
             .replace("external/2", "external/1")
-            .replace("# mass: lumped\n# energy_definition: staggered\n", "");
+            .replace("# mass: lumped\n", "")
+            .replace("# energy_definition: staggered\n", "")
+            .replace("# scheme: paoli-schatzman(beta=0.25,e=0.5)\n", "")
+            .replace("# contact: multiplier, semi-smooth Newton\n", "");
         let expected = ("u0".to_string(), Some("line 8, column 2".to_string()));
         assert_eq!(field_and_place(read_text("v1.csv", &v1)), expected);
         let energy_null = V2.replace(",0.125\n3,", ",null\n3,");
-        let expected = ("energy".to_string(), Some("line 11, column 6".to_string()));
+        let expected = ("energy".to_string(), Some("line 13, column 6".to_string()));
         assert_eq!(
             field_and_place(read_text("energy.csv", &energy_null)),
             expected

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::error::ExternalError;
 use crate::engine::fem::{EndCondition, MassVariant};
 use crate::engine::problem::Problem1d;
+use crate::engine::schemes::Scheme;
 use crate::harness::files::input::Limit;
 
 /// The format's first version, the first thing a file states (`format`).
@@ -36,6 +37,15 @@ pub enum EnergyDefinition {
 impl EnergyDefinition {
     /// The names a file may give, for messages.
     pub const NAMES: &'static str = "total-at-sample, staggered, total-with-contact-term";
+
+    /// The name a file gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            EnergyDefinition::TotalAtSample => "total-at-sample",
+            EnergyDefinition::Staggered => "staggered",
+            EnergyDefinition::TotalWithContactTerm => "total-with-contact-term",
+        }
+    }
 }
 
 /// The versions of the format a bar's run file may state (`format`).
@@ -72,6 +82,14 @@ impl Version {
 pub fn parse_mass(path: &Path, text: &str) -> Result<MassVariant, ExternalError> {
     text.parse::<MassVariant>()
         .map_err(|e| ExternalError::invalid(path, "mass", None, format!("{text:?}"), e.allowed))
+}
+
+/// The scheme `text` names (`scheme`, version 2: a preset or a parametrised form of
+/// `signorini list`), refused naming the allowed forms.
+pub fn parse_scheme(path: &Path, text: &str) -> Result<Scheme, ExternalError> {
+    text.parse::<Scheme>().map_err(|e| {
+        ExternalError::invalid(path, "scheme", None, format!("{text:?}"), e.to_string())
+    })
 }
 
 /// The energy definition `text` names (`energy_definition`, version 2), refused naming the
@@ -205,8 +223,12 @@ pub struct ExternalRun {
     pub code: Code,
     /// The configuration: files with one label form one refinement series.
     pub label: String,
+    /// The scheme the code ran (version 2), shown with the series and in the league table.
+    pub scheme: Option<Scheme>,
     /// The mass matrix the code integrated (version 2): the energy is computed with it.
     pub mass: Option<MassVariant>,
+    /// How the code enforces contact, in its words (version 2; shown, not interpreted).
+    pub contact: Option<String>,
     /// What the reported `energy` is (version 2).
     pub energy_definition: Option<EnergyDefinition>,
     /// The mesh nodes `x_0 < … < x_NX`.
@@ -417,13 +439,19 @@ impl ExternalRun {
         Ok(())
     }
 
-    /// What the version allows: `mass` and `energy_definition` only in version 2, where a
-    /// reported `energy` needs its `energy_definition` and an `energy_definition` its `energy`.
+    /// What the version allows: `scheme`, `mass`, `contact` and `energy_definition` only in
+    /// version 2, where a reported `energy` needs its `energy_definition` and an
+    /// `energy_definition` its `energy`.
     fn check_declarations(&self) -> Result<(), ExternalError> {
         let declared = [
+            ("scheme", self.scheme.is_some()),
             ("mass", self.mass.is_some()),
+            ("contact", self.contact.is_some()),
             ("energy_definition", self.energy_definition.is_some()),
         ];
+        if self.contact.as_deref().is_some_and(|c| c.trim().is_empty()) {
+            return Err(self.invalid("contact", None, "\"\"", "a non-empty text"));
+        }
         match self.version {
             Version::One => match declared.iter().find(|(_, given)| *given) {
                 Some((field, _)) => Err(self.invalid(

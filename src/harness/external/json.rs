@@ -19,8 +19,8 @@ use serde::Deserialize;
 
 use super::error::ExternalError;
 use super::format::{
-    parse_energy_definition, parse_mass, Code, ExternalRun, SampleOrigin, SampledField, Version,
-    MAX_VALUES, RUN_FILE,
+    parse_energy_definition, parse_mass, parse_scheme, Code, ExternalRun, SampleOrigin,
+    SampledField, Version, MAX_VALUES, RUN_FILE,
 };
 use crate::harness::files::input;
 
@@ -32,7 +32,9 @@ enum Field {
     Scene,
     Code,
     Label,
+    Scheme,
     Mass,
+    Contact,
     EnergyDefinition,
     Mesh,
     Samples,
@@ -106,7 +108,9 @@ struct Head {
     scene: String,
     code: Code,
     label: String,
+    scheme: Option<String>,
     mass: Option<String>,
+    contact: Option<String>,
     energy_definition: Option<String>,
     nodes: Vec<f64>,
 }
@@ -234,6 +238,7 @@ impl<'a> Arrays<'a> {
                 ));
             }
         }
+        let scheme = head.scheme.map(|s| parse_scheme(path, &s)).transpose()?;
         let mass = head.mass.map(|m| parse_mass(path, &m)).transpose()?;
         let energy_definition = head
             .energy_definition
@@ -258,7 +263,9 @@ impl<'a> Arrays<'a> {
             scene: head.scene,
             code: head.code,
             label: head.label,
+            scheme,
             mass,
+            contact: head.contact,
             energy_definition,
             nodes: head.nodes,
             time: self.time,
@@ -295,7 +302,7 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
         let arrays = self.0;
         let (mut format, mut scene, mut code, mut label, mut nodes) =
             (None, None, None, None, None);
-        let (mut mass, mut energy_definition) = (None, None);
+        let (mut scheme, mut mass, mut contact, mut energy_definition) = (None, None, None, None);
         let mut samples = false;
         fn once<T, E: de::Error>(slot: &mut Option<T>, name: &'static str, v: T) -> Result<(), E> {
             match slot.replace(v) {
@@ -313,7 +320,9 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
                 Field::Scene => once(&mut scene, "scene", map.next_value()?)?,
                 Field::Code => once(&mut code, "code", map.next_value()?)?,
                 Field::Label => once(&mut label, "label", map.next_value()?)?,
+                Field::Scheme => once(&mut scheme, "scheme", map.next_value()?)?,
                 Field::Mass => once(&mut mass, "mass", map.next_value()?)?,
+                Field::Contact => once(&mut contact, "contact", map.next_value()?)?,
                 Field::EnergyDefinition => once(
                     &mut energy_definition,
                     "energy_definition",
@@ -337,7 +346,9 @@ impl<'de> Visitor<'de> for RunSeed<'_, '_> {
             scene: scene.ok_or_else(|| de::Error::missing_field("scene"))?,
             code: code.ok_or_else(|| de::Error::missing_field("code"))?,
             label: label.ok_or_else(|| de::Error::missing_field("label"))?,
+            scheme,
             mass,
+            contact,
             energy_definition,
             nodes: nodes.ok_or_else(|| de::Error::missing_field("mesh"))?,
         })

@@ -61,6 +61,14 @@ pub struct ReportedEnergy {
     pub l2: f64,
 }
 
+impl ReportedEnergy {
+    /// Whether both distances are finite: a code's energy that overflows (a diverged run) is
+    /// never shown as a number.
+    pub fn is_finite(&self) -> bool {
+        self.linf.is_finite() && self.l2.is_finite()
+    }
+}
+
 /// A norm a series does not report, and why.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NotComputed {
@@ -310,23 +318,32 @@ fn verify_file(
     let dt_min = spacing.clone().fold(f64::INFINITY, f64::min);
     let dt_max = spacing.fold(0.0, f64::max);
     let file = path.display().to_string();
+    let reported_energy = run
+        .energy_definition
+        .zip(replayed.reported_energy_error)
+        .map(|(definition, e)| ReportedEnergy {
+            file: file.clone(),
+            definition,
+            linf: e.linf,
+            l2: e.l2,
+        });
+    let overflow = reported_energy
+        .as_ref()
+        .filter(|e| !e.is_finite())
+        .map(|_| format!("{file}: its reported energy overflows (the run diverged): not compared"));
     let notes = FileNotes {
         file: file.clone(),
-        notes: lambda_note(&run, &file, &lacks).into_iter().collect(),
-        reported_energy: run
-            .energy_definition
-            .zip(replayed.reported_energy_error)
-            .map(|(definition, e)| ReportedEnergy {
-                file: file.clone(),
-                definition,
-                linf: e.linf,
-                l2: e.l2,
-            }),
+        notes: lambda_note(&run, &file, &lacks)
+            .into_iter()
+            .chain(overflow)
+            .collect(),
+        reported_energy: reported_energy.filter(ReportedEnergy::is_finite),
     };
     let verified = VerifiedFile {
         declared: Declared {
+            scheme: run.scheme.map(|s| s.name()),
             mass: run.mass.map(|m| m.name().to_string()),
-            ..Declared::default()
+            contact: run.contact.clone(),
         },
         record: RunRecord {
             file,

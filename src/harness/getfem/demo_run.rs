@@ -26,6 +26,10 @@ use serde::{Deserialize, Deserializer};
 use serde_json::{Map, Value};
 
 use super::norms::{DemoErrorNorms, DemoSeries};
+use crate::engine::contact::ContactTreatment;
+use crate::engine::error::ParameterError;
+use crate::engine::fem::MassVariant;
+use crate::engine::schemes::Scheme;
 use crate::harness::files::error::DemoRunError;
 use crate::harness::files::input::{self, InputError, Limit};
 
@@ -131,6 +135,51 @@ pub struct DemoConfig {
     pub dt: f64,
     /// Horizon `T`.
     pub horizon: f64,
+}
+
+impl DemoConfig {
+    /// The scheme the harness runs for it: Paoli–Schatzman with the demo's `β` and `e_PS` for
+    /// version 1, Newmark with its `β` and `γ` otherwise (Taylor–Flanagan is Newmark `β = 0`).
+    pub fn scheme(&self) -> Scheme {
+        match self.version {
+            DemoVersion::PaoliSchatzman => Scheme::PaoliSchatzman {
+                beta: self.beta,
+                restitution: self.e_ps,
+            },
+            _ => Scheme::Newmark {
+                beta: self.beta,
+                gamma: self.gamma,
+            },
+        }
+    }
+
+    /// The harness's mass variant of the demo's mass: consistent (lumped with
+    /// `lump_mass_matrix`), or the demo's own types 1 and 2.
+    pub fn mass_variant(&self) -> MassVariant {
+        match (self.mass, self.lumped) {
+            (DemoMass::Consistent, false) => MassVariant::Standard,
+            (DemoMass::Consistent, true) => MassVariant::Lumped,
+            (DemoMass::Redistributed, _) => MassVariant::GetfemRedistributed,
+            (DemoMass::SingularDynamic, _) => MassVariant::GetfemSingular,
+        }
+    }
+
+    /// The harness's contact treatment of the demo's version, its parameters checked: the
+    /// penalty's `γ0_P` and Nitsche's `γ0_N`, `θ_N` (with `E = 1` the harness's `γ₀ E / h` is
+    /// the demo's `γ0 / h`); the multiplier otherwise.
+    pub fn contact(&self) -> Result<ContactTreatment, ParameterError> {
+        match self.version {
+            DemoVersion::Penalty => ContactTreatment::Penalty {
+                gamma0: self.gamma0_p,
+            },
+            DemoVersion::Nitsche => ContactTreatment::Nitsche {
+                theta: self.theta_n,
+                gamma0: self.gamma0_n,
+            },
+            _ => ContactTreatment::Multiplier,
+        }
+        .validate()
+    }
 }
 
 /// The fields at `t = T` (`final_state`), one value per node `x_i = i/NX`, the clamped node

@@ -315,15 +315,16 @@ fn verify_file(
     let dt_max = spacing.clone().fold(0.0, f64::max);
     let h = mesh.lengths()[d - 1] / run.level as f64;
     let file = run.path.display().to_string();
-    let reported_energy =
-        run.energy_definition
-            .filter(|_| reported_samples > 0)
-            .map(|definition| ReportedEnergy {
-                file: file.clone(),
-                definition,
-                linf: reported.linf(),
-                l2: reported.l2(),
-            });
+    let reported_energy = run
+        .energy_definition
+        .filter(|_| reported_samples > 0)
+        .map(|definition| ReportedEnergy {
+            file: file.clone(),
+            definition,
+            linf: reported.linf(),
+            l2: reported.l2(),
+        })
+        .filter(ReportedEnergy::is_finite);
     Ok((
         VerifiedFile {
             label: run.label.clone(),

@@ -27,7 +27,7 @@ use crate::harness::files::error::{Error, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
-use crate::harness::problem::{ContactTreatment, Conventions, MassVariant, Scheme, Settings};
+use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
@@ -153,33 +153,14 @@ fn harness_setup(
     config: &DemoConfig,
 ) -> Result<(crate::harness::problem::Problem1d, MassVariant, Scheme, f64), Error> {
     let mut problem = dirichlet(root, config.horizon)?;
-    problem.contact = match config.version {
-        DemoVersion::Penalty => format!("penalty(gamma0={})", config.gamma0_p).parse()?,
-        DemoVersion::Nitsche => format!(
-            "nitsche(theta={},gamma0={})",
-            config.theta_n, config.gamma0_n
-        )
-        .parse()?,
-        _ => ContactTreatment::Multiplier,
-    };
-    let mass = match (config.mass, config.lumped) {
-        (DemoMass::Consistent, false) => MassVariant::Standard,
-        (DemoMass::Consistent, true) => MassVariant::Lumped,
-        (DemoMass::Redistributed, _) => MassVariant::GetfemRedistributed,
-        (DemoMass::SingularDynamic, _) => MassVariant::GetfemSingular,
-    };
-    let scheme = match config.version {
-        DemoVersion::PaoliSchatzman => Scheme::PaoliSchatzman {
-            beta: config.beta,
-            restitution: config.e_ps,
-        },
-        _ => Scheme::Newmark {
-            beta: config.beta,
-            gamma: config.gamma,
-        },
-    };
+    problem.contact = config.contact()?;
     let h = 1.0 / config.nx as f64;
-    Ok((problem, mass, scheme, h / config.dt))
+    Ok((
+        problem,
+        config.mass_variant(),
+        config.scheme(),
+        h / config.dt,
+    ))
 }
 
 /// The harness's run of a demo configuration, as the comparisons read it.

@@ -189,8 +189,12 @@ fn harness_norms(md: &mut String, rows: &[Row]) {
          The harness's Tables 1–2 norms (against the engine's exact solution, as in \
          `reports/tables.md`) at the finest NX of each configuration, with the observed order \
          over NX = 20, 40 in brackets. `lambda_L2` and the energy norms are those of GetFEM's own \
-         contact trace (`store_s0`, `store_E`), replayed as `signorini verify` replays the \
-         exported files (`make verify-getfem`, `reports/getfem-verify/`); beside them, after \
+         contact trace (`store_s0`, `store_E`), replayed as `signorini verify` replays a version 1 \
+         file of it (the stored values as they are, `store_E` in the energy norms; the exported \
+         files of `make verify-getfem`, `reports/getfem-verify/`, are version 2: they declare \
+         the scheme, mass and contact treatment, leave out the stress at `t = 0`, which the demo \
+         does not compute, date Paoli–Schatzman's stress `t_{n−1}`, and show `store_E` beside \
+         the norms as the code's own energy); beside them, after \
          the slash, those of the harness's run of the same configuration, which differ where the \
          two codes define or store the quantity differently: the stress at `t = 0` with a \
          massless contact node (the demo stores 0), Paoli–Schatzman's stress (stored with the \

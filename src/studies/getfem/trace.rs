@@ -1,17 +1,20 @@
-//! GetFEM's runs as another code's runs: each finite run is the contact trace of the
-//! external-run format (`signorini-external/1`; docs/src/external-runs.md), which
-//! [`export_runs`] writes for `signorini verify` and [`trace_norms`] measures in place with the
-//! same replay.
+//! GetFEM's runs as another code's runs: each finite run is a contact trace of the
+//! external-run format (docs/src/external-runs.md). [`trace_norms`] measures the trace as
+//! version 1 reads it (the demo's stored values, its energy in the energy norms), in place;
+//! [`export_runs`] writes it for `signorini verify` in version 2, declaring what the demo
+//! computed ([`declared_trace`]).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::harness::external::format::{Code, ExternalRun, SampleOrigin, Version};
+use crate::harness::external::format::{
+    Code, EnergyDefinition, ExternalRun, SampleOrigin, Version, FORMAT_2,
+};
 use crate::harness::external::replay::{replay, EnergySource};
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{DemoRunError, Error};
-use crate::harness::getfem::{list_runs, read_run, DemoRun};
+use crate::harness::getfem::{list_runs, read_run, DemoRun, DemoVersion};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{Estimate, Limits};
 use crate::studies::benchmark::dirichlet;
@@ -57,7 +60,9 @@ pub fn contact_trace(path: &Path, run: &DemoRun) -> Option<ExternalRun> {
             version: "5.4.2".to_string(),
         },
         label: label(path),
+        scheme: None,
         mass: None,
+        contact: None,
         energy_definition: None,
         nodes: (0..=nx).map(|i| i as f64 / nx as f64).collect(),
         time: series.time.clone(),
@@ -69,6 +74,37 @@ pub fn contact_trace(path: &Path, run: &DemoRun) -> Option<ExternalRun> {
         energy: Some(run.energy.clone()),
         energy_time: None,
     })
+}
+
+/// The contact trace of the demo's run `run` (read from `path`) as version 2 of the format
+/// says what it is: the scheme, mass and contact treatment the demo ran (as the harness names
+/// them, [`crate::harness::getfem::DemoConfig::scheme`], its `mass_variant` and `contact`); no
+/// stress at `t = 0`, which the demo does not compute (it stores 0 there); Paoli–Schatzman's
+/// stress at `t_{n−1}` (the demo stores the stress of the step that produced `U^n` with it,
+/// `t_0` at the first two samples); the demo's energy `(VᵀMV + UᵀKU)/2` at the sample declared
+/// `total-at-sample`, or `total-with-contact-term` with penalty and Nitsche. `None` as
+/// [`contact_trace`].
+pub fn declared_trace(path: &Path, run: &DemoRun) -> Result<Option<ExternalRun>, Error> {
+    let Some(mut trace) = contact_trace(path, run) else {
+        return Ok(None);
+    };
+    let config = &run.config;
+    trace.version = Version::Two;
+    trace.scheme = Some(config.scheme());
+    trace.mass = Some(config.mass_variant());
+    trace.contact = Some(config.contact()?.name());
+    if let Some(lambda) = trace.lambda.as_mut().and_then(|l| l.first_mut()) {
+        *lambda = None;
+    }
+    if config.version == DemoVersion::PaoliSchatzman {
+        let time = &trace.time;
+        trace.lambda_time = Some((0..time.len()).map(|n| time[n.max(1) - 1]).collect());
+    }
+    trace.energy_definition = Some(match config.version {
+        DemoVersion::Penalty | DemoVersion::Nitsche => EnergyDefinition::TotalWithContactTerm,
+        _ => EnergyDefinition::TotalAtSample,
+    });
+    Ok(Some(trace))
 }
 
 /// The harness's [`TRACE_NORMS`] of a contact trace, as `signorini verify` computes them from
@@ -92,31 +128,55 @@ pub fn trace_norms(root: &Path, trace: &ExternalRun) -> Result<BTreeMap<Norm, f6
     Ok(replay(&trace, &bar, problem.exact.as_ref(), &norms, energy)?.errors)
 }
 
-/// The contact trace as the CSV form of the format.
+/// The declared contact trace as the CSV form of the format's version 2: an empty `lambda`
+/// cell where the stress is not computed, a `lambda_time` column when the trace has one.
 fn trace_csv(trace: &ExternalRun) -> String {
     let nodes: Vec<String> = trace.nodes.iter().map(|x| format!("{x:?}")).collect();
     let mut csv = format!(
-        "# format: signorini-external/1\n# scene: {}\n# code.name: {}\n# code.version: {}\n\
-         # label: {}\n# mesh.nodes: {}\ntime,contact_displacement,lambda,energy\n",
-        trace.scene,
-        trace.code.name,
-        trace.code.version,
-        trace.label,
-        nodes.join(", ")
+        "# format: {FORMAT_2}\n# scene: {}\n# code.name: {}\n# code.version: {}\n# label: {}\n",
+        trace.scene, trace.code.name, trace.code.version, trace.label,
+    );
+    let declared = [
+        ("scheme", trace.scheme.map(|s| s.name())),
+        ("mass", trace.mass.map(|m| m.name().to_string())),
+        ("contact", trace.contact.clone()),
+        (
+            "energy_definition",
+            trace.energy_definition.map(|d| d.name().to_string()),
+        ),
+    ];
+    for (key, value) in declared {
+        if let Some(value) = value {
+            let _ = writeln!(csv, "# {key}: {value}");
+        }
+    }
+    let lambda_time = trace.lambda_time.as_deref();
+    let _ = writeln!(
+        csv,
+        "# mesh.nodes: {}\ntime,contact_displacement,lambda,{}energy",
+        nodes.join(", "),
+        if lambda_time.is_some() {
+            "lambda_time,"
+        } else {
+            ""
+        }
     );
     let (u0, energy) = (
         trace.contact_displacement.as_deref().unwrap_or_default(),
         trace.energy.as_deref().unwrap_or_default(),
     );
     for (n, t) in trace.time.iter().enumerate() {
-        let lambda = trace.lambda_at(n).unwrap_or(f64::NAN);
-        let _ = writeln!(csv, "{t:?},{:?},{lambda:?},{:?}", u0[n], energy[n]);
+        let lambda = trace
+            .lambda_at(n)
+            .map_or_else(String::new, |l| format!("{l:?}"));
+        let at = lambda_time.map_or_else(String::new, |times| format!("{:?},", times[n]));
+        let _ = writeln!(csv, "{t:?},{:?},{lambda},{at}{:?}", u0[n], energy[n]);
     }
     csv
 }
 
-/// Writes the contact trace of each run of `runs` whose series are finite ([`contact_trace`])
-/// as a CSV run file into `dir`, named after the run (`….csv`); runs of one configuration at
+/// Writes the declared contact trace of each run of `runs` whose series are finite
+/// ([`declared_trace`]) as a CSV run file into `dir`, named after the run (`….csv`); runs of one configuration at
 /// several NX share a [`label`], so that `signorini verify` fits their rates. Returns the files
 /// written.
 pub fn export_runs(runs: &Path, dir: &Path, limits: &Limits) -> Result<Vec<PathBuf>, Error> {
@@ -126,7 +186,7 @@ pub fn export_runs(runs: &Path, dir: &Path, limits: &Limits) -> Result<Vec<PathB
         Estimate::default()
             .writing(written.len() as f64 + 1.0)
             .check(limits)?;
-        let Some(trace) = contact_trace(&file.path, &run) else {
+        let Some(trace) = declared_trace(&file.path, &run)? else {
             continue;
         };
         let name = file
