@@ -17,12 +17,11 @@
 //! at the stored steps.
 
 use std::collections::BTreeMap;
-use std::io::Read;
 use std::path::Path;
 
-use flate2::read::GzDecoder;
 use serde::Deserialize;
 
+use super::demo_run::{gunzip_json, Gunzip};
 use super::{MAX_COMPRESSED_BYTES, MAX_JSON_BYTES};
 use crate::harness::external::box_run::{
     BoxFile, BoxFileMesh, BoxFileSample, EnergyDefinition, BOX_FORMAT, NODE_ORDER,
@@ -73,23 +72,18 @@ pub fn convert_anchor(path: &Path) -> Result<ConvertedRun, ExternalError> {
 /// [`MAX_JSON_BYTES`] inflated.
 fn inflate(path: &Path) -> Result<Vec<u8>, ExternalError> {
     let file = input::open(path, ANCHOR_FILE)?;
-    let mut text = Vec::new();
-    GzDecoder::new(file)
-        .take(MAX_JSON_BYTES + 1)
-        .read_to_end(&mut text)
-        .map_err(|e| {
+    gunzip_json(file).map_err(|e| match e {
+        Gunzip::Corrupt(e) => {
             ExternalError::invalid(path, "file", None, e, "a gzipped JSON file (.json.gz)")
-        })?;
-    if text.len() as u64 > MAX_JSON_BYTES {
-        return Err(ExternalError::invalid(
+        }
+        Gunzip::TooLarge => ExternalError::invalid(
             path,
             "file",
             None,
             format!("more than {MAX_JSON_BYTES} bytes of JSON"),
             format!("at most {MAX_JSON_BYTES} bytes inflated"),
-        ));
-    }
-    Ok(text)
+        ),
+    })
 }
 
 #[derive(Debug, Deserialize)]

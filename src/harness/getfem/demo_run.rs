@@ -474,20 +474,37 @@ fn inflate(path: &Path) -> Result<Vec<u8>, DemoRunError> {
         InputError::Io { source, .. } => io(source),
         other => DemoRunError::Input(other),
     })?;
+    gunzip_json(file).map_err(|e| match e {
+        Gunzip::Corrupt(source) => DemoRunError::Gzip {
+            path: path.to_path_buf(),
+            source,
+        },
+        Gunzip::TooLarge => DemoRunError::TooLarge {
+            path: path.to_path_buf(),
+            what: "decompressed JSON",
+            limit: MAX_JSON_BYTES,
+        },
+    })
+}
+
+/// Why a gzipped JSON file was not inflated.
+pub(super) enum Gunzip {
+    /// Not gzip, or cut short.
+    Corrupt(std::io::Error),
+    /// More than [`MAX_JSON_BYTES`] inflated.
+    TooLarge,
+}
+
+/// The inflated text of the gzip stream `file`: refused once it passes [`MAX_JSON_BYTES`], so
+/// that a small file cannot fill the memory.
+pub(super) fn gunzip_json(file: impl Read) -> Result<Vec<u8>, Gunzip> {
     let mut text = Vec::new();
     GzDecoder::new(file)
         .take(MAX_JSON_BYTES + 1)
         .read_to_end(&mut text)
-        .map_err(|source| DemoRunError::Gzip {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        .map_err(Gunzip::Corrupt)?;
     if text.len() as u64 > MAX_JSON_BYTES {
-        return Err(DemoRunError::TooLarge {
-            path: path.to_path_buf(),
-            what: "decompressed JSON",
-            limit: MAX_JSON_BYTES,
-        });
+        return Err(Gunzip::TooLarge);
     }
     Ok(text)
 }
