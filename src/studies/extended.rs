@@ -426,14 +426,12 @@ fn sensitivity_section(
     };
     let count = |class: SensitivityClass| rows.iter().filter(|r| r.class == Some(class)).count();
     let mut md = format!(
-        "\n## Round-off sensitivity\n\nEvery row run as {} members with relative noise {:e} on \
-         the initial displacement (the rules of `sensitivity.md`): {} \
+        "\n## Round-off sensitivity\n\nEvery row run as {} (the rules of `sensitivity.md`): {} \
          reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
          whose [min, max] follows; the energy verdict of such a row is decided by the \
          `energy_Linf` rate's [min, max]). The \
          ensembles took {wall_seconds:.1} s wall.\n",
-        ensemble.members,
-        ensemble.amplitude,
+        ensemble.describe(),
         count(SensitivityClass::Reproducible),
         count(SensitivityClass::EventSensitive),
         count(SensitivityClass::Chaotic),

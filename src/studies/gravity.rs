@@ -182,11 +182,11 @@ pub fn write_gravity_report(benchmark: &GravityBenchmark, out_dir: &Path) -> Res
     );
     md.push_str(&convergence_tables(study));
     md.push_str(&format!(
-        "\n## Round-off sensitivity\n\nEvery case at every level run as {} members with \
-         relative noise {:e} on the initial displacement (the rules of `sensitivity.md`); a \
-         chaotic case's rates above are one sample of the ranges below. The ensembles took \
-         {:.1} s wall (`gravity/sensitivity.json`).\n\n",
-        sensitivity.ensemble.members, sensitivity.ensemble.amplitude, sensitivity.wall_seconds
+        "\n## Round-off sensitivity\n\nEvery case at every level run as {} (the rules of \
+         `sensitivity.md`); a chaotic case's rates above are one sample of the ranges below. \
+         The ensembles took {:.1} s wall (`gravity/sensitivity.json`).\n\n",
+        sensitivity.ensemble.describe(),
+        sensitivity.wall_seconds
     ));
     md.push_str(&class_table(sensitivity, GRAVITY_SENSITIVITY_SHOWN_LEVEL));
     md.push('\n');

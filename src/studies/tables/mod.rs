@@ -137,10 +137,10 @@ pub fn render(
     ));
     md.push_str(&paper_tables(study, paper, Some(sensitivity)));
     md.push_str(&format!(
-        "\n† round-off chaotic (`sensitivity.md`): the ensemble median rate of {} members with \
-         relative noise {:e} on the initial displacement, and the ensemble [min, max]; the \
-         unperturbed run's rate is one sample of that range (its per-level errors are below).\n",
-        sensitivity.ensemble.members, sensitivity.ensemble.amplitude
+        "\n† round-off chaotic (`sensitivity.md`): the ensemble median rate of {}, and the \
+         ensemble [min, max]; the unperturbed run's rate is one sample of that range (its \
+         per-level errors are below).\n",
+        sensitivity.ensemble.describe()
     ));
     md.push_str(
         "\nOscillations: `TV(λ_h)/TV(λ)` on the finest level, the total variation of the computed \
