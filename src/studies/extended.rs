@@ -507,7 +507,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         .find_map(|s| s.sensitivity.as_ref().map(|s| s.ensemble));
 
     let mut md = format!(
-        "# Extended table (issue 11)\n\nSignorini–Dirichlet benchmark (1D paper §5), levels NX = \
+        "# Extended table: every mass variant × contact treatment\n\nSignorini–Dirichlet benchmark (1D paper §5), levels NX = \
          {:?}, Δx/Δt = {}, T = {}; every mass variant × contact treatment. Each rate: the \
          least-squares rate over all levels. Oscillation: `TV(λ_h)/TV(λ)` on the finest level \
          (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the 95 % interval of the \

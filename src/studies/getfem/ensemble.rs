@@ -1,4 +1,4 @@
-//! A round-off-chaotic configuration (issue 12) cannot agree with GetFEM step by step after its
+//! A round-off-chaotic configuration (`reports/sensitivity.md`) cannot agree with GetFEM step by step after its
 //! predictability horizon: there, GetFEM's run is one more member of the harness's round-off
 //! ensemble, and it is judged against the ensemble's distribution, never against the
 //! harness's one (unperturbed) trajectory. [`ensemble_agreement`] runs that ensemble, the

@@ -278,7 +278,7 @@ fn ensembles(md: &mut String, rows: &[Row]) {
     let _ = write!(
         md,
         "\n## Round-off-chaotic runs against the harness's ensemble\n\n\
-         After its predictability horizon a round-off-chaotic run (issue 12) is not reproducible \
+         After its predictability horizon a round-off-chaotic run (`sensitivity.md`) is not reproducible \
          step by step, by GetFEM's own two linear solvers either: there GetFEM's run is measured \
          as one more member of a harness ensemble, and judged against the ensemble's range, \
          never against the harness's one unperturbed run. The ensemble is the unperturbed run, \
