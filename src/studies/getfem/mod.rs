@@ -49,8 +49,9 @@ pub enum Expectation {
     /// stress up to the first impact (`tests/unit/getfem_demo.rs` shows that a `1e-12` change
     /// of the data predicts the gap).
     UndampedStressRoundOff,
-    /// The same discrete problem, round-off chaotic after the first impact (`reports/sensitivity.md`; GetFEM's
-    /// own two linear solvers part on these too): agreement up to the first impact.
+    /// The same discrete problem, round-off chaotic after the first impact
+    /// (`reports/sensitivity.md`; GetFEM's own two linear solvers part on these too): agreement
+    /// up to the first impact.
     RoundOffChaotic,
     /// Nitsche θ ≠ 0 with the demo's mass type 1: its bookkeeping of the massless node uses
     /// `K + K_N1` in the step and `K` in the acceleration, which no consistent scheme does
