@@ -16,7 +16,9 @@ use super::format::{Code, EnergyDefinition, ExternalRun, SampledField, Version};
 use super::load::load;
 use super::replay::{replay, EnergySource, TimeNorms};
 use crate::engine::error::{SolveError, StateField};
+use crate::engine::fem::MassVariant;
 use crate::engine::problem::{Problem, Problem1d};
+use crate::engine::schemes::Scheme;
 use crate::harness::files::error::Error;
 use crate::harness::run::nested_comparison::error_series::DisplacementError;
 use crate::harness::run::norms::Norm;
@@ -94,6 +96,15 @@ pub struct Declared {
 }
 
 impl Declared {
+    /// What a file declares, as its series shows it: the scheme and mass by their names.
+    pub fn of(scheme: Option<Scheme>, mass: Option<MassVariant>, contact: Option<&str>) -> Self {
+        Self {
+            scheme: scheme.map(|s| s.name()),
+            mass: mass.map(|m| m.name().to_string()),
+            contact: contact.map(str::to_string),
+        }
+    }
+
     /// Whether nothing is declared.
     pub fn is_empty(&self) -> bool {
         *self == Self::default()
@@ -340,11 +351,7 @@ fn verify_file(
         reported_energy: reported_energy.filter(ReportedEnergy::is_finite),
     };
     let verified = VerifiedFile {
-        declared: Declared {
-            scheme: run.scheme.map(|s| s.name()),
-            mass: run.mass.map(|m| m.name().to_string()),
-            contact: run.contact.clone(),
-        },
+        declared: Declared::of(run.scheme, run.mass, run.contact.as_deref()),
         record: RunRecord {
             file,
             nx: run.nx(),

@@ -329,11 +329,7 @@ fn verify_file(
         VerifiedFile {
             label: run.label.clone(),
             code: run.code.clone(),
-            declared: Declared {
-                scheme: run.scheme.map(|s| s.name()),
-                mass: run.mass.map(|m| m.name().to_string()),
-                contact: run.contact.clone(),
-            },
+            declared: Declared::of(run.scheme, run.mass, run.contact.as_deref()),
             record: RunRecord {
                 file,
                 nx: run.level,

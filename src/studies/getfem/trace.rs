@@ -108,7 +108,7 @@ pub fn declared_trace(path: &Path, run: &DemoRun) -> Result<Option<ExternalRun>,
 }
 
 /// The harness's [`TRACE_NORMS`] of a contact trace, as `signorini verify` computes them from
-/// the exported file: checked against the Dirichlet scene under `root` (to the trace's
+/// a version 1 file of it ([`contact_trace`]): checked against the Dirichlet scene under `root` (to the trace's
 /// horizon), then replayed against its exact solution.
 pub fn trace_norms(root: &Path, trace: &ExternalRun) -> Result<BTreeMap<Norm, f64>, Error> {
     let horizon = trace.time.last().copied().unwrap_or(0.0);
@@ -176,9 +176,9 @@ fn trace_csv(trace: &ExternalRun) -> String {
 }
 
 /// Writes the declared contact trace of each run of `runs` whose series are finite
-/// ([`declared_trace`]) as a CSV run file into `dir`, named after the run (`….csv`); runs of one configuration at
-/// several NX share a [`label`], so that `signorini verify` fits their rates. Returns the files
-/// written.
+/// ([`declared_trace`]) as a CSV run file into `dir`, named after the run (`….csv`); runs of
+/// one configuration at several NX share a [`label`], so that `signorini verify` fits their
+/// rates. Returns the files written.
 pub fn export_runs(runs: &Path, dir: &Path, limits: &Limits) -> Result<Vec<PathBuf>, Error> {
     let mut written = Vec::new();
     for file in list_runs(runs)? {
