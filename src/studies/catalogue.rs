@@ -20,11 +20,22 @@ pub fn catalogue(dir: &Path) -> String {
             Scheme::PaoliSchatzman { beta, restitution } => {
                 format!("Paoli–Schatzman β = {beta}, e = {restitution}")
             }
+            Scheme::GeneralisedAlpha {
+                alpha_m,
+                alpha_f,
+                beta,
+                gamma,
+            } => format!("α_m = {alpha_m:.4}, α_f = {alpha_f:.4}, β = {beta:.4}, γ = {gamma:.4}"),
+            Scheme::MoreauJean { theta, restitution } => {
+                format!("Moreau–Jean θ = {theta}, e = {restitution}")
+            }
         };
         out(format!("  {name:22} {params:34} {label}"));
     }
     out(
-        "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)"
+        "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E),\n  \
+         generalised-alpha(rho_inf=R), hht(alpha=A), \
+         generalised-alpha(alpha_m=AM,alpha_f=AF,beta=B,gamma=G), moreau-jean(theta=T,e=E)"
             .into(),
     );
     out("\nMass variants:".into());

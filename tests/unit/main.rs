@@ -30,6 +30,7 @@ mod mass_variants;
 mod paraview;
 mod pcg;
 mod perturbation;
+mod rival_schemes;
 mod run;
 mod run_status;
 mod settings;

@@ -1,5 +1,6 @@
 //! The discrete energy balances of the 1D paper, eqs. (33), (35) and (37) (§3.2, derived in its
-//! Appendix): how each scheme's energy changes over one step. Each function takes the states
+//! Appendix), and of the rivals, (GA-E) and (MJ-E) (derived in their files): how each scheme's
+//! energy changes over one step. Each function takes the states
 //! of a step and returns its [`StepBalance`]: the energy at both ends, its change, and the
 //! change the balance predicts; the [residual](StepBalance::residual) is zero up to round-off
 //! when the scheme solved its equations.
@@ -18,6 +19,8 @@
 //! | θ-method, eq. (34) | `E^n = E_h(U^n, V^n)` | eq. (35): [`theta`] |
 //! | Paoli–Schatzman, eq. (36) | half-step `E^{n+½}` ([`HalfStep::energy`]) | eq. (37) before the complementarity substitution: [`paoli_schatzman`] |
 //! | explicit Newmark(0, ½) | staggered `E^{n+½}` ([`staggered_energy`]) | the same identity for the energy it reports: [`central_difference`] |
+//! | generalised-α ([`super::generalised_alpha`]) | `E^n = E_h(U^n, V^n)` | (GA-E), with the accelerations: [`generalised_alpha`] |
+//! | Moreau–Jean ([`super::moreau_jean`]) | `E^n = E_h(U^n, V^n)` | (MJ-E), eq. (35) with the impulse at `t_{n+1}`: [`moreau_jean`] |
 //!
 //! `E_h(U, V) = ½ VᵀMV + ½ UᵀSU − FᵀU` is eq. (31) with the load's potential written `−FᵀU`
 //! (the printed `−U_tᵀF` is an erratum, see docs/src/errata.md), without the contact energy of
@@ -57,7 +60,7 @@
 
 use super::newmark::staggered_energy;
 use super::paoli_schatzman::HalfStep;
-use super::{Scheme, TimeIntegrator};
+use super::{AlphaParameters, Scheme, TimeIntegrator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::sparse::SymmetricMatrix;
@@ -250,6 +253,8 @@ struct Workspace {
     difference: [Vec<f64>; 2],
     sum: [Vec<f64>; 2],
     entries: Vec<(usize, f64)>,
+    /// `ΔA` of a generalised-α step.
+    acceleration_change: Vec<f64>,
 }
 
 impl Workspace {
@@ -378,23 +383,46 @@ fn newmark_in(
 /// The θ-method balance over one step, eq. (35): `ΔE` against
 /// `(½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀΛ_θ`.
 pub fn theta(model: &Model, theta: f64, before: &Level, after: &Level) -> StepBalance {
-    theta_in(&mut Workspace::default(), model, theta, (before, after)).with_energies(
+    theta_in(
+        &mut Workspace::default(),
+        model,
+        (theta, theta),
+        (before, after),
+    )
+    .with_energies(
         mechanical_energy(model, before),
         mechanical_energy(model, after),
     )
 }
 
-/// [`theta`]'s sides, in `ws`.
+/// The Moreau–Jean balance over one step, (MJ-E) of [`super::moreau_jean`]: `ΔE` against
+/// `(½ − θ) ΔVᵀMΔV + (½ − θ) ΔUᵀSΔU − ΔUᵀBᵀλ^{n+1}`, eq. (35) with the step's whole impulse
+/// at `t_{n+1}`.
+pub fn moreau_jean(model: &Model, theta: f64, before: &Level, after: &Level) -> StepBalance {
+    theta_in(
+        &mut Workspace::default(),
+        model,
+        (theta, 1.0),
+        (before, after),
+    )
+    .with_energies(
+        mechanical_energy(model, before),
+        mechanical_energy(model, after),
+    )
+}
+
+/// [`theta`]'s and [`moreau_jean`]'s sides, in `ws`: `weight` is the weight `w` of `λ^{n+1}`
+/// in `Λ = (1 − w) λ^n + w λ^{n+1}` (θ for eq. 35, 1 for (MJ-E)).
 fn theta_in(
     ws: &mut Workspace,
     model: &Model,
-    theta: f64,
+    (theta, weight): (f64, f64),
     (before, after): (&Level, &Level),
 ) -> Sides {
     let p = ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
     let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
-    let work = contact_work(rows, du, |i| (1.0 - theta) * l0[i] + theta * l1[i]);
+    let work = contact_work(rows, du, |i| (1.0 - weight) * l0[i] + weight * l1[i]);
     let kinetic = sums.mass(model, 0.5 - theta, dv, dv);
     let elastic = sums.stiffness(model, 0.5 - theta, du, du);
     let (change, magnitude) = mechanical_energy_change(model, &p);
@@ -402,6 +430,63 @@ fn theta_in(
         change,
         predicted_change: kinetic.value + elastic.value - work,
         magnitude: magnitude + kinetic.bound + elastic.bound + work.abs(),
+    }
+}
+
+/// The generalised-α balance over one step, (GA-E) of [`super::generalised_alpha`]: `ΔE`
+/// against `−ΔUᵀBᵀΛ_f + (α_f − ½) ΔUᵀSΔU + (γ − 1 + α_m) ΔAᵀMΔU − Δt (β − γ/2) ΔAᵀMΔV`,
+/// `Λ_f = (1 − α_f) λ^{n+1} + α_f λ^n`, with the accelerations `A^n`, `A^{n+1}` of the levels.
+pub fn generalised_alpha(
+    model: &Model,
+    parameters: AlphaParameters,
+    dt: f64,
+    (before, after): (&Level, &Level),
+    accelerations: (&[f64], &[f64]),
+) -> StepBalance {
+    generalised_alpha_in(
+        &mut Workspace::default(),
+        model,
+        parameters,
+        dt,
+        (before, after),
+        accelerations,
+    )
+    .with_energies(
+        mechanical_energy(model, before),
+        mechanical_energy(model, after),
+    )
+}
+
+/// [`generalised_alpha`]'s sides, in `ws`.
+fn generalised_alpha_in(
+    ws: &mut Workspace,
+    model: &Model,
+    parameters: AlphaParameters,
+    dt: f64,
+    (before, after): (&Level, &Level),
+    (a0, a1): (&[f64], &[f64]),
+) -> Sides {
+    let AlphaParameters {
+        alpha_m,
+        alpha_f,
+        beta,
+        gamma,
+    } = parameters;
+    let mut da = std::mem::take(&mut ws.acceleration_change);
+    fill(&mut da, a1, a0, |x, y| x - y);
+    let p = ws.prepare(model, before, after);
+    let (l0, l1) = (before.multiplier, after.multiplier);
+    let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
+    let work = contact_work(rows, du, |i| alpha_f * l0[i] + (1.0 - alpha_f) * l1[i]);
+    let elastic = sums.stiffness(model, alpha_f - 0.5, du, du);
+    let inertial = sums.mass(model, gamma - 1.0 + alpha_m, &da, du);
+    let skewed = sums.mass(model, -dt * (beta - 0.5 * gamma), &da, dv);
+    let (change, magnitude) = mechanical_energy_change(model, &p);
+    ws.acceleration_change = da;
+    Sides {
+        change,
+        predicted_change: -work + elastic.value + inertial.value + skewed.value,
+        magnitude: magnitude + work.abs() + elastic.bound + inertial.bound + skewed.bound,
     }
 }
 
@@ -532,13 +617,15 @@ pub fn holds_under(conventions: &Conventions, model: &Model) -> bool {
         && conventions.paoli_schatzman_first_step == Conventions::HARNESS.paoli_schatzman_first_step
 }
 
-/// The paper's equation of `scheme`'s balance: `(33)` for Newmark (β = 0 included), `(35)` for
-/// the θ-method, `(37)` for Paoli–Schatzman.
+/// The equation of `scheme`'s balance: the paper's `(33)` for Newmark (β = 0 included), `(35)`
+/// for the θ-method, `(37)` for Paoli–Schatzman; `(GA-E)` and `(MJ-E)` of the rivals' files.
 pub fn equation(scheme: Scheme) -> &'static str {
     match scheme {
         Scheme::Newmark { .. } => "(33)",
         Scheme::Theta { .. } => "(35)",
         Scheme::PaoliSchatzman { .. } => "(37)",
+        Scheme::GeneralisedAlpha { .. } => "(GA-E)",
+        Scheme::MoreauJean { .. } => "(MJ-E)",
     }
 }
 
@@ -566,6 +653,8 @@ pub struct BalanceMonitor<'m> {
     displacement: Vec<f64>,
     velocity: Vec<f64>,
     multiplier: Vec<f64>,
+    /// `A^n` of a scheme that carries it ([`TimeIntegrator::acceleration`]).
+    acceleration: Vec<f64>,
     balanced_steps: usize,
     largest: f64,
     last: f64,
@@ -587,6 +676,7 @@ impl<'m> BalanceMonitor<'m> {
             displacement: Vec::new(),
             velocity: Vec::new(),
             multiplier: Vec::new(),
+            acceleration: Vec::new(),
             balanced_steps: 0,
             largest: 0.0,
             last: 0.0,
@@ -618,6 +708,10 @@ impl<'m> BalanceMonitor<'m> {
         copy_into(&mut self.displacement, integrator.displacement());
         copy_into(&mut self.velocity, integrator.velocity());
         copy_into(&mut self.multiplier, integrator.scheme_multiplier());
+        copy_into(
+            &mut self.acceleration,
+            integrator.acceleration().unwrap_or_default(),
+        );
         self.step = Some(step);
         let b = balance?;
         let scale = self
@@ -649,10 +743,41 @@ impl<'m> BalanceMonitor<'m> {
                     .unwrap_or_else(|| mechanical_energy(model, &before)),
             ),
             Scheme::Theta { theta: t } => (
-                theta_in(ws, model, t, (&before, &after)),
+                theta_in(ws, model, (t, t), (&before, &after)),
                 self.energy
                     .unwrap_or_else(|| mechanical_energy(model, &before)),
             ),
+            Scheme::MoreauJean { theta: t, .. } => (
+                theta_in(ws, model, (t, 1.0), (&before, &after)),
+                self.energy
+                    .unwrap_or_else(|| mechanical_energy(model, &before)),
+            ),
+            Scheme::GeneralisedAlpha {
+                alpha_m,
+                alpha_f,
+                beta,
+                gamma,
+            } => {
+                let parameters = AlphaParameters {
+                    alpha_m,
+                    alpha_f,
+                    beta,
+                    gamma,
+                };
+                let a1 = integrator.acceleration()?;
+                (
+                    generalised_alpha_in(
+                        ws,
+                        model,
+                        parameters,
+                        dt,
+                        (&before, &after),
+                        (&self.acceleration, a1),
+                    ),
+                    self.energy
+                        .unwrap_or_else(|| mechanical_energy(model, &before)),
+                )
+            }
             Scheme::PaoliSchatzman { beta, .. } => {
                 if step < 2 || self.earlier.is_empty() {
                     return None;

@@ -1,25 +1,27 @@
 //! The scheme factory: the integrator of a [`Scheme`] on a model, from its consistent start.
 //!
 //! Newmark with β > 0 and the θ-method run in the common one-step form ([`OneStepScheme`],
-//! eqs. 32 and 34), Newmark with β = 0 explicitly ([`ExplicitNewmark`], eq. 32), and
-//! Paoli–Schatzman as its two-step scheme ([`PaoliSchatzman`], eq. 36); every one starts from
-//! [`initial_state`] (`A^0` from eq. 32c).
+//! eqs. 32 and 34), Newmark with β = 0 explicitly ([`ExplicitNewmark`], eq. 32),
+//! Paoli–Schatzman as its two-step scheme ([`PaoliSchatzman`], eq. 36), and the rivals as
+//! theirs ([`GeneralisedAlpha`], [`MoreauJean`]); every one starts from [`initial_state`]
+//! (`A^0` from eq. 32c).
 
 use super::conventions::{Conventions, NitscheAcceleration};
 use super::{
-    initial_state, ExplicitNewmark, OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients,
-    TimeIntegrator,
+    initial_state, AlphaParameters, ExplicitNewmark, GeneralisedAlpha, MoreauJean, OneStepScheme,
+    PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::{Error, ParameterError};
 use crate::engine::model::Model;
 
 /// Builds the integrator of `scheme` on `model` with step `dt`, from the displacement and
-/// velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman runs with
-/// the multiplier only (its energy balance with a penalty or Nitsche force is not derived):
-/// other treatments are a [`ParameterError`] on `contact`. Explicit Newmark keeps the
-/// consistent Nitsche acceleration: the elastic one is a [`ParameterError`] on
-/// `nitsche_acceleration` there.
+/// velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman and
+/// Moreau–Jean run with the multiplier only (the first's energy balance with a penalty or
+/// Nitsche force is not derived; the second constrains velocities): other treatments are a
+/// [`ParameterError`] on `contact`. Explicit Newmark and the rivals keep the consistent
+/// Nitsche acceleration: the elastic one is a [`ParameterError`] on `nitsche_acceleration`
+/// there.
 pub fn integrator<'m>(
     model: &'m Model,
     scheme: Scheme,
@@ -29,24 +31,32 @@ pub fn integrator<'m>(
     conventions: &Conventions,
 ) -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
     let treatment = model.contact_law().treatment();
-    if matches!(scheme, Scheme::PaoliSchatzman { .. }) && treatment != ContactTreatment::Multiplier
-    {
-        return Err(ParameterError::new(
-            "contact",
-            treatment,
-            "multiplier with Paoli–Schatzman (penalty and Nitsche run with the Newmark and θ \
-             schemes)",
-        )
-        .into());
+    if treatment != ContactTreatment::Multiplier {
+        let only_multiplier = match scheme {
+            Scheme::PaoliSchatzman { .. } => Some(
+                "multiplier with Paoli–Schatzman (its energy balance with a penalty or Nitsche \
+                 force is not derived; penalty and Nitsche run with the Newmark, θ and \
+                 generalised-α schemes)",
+            ),
+            Scheme::MoreauJean { .. } => Some(
+                "multiplier with Moreau–Jean (its impact law constrains velocities; a penalty \
+                 or Nitsche force is a function of the position, run it with the θ-method)",
+            ),
+            _ => None,
+        };
+        if let Some(allowed) = only_multiplier {
+            return Err(ParameterError::new("contact", treatment, allowed).into());
+        }
     }
     let elastic_nitsche = conventions.nitsche_acceleration == NitscheAcceleration::ElasticStiffness
         && model.contact_law().stiffness_update().is_some();
-    if scheme.is_explicit() && elastic_nitsche {
+    let one_step = matches!(scheme, Scheme::Newmark { .. } | Scheme::Theta { .. });
+    if elastic_nitsche && (scheme.is_explicit() || !one_step) {
         return Err(ParameterError::new(
             "nitsche_acceleration",
             "elastic-stiffness",
-            "consistent with explicit Newmark (the elastic Nitsche acceleration is offered for \
-             the implicit one-step schemes, as GetFEM's demo integrates them)",
+            "consistent with this scheme (the elastic Nitsche acceleration is offered for \
+             implicit Newmark and the θ-method, as GetFEM's demo integrates them)",
         )
         .into());
     }
@@ -63,6 +73,32 @@ pub fn integrator<'m>(
                 dt,
                 start,
                 conventions,
+            )?));
+        }
+        Scheme::GeneralisedAlpha {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } => {
+            let parameters = AlphaParameters {
+                alpha_m,
+                alpha_f,
+                beta,
+                gamma,
+            };
+            return Ok(Box::new(
+                GeneralisedAlpha::new(model, parameters, dt, start)?
+                    .with_predictor(conventions.predictor),
+            ));
+        }
+        Scheme::MoreauJean { theta, restitution } => {
+            return Ok(Box::new(MoreauJean::new(
+                model,
+                theta,
+                restitution,
+                dt,
+                start,
             )?));
         }
         Scheme::Newmark { beta, gamma } => StepCoefficients::newmark(beta, gamma),

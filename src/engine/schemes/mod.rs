@@ -1,5 +1,5 @@
-//! Time integrators of the 1D paper (§3.2), written against [`Model`], each equation in the
-//! file named after it:
+//! Time integrators of the 1D paper (§3.2) and their rivals, written against [`Model`], each
+//! equation in the file named after it:
 //!
 //! | file | what | paper |
 //! |---|---|---|
@@ -7,7 +7,9 @@
 //! | [`theta`] | the θ-method's coefficients | eq. (34) |
 //! | [`one_step`] | the common form of (32) with β > 0 and (34), contact at `t_{n+1}` ([`OneStepScheme`]) | eqs. (32), (34) |
 //! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
-//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37) |
+//! | [`generalised_alpha`] | generalised-α and HHT-α, a rival ([`GeneralisedAlpha`]) | Chung–Hulbert 1993: (GA-a–d) |
+//! | [`moreau_jean`] | Moreau–Jean, the θ-method on velocities with Newton's impact law, a rival ([`MoreauJean`]) | Jean 1999: (MJ-a–d) |
+//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37), (GA-E), (MJ-E) |
 //! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
@@ -20,7 +22,9 @@ pub mod cfl;
 pub mod conventions;
 pub mod energy_balance;
 pub mod factory;
+pub mod generalised_alpha;
 pub mod massless;
+pub mod moreau_jean;
 pub mod newmark;
 pub mod one_step;
 pub mod paoli_schatzman;
@@ -29,6 +33,8 @@ pub mod theta;
 
 pub use conventions::Conventions;
 pub use factory::integrator;
+pub use generalised_alpha::{AlphaParameters, GeneralisedAlpha};
+pub use moreau_jean::MoreauJean;
 pub use newmark::{initial_state, ExplicitNewmark};
 #[doc(hidden)]
 pub use one_step::{OneStepScheme, StepCoefficients};
@@ -177,6 +183,11 @@ pub trait TimeIntegrator: Send {
     /// reported [`multiplier`](Self::multiplier) `λ^n` for the other schemes.
     fn scheme_multiplier(&self) -> &[f64] {
         &self.state().lambda
+    }
+    /// `A^n`, where the scheme carries an acceleration that its energy balance needs
+    /// (generalised-α, (GA-E)); `None` for the others.
+    fn acceleration(&self) -> Option<&[f64]> {
+        None
     }
     /// The scheme's discrete energy with the time it approximates (computed on demand).
     fn energy(&self) -> Timed<f64>;

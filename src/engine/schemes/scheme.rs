@@ -1,4 +1,4 @@
-//! The scheme names and parameters of the paper, with validation.
+//! The scheme names and parameters of the paper and of its rivals, with validation.
 
 use std::fmt;
 use std::str::FromStr;
@@ -30,10 +30,57 @@ pub enum Scheme {
         /// Restitution coefficient e ∈ [0, 1].
         restitution: f64,
     },
+    /// Generalised-α (Chung–Hulbert 1993), eqs. (GA-a–d) of [`super::generalised_alpha`]; HHT-α
+    /// is `α_m = 0`, Newmark(β, γ) is `α_m = α_f = 0`.
+    GeneralisedAlpha {
+        /// α_m < 1: the weight of `A^n` in the equation of motion.
+        alpha_m: f64,
+        /// α_f ∈ [0, 1): the weight of `U^n` and `λ^n` in the equation of motion.
+        alpha_f: f64,
+        /// β > 0.
+        beta: f64,
+        /// γ ≥ 0.
+        gamma: f64,
+    },
+    /// Moreau–Jean (Jean 1999), eqs. (MJ-a–d) of [`super::moreau_jean`]: the θ-method on
+    /// velocities with Newton's impact law.
+    MoreauJean {
+        /// θ ∈ (0, 1].
+        theta: f64,
+        /// Restitution coefficient e ∈ [0, 1] of Newton's impact law.
+        restitution: f64,
+    },
 }
 
-/// The named presets: (name, scheme, the paper's label); the paper's seven first.
-const PRESETS: [(&str, Scheme, &str); 8] = [
+/// Generalised-α with the spectral radius `ρ∞` at infinite frequency (Chung–Hulbert 1993,
+/// eqs. 25 and 17–20): `α_m = (2ρ∞ − 1)/(ρ∞ + 1)`, `α_f = ρ∞/(ρ∞ + 1)`, `γ = ½ − α_m + α_f`,
+/// `β = ¼(1 − α_m + α_f)²`. `ρ∞ = 1` is Crank–Nicolson's dissipation-free limit.
+pub const fn generalised_alpha(rho_inf: f64) -> Scheme {
+    let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+    let alpha_f = rho_inf / (rho_inf + 1.0);
+    let shift = 1.0 - alpha_m + alpha_f;
+    Scheme::GeneralisedAlpha {
+        alpha_m,
+        alpha_f,
+        beta: 0.25 * shift * shift,
+        gamma: 0.5 - alpha_m + alpha_f,
+    }
+}
+
+/// HHT-α (Hilber–Hughes–Taylor 1977) as generalised-α with `α_m = 0`, `α_f = α ∈ [0, ⅓]`,
+/// `γ = ½ + α`, `β = ¼(1 + α)²` (the original paper's α is `−α` here).
+pub const fn hht(alpha: f64) -> Scheme {
+    Scheme::GeneralisedAlpha {
+        alpha_m: 0.0,
+        alpha_f: alpha,
+        beta: 0.25 * (1.0 + alpha) * (1.0 + alpha),
+        gamma: 0.5 + alpha,
+    }
+}
+
+/// The named presets: (name, scheme, the paper's label); the paper's seven first, then central
+/// differences and the rivals.
+const PRESETS: [(&str, Scheme, &str); 11] = [
     (
         "crank-nicolson",
         Scheme::Newmark {
@@ -95,13 +142,29 @@ const PRESETS: [(&str, Scheme, &str); 8] = [
         },
         "Central differences, Newmark (0, 1/2), explicit: Δt ≤ 2/ω_max",
     ),
+    (
+        "generalised-alpha",
+        generalised_alpha(0.8),
+        "Generalised-α ρ∞ = 0.8 (Chung–Hulbert)",
+    ),
+    ("hht", hht(0.05), "HHT-α α = 0.05 (Hilber–Hughes–Taylor)"),
+    (
+        "moreau-jean",
+        Scheme::MoreauJean {
+            theta: 0.5,
+            restitution: 0.0,
+        },
+        "Moreau–Jean θ = 1/2, e = 0 (Jean)",
+    ),
 ];
 
 /// What a scheme name may be, for error messages.
 pub const SCHEME_NAMES: &str = "one of: crank-nicolson, newmark-1, newmark-2, backward-euler, \
-    paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, or a \
-    parametrised form \
-    newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E)";
+    paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, \
+    generalised-alpha, hht, moreau-jean, or a parametrised form \
+    newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E), \
+    generalised-alpha(rho_inf=R), hht(alpha=A), \
+    generalised-alpha(alpha_m=AM,alpha_f=AF,beta=B,gamma=G), moreau-jean(theta=T,e=E)";
 
 impl Scheme {
     /// Crank–Nicolson, Newmark (¼, ½).
@@ -116,6 +179,11 @@ impl Scheme {
     /// The seven schemes of the paper's Tables 1–2, in table order.
     pub fn paper_schemes() -> [Scheme; 7] {
         std::array::from_fn(|i| PRESETS[i].1)
+    }
+
+    /// The rivals of the paper's schemes with their presets (generalised-α, HHT-α, Moreau–Jean).
+    pub fn rival_schemes() -> [Scheme; 3] {
+        std::array::from_fn(|i| PRESETS[8 + i].1)
     }
 
     /// Whether this is the explicit Newmark scheme (β = 0).
@@ -137,6 +205,28 @@ impl Scheme {
                 "{self}: gamma = {gamma} < 1/2 makes implicit Newmark unstable: its energy \
                  balance, eq. (33), gains (1/2 - gamma) dU^T S dU >= 0 at every step (negative \
                  numerical dissipation), so the energy grows; use gamma >= 1/2"
+            )),
+            Scheme::GeneralisedAlpha {
+                alpha_m,
+                alpha_f,
+                beta,
+                gamma,
+            } if !(alpha_m <= alpha_f
+                && alpha_f <= 0.5
+                && (gamma - (0.5 - alpha_m + alpha_f)).abs() <= 1e-12
+                && beta >= 0.25 + 0.5 * (alpha_f - alpha_m)) =>
+            {
+                Some(format!(
+                    "{self}: unconditional stability and second order need alpha_m <= alpha_f <= \
+                     1/2, gamma = 1/2 - alpha_m + alpha_f and beta >= 1/4 + (alpha_f - alpha_m)/2 \
+                     (Chung and Hulbert 1993); generalised-alpha(rho_inf=R) or hht(alpha=A) \
+                     satisfy them"
+                ))
+            }
+            Scheme::MoreauJean { theta, .. } if theta < 0.5 => Some(format!(
+                "{self}: theta = {theta} < 1/2 makes Moreau-Jean unstable: its energy balance \
+                 (MJ-E) gains (1/2 - theta)(dV^T M dV + dU^T S dU) >= 0 at every step; use \
+                 theta >= 1/2"
             )),
             _ => None,
         }
@@ -182,6 +272,45 @@ impl Scheme {
                 }
                 require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
             }
+            Scheme::GeneralisedAlpha {
+                alpha_m,
+                alpha_f,
+                beta,
+                gamma,
+            } => {
+                if !(alpha_m.is_finite() && alpha_m < 1.0) {
+                    return Err(ParameterError::new(
+                        "alpha_m",
+                        alpha_m,
+                        "a finite number < 1 (the equation of motion weighs A^{n+1} by 1 − α_m)",
+                    ));
+                }
+                if !(alpha_f.is_finite() && (0.0..1.0).contains(&alpha_f)) {
+                    return Err(ParameterError::new(
+                        "alpha_f",
+                        alpha_f,
+                        "a number in [0, 1) (the equation of motion weighs U^{n+1} by 1 − α_f)",
+                    ));
+                }
+                if !(beta.is_finite() && beta > 0.0) {
+                    return Err(ParameterError::new("beta", beta, "a finite number > 0"));
+                }
+                if !(gamma.is_finite() && gamma >= 0.0) {
+                    return Err(ParameterError::new("gamma", gamma, "a finite number >= 0"));
+                }
+            }
+            Scheme::MoreauJean { theta, restitution } => {
+                require_in("theta", theta, 0.0, 1.0, "a number in (0, 1]")?;
+                if theta == 0.0 {
+                    return Err(ParameterError::new(
+                        "theta",
+                        theta,
+                        "a number in (0, 1] (θ = 0 leaves the velocity step explicit, and the \
+                         impact law at t_{n+1} cannot be imposed)",
+                    ));
+                }
+                require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
+            }
         }
         Ok(self)
     }
@@ -198,7 +327,42 @@ impl Scheme {
                 Scheme::PaoliSchatzman { beta, restitution } => {
                     format!("paoli-schatzman(beta={beta},e={restitution})")
                 }
+                Scheme::GeneralisedAlpha {
+                    alpha_m,
+                    alpha_f,
+                    beta,
+                    gamma,
+                } => self.alpha_family_name().unwrap_or_else(|| {
+                    format!(
+                        "generalised-alpha(alpha_m={alpha_m},alpha_f={alpha_f},beta={beta},\
+                         gamma={gamma})"
+                    )
+                }),
+                Scheme::MoreauJean { theta, restitution } => {
+                    format!("moreau-jean(theta={theta},e={restitution})")
+                }
             })
+    }
+
+    /// `generalised-alpha(rho_inf=R)` or `hht(alpha=A)` when the parameters are exactly those
+    /// of that form, so that the name parses back to the same scheme.
+    fn alpha_family_name(self) -> Option<String> {
+        let Scheme::GeneralisedAlpha {
+            alpha_m, alpha_f, ..
+        } = self
+        else {
+            return None;
+        };
+        // `ρ∞ = α_f / (1 − α_f)`, rounded to the shortest decimal that gives these bits back.
+        let rho_inf = alpha_f / (1.0 - alpha_f);
+        let shortest = (1..=17).find_map(|digits| {
+            let candidate: f64 = format!("{:.*e}", digits - 1, rho_inf).parse().ok()?;
+            (generalised_alpha(candidate) == self).then_some(candidate)
+        });
+        if let Some(rho_inf) = shortest {
+            return Some(format!("generalised-alpha(rho_inf={rho_inf})"));
+        }
+        (alpha_m == 0.0 && hht(alpha_f) == self).then(|| format!("hht(alpha={alpha_f})"))
     }
 
     /// The paper's label for a preset, else the name.
@@ -245,7 +409,9 @@ impl FromStr for Scheme {
     type Err = ParameterError;
 
     /// A preset name or `newmark(beta=…,gamma=…)`, `theta(theta=…)`,
-    /// `paoli-schatzman(beta=…,e=…)`; the parameters are validated.
+    /// `paoli-schatzman(beta=…,e=…)`, `generalised-alpha(rho_inf=…)`, `hht(alpha=…)`,
+    /// `generalised-alpha(alpha_m=…,alpha_f=…,beta=…,gamma=…)`, `moreau-jean(theta=…,e=…)`;
+    /// the parameters are validated.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let s = s.trim();
         if let Some(p) = PRESETS.iter().find(|p| p.0 == s) {
@@ -270,6 +436,32 @@ impl FromStr for Scheme {
                 let v = parse_params(s, body, &["beta", "e"])?;
                 Scheme::PaoliSchatzman {
                     beta: v[0],
+                    restitution: v[1],
+                }
+            }
+            "generalised-alpha" if body.contains("rho_inf") => {
+                let rho_inf = parse_params(s, body, &["rho_inf"])?[0];
+                require_in("rho_inf", rho_inf, 0.0, 1.0, "a number in [0, 1]")?;
+                generalised_alpha(rho_inf)
+            }
+            "generalised-alpha" => {
+                let v = parse_params(s, body, &["alpha_m", "alpha_f", "beta", "gamma"])?;
+                Scheme::GeneralisedAlpha {
+                    alpha_m: v[0],
+                    alpha_f: v[1],
+                    beta: v[2],
+                    gamma: v[3],
+                }
+            }
+            "hht" => {
+                let alpha = parse_params(s, body, &["alpha"])?[0];
+                require_in("alpha", alpha, 0.0, 1.0 / 3.0, "a number in [0, 1/3]")?;
+                hht(alpha)
+            }
+            "moreau-jean" => {
+                let v = parse_params(s, body, &["theta", "e"])?;
+                Scheme::MoreauJean {
+                    theta: v[0],
                     restitution: v[1],
                 }
             }
