@@ -12,7 +12,11 @@ use crate::harness::study::scene::{scene_files, Scene};
 pub fn catalogue(dir: &Path) -> String {
     let mut said: Vec<String> = Vec::new();
     let mut out = |line: String| said.push(line);
-    out("Schemes (preset name, parameters, the paper's name):".into());
+    out(
+        "Schemes (preset name, parameters, the paper's name; [rival]: not in the paper, see \
+         docs/src/schemes-and-balances.md):"
+            .into(),
+    );
     for (name, scheme, label) in Scheme::presets() {
         let params = match scheme {
             Scheme::Newmark { beta, gamma } => format!("Newmark β = {beta}, γ = {gamma}"),
@@ -29,8 +33,14 @@ pub fn catalogue(dir: &Path) -> String {
             Scheme::MoreauJean { theta, restitution } => {
                 format!("Moreau–Jean θ = {theta}, e = {restitution}")
             }
+            Scheme::LaursenChawla {} => "Moreau–Jean θ = 0.5, e = 1, trial gap".to_string(),
         };
-        out(format!("  {name:22} {params:34} {label}"));
+        let rival = if Scheme::rival_schemes().contains(&scheme) {
+            " [rival]"
+        } else {
+            ""
+        };
+        out(format!("  {name:22} {params:44} {label}{rival}"));
     }
     out(
         "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E),\n  \

@@ -140,6 +140,8 @@ fn help_and_list_document_the_commands() {
     for needle in [
         "crank-nicolson",
         "paoli-schatzman-e0.5",
+        "moreau-jean            Moreau–Jean θ = 0.5, e = 0",
+        "Laursen–Chawla, energy-conserving [rival]",
         "redistributed",
         "lambda_L2",
         "scenes/bar1d-dirichlet.json",

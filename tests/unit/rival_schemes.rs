@@ -3,8 +3,8 @@
 //! `α_m = α_f = 0` is Newmark(β, γ) bit for bit; Moreau–Jean without an obstacle is the
 //! θ-method to round-off, though one solves for velocities and the other for displacements),
 //! each satisfies its energy balance, (GA-E) or (MJ-E), at every step of a run with contact to
-//! round-off (and a balance with a wrong parameter does not), and what is not defined is
-//! refused naming the field.
+//! round-off (and a balance with a wrong parameter does not); Laursen–Chawla conserves the
+//! energy exactly; and what is not defined is refused naming the field.
 
 use signorini::engine::contact::{ContactLaw, ContactTreatment};
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
@@ -125,7 +125,7 @@ fn monitored(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64], dt: f64, n: 
     monitor.largest_residual()
 }
 
-const RIVALS: [Scheme; 6] = [
+const RIVALS: [Scheme; 7] = [
     generalised_alpha(0.8),
     generalised_alpha(0.0),
     hht(0.05),
@@ -143,6 +143,7 @@ const RIVALS: [Scheme; 6] = [
         theta: 0.8,
         restitution: 0.5,
     },
+    Scheme::LaursenChawla {},
 ];
 
 #[test]
@@ -197,7 +198,7 @@ fn rival_balances_hold_on_the_2d_and_3d_bars() {
                 v
             });
             let dt = mesh.element_sizes()[d - 1] / 2.0;
-            for scheme in [RIVALS[0], RIVALS[2], RIVALS[4]] {
+            for scheme in [RIVALS[0], RIVALS[2], RIVALS[4], RIVALS[6]] {
                 let worst = monitored(&model, scheme, &u0, &v0, dt, (1.5 / dt).round() as usize);
                 assert!(worst < 1e-12, "{d}D {scheme}, {mass}: residual {worst:e}");
             }
@@ -337,6 +338,51 @@ fn moreau_jean_keeps_newtons_law_and_loses_energy_only_at_impacts() {
     }
 }
 
+/// Laursen–Chawla's persistency makes every product `λ_i (BΔU)_i` of (MJ-E) vanish: the energy
+/// is conserved at every step, impacts included, and the gap never closes past the obstacle.
+#[test]
+fn laursen_chawla_conserves_the_energy_at_every_step_and_never_penetrates() {
+    for mass in MassVariant::PAPER {
+        let (model, u0, v0) = dirichlet(mass, true);
+        let c = model.contact().unwrap().dofs[0];
+        let scheme = Scheme::LaursenChawla {};
+        let mut s = integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+        let e0 = s.energy().value;
+        let mut pushed = 0;
+        for n in 0..steps() {
+            s.advance().unwrap();
+            let drift = s.energy().value - e0;
+            assert!(
+                drift.abs() <= 1e-12 * e0,
+                "{mass} step {n}: E − E⁰ = {drift:e}"
+            );
+            assert!(
+                s.displacement()[c] >= -1e-14,
+                "{mass} step {n}: penetration"
+            );
+            pushed += usize::from(s.multiplier().value[0] < 0.0);
+        }
+        assert!(pushed > 0, "{mass}: no contact");
+        if mass != MassVariant::Standard {
+            // A massless contact node carries no kinetic energy for e = 0 to take.
+            continue;
+        }
+        let mj = Scheme::MoreauJean {
+            theta: 0.5,
+            restitution: 0.0,
+        };
+        let mut dissipative =
+            integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+        for _ in 0..steps() {
+            dissipative.advance().unwrap();
+        }
+        assert!(
+            dissipative.energy().value < (1.0 - 1e-6) * e0,
+            "Moreau–Jean e = 0 loses energy where Laursen–Chawla keeps it"
+        );
+    }
+}
+
 #[test]
 fn undefined_combinations_and_parameters_are_refused_naming_the_field() {
     let bar = Bar1d::unit(NX, EndCondition::Clamped).unwrap();
@@ -348,11 +394,13 @@ fn undefined_combinations_and_parameters_are_refused_naming_the_field() {
         theta: 0.5,
         restitution: 0.0,
     };
-    let e = integrator(&penalty, mj, dt(), &u0, &v0, &Conventions::HARNESS)
-        .err()
-        .unwrap()
-        .to_string();
-    assert!(e.contains("contact") && e.contains("Moreau–Jean"), "{e}");
+    for scheme in [mj, Scheme::LaursenChawla {}] {
+        let e = integrator(&penalty, scheme, dt(), &u0, &v0, &Conventions::HARNESS)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("contact") && e.contains("Moreau–Jean"), "{e}");
+    }
     let nitsche = model.with_contact_law(
         ContactLaw::bar1d(
             ContactTreatment::Nitsche {
@@ -407,6 +455,7 @@ fn rival_names_parse_back_to_the_same_scheme() {
         "hht(alpha=0.3)",
         "generalised-alpha(alpha_m=0.1,alpha_f=0.3,beta=0.4,gamma=0.8)",
         "moreau-jean(theta=1,e=0.5)",
+        "laursen-chawla",
     ];
     for text in forms {
         let scheme: Scheme = text.parse().unwrap();

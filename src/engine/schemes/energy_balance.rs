@@ -618,14 +618,15 @@ pub fn holds_under(conventions: &Conventions, model: &Model) -> bool {
 }
 
 /// The equation of `scheme`'s balance: the paper's `(33)` for Newmark (β = 0 included), `(35)`
-/// for the θ-method, `(37)` for Paoli–Schatzman; `(GA-E)` and `(MJ-E)` of the rivals' files.
+/// for the θ-method, `(37)` for Paoli–Schatzman; `(GA-E)` and `(MJ-E)` of the rivals' files
+/// (Laursen–Chawla's is (MJ-E) with θ = ½, where its persistency makes it `ΔE = 0`).
 pub fn equation(scheme: Scheme) -> &'static str {
     match scheme {
         Scheme::Newmark { .. } => "(33)",
         Scheme::Theta { .. } => "(35)",
         Scheme::PaoliSchatzman { .. } => "(37)",
         Scheme::GeneralisedAlpha { .. } => "(GA-E)",
-        Scheme::MoreauJean { .. } => "(MJ-E)",
+        Scheme::MoreauJean { .. } | Scheme::LaursenChawla {} => "(MJ-E)",
     }
 }
 
@@ -749,6 +750,11 @@ impl<'m> BalanceMonitor<'m> {
             ),
             Scheme::MoreauJean { theta: t, .. } => (
                 theta_in(ws, model, (t, 1.0), (&before, &after)),
+                self.energy
+                    .unwrap_or_else(|| mechanical_energy(model, &before)),
+            ),
+            Scheme::LaursenChawla {} => (
+                theta_in(ws, model, (0.5, 1.0), (&before, &after)),
                 self.energy
                     .unwrap_or_else(|| mechanical_energy(model, &before)),
             ),

@@ -7,6 +7,7 @@
 //! (`A^0` from eq. 32c).
 
 use super::conventions::{Conventions, NitscheAcceleration};
+use super::laursen_chawla::laursen_chawla;
 use super::{
     initial_state, AlphaParameters, ExplicitNewmark, GeneralisedAlpha, MoreauJean, OneStepScheme,
     PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
@@ -38,9 +39,10 @@ pub fn integrator<'m>(
                  force is not derived; penalty and Nitsche run with the Newmark, θ and \
                  generalised-α schemes)",
             ),
-            Scheme::MoreauJean { .. } => Some(
-                "multiplier with Moreau–Jean (its impact law constrains velocities; a penalty \
-                 or Nitsche force is a function of the position, run it with the θ-method)",
+            Scheme::MoreauJean { .. } | Scheme::LaursenChawla {} => Some(
+                "multiplier with Moreau–Jean and Laursen–Chawla (their impact or persistency \
+                 law constrains the step's motion; a penalty or Nitsche force is a function of \
+                 the position, run it with the θ-method)",
             ),
             _ => None,
         };
@@ -100,6 +102,9 @@ pub fn integrator<'m>(
                 dt,
                 start,
             )?));
+        }
+        Scheme::LaursenChawla {} => {
+            return Ok(Box::new(laursen_chawla(model, dt, start)?));
         }
         Scheme::Newmark { beta, gamma } => StepCoefficients::newmark(beta, gamma),
         Scheme::Theta { theta } => StepCoefficients::theta(theta),

@@ -9,6 +9,7 @@
 //! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
 //! | [`generalised_alpha`] | generalised-α and HHT-α, a rival ([`GeneralisedAlpha`]) | Chung–Hulbert 1993: (GA-a–d) |
 //! | [`moreau_jean`] | Moreau–Jean, the θ-method on velocities with Newton's impact law, a rival ([`MoreauJean`]) | Jean 1999: (MJ-a–d) |
+//! | [`laursen_chawla`] | the energy-conserving persistency scheme, Moreau–Jean (½, e = 1) with the trial's active set, a rival | Laursen–Chawla 1997: (LC-a–d) |
 //! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37), (GA-E), (MJ-E) |
 //! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
@@ -23,6 +24,7 @@ pub mod conventions;
 pub mod energy_balance;
 pub mod factory;
 pub mod generalised_alpha;
+pub mod laursen_chawla;
 pub mod massless;
 pub mod moreau_jean;
 pub mod newmark;

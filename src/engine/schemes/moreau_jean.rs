@@ -41,12 +41,24 @@ use crate::engine::error::SolveError;
 use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
 
+/// Which constraints a step's impact law (MJ-d) applies to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Activation {
+    /// (MJ-c): `(B U^n + g)_i + ½ Δt (B V^n)_i ≤ 0`, Siconos's `MoreauJeanOSI` default.
+    HalfStepPrediction,
+    /// The gap of the step without contact: `(B Ũ^{n+1} + g)_i ≤ 0` with
+    /// `Ũ^{n+1} = U^n + Δt ((1 − θ) V^n + θ Ṽ^{n+1})`, `Ṽ^{n+1}` the unconstrained solve (the
+    /// trial of Laursen and Chawla, [`super::laursen_chawla`]).
+    FreeStep,
+}
+
 /// A Moreau–Jean integrator with its state and factorised step matrix.
 #[derive(Debug)]
 pub struct MoreauJean<'m> {
     model: &'m Model,
     theta: f64,
     restitution: f64,
+    activation: Activation,
     system: StepSolver,
     contact: Option<ContactStep>,
     /// The contact constraints (none without an obstacle).
@@ -55,6 +67,8 @@ pub struct MoreauJean<'m> {
     /// `(B U^n)_i` and `(B V^n)_i` of the constraints, for (MJ-c–d).
     positions: Vec<f64>,
     velocities: Vec<f64>,
+    /// `(B Ũ^{n+1})_i` of [`Activation::FreeStep`].
+    trial: Vec<f64>,
     /// `ν` of the step's complementarity problem.
     nu: Vec<f64>,
     rhs: Vec<f64>,
@@ -85,16 +99,24 @@ impl<'m> MoreauJean<'m> {
             model,
             theta,
             restitution,
+            activation: Activation::HalfStepPrediction,
             system,
             contact,
             rows,
             state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
             positions: vec![0.0; constraints],
             velocities: vec![0.0; constraints],
+            trial: vec![0.0; constraints],
             nu: vec![0.0; constraints],
             rhs: vec![0.0; n],
             scratch: vec![0.0; n],
         })
+    }
+
+    /// Applies the impact law to the constraints `activation` selects (the default is (MJ-c)).
+    pub fn with_activation(mut self, activation: Activation) -> Self {
+        self.activation = activation;
+        self
     }
 }
 
@@ -124,14 +146,23 @@ impl TimeIntegrator for MoreauJean<'_> {
         for (i, row) in self.rows.iter().enumerate() {
             self.positions[i] = sparse_dot(&row.measure, &self.state.u);
             self.velocities[i] = sparse_dot(&row.measure, &self.state.v);
+            let free = sparse_dot(&row.measure, &self.rhs);
+            self.trial[i] =
+                self.positions[i] + dt * ((1.0 - theta) * self.velocities[i] + theta * free);
         }
         if let Some(contact) = self.contact.as_mut() {
-            let (positions, velocities) = (&self.positions, &self.velocities);
+            let (positions, velocities, trial) = (&self.positions, &self.velocities, &self.trial);
+            let activation = self.activation;
             contact.enforce(
                 self.state.step + 1,
                 &mut self.rhs,
                 |i, g| {
-                    let active = positions[i] + g + 0.5 * dt * velocities[i] <= 0.0;
+                    let active = match activation {
+                        Activation::HalfStepPrediction => {
+                            positions[i] + g + 0.5 * dt * velocities[i] <= 0.0
+                        }
+                        Activation::FreeStep => trial[i] + g <= 0.0,
+                    };
                     if active {
                         e * velocities[i]
                     } else {

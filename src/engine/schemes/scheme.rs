@@ -50,6 +50,9 @@ pub enum Scheme {
         /// Restitution coefficient e ∈ [0, 1] of Newton's impact law.
         restitution: f64,
     },
+    /// Laursen–Chawla's energy-conserving scheme (1997), eqs. (LC-a–d) of
+    /// [`super::laursen_chawla`]: no parameter.
+    LaursenChawla {},
 }
 
 /// Generalised-α with the spectral radius `ρ∞` at infinite frequency (Chung–Hulbert 1993,
@@ -80,7 +83,7 @@ pub const fn hht(alpha: f64) -> Scheme {
 
 /// The named presets: (name, scheme, the paper's label); the paper's seven first, then central
 /// differences and the rivals.
-const PRESETS: [(&str, Scheme, &str); 11] = [
+const PRESETS: [(&str, Scheme, &str); 12] = [
     (
         "crank-nicolson",
         Scheme::Newmark {
@@ -156,12 +159,17 @@ const PRESETS: [(&str, Scheme, &str); 11] = [
         },
         "Moreau–Jean θ = 1/2, e = 0 (Jean)",
     ),
+    (
+        "laursen-chawla",
+        Scheme::LaursenChawla {},
+        "Laursen–Chawla, energy-conserving",
+    ),
 ];
 
 /// What a scheme name may be, for error messages.
 pub const SCHEME_NAMES: &str = "one of: crank-nicolson, newmark-1, newmark-2, backward-euler, \
     paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, \
-    generalised-alpha, hht, moreau-jean, or a parametrised form \
+    generalised-alpha, hht, moreau-jean, laursen-chawla, or a parametrised form \
     newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E), \
     generalised-alpha(rho_inf=R), hht(alpha=A), \
     generalised-alpha(alpha_m=AM,alpha_f=AF,beta=B,gamma=G), moreau-jean(theta=T,e=E)";
@@ -181,8 +189,9 @@ impl Scheme {
         std::array::from_fn(|i| PRESETS[i].1)
     }
 
-    /// The rivals of the paper's schemes with their presets (generalised-α, HHT-α, Moreau–Jean).
-    pub fn rival_schemes() -> [Scheme; 3] {
+    /// The rivals of the paper's schemes with their presets (generalised-α, HHT-α, Moreau–Jean,
+    /// Laursen–Chawla).
+    pub fn rival_schemes() -> [Scheme; 4] {
         std::array::from_fn(|i| PRESETS[8 + i].1)
     }
 
@@ -311,6 +320,7 @@ impl Scheme {
                 }
                 require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
             }
+            Scheme::LaursenChawla {} => {}
         }
         Ok(self)
     }
@@ -341,6 +351,7 @@ impl Scheme {
                 Scheme::MoreauJean { theta, restitution } => {
                     format!("moreau-jean(theta={theta},e={restitution})")
                 }
+                Scheme::LaursenChawla {} => "laursen-chawla".to_string(),
             })
     }
 
