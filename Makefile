@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem docs
+.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -93,6 +93,19 @@ figures: build
 verify-getfem: build
 	$(BIN) getfem --out reports --export target/getfem-runs
 	$(BIN) verify scenes/bar1d-dirichlet.json target/getfem-runs/*.csv --out reports/getfem-verify
+
+## Siconos as an external witness of the harness's Moreau–Jean scheme: scripts/siconos_bar.py
+## (Debian's python3-siconos, installed if /usr/bin/python3 cannot import it) integrates the
+## harness's discrete 1D bar (standard mass, the scene's data and time grid) with Siconos's
+## MoreauJeanOSI (θ = ½, NewtonImpactNSL e = 0, LCP) at every level below, written as external
+## runs (target/siconos-runs/) and verified like any other code's: reports/siconos-verify/.
+SICONOS_RUNS := target/siconos-runs
+SICONOS_LEVELS := 10 20 40 80 160
+verify-siconos: build
+	@/usr/bin/python3 -c 'import siconos' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-siconos)
+	rm -rf $(SICONOS_RUNS)
+	/usr/bin/python3 scripts/siconos_bar.py --nx $(SICONOS_LEVELS) --out $(SICONOS_RUNS)
+	$(BIN) verify scenes/bar1d-dirichlet.json $(SICONOS_RUNS)/*.json --out reports/siconos-verify
 
 ## The league table, reports/league.md and league.json: every external run set verified side by side
 ## into reports/league/<entry>/ (GetFEM's 1D demo runs; GetFEM's own 2D and 3D runs, written in the
