@@ -98,14 +98,16 @@ verify-getfem: build
 ## (Debian's python3-siconos, installed if /usr/bin/python3 cannot import it) integrates the
 ## harness's discrete 1D bar (standard mass, the scene's data and time grid) with Siconos's
 ## MoreauJeanOSI (θ = ½, NewtonImpactNSL e = 0, LCP) at every level below, written as external
-## runs (target/siconos-runs/) and verified like any other code's: reports/siconos-verify/.
+## runs (target/siconos-runs/), verified like any other code's into reports/league/siconos-1d/,
+## and the league table rewritten with it (reports/league.md).
 SICONOS_RUNS := target/siconos-runs
 SICONOS_LEVELS := 10 20 40 80 160
 verify-siconos: build
 	@/usr/bin/python3 -c 'import siconos' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-siconos)
 	rm -rf $(SICONOS_RUNS)
 	/usr/bin/python3 scripts/siconos_bar.py --nx $(SICONOS_LEVELS) --out $(SICONOS_RUNS)
-	$(BIN) verify scenes/bar1d-dirichlet.json $(SICONOS_RUNS)/*.json --out reports/siconos-verify
+	$(BIN) verify scenes/bar1d-dirichlet.json $(SICONOS_RUNS)/*.json --out reports/league/siconos-1d
+	$(BIN) league reports/league --out reports
 
 ## The league table, reports/league.md and league.json: every external run set verified side by side
 ## into reports/league/<entry>/ (GetFEM's 1D demo runs; GetFEM's own 2D and 3D runs, written in the
