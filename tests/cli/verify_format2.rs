@@ -476,3 +476,77 @@ fn version_2_declarations_are_the_series_declarations() {
         })
     );
 }
+
+/// The harness reruns what a file with fields declares and compares it sample by sample: its own
+/// runs (Moreau–Jean, Crank–Nicolson with the singular mass, Paoli–Schatzman with its `λ` at
+/// `t_{n−1}`) come back to round-off; the same fields declared as another scheme differ at
+/// the size of a discretisation error; a declared contact treatment other than the scene's is
+/// not rerun, with a note.
+#[test]
+fn a_declared_scheme_and_mass_are_rerun_by_the_harness_and_compared() {
+    let dir = scratch("rerun");
+    let cases = [
+        (
+            Scheme::MoreauJean {
+                theta: 0.5,
+                restitution: 0.0,
+            },
+            MassVariant::Standard,
+        ),
+        (Scheme::CRANK_NICOLSON, MassVariant::Redistributed),
+        (
+            Scheme::PaoliSchatzman {
+                beta: 0.25,
+                restitution: 0.0,
+            },
+            MassVariant::Standard,
+        ),
+    ];
+    let mut files = Vec::new();
+    for (scheme, mass) in cases {
+        for (declared, contact, tag) in [
+            (scheme, "multiplier", "own"),
+            (Scheme::BACKWARD_EULER, "multiplier", "other"),
+            (scheme, "penalty(gamma0=10)", "penalty"),
+        ] {
+            let head = json!({
+                "scheme": declared.name(),
+                "mass": mass.name(),
+                "contact": contact,
+            });
+            let label = format!("{}-{}-{tag}", scheme.name(), mass.name());
+            for e in exports(Case { scheme, mass }) {
+                let path = dir.join(format!("{label}-{}.json", e.nodes.len() - 1));
+                write_v2(&path, &e, &label, head.clone(), |_, _| {});
+                files.push(path);
+            }
+        }
+    }
+    let (_, json) = verify(&dir, &files);
+    for (scheme, mass) in cases {
+        let id = format!("{}-{}", scheme.name(), mass.name());
+        let own = &series(&json, &format!("{id}-own"))["step_differences"];
+        assert_eq!(own.as_array().unwrap().len(), LEVELS.len(), "{id}");
+        for d in own.as_array().unwrap() {
+            for field in ["displacement", "velocity", "multiplier"] {
+                let x = d[field].as_f64().unwrap();
+                assert!(x <= 1e-12, "{id} {field}: {x:e}");
+            }
+        }
+        let other = &series(&json, &format!("{id}-other"))["step_differences"];
+        for d in other.as_array().unwrap() {
+            let x = d["displacement"].as_f64().unwrap();
+            assert!(x > 1e-3, "{id} declared backward Euler: {x:e}");
+        }
+        let penalty = series(&json, &format!("{id}-penalty"));
+        assert!(penalty.get("step_differences").is_none(), "{id}");
+        let notes = penalty["notes"].as_array().unwrap();
+        assert!(
+            notes.iter().any(|n| n
+                .as_str()
+                .unwrap()
+                .contains("declares the contact treatment penalty(gamma0=10)")),
+            "{id}: {notes:?}"
+        );
+    }
+}

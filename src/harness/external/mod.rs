@@ -11,6 +11,7 @@
 //! | [`load`] | a file of either form, read and checked |
 //! | [`pvd`], [`box_run`] | a box scene's run: a ParaView collection or the JSON format's box form, matched to the scene's mesh and time grid |
 //! | [`replay`] | the samples as a [`crate::engine::schemes::TimeIntegrator`], through the observers |
+//! | [`rerun`] | the harness's own run of a bar file's declared scheme and mass, compared sample by sample |
 //! | [`verify`] | every file replayed, grouped into series, fitted |
 //! | [`report`], [`golden`] | the tables; the golden file and its gate |
 //! | [`error`] | what can be wrong, naming the file and the field |
@@ -25,6 +26,7 @@ pub mod load;
 pub mod pvd;
 pub mod replay;
 pub mod report;
+pub mod rerun;
 pub mod verify;
 
 pub use error::ExternalError;

@@ -42,9 +42,42 @@ pub fn render(v: &Verification) -> String {
         v.scene, v.reference, v.horizon
     );
     out.push_str(&tables(v));
+    out.push_str(&step_differences(v));
     out.push_str(&sampled_displacement(v));
     let energies: Vec<&ReportedEnergy> = v.series.iter().flat_map(|s| &s.reported_energy).collect();
     out.push_str(&reported_energies(&energies, "the exact energy"));
+    out
+}
+
+/// The harness's own runs of the files' declared schemes and masses beside the files, their
+/// largest relative differences; empty when no file declares both.
+fn step_differences(v: &Verification) -> String {
+    let mut out = String::new();
+    let opt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.1e}"));
+    for d in v.series.iter().flat_map(|s| &s.step_differences) {
+        if out.is_empty() {
+            out.push_str(
+                "\n## The harness's run of each file's declared scheme and mass\n\nThe \
+                 harness runs the scheme and mass a file declares (with the scene's contact \
+                 treatment) on the scene's bar with the file's NX, from the file's first \
+                 sample, at its time step. Each cell: the largest difference over the samples, \
+                 relative to the harness's largest value (`λ` at the samples where both report \
+                 it at the same time). Round-off (10⁻¹⁰ or less) says both codes solve the same \
+                 discrete problem.\n\n| file | scheme | samples | u | v | λ |\n\
+                 |---|---|---|---|---|---|\n",
+            );
+        }
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.1e} | {} | {} |",
+            d.file,
+            d.scheme,
+            d.samples,
+            d.displacement,
+            opt(d.velocity),
+            opt(d.multiplier)
+        );
+    }
     out
 }
 

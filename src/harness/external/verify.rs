@@ -15,6 +15,7 @@ use super::error::ExternalError;
 use super::format::{Code, EnergyDefinition, ExternalRun, SampledField, Version};
 use super::load::load;
 use super::replay::{replay, EnergySource, TimeNorms};
+use super::rerun::{rerun_declared, StepDifferences};
 use crate::engine::error::{SolveError, StateField};
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::{Problem, Problem1d};
@@ -137,6 +138,10 @@ pub struct Series {
     /// The codes' own energies beside the energy norms, file by file (version 2).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub reported_energy: Vec<ReportedEnergy>,
+    /// The harness's own run of each file's declared scheme and mass, compared with it sample
+    /// by sample ([`rerun_declared`]; version 2 bar files that declare both).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub step_differences: Vec<StepDifferences>,
 }
 
 impl Series {
@@ -250,6 +255,8 @@ struct FileNotes {
     notes: Vec<String>,
     /// Its own energy beside the norms.
     reported_energy: Option<ReportedEnergy>,
+    /// The harness's run of what it declares, compared with it.
+    step_differences: Option<StepDifferences>,
 }
 
 /// One file's results, before the files are grouped into series.
@@ -342,13 +349,30 @@ fn verify_file(
         .as_ref()
         .filter(|e| !e.is_finite())
         .map(|_| format!("{file}: its reported energy overflows (the run diverged): not compared"));
+    // A trace (no fields) has nothing to compare; its norms' notes say what it lacks.
+    let has_fields = lacking_field(&run, &run.displacement, "").is_none();
+    let rerun = run
+        .scheme
+        .zip(model.as_ref())
+        .filter(|_| has_fields)
+        .map(|(scheme, model)| {
+            rerun_declared(&run, scheme, (model, problem.contact), bar.n_dofs())
+        });
+    let not_rerun = match &rerun {
+        Some(Err(why)) => Some(format!(
+            "{file}: not compared with the harness's run of its declared scheme and mass: {why}"
+        )),
+        _ => None,
+    };
     let notes = FileNotes {
         file: file.clone(),
         notes: lambda_note(&run, &file, &lacks)
             .into_iter()
             .chain(overflow)
+            .chain(not_rerun)
             .collect(),
         reported_energy: reported_energy.filter(ReportedEnergy::is_finite),
+        step_differences: rerun.and_then(Result::ok),
     };
     let verified = VerifiedFile {
         declared: Declared::of(run.scheme, run.mass, run.contact.as_deref()),
@@ -428,6 +452,7 @@ pub fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, External
             if let Some(n) = notes.iter().find(|n| n.file == run.file) {
                 s.notes.extend(n.notes.iter().cloned());
                 s.reported_energy.extend(n.reported_energy.clone());
+                s.step_differences.extend(n.step_differences.clone());
             }
         }
     }
@@ -520,6 +545,7 @@ fn series(mut group: Vec<VerifiedFile>, norms: &BTreeSet<Norm>) -> Result<Series
         not_computed,
         notes: Vec::new(),
         reported_energy: Vec::new(),
+        step_differences: Vec::new(),
         label,
     })
 }
