@@ -268,14 +268,17 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         restitution: 0.0,
     };
     let mut s = integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
-    let mut worst_as_theta: f64 = 0.0;
+    let (mut worst_as_theta, mut worst): (f64, f64) = (0.0, 0.0);
     for _ in 0..steps() {
         let before = snapshot_plain(s.as_ref());
         s.advance().unwrap();
         let after = snapshot_plain(s.as_ref());
         let b = energy_balance::theta(&model, 0.5, &plain(&before), &plain(&after));
         worst_as_theta = worst_as_theta.max(b.residual().abs() / b.magnitude);
+        let b = energy_balance::moreau_jean(&model, 0.5, &plain(&before), &plain(&after));
+        worst = worst.max(b.residual().abs() / b.magnitude);
     }
+    assert!(worst < 1e-14, "(MJ-E): {worst:e}");
     assert!(
         worst_as_theta > BALANCE_TOLERANCE,
         "Moreau–Jean's impulse read as the θ-method's Λ_θ: {worst_as_theta:e}"
