@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use crate::engine::schemes::AlphaParameters;
 use crate::harness::problem::{MassVariant, Scheme, TREATMENT_LIST};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::scene::{scene_files, Scene};
@@ -24,12 +25,12 @@ pub fn catalogue(dir: &Path) -> String {
             Scheme::PaoliSchatzman { beta, restitution } => {
                 format!("Paoli–Schatzman β = {beta}, e = {restitution}")
             }
-            Scheme::GeneralisedAlpha {
+            Scheme::GeneralisedAlpha(AlphaParameters {
                 alpha_m,
                 alpha_f,
                 beta,
                 gamma,
-            } => format!("α_m = {alpha_m:.4}, α_f = {alpha_f:.4}, β = {beta:.4}, γ = {gamma:.4}"),
+            }) => format!("α_m = {alpha_m:.4}, α_f = {alpha_f:.4}, β = {beta:.4}, γ = {gamma:.4}"),
             Scheme::MoreauJean { theta, restitution } => {
                 format!("Moreau–Jean θ = {theta}, e = {restitution}")
             }

@@ -58,12 +58,12 @@ fn history(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64]) -> Vec<[Vec<f6
 #[test]
 fn generalised_alpha_without_alpha_is_newmark_bit_for_bit() {
     for (beta, gamma) in [(0.25, 0.5), (0.5, 1.0), (0.3, 0.6)] {
-        let alpha_free = Scheme::GeneralisedAlpha {
+        let alpha_free = Scheme::GeneralisedAlpha(AlphaParameters {
             alpha_m: 0.0,
             alpha_f: 0.0,
             beta,
             gamma,
-        };
+        });
         for mass in MassVariant::PAPER {
             let (model, u0, v0) = dirichlet(mass, true);
             let newmark = history(&model, Scheme::Newmark { beta, gamma }, &u0, &v0);
@@ -129,12 +129,12 @@ const RIVALS: [Scheme; 7] = [
     generalised_alpha(0.8),
     generalised_alpha(0.0),
     hht(0.05),
-    Scheme::GeneralisedAlpha {
+    Scheme::GeneralisedAlpha(AlphaParameters {
         alpha_m: 0.1,
         alpha_f: 0.3,
         beta: 0.4,
         gamma: 0.8,
-    },
+    }),
     Scheme::MoreauJean {
         theta: 0.5,
         restitution: 0.0,
@@ -218,12 +218,7 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         beta: 0.4,
         gamma: 0.8,
     };
-    let scheme = Scheme::GeneralisedAlpha {
-        alpha_m: run.alpha_m,
-        alpha_f: run.alpha_f,
-        beta: run.beta,
-        gamma: run.gamma,
-    };
+    let scheme = Scheme::GeneralisedAlpha(run);
     let mut s = integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
     for _ in 0..5 {
         s.advance().unwrap();

@@ -625,7 +625,7 @@ pub fn equation(scheme: Scheme) -> &'static str {
         Scheme::Newmark { .. } => "(33)",
         Scheme::Theta { .. } => "(35)",
         Scheme::PaoliSchatzman { .. } => "(37)",
-        Scheme::GeneralisedAlpha { .. } => "(GA-E)",
+        Scheme::GeneralisedAlpha(_) => "(GA-E)",
         Scheme::MoreauJean { .. } | Scheme::LaursenChawla {} => "(MJ-E)",
     }
 }
@@ -758,18 +758,7 @@ impl<'m> BalanceMonitor<'m> {
                 self.energy
                     .unwrap_or_else(|| mechanical_energy(model, &before)),
             ),
-            Scheme::GeneralisedAlpha {
-                alpha_m,
-                alpha_f,
-                beta,
-                gamma,
-            } => {
-                let parameters = AlphaParameters {
-                    alpha_m,
-                    alpha_f,
-                    beta,
-                    gamma,
-                };
+            Scheme::GeneralisedAlpha(parameters) => {
                 let a1 = integrator.acceleration()?;
                 (
                     generalised_alpha_in(

@@ -9,8 +9,8 @@
 use super::conventions::{Conventions, NitscheAcceleration};
 use super::laursen_chawla::laursen_chawla;
 use super::{
-    initial_state, AlphaParameters, ExplicitNewmark, GeneralisedAlpha, MoreauJean, OneStepScheme,
-    PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
+    initial_state, ExplicitNewmark, GeneralisedAlpha, MoreauJean, OneStepScheme, PaoliSchatzman,
+    Scheme, StepCoefficients, TimeIntegrator,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::{Error, ParameterError};
@@ -77,18 +77,7 @@ pub fn integrator<'m>(
                 conventions,
             )?));
         }
-        Scheme::GeneralisedAlpha {
-            alpha_m,
-            alpha_f,
-            beta,
-            gamma,
-        } => {
-            let parameters = AlphaParameters {
-                alpha_m,
-                alpha_f,
-                beta,
-                gamma,
-            };
+        Scheme::GeneralisedAlpha(parameters) => {
             return Ok(Box::new(
                 GeneralisedAlpha::new(model, parameters, dt, start)?
                     .with_predictor(conventions.predictor),

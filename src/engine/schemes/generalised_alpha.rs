@@ -35,6 +35,8 @@
 //! paper's schemes the identity needs the accelerations: the scheme's state is
 //! `(U^n, V^n, A^n, λ^n)`, and `M A^n + S U^n = F − Bᵀλ^n` does not hold when `α ≠ 0`.
 
+use serde::{Deserialize, Serialize};
+
 use super::conventions::PredictorForm;
 use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
 use crate::engine::contact::law::ConstraintRow;
@@ -44,7 +46,8 @@ use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
 
 /// The parameters `(α_m, α_f, β, γ)` of (GA-a–c).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct AlphaParameters {
     /// `α_m`, the weight of `A^n` in (GA-c).
     pub alpha_m: f64,

@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use super::AlphaParameters;
 use crate::engine::error::{require_in, ParameterError};
 
 /// A time-stepping scheme and its parameters.
@@ -31,17 +32,9 @@ pub enum Scheme {
         restitution: f64,
     },
     /// Generalised-α (Chung–Hulbert 1993), eqs. (GA-a–d) of [`super::generalised_alpha`]; HHT-α
-    /// is `α_m = 0`, Newmark(β, γ) is `α_m = α_f = 0`.
-    GeneralisedAlpha {
-        /// α_m < 1: the weight of `A^n` in the equation of motion.
-        alpha_m: f64,
-        /// α_f ∈ [0, 1): the weight of `U^n` and `λ^n` in the equation of motion.
-        alpha_f: f64,
-        /// β > 0.
-        beta: f64,
-        /// γ ≥ 0.
-        gamma: f64,
-    },
+    /// is `α_m = 0`, Newmark(β, γ) is `α_m = α_f = 0`. Valid: `α_m < 1`, `α_f ∈ [0, 1)`, `β > 0`,
+    /// `γ ≥ 0`.
+    GeneralisedAlpha(AlphaParameters),
     /// Moreau–Jean (Jean 1999), eqs. (MJ-a–d) of [`super::moreau_jean`]: the θ-method on
     /// velocities with Newton's impact law.
     MoreauJean {
@@ -62,23 +55,23 @@ pub const fn generalised_alpha(rho_inf: f64) -> Scheme {
     let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
     let alpha_f = rho_inf / (rho_inf + 1.0);
     let shift = 1.0 - alpha_m + alpha_f;
-    Scheme::GeneralisedAlpha {
+    Scheme::GeneralisedAlpha(AlphaParameters {
         alpha_m,
         alpha_f,
         beta: 0.25 * shift * shift,
         gamma: 0.5 - alpha_m + alpha_f,
-    }
+    })
 }
 
 /// HHT-α (Hilber–Hughes–Taylor 1977) as generalised-α with `α_m = 0`, `α_f = α ∈ [0, ⅓]`,
 /// `γ = ½ + α`, `β = ¼(1 + α)²` (the original paper's α is `−α` here).
 pub const fn hht(alpha: f64) -> Scheme {
-    Scheme::GeneralisedAlpha {
+    Scheme::GeneralisedAlpha(AlphaParameters {
         alpha_m: 0.0,
         alpha_f: alpha,
         beta: 0.25 * (1.0 + alpha) * (1.0 + alpha),
         gamma: 0.5 + alpha,
-    }
+    })
 }
 
 /// The named presets: (name, scheme, the paper's label); the paper's seven first, then central
@@ -215,12 +208,12 @@ impl Scheme {
                  balance, eq. (33), gains (1/2 - gamma) dU^T S dU >= 0 at every step (negative \
                  numerical dissipation), so the energy grows; use gamma >= 1/2"
             )),
-            Scheme::GeneralisedAlpha {
+            Scheme::GeneralisedAlpha(AlphaParameters {
                 alpha_m,
                 alpha_f,
                 beta,
                 gamma,
-            } if !(alpha_m <= alpha_f
+            }) if !(alpha_m <= alpha_f
                 && alpha_f <= 0.5
                 && (gamma - (0.5 - alpha_m + alpha_f)).abs() <= 1e-12
                 && beta >= 0.25 + 0.5 * (alpha_f - alpha_m)) =>
@@ -281,12 +274,12 @@ impl Scheme {
                 }
                 require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
             }
-            Scheme::GeneralisedAlpha {
+            Scheme::GeneralisedAlpha(AlphaParameters {
                 alpha_m,
                 alpha_f,
                 beta,
                 gamma,
-            } => {
+            }) => {
                 if !(alpha_m.is_finite() && alpha_m < 1.0) {
                     return Err(ParameterError::new(
                         "alpha_m",
@@ -337,12 +330,12 @@ impl Scheme {
                 Scheme::PaoliSchatzman { beta, restitution } => {
                     format!("paoli-schatzman(beta={beta},e={restitution})")
                 }
-                Scheme::GeneralisedAlpha {
+                Scheme::GeneralisedAlpha(AlphaParameters {
                     alpha_m,
                     alpha_f,
                     beta,
                     gamma,
-                } => self.alpha_family_name().unwrap_or_else(|| {
+                }) => self.alpha_family_name().unwrap_or_else(|| {
                     format!(
                         "generalised-alpha(alpha_m={alpha_m},alpha_f={alpha_f},beta={beta},\
                          gamma={gamma})"
@@ -358,9 +351,9 @@ impl Scheme {
     /// `generalised-alpha(rho_inf=R)` or `hht(alpha=A)` when the parameters are exactly those
     /// of that form, so that the name parses back to the same scheme.
     fn alpha_family_name(self) -> Option<String> {
-        let Scheme::GeneralisedAlpha {
+        let Scheme::GeneralisedAlpha(AlphaParameters {
             alpha_m, alpha_f, ..
-        } = self
+        }) = self
         else {
             return None;
         };
@@ -457,12 +450,12 @@ impl FromStr for Scheme {
             }
             "generalised-alpha" => {
                 let v = parse_params(s, body, &["alpha_m", "alpha_f", "beta", "gamma"])?;
-                Scheme::GeneralisedAlpha {
+                Scheme::GeneralisedAlpha(AlphaParameters {
                     alpha_m: v[0],
                     alpha_f: v[1],
                     beta: v[2],
                     gamma: v[3],
-                }
+                })
             }
             "hht" => {
                 let alpha = parse_params(s, body, &["alpha"])?[0];
