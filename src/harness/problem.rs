@@ -15,4 +15,4 @@ pub use crate::engine::problem::{
     UNIT_ROUNDOFF,
 };
 pub use crate::engine::schemes::conventions::Start;
-pub use crate::engine::schemes::{Conventions, Scheme};
+pub use crate::engine::schemes::{AlphaParameters, Conventions, PredictorVelocity, Scheme};

@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use crate::engine::schemes::AlphaParameters;
-use crate::harness::problem::{MassVariant, Scheme, TREATMENT_LIST};
+use crate::harness::problem::{
+    AlphaParameters, MassVariant, PredictorVelocity, Scheme, TREATMENT_LIST,
+};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::scene::{scene_files, Scene};
 
@@ -35,6 +36,13 @@ pub fn catalogue(dir: &Path) -> String {
                 format!("Moreau–Jean θ = {theta}, e = {restitution}")
             }
             Scheme::LaursenChawla {} => "Moreau–Jean θ = 0.5, e = 1, trial gap".to_string(),
+            Scheme::ContactStabilisedNewmark { velocity } => match velocity {
+                PredictorVelocity::Carried => "Crank–Nicolson after projection, from V^n",
+                PredictorVelocity::Projected => {
+                    "Crank–Nicolson after projection, from (U^p−U^n)/Δt"
+                }
+            }
+            .to_string(),
         };
         let rival = if Scheme::rival_schemes().contains(&scheme) {
             " [rival]"

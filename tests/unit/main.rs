@@ -17,6 +17,7 @@ mod box_budget;
 mod box_mesh;
 mod complementarity;
 mod contact_cross_check;
+mod contact_stabilised_newmark;
 mod contact_treatments;
 mod energy_balance;
 mod executor;

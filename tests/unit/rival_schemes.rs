@@ -18,12 +18,12 @@ use signorini::engine::schemes::{
     integrator, AlphaParameters, Conventions, Scheme, TimeIntegrator,
 };
 
-const NX: usize = 20;
+pub(crate) const NX: usize = 20;
 const RATIO: f64 = 10.0;
 const HORIZON: f64 = 6.0;
 
 /// The Dirichlet benchmark's bar at NX = 20, with the obstacle or without, and its exact data.
-fn dirichlet(mass: MassVariant, obstacle: bool) -> (Model, Vec<f64>, Vec<f64>) {
+pub(crate) fn dirichlet(mass: MassVariant, obstacle: bool) -> (Model, Vec<f64>, Vec<f64>) {
     let bar = Bar1d::unit(NX, EndCondition::Clamped).unwrap();
     let model = Model::bar1d(&bar, mass, obstacle.then_some(0.0), None);
     let exact = SignoriniDirichlet;
@@ -32,16 +32,16 @@ fn dirichlet(mass: MassVariant, obstacle: bool) -> (Model, Vec<f64>, Vec<f64>) {
     (model, u0, v0)
 }
 
-fn dt() -> f64 {
+pub(crate) fn dt() -> f64 {
     1.0 / (NX as f64 * RATIO)
 }
 
-fn steps() -> usize {
+pub(crate) fn steps() -> usize {
     (HORIZON / dt()).round() as usize
 }
 
 /// `(U^n, V^n, λ^n)` after every step of `scheme` on `model`.
-fn history(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64]) -> Vec<[Vec<f64>; 3]> {
+pub(crate) fn history(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64]) -> Vec<[Vec<f64>; 3]> {
     let mut s = integrator(model, scheme, dt(), u0, v0, &Conventions::HARNESS).unwrap();
     (0..steps())
         .map(|_| {
@@ -110,7 +110,14 @@ fn moreau_jean_without_contact_is_the_theta_method() {
 
 /// The rivals' runs checked by [`BalanceMonitor`]: the largest relative residual and whether
 /// any step had contact.
-fn monitored(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64], dt: f64, n: usize) -> f64 {
+pub(crate) fn monitored(
+    model: &Model,
+    scheme: Scheme,
+    u0: &[f64],
+    v0: &[f64],
+    dt: f64,
+    n: usize,
+) -> f64 {
     let mut s = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap();
     let mut monitor = BalanceMonitor::new(model, scheme, dt);
     monitor.observe(s.as_ref());
@@ -280,9 +287,9 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
     );
 }
 
-type Plain = (Vec<f64>, Vec<f64>, Vec<f64>);
+pub(crate) type Plain = (Vec<f64>, Vec<f64>, Vec<f64>);
 
-fn snapshot_plain(s: &dyn TimeIntegrator) -> Plain {
+pub(crate) fn snapshot_plain(s: &dyn TimeIntegrator) -> Plain {
     (
         s.displacement().to_vec(),
         s.velocity().to_vec(),
@@ -290,7 +297,7 @@ fn snapshot_plain(s: &dyn TimeIntegrator) -> Plain {
     )
 }
 
-fn plain(x: &Plain) -> Level<'_> {
+pub(crate) fn plain(x: &Plain) -> Level<'_> {
     Level {
         displacement: &x.0,
         velocity: &x.1,
@@ -454,6 +461,8 @@ fn rival_names_parse_back_to_the_same_scheme() {
         "generalised-alpha(alpha_m=0.1,alpha_f=0.3,beta=0.4,gamma=0.8)",
         "moreau-jean(theta=1,e=0.5)",
         "laursen-chawla",
+        "contact-stabilised-newmark",
+        "contact-stabilised-newmark-dissipative",
     ];
     for text in forms {
         let scheme: Scheme = text.parse().unwrap();

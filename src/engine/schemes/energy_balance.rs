@@ -1,5 +1,5 @@
 //! The discrete energy balances of the 1D paper, eqs. (33), (35) and (37) (§3.2, derived in its
-//! Appendix), and of the rivals, (GA-E) and (MJ-E) (derived in their files): how each scheme's
+//! Appendix), and of the rivals, (GA-E), (MJ-E) and (CSN-E) (derived in their files): how each scheme's
 //! energy changes over one step. Each function takes the states
 //! of a step and returns its [`StepBalance`]: the energy at both ends, its change, and the
 //! change the balance predicts; the [residual](StepBalance::residual) is zero up to round-off
@@ -21,6 +21,7 @@
 //! | explicit Newmark(0, ½) | staggered `E^{n+½}` ([`staggered_energy`]) | the same identity for the energy it reports: [`central_difference`] |
 //! | generalised-α ([`super::generalised_alpha`]) | `E^n = E_h(U^n, V^n)` | (GA-E), with the accelerations: [`generalised_alpha`] |
 //! | Moreau–Jean ([`super::moreau_jean`]) | `E^n = E_h(U^n, V^n)` | (MJ-E), eq. (35) with the impulse at `t_{n+1}`: [`moreau_jean`] |
+//! | contact-stabilised Newmark ([`super::contact_stabilised_newmark`]) | `E^n = E_h(U^n, V^n)` | (CSN-E), with the projected predictor: [`contact_stabilised_newmark`] |
 //!
 //! `E_h(U, V) = ½ VᵀMV + ½ UᵀSU − FᵀU` is eq. (31) with the load's potential written `−FᵀU`
 //! (the printed `−U_tᵀF` is an erratum, see docs/src/errata.md), without the contact energy of
@@ -60,7 +61,7 @@
 
 use super::newmark::staggered_energy;
 use super::paoli_schatzman::HalfStep;
-use super::{AlphaParameters, Scheme, TimeIntegrator};
+use super::{AlphaParameters, PredictorVelocity, Scheme, TimeIntegrator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::sparse::SymmetricMatrix;
@@ -255,6 +256,8 @@ struct Workspace {
     entries: Vec<(usize, f64)>,
     /// `ΔA` of a generalised-α step.
     acceleration_change: Vec<f64>,
+    /// `P = U^pred − U^n − Δt V^n` of a contact-stabilised Newmark step.
+    projection: Vec<f64>,
 }
 
 impl Workspace {
@@ -490,6 +493,82 @@ fn generalised_alpha_in(
     }
 }
 
+/// The contact-stabilised Newmark balance over one step, (CSN-E) of
+/// [`super::contact_stabilised_newmark`], with `P = U^pred − U^n − Δt V^n`, `U^pred` the step's
+/// projected predictor: `ΔE` against `−ΔUᵀBᵀλ^{n+1} + Pᵀ(S Ū − F + Bᵀλ^{n+1})` when the corrector
+/// starts from `V^n`, `−ΔUᵀBᵀλ^{n+1} + (1/Δt) PᵀM V^n + (1/(2Δt²)) PᵀM P` when it starts from
+/// the predictor's velocity.
+pub fn contact_stabilised_newmark(
+    model: &Model,
+    velocity: PredictorVelocity,
+    dt: f64,
+    (before, after): (&Level, &Level),
+    predictor: &[f64],
+) -> StepBalance {
+    contact_stabilised_newmark_in(
+        &mut Workspace::default(),
+        model,
+        (velocity, dt),
+        (before, after),
+        predictor,
+    )
+    .with_energies(
+        mechanical_energy(model, before),
+        mechanical_energy(model, after),
+    )
+}
+
+/// [`contact_stabilised_newmark`]'s sides, in `ws`.
+fn contact_stabilised_newmark_in(
+    ws: &mut Workspace,
+    model: &Model,
+    (velocity, dt): (PredictorVelocity, f64),
+    (before, after): (&Level, &Level),
+    predictor: &[f64],
+) -> Sides {
+    let mut p = std::mem::take(&mut ws.projection);
+    p.clear();
+    p.extend(
+        predictor
+            .iter()
+            .zip(before.displacement)
+            .zip(before.velocity)
+            .map(|((up, u), v)| (up - u) - dt * v),
+    );
+    let prepared = ws.prepare(model, before, after);
+    let l1 = after.multiplier;
+    let (rows, sums, [du, _], [u_sum, _]) = (
+        prepared.rows,
+        prepared.sums,
+        prepared.difference,
+        prepared.sum,
+    );
+    let work = contact_work(rows, du, |i| l1[i]);
+    let (projected, bound) = match velocity {
+        PredictorVelocity::Carried => {
+            let elastic = sums.stiffness(model, 0.5, &p, u_sum);
+            let load = load_work(model, &p);
+            let contact = contact_work(rows, &p, |i| l1[i]);
+            (
+                elastic.value - load + contact,
+                elastic.bound + load_magnitude(model, &p) + contact.abs(),
+            )
+        }
+        PredictorVelocity::Projected => {
+            let cross = sums.mass(model, 1.0 / dt, &p, before.velocity);
+            let square = sums.mass(model, 0.5 / (dt * dt), &p, &p);
+            (cross.value + square.value, cross.bound + square.bound)
+        }
+    };
+    let (change, magnitude) = mechanical_energy_change(model, &prepared);
+    ws.projection = p;
+    Sides {
+        change,
+        predicted_change: -work + projected,
+        magnitude: magnitude + work.abs() + bound,
+    }
+}
+
 /// The Paoli–Schatzman(β) balance over the step from `U^n` to `U^{n+1}`, `λ^n` the multiplier
 /// of eq. (36) (eq. 37 before the complementarity substitution, see the module
 /// documentation): `E^{n+½} − E^{n−½}` against
@@ -618,7 +697,7 @@ pub fn holds_under(conventions: &Conventions, model: &Model) -> bool {
 }
 
 /// The equation of `scheme`'s balance: the paper's `(33)` for Newmark (β = 0 included), `(35)`
-/// for the θ-method, `(37)` for Paoli–Schatzman; `(GA-E)` and `(MJ-E)` of the rivals' files
+/// for the θ-method, `(37)` for Paoli–Schatzman; `(GA-E)`, `(MJ-E)` and `(CSN-E)` of the rivals' files
 /// (Laursen–Chawla's is (MJ-E) with θ = ½, where its persistency makes it `ΔE = 0`).
 pub fn equation(scheme: Scheme) -> &'static str {
     match scheme {
@@ -627,13 +706,15 @@ pub fn equation(scheme: Scheme) -> &'static str {
         Scheme::PaoliSchatzman { .. } => "(37)",
         Scheme::GeneralisedAlpha(_) => "(GA-E)",
         Scheme::MoreauJean { .. } | Scheme::LaursenChawla {} => "(MJ-E)",
+        Scheme::ContactStabilisedNewmark { .. } => "(CSN-E)",
     }
 }
 
 /// Evaluates the balance of a scheme after every step of its integrator: [`newmark`] for every
 /// Newmark scheme (explicit ones included, with `E_h(U^n, V^n)`), [`theta`] for the θ-method,
 /// [`paoli_schatzman`] for Paoli–Schatzman from its second step on (the first is its Newmark
-/// start). Each step's residual is taken relative to the scale
+/// start), and the rivals' [`generalised_alpha`], [`moreau_jean`] (Laursen–Chawla's too) and
+/// [`contact_stabilised_newmark`]. Each step's residual is taken relative to the scale
 /// `max(|E^0|, |E_before|, |E_after|, magnitude)` (absolute where all vanish): the energies,
 /// and the size of the products whose round-off the residual carries
 /// ([`StepBalance::magnitude`]), which a small energy can hide (a bar translated far from its
@@ -768,6 +849,20 @@ impl<'m> BalanceMonitor<'m> {
                         dt,
                         (&before, &after),
                         (&self.acceleration, a1),
+                    ),
+                    self.energy
+                        .unwrap_or_else(|| mechanical_energy(model, &before)),
+                )
+            }
+            Scheme::ContactStabilisedNewmark { velocity } => {
+                let predictor = integrator.projected_predictor()?;
+                (
+                    contact_stabilised_newmark_in(
+                        ws,
+                        model,
+                        (velocity, dt),
+                        (&before, &after),
+                        predictor,
                     ),
                     self.energy
                         .unwrap_or_else(|| mechanical_energy(model, &before)),

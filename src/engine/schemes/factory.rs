@@ -3,24 +3,26 @@
 //! Newmark with β > 0 and the θ-method run in the common one-step form ([`OneStepScheme`],
 //! eqs. 32 and 34), Newmark with β = 0 explicitly ([`ExplicitNewmark`], eq. 32),
 //! Paoli–Schatzman as its two-step scheme ([`PaoliSchatzman`], eq. 36), and the rivals as
-//! theirs ([`GeneralisedAlpha`], [`MoreauJean`]); every one starts from [`initial_state`]
+//! theirs ([`GeneralisedAlpha`], [`MoreauJean`], [`ContactStabilisedNewmark`]); every one
+//! starts from [`initial_state`]
 //! (`A^0` from eq. 32c).
 
 use super::conventions::{Conventions, NitscheAcceleration};
 use super::laursen_chawla::laursen_chawla;
 use super::{
-    initial_state, ExplicitNewmark, GeneralisedAlpha, MoreauJean, OneStepScheme, PaoliSchatzman,
-    Scheme, StepCoefficients, TimeIntegrator,
+    initial_state, ContactStabilisedNewmark, ExplicitNewmark, GeneralisedAlpha, MoreauJean,
+    OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::{Error, ParameterError};
 use crate::engine::model::Model;
 
 /// Builds the integrator of `scheme` on `model` with step `dt`, from the displacement and
-/// velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman and
-/// Moreau–Jean run with the multiplier only (the first's energy balance with a penalty or
-/// Nitsche force is not derived; the second constrains velocities): other treatments are a
-/// [`ParameterError`] on `contact`. Explicit Newmark and the rivals keep the consistent
+/// velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman,
+/// Moreau–Jean and contact-stabilised Newmark run with the multiplier only (the first's energy
+/// balance with a penalty or Nitsche force is not derived; the second constrains velocities;
+/// the third projects onto the admissible set): other treatments are a [`ParameterError`] on
+/// `contact`. Contact-stabilised Newmark refuses a mass with massless dofs (on `mass`). Explicit Newmark and the rivals keep the consistent
 /// Nitsche acceleration: the elastic one is a [`ParameterError`] on `nitsche_acceleration`
 /// there.
 pub fn integrator<'m>(
@@ -38,6 +40,10 @@ pub fn integrator<'m>(
                 "multiplier with Paoli–Schatzman (its energy balance with a penalty or Nitsche \
                  force is not derived; penalty and Nitsche run with the Newmark, θ and \
                  generalised-α schemes)",
+            ),
+            Scheme::ContactStabilisedNewmark { .. } => Some(
+                "multiplier with contact-stabilised Newmark (its predictor is projected onto \
+                 the admissible set, which a penalty or Nitsche force does not define)",
             ),
             Scheme::MoreauJean { .. } | Scheme::LaursenChawla {} => Some(
                 "multiplier with Moreau–Jean and Laursen–Chawla (their impact or persistency \
@@ -94,6 +100,11 @@ pub fn integrator<'m>(
         }
         Scheme::LaursenChawla {} => {
             return Ok(Box::new(laursen_chawla(model, dt, start)?));
+        }
+        Scheme::ContactStabilisedNewmark { velocity } => {
+            return Ok(Box::new(ContactStabilisedNewmark::new(
+                model, velocity, dt, start,
+            )?));
         }
         Scheme::Newmark { beta, gamma } => StepCoefficients::newmark(beta, gamma),
         Scheme::Theta { theta } => StepCoefficients::theta(theta),

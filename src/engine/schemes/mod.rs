@@ -9,17 +9,20 @@
 //! | [`paoli_schatzman`] | the two-step scheme with the contact on `(u^{n+1} + e u^{n−1})/(1 + e)` ([`PaoliSchatzman`]) | eq. (36) |
 //! | [`generalised_alpha`] | generalised-α and HHT-α, a rival ([`GeneralisedAlpha`]) | Chung–Hulbert 1993: (GA-a–d) |
 //! | [`moreau_jean`] | Moreau–Jean, the θ-method on velocities with Newton's impact law, a rival ([`MoreauJean`]) | Jean 1999: (MJ-a–d) |
+//! | [`contact_stabilised_newmark`] | Crank–Nicolson after an `M`-projection of the predictor, both velocity updates, a rival ([`ContactStabilisedNewmark`]) | Deuflhard–Krause–Ertel 2008: (CSN-a–c) |
 //! | [`laursen_chawla`] | the energy-conserving persistency scheme, Moreau–Jean (½, e = 1) with the trial's active set, a rival | Laursen–Chawla 1997: (LC-a–d) |
-//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37), (GA-E), (MJ-E) |
+//! | [`energy_balance`] | the discrete energy balances, as per-step residuals | eqs. (33), (35), (37), (GA-E), (MJ-E), (CSN-E) |
 //! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
 //! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
 //! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration, Paoli–Schatzman's massless rows and first step and the one-step predictor's form, the harness's or GetFEM demo's | — |
 //!
-//! Every scheme stays well defined with a singular mass matrix (see [`newmark`], the start).
+//! Every scheme but contact-stabilised Newmark stays well defined with a singular mass matrix
+//! (see [`newmark`], the start); that one refuses it.
 
 pub mod cfl;
+pub mod contact_stabilised_newmark;
 pub mod conventions;
 pub mod energy_balance;
 pub mod factory;
@@ -33,6 +36,7 @@ pub mod paoli_schatzman;
 pub mod scheme;
 pub mod theta;
 
+pub use contact_stabilised_newmark::{ContactStabilisedNewmark, PredictorVelocity};
 pub use conventions::Conventions;
 pub use factory::integrator;
 pub use generalised_alpha::{AlphaParameters, GeneralisedAlpha};
@@ -189,6 +193,11 @@ pub trait TimeIntegrator: Send {
     /// `A^n`, where the scheme carries an acceleration that its energy balance needs
     /// (generalised-α, (GA-E)); `None` for the others.
     fn acceleration(&self) -> Option<&[f64]> {
+        None
+    }
+    /// `U^pred` of the last step, where the scheme projects a predictor that its energy balance
+    /// needs (contact-stabilised Newmark, (CSN-E)); `None` for the others.
+    fn projected_predictor(&self) -> Option<&[f64]> {
         None
     }
     /// The scheme's discrete energy with the time it approximates (computed on demand).

@@ -5,7 +5,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::AlphaParameters;
+use super::{AlphaParameters, PredictorVelocity};
 use crate::engine::error::{require_in, ParameterError};
 
 /// A time-stepping scheme and its parameters.
@@ -46,6 +46,13 @@ pub enum Scheme {
     /// Laursen–Chawla's energy-conserving scheme (1997), eqs. (LC-a–d) of
     /// [`super::laursen_chawla`]: no parameter.
     LaursenChawla {},
+    /// Contact-stabilised Newmark (Deuflhard–Krause–Ertel 2008), eqs. (CSN-a–c) of
+    /// [`super::contact_stabilised_newmark`]: Crank–Nicolson after an `M`-projection of the
+    /// predictor onto the admissible set; defined with a definite mass and the multiplier.
+    ContactStabilisedNewmark {
+        /// The velocity the corrector starts from.
+        velocity: PredictorVelocity,
+    },
 }
 
 /// Generalised-α with the spectral radius `ρ∞` at infinite frequency (Chung–Hulbert 1993,
@@ -76,7 +83,7 @@ pub const fn hht(alpha: f64) -> Scheme {
 
 /// The named presets: (name, scheme, the paper's label); the paper's seven first, then central
 /// differences and the rivals.
-const PRESETS: [(&str, Scheme, &str); 12] = [
+const PRESETS: [(&str, Scheme, &str); 14] = [
     (
         "crank-nicolson",
         Scheme::Newmark {
@@ -157,12 +164,27 @@ const PRESETS: [(&str, Scheme, &str); 12] = [
         Scheme::LaursenChawla {},
         "Laursen–Chawla, energy-conserving",
     ),
+    (
+        "contact-stabilised-newmark",
+        Scheme::ContactStabilisedNewmark {
+            velocity: PredictorVelocity::Carried,
+        },
+        "Contact-stabilised Newmark (Deuflhard–Krause–Ertel)",
+    ),
+    (
+        "contact-stabilised-newmark-dissipative",
+        Scheme::ContactStabilisedNewmark {
+            velocity: PredictorVelocity::Projected,
+        },
+        "Contact-stabilised Newmark, predictor velocity, energy-dissipative",
+    ),
 ];
 
 /// What a scheme name may be, for error messages.
 pub const SCHEME_NAMES: &str = "one of: crank-nicolson, newmark-1, newmark-2, backward-euler, \
     paoli-schatzman-e0, paoli-schatzman-e0.5, paoli-schatzman-e1, central-difference, \
-    generalised-alpha, hht, moreau-jean, laursen-chawla, or a parametrised form \
+    generalised-alpha, hht, moreau-jean, laursen-chawla, contact-stabilised-newmark, \
+    contact-stabilised-newmark-dissipative, or a parametrised form \
     newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E), \
     generalised-alpha(rho_inf=R), hht(alpha=A), \
     generalised-alpha(alpha_m=AM,alpha_f=AF,beta=B,gamma=G), moreau-jean(theta=T,e=E)";
@@ -183,8 +205,8 @@ impl Scheme {
     }
 
     /// The rivals of the paper's schemes with their presets (generalised-α, HHT-α, Moreau–Jean,
-    /// Laursen–Chawla).
-    pub fn rival_schemes() -> [Scheme; 4] {
+    /// Laursen–Chawla, contact-stabilised Newmark in both variants).
+    pub fn rival_schemes() -> [Scheme; 6] {
         std::array::from_fn(|i| PRESETS[8 + i].1)
     }
 
@@ -313,7 +335,7 @@ impl Scheme {
                 }
                 require_in("e", restitution, 0.0, 1.0, "a number in [0, 1]")?;
             }
-            Scheme::LaursenChawla {} => {}
+            Scheme::LaursenChawla {} | Scheme::ContactStabilisedNewmark { .. } => {}
         }
         Ok(self)
     }
@@ -345,6 +367,11 @@ impl Scheme {
                     format!("moreau-jean(theta={theta},e={restitution})")
                 }
                 Scheme::LaursenChawla {} => "laursen-chawla".to_string(),
+                Scheme::ContactStabilisedNewmark { velocity } => match velocity {
+                    PredictorVelocity::Carried => "contact-stabilised-newmark",
+                    PredictorVelocity::Projected => "contact-stabilised-newmark-dissipative",
+                }
+                .to_string(),
             })
     }
 
