@@ -39,7 +39,7 @@ fn tables(root: &Path) -> Result<Estimate, Error> {
     Ok(study(
         &problem,
         &config,
-        Case::paper_matrix().len(),
+        Case::tables_matrix().len(),
         members,
     ))
 }

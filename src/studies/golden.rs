@@ -24,7 +24,7 @@ pub fn write_golden(root: &Path) -> Result<Vec<(String, Golden)>, Error> {
         (
             GOLDEN_TABLES,
             tables_study(root)?,
-            Some(tables_sensitivity(root, &Case::paper_matrix())?),
+            Some(tables_sensitivity(root, &Case::tables_matrix())?),
         ),
         {
             let study = gravity_study(root)?;

@@ -60,13 +60,14 @@ pub fn strain_file(mass: MassVariant, requested_time: f64) -> String {
     strain_csv_name(&format!("strain-{}", mass.name()), requested_time)
 }
 
-/// The cases of the gravity benchmark: its scene's schemes (Crank–Nicolson) with both masses.
+/// The cases of the gravity benchmark: its scene's schemes (Crank–Nicolson, then the rivals)
+/// with both masses where they are defined.
 fn gravity_cases(scene: &Scene) -> Vec<Case> {
     Case::matrix(&scene.default_schemes(), &MassVariant::PAPER)
 }
 
-/// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson) with both masses,
-/// its levels, ratio and norms. `root` is the repository root.
+/// The gravity benchmark's study (§4): the scene's schemes (Crank–Nicolson and the rivals) with
+/// both masses, its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
     run_study(
@@ -103,12 +104,13 @@ pub struct GravityBenchmark {
     pub study: Study,
     /// The round-off sensitivity of the study's cases.
     sensitivity: Sensitivity,
-    /// The run of each of the study's cases at [`FIGURE_LEVEL`], in its order.
-    figure_runs: Vec<BarRun>,
+    /// The runs of the figures at [`FIGURE_LEVEL`], one per mass.
+    figure_runs: Vec<(MassVariant, BarRun)>,
 }
 
 /// Hands the gravity benchmark's job lists to `batch` — the study, the round-off ensembles
-/// and the [`FIGURE_LEVEL`] runs of every case — and returns the benchmark made of their
+/// and the [`FIGURE_LEVEL`] runs of the paper's figures (the scene's first scheme,
+/// Crank–Nicolson, with both masses) — and returns the benchmark made of their
 /// results (`None` for a shard). The ensembles and runs of a case the study could not run are
 /// dropped, as if they had not run. `root` is the repository root.
 pub fn gravity_benchmark(
@@ -133,8 +135,14 @@ pub fn gravity_benchmark(
         };
         run(&problem, &config, &mut [])
     };
+    let figure_scheme = scene.default_schemes()[0];
+    let figure_cases: Vec<Case> = cases
+        .iter()
+        .copied()
+        .filter(|c| c.scheme == figure_scheme)
+        .collect();
     let figures = Jobs {
-        items: &cases,
+        items: &figure_cases,
         size: &|_| FIGURE_LEVEL,
         run: &figure_run,
     };
@@ -149,11 +157,11 @@ pub fn gravity_benchmark(
     let study = study.reduce(runs, &cases);
     let kept: Vec<Case> = study.cases.iter().map(|c| c.case).collect();
     let sensitivity = ensembles.reduce(members, &kept)?;
-    let figure_runs = cases
+    let figure_runs = figure_cases
         .iter()
         .zip(figure_runs.results)
         .filter(|(case, _)| kept.contains(case))
-        .map(|(_, r)| r.completed())
+        .map(|(case, r)| r.completed().map(|run| (case.mass, run)))
         .collect::<Result<_, _>>()?;
     Ok(Some(GravityBenchmark {
         scene,
@@ -193,8 +201,8 @@ pub fn write_gravity_report(benchmark: &GravityBenchmark, out_dir: &Path) -> Res
     md.push_str(&rate_ranges(&sensitivity.cases));
     let data = out_dir.join(GRAVITY_DIR);
     write_json(&data.join(SENSITIVITY_JSON), sensitivity)?;
-    for (case, r) in study.cases.iter().zip(figure_runs) {
-        let mass = case.case.mass;
+    for (mass, r) in figure_runs {
+        let mass = *mass;
         if let Some(p) = &r.observed.point_history {
             write_atomic(
                 &data.join(points_file(mass)),

@@ -1,6 +1,7 @@
 //! The studies behind the report's sections, one module per section with the files it writes
 //! (their names and formats, which the readers import): the paper's tables, gravity, the
-//! histories, what accuracy costs, the defaults experiment, the extended table, stability, the
+//! histories, which scheme to trust, what accuracy costs, the defaults experiment, the extended
+//! table, stability, the
 //! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
 //! The commands below the command line are here too (`*_run`, `scene_run`, `scene_study`), with
 //! where their results go (`outputs`).
@@ -26,6 +27,7 @@ pub mod report_run;
 pub mod reports_index;
 pub mod scene_run;
 pub mod scene_study;
+pub mod schemes;
 pub mod stability;
 pub mod study_run;
 pub mod tables;

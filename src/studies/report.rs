@@ -16,6 +16,7 @@ use crate::harness::study::{Case, Study, StudyConfig, StudyJobs};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
 use crate::studies::histories::{write_histories, HistoryJobs, SchemeHistories, HISTORY_LEVELS};
+use crate::studies::schemes::write_schemes;
 use crate::studies::tables::starts::{implicit_start, massless_contact};
 use crate::studies::tables::{write_sensitivity_files, write_tables, LONGER_HORIZON};
 
@@ -34,7 +35,8 @@ pub struct TablesReport {
 }
 
 /// Hands the 1D tables' job lists to `batch` and returns what they make (`None` for a shard):
-/// the Tables 1–2 study (every paper case at the default levels, all seven norms), the
+/// the Tables 1–2 study (every paper case and every rival, [`Case::tables_matrix`], at the
+/// default levels, all seven norms), the
 /// round-off ensembles of every case, the study at [`LONGER_HORIZON`] of every case (so that the
 /// list does not depend on which cases disagree with the paper: the disagreements look their
 /// rates up in it), the M^mod cases under the implicit-multiplier start and the histories at
@@ -43,7 +45,7 @@ pub struct TablesReport {
 pub fn tables_report(root: &Path, batch: &mut Batch<'_>) -> Result<Option<TablesReport>, Error> {
     let config = StudyConfig::paper_default();
     let problem = dirichlet(root, config.horizon)?;
-    let cases = Case::paper_matrix();
+    let cases = Case::tables_matrix();
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let longer_config = StudyConfig {
         horizon: LONGER_HORIZON,
@@ -82,7 +84,7 @@ pub fn tables_report(root: &Path, batch: &mut Batch<'_>) -> Result<Option<Tables
 }
 
 /// Writes, into `out_dir`, the sensitivity (`sensitivity.md`, `sensitivity.json`), the tables
-/// beside the paper's (`tables.md`, `rates.json`), what accuracy costs (`work-precision.md`,
+/// beside the paper's (`tables.md`, `rates.json`), which scheme to trust (`schemes.md`), what accuracy costs (`work-precision.md`,
 /// `work-precision.json`) and the histories of the figures (`data/histories/`) of `report`.
 /// `kept_from` is the reports directory a staged `out_dir` will replace files of:
 /// `work-precision.md` takes the 2D/3D studies' data from it.
@@ -96,6 +98,7 @@ pub fn write_report(report: &TablesReport, out_dir: &Path, kept_from: &Path) -> 
     } = report;
     write_sensitivity_files(sensitivity, out_dir)?;
     write_tables(study, sensitivity, longer, implicit, out_dir)?;
+    write_schemes(study, sensitivity, longer, out_dir)?;
     write_work_precision_json(study, out_dir)?;
     write_work_precision_md(out_dir, kept_from)?;
     write_histories(histories, out_dir)?;

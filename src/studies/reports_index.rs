@@ -21,7 +21,7 @@ use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
 use crate::studies::gravity;
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
-use crate::studies::tables::{RatesFile, RATES_JSON, SENSITIVITY_JSON};
+use crate::studies::tables::{OscillationRecord, RatesFile, RATES_JSON, SENSITIVITY_JSON};
 
 /// The index of a reports directory ([`reports_index`]).
 pub const REPORTS_INDEX: &str = "README.md";
@@ -50,6 +50,14 @@ const SECTIONS: &[Section] = &[
             ("convergence-", "errors against h (log–log) for both masses with the fitted slope; a round-off chaotic case is drawn as its ensemble's median with the min–max band"),
         ],
         headline: tables_headline,
+    },
+    Section {
+        report: "schemes.md",
+        title: "Which scheme to trust: the paper's schemes and their rivals",
+        data: &["rates.json", "sensitivity.json"],
+        shown: &[],
+        families: &[],
+        headline: schemes_headline,
     },
     Section {
         report: "gravity.md",
@@ -234,9 +242,13 @@ fn rate_with_interval(case: &CaseStudy, norm: Norm) -> Option<String> {
 
 fn tables_headline(reports: &Path) -> Option<String> {
     let rates: RatesFile = data(reports, RATES_JSON)?;
-    let compared = rates.study.cases.len() * rates.study.norms.len();
-    let agreeing_words = rates
+    let in_the_paper: Vec<&OscillationRecord> = rates
         .oscillations
+        .iter()
+        .filter(|o| o.paper_word.is_some())
+        .collect();
+    let compared = in_the_paper.len() * rates.study.norms.len();
+    let agreeing_words = in_the_paper
         .iter()
         .filter(|o| o.word == o.paper_word)
         .count();
@@ -248,7 +260,7 @@ fn tables_headline(reports: &Path) -> Option<String> {
          oscillation column agrees with the paper's in {agreeing_words} of {} cases.",
         rates.longer_horizon_rates.len(),
         rates.longer_horizon,
-        rates.oscillations.len()
+        in_the_paper.len()
     );
     if let Some(s) = data::<Sensitivity>(reports, SENSITIVITY_JSON) {
         let chaotic: Vec<&str> = s
@@ -292,6 +304,24 @@ fn gravity_headline(reports: &Path) -> Option<String> {
             .first()
             .map_or(String::new(), |c| c.case.scheme.to_string()),
         rates.join("; ")
+    ))
+}
+
+fn schemes_headline(reports: &Path) -> Option<String> {
+    let rates: RatesFile = data(reports, RATES_JSON)?;
+    let calm: Vec<&str> = rates
+        .oscillations
+        .iter()
+        .filter(|o| o.word.as_deref() == Some("No"))
+        .map(|o| o.case.as_str())
+        .collect();
+    Some(format!(
+        "{} of the {} scheme × mass cases (the paper's and the rivals') show no contact-force \
+         oscillation at the finest level: {}. `schemes.md` ranks every case on each criterion \
+         and says which orders the intervals decide.",
+        calm.len(),
+        rates.oscillations.len(),
+        calm.join(", ")
     ))
 }
 

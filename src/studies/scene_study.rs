@@ -132,7 +132,9 @@ pub enum StudyOutcome {
 
 impl SceneStudy {
     /// The study of `scene` with `choices` over its own. A reference level for a bar is
-    /// refused naming `reference_level`.
+    /// refused naming `reference_level`; a mass given with `--mass` that a chosen scheme is not
+    /// defined with is refused naming `--mass` (with the default masses, such a pair is left
+    /// out, [`Case::matrix`]).
     pub fn of(scene: &Scene, choices: StudyChoices) -> Result<Self, Error> {
         let schemes = if choices.schemes.is_empty() {
             scene.default_schemes()
@@ -142,6 +144,20 @@ impl SceneStudy {
         let masses = if choices.masses.is_empty() {
             MassVariant::PAPER.to_vec()
         } else {
+            let undefined = choices
+                .masses
+                .iter()
+                .find(|&&mass| schemes.iter().any(|s| !s.is_defined_with(mass)));
+            if let Some(mass) = undefined {
+                return Err(ParameterError::new(
+                    "--mass",
+                    mass.name(),
+                    "a mass every chosen scheme is defined with: contact-stabilised Newmark \
+                     needs standard or lumped (its predictor is an M-projection, blind to \
+                     massless dofs)",
+                )
+                .into());
+            }
             choices.masses
         };
         let settings = chosen_settings(scene, choices.conventions, choices.linear_solver);

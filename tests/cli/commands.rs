@@ -120,12 +120,29 @@ fn a_study_prints_a_rate_table_and_json() {
 }
 
 #[test]
-fn the_gravity_scene_studies_crank_nicolson_with_both_masses() {
+fn the_gravity_scene_studies_crank_nicolson_and_the_rivals_with_both_masses() {
     let out = signorini(&["study", "scenes/bar1d-gravity.json", "--levels", "10,20,40"]);
     let stdout = success_stdout(&out);
     assert!(stdout.contains("#### Crank–Nicolson — standard"));
     assert!(stdout.contains("#### Crank–Nicolson — redistributed"));
-    assert!(stdout.contains("2 cases × 3 levels"));
+    assert!(stdout.contains("#### Moreau–Jean θ = 1/2, e = 0 (Jean) — redistributed"));
+    // Seven schemes with both masses, but contact-stabilised Newmark (two variants) with the
+    // standard mass only.
+    assert!(stdout.contains("12 cases × 3 levels"), "{stdout}");
+    let refused = signorini(&[
+        "study",
+        "scenes/bar1d-gravity.json",
+        "--scheme",
+        "contact-stabilised-newmark",
+        "--mass",
+        "redistributed",
+    ]);
+    assert!(!refused.status.success());
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        stderr.contains("--mass") && stderr.contains("standard or lumped"),
+        "{stderr}"
+    );
 }
 
 #[test]

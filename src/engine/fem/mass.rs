@@ -125,6 +125,12 @@ impl MassVariant {
     /// The two variants of the paper's Tables 1–2 (STD, MOD), in table order.
     pub const PAPER: [MassVariant; 2] = [MassVariant::Standard, MassVariant::Redistributed];
 
+    /// Whether the mass leaves dofs without mass (the contact dofs of every variant but the
+    /// standard and the lumped one).
+    pub fn has_massless_dofs(self) -> bool {
+        !matches!(self, MassVariant::Standard | MassVariant::Lumped)
+    }
+
     /// The name used in scene files, on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {

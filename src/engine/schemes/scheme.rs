@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{AlphaParameters, PredictorVelocity};
 use crate::engine::error::{require_in, ParameterError};
+use crate::engine::fem::MassVariant;
 
 /// A time-stepping scheme and its parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -208,6 +209,12 @@ impl Scheme {
     /// Laursen–Chawla, contact-stabilised Newmark in both variants).
     pub fn rival_schemes() -> [Scheme; 6] {
         std::array::from_fn(|i| PRESETS[8 + i].1)
+    }
+
+    /// Whether the scheme is defined with `mass`: contact-stabilised Newmark is not with a mass
+    /// that has massless dofs (its predictor is an `M`-projection); every other scheme is.
+    pub fn is_defined_with(self, mass: MassVariant) -> bool {
+        !(matches!(self, Scheme::ContactStabilisedNewmark { .. }) && mass.has_massless_dofs())
     }
 
     /// Whether this is the explicit Newmark scheme (β = 0).

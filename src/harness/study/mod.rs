@@ -59,17 +59,27 @@ pub struct Case {
 }
 
 impl Case {
-    /// Every scheme with every mass, scheme by scheme.
+    /// Every scheme with every mass it is defined with ([`Scheme::is_defined_with`]), scheme
+    /// by scheme.
     pub fn matrix(schemes: &[Scheme], masses: &[MassVariant]) -> Vec<Case> {
         schemes
             .iter()
             .flat_map(|&scheme| masses.iter().map(move |&mass| Case { scheme, mass }))
+            .filter(|c| c.scheme.is_defined_with(c.mass))
             .collect()
     }
 
     /// The 14 rows of the paper's Tables 1–2, in order.
     pub fn paper_matrix() -> Vec<Case> {
         Self::matrix(&Scheme::paper_schemes(), &MassVariant::PAPER)
+    }
+
+    /// The rows of the tables report: the paper's 14, then every rival
+    /// ([`Scheme::rival_schemes`]) with each of the paper's masses it is defined with.
+    pub fn tables_matrix() -> Vec<Case> {
+        let mut cases = Self::paper_matrix();
+        cases.extend(Self::matrix(&Scheme::rival_schemes(), &MassVariant::PAPER));
+        cases
     }
 
     /// `scheme/mass`, e.g. `crank-nicolson/redistributed`.

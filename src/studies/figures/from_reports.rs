@@ -17,7 +17,7 @@ use super::elastic::elastic_figures;
 use crate::harness::files::artifacts::{read_json, write_atomic};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
-use crate::harness::problem::MassVariant;
+use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
     work_precision_figure, Colouring, ContactPanel, EnergyPanel, Figure, FigureError,
@@ -161,7 +161,12 @@ pub fn gravity_figures(
             ));
         }
     }
-    for c in &study.cases {
+    // Figure 3 is the paper's Crank–Nicolson; the rivals' rates are in `gravity.md`.
+    let figured = study
+        .cases
+        .iter()
+        .filter(|c| c.case.scheme == Scheme::CRANK_NICOLSON);
+    for c in figured {
         let chaotic = sensitivity
             .and_then(|s| s.case(&c.case.id()))
             .filter(|e| e.chaotic);

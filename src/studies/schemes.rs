@@ -1,0 +1,325 @@
+//! `reports/schemes.md`, "Which scheme to trust": every scheme × mass of the Tables 1–2 study
+//! (the paper's and the rivals', [`Case::tables_matrix`]) on the criteria a user weighs — the
+//! rate in each norm, the contact-force oscillation, the energy error over the longer horizon,
+//! the round-off class, and the cost to reach a target error — each with what decides it, and
+//! for each criterion the cases no other case is decidedly better than.
+//!
+//! **What decides a comparison.** A rate is its 95 % interval (Student t over the levels), or
+//! for a round-off chaotic case its ensemble's [min, max]: case A is decidedly faster than B
+//! when A's lower end is above B's upper end; overlapping ranges leave the order undecided.
+//! The cost to reach a target error is bracketed by the two levels around the target's crossing
+//! (the work, in dof-steps, of the last level above the target and of the first at or below
+//! it): A is decidedly cheaper when its bracket lies wholly below B's. The oscillation words and
+//! round-off classes are the tables' and `sensitivity.md`'s, each decided by its own rule.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error::Error;
+use crate::harness::problem::MassVariant;
+use crate::harness::render::report::chaotic_spread;
+use crate::harness::run::norms::Norm;
+use crate::harness::study::sensitivity::Sensitivity;
+use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
+use crate::harness::study::{CaseStudy, Study};
+
+/// The report, under a reports directory.
+pub const SCHEMES_MD: &str = "schemes.md";
+
+/// A range a criterion is judged by, with how it was obtained.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Range {
+    low: f64,
+    value: f64,
+    high: f64,
+}
+
+impl Range {
+    /// `self` is decidedly above `other`.
+    fn above(self, other: Range) -> bool {
+        self.low > other.high
+    }
+}
+
+/// The rate of `norm` of `c` as a range: the ensemble's for a chaotic case, else the fit's 95 %
+/// interval; `None` without an interval (fewer than three levels, or no rate).
+fn rate_range(c: &CaseStudy, norm: Norm, sensitivity: &Sensitivity) -> Option<Range> {
+    if let Some(s) = chaotic_spread(c, norm, Some(sensitivity)) {
+        return Some(Range {
+            low: s.min,
+            value: s.median,
+            high: s.max,
+        });
+    }
+    let fit = c.rates.iter().find(|r| r.norm == norm)?.fit?;
+    Some(Range {
+        low: fit.ci_low?,
+        value: fit.rate,
+        high: fit.ci_high?,
+    })
+}
+
+/// The indices of `ranges` that no other range is decidedly better than (`better(a, b)`: a is
+/// decidedly better than b); an entry without a range is never among them.
+fn front(ranges: &[Option<Range>], better: impl Fn(Range, Range) -> bool) -> Vec<usize> {
+    (0..ranges.len())
+        .filter(|&i| {
+            ranges[i].is_some_and(|r| !ranges.iter().flatten().any(|&other| better(other, r)))
+        })
+        .collect()
+}
+
+/// The case's row label: the scheme's label and the mass's.
+fn label(c: &CaseStudy) -> String {
+    format!("{} / {}", c.case.scheme.label(), c.case.mass.paper_label())
+}
+
+fn fmt_range(r: Option<Range>) -> String {
+    r.map_or("—".to_string(), |r| {
+        format!("{:.2} [{:.2}, {:.2}]", r.value, r.low, r.high)
+    })
+}
+
+/// The work `dofs × steps` of each level of `c`.
+fn work(c: &CaseStudy) -> Vec<f64> {
+    c.levels
+        .iter()
+        .map(|l| l.dofs as f64 * l.steps as f64)
+        .collect()
+}
+
+/// The bracket of the work to reach `target` in `norm`: the work of the last level above it
+/// and of the first at or below it (both the first level's when it already is). `None` when no
+/// level reaches it.
+fn cost_bracket(c: &CaseStudy, norm: Norm, target: f64) -> Option<Range> {
+    let errors = &c.rates.iter().find(|r| r.norm == norm)?.errors;
+    let w = work(c);
+    let k = errors.iter().position(|&e| e <= target)?;
+    let low = if k == 0 { w[0] } else { w[k - 1] };
+    Some(Range {
+        low,
+        value: w[k],
+        high: w[k],
+    })
+}
+
+/// `schemes.md` of the tables study `study`, its round-off sensitivity and `longer`, the same
+/// study over the longer horizon.
+pub fn render(study: &Study, sensitivity: &Sensitivity, longer: &Study) -> String {
+    let mut md = String::from("# Which scheme to trust\n\n");
+    let _ = writeln!(
+        md,
+        "Every scheme × mass of the Tables 1–2 study (`tables.md`: Signorini–Dirichlet \
+         benchmark, levels NX = {:?}, Δx/Δt = {}, T = {}), the paper's and the rivals', on the \
+         criteria a user weighs. A rate is `rate [low, high]`: its 95 % interval, or for a \
+         round-off chaotic case (†) its ensemble's [min, max]. Case A is decidedly better than \
+         B only when their ranges do not overlap; **best** lists, for each criterion, the cases \
+         no other case is decidedly better than: the order among them is undecided at these \
+         levels, and finer levels (narrower intervals) or a longer ensemble would decide it.\n",
+        study.config.levels, study.config.ratio, study.config.horizon
+    );
+    rates_section(&mut md, study, sensitivity);
+    behaviour_section(&mut md, study, sensitivity, longer);
+    cost_section(&mut md, study);
+    literature_section(&mut md, study);
+    md
+}
+
+/// The rate of every norm, with the cases no other is decidedly faster than.
+fn rates_section(md: &mut String, study: &Study, sensitivity: &Sensitivity) {
+    md.push_str("## Convergence rates\n\n| Scheme / mass |");
+    for norm in Norm::ALL {
+        let _ = write!(md, " {} |", norm.label());
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(Norm::ALL.len()));
+    md.push('\n');
+    for c in &study.cases {
+        let chaotic = sensitivity.case(&c.case.id()).is_some_and(|s| s.chaotic);
+        let _ = write!(md, "| {}{} |", label(c), if chaotic { " †" } else { "" });
+        for norm in Norm::ALL {
+            let _ = write!(md, " {} |", fmt_range(rate_range(c, norm, sensitivity)));
+        }
+        md.push('\n');
+    }
+    md.push_str("\n**Best rate** (no case decidedly faster):\n\n");
+    for norm in Norm::ALL {
+        let ranges: Vec<Option<Range>> = study
+            .cases
+            .iter()
+            .map(|c| rate_range(c, norm, sensitivity))
+            .collect();
+        let best = front(&ranges, Range::above);
+        let names: Vec<String> = best.iter().map(|&i| label(&study.cases[i])).collect();
+        let _ = writeln!(
+            md,
+            "- {}: {} of {} cases: {}.",
+            norm.label(),
+            best.len(),
+            study.cases.len(),
+            names.join("; ")
+        );
+    }
+    md.push('\n');
+}
+
+/// The oscillation word, the energy error over the longer horizon and the round-off class.
+fn behaviour_section(md: &mut String, study: &Study, sensitivity: &Sensitivity, longer: &Study) {
+    let finest = study.config.levels.last().copied().unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "## Oscillation, energy and round-off\n\n\
+         Oscillation: `TV(λ_h)/TV(λ)` at NX = {finest} with the tables' word (No < 5 ≤ Small < \
+         100 ≤ Yes < 2000 ≤ Big). Energy: `‖E_h − E‖_L∞(0,T)` at NX = {finest} over T = {} \
+         (three periods of the benchmark) with its rate. Round-off: the class of \
+         `sensitivity.md`.\n\n\
+         | Scheme / mass | Oscillation | Energy error, T = {} | Energy rate, T = {} | Round-off |\n\
+         |---|---|---|---|---|",
+        longer.config.horizon, longer.config.horizon, longer.config.horizon
+    );
+    let mut energy_ranges = Vec::new();
+    let mut calm = Vec::new();
+    for c in &study.cases {
+        let oscillation = c.oscillation_indicator().map_or("—".to_string(), |r| {
+            format!("{} ({})", oscillation_word(r), oscillation_ratio_text(r))
+        });
+        if c.oscillation_indicator()
+            .is_some_and(|r| oscillation_word(r) == "No")
+        {
+            calm.push(label(c));
+        }
+        let long = longer.cases.iter().find(|l| l.case == c.case);
+        let energy = long
+            .and_then(|l| l.rates.iter().find(|r| r.norm == Norm::EnergyLinf))
+            .and_then(|r| r.errors.last().copied());
+        let energy_rate = long.and_then(|l| rate_range(l, Norm::EnergyLinf, sensitivity));
+        energy_ranges.push(energy_rate);
+        let class = sensitivity
+            .case(&c.case.id())
+            .map_or("—", |s| s.class.name());
+        let _ = writeln!(
+            md,
+            "| {} | {oscillation} | {} | {} | {class} |",
+            label(c),
+            energy.map_or("—".to_string(), |e| format!("{e:.3e}")),
+            fmt_range(energy_rate)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n**No oscillation** ({} of {} cases): {}.\n",
+        calm.len(),
+        study.cases.len(),
+        calm.join("; ")
+    );
+    let best = front(&energy_ranges, Range::above);
+    let names: Vec<String> = best.iter().map(|&i| label(&study.cases[i])).collect();
+    let _ = writeln!(
+        md,
+        "**Best energy rate over T = {}** (no case decidedly faster; the ensembles ran over the \
+         tables' horizon, so a chaotic case is judged by its fit here): {}.\n",
+        longer.config.horizon,
+        names.join("; ")
+    );
+}
+
+/// The work to reach a target error in `L∞(0,T;H)`: the loosest error every case reaches.
+fn cost_section(md: &mut String, study: &Study) {
+    let norm = Norm::DisplacementLinfH;
+    let target = study
+        .cases
+        .iter()
+        .filter_map(|c| c.rates.iter().find(|r| r.norm == norm))
+        .filter_map(|r| r.errors.last().copied())
+        .fold(0.0_f64, f64::max);
+    let _ = writeln!(
+        md,
+        "## Cost to reach a target error\n\n\
+         Target: `{}` ≤ {target:.3e}, the largest finest-level error of the cases (so that every \
+         case reaches it). The work is `unknowns × steps` of the levels bracketing the \
+         crossing (`[last level above, first level at or below]`), deterministic where wall \
+         times are not; one level is four times the work of the one before.\n\n\
+         | Scheme / mass | Work bracket (dof-steps) |\n|---|---|",
+        norm.label()
+    );
+    let brackets: Vec<Option<Range>> = study
+        .cases
+        .iter()
+        .map(|c| cost_bracket(c, norm, target))
+        .collect();
+    for (c, b) in study.cases.iter().zip(&brackets) {
+        let _ = writeln!(
+            md,
+            "| {} | {} |",
+            label(c),
+            b.map_or("not reached".to_string(), |b| format!(
+                "[{:.3e}, {:.3e}]",
+                b.low, b.high
+            ))
+        );
+    }
+    let best = front(&brackets, |a, b| a.high < b.low);
+    let names: Vec<String> = best.iter().map(|&i| label(&study.cases[i])).collect();
+    let _ = writeln!(
+        md,
+        "\n**Cheapest** (no case's bracket wholly below): {}.\n",
+        names.join("; ")
+    );
+}
+
+/// The comparison with Doyen, Ern and Piperno (SIAM J. Sci. Comput. 33, 2011) where it can be
+/// made: their summary's two claims on oscillations, checked against the oscillation words.
+fn literature_section(md: &mut String, study: &Study) {
+    let oscillating = |mass: MassVariant| {
+        let cases: Vec<&CaseStudy> = study.cases.iter().filter(|c| c.case.mass == mass).collect();
+        let moving: Vec<String> = cases
+            .iter()
+            .filter(|c| {
+                c.oscillation_indicator()
+                    .is_some_and(|r| oscillation_word(r) != "No")
+            })
+            .map(|c| c.case.scheme.label())
+            .collect();
+        (cases.len(), moving)
+    };
+    let (standard, standard_moving) = oscillating(MassVariant::Standard);
+    let (redistributed, redistributed_moving) = oscillating(MassVariant::Redistributed);
+    let _ = writeln!(
+        md,
+        "## Against Doyen, Ern and Piperno (2011)
+
+         Their comparison of time-integration schemes for the dynamic Signorini problem (SIAM J. \
+         Sci. Comput. 33) summarises: most schemes with the standard mass show spurious \
+         oscillations of the contact force or a poor long-time energy, and the modified \
+         (redistributed) mass removes the oscillations. Their per-method table could not be \
+         read for this harness, so only these two claims are compared; the entry-by-entry \
+         comparison is *undecided* until their table is transcribed.\n\n         - Standard mass: {} of {standard} schemes oscillate (word other than No): {}.\n         - Redistributed mass: {} of {redistributed} schemes oscillate: {}. The claim *agrees* \
+         for a scheme whose redistributed row reads No and *differs* for one listed here.\n",
+        standard_moving.len(),
+        list_or_none(&standard_moving),
+        redistributed_moving.len(),
+        list_or_none(&redistributed_moving),
+    );
+}
+
+fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names.join("; ")
+    }
+}
+
+/// Writes [`SCHEMES_MD`] of `study` into `out_dir`.
+pub fn write_schemes(
+    study: &Study,
+    sensitivity: &Sensitivity,
+    longer: &Study,
+    out_dir: &Path,
+) -> Result<(), Error> {
+    write_atomic(
+        &out_dir.join(SCHEMES_MD),
+        render(study, sensitivity, longer).as_bytes(),
+    )
+}
