@@ -14,9 +14,6 @@
 //! - **a tick at every level** of a logarithmic axis that has levels, and every `h` axis of a
 //!   convergence plot has them.
 //!
-//! Figures of `reports/finest/`, drawn before layouts were embedded, get the rendered-text check
-//! alone (see [`FIGURE_DIRS`]).
-//!
 //! The `deliberate_*` tests feed a clipped title and a legend over the data and see each
 //! reported, so that the checks are known to bite.
 
@@ -30,14 +27,11 @@ use signorini::harness::render::figures::{convergence_figure, ConvergenceSeries}
 /// The smallest RGB distance between the colours of two series of one figure.
 const MIN_COLOUR_DISTANCE: f64 = 40.0;
 
-/// The directories whose figures are committed (those present), and whether each must carry
-/// layouts: the figures of `reports/finest/` are redrawn only with its study's data, which are
-/// not committed (`make report-finest`, over an hour), so a figure there drawn before layouts
-/// were embedded gets the rendered-text check alone.
-const FIGURE_DIRS: [(&str, bool); 3] = [
-    ("reports/figures", true),
-    ("reports/fine/figures", true),
-    ("reports/finest/figures", false),
+/// The directories whose figures are committed (those present).
+const FIGURE_DIRS: [&str; 3] = [
+    "reports/figures",
+    "reports/fine/figures",
+    "reports/finest/figures",
 ];
 
 /// The system fonts, with `sans-serif` resolved to DejaVu Sans when it is installed.
@@ -263,14 +257,12 @@ fn text_problems(name: &str, svg: &str) -> (Vec<String>, Vec<RenderedText>) {
 }
 
 /// Everything wrong with the figure `svg` (named `name` in the messages), by the rules of the
-/// module's doc; empty when nothing is. A figure without an embedded layout is a problem
-/// unless `layout_optional`, when it gets the rendered-text check alone.
-fn problems(name: &str, svg: &str, layout_optional: bool) -> Vec<String> {
+/// module's doc; empty when nothing is. A figure without an embedded layout is a problem.
+fn problems(name: &str, svg: &str) -> Vec<String> {
     let (mut out, texts) = text_problems(name, svg);
     let layout = match FigureLayout::from_svg(svg) {
         Some(Ok(layout)) => layout,
         Some(Err(e)) => return vec![format!("{name}: its layout does not parse: {e}")],
-        None if layout_optional => return out,
         None => {
             out.push(format!("{name}: no embedded layout (`{METADATA_ID}`)"));
             return out;
@@ -383,11 +375,11 @@ fn problems(name: &str, svg: &str, layout_optional: bool) -> Vec<String> {
     out
 }
 
-/// The committed figures: `(path, svg, layout optional)` of every `.svg` under [`FIGURE_DIRS`].
-fn committed_figures() -> Vec<(PathBuf, String, bool)> {
+/// The committed figures: `(path, svg)` of every `.svg` under [`FIGURE_DIRS`].
+fn committed_figures() -> Vec<(PathBuf, String)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut out = Vec::new();
-    for (dir, layouts) in FIGURE_DIRS {
+    for dir in FIGURE_DIRS {
         let Ok(entries) = std::fs::read_dir(root.join(dir)) else {
             continue;
         };
@@ -398,7 +390,7 @@ fn committed_figures() -> Vec<(PathBuf, String, bool)> {
         paths.sort();
         for p in paths {
             let svg = std::fs::read_to_string(&p).unwrap();
-            out.push((p.strip_prefix(root).unwrap().to_owned(), svg, !layouts));
+            out.push((p.strip_prefix(root).unwrap().to_owned(), svg));
         }
     }
     out
@@ -413,8 +405,8 @@ fn every_committed_figure_keeps_its_text_legends_colours_and_ticks_in_order() {
         figures.len()
     );
     let mut all = Vec::new();
-    for (path, svg, layout_optional) in &figures {
-        all.extend(problems(&path.display().to_string(), svg, *layout_optional));
+    for (path, svg) in &figures {
+        all.extend(problems(&path.display().to_string(), svg));
     }
     assert!(
         all.is_empty(),
@@ -456,7 +448,7 @@ fn with_layout(svg: &str, layout: &FigureLayout) -> String {
 #[test]
 fn the_sample_figure_passes_the_checks() {
     let svg = sample_figure();
-    assert_eq!(problems("sample", &svg, false), Vec::<String>::new());
+    assert_eq!(problems("sample", &svg), Vec::<String>::new());
 }
 
 #[test]
@@ -469,7 +461,7 @@ fn deliberate_clipped_title_is_reported_by_the_layout_and_by_the_rendered_text()
     layout.title.rect.x0 = -150;
     layout.title.rect.x1 = 950;
     let clipped = with_layout(&svg.replace("A convergence figure", long), &layout);
-    let found = problems("clipped", &clipped, false);
+    let found = problems("clipped", &clipped);
     println!("{}", found.join("\n"));
     assert!(
         found
@@ -505,7 +497,7 @@ fn deliberate_legend_over_the_data_is_reported() {
         &format!("<rect x=\"{}\" y=\"{}\"", legend.x0, legend.y0),
         &format!("<rect x=\"{x}\" y=\"{y}\""),
     );
-    let found = problems("overlapping", &with_layout(&svg, &layout), false);
+    let found = problems("overlapping", &with_layout(&svg, &layout));
     println!("{}", found.join("\n"));
     assert!(
         found
@@ -523,7 +515,7 @@ fn deliberate_repeated_ticks_missing_levels_and_alike_colours_are_reported() {
     chart.y.ticks[1].label = chart.y.ticks[0].label.clone();
     chart.x.ticks.remove(2);
     chart.series[1].colour = chart.series[0].colour;
-    let found = problems("broken", &with_layout(&svg, &layout), false);
+    let found = problems("broken", &with_layout(&svg, &layout));
     println!("{}", found.join("\n"));
     for needle in [
         "repeats the tick label",
