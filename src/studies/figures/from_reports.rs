@@ -193,24 +193,44 @@ pub fn gravity_figures(
     Ok(out)
 }
 
-/// Error in `L∞(0,T;H)` against wall time, one curve per case.
+/// Error in `L∞(0,T;H)` against wall time, one curve per case: the paper's cases in
+/// `work-precision.svg`, the rivals' (when the data hold them) in `work-precision-rivals.svg`.
 pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, FigureError> {
-    let series: Vec<WorkPrecisionSeries> = data
-        .iter()
-        .filter(|w| w.norm == Norm::DisplacementLinfH)
-        .map(|w| WorkPrecisionSeries {
-            label: w.case.clone(),
-            seconds: w.seconds.clone(),
-            errors: w.errors.clone(),
-        })
-        .collect();
-    Ok(vec![(
+    let in_the_paper = |w: &WorkPrecision| {
+        w.case
+            .split('/')
+            .next()
+            .and_then(|name| name.parse::<Scheme>().ok())
+            .is_some_and(|s| Scheme::paper_schemes().contains(&s))
+    };
+    let series = |paper: bool| -> Vec<WorkPrecisionSeries> {
+        data.iter()
+            .filter(|w| w.norm == Norm::DisplacementLinfH && in_the_paper(w) == paper)
+            .map(|w| WorkPrecisionSeries {
+                label: w.case.clone(),
+                seconds: w.seconds.clone(),
+                errors: w.errors.clone(),
+            })
+            .collect()
+    };
+    let mut out = vec![(
         "work-precision.svg".to_string(),
         work_precision_figure(
             "Work–precision: ‖u_h − u‖ L∞(0,T;H) against wall time",
-            &series,
+            &series(true),
         )?,
-    )])
+    )];
+    let rivals = series(false);
+    if !rivals.is_empty() {
+        out.push((
+            "work-precision-rivals.svg".to_string(),
+            work_precision_figure(
+                "Work–precision of the rivals: ‖u_h − u‖ L∞(0,T;H) against wall time",
+                &rivals,
+            )?,
+        ));
+    }
+    Ok(out)
 }
 
 /// The long-horizon energy histories, `E/E_0`, one figure per mass (diverged runs left out and
