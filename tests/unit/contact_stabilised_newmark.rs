@@ -5,13 +5,15 @@
 //! penalty treatment are refused naming the field.
 
 use signorini::engine::contact::{ContactLaw, ContactTreatment};
-use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
+use signorini::engine::fem::box_mesh::BoxMesh;
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
-use signorini::engine::model::Model;
 use signorini::engine::schemes::energy_balance::{self, BALANCE_TOLERANCE};
 use signorini::engine::schemes::{integrator, Conventions, PredictorVelocity, Scheme};
 
-use super::rival_schemes::{dirichlet, dt, history, monitored, plain, snapshot_plain, steps, NX};
+use super::rival_schemes::{
+    dirichlet, dt, falling_box, history, largest_difference, monitored, plain, snapshot_plain,
+    steps, NX,
+};
 
 const CARRIED: Scheme = Scheme::ContactStabilisedNewmark {
     velocity: PredictorVelocity::Carried,
@@ -35,13 +37,7 @@ fn without_contact_it_is_crank_nicolson() {
         let newmark = history(&model, Scheme::CRANK_NICOLSON, &u0, &v0);
         for scheme in [CARRIED, PROJECTED] {
             let stabilised = history(&model, scheme, &u0, &v0);
-            let worst = newmark
-                .iter()
-                .zip(&stabilised)
-                .flat_map(|(a, b)| {
-                    (0..2).flat_map(move |k| a[k].iter().zip(&b[k]).map(|(x, y)| (x - y).abs()))
-                })
-                .fold(0.0_f64, f64::max);
+            let worst = largest_difference(&newmark, &stabilised);
             assert!(
                 worst <= scale,
                 "{scheme}, {mass}: differs from Crank–Nicolson by {worst:e} (round-off {scale:e})"
@@ -65,14 +61,7 @@ fn its_balance_holds_every_step_in_1d_and_on_boxes() {
     ] {
         let d = mesh.dim();
         for mass in DEFINITE {
-            let model = Model::of_box(&mesh, &Elasticity::NOTE, mass, Some(0.2));
-            let u0 = vec![0.0; model.n_dofs()];
-            let v0 = mesh.interpolate(|_| {
-                let mut v = [0.0; 3];
-                v[d - 1] = -0.5;
-                v
-            });
-            let dt = mesh.element_sizes()[d - 1] / 2.0;
+            let (model, u0, v0, dt) = falling_box(&mesh, mass);
             for scheme in [CARRIED, PROJECTED] {
                 let worst = monitored(&model, scheme, &u0, &v0, dt, (1.5 / dt).round() as usize);
                 assert!(worst < 1e-12, "{d}D {scheme}, {mass}: residual {worst:e}");

@@ -135,6 +135,14 @@ impl<'m> ContactStabilisedNewmark<'m> {
     }
 }
 
+impl ContactStabilisedNewmark<'_> {
+    /// The contact steps of the projection (CSN-a) and of the corrector (CSN-b), where there is
+    /// an obstacle.
+    fn contact_steps(&self) -> impl Iterator<Item = &ContactStep> {
+        [&self.projection, &self.contact].into_iter().flatten()
+    }
+}
+
 impl TimeIntegrator for ContactStabilisedNewmark<'_> {
     fn advance(&mut self) -> Result<(), SolveError> {
         let dt = self.state.dt;
@@ -216,19 +224,11 @@ impl TimeIntegrator for ContactStabilisedNewmark<'_> {
 
     /// The steps that needed a complementarity solve, in the projection or in the corrector.
     fn contact_solves(&self) -> usize {
-        [&self.projection, &self.contact]
-            .into_iter()
-            .flatten()
-            .map(ContactStep::solves)
-            .sum()
+        self.contact_steps().map(ContactStep::solves).sum()
     }
 
     fn contact_seconds(&self) -> f64 {
-        [&self.projection, &self.contact]
-            .into_iter()
-            .flatten()
-            .map(ContactStep::seconds)
-            .sum()
+        self.contact_steps().map(ContactStep::seconds).sum()
     }
 
     fn step_solves(&self) -> SolveCounts {
@@ -241,9 +241,7 @@ impl TimeIntegrator for ContactStabilisedNewmark<'_> {
 
     /// The largest violation of (CSN-a) or (CSN-b) over the steps.
     fn complementarity_violation(&self) -> f64 {
-        [&self.projection, &self.contact]
-            .into_iter()
-            .flatten()
+        self.contact_steps()
             .map(ContactStep::max_violation)
             .fold(0.0, f64::max)
     }
