@@ -74,7 +74,8 @@ golden: build
 experiment: build
 	$(BIN) experiment --out reports
 
-## The stability suite: every scheme × mass on the hard cases (a few minutes: NX = 5000 is one).
+## The stability suite: every scheme × mass of the tables, the paper's and the rivals', on the hard
+## cases (the NX = 5000 case takes most of its time), then the figures.
 stability: build
 	$(BIN) stability --out reports
 	$(BIN) figures --out reports

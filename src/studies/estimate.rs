@@ -92,9 +92,10 @@ pub fn golden(root: &Path) -> Result<Estimate, Error> {
     Ok(report(root)?.then(elastic))
 }
 
-/// The stability suite over `hard` cases: every paper case on each, with its ensemble.
+/// The stability suite over `hard` cases: every case of the tables (the paper's and the
+/// rivals') on each, with its ensemble.
 pub fn stability(hard: &[HardCase]) -> Estimate {
-    let cases = Case::paper_matrix().len();
+    let cases = Case::tables_matrix().len();
     let runs = (cases * (1 + STABILITY_ENSEMBLE.members)) as f64;
     budget::bar_runs(hard.iter().map(|h| (&h.problem, h.nx, h.ratio, runs)))
 }

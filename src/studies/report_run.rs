@@ -90,7 +90,8 @@ pub fn experiment(
     ))
 }
 
-/// `signorini stability`: every scheme × mass on the hard cases (only CI's subset with
+/// `signorini stability`: every scheme × mass of the tables ([`Case::tables_matrix`]: the
+/// paper's and the rivals') on the hard cases (only CI's subset with
 /// `ci_subset`), with a verdict each, into `out`.
 pub fn stability(
     out: &Path,
@@ -102,7 +103,8 @@ pub fn stability(
     let hard = hard_cases(Path::new("."), ci_subset)?;
     let suite = estimate::stability(&hard);
     // A shard runs its share of the jobs, at most the whole suite's memory; a merge runs none.
-    let jobs = hard.len() * Case::paper_matrix().len();
+    let cases = Case::tables_matrix();
+    let jobs = hard.len() * cases.len();
     let share = computed_here(&vec![1; jobs], executor).len() as f64 / jobs.max(1) as f64;
     let here = Estimate {
         dof_steps: suite.dof_steps * share,
@@ -110,7 +112,7 @@ pub fn stability(
     };
     within(here, limits)?;
     let destination = Destination::begin(executor, out)?;
-    let executed = run_suite_on(executor, &hard, &Case::paper_matrix())?;
+    let executed = run_suite_on(executor, &hard, &cases)?;
     let (records, staged) = match destination.receive(executed, invocation)? {
         Received::Complete(value) => value,
         Received::ShardWritten(line) => return Ok(line),

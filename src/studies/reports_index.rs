@@ -87,7 +87,11 @@ const SECTIONS: &[Section] = &[
         title: "Stability over long horizons",
         data: &["stability.json"],
         shown: &["stability-standard.svg", "stability-redistributed.svg"],
-        families: &[("stability-", "E/E₀ over 100 periods, one panel per scheme")],
+        families: &[
+            ("stability-standard", "E/E₀ over 100 periods of the paper's schemes with the standard mass, one curve per scheme"),
+            ("stability-redistributed", "the same with the redistributed mass"),
+            ("stability-rivals-", "the same for the rivals, standard and redistributed mass"),
+        ],
         headline: stability_headline,
     },
     Section {

@@ -349,8 +349,8 @@ impl StudyOutcome {
             study.study.wall_seconds,
         );
         if let Some(s) = &study.sensitivity {
-            for c in &s.cases {
-                summary.push_str(&format!("\n  {:36} {}", c.case, c.class.name()));
+            for line in s.class_lines() {
+                summary.push_str(&format!("\n{line}"));
             }
             summary.push_str(&format!(
                 "\nround-off ensemble: {} members per case and level, run in the study's jobs \

@@ -1,8 +1,9 @@
 //! `reports/schemes.md`, "Which scheme to trust": every scheme × mass of the Tables 1–2 study
 //! (the paper's and the rivals', [`Case::tables_matrix`]) on the criteria a user weighs — the
 //! rate in each norm, the contact-force oscillation, the energy error over the longer horizon,
-//! the round-off class, and the cost to reach a target error — each with what decides it, and
-//! for each criterion the cases no other case is decidedly better than.
+//! the round-off class, the stability suite's verdicts over 100 periods and on the hard cases
+//! (when `stability.json` is there), and the cost to reach a target error — each with what
+//! decides it, and for each criterion the cases no other case is decidedly better than.
 //!
 //! **What decides a comparison.** A rate is its 95 % interval (Student t over the levels), or
 //! for a round-off chaotic case its ensemble's [min, max]: case A is decidedly faster than B
@@ -12,6 +13,7 @@
 //! it): A is decidedly cheaper when its bracket lies wholly below B's. The oscillation words and
 //! round-off classes are the tables' and `sensitivity.md`'s, each decided by its own rule.
 
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -20,9 +22,11 @@ use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::chaotic_spread;
 use crate::harness::run::norms::Norm;
+use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
+use crate::studies::stability::StabilityRecord;
 
 /// The report, under a reports directory.
 pub const SCHEMES_MD: &str = "schemes.md";
@@ -113,9 +117,14 @@ fn cost_bracket(c: &CaseStudy, norm: Norm, target: f64) -> Option<Range> {
     })
 }
 
-/// `schemes.md` of the tables study `study`, its round-off sensitivity and `longer`, the same
-/// study over the longer horizon.
-pub fn render(study: &Study, sensitivity: &Sensitivity, longer: &Study) -> String {
+/// `schemes.md` of the tables study `study`, its round-off sensitivity, `longer`, the same
+/// study over the longer horizon, and the stability suite's records when there are some.
+pub fn render(
+    study: &Study,
+    sensitivity: &Sensitivity,
+    longer: &Study,
+    stability: Option<&[StabilityRecord]>,
+) -> String {
     let mut md = String::from("# Which scheme to trust\n\n");
     let _ = writeln!(
         md,
@@ -130,6 +139,9 @@ pub fn render(study: &Study, sensitivity: &Sensitivity, longer: &Study) -> Strin
     );
     rates_section(&mut md, study, sensitivity);
     behaviour_section(&mut md, study, sensitivity, longer);
+    if let Some(records) = stability {
+        stability_section(&mut md, study, records);
+    }
     cost_section(&mut md, study);
     literature_section(&mut md, study);
     md
@@ -249,6 +261,60 @@ fn behaviour_section(md: &mut String, study: &Study, sensitivity: &Sensitivity, 
     );
 }
 
+/// The stability suite's judgement of every case (`stability.md`): its energy over the long
+/// horizon (100 periods) and on how many hard cases it stays numerically stable, decided by
+/// [`StabilityRecord::stays_stable`] (every run of the ensemble stable or dissipative, and not
+/// round-off chaotic).
+fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]) {
+    let hard: BTreeSet<&str> = records.iter().map(|r| r.hard_case.as_str()).collect();
+    let _ = writeln!(
+        md,
+        "## Over 100 periods and on the hard cases
+
+         From `stability.json` as `make report` found it (`make stability` writes it): the          long-horizon run (NX = 80, Δx/Δt = 10, T = 300) with its verdict, largest energy drift          `max |E − E₀|/E₀` and round-off class, and on how many of the {} hard cases the case          stays numerically stable (every run of its round-off ensemble stable or dissipative,          and not chaotic), fails to, or cannot be decided. A drift is one run's: it has no          interval, and the verdict is given only where the ensemble's runs share it.
+
+         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Round-off, T = 300 | Stays stable: holds / fails / undecided |\n         |---|---|---|---|---|",
+        hard.len()
+    );
+    let mut everywhere = Vec::new();
+    for c in &study.cases {
+        let id = c.case.id();
+        let mine: Vec<&StabilityRecord> = records.iter().filter(|r| r.case == id).collect();
+        if mine.is_empty() {
+            let _ = writeln!(md, "| {} | not in the suite | — | — | — |", label(c));
+            continue;
+        }
+        let long = mine.iter().find(|r| r.hard_case == "long-horizon");
+        let count = |v: Verdict| {
+            mine.iter()
+                .filter(|r| r.stays_stable().verdict == v)
+                .count()
+        };
+        let (holds, fails, undecided) = (
+            count(Verdict::Holds),
+            count(Verdict::Fails),
+            count(Verdict::Undecided),
+        );
+        if holds == mine.len() && mine.len() == hard.len() {
+            everywhere.push(label(c));
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {holds} / {fails} / {undecided} |",
+            label(c),
+            long.map_or("—".to_string(), |r| r.verdict_text()),
+            long.map_or("—".to_string(), |r| format!("{:.2e}", r.max_energy_drift)),
+            long.and_then(|r| r.sensitivity)
+                .map_or("—", |s| s.class.name()),
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n**Stays numerically stable on every hard case**: {}.\n",
+        list_or_none(&everywhere)
+    );
+}
+
 /// The work to reach a target error in `L∞(0,T;H)`: the loosest error every case reaches.
 fn cost_section(md: &mut String, study: &Study) {
     let norm = Norm::DisplacementLinfH;
@@ -345,10 +411,11 @@ pub fn write_schemes(
     study: &Study,
     sensitivity: &Sensitivity,
     longer: &Study,
+    stability: Option<&[StabilityRecord]>,
     out_dir: &Path,
 ) -> Result<(), Error> {
     write_atomic(
         &out_dir.join(SCHEMES_MD),
-        render(study, sensitivity, longer).as_bytes(),
+        render(study, sensitivity, longer, stability).as_bytes(),
     )
 }

@@ -1,5 +1,6 @@
 //! The stability suite: hard cases where time integrators for impact misbehave, every scheme ×
-//! mass pair run on each, measured, and given a verdict by fixed rules.
+//! mass pair of the tables (the paper's and the rivals', [`Case::tables_matrix`]) run on each,
+//! measured, and given a verdict by fixed rules.
 //!
 //! Verdict rules, in order (the first that applies):
 //! 1. `diverged`: the run stopped on a non-finite value, or `max E / E_0 > 10⁶`;
@@ -646,8 +647,13 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
          fails, hard case by hard case, and where the ensemble cannot tell (*undecided*: the \
          runs split, or the class is undecided) why.\n\n",
     );
-    for case in Case::paper_matrix() {
-        let id = case.id();
+    let mut ids: Vec<&str> = Vec::new();
+    for r in records {
+        if !ids.contains(&r.case.as_str()) {
+            ids.push(&r.case);
+        }
+    }
+    for id in ids {
         let bad: Vec<String> = records
             .iter()
             .filter(|r| r.case == id)

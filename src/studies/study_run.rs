@@ -152,11 +152,7 @@ pub fn sensitivity(
     };
     write_sensitivity_files(&s, staged.path())?;
     staged.commit()?;
-    let mut said: Vec<String> = s
-        .cases
-        .iter()
-        .map(|c| format!("  {:36} {}", c.case, c.class.name()))
-        .collect();
+    let mut said = s.class_lines();
     let o = out.display();
     said.push(format!(
         "wrote {o}/sensitivity.md and {o}/sensitivity.json ({} × {} levels × {} members, {:.1} s wall)",

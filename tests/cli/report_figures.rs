@@ -355,6 +355,7 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
         ("crank-nicolson", MassVariant::Standard),
         ("backward-euler", MassVariant::Standard),
         ("crank-nicolson", MassVariant::Redistributed),
+        ("moreau-jean", MassVariant::Standard),
     ]
     .iter()
     .map(|(s, m)| {
@@ -369,7 +370,16 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
     })
     .collect();
     let figures = stability_figures(&records).unwrap();
-    assert_eq!(figures.len(), 2);
+    let names: Vec<&str> = figures.iter().map(|f| f.0.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "stability-standard.svg",
+            "stability-redistributed.svg",
+            "stability-rivals-standard.svg"
+        ],
+        "the rivals apart, and no figure without a run"
+    );
     let standard = &figures
         .iter()
         .find(|f| f.0 == "stability-standard.svg")
@@ -387,6 +397,9 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
         .unwrap()
         .1;
     assert_eq!(data_lines(redistributed), 1);
+    let rivals = &figures[2].1;
+    assert_eq!(data_lines(rivals), 1);
+    assert!(rivals.contains("the rivals, standard mass"));
 }
 
 /// The index of the committed reports: every figure there linked under its study with a

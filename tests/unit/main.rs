@@ -34,6 +34,7 @@ mod perturbation;
 mod rival_schemes;
 mod run;
 mod run_status;
+mod schemes_report;
 mod settings;
 mod signorini_dirichlet;
 mod stencil;

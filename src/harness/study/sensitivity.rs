@@ -346,6 +346,15 @@ impl Sensitivity {
     pub fn case(&self, id: &str) -> Option<&CaseSensitivity> {
         self.cases.iter().find(|c| c.case == id)
     }
+
+    /// One line per case, `  scheme/mass  class`, the classes aligned in one column.
+    pub fn class_lines(&self) -> Vec<String> {
+        let width = self.cases.iter().map(|c| c.case.len()).max().unwrap_or(0);
+        self.cases
+            .iter()
+            .map(|c| format!("  {:width$}  {}", c.case, c.class.name()))
+            .collect()
+    }
 }
 
 /// Runs `problem` with `config` as an ensemble of its initial-data members

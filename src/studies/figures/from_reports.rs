@@ -8,7 +8,7 @@
 //! | `convergence-<scheme>-<norm>.svg` | `rates.json`, `sensitivity.json` | Figures 9–10 (every scheme; chaotic cases as ensemble median and min–max band) |
 //! | `gravity-points-<mass>.svg`, `gravity-convergence-<mass>.svg`, `gravity-strain-<mass>.svg` | `gravity/` | Figures 2, 3, 4 |
 //! | `work-precision.svg` | `work-precision.json` | error against wall time |
-//! | `stability-<mass>.svg` | `stability.json` | energy histories of the long horizon |
+//! | `stability-<mass>.svg`, `stability-rivals-<mass>.svg` | `stability.json` | energy histories of the long horizon |
 
 use std::path::Path;
 
@@ -196,16 +196,9 @@ pub fn gravity_figures(
 /// Error in `L∞(0,T;H)` against wall time, one curve per case: the paper's cases in
 /// `work-precision.svg`, the rivals' (when the data hold them) in `work-precision-rivals.svg`.
 pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, FigureError> {
-    let in_the_paper = |w: &WorkPrecision| {
-        w.case
-            .split('/')
-            .next()
-            .and_then(|name| name.parse::<Scheme>().ok())
-            .is_some_and(|s| Scheme::paper_schemes().contains(&s))
-    };
     let series = |paper: bool| -> Vec<WorkPrecisionSeries> {
         data.iter()
-            .filter(|w| w.norm == Norm::DisplacementLinfH && in_the_paper(w) == paper)
+            .filter(|w| w.norm == Norm::DisplacementLinfH && in_the_paper(&w.case) == paper)
             .map(|w| WorkPrecisionSeries {
                 label: w.case.clone(),
                 seconds: w.seconds.clone(),
@@ -233,54 +226,81 @@ pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, Fig
     Ok(out)
 }
 
-/// The long-horizon energy histories, `E/E_0`, one figure per mass (diverged runs left out and
-/// named in the title). Each curve's legend gives the study's verdict and its largest energy
-/// drift `max |E − E₀|/E₀` as a percentage, so that a "stable" run that lost energy says how
-/// much.
+/// Whether a case id `scheme/mass` names one of the paper's schemes (not a rival).
+fn in_the_paper(case: &str) -> bool {
+    case.split('/')
+        .next()
+        .and_then(|name| name.parse::<Scheme>().ok())
+        .is_some_and(|s| Scheme::paper_schemes().contains(&s))
+}
+
+/// The long-horizon energy histories, `E/E_0`, one figure per mass for the paper's schemes
+/// (`stability-<mass>.svg`) and one per mass for the rivals when the records hold them
+/// (`stability-rivals-<mass>.svg`); diverged runs are left out and named in the title. Each
+/// curve's legend gives the study's verdict and its largest energy drift `max |E − E₀|/E₀` as a
+/// percentage, so that a "stable" run that lost energy says how much.
 pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
-    for mass in MassVariant::PAPER {
-        let mine: Vec<&StabilityRecord> = records
-            .iter()
-            .filter(|r| r.hard_case == "long-horizon" && r.case.ends_with(mass.name()))
-            .collect();
-        let left_out: Vec<&str> = mine
-            .iter()
-            .filter(|r| r.verdict == Verdict::Diverged)
-            .map(|r| r.case.split('/').next().unwrap_or(&r.case))
-            .collect();
-        let series: Vec<(String, Vec<f64>, Vec<f64>)> = mine
-            .iter()
-            .filter(|r| r.verdict != Verdict::Diverged && !r.energy_samples.is_empty())
-            .map(|r| {
-                let e0 = r.energy_samples[0].1;
-                (
-                    format!(
-                        "{}: {}, max |E − E₀|/E₀ = {}",
-                        r.case.split('/').next().unwrap_or(&r.case),
-                        r.verdict.word(),
-                        percent(r.max_energy_drift)
-                    ),
-                    r.energy_samples.iter().map(|s| s.0).collect(),
-                    r.energy_samples.iter().map(|s| s.1 / e0).collect(),
-                )
-            })
-            .collect();
-        let title = if left_out.is_empty() {
-            format!("E/E₀ (T = 300, {} mass)", mass.name())
-        } else {
-            format!(
-                "E/E₀ (T = 300, {} mass); diverged, not drawn: {}",
-                mass.name(),
-                left_out.join(", ")
-            )
-        };
-        out.push((
-            format!("stability-{}.svg", mass.name()),
-            time_series_figure(&title, "E/E₀", &series)?,
-        ));
+    for (paper, group, name) in [(true, "", ""), (false, "the rivals, ", "-rivals")] {
+        for mass in MassVariant::PAPER {
+            let mine: Vec<&StabilityRecord> = records
+                .iter()
+                .filter(|r| {
+                    r.hard_case == "long-horizon"
+                        && r.case.ends_with(mass.name())
+                        && in_the_paper(&r.case) == paper
+                })
+                .collect();
+            if !mine.is_empty() {
+                out.push(stability_figure(&mine, mass, group, name)?);
+            }
+        }
     }
     Ok(out)
+}
+
+/// One figure of [`stability_figures`]: the long-horizon records `mine` of one `mass`.
+fn stability_figure(
+    mine: &[&StabilityRecord],
+    mass: MassVariant,
+    group: &str,
+    name: &str,
+) -> Result<Figure, FigureError> {
+    let left_out: Vec<&str> = mine
+        .iter()
+        .filter(|r| r.verdict == Verdict::Diverged)
+        .map(|r| r.case.split('/').next().unwrap_or(&r.case))
+        .collect();
+    let series: Vec<(String, Vec<f64>, Vec<f64>)> = mine
+        .iter()
+        .filter(|r| r.verdict != Verdict::Diverged && !r.energy_samples.is_empty())
+        .map(|r| {
+            let e0 = r.energy_samples[0].1;
+            (
+                format!(
+                    "{}: {}, max |E − E₀|/E₀ = {}",
+                    r.case.split('/').next().unwrap_or(&r.case),
+                    r.verdict.word(),
+                    percent(r.max_energy_drift)
+                ),
+                r.energy_samples.iter().map(|s| s.0).collect(),
+                r.energy_samples.iter().map(|s| s.1 / e0).collect(),
+            )
+        })
+        .collect();
+    let title = if left_out.is_empty() {
+        format!("E/E₀ (T = 300, {group}{} mass)", mass.name())
+    } else {
+        format!(
+            "E/E₀ (T = 300, {group}{} mass); diverged, not drawn: {}",
+            mass.name(),
+            left_out.join(", ")
+        )
+    };
+    Ok((
+        format!("stability{name}-{}.svg", mass.name()),
+        time_series_figure(&title, "E/E₀", &series)?,
+    ))
 }
 
 /// A relative drift as a percentage with two significant digits (`15 %`, `0.033 %`).
