@@ -266,7 +266,7 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
                 scene,
                 code,
                 entries,
-                findings: findings_of_cases(&cases, &bias),
+                findings: findings_of_cases(&cases, &|_, norm| bias(norm)),
             })
         })
         .collect()

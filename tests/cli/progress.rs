@@ -24,6 +24,7 @@ fn small_scene(name: &str) -> (PathBuf, PathBuf) {
     let d = &mut scene["discretisation"];
     d["levels"] = serde_json::json!([8, 16]);
     d["reference_level"] = serde_json::json!(64);
+    d["schemes"] = serde_json::json!(["crank-nicolson", "backward-euler"]);
     d.as_object_mut().unwrap().remove("sensitivity");
     let path = dir.join("small-2d.json");
     std::fs::write(&path, serde_json::to_string_pretty(&scene).unwrap()).unwrap();

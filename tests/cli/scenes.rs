@@ -172,10 +172,10 @@ fn a_box_scene_is_a_box_problem_and_its_scheme_names_are_checked_at_load() {
     assert_eq!(p.lengths, vec![0.1, 1.0]);
     assert_eq!((p.initial_displacement, p.initial_velocity), (0.0, -0.5));
     assert_eq!(p.obstacle_gap, Some(0.2));
-    assert_eq!(
-        s.default_schemes(),
-        vec![Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER]
-    );
+    // The note's two schemes, then the rivals (issue 35).
+    let mut schemes = vec![Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER];
+    schemes.extend(Scheme::rival_schemes());
+    assert_eq!(s.default_schemes(), schemes);
     assert!(s.observables.norms.is_empty());
 
     // Scheme names are parsed when the file is read, in a box scene as in a bar1d one.

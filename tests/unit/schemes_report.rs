@@ -61,6 +61,18 @@ fn the_ranking_carries_the_stability_suite_when_its_records_are_there() {
     .unwrap();
 
     let without = render(&study, &sensitivity, &longer, None);
+    let cost = without
+        .split("## Cost to reach a target error")
+        .nth(1)
+        .unwrap();
+    for c in cases {
+        let row = cost
+            .lines()
+            .find(|l| l.starts_with(&format!("| {} |", label_of(c))))
+            .unwrap_or_else(|| panic!("a cost row for {}: {cost}", c.id()));
+        assert!(row.contains("| wall [") && row.ends_with("] s |"), "{row}");
+    }
+    assert!(cost.contains("**Cheapest in wall time**"), "{cost}");
     assert!(!without.contains("## Over 100 periods"), "{without}");
     for section in [
         "## Convergence rates",

@@ -28,7 +28,7 @@ use super::comparison::ComparedSample;
 use super::findings::{findings_of_cases, Finding};
 use super::reference::ReferenceCache;
 use super::report::findings_table;
-use super::{obtain_reference, rate_bias, Comparator, ElasticStudyConfig};
+use super::{obtain_reference, rate_bias_bound, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
 use crate::harness::external::report::{reported_energies, sampled_displacement, tables};
 use crate::harness::external::verify::{
@@ -114,14 +114,13 @@ pub fn verify_box(
     }
     let series = into_series(verified, &norms)?;
     let reference = &comparator.reference;
+    let bias_of = |case: &CaseStudy, n: Norm| {
+        rate_bias_bound(case, n, reference.histories.check.distance[n.key()])
+    };
     let rate_bias_of = |case: &CaseStudy| -> BTreeMap<String, Option<f64>> {
         Norm::ALL
             .iter()
-            .map(|&n| {
-                let delta = reference.histories.check.distance[n.key()];
-                let bias = rate_bias(case, n, delta);
-                (n.key().to_string(), bias.is_finite().then_some(bias))
-            })
+            .map(|&n| (n.key().to_string(), bias_of(case, n)))
             .collect()
     };
     let cases = declared_cases(&series);
@@ -135,7 +134,7 @@ pub fn verify_box(
     let findings = if cases.is_empty() {
         Vec::new()
     } else {
-        findings_of_cases(&cases, &|n| rate_bias.get(n.key()).copied().flatten())
+        findings_of_cases(&cases, &bias_of)
     };
     let h = &reference.histories;
     Ok(BoxVerification {

@@ -70,11 +70,15 @@ struct Labelled<'c> {
     case: &'c CaseStudy,
 }
 
-/// The rate decisions, every rate's interval widened by its norm's rate-bias bound (`None`:
-/// unbounded, no rate of that norm is decided).
+/// The rate decisions, every rate's interval widened by the rate-bias bound of its case and
+/// norm (`None`: unbounded, that rate is not decided).
 struct Judge<'b> {
-    rate_bias: &'b dyn Fn(Norm) -> Option<f64>,
+    rate_bias: &'b RateBias<'b>,
 }
+
+/// The rate-bias bound of a case's rate in a norm: how far the reference's own error could move
+/// it (`None`: no bound can be formed). Zero against an exact solution.
+pub type RateBias<'b> = dyn Fn(&CaseStudy, Norm) -> Option<f64> + 'b;
 
 impl Judge<'_> {
     fn estimate(&self, c: Labelled<'_>, norm: Norm) -> Estimate {
@@ -82,7 +86,7 @@ impl Judge<'_> {
         Estimate::rate(
             format!("{} {} rate", c.label, norm.key()),
             fit,
-            (self.rate_bias)(norm),
+            (self.rate_bias)(c.case, norm),
         )
     }
 
@@ -164,18 +168,15 @@ fn indicator_text(c: Labelled<'_>) -> String {
 }
 
 /// The note's findings for Crank–Nicolson and backward Euler with both masses, every rate
-/// decided by its interval widened by `rate_bias` of its norm (`None`: unbounded); a finding
-/// whose cases are not in the study is undecided, with the reason.
-pub fn note_findings(study: &Study, rate_bias: &dyn Fn(Norm) -> Option<f64>) -> Vec<Finding> {
+/// decided by its interval widened by `rate_bias` of its case and norm (`None`: unbounded); a
+/// finding whose cases are not in the study is undecided, with the reason.
+pub fn note_findings(study: &Study, rate_bias: &RateBias<'_>) -> Vec<Finding> {
     findings_of_cases(&study.cases, rate_bias)
 }
 
 /// [`note_findings`] on the cases `cases` (a study's, or the series of other codes' runs that
 /// declare their scheme and mass).
-pub fn findings_of_cases(
-    cases: &[CaseStudy],
-    rate_bias: &dyn Fn(Norm) -> Option<f64>,
-) -> Vec<Finding> {
+pub fn findings_of_cases(cases: &[CaseStudy], rate_bias: &RateBias<'_>) -> Vec<Finding> {
     let judge = Judge { rate_bias };
     let cn = Scheme::CRANK_NICOLSON;
     let be = Scheme::BACKWARD_EULER;
@@ -352,7 +353,7 @@ mod tests {
 
     #[test]
     fn every_finding_holds_on_the_notes_picture_with_a_small_bias() {
-        let findings = note_findings(&note_like(1.0), &|_| Some(0.01));
+        let findings = note_findings(&note_like(1.0), &|_, _| Some(0.01));
         assert_eq!(findings.len(), 6);
         for f in &findings {
             assert_eq!(f.verdict, Verdict::Holds, "{f:?}");
@@ -361,7 +362,7 @@ mod tests {
 
     #[test]
     fn an_oscillating_redistributed_case_fails_the_first_finding_only() {
-        let findings = note_findings(&note_like(10.0), &|_| Some(0.0));
+        let findings = note_findings(&note_like(10.0), &|_, _| Some(0.0));
         assert_eq!(findings[0].verdict, Verdict::Fails, "{:?}", findings[0]);
         assert!(findings[0].reason.contains("no interval"));
         assert!(findings[1..].iter().all(|f| f.verdict == Verdict::Holds));
@@ -369,9 +370,9 @@ mod tests {
 
     #[test]
     fn a_finding_flips_from_holds_to_undecided_when_its_bias_grows() {
-        let small = note_findings(&note_like(1.0), &|_| Some(0.05));
+        let small = note_findings(&note_like(1.0), &|_, _| Some(0.05));
         assert!(verdicts(&small).iter().all(|&v| v == Verdict::Holds));
-        let large = note_findings(&note_like(1.0), &|_| Some(1.0));
+        let large = note_findings(&note_like(1.0), &|_, _| Some(1.0));
         assert_eq!(
             large[0].verdict,
             Verdict::Holds,
@@ -381,7 +382,9 @@ mod tests {
             assert_eq!(f.verdict, Verdict::Undecided, "{f:?}");
             assert!(f.reason.contains("finer reference"), "{}", f.reason);
         }
-        let unbounded = note_findings(&note_like(1.0), &|n| (n != Norm::EnergyLinf).then_some(0.0));
+        let unbounded = note_findings(&note_like(1.0), &|_, n| {
+            (n != Norm::EnergyLinf).then_some(0.0)
+        });
         assert_eq!(unbounded[1].verdict, Verdict::Undecided);
         assert!(
             unbounded[1].reason.contains("unbounded"),
@@ -391,10 +394,40 @@ mod tests {
     }
 
     #[test]
+    fn each_rate_is_widened_by_its_own_case_bound() {
+        // A rival beside the note's cases whose rates have no bound (its errors as small as the
+        // reference's) leaves the note's findings as they are; the same unbounded bound on a
+        // note case leaves its findings undecided.
+        let mut study = note_like(1.0);
+        let rival = synthetic(
+            Scheme::LaursenChawla {},
+            MassVariant::Standard,
+            &|_| 1.5,
+            1.0,
+        );
+        study.cases.push(rival);
+        let own =
+            |c: &CaseStudy, _: Norm| (c.case.scheme != Scheme::LaursenChawla {}).then_some(0.01);
+        assert!(verdicts(&note_findings(&study, &own))
+            .iter()
+            .all(|&v| v == Verdict::Holds));
+        let cn_mod_unbounded = |c: &CaseStudy, _: Norm| {
+            (c.case
+                != Case {
+                    scheme: Scheme::CRANK_NICOLSON,
+                    mass: MassVariant::Redistributed,
+                })
+            .then_some(0.01)
+        };
+        let findings = note_findings(&study, &cn_mod_unbounded);
+        assert_eq!(findings[1].verdict, Verdict::Undecided, "{:?}", findings[1]);
+    }
+
+    #[test]
     fn a_missing_case_leaves_its_findings_undecided() {
         let mut study = note_like(1.0);
         study.cases.truncate(2);
-        let findings = note_findings(&study, &|_| Some(0.0));
+        let findings = note_findings(&study, &|_, _| Some(0.0));
         let last = findings.last().unwrap();
         assert_eq!(last.verdict, Verdict::Undecided);
         assert!(last.reason.contains("not tested"));
@@ -402,7 +435,7 @@ mod tests {
 
     #[test]
     fn the_verdict_is_written_as_a_word() {
-        let f = &note_findings(&note_like(1.0), &|_| Some(0.0))[0];
+        let f = &note_findings(&note_like(1.0), &|_, _| Some(0.0))[0];
         let json = serde_json::to_value(f).unwrap();
         assert_eq!(json["verdict"], "holds");
         assert!(json.get("holds").is_none() && json.get("robust").is_none());

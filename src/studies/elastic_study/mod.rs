@@ -209,6 +209,13 @@ impl ReferenceCheck {
 }
 
 impl ReferenceCheck {
+    /// The rate-bias bound of `case`'s rate in `norm` alone ([`rate_bias_bound`] with this
+    /// check's distance): what the findings widen that rate's interval by. The stored
+    /// [`ReferenceCheck::rate_bias`] of a norm is the largest of these over the study's cases.
+    pub fn case_bias(&self, case: &CaseStudy, norm: Norm) -> Option<f64> {
+        rate_bias_bound(case, norm, *self.distance.get(norm.key())?)
+    }
+
     /// `smallest fitted error / distance` of a norm: how many times the reference's own
     /// error (bounded by the distance, for a converging reference) fits under the errors.
     pub fn margin(&self, norm: &str) -> Option<f64> {
@@ -287,7 +294,7 @@ impl ElasticStudy {
     /// The note's findings judged again from the study's rates and its reference's rate-bias
     /// bounds: what the study itself computed, since the findings are a function of both alone.
     pub fn judged_findings(&self) -> Vec<Finding> {
-        note_findings(&self.study, &|n| self.reference.bias(n.key()))
+        note_findings(&self.study, &|c, n| self.reference.case_bias(c, n))
     }
 }
 
@@ -580,7 +587,7 @@ impl AgainstFineMesh<'_> {
             total_force: h.total_force.clone(),
             energy: h.energy.clone(),
         };
-        let findings = note_findings(&study, &|n| reference_check.bias(n.key()));
+        let findings = note_findings(&study, &|c, n| reference_check.case_bias(c, n));
         let run_config = ElasticStudyConfig {
             cases: run_cases,
             ..config.clone()
@@ -611,6 +618,12 @@ impl AgainstFineMesh<'_> {
             },
         ))
     }
+}
+
+/// [`rate_bias`] when it is finite: `None` when an error no larger than `delta` could vanish.
+fn rate_bias_bound(case: &CaseStudy, norm: Norm, delta: f64) -> Option<f64> {
+    let bias = rate_bias(case, norm, delta);
+    bias.is_finite().then_some(bias)
 }
 
 /// How far the least-squares rate of `norm` in `case` can move when each error is off by at most

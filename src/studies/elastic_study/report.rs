@@ -149,8 +149,10 @@ fn interval_section(study: &ElasticStudy) -> String {
     let mut md = format!(
         "\n## Rates with their 95 % intervals\n\n\
          The rate ± the half-width of its 95 % confidence interval over the {} levels (Student t \
-         with levels − 2 degrees of freedom; none with two levels), and the reference's \
-         rate-bias bound of the norm (see *Is the reference fine enough?*).\n\n| case |",
+         with levels − 2 degrees of freedom; none with two levels), then the reference's \
+         rate-bias bound of that rate: how far the reference's own error could move it (see *Is \
+         the reference fine enough?*), by which the findings widen its interval. The first row \
+         gives each norm's largest bound over the cases.\n\n| case |",
         study.study.config.levels.len()
     );
     for n in INTERVAL_NORMS {
@@ -165,12 +167,17 @@ fn interval_section(study: &ElasticStudy) -> String {
     for c in &study.study.cases {
         let _ = write!(md, "| {} |", c.case.id());
         for n in INTERVAL_NORMS {
+            let own_bias = bias_cell(Some(&study.reference.case_bias(c, n)), "±");
             let cell = match c.norm(n).and_then(|r| r.fit) {
                 Some(fit) => match (fit.ci_low, fit.ci_high) {
                     (Some(low), Some(high)) => {
-                        format!("{:.2} ± {:.2}", fit.rate, 0.5 * (high - low))
+                        format!(
+                            "{:.2} ± {:.2}; bias {own_bias}",
+                            fit.rate,
+                            0.5 * (high - low)
+                        )
                     }
-                    _ => format!("{:.2}", fit.rate),
+                    _ => format!("{:.2}; bias {own_bias}", fit.rate),
                 },
                 None => "—".to_string(),
             };
@@ -334,7 +341,8 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
         md,
         "\n## The note's findings, tested\n\n\
          Every rate is decided by its 95 % interval widened on both sides by the reference's \
-         rate-bias bound for its norm (see the last section; no bound: undecided). A norm \
+         rate-bias bound of that rate (its case's and norm's: see the intervals above and the \
+         last section; no bound: undecided). A norm \
          converges when the widened interval lies above {CONVERGENCE_RATE}, does not converge \
          when it lies at or below it, and is undecided otherwise, as is a rate fitted on fewer \
          than three levels (no interval). Two cases behave alike in a norm when both converge \
