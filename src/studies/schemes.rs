@@ -277,11 +277,15 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
     let hard: BTreeSet<&str> = records.iter().map(|r| r.hard_case.as_str()).collect();
     let _ = writeln!(
         md,
-        "## Over 100 periods and on the hard cases
-
-         From `stability.json` as `make report` found it (`make stability` writes it): the          long-horizon run (NX = 80, Δx/Δt = 10, T = 300) with its verdict, largest energy drift          `max |E − E₀|/E₀` and round-off class, and on how many of the {} hard cases the case          stays numerically stable (every run of its round-off ensemble stable or dissipative,          and not chaotic), fails to, or cannot be decided. A drift is one run's: it has no          interval, and the verdict is given only where the ensemble's runs share it.
-
-         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Round-off, T = 300 | Stays stable: holds / fails / undecided |\n         |---|---|---|---|---|",
+        "## Over 100 periods and on the hard cases\n\n\
+         From `stability.json` as `make report` found it (`make stability` writes it): the \
+         long-horizon run (NX = 80, Δx/Δt = 10, T = 300) with its verdict, largest energy drift \
+         `max |E − E₀|/E₀` and round-off class, and on how many of the {} hard cases the case \
+         stays numerically stable (every run of its round-off ensemble stable or dissipative, \
+         and not chaotic), fails to, or cannot be decided. A drift is one run's: it has no \
+         interval, and the verdict is given only where the ensemble's runs share it.\n\n\
+         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Round-off, T = 300 | Stays \
+         stable: holds / fails / undecided |\n|---|---|---|---|---|",
         hard.len()
     );
     let mut everywhere = Vec::new();

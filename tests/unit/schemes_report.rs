@@ -94,6 +94,10 @@ fn the_ranking_carries_the_stability_suite_when_its_records_are_there() {
         .flat_map(|h| [cases[0], cases[2]].map(|c| judge(h, c).unwrap()))
         .collect();
     let with = render(&study, &sensitivity, &longer, Some(&records));
+    for md in [&without, &with] {
+        let indented: Vec<&str> = md.lines().filter(|l| l.starts_with(' ')).collect();
+        assert!(indented.is_empty(), "markdown lines indented: {indented:?}");
+    }
     let section = with
         .split("## Over 100 periods and on the hard cases")
         .nth(1)
