@@ -39,6 +39,7 @@ use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
+use crate::harness::study::{Case, CaseStudy};
 use crate::studies::outputs::CommandError;
 
 /// `league.json`'s format.
@@ -221,8 +222,9 @@ fn entry(name: &str, v: &VerifyFile) -> LeagueEntry {
 }
 
 /// The note's findings judged on every series of one code on one scene, across the entries
-/// (the first series of each declared scheme × mass), each rate's interval widened by the
-/// largest bias bound of the entries that hold them; codes without a declared case have none.
+/// (the first series of each declared scheme × mass), each rate's interval widened by the bias
+/// bound of the entry its series comes from (that entry's largest over the cases it declares;
+/// the harness's entries declare one case each); codes without a declared case have none.
 fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
     let mut keys: Vec<(String, Code)> = Vec::new();
     for (_, v) in files {
@@ -237,7 +239,7 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
         .filter_map(|(scene, code)| {
             let mut entries = Vec::new();
             let mut series: Vec<Series> = Vec::new();
-            let mut holders: Vec<&VerifyFile> = Vec::new();
+            let mut holders: Vec<(Vec<Case>, &VerifyFile)> = Vec::new();
             for (name, v) in files.iter().filter(|(_, v)| v.verification.scene == scene) {
                 let own: Vec<Series> = v
                     .verification
@@ -246,9 +248,10 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
                     .filter(|s| s.code == code)
                     .cloned()
                     .collect();
-                if !declared_cases(&own).is_empty() {
+                let declared: Vec<Case> = declared_cases(&own).iter().map(|c| c.case).collect();
+                if !declared.is_empty() {
                     entries.push(name.clone());
-                    holders.push(v);
+                    holders.push((declared, v));
                     series.extend(own);
                 }
             }
@@ -256,17 +259,19 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
             if cases.is_empty() {
                 return None;
             }
-            let bias = |norm: Norm| -> Option<f64> {
+            // A case's rate is widened by the bound of the entry whose series it is (the first
+            // that declares it, as `declared_cases` keeps the first series of each case).
+            let bias = |c: &CaseStudy, norm: Norm| -> Option<f64> {
                 holders
                     .iter()
-                    .map(|v| v.bias(norm))
-                    .try_fold(0.0f64, |worst, b| b.map(|b| worst.max(b)))
+                    .find(|(declared, _)| declared.contains(&c.case))
+                    .and_then(|(_, v)| v.bias(norm))
             };
             Some(CodeFindings {
                 scene,
                 code,
                 entries,
-                findings: findings_of_cases(&cases, &|_, norm| bias(norm)),
+                findings: findings_of_cases(&cases, &bias),
             })
         })
         .collect()
