@@ -196,19 +196,11 @@ pub struct ReferenceCheck {
 }
 
 impl ReferenceCheck {
-    /// The rate-bias bound of `norm`; `None` when none can be formed (no rate of that norm is
-    /// then decided).
-    pub fn bias(&self, norm: &str) -> Option<f64> {
-        self.rate_bias.get(norm).copied().flatten()
-    }
-
     /// Whether some norm has no rate-bias bound.
     pub fn some_bias_unbounded(&self) -> bool {
         self.rate_bias.values().any(Option::is_none)
     }
-}
 
-impl ReferenceCheck {
     /// The rate-bias bound of `case`'s rate in `norm` alone ([`rate_bias_bound`] with this
     /// check's distance): what the findings widen that rate's interval by. The stored
     /// [`ReferenceCheck::rate_bias`] of a norm is the largest of these over the study's cases.
