@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs
+.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -146,6 +146,16 @@ league: build
 ## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
 ## peak memory, the 3D level-80 and level-160 runs (/usr/bin/time -v, from Debian's `time`
 ## package). Exits non-zero on a miss.
+## The distributed step solve under MPI (issue 36): installs Open MPI (Debian's openmpi-bin and
+## libopenmpi-dev, and libclang-dev for the bindings' generator) when they are missing, builds
+## the `mpi` feature and runs tests/mpi.rs, which runs the solve under mpirun on 1 and 2 ranks
+## against the one-process solve. `.ci/run` runs it after `make test`.
+mpi-check:
+	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
+	@dpkg -s openmpi-bin libopenmpi-dev libclang-dev >/dev/null 2>&1 || (apt-get update -qq && apt-get install -y -qq openmpi-bin libopenmpi-dev libclang-dev)
+	$(CARGO) clippy --features mpi --lib --test mpi -- -D warnings
+	$(CARGO) nextest run --features mpi --test mpi
+
 bench:
 	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
 	$(CARGO) bench --bench kernels

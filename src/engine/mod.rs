@@ -3,6 +3,7 @@
 //! studies or files.
 
 pub mod contact;
+pub mod distributed;
 pub mod error;
 pub mod exact;
 pub mod fem;

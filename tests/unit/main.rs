@@ -19,6 +19,7 @@ mod complementarity;
 mod contact_cross_check;
 mod contact_stabilised_newmark;
 mod contact_treatments;
+mod distributed;
 mod energy_balance;
 mod executor;
 mod explicit;

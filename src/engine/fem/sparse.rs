@@ -222,6 +222,14 @@ impl SymmetricMatrix {
         }
     }
 
+    /// The stencil of a matrix-free matrix; `None` for an assembled one.
+    pub fn stencil(&self) -> Option<&Stencil> {
+        match &self.storage {
+            Storage::Stencil(s) => Some(s),
+            Storage::Assembled { .. } => None,
+        }
+    }
+
     /// Whether the matrix is stored as a stencil (matrix-free) rather than assembled.
     pub fn is_stencil(&self) -> bool {
         matches!(self.storage, Storage::Stencil(_))

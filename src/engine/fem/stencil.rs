@@ -238,6 +238,42 @@ impl Stencil {
         })
     }
 
+    /// The rows of the node layers `layers` along the last axis (a range of the numbering),
+    /// matrix-free, without a separable part: a slab's share of the operator, whose product
+    /// reads the layers next to it ([`Stencil::mul_dot_with_halo`]). `None` for an empty range
+    /// or one past the box's layers.
+    pub fn layers(&self, layers: Range<usize>) -> Option<Stencil> {
+        let axis = self.dim - 1;
+        if layers.is_empty() || layers.end > self.nodes_per_axis[axis] {
+            return None;
+        }
+        let per_layer = self.nodes_per_layer();
+        let mut nodes_per_axis = self.nodes_per_axis;
+        nodes_per_axis[axis] = layers.len();
+        Some(Stencil {
+            dim: self.dim,
+            nodes_per_axis,
+            class_of: self.class_of[layers.start * per_layer..layers.end * per_layer].to_vec(),
+            classes: self.classes.clone(),
+            separable: None,
+        })
+    }
+
+    /// The components per node (the box's dimension).
+    pub fn components(&self) -> usize {
+        self.dim
+    }
+
+    /// The nodes of one layer across the last axis.
+    pub fn nodes_per_layer(&self) -> usize {
+        self.nodes_per_axis[..self.dim - 1].iter().product()
+    }
+
+    /// The node layers along the last axis.
+    pub fn node_layers(&self) -> usize {
+        self.nodes_per_axis[self.dim - 1]
+    }
+
     /// Entry `(i, j)`.
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let d = self.dim;
@@ -336,7 +372,8 @@ impl Stencil {
         })
     }
 
-    /// Calls `sink(node, (A x)_node)` for every node of `nodes`, in order, the row block
+    /// Calls `sink(node, (A x)_node)` for every node of `nodes`, in order (`x` holding `halo`
+    /// nodes before the first row's, [`Stencil::mul_dot_with_halo`]), the row block
     /// summed column by column into `2·D` independent accumulators (so that the additions do
     /// not wait on each other): `acc[b mod 2][c] += B(o_b)[:, c] · x_{node+o_b, c}` over the
     /// blocks `b` and the columns `c`, each a [`LANES`]-wide multiply and add (entries `D..`
@@ -345,6 +382,7 @@ impl Stencil {
     fn rows<const D: usize>(
         &self,
         x: &[f64],
+        halo: usize,
         nodes: std::ops::Range<usize>,
         mut sink: impl FnMut(usize, [f64; LANES]),
     ) {
@@ -352,7 +390,7 @@ impl Stencil {
             let class = &self.classes[usize::from(self.class_of[node])];
             let mut acc = [[[0.0; LANES]; D]; 2];
             let x_of = |delta: isize| {
-                let first = node.wrapping_add_signed(delta) * D;
+                let first = (node + halo).wrapping_add_signed(delta) * D;
                 &x[first..first + D]
             };
             let mut blocks = class
@@ -378,18 +416,26 @@ impl Stencil {
 
     /// `y = A x`, returning `xᵀ y`; nodes in parallel tasks of [`nodes_per_task`].
     pub fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        self.mul_dot_with_halo(x, 0, y)
+    }
+
+    /// `y = A x` on this operator's rows when `x` holds `halo` nodes before the first row's
+    /// (and enough after the last row's for its blocks): the product of a slab of layers
+    /// ([`Stencil::layers`]) with its neighbours' layers around it, returning the rows' part of
+    /// `xᵀ y`. Every row is computed as [`Stencil::mul_dot`] computes it on the whole box.
+    pub fn mul_dot_with_halo(&self, x: &[f64], halo: usize, y: &mut [f64]) -> f64 {
         match self.dim {
-            2 => self.mul_dot_of::<2>(x, y),
-            _ => self.mul_dot_of::<3>(x, y),
+            2 => self.mul_dot_of::<2>(x, halo, y),
+            _ => self.mul_dot_of::<3>(x, halo, y),
         }
     }
 
-    fn mul_dot_of<const D: usize>(&self, x: &[f64], y: &mut [f64]) -> f64 {
+    fn mul_dot_of<const D: usize>(&self, x: &[f64], halo: usize, y: &mut [f64]) -> f64 {
         let per_task = nodes_per_task(self.class_of.len());
         let partial: Vec<f64> = y
             .par_chunks_mut(per_task * D)
             .enumerate()
-            .map(|(task, ys)| self.mul_dot_task::<D>(x, task * per_task, ys))
+            .map(|(task, ys)| self.mul_dot_task::<D>(x, halo, task * per_task, ys))
             .collect();
         partial.iter().sum()
     }
@@ -397,20 +443,32 @@ impl Stencil {
     /// [`Stencil::mul_dot_task_portable`], compiled for AVX2 when the processor has it: the
     /// same multiplies and adds in the same order (no fused multiply-add), so the result is
     /// the same bit for bit, four lanes at a time instead of two.
-    fn mul_dot_task<const D: usize>(&self, x: &[f64], first: usize, ys: &mut [f64]) -> f64 {
+    fn mul_dot_task<const D: usize>(
+        &self,
+        x: &[f64],
+        halo: usize,
+        first: usize,
+        ys: &mut [f64],
+    ) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: `mul_dot_task_avx2` only requires AVX2, which the processor has (checked
             // just above).
-            return unsafe { self.mul_dot_task_avx2::<D>(x, first, ys) };
+            return unsafe { self.mul_dot_task_avx2::<D>(x, halo, first, ys) };
         }
-        self.mul_dot_task_portable::<D>(x, first, ys)
+        self.mul_dot_task_portable::<D>(x, halo, first, ys)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn mul_dot_task_avx2<const D: usize>(&self, x: &[f64], first: usize, ys: &mut [f64]) -> f64 {
-        self.mul_dot_task_portable::<D>(x, first, ys)
+    fn mul_dot_task_avx2<const D: usize>(
+        &self,
+        x: &[f64],
+        halo: usize,
+        first: usize,
+        ys: &mut [f64],
+    ) -> f64 {
+        self.mul_dot_task_portable::<D>(x, halo, first, ys)
     }
 
     /// `y = A x` on the nodes from `first` (`ys` their rows), returning their part of `xᵀ y`.
@@ -418,14 +476,15 @@ impl Stencil {
     fn mul_dot_task_portable<const D: usize>(
         &self,
         x: &[f64],
+        halo: usize,
         first: usize,
         ys: &mut [f64],
     ) -> f64 {
         let mut xy = 0.0;
-        self.rows::<D>(x, first..first + ys.len() / D, |node, row| {
+        self.rows::<D>(x, halo, first..first + ys.len() / D, |node, row| {
             let k = (node - first) * D;
             ys[k..k + D].copy_from_slice(&row[..D]);
-            xy += row_dot::<D>(&row, x, node);
+            xy += row_dot::<D>(&row, x, node + halo);
         });
         xy
     }
@@ -483,7 +542,9 @@ impl Stencil {
         nodes: Range<usize>,
     ) -> f64 {
         let mut total = 0.0;
-        self.rows::<D>(y, nodes, |node, row| total += row_dot::<D>(&row, x, node));
+        self.rows::<D>(y, 0, nodes, |node, row| {
+            total += row_dot::<D>(&row, x, node)
+        });
         total
     }
 }

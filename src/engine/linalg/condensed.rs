@@ -101,15 +101,37 @@ impl CondensedPlane {
     pub fn solve_into(&self, r: &[f64], z: &mut [f64]) {
         let (r_p, r_i) = r.split_at(self.plane_dofs);
         let (z_p, z_i) = z.split_at_mut(self.plane_dofs);
+        z_i.copy_from_slice(r_i);
+        self.eliminate_plane(r_p, z_p, z_i);
+        self.interior.solve_in_place(z_i);
+        self.back_substitute_plane(r_p, z_p, z_i);
+    }
+
+    /// The plane's dofs (the first ones).
+    pub fn plane_dofs(&self) -> usize {
+        self.plane_dofs
+    }
+
+    /// `Ŝ⁻¹`, the product preconditioner of the interior.
+    pub fn interior(&self) -> &ProductPreconditioner {
+        &self.interior
+    }
+
+    /// The first step of `P⁻¹`: `y_p = A⁻¹ r_p` into `z_p`, and `z_i ← z_i − Bᵀ y_p` on the
+    /// interior's first entries `z_i` (it needs only the layer next to the plane: `B` couples
+    /// nothing else), `z_i` holding `r_i` on entry.
+    pub fn eliminate_plane(&self, r_p: &[f64], z_p: &mut [f64], z_i: &mut [f64]) {
         z_p.copy_from_slice(r_p);
         self.plane.solve_in_place(z_p);
-        z_i.copy_from_slice(r_i);
         for (i, y) in z_p.iter().enumerate() {
             for (j, v) in self.coupling_row(i) {
                 z_i[j] -= v * y;
             }
         }
-        self.interior.solve_in_place(z_i);
+    }
+
+    /// The last step of `P⁻¹`, once `z_i = Ŝ⁻¹(r_i − Bᵀ y_p)`: `z_p = A⁻¹ (r_p − B z_i)`.
+    pub fn back_substitute_plane(&self, r_p: &[f64], z_p: &mut [f64], z_i: &[f64]) {
         for (i, (zp, rp)) in z_p.iter_mut().zip(r_p).enumerate() {
             *zp = rp - self.coupling_row(i).map(|(j, v)| v * z_i[j]).sum::<f64>();
         }

@@ -8,8 +8,10 @@ mod step;
 mod tridiagonal;
 
 pub use condensed::CondensedPlane;
-pub use pcg::{Pcg, PcgWork, DEFAULT_TOLERANCE};
+pub use pcg::{conjugate_gradient, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use product::ProductPreconditioner;
 pub use spd::SpdSolver;
 pub use step::{LinearSolver, SolveCounts, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
-pub use tridiagonal::{solve_interleaved_rows, TridiagonalLdlt};
+pub use tridiagonal::{
+    solve_interleaved_rows, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
+};

@@ -154,68 +154,109 @@ impl Pcg {
     }
 
     /// Solves `K x = b` from the initial guess in `x`, overwriting it with the solution, and
-    /// returns the iterations spent (0 when the guess already satisfies the tolerance).
-    ///
-    /// The iteration's residual `r_k` is updated by recurrence, which drifts from the true
-    /// residual `b − K x_k` by round-off (much more so on an ill-conditioned `K`). So when `r_k`
-    /// meets the tolerance the true residual is computed, and the solve ends only when it meets
-    /// the tolerance too; otherwise the iteration restarts from `x_k` with the true residual
-    /// (residual replacement, van der Vorst and Ye, SIAM J. Sci. Comput. 22, 2000) for as long
-    /// as each restart reduces it by [`RESTART_PROGRESS`]. Fails, with the true relative
-    /// residual reached, when the tolerance is not met within the iteration limit or the
-    /// restarts stagnate: the caller must not take `x` for a solution.
+    /// returns the iterations spent (0 when the guess already satisfies the tolerance): the
+    /// iteration of [`conjugate_gradient`] on the whole vectors of one process.
     pub fn solve(&self, b: &[f64], x: &mut [f64], work: &mut PcgWork) -> Result<usize, SolveError> {
-        let PcgWork { r, z, p, q } = work;
-        let b_norm = dot(b, b).sqrt();
-        let target = self.tolerance * b_norm;
-        let true_residual = |x: &[f64], r: &mut [f64]| {
-            self.matrix.mul_dot(x, r);
-            r.iter_mut().zip(b).for_each(|(ri, bi)| *ri = bi - *ri);
-            dot(r, r).sqrt()
-        };
-        let mut residual = true_residual(x, r);
-        let mut iteration = 0;
-        loop {
-            if residual <= target {
-                return Ok(iteration);
+        conjugate_gradient(self, self.tolerance, b, x, work)
+    }
+}
+
+impl CgSpace for Pcg {
+    fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        self.matrix.mul_dot(x, y)
+    }
+
+    fn precondition(&self, r: &[f64], z: &mut [f64]) -> f64 {
+        self.preconditioner.apply(r, z)
+    }
+
+    fn sum(&self, part: f64) -> f64 {
+        part
+    }
+}
+
+/// What the conjugate-gradient iteration needs of the space its vectors live in: the products
+/// with `K` and `P⁻¹` on this process's part of the vectors, each returning its part of an
+/// inner product, and the sum of such parts over the processes that hold the rest (none in
+/// one process; the ranks of a distributed run, [`crate::engine::distributed`]). Every
+/// decision of the iteration is taken on summed values, so every process takes the same.
+pub trait CgSpace {
+    /// `y = K x` on this part, returning this part of `xᵀ y`.
+    fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64;
+    /// `z = P⁻¹ r` on this part, returning this part of `rᵀ z`.
+    fn precondition(&self, r: &[f64], z: &mut [f64]) -> f64;
+    /// The sum of every process's `part`, the same on each.
+    fn sum(&self, part: f64) -> f64;
+}
+
+/// Solves `K x = b` in `space` from the initial guess in `x` to the relative residual
+/// `tolerance`, overwriting `x` with the solution, and returns the iterations spent (0 when the
+/// guess already satisfies the tolerance).
+///
+/// The iteration's residual `r_k` is updated by recurrence, which drifts from the true
+/// residual `b − K x_k` by round-off (much more so on an ill-conditioned `K`). So when `r_k`
+/// meets the tolerance the true residual is computed, and the solve ends only when it meets
+/// the tolerance too; otherwise the iteration restarts from `x_k` with the true residual
+/// (residual replacement, van der Vorst and Ye, SIAM J. Sci. Comput. 22, 2000) for as long
+/// as each restart reduces it by [`RESTART_PROGRESS`]. Fails, with the true relative
+/// residual reached, when the tolerance is not met within the iteration limit or the
+/// restarts stagnate: the caller must not take `x` for a solution.
+pub fn conjugate_gradient(
+    space: &impl CgSpace,
+    tolerance: f64,
+    b: &[f64],
+    x: &mut [f64],
+    work: &mut PcgWork,
+) -> Result<usize, SolveError> {
+    let PcgWork { r, z, p, q } = work;
+    let b_norm = space.sum(dot(b, b)).sqrt();
+    let target = tolerance * b_norm;
+    let true_residual = |x: &[f64], r: &mut [f64]| {
+        space.mul_dot(x, r);
+        r.iter_mut().zip(b).for_each(|(ri, bi)| *ri = bi - *ri);
+        space.sum(dot(r, r)).sqrt()
+    };
+    let mut residual = true_residual(x, r);
+    let mut iteration = 0;
+    loop {
+        if residual <= target {
+            return Ok(iteration);
+        }
+        let restarted_from = residual;
+        let mut rz = space.sum(space.precondition(r, z));
+        p.copy_from_slice(z);
+        while iteration < MAX_ITERATIONS {
+            iteration += 1;
+            let alpha = rz / space.sum(space.mul_dot(p, q));
+            let mut rr = 0.0;
+            for (((xi, ri), pi), qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
+                *xi += alpha * pi;
+                *ri -= alpha * qi;
+                rr += *ri * *ri;
             }
-            let restarted_from = residual;
-            let mut rz = self.preconditioner.apply(r, z);
-            p.copy_from_slice(z);
-            while iteration < MAX_ITERATIONS {
-                iteration += 1;
-                let alpha = rz / self.matrix.mul_dot(p, q);
-                let mut rr = 0.0;
-                for (((xi, ri), pi), qi) in
-                    x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter())
-                {
-                    *xi += alpha * pi;
-                    *ri -= alpha * qi;
-                    rr += *ri * *ri;
-                }
-                if rr.sqrt() <= target || !rr.is_finite() {
-                    break;
-                }
-                let rz_next = self.preconditioner.apply(r, z);
-                let beta = rz_next / rz;
-                rz = rz_next;
-                p.iter_mut()
-                    .zip(z.iter())
-                    .for_each(|(pi, zi)| *pi = zi + beta * *pi);
-            }
-            residual = true_residual(x, r);
-            let progressed = residual * RESTART_PROGRESS <= restarted_from;
-            if residual <= target {
-                return Ok(iteration);
-            }
-            if iteration >= MAX_ITERATIONS || !progressed {
+            let rr = space.sum(rr);
+            if rr.sqrt() <= target || !rr.is_finite() {
                 break;
             }
+            let rz_next = space.sum(space.precondition(r, z));
+            let beta = rz_next / rz;
+            rz = rz_next;
+            p.iter_mut()
+                .zip(z.iter())
+                .for_each(|(pi, zi)| *pi = zi + beta * *pi);
         }
-        Err(SolveError::NotConverged {
-            solver: "conjugate gradient",
-            iterations: iteration,
-            residual: residual / b_norm,
-        })
+        residual = true_residual(x, r);
+        let progressed = residual * RESTART_PROGRESS <= restarted_from;
+        if residual <= target {
+            return Ok(iteration);
+        }
+        if iteration >= MAX_ITERATIONS || !progressed {
+            break;
+        }
     }
+    Err(SolveError::NotConverged {
+        solver: "conjugate gradient",
+        iterations: iteration,
+        residual: residual / b_norm,
+    })
 }

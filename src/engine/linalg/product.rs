@@ -69,10 +69,21 @@ impl ProductPreconditioner {
 
     /// `z ← P⁻¹ z` ([`ProductPreconditioner::solve_into`] in place).
     pub fn solve_in_place(&self, z: &mut [f64]) {
+        self.solve_within_layers(z);
+        let (factors, width) = self.last_axis();
+        solve_interleaved_rows(factors, z, width);
+    }
+
+    /// The solves of `P⁻¹` along every axis but the last, on `z` made of whole layers of the
+    /// last axis (any of them: a layer's solves do not involve another): the part of
+    /// [`ProductPreconditioner::solve_in_place`] that a process holding a slab of layers does
+    /// alone, before the last axis's sweeps ([`ProductPreconditioner::last_axis`]).
+    pub fn solve_within_layers(&self, z: &mut [f64]) {
         // Along axis k the rows are `width` entries apart (the faster axes and the components),
         // and the array is a sequence of independent blocks of `nodes_k · width` entries.
         let mut width = self.components;
-        for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis) {
+        let within = self.factors.len().saturating_sub(1);
+        for (factors, &nodes) in self.factors.iter().zip(&self.nodes_per_axis).take(within) {
             let block = nodes * width;
             // The fewest tasks of about ENTRIES_PER_TASK entries, given equal numbers of blocks.
             let blocks = z.len() / block.max(1);
@@ -85,5 +96,16 @@ impl ProductPreconditioner {
             });
             width *= nodes;
         }
+    }
+
+    /// The factors of the last axis (one per component) and its row width (the entries of one
+    /// layer): `P⁻¹` ends with the interleaved tridiagonal solve of these along the layers.
+    pub fn last_axis(&self) -> (&[TridiagonalLdlt], usize) {
+        let axes = self.nodes_per_axis.len();
+        let layer: usize = self.nodes_per_axis[..axes.saturating_sub(1)]
+            .iter()
+            .product();
+        let factors = self.factors.last().map_or(&[][..], Vec::as_slice);
+        (factors, layer * self.components)
     }
 }

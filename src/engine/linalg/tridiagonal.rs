@@ -62,34 +62,97 @@ impl TridiagonalLdlt {
 /// row. Solving along one axis of a node-major grid of `d`-component vectors stored with that
 /// axis outermost is this with `width` the product of the faster axes times `d`.
 pub fn solve_interleaved_rows(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
+    let whole = RowBlock {
+        first: 0,
+        width,
+        columns: 0..width,
+    };
+    if rows.is_empty() {
+        return;
+    }
+    if width == factors.len() {
+        return match factors.len() {
+            1 => solve_line::<1>(factors, rows),
+            2 => solve_line::<2>(factors, rows),
+            _ => solve_line::<3>(factors, rows),
+        };
+    }
+    sweep_interleaved_rows(factors, rows, &whole, Sweep::Down, &[]);
+    sweep_interleaved_rows(factors, rows, &whole, Sweep::Up, &[]);
+}
+
+/// The rows of an interleaved system ([`solve_interleaved_rows`]) that one process holds, and
+/// the columns a sweep of them works on: a distributed system is swept block by block, each
+/// block's first (downwards) or last (upwards) row updated with the neighbouring block's row.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RowBlock {
+    /// The index in the whole system of the block's first row.
+    pub first: usize,
+    /// Entries per row.
+    pub width: usize,
+    /// The columns swept (a range of whole interleaved groups: its start a multiple of the
+    /// number of systems).
+    pub columns: std::ops::Range<usize>,
+}
+
+/// One of the two sweeps of the LDLᵀ solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sweep {
+    /// `y_i = b_i − l_i y_{i−1}`, first row to last.
+    Down,
+    /// `x_{n−1} = D⁻¹ y_{n−1}`, `x_i = D⁻¹ y_i − l_{i+1} x_{i+1}`, last row to first.
+    Up,
+}
+
+/// One sweep of the rows `rows` (block `block` of the whole system; `rows.len()` a multiple of
+/// its width) on `block.columns`: `carry` holds those columns of the row before the block
+/// after the downward sweep (for [`Sweep::Down`], unused when the block starts the system) or of
+/// the row after it after the upward sweep (for [`Sweep::Up`], unused when it ends the system).
+/// The operations on every entry are those of [`solve_interleaved_rows`] on the whole system,
+/// so the blocks swept in turn give its result bit for bit.
+pub fn sweep_interleaved_rows(
+    factors: &[TridiagonalLdlt],
+    rows: &mut [f64],
+    block: &RowBlock,
+    sweep: Sweep,
+    carry: &[f64],
+) {
     match factors.len() {
-        1 => solve_rows_dispatch::<1>(factors, rows, width),
-        2 => solve_rows_dispatch::<2>(factors, rows, width),
-        3 => solve_rows_dispatch::<3>(factors, rows, width),
+        1 => sweep_rows_dispatch::<1>(factors, rows, block, sweep, carry),
+        2 => sweep_rows_dispatch::<2>(factors, rows, block, sweep, carry),
+        3 => sweep_rows_dispatch::<3>(factors, rows, block, sweep, carry),
         _ => panic!("1 to 3 interleaved systems"),
     }
 }
 
-/// [`solve_rows`], compiled for AVX2 when the processor has it: the same multiplies and
+/// [`sweep_rows`], compiled for AVX2 when the processor has it: the same multiplies and
 /// subtractions in the same order (no fused multiply-add), so the same result bit for bit.
-fn solve_rows_dispatch<const D: usize>(
+fn sweep_rows_dispatch<const D: usize>(
     factors: &[TridiagonalLdlt],
     rows: &mut [f64],
-    width: usize,
+    block: &RowBlock,
+    sweep: Sweep,
+    carry: &[f64],
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: `solve_rows_avx2` only requires AVX2, which the processor has (checked just
+        // SAFETY: `sweep_rows_avx2` only requires AVX2, which the processor has (checked just
         // above).
-        return unsafe { solve_rows_avx2::<D>(factors, rows, width) };
+        return unsafe { sweep_rows_avx2::<D>(factors, rows, block, sweep, carry) };
     }
-    solve_rows::<D>(factors, rows, width);
+    sweep_rows::<D>(factors, rows, block, sweep, carry);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn solve_rows_avx2<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
-    solve_rows::<D>(factors, rows, width);
+fn sweep_rows_avx2<const D: usize>(
+    factors: &[TridiagonalLdlt],
+    rows: &mut [f64],
+    block: &RowBlock,
+    sweep: Sweep,
+    carry: &[f64],
+) {
+    sweep_rows::<D>(factors, rows, block, sweep, carry);
 }
 
 /// Entries per inner-loop chunk of a row: a multiple of every `D ≤ 3` and of the four lanes of
@@ -129,43 +192,68 @@ fn update_row(
     }
 }
 
-/// [`solve_interleaved_rows`] for `D` systems: `L y = b` row by row downwards, then
-/// `x_{n−1} = D⁻¹ y_{n−1}` and `x_i = D⁻¹ y_i − l_{i+1} x_{i+1}` upwards.
+/// [`sweep_interleaved_rows`] for `D` systems: `L y = b` row by row downwards, or
+/// `x_{n−1} = D⁻¹ y_{n−1}` and `x_i = D⁻¹ y_i − l_{i+1} x_{i+1}` upwards, on the block's columns.
 #[inline(always)]
-fn solve_rows<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
+fn sweep_rows<const D: usize>(
+    factors: &[TridiagonalLdlt],
+    rows: &mut [f64],
+    block: &RowBlock,
+    sweep: Sweep,
+    carry: &[f64],
+) {
+    let RowBlock {
+        first,
+        width,
+        ref columns,
+    } = *block;
     let n = factors[0].inv_diag.len();
-    if n == 0 || width == 0 {
+    let m = rows.len() / width.max(1);
+    if m == 0 || columns.is_empty() {
         return;
     }
-    debug_assert_eq!(rows.len(), n * width);
-    debug_assert_eq!(width % D, 0);
-    if width == D {
-        return solve_line::<D>(factors, rows);
-    }
-    for i in 1..n {
-        let (before, from) = rows.split_at_mut(i * width);
-        let l = chunk_coefficients::<D>(factors, |f| f.lower[i]);
-        let previous = &before[(i - 1) * width..];
-        update_row(&mut from[..width], [&l, &l], previous, |b, l, _, p| {
-            b - l * p
-        });
-    }
-    let last = chunk_coefficients::<D>(factors, |f| f.inv_diag[n - 1]);
-    for bs in rows[(n - 1) * width..].chunks_mut(CHUNK) {
-        bs.iter_mut().zip(&last).for_each(|(b, d)| *b *= d);
-    }
-    for i in (0..n - 1).rev() {
-        let (upto, after) = rows.split_at_mut((i + 1) * width);
-        let l = chunk_coefficients::<D>(factors, |f| f.lower[i + 1]);
-        let inv = chunk_coefficients::<D>(factors, |f| f.inv_diag[i]);
-        let next = &after[..width];
-        update_row(&mut upto[i * width..], [&inv, &l], next, |b, inv, l, x| {
-            b * inv - l * x
-        });
+    debug_assert_eq!(rows.len(), m * width);
+    debug_assert!(first + m <= n);
+    debug_assert_eq!(columns.start % D, 0);
+    let row = |i: usize| i * width + columns.start..i * width + columns.end;
+    match sweep {
+        Sweep::Down => {
+            for i in 0..m {
+                let g = first + i;
+                if g == 0 {
+                    continue;
+                }
+                let l = chunk_coefficients::<D>(factors, |f| f.lower[g]);
+                let (before, from) = rows.split_at_mut(i * width);
+                let previous = if i == 0 { carry } else { &before[row(i - 1)] };
+                update_row(&mut from[row(0)], [&l, &l], previous, |b, l, _, p| {
+                    b - l * p
+                });
+            }
+        }
+        Sweep::Up => {
+            for i in (0..m).rev() {
+                let g = first + i;
+                if g + 1 == n {
+                    let last = chunk_coefficients::<D>(factors, |f| f.inv_diag[g]);
+                    for bs in rows[row(i)].chunks_mut(CHUNK) {
+                        bs.iter_mut().zip(&last).for_each(|(b, d)| *b *= d);
+                    }
+                    continue;
+                }
+                let l = chunk_coefficients::<D>(factors, |f| f.lower[g + 1]);
+                let inv = chunk_coefficients::<D>(factors, |f| f.inv_diag[g]);
+                let (upto, after) = rows.split_at_mut((i + 1) * width);
+                let next = if i + 1 == m { carry } else { &after[row(0)] };
+                update_row(&mut upto[row(i)], [&inv, &l], next, |b, inv, l, x| {
+                    b * inv - l * x
+                });
+            }
+        }
     }
 }
 
-/// [`solve_rows`] for rows of exactly `D` entries (one node per row: the first axis of a grid),
+/// [`solve_interleaved_rows`] for rows of exactly `D` entries (one node per row: the first axis of a grid),
 /// where building a [`CHUNK`] of coefficients per row would cost more than the row: the same
 /// operations in the same order, entry by entry.
 #[inline(always)]
