@@ -153,3 +153,129 @@ fn a_decomposition_the_layers_cannot_give_is_refused() {
         "{refused:?}"
     );
 }
+
+/// Crank–Nicolson with `M^mod` on the note's 2D and 3D bars at level 40 (the reference's
+/// scheme, solved with `cg`), over `T = 1` (the impact at `t = 0.4` included): `N` ranks
+/// against [`OneStepScheme`] on the whole box. Energies, contact multipliers and the final
+/// displacement are the one-process ones bit for bit on one rank, and to 1e-10 of their scale
+/// on 2 and 3 ranks, in as many CG iterations.
+#[test]
+fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
+    use signorini::engine::distributed::SlabOneStep;
+    use signorini::engine::linalg::LinearSolver;
+    use signorini::engine::problem::Settings;
+    use signorini::engine::schemes::conventions::{NitscheAcceleration, PredictorForm};
+    use signorini::engine::schemes::{
+        initial_state, OneStepScheme, StepCoefficients, TimeIntegrator,
+    };
+    use signorini::harness::study::scene::Scene;
+
+    for scene in ["scenes/bar2d.json", "scenes/bar3d.json"] {
+        let mut problem = Scene::load(std::path::Path::new(scene))
+            .unwrap()
+            .box_problem("a box")
+            .unwrap();
+        problem.horizon = 1.0;
+        let settings = Settings {
+            linear_solver: LinearSolver::Cg,
+            ..Settings::default()
+        };
+        let discretisation = problem
+            .discretise(40, MassVariant::Redistributed, &settings)
+            .unwrap();
+        let model = &discretisation.model;
+        let coef = StepCoefficients::newmark(0.25, 0.5);
+        let dt = 1.0 / 40.0 / 2.0;
+        let steps = 80;
+        let start = initial_state(
+            model,
+            &discretisation.displacement,
+            &discretisation.velocity,
+            &settings.conventions,
+        )
+        .unwrap();
+        let mut whole = OneStepScheme::new(
+            model,
+            coef,
+            dt,
+            start.clone(),
+            NitscheAcceleration::Consistent,
+        )
+        .unwrap();
+        let mut energy = vec![whole.energy().value];
+        let mut lambda = vec![whole.state().lambda.clone()];
+        for _ in 0..steps {
+            whole.advance().unwrap();
+            energy.push(whole.energy().value);
+            lambda.push(whole.state().lambda.clone());
+        }
+        let u = whole.state().u.clone();
+        let iterations = whole.step_solves().iterations;
+        let force_scale = lambda.iter().flatten().fold(0.0_f64, |m, l| m.max(l.abs()));
+        assert!(force_scale > 0.0, "{scene}: the bar hits the obstacle");
+        let u_scale = u.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for ranks in 1..=3 {
+            let parts = ThreadRanks::run(ranks, |r| {
+                let mut run =
+                    SlabOneStep::new(r, model, coef, dt, &start, PredictorForm::Expanded).unwrap();
+                let mut energy = vec![run.energy()];
+                let mut lambda = vec![run.multipliers().to_vec()];
+                for _ in 0..steps {
+                    run.advance().unwrap();
+                    energy.push(run.energy());
+                    lambda.push(run.multipliers().to_vec());
+                }
+                let spent = run.step_solves().iterations;
+                (
+                    run.own_dofs(),
+                    run.displacement().to_vec(),
+                    energy,
+                    lambda,
+                    spent,
+                )
+            });
+            let what = format!("{scene} on {ranks} ranks");
+            let (_, _, slab_energy, slab_lambda, _) = &parts[0];
+            assert!(
+                parts.iter().all(|p| p.4 == iterations),
+                "{what}: iterations"
+            );
+            assert!(
+                parts.iter().all(|p| p.2 == *slab_energy),
+                "{what}: ranks' energies"
+            );
+            let slab_u = assemble(
+                u.len(),
+                parts.iter().map(|p| (p.0.clone(), p.1.clone())).collect(),
+            );
+            if ranks == 1 {
+                assert!(*slab_energy == energy, "{what}: energy not bit for bit");
+                assert!(*slab_lambda == lambda, "{what}: λ not bit for bit");
+                assert!(slab_u == u, "{what}: U not bit for bit");
+            }
+            let worst = |a: &[f64], b: &[f64]| {
+                a.iter()
+                    .zip(b)
+                    .map(|(p, q)| (p - q).abs())
+                    .fold(0.0, f64::max)
+            };
+            let e_scale = energy.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+            let e_worst = worst(slab_energy, &energy);
+            let l_worst = slab_lambda
+                .iter()
+                .zip(&lambda)
+                .map(|(p, q)| worst(p, q))
+                .fold(0.0, f64::max);
+            let u_worst = worst(&slab_u, &u);
+            assert!(e_worst <= 1e-10 * e_scale, "{what}: energy {e_worst:e}");
+            assert!(l_worst <= 1e-10 * force_scale, "{what}: λ {l_worst:e}");
+            assert!(u_worst <= 1e-10 * u_scale, "{what}: U {u_worst:e}");
+            println!(
+                "{what}: energy {:.1e}, λ {:.1e}, U {:.1e} (relative)",
+                e_worst / e_scale,
+                l_worst / force_scale,
+                u_worst / u_scale
+            );
+        }
+    }
+}

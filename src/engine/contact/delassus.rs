@@ -8,6 +8,7 @@ use super::local::{ContactOperator, LocalDelassus, Truncation};
 use super::{default_solver, ContactSolver, ContactStatus};
 use crate::engine::contact::ContactSet;
 use crate::engine::error::SolveError;
+use crate::engine::fem::SymmetricMatrix;
 use crate::engine::linalg::StepSolver;
 
 /// `K⁻¹f_j` (one column per constraint) and `W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij` (row-major); for the
@@ -118,13 +119,37 @@ impl ContactStep {
         n_dofs: usize,
         choice: ContactOperator,
     ) -> Result<Self, SolveError> {
-        let n = set.len();
         let delassus = if choice.is_local_for(system) {
             let k = system.matrix().ok_or(SolveError::LocalContactNeedsMatrix)?;
             Operator::Local(LocalDelassus::new(k, rows, choice.layers())?)
         } else {
             Operator::Full(Delassus::new(system, n_dofs, rows)?)
         };
+        Self::with_operator(set, rows, delassus)
+    }
+
+    /// [`ContactStep::new`] with the local operator of the step matrix `k`
+    /// ([`LocalDelassus`]; `layers` fixed, or chosen by its truncation when `None`), without a
+    /// step solver: what the rank holding `Γ_Sig` builds in a distributed run, whose step
+    /// solve is shared by every rank.
+    pub fn local(
+        set: &ContactSet,
+        rows: &[ConstraintRow],
+        k: &SymmetricMatrix,
+        layers: Option<usize>,
+    ) -> Result<Self, SolveError> {
+        let delassus = Operator::Local(LocalDelassus::new(k, rows, layers)?);
+        Self::with_operator(set, rows, delassus)
+    }
+
+    /// The contact step of `rows` of `set` with the Delassus operator `delassus`, refused when
+    /// one of its diagonal entries is not positive.
+    fn with_operator(
+        set: &ContactSet,
+        rows: &[ConstraintRow],
+        delassus: Operator,
+    ) -> Result<Self, SolveError> {
+        let n = set.len();
         let not_positive = |w: f64| w.is_nan() || w <= 0.0;
         if let Some(i) = (0..n).find(|&i| not_positive(delassus.matrix()[i * n + i])) {
             return Err(SolveError::Factorization {

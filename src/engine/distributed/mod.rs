@@ -28,6 +28,8 @@
 mod mpi_ranks;
 mod ranks;
 mod slab_cg;
+mod slab_one_step;
+mod slab_operator;
 mod slabs;
 mod threads;
 
@@ -35,6 +37,8 @@ mod threads;
 pub use mpi_ranks::MpiRanks;
 pub use ranks::Ranks;
 pub use slab_cg::SlabCg;
+pub use slab_one_step::{SlabOneStep, SlabRunError};
+pub use slab_operator::SlabOperator;
 pub use slabs::Slabs;
 pub use threads::ThreadRanks;
 

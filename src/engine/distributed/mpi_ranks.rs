@@ -45,7 +45,9 @@ impl Ranks for MpiRanks {
     }
 
     fn receive(&self, from: usize, into: &mut [f64]) {
-        self.world.process_at_rank(mpi_rank(from)).receive_into(into);
+        self.world
+            .process_at_rank(mpi_rank(from))
+            .receive_into(into);
     }
 
     fn exchange(&self, with: usize, values: &[f64], into: &mut [f64]) {

@@ -4,12 +4,11 @@
 use std::cell::RefCell;
 use std::ops::Range;
 
-use super::{DecompositionError, Ranks, Slabs};
+use super::{DecompositionError, Ranks, SlabOperator, Slabs};
 use crate::engine::error::SolveError;
-use crate::engine::fem::stencil::Stencil;
 use crate::engine::fem::SymmetricMatrix;
 use crate::engine::linalg::{
-    conjugate_gradient, sweep_interleaved_rows, CgSpace, CondensedPlane, PcgWork,
+    conjugate_gradient, jacobi, sweep_interleaved_rows, CgSpace, CondensedPlane, PcgWork,
     ProductPreconditioner, RowBlock, Sweep,
 };
 
@@ -25,33 +24,43 @@ pub struct SlabCg<'r, R: Ranks> {
     ranks: &'r R,
     slabs: Slabs,
     /// This rank's rows of `K`.
-    rows: Stencil,
-    /// Unknowns per node layer.
-    layer_dofs: usize,
-    /// `x` with the neighbours' layers around this rank's: `[below | own | above]`.
-    with_halo: RefCell<Vec<f64>>,
-    /// The product preconditioner (of the interior when the plane is condensed).
-    product: ProductPreconditioner,
-    /// The condensed `Γ_Sig` plane, on rank 0 when `K`'s plane is massless.
-    plane: Option<CondensedPlane>,
-    /// Where this rank's part of the product preconditioner begins in its vectors (after the
-    /// plane on rank 0 when it is condensed).
-    product_start: usize,
-    /// The index of this rank's first layer among the product preconditioner's layers.
-    product_first_layer: usize,
-    /// The column chunks of the sweeps along the axis.
-    chunks: Vec<Range<usize>>,
+    rows: SlabOperator<'r, R>,
+    /// `P⁻¹` on this rank's part.
+    preconditioner: SlabPreconditioner,
     /// A chunk of a neighbour's row, received.
     carry: RefCell<Vec<f64>>,
     tolerance: f64,
+}
+
+/// A rank's part of the preconditioner `P⁻¹` of [`SlabCg`]: the one-process one
+/// ([`crate::engine::linalg::Pcg`]) cut along the slabs.
+enum SlabPreconditioner {
+    /// The product preconditioner, with the condensed `Γ_Sig` plane on rank 0 when `K`'s plane
+    /// is massless.
+    Product {
+        /// The product preconditioner (of the interior when the plane is condensed).
+        product: ProductPreconditioner,
+        /// The condensed plane, on rank 0.
+        plane: Option<Box<CondensedPlane>>,
+        /// Where this rank's part of the product preconditioner begins in its vectors (after
+        /// the plane on rank 0 when it is condensed).
+        start: usize,
+        /// The index of this rank's first layer among the product preconditioner's layers.
+        first_layer: usize,
+        /// The column chunks of the sweeps along the axis.
+        chunks: Vec<Range<usize>>,
+    },
+    /// `D⁻¹` on this rank's rows, `D = diag K`, for a matrix without a product
+    /// preconditioner (the mass alone).
+    Jacobi(Vec<f64>),
 }
 
 impl<'r, R: Ranks> SlabCg<'r, R> {
     /// This rank's share of the solve of `k` (the whole box's step matrix, matrix-free, with
     /// its separable part), to the relative residual `tolerance`, the box cut evenly
     /// ([`Slabs::even`]) with at least `first_layers` layers on rank 0 (and the two its
-    /// condensed plane needs when `k`'s plane is massless). Refused for an assembled matrix, one
-    /// without a product preconditioner, or more ranks than the layers allow.
+    /// condensed plane needs when `k`'s plane is massless). Refused for an assembled matrix or
+    /// more ranks than the layers allow.
     pub fn new(
         ranks: &'r R,
         k: &SymmetricMatrix,
@@ -61,52 +70,86 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
         let stencil = k
             .stencil()
             .ok_or(DecompositionError::NotABoxMatrix("this one is assembled"))?;
-        let part = stencil
+        let condensed = stencil
             .separable_part()
-            .ok_or(DecompositionError::NotABoxMatrix(
-                "this one has no separable part",
-            ))?;
-        let condensed = CondensedPlane::applies_to(part);
+            .is_some_and(CondensedPlane::applies_to);
         let first_layers = if condensed {
             first_layers.max(Slabs::FIRST_LAYERS_CONDENSED)
         } else {
             first_layers
         };
         let slabs = Slabs::even(stencil.node_layers(), ranks.size(), first_layers)?;
+        Self::on_slabs(ranks, k, slabs, tolerance)
+    }
+
+    /// [`SlabCg::new`] on the given decomposition `slabs` (rank 0 holding at least two layers
+    /// when `k`'s plane is massless). The preconditioner is the one-process one: the product
+    /// preconditioner of `k`'s separable part, with its massless plane condensed, or Jacobi's
+    /// when `k` has none (the mass alone).
+    pub fn on_slabs(
+        ranks: &'r R,
+        k: &SymmetricMatrix,
+        slabs: Slabs,
+        tolerance: f64,
+    ) -> Result<Self, DecompositionError> {
+        let stencil = k
+            .stencil()
+            .ok_or(DecompositionError::NotABoxMatrix("this one is assembled"))?;
+        let rows = SlabOperator::new(ranks, stencil, &slabs)?;
         let own = slabs.of(ranks.rank());
-        let rows = stencil
-            .layers(own.clone())
-            .ok_or(DecompositionError::NotABoxMatrix("its layers do not match"))?;
-        let layer_dofs = stencil.nodes_per_layer() * stencil.components();
-        let no_product =
-            DecompositionError::NotABoxMatrix("its product preconditioner does not exist");
-        let (product, plane) = match (condensed, ranks.rank()) {
-            (true, 0) => {
-                let plane = CondensedPlane::of(k, part).ok_or(no_product)?;
-                (plane.interior().clone(), Some(plane))
+        let product = |part| ProductPreconditioner::of(part).filter(|p| p.dim() == k.dim());
+        let preconditioner = match stencil.separable_part() {
+            Some(part) if CondensedPlane::applies_to(part) => {
+                if own.start == 0 && own.len() < Slabs::FIRST_LAYERS_CONDENSED {
+                    return Err(DecompositionError::NotABoxMatrix(
+                        "its condensed plane needs two layers on rank 0",
+                    ));
+                }
+                let plane = (own.start == 0)
+                    .then(|| CondensedPlane::of(k, part).map(Box::new))
+                    .flatten();
+                let interior = match &plane {
+                    Some(plane) => Some(plane.interior().clone()),
+                    None => ProductPreconditioner::of(&part.without_first_layer()),
+                };
+                let interior = interior.ok_or(DecompositionError::NotABoxMatrix(
+                    "its product preconditioner does not exist",
+                ))?;
+                let start = plane.as_ref().map_or(0, |p| p.plane_dofs());
+                SlabPreconditioner::Product {
+                    chunks: column_chunks(&interior, ranks.size()),
+                    product: interior,
+                    first_layer: (own.start + usize::from(plane.is_some())) - 1,
+                    plane,
+                    start,
+                }
             }
-            (true, _) => (
-                ProductPreconditioner::of(&part.without_first_layer()).ok_or(no_product)?,
-                None,
-            ),
-            (false, _) => (ProductPreconditioner::of(part).ok_or(no_product)?, None),
+            Some(part) if product(part).is_some() => {
+                let product = product(part).expect("just checked");
+                SlabPreconditioner::Product {
+                    chunks: column_chunks(&product, ranks.size()),
+                    product,
+                    plane: None,
+                    start: 0,
+                    first_layer: own.start,
+                }
+            }
+            _ => {
+                let rows = rows.rows();
+                SlabPreconditioner::Jacobi((0..rows.dim()).map(|i| 1.0 / rows.get(i, i)).collect())
+            }
         };
-        let product_start = plane.as_ref().map_or(0, CondensedPlane::plane_dofs);
-        let product_first_layer = own.start + usize::from(plane.is_some()) - usize::from(condensed);
-        let halo_layers = usize::from(own.start > 0) + usize::from(own.end < slabs.layers());
-        let chunks = column_chunks(layer_dofs, stencil.components(), ranks.size());
-        let widest = chunks.iter().map(ExactSizeIterator::len).max().unwrap_or(0);
+        let widest = match &preconditioner {
+            SlabPreconditioner::Product { chunks, .. } => {
+                chunks.iter().map(ExactSizeIterator::len).max().unwrap_or(0)
+            }
+            SlabPreconditioner::Jacobi(_) => 0,
+        };
         Ok(Self {
             ranks,
-            with_halo: RefCell::new(vec![0.0; (own.len() + halo_layers) * layer_dofs]),
             slabs,
             rows,
-            layer_dofs,
-            product,
-            plane,
-            product_start,
-            product_first_layer,
-            chunks,
+            preconditioner,
             carry: RefCell::new(vec![0.0; widest]),
             tolerance,
         })
@@ -119,8 +162,7 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
 
     /// The range of the whole box's unknowns this rank holds.
     pub fn own_dofs(&self) -> Range<usize> {
-        let own = self.slabs.of(self.ranks.rank());
-        own.start * self.layer_dofs..own.end * self.layer_dofs
+        self.rows.own_dofs()
     }
 
     /// Solves `K x = b` from the initial guess in `x` (this rank's parts of both), overwriting
@@ -129,39 +171,17 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
         conjugate_gradient(self, self.tolerance, b, x, work)
     }
 
-    /// The neighbours' layers next to this rank's, into `with_halo` around its own part
-    /// (`below` entries before it, `own` entries long): even ranks exchange with the rank
-    /// above first, odd ranks with the rank below, so that every pair meets.
-    fn exchange_halos(&self, with_halo: &mut [f64], below: usize, own: usize) {
-        let (rank, size) = (self.ranks.rank(), self.ranks.size());
-        let up = (rank + 1 < size).then_some(rank + 1);
-        let down = rank.checked_sub(1);
-        let order = if rank % 2 == 0 {
-            [up, down]
-        } else {
-            [down, up]
-        };
-        let layer = self.layer_dofs;
-        for neighbour in order.into_iter().flatten() {
-            if neighbour > rank {
-                let (mine, theirs) = with_halo.split_at_mut(below + own);
-                self.ranks.exchange(
-                    neighbour,
-                    &mine[below + own - layer..],
-                    &mut theirs[..layer],
-                );
-            } else {
-                let (theirs, mine) = with_halo.split_at_mut(below);
-                self.ranks.exchange(neighbour, &mine[..layer], theirs);
-            }
-        }
-    }
-
     /// The LDLᵀ sweeps of the product preconditioner along the axis on this rank's layers
     /// `z` (module documentation of [`crate::engine::distributed`]): down, each chunk of
     /// columns started from the rank below's last row, then up, from the rank above's first.
-    fn sweep_along_axis(&self, z: &mut [f64]) {
-        let (factors, width) = self.product.last_axis();
+    fn sweep_along_axis(
+        &self,
+        product: &ProductPreconditioner,
+        first_layer: usize,
+        chunks: &[Range<usize>],
+        z: &mut [f64],
+    ) {
+        let (factors, width) = product.last_axis();
         let (rank, size) = (self.ranks.rank(), self.ranks.size());
         let rows = z.len() / width.max(1);
         let mut carry = self.carry.borrow_mut();
@@ -178,13 +198,13 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
                     0,
                 ),
             };
-            for columns in &self.chunks {
+            for columns in chunks {
                 let carry = &mut carry[..columns.len()];
                 if let Some(from) = from {
                     self.ranks.receive(from, carry);
                 }
                 let block = RowBlock {
-                    first: self.product_first_layer,
+                    first: first_layer,
                     width,
                     columns: columns.clone(),
                 };
@@ -201,28 +221,29 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
 
 impl<R: Ranks> CgSpace for SlabCg<'_, R> {
     fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
-        let mut with_halo = self.with_halo.borrow_mut();
-        let below = if self.ranks.rank() > 0 {
-            self.layer_dofs
-        } else {
-            0
-        };
-        with_halo[below..below + x.len()].copy_from_slice(x);
-        self.exchange_halos(&mut with_halo, below, x.len());
-        self.rows
-            .mul_dot_with_halo(&with_halo, below / self.rows.components(), y)
+        self.rows.mul_dot(x, y)
     }
 
     fn precondition(&self, r: &[f64], z: &mut [f64]) -> f64 {
-        let (r_p, r_i) = r.split_at(self.product_start);
-        let (z_p, z_i) = z.split_at_mut(self.product_start);
+        let (product, plane, start, first_layer, chunks) = match &self.preconditioner {
+            SlabPreconditioner::Jacobi(inverse_diagonal) => return jacobi(inverse_diagonal, r, z),
+            SlabPreconditioner::Product {
+                product,
+                plane,
+                start,
+                first_layer,
+                chunks,
+            } => (product, plane, *start, *first_layer, chunks),
+        };
+        let (r_p, r_i) = r.split_at(start);
+        let (z_p, z_i) = z.split_at_mut(start);
         z_i.copy_from_slice(r_i);
-        if let Some(plane) = &self.plane {
+        if let Some(plane) = plane {
             plane.eliminate_plane(r_p, z_p, z_i);
         }
-        self.product.solve_within_layers(z_i);
-        self.sweep_along_axis(z_i);
-        if let Some(plane) = &self.plane {
+        product.solve_within_layers(z_i);
+        self.sweep_along_axis(product, first_layer, chunks, z_i);
+        if let Some(plane) = plane {
             plane.back_substitute_plane(r_p, z_p, z_i);
         }
         r.iter().zip(z.iter()).map(|(a, b)| a * b).sum()
@@ -233,11 +254,13 @@ impl<R: Ranks> CgSpace for SlabCg<'_, R> {
     }
 }
 
-/// The column chunks of a layer of `width` entries for `ranks` ranks: one chunk for one rank
-/// (nothing to pipeline), otherwise [`SWEEP_CHUNKS`] of whole nodes (`components` entries, so
-/// that a chunk starts on a node's first component).
-fn column_chunks(width: usize, components: usize, ranks: usize) -> Vec<Range<usize>> {
-    let nodes = width / components.max(1);
+/// The column chunks of a layer of `product`'s last axis for `ranks` ranks: one chunk for one
+/// rank (nothing to pipeline), otherwise [`SWEEP_CHUNKS`] of whole nodes (so that a chunk
+/// starts on a node's first component).
+fn column_chunks(product: &ProductPreconditioner, ranks: usize) -> Vec<Range<usize>> {
+    let (factors, width) = product.last_axis();
+    let components = factors.len().max(1);
+    let nodes = width / components;
     let chunks = if ranks > 1 {
         SWEEP_CHUNKS.min(nodes)
     } else {

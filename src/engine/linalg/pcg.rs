@@ -95,8 +95,8 @@ impl PcgWork {
     }
 }
 
-/// `z = D⁻¹ r`, returning `rᵀz`.
-fn jacobi(inverse_diagonal: &[f64], r: &[f64], z: &mut [f64]) -> f64 {
+/// `z = D⁻¹ r` (Jacobi's preconditioner, `D = diag K`, given as `D⁻¹`), returning `rᵀz`.
+pub fn jacobi(inverse_diagonal: &[f64], r: &[f64], z: &mut [f64]) -> f64 {
     let mut rz = 0.0;
     for ((zi, ri), di) in z.iter_mut().zip(r).zip(inverse_diagonal) {
         *zi = ri * di;

@@ -1,0 +1,259 @@
+//! A rank's share of a one-step implicit run (Newmark β > 0 and the θ-method, 1D paper eq. 32
+//! and 34; Crank–Nicolson is the reference's) of a box with the multiplier contact
+//! ([`SlabOneStep`]): the steps of [`crate::engine::schemes::OneStepScheme`] with every vector
+//! cut into the ranks' slabs.
+
+use std::ops::Range;
+
+use super::{DecompositionError, Ranks, SlabCg, SlabOperator, Slabs};
+use crate::engine::contact::{ContactStep, ContactTreatment, Truncation};
+use crate::engine::error::SolveError;
+use crate::engine::linalg::{PcgWork, SolveCounts, DEFAULT_TOLERANCE};
+use crate::engine::model::Model;
+use crate::engine::schemes::conventions::PredictorForm;
+use crate::engine::schemes::{InitialState, StepCoefficients};
+
+/// A rank's share of the run: its parts of `U^n`, `V^n`, `A^n`; the slabs of `M`, `S` and the
+/// step matrix `K = M/(bΔt²) + S`; and, on rank 0, which holds `Γ_Sig` and the slab of the
+/// local contact operator, the contact step and the multipliers `λ^n`.
+///
+/// A step is [`crate::engine::schemes::OneStepScheme`]'s, `P = U^n + ΔtV^n + aΔt²A^n`,
+/// `K U^{n+1} = M P/(bΔt²)` (from `P + bΔt²A^n`), the contact correction on rank 0, then
+/// `A^{n+1} = (U^{n+1} − P)/(bΔt²)` and `V^{n+1} = V^n + Δt(cA^n + dA^{n+1})`: every entry
+/// of a rank's part is computed as in one process, and only the inner products of the solve
+/// and of the energy are summed across ranks (in rank order).
+pub struct SlabOneStep<'r, R: Ranks> {
+    ranks: &'r R,
+    mass: SlabOperator<'r, R>,
+    stiffness: SlabOperator<'r, R>,
+    system: SlabCg<'r, R>,
+    work: PcgWork,
+    counts: SolveCounts,
+    /// The contact step, on rank 0.
+    contact: Option<ContactStep>,
+    coef: StepCoefficients,
+    predictor_form: PredictorForm,
+    dt: f64,
+    step: usize,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    /// `λ^n`, on rank 0 (empty elsewhere).
+    lambda: Vec<f64>,
+    predictor: Vec<f64>,
+    scratch: Vec<f64>,
+    guess: Vec<f64>,
+}
+
+impl<'r, R: Ranks> SlabOneStep<'r, R> {
+    /// This rank's share of the run of `model` (the whole box, matrix-free) with the
+    /// coefficients `coef`, the step `dt` and the predictor summed in `predictor_form`, from
+    /// `start` (the whole initial state, [`crate::engine::schemes::initial_state`]). The box
+    /// is cut evenly, rank 0 holding the layers of the local contact operator's slab (its
+    /// truncation is chosen on the whole step matrix, as in one process, and told to every
+    /// rank). Refused for a penalty or Nitsche contact, a load, or more ranks than the
+    /// layers allow.
+    pub fn new(
+        ranks: &'r R,
+        model: &Model,
+        coef: StepCoefficients,
+        dt: f64,
+        start: &InitialState,
+        predictor_form: PredictorForm,
+    ) -> Result<Self, SlabRunError> {
+        if model.contact_law().treatment() != ContactTreatment::Multiplier {
+            return Err(DecompositionError::NotABoxMatrix(
+                "a distributed run treats the contact by its multiplier",
+            )
+            .into());
+        }
+        if model.load().is_some() {
+            return Err(DecompositionError::NotABoxMatrix("a distributed run has no load").into());
+        }
+        let k = model
+            .mass()
+            .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
+        let contact = match (ranks.rank(), model.contact()) {
+            (0, Some(c)) => {
+                let rows = model.contact_law().rows(c);
+                Some(ContactStep::local(
+                    c,
+                    &rows,
+                    &k,
+                    model.contact_operator().layers(),
+                )?)
+            }
+            _ => None,
+        };
+        // Rank 0 tells every rank the layers its contact slab takes.
+        let mut slab_layers = vec![0.0; ranks.size()];
+        let layers = contact
+            .as_ref()
+            .and_then(ContactStep::truncation)
+            .map_or(0, |t| t.layers + 1);
+        ranks.gather_all(layers as f64, &mut slab_layers);
+        let (Some(k_stencil), Some(m), Some(s)) = (
+            k.stencil(),
+            model.mass().stencil(),
+            model.stiffness().stencil(),
+        ) else {
+            return Err(DecompositionError::NotABoxMatrix("this model is assembled").into());
+        };
+        let first_layers = (slab_layers[0] as usize).max(Slabs::FIRST_LAYERS_CONDENSED);
+        let slabs = Slabs::even(k_stencil.node_layers(), ranks.size(), first_layers)?;
+        let mass = SlabOperator::new(ranks, m, &slabs)?;
+        let stiffness = SlabOperator::new(ranks, s, &slabs)?;
+        let system = SlabCg::on_slabs(ranks, &k, slabs, DEFAULT_TOLERANCE)?;
+        let own = system.own_dofs();
+        let part = |v: &[f64]| v[own.clone()].to_vec();
+        let lambda = if ranks.rank() == 0 {
+            start.multiplier.clone()
+        } else {
+            Vec::new()
+        };
+        Ok(Self {
+            ranks,
+            mass,
+            stiffness,
+            work: PcgWork::new(own.len()),
+            counts: SolveCounts::default(),
+            system,
+            contact,
+            coef,
+            predictor_form,
+            dt,
+            step: 0,
+            u: part(&start.displacement),
+            v: part(&start.velocity),
+            a: part(&start.acceleration),
+            lambda,
+            predictor: vec![0.0; own.len()],
+            scratch: vec![0.0; own.len()],
+            guess: vec![0.0; own.len()],
+        })
+    }
+
+    /// One step (every rank together): see [`SlabOneStep`]. A failure of rank 0's contact
+    /// solve is told to every rank, which all return an error.
+    pub fn advance(&mut self) -> Result<(), SolveError> {
+        let dt = self.dt;
+        let StepCoefficients { a, b, c, d } = self.coef;
+        let inv_bdt2 = 1.0 / (b * dt * dt);
+        let factored = self.predictor_form == PredictorForm::Factored;
+        for (((p, u), v), acc) in self
+            .predictor
+            .iter_mut()
+            .zip(&self.u)
+            .zip(&self.v)
+            .zip(&self.a)
+        {
+            *p = if factored {
+                u + dt * (v + a * dt * acc)
+            } else {
+                u + dt * v + a * dt * dt * acc
+            };
+        }
+        self.mass.mul_dot(&self.predictor, &mut self.scratch);
+        self.scratch.iter_mut().for_each(|r| *r *= inv_bdt2);
+        let b_dt2 = b * dt * dt;
+        for ((g, p), acc) in self.guess.iter_mut().zip(&self.predictor).zip(&self.a) {
+            *g = p + b_dt2 * acc;
+        }
+        let mut x = std::mem::take(&mut self.guess);
+        self.counts.iterations += self.system.solve(&self.scratch, &mut x, &mut self.work)?;
+        self.counts.solves += 1;
+        self.scratch.copy_from_slice(&x);
+        self.guess = x;
+        let contact = match self.contact.as_mut() {
+            Some(contact) => {
+                contact.enforce(self.step + 1, &mut self.scratch, |_, g| g, &mut self.lambda)
+            }
+            None => Ok(()),
+        };
+        let failed = self.ranks.sum(f64::from(u8::from(contact.is_err())));
+        contact?;
+        if failed > 0.0 {
+            return Err(SolveError::ContactNotConverged {
+                step: self.step + 1,
+                iterations: 0,
+            });
+        }
+        let updates = self.scratch.iter().zip(&self.predictor);
+        for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates) {
+            let a_new = (u_new - p) * inv_bdt2;
+            *v += dt * (c * *acc + d * a_new);
+            *acc = a_new;
+        }
+        std::mem::swap(&mut self.u, &mut self.scratch);
+        self.step += 1;
+        Ok(())
+    }
+
+    /// `E_h = ½ VᵀMV + ½ UᵀSU` (note eq. 6, the multiplier's: no contact energy), summed
+    /// over the ranks (every rank together).
+    pub fn energy(&mut self) -> f64 {
+        let kinetic = self
+            .ranks
+            .sum(self.mass.mul_dot(&self.v, &mut self.scratch));
+        let strain = self
+            .ranks
+            .sum(self.stiffness.mul_dot(&self.u, &mut self.scratch));
+        0.5 * kinetic + 0.5 * strain
+    }
+
+    /// The steps taken.
+    pub fn step(&self) -> usize {
+        self.step
+    }
+
+    /// `t_n = nΔt`.
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    /// The range of the whole box's unknowns this rank holds.
+    pub fn own_dofs(&self) -> Range<usize> {
+        self.system.own_dofs()
+    }
+
+    /// The decomposition.
+    pub fn slabs(&self) -> &Slabs {
+        self.system.slabs()
+    }
+
+    /// This rank's part of `U^n`.
+    pub fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    /// This rank's part of `V^n`.
+    pub fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    /// `λ^n` of every contact constraint on rank 0; empty on the others.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.lambda
+    }
+
+    /// The step solves so far and their CG iterations (the same on every rank).
+    pub fn step_solves(&self) -> SolveCounts {
+        self.counts
+    }
+
+    /// The slab of the local contact operator, on rank 0.
+    pub fn contact_truncation(&self) -> Option<Truncation> {
+        self.contact.as_ref().and_then(ContactStep::truncation)
+    }
+}
+
+/// Why a distributed run could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SlabRunError {
+    /// The decomposition or the model.
+    #[error(transparent)]
+    Decomposition(#[from] DecompositionError),
+    /// The contact operator.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
