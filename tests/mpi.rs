@@ -188,3 +188,225 @@ fn crank_nicolson_run_agrees(ranks: &MpiRanks) {
     );
     assert_eq!(run.step_solves().iterations, whole.step_solves().iterations);
 }
+
+/// Runs `signorini` with `args` (under `mpirun -n N` when `ranks` is given), expecting success.
+fn signorini(ranks: Option<&str>, args: &[&str]) -> String {
+    let binary = env!("CARGO_BIN_EXE_signorini");
+    let mut command = match ranks {
+        Some(n) => {
+            let mut c = Command::new("mpirun");
+            c.args(["--oversubscribe", "-n", n, binary]);
+            c
+        }
+        None => Command::new(binary),
+    };
+    let out = command
+        .args(args)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("signorini runs");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{ranks:?} {args:?}: {}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+/// The one file of `dir` ending in `suffix`.
+fn cached(dir: &Path, suffix: &str) -> std::path::PathBuf {
+    let found: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with(suffix))
+        .collect();
+    assert_eq!(found.len(), 1, "{dir:?}: {found:?}");
+    found[0].clone()
+}
+
+/// The largest `|a_i − b_i|` over the largest `|b_i|`.
+fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max);
+    worst / scale.max(f64::MIN_POSITIVE)
+}
+
+/// The numbers of a JSON value, depth first, with their paths.
+fn numbers(value: &serde_json::Value, path: String, into: &mut Vec<(String, f64)>) {
+    match value {
+        serde_json::Value::Number(n) => into.push((path, n.as_f64().unwrap())),
+        serde_json::Value::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                numbers(v, format!("{path}[{i}]"), into);
+            }
+        }
+        serde_json::Value::Object(fields) => {
+            for (k, v) in fields {
+                numbers(v, format!("{path}.{k}"), into);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// `mpirun -n 2 signorini reference` of small 2D and 3D bars (levels 10, 20; reference 40)
+/// against the one-process command: the cached histories, check distances and projections
+/// equal to 1e-10 of each one's scale; `mpirun -n 1` (one rank: the one-process code) bit for
+/// bit; and the study on top of each cache (its errors and rates, `--json`) equal to 1e-9.
+#[test]
+fn a_reference_across_two_mpi_ranks_is_the_one_process_reference() {
+    let root = std::env::temp_dir().join(format!("signorini-mpi-{}", std::process::id()));
+    for dim in ["2d", "3d"] {
+        let scene_text = std::fs::read_to_string(format!("scenes/bar{dim}.json")).unwrap();
+        let mut scene: serde_json::Value = serde_json::from_str(&scene_text).unwrap();
+        scene["discretisation"]["levels"] = serde_json::json!([10, 20]);
+        scene["discretisation"]["reference_level"] = serde_json::json!(40);
+        scene["discretisation"]["schemes"] = serde_json::json!(["crank-nicolson"]);
+        let dir = root.join(dim);
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene_path = dir.join("scene.json");
+        std::fs::write(&scene_path, scene.to_string()).unwrap();
+        let scene_arg = scene_path.to_str().unwrap();
+        let caches: Vec<std::path::PathBuf> = ["one-process", "two-ranks", "one-rank"]
+            .map(|c| dir.join(c))
+            .into();
+        let cache = |k: usize| caches[k].to_str().unwrap().to_string();
+        let cg = ["--linear-solver", "cg"];
+        signorini(
+            None,
+            &[&["reference", scene_arg, "--cache", &cache(0)][..], &cg].concat(),
+        );
+        let said = signorini(Some("2"), &["reference", scene_arg, "--cache", &cache(1)]);
+        assert!(said.contains("computed across 2 ranks"), "{said}");
+        signorini(
+            Some("1"),
+            &[&["reference", scene_arg, "--cache", &cache(2)][..], &cg].concat(),
+        );
+        let read = |k: usize| {
+            let json: serde_json::Value = serde_json::from_str(
+                &std::fs::read_to_string(cached(&caches[k], ".json")).unwrap(),
+            )
+            .unwrap();
+            let bin = std::fs::read(cached(&caches[k], ".bin")).unwrap();
+            let values: Vec<f64> = bin
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+                .collect();
+            (json, values)
+        };
+        let (whole, whole_bin) = read(0);
+        let (two, two_bin) = read(1);
+        let (one, one_bin) = read(2);
+        assert!(
+            one_bin == whole_bin,
+            "{dim}: one rank's projections not bit for bit"
+        );
+        for series in [
+            "energy",
+            "total_force",
+            "centre_displacement",
+            "centre_multiplier",
+        ] {
+            let values = |j: &serde_json::Value| -> Vec<f64> {
+                j[series]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_f64().unwrap())
+                    .collect()
+            };
+            assert!(
+                values(&one) == values(&whole),
+                "{dim}: {series} on one rank"
+            );
+            let d = relative_difference(&values(&two), &values(&whole));
+            assert!(d <= 1e-10, "{dim}: {series} on two ranks: {d:e}");
+        }
+        assert_eq!(one["check"], whole["check"], "{dim}: one rank's check");
+        let d = relative_difference(&two_bin, &whole_bin);
+        assert!(d <= 1e-10, "{dim}: projections on two ranks: {d:e}");
+        let study = |k: usize| {
+            let out = signorini(
+                None,
+                &[
+                    &["study", scene_arg, "--cache", &cache(k), "--json"][..],
+                    &cg,
+                ]
+                .concat(),
+            );
+            let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+            let mut found = Vec::new();
+            numbers(&json["study"]["cases"], String::new(), &mut found);
+            found
+        };
+        let (on_whole, on_two) = (study(0), study(1));
+        assert_eq!(on_whole.len(), on_two.len());
+        assert!(
+            on_whole.iter().any(|(p, _)| p.contains("rate")),
+            "{on_whole:?}"
+        );
+        for ((path, a), (_, b)) in on_two.iter().zip(&on_whole) {
+            if ["timings", "seconds", "wall"]
+                .iter()
+                .any(|t| path.contains(t))
+            {
+                continue;
+            }
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1e-300),
+                "{dim}: {path}: {a:e} against {b:e}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// A decomposition the mesh cannot give (the 3D bar's reference on 20 elements: rank 0 needs
+/// the local contact operator's slab, more layers than there are) stops every rank at once,
+/// each saying why, with a failing exit status: no rank is left waiting.
+#[test]
+fn a_decomposition_the_mesh_cannot_give_stops_every_rank() {
+    let dir = std::env::temp_dir().join(format!("signorini-mpi-refused-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("scenes/bar3d.json").unwrap()).unwrap();
+    scene["discretisation"]["levels"] = serde_json::json!([10]);
+    scene["discretisation"]["reference_level"] = serde_json::json!(20);
+    let scene_path = dir.join("scene.json");
+    std::fs::write(&scene_path, scene.to_string()).unwrap();
+    let out = Command::new("mpirun")
+        .args([
+            "--oversubscribe",
+            "-n",
+            "2",
+            env!("CARGO_BIN_EXE_signorini"),
+        ])
+        .args(["reference", scene_path.to_str().unwrap(), "--cache"])
+        .arg(dir.join("cache"))
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("error: rank") && stderr.contains("allow at most"),
+        "{stderr}"
+    );
+    assert!(
+        !dir.join("cache").exists()
+            || std::fs::read_dir(dir.join("cache"))
+                .unwrap()
+                .next()
+                .is_none()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -42,6 +42,7 @@ impl From<Error> for Failure {
             Error::Solve(s) if s.is_usage() => Self::usage(s),
             Error::Solve(s) => Self::runtime(s),
             Error::Scene(e) => Self::usage(e),
+            Error::Distributed(e) => Self::usage(e),
             e @ (Error::Io { .. }
             | Error::Encode { .. }
             | Error::Decode { .. }

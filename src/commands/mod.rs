@@ -90,7 +90,7 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
             };
             study::sensitivity_with(request, executor)
         }
-        "reference" => study::reference_with(shards.request()?, executor),
+        "reference" => study::reference_with(shards.request()?, executor, None),
         "report" => {
             let request = ReportArgs {
                 out: reports,

@@ -11,6 +11,9 @@ use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
+#[cfg(feature = "mpi")]
+use crate::harness::run::distributed::MpiRanks;
+use crate::harness::run::distributed::Ranks;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
@@ -233,13 +236,55 @@ pub struct ReferenceArgs {
 
 /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
 /// parameters match the scene's, says which differ otherwise, and recomputes it.
+///
+/// Built with the `mpi` feature and launched by `mpirun` or `srun` on more than one rank, the
+/// ranks share each reference's run ([`on_mpi_ranks`]).
 pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
     let executor = args.shard.executor();
-    reference_with(args, &executor)
+    #[cfg(feature = "mpi")]
+    if let Some(ranks) = launched_by_mpi().then(MpiRanks::initialise).flatten() {
+        if ranks.size() > 1 {
+            return on_mpi_ranks(args, &executor, &ranks);
+        }
+    }
+    reference_with(args, &executor, None)
 }
 
-/// [`reference`] with its scenes handed to `executor`, one at a time.
-pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result<(), Failure> {
+/// Whether this process was started by an MPI launcher (Open MPI's `mpirun`, or a PMI or
+/// PMIx one such as Slurm's `srun`): its environment names the job's size or this rank.
+#[cfg(feature = "mpi")]
+fn launched_by_mpi() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"]
+        .iter()
+        .any(|name| std::env::var_os(name).is_some())
+}
+
+/// [`reference`] on this MPI rank: every rank runs it (MPI is finalised when the caller drops
+/// `ranks`); a rank that fails says why, with its rank, and ends every rank with its exit code
+/// (`MPI_Abort`), so that none waits forever on it.
+#[cfg(feature = "mpi")]
+fn on_mpi_ranks(args: ReferenceArgs, executor: &Executor, ranks: &MpiRanks) -> Result<(), Failure> {
+    match reference_with(args, executor, Some(ranks)) {
+        Ok(()) => Ok(()),
+        Err(failure) => {
+            eprintln!(
+                "error: rank {} of {}: {}",
+                ranks.rank(),
+                ranks.size(),
+                failure.message
+            );
+            ranks.abort(i32::from(failure.code))
+        }
+    }
+}
+
+/// [`reference`] with its scenes handed to `executor`, one at a time, this process one of
+/// `ranks` when given.
+pub(crate) fn reference_with(
+    args: ReferenceArgs,
+    executor: &Executor,
+    ranks: Option<&dyn Ranks>,
+) -> Result<(), Failure> {
     let recorded = ReferenceArgs {
         out: None,
         shard: ReferenceShardArgs::default(),
@@ -252,9 +297,13 @@ pub(crate) fn reference_with(args: ReferenceArgs, executor: &Executor) -> Result
         out: args.out,
         linear_solver: args.solver.linear_solver,
         limits: args.limits.limits(),
+        ranks,
     };
     let say = |said: &str| out!("{said}");
-    out!("{}", references(request, executor, &invocation, &say)?);
+    let done = references(request, executor, &invocation, &say)?;
+    if !done.is_empty() {
+        out!("{done}");
+    }
     Ok(())
 }
 

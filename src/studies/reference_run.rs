@@ -8,13 +8,14 @@ use std::time::Instant;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
+use crate::harness::run::distributed::Ranks;
 use crate::harness::study::budget::Limits;
 use crate::harness::study::executor::{Executor, Jobs};
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
 use crate::studies::elastic_study::reference::{Reference, ReferenceCache};
-use crate::studies::elastic_study::{obtain_reference, ElasticStudyConfig};
+use crate::studies::elastic_study::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::studies::outputs::{complete_or_write, shard_output, CommandError, Received};
 
 /// The references `make report` keeps, relative to the repository root.
@@ -42,7 +43,7 @@ struct ReferenceJob {
 }
 
 /// The references a user asked for.
-pub struct ReferenceRequest {
+pub struct ReferenceRequest<'a> {
     /// The box scene files.
     pub scenes: Vec<PathBuf>,
     /// Where the references are cached.
@@ -53,14 +54,20 @@ pub struct ReferenceRequest {
     pub linear_solver: LinearSolver,
     /// The limits each reference is held to.
     pub limits: Limits,
+    /// The ranks of a distributed run (this process one of them), or `None` for one process.
+    pub ranks: Option<&'a dyn Ranks>,
 }
 
 /// The references of the box scenes `scenes` in `cache`, solved with `linear_solver`, each held
 /// to `limits`: under a shard only its share of the scenes (the most work first), written with
 /// the shard's file into `out`; a merge finds every reference in the cache. Tells `say` how
 /// each reference was obtained as it is, and returns what was written last, for the user.
+///
+/// With ranks, every rank runs this with the same request: the scenes in turn (no shard),
+/// rank 0 obtaining each reference as one process does, the others sharing its fine run's
+/// steps when it computes one ([`Reference::follow`]); they return an empty line.
 pub fn references(
-    request: ReferenceRequest,
+    request: ReferenceRequest<'_>,
     executor: &Executor,
     invocation: &Invocation,
     say: &(dyn Fn(&str) + Sync),
@@ -71,6 +78,7 @@ pub fn references(
         out,
         linear_solver,
         limits,
+        ranks,
     } = request;
     let (cache, out) = (cache.as_path(), out.as_deref());
     if out.is_some() && !matches!(executor, Executor::Shard(_)) {
@@ -100,10 +108,13 @@ pub fn references(
             config,
         });
     }
+    if let Some(ranks) = ranks {
+        return on_ranks(&jobs, executor, (cache, ranks), say);
+    }
     let executed = executor.execute_in_turn(&Jobs {
         items: &jobs,
         size: &|job: &ReferenceJob| work[job.index],
-        run: &|job: &ReferenceJob| obtain_and_report(job, cache, say),
+        run: &|job: &ReferenceJob| obtain_and_report(job, (cache, None), say),
     })?;
     let names = match complete_or_write(executed, shard, invocation)? {
         Received::Complete(names) => names.results,
@@ -117,10 +128,44 @@ pub fn references(
                     job.scene.name
                 )));
             }
-            obtain_and_report(job, cache, say)?;
+            obtain_and_report(job, (cache, None), say)?;
         }
     }
     Ok(format!("the references are in {}", cache.display()))
+}
+
+/// The references of `jobs` on `ranks`, in turn (see [`references`]): refused under a shard
+/// or a merge, whose jobs are whole references.
+fn on_ranks(
+    jobs: &[ReferenceJob],
+    executor: &Executor,
+    (cache, ranks): (&Path, &dyn Ranks),
+    say: &(dyn Fn(&str) + Sync),
+) -> Result<String, CommandError> {
+    if !matches!(executor, Executor::Local) {
+        return Err(CommandError::Refused(
+            "--shard: a reference run across MPI ranks computes its scenes in turn, each \
+             across every rank; run it without --shard (or shard without mpirun)"
+                .into(),
+        ));
+    }
+    for job in jobs {
+        if ranks.rank() == 0 {
+            obtain_and_report(job, (cache, Some(ranks)), say)?;
+        } else {
+            let key = reference_key(&job.problem, &job.config)?;
+            Reference::follow(&job.problem, &job.config.settings, &key, ranks)?;
+        }
+    }
+    Ok(if ranks.rank() == 0 {
+        format!(
+            "the references are in {} (computed across {} ranks)",
+            cache.display(),
+            ranks.size()
+        )
+    } else {
+        String::new()
+    })
 }
 
 /// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
@@ -128,7 +173,7 @@ pub fn references(
 /// name.
 fn obtain_and_report(
     job: &ReferenceJob,
-    cache: &Path,
+    (cache, ranks): (&Path, Option<&dyn Ranks>),
     say: &(dyn Fn(&str) + Sync),
 ) -> Result<String, Error> {
     let clock = Instant::now();
@@ -136,7 +181,7 @@ fn obtain_and_report(
     let reference = obtain_reference(
         &job.problem,
         &job.config,
-        &store,
+        (&store, ranks),
         &mut |why| progress::note(&why),
         &|| Ok(()),
     )?;

@@ -5,7 +5,7 @@
 //! 2 to 4 ranks takes the same iterations and agrees to round-off (only the order of the inner
 //! products' partial sums differs). A decomposition the layers cannot give is refused.
 
-use signorini::engine::distributed::{DecompositionError, SlabCg, Slabs, ThreadRanks};
+use signorini::engine::distributed::{DecompositionError, Ranks, SlabCg, Slabs, ThreadRanks};
 use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
 use signorini::engine::linalg::{CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 
@@ -277,5 +277,112 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
                 u_worst / u_scale
             );
         }
+    }
+}
+
+/// The largest `|a_i − b_i|` over the largest `|b_i|` (0 for two zero series).
+fn relative(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max);
+    if scale > 0.0 {
+        worst / scale
+    } else {
+        worst
+    }
+}
+
+/// The 3D bar's reference on 40 elements (projected on levels 10 and 20) computed by rank 0
+/// of `N` thread ranks ([`Reference::obtain`] with the ranks, the others following) against
+/// the one-process reference: every history, check distance and projection bit for bit on one
+/// rank, to 1e-10 of its scale on 2 and 3.
+#[test]
+fn a_reference_on_ranks_is_the_one_process_reference() {
+    use signorini::engine::linalg::LinearSolver;
+    use signorini::harness::study::scene::Scene;
+    use signorini::studies::elastic_study::reference::{Reference, ReferenceCache};
+    use signorini::studies::elastic_study::{reference_key, ElasticStudyConfig};
+
+    let scene = Scene::load(std::path::Path::new("scenes/bar3d.json")).unwrap();
+    let problem = scene.box_problem("a box").unwrap();
+    let mut config = ElasticStudyConfig::from_scene(&scene, Some(40)).unwrap();
+    config.levels = vec![10, 20];
+    config.settings.linear_solver = LinearSolver::Cg;
+    let key = reference_key(&problem, &config).unwrap();
+    let settings = config.settings;
+    let whole = Reference::compute(&problem, &settings, key.clone(), None).unwrap();
+    let empty = std::env::temp_dir().join(format!("signorini-no-cache-{}", std::process::id()));
+    for ranks in 1..=3 {
+        let computed = ThreadRanks::run(ranks, |r| {
+            if r.rank() > 0 {
+                Reference::follow(&problem, &settings, &key, r).unwrap();
+                return None;
+            }
+            let cache = ReferenceCache::ReadOnly(empty.clone());
+            Some(
+                Reference::obtain(
+                    &problem,
+                    &settings,
+                    (&cache, key.clone()),
+                    &mut |_| {},
+                    &|| Ok(()),
+                    Some(r),
+                )
+                .unwrap(),
+            )
+        });
+        let reference = computed[0].as_ref().expect("rank 0's reference");
+        let (h, w) = (&reference.histories, &whole.histories);
+        let what = format!("{ranks} ranks");
+        let series = [
+            ("energy", &h.energy, &w.energy),
+            ("total force", &h.total_force, &w.total_force),
+            (
+                "centre displacement",
+                &h.centre_displacement,
+                &w.centre_displacement,
+            ),
+            (
+                "centre multiplier",
+                &h.centre_multiplier,
+                &w.centre_multiplier,
+            ),
+        ];
+        assert_eq!(h.time, w.time, "{what}");
+        assert_eq!((h.dofs, h.steps, h.dt), (w.dofs, w.steps, w.dt), "{what}");
+        let projections: Vec<(f64, bool)> = reference
+            .projections
+            .iter()
+            .zip(&whole.projections)
+            .map(|(p, q)| {
+                let (p, q): (Vec<f64>, Vec<f64>) = (p.values().collect(), q.values().collect());
+                (relative(&p, &q), p == q)
+            })
+            .collect();
+        let distances: Vec<f64> = h.check.distance.values().copied().collect();
+        let expected: Vec<f64> = w.check.distance.values().copied().collect();
+        if ranks == 1 {
+            for (name, a, b) in series {
+                assert!(a == b, "{what}: {name} not bit for bit");
+            }
+            assert!(projections.iter().all(|p| p.1), "{what}: projections");
+            assert_eq!(distances, expected, "{what}: check");
+        }
+        for (name, a, b) in series {
+            assert!(
+                relative(a, b) <= 1e-10,
+                "{what}: {name} {:e}",
+                relative(a, b)
+            );
+        }
+        assert!(
+            projections.iter().all(|p| p.0 <= 1e-10),
+            "{what}: {projections:?}"
+        );
+        assert!(relative(&distances, &expected) <= 1e-10, "{what}: check");
     }
 }

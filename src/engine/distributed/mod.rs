@@ -70,6 +70,9 @@ pub enum DecompositionError {
         /// The layers rank 0 needs.
         first_layers: usize,
     },
+    /// Rank 0 could not set up what it alone holds (the contact operator); it reports why.
+    #[error("rank 0 could not set up the contact operator of Γ_Sig (it reports why)")]
+    RankZeroFailed,
     /// The step matrix is not what the distributed solve is for.
     #[error(
         "the distributed step solve needs a matrix-free box step matrix with a product \

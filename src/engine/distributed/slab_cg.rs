@@ -20,7 +20,7 @@ const SWEEP_CHUNKS: usize = 8;
 /// A rank's share of the preconditioned CG solve of a box step matrix `K` (module
 /// documentation of [`crate::engine::distributed`]): its slab's rows of `K`, its part of the
 /// preconditioner, and the buffers of its exchanges.
-pub struct SlabCg<'r, R: Ranks> {
+pub struct SlabCg<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     slabs: Slabs,
     /// This rank's rows of `K`.
@@ -55,7 +55,7 @@ enum SlabPreconditioner {
     Jacobi(Vec<f64>),
 }
 
-impl<'r, R: Ranks> SlabCg<'r, R> {
+impl<'r, R: Ranks + ?Sized> SlabCg<'r, R> {
     /// This rank's share of the solve of `k` (the whole box's step matrix, matrix-free, with
     /// its separable part), to the relative residual `tolerance`, the box cut evenly
     /// ([`Slabs::even`]) with at least `first_layers` layers on rank 0 (and the two its
@@ -219,7 +219,7 @@ impl<'r, R: Ranks> SlabCg<'r, R> {
     }
 }
 
-impl<R: Ranks> CgSpace for SlabCg<'_, R> {
+impl<R: Ranks + ?Sized> CgSpace for SlabCg<'_, R> {
     fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
         self.rows.mul_dot(x, y)
     }

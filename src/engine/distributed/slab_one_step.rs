@@ -22,7 +22,7 @@ use crate::engine::schemes::{InitialState, StepCoefficients};
 /// `A^{n+1} = (U^{n+1} − P)/(bΔt²)` and `V^{n+1} = V^n + Δt(cA^n + dA^{n+1})`: every entry
 /// of a rank's part is computed as in one process, and only the inner products of the solve
 /// and of the energy are summed across ranks (in rank order).
-pub struct SlabOneStep<'r, R: Ranks> {
+pub struct SlabOneStep<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     mass: SlabOperator<'r, R>,
     stiffness: SlabOperator<'r, R>,
@@ -45,7 +45,7 @@ pub struct SlabOneStep<'r, R: Ranks> {
     guess: Vec<f64>,
 }
 
-impl<'r, R: Ranks> SlabOneStep<'r, R> {
+impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     /// This rank's share of the run of `model` (the whole box, matrix-free) with the
     /// coefficients `coef`, the step `dt` and the predictor summed in `predictor_form`, from
     /// `start` (the whole initial state, [`crate::engine::schemes::initial_state`]). The box
@@ -76,22 +76,25 @@ impl<'r, R: Ranks> SlabOneStep<'r, R> {
         let contact = match (ranks.rank(), model.contact()) {
             (0, Some(c)) => {
                 let rows = model.contact_law().rows(c);
-                Some(ContactStep::local(
-                    c,
-                    &rows,
-                    &k,
-                    model.contact_operator().layers(),
-                )?)
+                ContactStep::local(c, &rows, &k, model.contact_operator().layers()).map(Some)
             }
-            _ => None,
+            _ => Ok(None),
         };
-        // Rank 0 tells every rank the layers its contact slab takes.
+        // Rank 0 tells every rank the layers its contact slab takes (−1: it has none, its
+        // operator failed).
+        let layers = match &contact {
+            Ok(c) => c
+                .as_ref()
+                .and_then(ContactStep::truncation)
+                .map_or(0.0, |t| (t.layers + 1) as f64),
+            Err(_) => -1.0,
+        };
         let mut slab_layers = vec![0.0; ranks.size()];
-        let layers = contact
-            .as_ref()
-            .and_then(ContactStep::truncation)
-            .map_or(0, |t| t.layers + 1);
-        ranks.gather_all(layers as f64, &mut slab_layers);
+        ranks.gather_all(layers, &mut slab_layers);
+        let contact = contact?;
+        if slab_layers[0] < 0.0 {
+            return Err(DecompositionError::RankZeroFailed.into());
+        }
         let (Some(k_stencil), Some(m), Some(s)) = (
             k.stencil(),
             model.mass().stencil(),
@@ -239,6 +242,23 @@ impl<'r, R: Ranks> SlabOneStep<'r, R> {
     /// The step solves so far and their CG iterations (the same on every rank).
     pub fn step_solves(&self) -> SolveCounts {
         self.counts
+    }
+
+    /// The contact solves so far, on rank 0 (0 elsewhere).
+    pub fn contact_solves(&self) -> usize {
+        self.contact.as_ref().map_or(0, ContactStep::solves)
+    }
+
+    /// The seconds spent in contact solves, on rank 0.
+    pub fn contact_seconds(&self) -> f64 {
+        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
+    }
+
+    /// The largest complementarity violation so far, on rank 0.
+    pub fn complementarity_violation(&self) -> f64 {
+        self.contact
+            .as_ref()
+            .map_or(0.0, ContactStep::max_violation)
     }
 
     /// The slab of the local contact operator, on rank 0.

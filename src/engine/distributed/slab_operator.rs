@@ -9,7 +9,7 @@ use crate::engine::fem::stencil::Stencil;
 
 /// A rank's slab of a matrix-free box operator `A`: its rows, and the buffer that holds a
 /// vector with one layer of each neighbour around the rank's part for a product.
-pub struct SlabOperator<'r, R: Ranks> {
+pub struct SlabOperator<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     /// This rank's rows of `A`.
     rows: Stencil,
@@ -21,7 +21,7 @@ pub struct SlabOperator<'r, R: Ranks> {
     with_halo: RefCell<Vec<f64>>,
 }
 
-impl<'r, R: Ranks> SlabOperator<'r, R> {
+impl<'r, R: Ranks + ?Sized> SlabOperator<'r, R> {
     /// This rank's share of `a` (the whole box's operator) cut into `slabs`.
     pub fn new(ranks: &'r R, a: &Stencil, slabs: &Slabs) -> Result<Self, DecompositionError> {
         if slabs.layers() != a.node_layers() || slabs.ranks() != ranks.size() {

@@ -149,7 +149,7 @@ impl SchemeState {
 }
 
 /// A time integrator holding its state `(U^n, V^n, λ^n)`.
-pub trait TimeIntegrator: Send {
+pub trait TimeIntegrator {
     /// Advances from `t_n` to `t_{n+1}`.
     fn advance(&mut self) -> Result<(), SolveError>;
     /// The current state.

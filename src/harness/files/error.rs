@@ -21,6 +21,9 @@ pub enum Error {
     /// Time stepping failed.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// A box cannot be run over the ranks asked for.
+    #[error(transparent)]
+    Distributed(#[from] crate::engine::distributed::DecompositionError),
     /// A file could not be read or written.
     #[error("cannot {action} {}: {source}", Shown(path))]
     Io {

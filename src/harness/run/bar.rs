@@ -50,7 +50,14 @@ pub(super) fn run_bar(
     own.extend(errors.observers());
     own.extend(contact.as_mut().map(|o| o as &mut dyn Observer));
     own.extend(energy_history.as_mut().map(|o| o as &mut dyn Observer));
-    let stepped = drive_with(&discretisation, problem.horizon, config, own, extra, clock)?;
+    let stepped = drive_with(
+        &discretisation,
+        problem.horizon,
+        (config, None),
+        own,
+        extra,
+        clock,
+    )?;
     let completed = stepped.status.is_completed();
     let balance = stepped
         .max_balance_residual

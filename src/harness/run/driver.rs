@@ -9,9 +9,10 @@ use serde::{Deserialize, Serialize};
 use crate::engine::contact::Truncation;
 use crate::engine::error::{require_positive, ParameterError, SolveError, StateField};
 use crate::engine::linalg::SolveCounts;
+use crate::engine::model::Model;
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::energy_balance::{self, BalanceMonitor, BALANCE_TOLERANCE};
-use crate::engine::schemes::{integrator, Scheme, TimeIntegrator};
+use crate::engine::schemes::{integrator, Conventions, Scheme, TimeIntegrator};
 use crate::harness::files::error::Error;
 
 /// What a run does with each state of the scheme: accumulate a norm, record a history, write
@@ -309,6 +310,39 @@ pub fn drive<M: AxialMesh>(
     observers: &mut [&mut dyn Observer],
     started: Instant,
 ) -> Result<Stepped, Error> {
+    drive_by(
+        discretisation,
+        horizon,
+        ratio,
+        (scheme, None),
+        observers,
+        started,
+    )
+}
+
+/// Builds a run's integrator from its model, scheme, `Δt`, initial data and conventions in
+/// place of the one-process schemes ([`integrator`]): a distributed run's
+/// ([`crate::harness::run::distributed`]).
+pub type IntegratorFactory<'r> = dyn Fn(
+        &Model,
+        Scheme,
+        f64,
+        &[f64],
+        &[f64],
+        &Conventions,
+    ) -> Result<Box<dyn TimeIntegrator + 'r>, Error>
+    + 'r;
+
+/// [`drive`] with the integrator `make` builds, when given, instead of the one-process
+/// scheme's.
+pub fn drive_by<'r, M: AxialMesh>(
+    discretisation: &Discretisation<M>,
+    horizon: f64,
+    ratio: f64,
+    (scheme, make): (Scheme, Option<&IntegratorFactory<'r>>),
+    observers: &mut [&mut dyn Observer],
+    started: Instant,
+) -> Result<Stepped, Error> {
     require_positive("ratio", ratio)?;
     require_positive("horizon", horizon)?;
     let scheme = scheme.validate()?;
@@ -328,14 +362,16 @@ pub fn drive<M: AxialMesh>(
         .into());
     }
     let (steps, dt) = time_grid(horizon, h, ratio);
-    let mut integ = integrator(
+    let (model, u0, v0) = (
         &discretisation.model,
-        scheme,
-        dt,
         &discretisation.displacement,
         &discretisation.velocity,
-        &discretisation.conventions,
-    )?;
+    );
+    let conventions = &discretisation.conventions;
+    let mut integ: Box<dyn TimeIntegrator + '_> = match make {
+        Some(make) => make(model, scheme, dt, u0, v0, conventions)?,
+        None => integrator(model, scheme, dt, u0, v0, conventions)?,
+    };
     let setup = started.elapsed().as_secs_f64();
 
     let (mut stepping, mut observe) = (0.0, 0.0);

@@ -28,7 +28,7 @@ use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::run::{
-    drive_with, finite, paraview, Observer, RunConfig, RunResult, SnapshotTimes,
+    drive_with, finite, paraview, IntegratorFactory, Observer, RunConfig, RunResult, SnapshotTimes,
 };
 
 /// The contact history of a box run.
@@ -202,10 +202,11 @@ impl VtkSnapshots<'_> {
 /// in `config.observables.fields_dir`) followed by the caller's `extra`; their time counts as
 /// observation. A completed run with snapshots adds the obstacle and the collection of ParaView
 /// ([`VtkSnapshots::finish`]); a run that does not complete removes the VTK snapshots it wrote:
-/// they are no result.
-pub(super) fn run_box(
+/// they are no result. The integrator is the one-process scheme's, or the one `make` builds
+/// (a distributed run's, [`crate::harness::run::distributed`]).
+pub fn run_box<'r>(
     problem: &BoxProblem,
-    config: &RunConfig,
+    (config, make): (&RunConfig, Option<&IntegratorFactory<'r>>),
     extra: &mut [&mut dyn Observer],
 ) -> Result<RunResult<BoxObservations>, Error> {
     let clock = Instant::now();
@@ -228,7 +229,14 @@ pub(super) fn run_box(
     let mut own: Vec<&mut dyn Observer> = vec![&mut energy];
     own.extend(face.as_mut().map(|o| o as &mut dyn Observer));
     own.push(&mut vtk);
-    let stepped = drive_with(&discretisation, problem.horizon, config, own, extra, clock)?;
+    let stepped = drive_with(
+        &discretisation,
+        problem.horizon,
+        (config, make),
+        own,
+        extra,
+        clock,
+    )?;
     let vtk_files = if stepped.status.is_completed() {
         vtk.finish(problem.obstacle_gap)?
     } else {

@@ -23,6 +23,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 mod bar;
+pub mod distributed;
 mod driver;
 pub mod elastic;
 pub mod exact;
@@ -31,7 +32,10 @@ pub mod norms;
 pub mod paraview;
 pub mod run_files;
 
-pub use driver::{drive, finite, time_grid, Observer, RunStatus, SnapshotTimes, Stepped, Timings};
+pub use driver::{
+    drive, drive_by, finite, time_grid, IntegratorFactory, Observer, RunStatus, SnapshotTimes,
+    Stepped, Timings,
+};
 
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::MassVariant;
@@ -308,10 +312,10 @@ impl<O> RunResult<O> {
 
 /// Drives `discretisation` to `horizon` as `config` asks through the one loop ([`drive`]), its
 /// run's own observers `own` followed by the caller's `extra`.
-fn drive_with<'a, M: AxialMesh>(
+fn drive_with<'a, 'r, M: AxialMesh>(
     discretisation: &Discretisation<M>,
     horizon: f64,
-    config: &RunConfig,
+    (config, make): (&RunConfig, Option<&IntegratorFactory<'r>>),
     mut own: Vec<&'a mut dyn Observer>,
     extra: &'a mut [&mut dyn Observer],
     started: Instant,
@@ -319,11 +323,11 @@ fn drive_with<'a, M: AxialMesh>(
     for o in extra.iter_mut() {
         own.push(&mut **o);
     }
-    drive(
+    drive_by(
         discretisation,
         horizon,
         config.ratio,
-        config.scheme,
+        (config.scheme, make),
         &mut own,
         started,
     )
@@ -363,7 +367,7 @@ impl RunProblem for elastic::BoxProblem {
         config: &RunConfig,
         observers: &mut [&mut dyn Observer],
     ) -> Result<RunResult<elastic::BoxObservations>, Error> {
-        elastic::run_box(self, config, observers)
+        elastic::run_box(self, (config, None), observers)
     }
 }
 

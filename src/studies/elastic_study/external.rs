@@ -102,7 +102,7 @@ pub fn verify_box(
         let estimate = config.reference_estimate(&problem);
         estimate.check(request.limits).map_err(Error::from)
     };
-    let reference = obtain_reference(&problem, &config, request.cache, note, &afford)?;
+    let reference = obtain_reference(&problem, &config, (request.cache, None), note, &afford)?;
     let comparator = Comparator::new(&problem, reference, finest)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
     let mut verified = Vec::new();

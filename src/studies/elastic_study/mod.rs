@@ -38,6 +38,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{MassVariant, Scheme, Settings};
+use crate::harness::run::distributed::Ranks;
 use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
 use crate::harness::run::nested_comparison::projection::NormMatrices;
 use crate::harness::run::norms::Norm;
@@ -424,7 +425,7 @@ impl<'a> PreparedBoxStudy<'a> {
                     .map(|scale| sensitivity::Noise { ensemble, scale })
             })
             .transpose()?;
-        let reference = obtain_reference(problem, config, cache, note, &|| Ok(()))?;
+        let reference = obtain_reference(problem, config, (cache, None), note, &|| Ok(()))?;
         let measure = AgainstFineMesh {
             problem,
             config,
@@ -645,17 +646,29 @@ fn rate_bias(case: &CaseStudy, norm: Norm, delta: f64) -> f64 {
 }
 
 /// The reference of a study: read from `cache` when the key matches, computed otherwise
-/// (when `afford` allows it: see [`Reference::obtain`]).
+/// (when `afford` allows it: see [`Reference::obtain`]); with `ranks`, as rank 0 of a
+/// distributed run (the other ranks run [`Reference::follow`] with [`reference_key`]).
 pub fn obtain_reference(
     problem: &BoxProblem,
     config: &ElasticStudyConfig,
-    cache: &ReferenceCache,
+    (cache, ranks): (&ReferenceCache, Option<&dyn Ranks>),
     note: &mut dyn FnMut(String),
     afford: &dyn Fn() -> Result<(), Error>,
 ) -> Result<Reference, Error> {
+    let key = reference_key(problem, config)?;
+    Reference::obtain(problem, &config.settings, (cache, key), note, afford, ranks)
+}
+
+/// The key of a study's reference ([`ElasticStudyConfig::reference_case`] on its reference
+/// level, projected on its levels, sampled at its finest level's steps); errors name the
+/// study's invalid field.
+pub fn reference_key(
+    problem: &BoxProblem,
+    config: &ElasticStudyConfig,
+) -> Result<ReferenceKey, ParameterError> {
     let finest = config.validate()?;
     let case = ElasticStudyConfig::reference_case();
-    let key = ReferenceKey::new(
+    Ok(ReferenceKey::new(
         problem,
         config.settings.conventions,
         config.reference_level,
@@ -663,8 +676,7 @@ pub fn obtain_reference(
         (case.scheme, case.mass),
         &config.levels,
         config.reference_level / finest,
-    );
-    Reference::obtain(problem, &config.settings, cache, key, note, afford)
+    ))
 }
 
 /// One run of `case` on `n_axis` elements with `Δx/Δt = ratio`, solved with `settings`,

@@ -31,7 +31,9 @@ use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
-use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
+use crate::harness::problem::{Conventions, LinearSolver, MassVariant, Scheme, Settings};
+use crate::harness::run::distributed::{follow_run, gathered, Ranks};
+use crate::harness::run::elastic::run_box;
 use crate::harness::run::elastic::{box_mesh, BoxMesh, BoxProblem};
 use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
 use crate::harness::run::nested_comparison::projection::{
@@ -292,13 +294,19 @@ pub struct Reference {
 
 impl Reference {
     /// Runs the reference, projecting it on `key.levels` as it goes, with the check run one
-    /// level coarser beside it, and keeps the scalar histories every `key.sample_every`-th step.
+    /// level coarser beside it, and keeps the scalar histories every `key.sample_every`-th step;
+    /// with `ranks`, as rank 0 of a distributed run, whose steps the other ranks share
+    /// ([`Reference::follow`]; the projections and the check are rank 0's, on the gathered
+    /// field, [`crate::harness::run::distributed`]).
     pub fn compute(
         problem: &BoxProblem,
         settings: &Settings,
         key: ReferenceKey,
+        ranks: Option<&dyn Ranks>,
     ) -> Result<Self, Error> {
         let clock = Instant::now();
+        let distributed = ranks.map(|_| distributed_settings(settings)).transpose()?;
+        let settings = distributed.as_ref().unwrap_or(settings);
         let scheme: Scheme = key.scheme.parse()?;
         let mass: MassVariant = key.mass.parse()?;
         let config = RunConfig {
@@ -343,9 +351,10 @@ impl Reference {
                 &format!("reference on {} elements", key.n_axis),
                 problem.horizon,
             );
-            let run = run(
+            let factory = ranks.map(gathered);
+            let run = run_box(
                 problem,
-                &config,
+                (&config, factory.as_deref()),
                 &mut [&mut recorder, &mut comparison, &mut steps],
             );
             let distance = comparison.finish();
@@ -556,13 +565,17 @@ impl Reference {
     /// with a round-off perturbation are refused: the key cannot tell it from the problem as
     /// stated. `afford` is asked before a run is started (a caller's budget check: its error
     /// is returned and nothing is run).
+    ///
+    /// With `ranks`, this is rank 0 of a distributed run: it tells the other ranks whether it
+    /// computes the reference ([`Reference::follow`]) once the cache is looked up and the
+    /// budget checked.
     pub fn obtain(
         problem: &BoxProblem,
         settings: &Settings,
-        cache: &ReferenceCache,
-        key: ReferenceKey,
+        (cache, key): (&ReferenceCache, ReferenceKey),
         note: &mut dyn FnMut(String),
         afford: &dyn Fn() -> Result<(), Error>,
+        ranks: Option<&dyn Ranks>,
     ) -> Result<Self, Error> {
         if settings.round_off.is_some() {
             return Err(ParameterError::new(
@@ -574,7 +587,12 @@ impl Reference {
         }
         let (dir, stem) = (cache.dir(), key.stem());
         match Self::load(problem, dir, &stem, &key)? {
-            CacheLookup::Hit(reference) => return Ok(*reference),
+            CacheLookup::Hit(reference) => {
+                if let Some(ranks) = ranks {
+                    ranks.sum(0.0);
+                }
+                return Ok(*reference);
+            }
             CacheLookup::Missing => note(
                 format!(
                     "no cached reference for these parameters in {}{}",
@@ -593,7 +611,10 @@ impl Reference {
             )),
         }
         afford()?;
-        let reference = Self::compute(problem, settings, key)?;
+        if let Some(ranks) = ranks {
+            ranks.sum(1.0);
+        }
+        let reference = Self::compute(problem, settings, key, ranks)?;
         if let ReferenceCache::ReadWrite(dir) = cache {
             reference.save(dir, &stem)?;
         } else {
@@ -605,6 +626,47 @@ impl Reference {
         }
         Ok(reference)
     }
+}
+
+impl Reference {
+    /// A rank other than 0 of the distributed reference of `key` (rank 0 runs
+    /// [`Reference::obtain`] with the same arguments): when rank 0 computes it, this rank's
+    /// share of the fine run's steps ([`follow_run`]); nothing when rank 0 found it cached.
+    pub fn follow(
+        problem: &BoxProblem,
+        settings: &Settings,
+        key: &ReferenceKey,
+        ranks: &dyn Ranks,
+    ) -> Result<(), Error> {
+        if ranks.sum(0.0) == 0.0 {
+            return Ok(());
+        }
+        let config = RunConfig {
+            nx: key.n_axis,
+            ratio: key.ratio,
+            scheme: key.scheme.parse()?,
+            mass: key.mass.parse()?,
+            observables: Observables::default(),
+            settings: distributed_settings(settings)?,
+        };
+        follow_run(problem, &config, ranks)
+    }
+}
+
+/// The settings of a distributed reference: `settings` with the `cg` step solver (a
+/// distributed step is solved by CG; `auto` becomes it, `direct` is refused).
+fn distributed_settings(settings: &Settings) -> Result<Settings, ParameterError> {
+    if settings.linear_solver == LinearSolver::Direct {
+        return Err(ParameterError::new(
+            "linear-solver",
+            "direct",
+            "cg or auto for a reference across MPI ranks (its steps are solved by CG)",
+        ));
+    }
+    Ok(Settings {
+        linear_solver: LinearSolver::Cg,
+        ..*settings
+    })
 }
 
 /// Where a study's reference is looked up, and whether it is kept there.
