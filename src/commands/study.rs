@@ -11,9 +11,9 @@ use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
-#[cfg(feature = "mpi")]
-use crate::harness::run::distributed::MpiRanks;
 use crate::harness::run::distributed::Ranks;
+#[cfg(feature = "mpi")]
+use crate::harness::run::distributed::{CountedRanks, MpiRanks, Traffic};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
@@ -264,8 +264,24 @@ fn launched_by_mpi() -> bool {
 /// (`MPI_Abort`), so that none waits forever on it.
 #[cfg(feature = "mpi")]
 fn on_mpi_ranks(args: ReferenceArgs, executor: &Executor, ranks: &MpiRanks) -> Result<(), Failure> {
-    match reference_with(args, executor, Some(ranks)) {
-        Ok(()) => Ok(()),
+    let counted = CountedRanks::new(ranks);
+    match reference_with(args, executor, Some(&counted)) {
+        Ok(()) => {
+            let Traffic {
+                messages,
+                bytes_sent,
+                bytes_received,
+                sums,
+            } = counted.traffic();
+            if ranks.rank() == 0 {
+                out!(
+                    "rank 0 of {}: sent {messages} messages ({bytes_sent} bytes), received \
+                     {bytes_received} bytes, took part in {sums} sums",
+                    ranks.size()
+                );
+            }
+            Ok(())
+        }
         Err(failure) => {
             eprintln!(
                 "error: rank {} of {}: {}",

@@ -187,13 +187,18 @@ fn obtain_and_report(
     )?;
     let seconds = clock.elapsed().as_secs_f64();
     let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
-    let how = match reference.from_cache {
-        false => format!(
-            "computed and cached in {seconds:.1} s (wrote {} and {})",
+    let how = match reference.timings {
+        Some(t) => format!(
+            "computed and cached in {seconds:.1} s (the fine run: setup {:.1} s, steps {:.1} s, \
+             contact {:.1} s, projections and check {:.1} s; wrote {} and {})",
+            t.setup,
+            t.stepping,
+            t.contact,
+            t.observe,
             json.display(),
             bin.display()
         ),
-        true => format!(
+        None => format!(
             "the cache matches the scene's parameters; read from {} in {seconds:.1} s \
              (computing it took {:.1} s)",
             json.display(),

@@ -386,3 +386,49 @@ fn a_reference_on_ranks_is_the_one_process_reference() {
         assert!(relative(&distances, &expected) <= 1e-10, "{what}: check");
     }
 }
+
+/// The communication of a solve, counted ([`CountedRanks`]), is what the cost model of
+/// docs/src/distributed-reference.md charges a solve of `k` iterations: on rank 0 of two,
+/// `k + 2` halo exchanges of one layer (one product per iteration, the true residual before
+/// and after), `k` downward sweeps of [`SWEEP_CHUNKS`] chunks of a layer (one preconditioner
+/// application per iteration; rank 0 sends nothing upwards), and `3k + 3` sums.
+#[test]
+fn a_solve_on_two_ranks_exchanges_what_the_cost_model_charges() {
+    use signorini::engine::distributed::{CountedRanks, Traffic};
+    const SWEEP_CHUNKS: u64 = 8;
+    let mesh = BoxMesh::new(&[0.1, 0.1, 1.0], &[3, 2, 16]).unwrap();
+    let k = step_matrix(&mesh, MassVariant::Redistributed);
+    let layer_bytes = (4 * 3 * 3 * 8) as u64;
+    let b = random(k.dim(), 5);
+    let counted = ThreadRanks::run(2, |r| {
+        let counted = CountedRanks::new(r);
+        let cg = SlabCg::new(&counted, &k, 1, DEFAULT_TOLERANCE).unwrap();
+        let own = cg.own_dofs();
+        let before = counted.traffic();
+        let mut x = vec![0.0; own.len()];
+        let iterations = cg
+            .solve(&b[own.clone()], &mut x, &mut PcgWork::new(own.len()))
+            .unwrap() as u64;
+        let after = counted.traffic();
+        (
+            iterations,
+            Traffic {
+                messages: after.messages - before.messages,
+                bytes_sent: after.bytes_sent - before.bytes_sent,
+                bytes_received: after.bytes_received - before.bytes_received,
+                sums: after.sums - before.sums,
+            },
+        )
+    });
+    let (iterations, traffic) = counted[0];
+    assert!(iterations > 2, "{iterations}");
+    assert_eq!(
+        traffic,
+        Traffic {
+            messages: (iterations + 2) + iterations * SWEEP_CHUNKS,
+            bytes_sent: (iterations + 2) * layer_bytes + iterations * layer_bytes,
+            bytes_received: (iterations + 2) * layer_bytes + iterations * layer_bytes,
+            sums: 3 * iterations + 3,
+        }
+    );
+}

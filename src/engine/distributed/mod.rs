@@ -32,6 +32,7 @@ mod slab_one_step;
 mod slab_operator;
 mod slabs;
 mod threads;
+mod traffic;
 
 #[cfg(feature = "mpi")]
 pub use mpi_ranks::MpiRanks;
@@ -41,6 +42,7 @@ pub use slab_one_step::{SlabOneStep, SlabRunError};
 pub use slab_operator::SlabOperator;
 pub use slabs::Slabs;
 pub use threads::ThreadRanks;
+pub use traffic::{CountedRanks, Traffic};
 
 #[cfg(doc)]
 use crate::engine::{

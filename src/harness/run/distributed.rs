@@ -14,7 +14,7 @@ use super::{time_grid, IntegratorFactory, RunConfig};
 use crate::engine::contact::Truncation;
 #[cfg(feature = "mpi")]
 pub use crate::engine::distributed::MpiRanks;
-pub use crate::engine::distributed::Ranks;
+pub use crate::engine::distributed::{CountedRanks, Ranks, Traffic};
 use crate::engine::distributed::{SlabOneStep, SlabRunError};
 use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::linalg::SolveCounts;

@@ -39,7 +39,7 @@ use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender
 use crate::harness::run::nested_comparison::projection::{
     LevelProjections, NormMatrices, ProjectionRecorder,
 };
-use crate::harness::run::{run, Observables, RunConfig};
+use crate::harness::run::{run, Observables, RunConfig, Timings};
 use crate::harness::study::progress::StepProgress;
 
 /// Layout version of the cache files; bump it when their content changes meaning (2: the
@@ -290,6 +290,8 @@ pub struct Reference {
     pub mesh: BoxMesh,
     /// Whether it was read from the cache.
     pub from_cache: bool,
+    /// How the fine run's time was spent, when it was computed now.
+    pub timings: Option<Timings>,
 }
 
 impl Reference {
@@ -364,6 +366,7 @@ impl Reference {
             (run, distance, check_run)
         });
         let run = run?.completed()?;
+        let timings = run.timings;
         let check_run = check_run?.completed()?;
         let projections = recorder.finish();
         let gap = problem.obstacle_gap.unwrap_or(0.0);
@@ -417,6 +420,7 @@ impl Reference {
             histories,
             projections,
             from_cache: false,
+            timings: Some(timings),
         })
     }
 
@@ -555,6 +559,7 @@ impl Reference {
             histories,
             projections,
             from_cache: true,
+            timings: None,
         })))
     }
 
