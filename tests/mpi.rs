@@ -13,12 +13,16 @@ use std::path::Path;
 use std::process::Command;
 
 use signorini::engine::distributed::{MpiRanks, Ranks, SlabCg, SlabOneStep};
-use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::engine::fem::{BoxMesh, MassVariant};
 use signorini::engine::linalg::{CgSpace, LinearSolver, Pcg, PcgWork, DEFAULT_TOLERANCE};
 use signorini::engine::problem::Settings;
 use signorini::engine::schemes::conventions::{NitscheAcceleration, PredictorForm};
 use signorini::engine::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
 use signorini::harness::study::scene::Scene;
+
+#[path = "common/slabs.rs"]
+mod slabs;
+use slabs::{relative, step_matrix};
 
 #[test]
 fn mpi_ranks_compute_the_one_process_solve() {
@@ -45,17 +49,6 @@ fn mpi_ranks_compute_the_one_process_solve() {
             assert!(stdout.contains(&line), "no `{line}` in\n{stdout}");
         }
     }
-}
-
-/// Crank–Nicolson's step matrix `M/(bΔt²) + S`, `b = ¼`, at `Δx/Δt = 2`, matrix-free.
-fn step_matrix(mesh: &BoxMesh, variant: MassVariant) -> SymmetricMatrix {
-    let h = 1.0 / mesh.counts()[mesh.dim() - 1] as f64;
-    let alpha = 1.0 / (0.25 * (h / 2.0) * (h / 2.0));
-    mesh.mass_stencil(variant, 1.0).unwrap().linear_combination(
-        alpha,
-        &mesh.stiffness_stencil(&Elasticity::NOTE),
-        1.0,
-    )
 }
 
 #[test]
@@ -150,17 +143,6 @@ fn crank_nicolson_run_agrees(ranks: &MpiRanks) {
     .unwrap();
     let mut run =
         SlabOneStep::new(ranks, model, coef, dt, &start, PredictorForm::Expanded).unwrap();
-    let relative = |a: &[f64], b: &[f64]| {
-        let scale = b
-            .iter()
-            .fold(0.0_f64, |m, x| m.max(x.abs()))
-            .max(f64::MIN_POSITIVE);
-        a.iter()
-            .zip(b)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max)
-            / scale
-    };
     let one_rank = ranks.size() == 1;
     for step in 0..=steps {
         if step > 0 {
@@ -225,18 +207,6 @@ fn cached(dir: &Path, suffix: &str) -> std::path::PathBuf {
         .collect();
     assert_eq!(found.len(), 1, "{dir:?}: {found:?}");
     found[0].clone()
-}
-
-/// The largest `|a_i − b_i|` over the largest `|b_i|`.
-fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let worst = a
-        .iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).abs())
-        .fold(0.0, f64::max);
-    worst / scale.max(f64::MIN_POSITIVE)
 }
 
 /// The numbers of a JSON value, depth first, with their paths.
@@ -327,11 +297,11 @@ fn a_reference_across_two_mpi_ranks_is_the_one_process_reference() {
                 values(&one) == values(&whole),
                 "{dim}: {series} on one rank"
             );
-            let d = relative_difference(&values(&two), &values(&whole));
+            let d = relative(&values(&two), &values(&whole));
             assert!(d <= 1e-10, "{dim}: {series} on two ranks: {d:e}");
         }
         assert_eq!(one["check"], whole["check"], "{dim}: one rank's check");
-        let d = relative_difference(&two_bin, &whole_bin);
+        let d = relative(&two_bin, &whole_bin);
         assert!(d <= 1e-10, "{dim}: projections on two ranks: {d:e}");
         let study = |k: usize| {
             let out = signorini(

@@ -6,19 +6,10 @@
 //! products' partial sums differs). A decomposition the layers cannot give is refused.
 
 use signorini::engine::distributed::{DecompositionError, Ranks, SlabCg, Slabs, ThreadRanks};
-use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::engine::fem::{BoxMesh, MassVariant};
 use signorini::engine::linalg::{CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 
-/// Crank–Nicolson's step matrix `M/(bΔt²) + S`, `b = ¼`, at `Δx/Δt = 2`, matrix-free.
-fn step_matrix(mesh: &BoxMesh, variant: MassVariant) -> SymmetricMatrix {
-    let h = 1.0 / mesh.counts()[mesh.dim() - 1] as f64;
-    let alpha = 1.0 / (0.25 * (h / 2.0) * (h / 2.0));
-    mesh.mass_stencil(variant, 1.0).unwrap().linear_combination(
-        alpha,
-        &mesh.stiffness_stencil(&Elasticity::NOTE),
-        1.0,
-    )
-}
+use crate::slabs::{relative, step_matrix};
 
 fn boxes() -> Vec<BoxMesh> {
     vec![
@@ -277,22 +268,6 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
                 u_worst / u_scale
             );
         }
-    }
-}
-
-/// The largest `|a_i − b_i|` over the largest `|b_i|` (0 for two zero series).
-fn relative(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let worst = a
-        .iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).abs())
-        .fold(0.0, f64::max);
-    if scale > 0.0 {
-        worst / scale
-    } else {
-        worst
     }
 }
 

@@ -11,6 +11,8 @@ mod benchmarks;
 mod common;
 #[path = "../common/external.rs"]
 mod external_runs;
+#[path = "../common/slabs.rs"]
+mod slabs;
 
 mod bouncing_bar;
 mod box_budget;

@@ -8,7 +8,7 @@ use super::{DecompositionError, Ranks, SlabOperator, Slabs};
 use crate::engine::error::SolveError;
 use crate::engine::fem::SymmetricMatrix;
 use crate::engine::linalg::{
-    conjugate_gradient, jacobi, sweep_interleaved_rows, CgSpace, CondensedPlane, PcgWork,
+    conjugate_gradient, dot, jacobi, sweep_interleaved_rows, CgSpace, CondensedPlane, PcgWork,
     ProductPreconditioner, RowBlock, Sweep,
 };
 
@@ -155,14 +155,15 @@ impl<'r, R: Ranks + ?Sized> SlabCg<'r, R> {
         })
     }
 
-    /// The decomposition.
-    pub fn slabs(&self) -> &Slabs {
-        &self.slabs
-    }
-
     /// The range of the whole box's unknowns this rank holds.
     pub fn own_dofs(&self) -> Range<usize> {
         self.rows.own_dofs()
+    }
+
+    /// The range of the whole box's unknowns rank `rank` holds.
+    pub fn dofs_of(&self, rank: usize) -> Range<usize> {
+        let (layers, layer_dofs) = (self.slabs.of(rank), self.rows.layer_dofs());
+        layers.start * layer_dofs..layers.end * layer_dofs
     }
 
     /// Solves `K x = b` from the initial guess in `x` (this rank's parts of both), overwriting
@@ -246,7 +247,7 @@ impl<R: Ranks + ?Sized> CgSpace for SlabCg<'_, R> {
         if let Some(plane) = plane {
             plane.back_substitute_plane(r_p, z_p, z_i);
         }
-        r.iter().zip(z.iter()).map(|(a, b)| a * b).sum()
+        dot(r, z)
     }
 
     fn sum(&self, part: f64) -> f64 {

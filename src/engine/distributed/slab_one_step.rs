@@ -140,28 +140,17 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     /// solve is told to every rank, which all return an error.
     pub fn advance(&mut self) -> Result<(), SolveError> {
         let dt = self.dt;
-        let StepCoefficients { a, b, c, d } = self.coef;
-        let inv_bdt2 = 1.0 / (b * dt * dt);
-        let factored = self.predictor_form == PredictorForm::Factored;
-        for (((p, u), v), acc) in self
-            .predictor
-            .iter_mut()
-            .zip(&self.u)
-            .zip(&self.v)
-            .zip(&self.a)
-        {
-            *p = if factored {
-                u + dt * (v + a * dt * acc)
-            } else {
-                u + dt * v + a * dt * dt * acc
-            };
-        }
+        let inv_bdt2 = 1.0 / (self.coef.b * dt * dt);
+        self.coef.predict(
+            self.predictor_form,
+            dt,
+            (&self.u, &self.v, &self.a),
+            &mut self.predictor,
+        );
         self.mass.mul_dot(&self.predictor, &mut self.scratch);
         self.scratch.iter_mut().for_each(|r| *r *= inv_bdt2);
-        let b_dt2 = b * dt * dt;
-        for ((g, p), acc) in self.guess.iter_mut().zip(&self.predictor).zip(&self.a) {
-            *g = p + b_dt2 * acc;
-        }
+        self.coef
+            .warm_start(dt, &self.predictor, &self.a, &mut self.guess);
         let mut x = std::mem::take(&mut self.guess);
         self.counts.iterations += self.system.solve(&self.scratch, &mut x, &mut self.work)?;
         self.counts.solves += 1;
@@ -181,12 +170,12 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
                 iterations: 0,
             });
         }
-        let updates = self.scratch.iter().zip(&self.predictor);
-        for ((v, acc), (u_new, p)) in self.v.iter_mut().zip(self.a.iter_mut()).zip(updates) {
-            let a_new = (u_new - p) * inv_bdt2;
-            *v += dt * (c * *acc + d * a_new);
-            *acc = a_new;
-        }
+        self.coef.update(
+            dt,
+            (&self.scratch, &self.predictor),
+            &mut self.v,
+            &mut self.a,
+        );
         std::mem::swap(&mut self.u, &mut self.scratch);
         self.step += 1;
         Ok(())
@@ -219,9 +208,9 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         self.system.own_dofs()
     }
 
-    /// The decomposition.
-    pub fn slabs(&self) -> &Slabs {
-        self.system.slabs()
+    /// The range of the whole box's unknowns rank `rank` holds.
+    pub fn dofs_of(&self, rank: usize) -> Range<usize> {
+        self.system.dofs_of(rank)
     }
 
     /// This rank's part of `U^n`.

@@ -8,7 +8,7 @@ mod step;
 mod tridiagonal;
 
 pub use condensed::CondensedPlane;
-pub use pcg::{conjugate_gradient, jacobi, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
+pub use pcg::{conjugate_gradient, dot, jacobi, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use product::ProductPreconditioner;
 pub use spd::SpdSolver;
 pub use step::{LinearSolver, SolveCounts, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};

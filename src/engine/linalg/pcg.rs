@@ -105,7 +105,8 @@ pub fn jacobi(inverse_diagonal: &[f64], r: &[f64], z: &mut [f64]) -> f64 {
     rz
 }
 
-fn dot(x: &[f64], y: &[f64]) -> f64 {
+/// `xᵀy`, summed in order.
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 

@@ -62,23 +62,9 @@ impl TridiagonalLdlt {
 /// row. Solving along one axis of a node-major grid of `d`-component vectors stored with that
 /// axis outermost is this with `width` the product of the faster axes times `d`.
 pub fn solve_interleaved_rows(factors: &[TridiagonalLdlt], rows: &mut [f64], width: usize) {
-    let whole = RowBlock {
-        first: 0,
-        width,
-        columns: 0..width,
-    };
-    if rows.is_empty() {
-        return;
+    if !rows.is_empty() {
+        pass(factors, rows, Pass::Whole(width));
     }
-    if width == factors.len() {
-        return match factors.len() {
-            1 => solve_line::<1>(factors, rows),
-            2 => solve_line::<2>(factors, rows),
-            _ => solve_line::<3>(factors, rows),
-        };
-    }
-    sweep_interleaved_rows(factors, rows, &whole, Sweep::Down, &[]);
-    sweep_interleaved_rows(factors, rows, &whole, Sweep::Up, &[]);
 }
 
 /// The rows of an interleaved system ([`solve_interleaved_rows`]) that one process holds, and
@@ -117,42 +103,63 @@ pub fn sweep_interleaved_rows(
     sweep: Sweep,
     carry: &[f64],
 ) {
+    pass(factors, rows, Pass::Block(block, sweep, carry));
+}
+
+/// What one call does to the rows of an interleaved system.
+#[derive(Clone, Copy)]
+enum Pass<'a> {
+    /// The whole solve, rows of this width ([`solve_interleaved_rows`]).
+    Whole(usize),
+    /// One sweep of a block ([`sweep_interleaved_rows`]).
+    Block(&'a RowBlock, Sweep, &'a [f64]),
+}
+
+/// `pass` for `factors.len()` interleaved systems.
+fn pass(factors: &[TridiagonalLdlt], rows: &mut [f64], pass: Pass<'_>) {
     match factors.len() {
-        1 => sweep_rows_dispatch::<1>(factors, rows, block, sweep, carry),
-        2 => sweep_rows_dispatch::<2>(factors, rows, block, sweep, carry),
-        3 => sweep_rows_dispatch::<3>(factors, rows, block, sweep, carry),
+        1 => pass_dispatch::<1>(factors, rows, pass),
+        2 => pass_dispatch::<2>(factors, rows, pass),
+        3 => pass_dispatch::<3>(factors, rows, pass),
         _ => panic!("1 to 3 interleaved systems"),
     }
 }
 
-/// [`sweep_rows`], compiled for AVX2 when the processor has it: the same multiplies and
+/// [`pass_rows`], compiled for AVX2 when the processor has it: the same multiplies and
 /// subtractions in the same order (no fused multiply-add), so the same result bit for bit.
-fn sweep_rows_dispatch<const D: usize>(
-    factors: &[TridiagonalLdlt],
-    rows: &mut [f64],
-    block: &RowBlock,
-    sweep: Sweep,
-    carry: &[f64],
-) {
+fn pass_dispatch<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], pass: Pass<'_>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: `sweep_rows_avx2` only requires AVX2, which the processor has (checked just
+        // SAFETY: `pass_rows_avx2` only requires AVX2, which the processor has (checked just
         // above).
-        return unsafe { sweep_rows_avx2::<D>(factors, rows, block, sweep, carry) };
+        return unsafe { pass_rows_avx2::<D>(factors, rows, pass) };
     }
-    sweep_rows::<D>(factors, rows, block, sweep, carry);
+    pass_rows::<D>(factors, rows, pass);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn sweep_rows_avx2<const D: usize>(
-    factors: &[TridiagonalLdlt],
-    rows: &mut [f64],
-    block: &RowBlock,
-    sweep: Sweep,
-    carry: &[f64],
-) {
-    sweep_rows::<D>(factors, rows, block, sweep, carry);
+fn pass_rows_avx2<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], pass: Pass<'_>) {
+    pass_rows::<D>(factors, rows, pass);
+}
+
+/// `pass` for `D` systems: the whole solve as its two sweeps (entry by entry when a row is one
+/// node, [`solve_line`]), or one sweep of a block ([`sweep_rows`]).
+#[inline(always)]
+fn pass_rows<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64], pass: Pass<'_>) {
+    match pass {
+        Pass::Whole(width) if width == D => solve_line::<D>(factors, rows),
+        Pass::Whole(width) => {
+            let whole = RowBlock {
+                first: 0,
+                width,
+                columns: 0..width,
+            };
+            sweep_rows::<D>(factors, rows, &whole, Sweep::Down, &[]);
+            sweep_rows::<D>(factors, rows, &whole, Sweep::Up, &[]);
+        }
+        Pass::Block(block, sweep, carry) => sweep_rows::<D>(factors, rows, block, sweep, carry),
+    }
 }
 
 /// Entries per inner-loop chunk of a row: a multiple of every `D ≤ 3` and of the four lanes of

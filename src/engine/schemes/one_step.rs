@@ -111,6 +111,56 @@ pub struct OneStepScheme<'m> {
     guess: Vec<f64>,
 }
 
+impl StepCoefficients {
+    /// The predictor `P = U^n + ΔtV^n + aΔt²A^n` (eq. 32a without its `A^{n+1}` term) of
+    /// `(U^n, V^n, A^n)` into `predictor`, summed in `form`.
+    pub fn predict(
+        &self,
+        form: PredictorForm,
+        dt: f64,
+        (u, v, acc): (&[f64], &[f64], &[f64]),
+        predictor: &mut [f64],
+    ) {
+        let a = self.a;
+        let factored = form == PredictorForm::Factored;
+        for (((p, u), v), acc) in predictor.iter_mut().zip(u).zip(v).zip(acc) {
+            *p = if factored {
+                u + dt * (v + a * dt * acc)
+            } else {
+                u + dt * v + a * dt * dt * acc
+            };
+        }
+    }
+
+    /// The iterative solver's initial guess `P + bΔt²A^n`, the displacement of an unchanged
+    /// acceleration, into `guess`.
+    pub fn warm_start(&self, dt: f64, predictor: &[f64], acc: &[f64], guess: &mut [f64]) {
+        let b_dt2 = self.b * dt * dt;
+        for ((g, p), acc) in guess.iter_mut().zip(predictor).zip(acc) {
+            *g = p + b_dt2 * acc;
+        }
+    }
+
+    /// `A^{n+1} = (U^{n+1} − P)/(bΔt²)` and `V^{n+1} = V^n + Δt(cA^n + dA^{n+1})` (eq. 32a–b),
+    /// in place of `A^n` and `V^n`, from `U^{n+1}` and the predictor `P`.
+    pub fn update(
+        &self,
+        dt: f64,
+        (u_new, predictor): (&[f64], &[f64]),
+        v: &mut [f64],
+        acc: &mut [f64],
+    ) {
+        let (c, d) = (self.c, self.d);
+        let inv_bdt2 = 1.0 / (self.b * dt * dt);
+        let updates = u_new.iter().zip(predictor);
+        for ((v, acc), (u_new, p)) in v.iter_mut().zip(acc.iter_mut()).zip(updates) {
+            let a_new = (u_new - p) * inv_bdt2;
+            *v += dt * (c * *acc + d * a_new);
+            *acc = a_new;
+        }
+    }
+}
+
 impl<'m> OneStepScheme<'m> {
     /// Factorises `M / (bΔt²) + S` and prepares the contact correction; `nitsche` says which
     /// acceleration a Nitsche run keeps (see the module documentation).
@@ -171,22 +221,14 @@ impl OneStepScheme<'_> {
         shift: impl Fn(usize, f64) -> f64,
     ) -> Result<(), SolveError> {
         let dt = self.state.dt;
-        let StepCoefficients { a, b, c, d } = self.coef;
+        let StepCoefficients { b, c, d, .. } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
-        let factored = self.predictor_form == PredictorForm::Factored;
-        for (((p, u), v), acc) in self
-            .predictor
-            .iter_mut()
-            .zip(&self.state.u)
-            .zip(&self.state.v)
-            .zip(&self.a)
-        {
-            *p = if factored {
-                u + dt * (v + a * dt * acc)
-            } else {
-                u + dt * v + a * dt * dt * acc
-            };
-        }
+        self.coef.predict(
+            self.predictor_form,
+            dt,
+            (&self.state.u, &self.state.v, &self.a),
+            &mut self.predictor,
+        );
         self.model
             .mass()
             .mul_into(&self.predictor, &mut self.scratch);
@@ -194,12 +236,8 @@ impl OneStepScheme<'_> {
         if let Some(f) = self.model.load() {
             self.scratch.iter_mut().zip(f).for_each(|(r, fi)| *r += fi);
         }
-        // The iterative solver starts from `P + bΔt²A^n`, the displacement of an unchanged
-        // acceleration.
-        let b_dt2 = b * dt * dt;
-        for ((g, p), acc) in self.guess.iter_mut().zip(&self.predictor).zip(&self.a) {
-            *g = p + b_dt2 * acc;
-        }
+        self.coef
+            .warm_start(dt, &self.predictor, &self.a, &mut self.guess);
         self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
             contact.enforce(
@@ -210,16 +248,12 @@ impl OneStepScheme<'_> {
             )?;
         }
         match &self.elastic_acceleration {
-            None => {
-                let updates = self.scratch.iter().zip(&self.predictor);
-                for ((v, acc), (u_new, p)) in
-                    self.state.v.iter_mut().zip(self.a.iter_mut()).zip(updates)
-                {
-                    let a_new = (u_new - p) * inv_bdt2;
-                    *v += dt * (c * *acc + d * a_new);
-                    *acc = a_new;
-                }
-            }
+            None => self.coef.update(
+                dt,
+                (&self.scratch, &self.predictor),
+                &mut self.state.v,
+                &mut self.a,
+            ),
             Some(elastic) => {
                 // A^{n+1} needs the whole of U^{n+1} before the velocity update: the predictor
                 // buffer takes it.

@@ -133,15 +133,9 @@ fn gather<R: Ranks + ?Sized>(ranks: &R, run: &SlabOneStep<'_, R>, part: &[f64], 
         ranks.send(0, part);
         return;
     }
-    let slabs = run.slabs();
-    let layer_dofs = run.own_dofs().len() / slabs.of(0).len();
     whole[run.own_dofs()].copy_from_slice(part);
     for r in 1..ranks.size() {
-        let layers = slabs.of(r);
-        ranks.receive(
-            r,
-            &mut whole[layers.start * layer_dofs..layers.end * layer_dofs],
-        );
+        ranks.receive(r, &mut whole[run.dofs_of(r)]);
     }
 }
 
