@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check
+.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check mpi-install cluster-plan
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index).
@@ -150,11 +150,36 @@ league: build
 ## libopenmpi-dev, and libclang-dev for the bindings' generator) when they are missing, builds
 ## the `mpi` feature and runs tests/mpi.rs, which runs the solve under mpirun on 1 and 2 ranks
 ## against the one-process solve. `.ci/run` runs it after `make test`.
-mpi-check:
+mpi-check: mpi-install
 	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
-	@dpkg -s openmpi-bin libopenmpi-dev libclang-dev >/dev/null 2>&1 || (apt-get update -qq && apt-get install -y -qq openmpi-bin libopenmpi-dev libclang-dev)
 	$(CARGO) clippy --features mpi --lib --test mpi -- -D warnings
 	$(CARGO) nextest run --features mpi --test mpi
+
+mpi-install:
+	@dpkg -s openmpi-bin libopenmpi-dev libclang-dev >/dev/null 2>&1 || (apt-get update -qq && apt-get install -y -qq openmpi-bin libopenmpi-dev libclang-dev)
+
+## The plan of the 3D bar's 1 280-element reference across a cluster (issue 36; about 3 min):
+## its reference on 80 and 160 elements computed and measured (`reference --measure`) in one
+## process of one thread and of every thread, and on 2 and 3 MPI ranks of one thread; the cost
+## model fitted to them, checked against the finest study's one-process reference
+## (reports/finest/elastic-3d.json) and its answer for 8, 16 and 32 nodes written to
+## reports/cluster/ (cluster-plan.md, cluster-plan.json, and the measurements in measured/).
+CLUSTER := reports/cluster
+MPI_BIN := target/mpi/release/signorini
+MPIRUN := OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 RAYON_NUM_THREADS=1 mpirun --oversubscribe
+cluster-plan: mpi-install
+	CARGO_TARGET_DIR=target/mpi $(CARGO) build --release --features mpi
+	rm -rf $(CLUSTER)/measured $(CLUSTER)/work && mkdir -p $(CLUSTER)/measured $(CLUSTER)/work
+	for level in 80 160; do \
+	  sed "s/\"reference_level\": [0-9]*/\"reference_level\": $$level/" scenes/bar3d.json > $(CLUSTER)/work/bar3d-$$level.json && \
+	  RAYON_NUM_THREADS=1 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1t1-$$level --measure $(CLUSTER)/measured/$$level-ranks1-threads1.json && \
+	  $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1-$$level --measure $(CLUSTER)/measured/$$level-ranks1-threads$$(nproc).json && \
+	  for ranks in 2 3; do \
+	    $(MPIRUN) -n $$ranks $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n$$ranks-$$level --measure $(CLUSTER)/measured/$$level-ranks$$ranks-threads1.json || exit 1; \
+	  done || exit 1; \
+	done
+	$(MPI_BIN) cluster-plan scenes/bar3d.json --level 1280 --measured $(CLUSTER)/measured/*.json --measured-cores $$(nproc) --check reports/finest/elastic-3d.json --out $(CLUSTER)
+	rm -rf $(CLUSTER)/work
 
 bench:
 	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)

@@ -9,9 +9,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs, GoldenArgs, LeagueArgs,
-    ListArgs, MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs, SensitivityArgs,
-    StabilityArgs, StudyArgs, VerifyArgs,
+    self, ClusterPlanArgs, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs,
+    GoldenArgs, LeagueArgs, ListArgs, MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs,
+    SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -61,6 +61,10 @@ enum Command {
     /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
     /// parameters match the scene's, says which differ otherwise, and recomputes it.
     Reference(ReferenceArgs),
+    /// The cost model of a reference across MPI ranks fitted to references measured here
+    /// (`reference --measure`), and its answer for the scene's reference on --level elements
+    /// on N nodes of a stated size: cluster-plan.md and cluster-plan.json (`make cluster-plan`).
+    ClusterPlan(ClusterPlanArgs),
     /// The 1D part of `make report`: the gravity benchmark (gravity.md, gravity/), Tables 1–2
     /// beside the paper (tables.md, rates.json) and the extended table (extended.md) into
     /// --out. `make report` also runs `experiment`, `study` on the 2D and 3D bars, `getfem` and
@@ -109,6 +113,7 @@ fn main() -> ExitCode {
         Command::Rejudge(args) => commands::rejudge(args),
         Command::Sensitivity(args) => commands::sensitivity(args),
         Command::Reference(args) => commands::reference(args),
+        Command::ClusterPlan(args) => commands::cluster_plan(args),
         Command::Report(args) => commands::report(args),
         Command::Experiment(args) => commands::experiment(args),
         Command::Figures(args) => commands::figures(args),

@@ -14,6 +14,7 @@ macro_rules! out {
     }};
 }
 
+mod cluster_plan;
 mod failure;
 mod getfem;
 mod limits;
@@ -26,6 +27,7 @@ mod sharding;
 mod study;
 mod verify;
 
+pub use cluster_plan::{cluster_plan, ClusterPlanArgs};
 pub use failure::Failure;
 pub use getfem::{getfem, getfem_box, GetfemArgs, GetfemBoxArgs};
 pub use limits::LimitArgs;

@@ -232,6 +232,11 @@ pub struct ReferenceArgs {
     /// The shard to run.
     #[command(flatten)]
     pub shard: ReferenceShardArgs,
+    /// Computes the one scene's reference (the cache must not hold it) and writes what it cost
+    /// into this JSON file: times, CG iterations, each rank's peak memory, rank 0's traffic
+    /// (the figures `signorini cluster-plan` fits).
+    #[arg(long, value_name = "FILE")]
+    pub measure: Option<PathBuf>,
 }
 
 /// The fine-mesh reference of a box scene (`make reference`): reuses the cache when its
@@ -314,6 +319,7 @@ pub(crate) fn reference_with(
         linear_solver: args.solver.linear_solver,
         limits: args.limits.limits(),
         ranks,
+        measure: args.measure,
     };
     let say = |said: &str| out!("{said}");
     let done = references(request, executor, &invocation, &say)?;

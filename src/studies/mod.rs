@@ -8,6 +8,7 @@
 
 pub mod benchmark;
 pub mod catalogue;
+pub mod cluster_plan;
 pub mod cost;
 pub mod elastic_study;
 pub mod estimate;

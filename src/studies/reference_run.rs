@@ -9,11 +9,12 @@ use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
 use crate::harness::run::distributed::Ranks;
-use crate::harness::study::budget::Limits;
+use crate::harness::study::budget::{self, human_bytes, Estimate, Limits};
 use crate::harness::study::executor::{Executor, Jobs};
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
+use crate::studies::cluster_plan::Measurement;
 use crate::studies::elastic_study::reference::{Reference, ReferenceCache};
 use crate::studies::elastic_study::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::studies::outputs::{complete_or_write, shard_output, CommandError, Received};
@@ -56,6 +57,8 @@ pub struct ReferenceRequest<'a> {
     pub limits: Limits,
     /// The ranks of a distributed run (this process one of them), or `None` for one process.
     pub ranks: Option<&'a dyn Ranks>,
+    /// Where to write what the reference's computation cost ([`Measurement`]).
+    pub measure: Option<PathBuf>,
 }
 
 /// The references of the box scenes `scenes` in `cache`, solved with `linear_solver`, each held
@@ -79,6 +82,7 @@ pub fn references(
         linear_solver,
         limits,
         ranks,
+        measure,
     } = request;
     let (cache, out) = (cache.as_path(), out.as_deref());
     if out.is_some() && !matches!(executor, Executor::Shard(_)) {
@@ -100,7 +104,10 @@ pub fn references(
         config.settings.linear_solver = linear_solver;
         let estimate = config.reference_estimate(&problem);
         work.push(estimate.dof_steps as usize);
-        estimate.check(&limits).map_err(Error::from)?;
+        match ranks {
+            None => estimate.check(&limits).map_err(Error::from)?,
+            Some(ranks) => check_rank(estimate, (&problem, &config), &limits, ranks)?,
+        }
         jobs.push(ReferenceJob {
             index: jobs.len(),
             scene,
@@ -108,13 +115,18 @@ pub fn references(
             config,
         });
     }
+    if let Some(path) = &measure {
+        return measured(&jobs, executor, (cache, ranks), path, say);
+    }
     if let Some(ranks) = ranks {
         return on_ranks(&jobs, executor, (cache, ranks), say);
     }
     let executed = executor.execute_in_turn(&Jobs {
         items: &jobs,
         size: &|job: &ReferenceJob| work[job.index],
-        run: &|job: &ReferenceJob| obtain_and_report(job, (cache, None), say),
+        run: &|job: &ReferenceJob| {
+            obtain_and_report(job, (cache, None), say).map(|_| job.scene.name.clone())
+        },
     })?;
     let names = match complete_or_write(executed, shard, invocation)? {
         Received::Complete(names) => names.results,
@@ -132,6 +144,95 @@ pub fn references(
         }
     }
     Ok(format!("the references are in {}", cache.display()))
+}
+
+/// `limits` on this rank of a reference across `ranks` (every rank together): its memory with
+/// the other ranks' on its machine (rank 0 holding what one process holds, `estimate`, the
+/// others [`budget::reference_rank`]), and the work on rank 0. When any rank refuses, every
+/// rank stops: the one that refused says why.
+fn check_rank(
+    estimate: Estimate,
+    (problem, config): (&BoxProblem, &ElasticStudyConfig),
+    limits: &Limits,
+    ranks: &dyn Ranks,
+) -> Result<(), CommandError> {
+    let other = budget::reference_rank(problem, config.reference_level, ranks.size());
+    let sharing = ranks.on_this_machine().max(1);
+    let others_here = (sharing - 1) as f64 * other.memory_bytes;
+    let mine = if ranks.rank() == 0 {
+        Estimate {
+            memory_bytes: estimate.memory_bytes + others_here,
+            ..estimate
+        }
+    } else {
+        Estimate {
+            memory_bytes: other.memory_bytes + others_here,
+            ..other
+        }
+    };
+    let own = mine.check(limits);
+    let refusals = ranks.sum(if own.is_err() { 1.0 } else { 0.0 });
+    match own {
+        Err(e) => Err(CommandError::Refused(format!(
+            "rank {} of {}, with {sharing} rank(s) on its machine (rank 0 {}, each other rank \
+             {}): {e}; allowed: fewer ranks on a machine, or more memory",
+            ranks.rank(),
+            ranks.size(),
+            human_bytes(estimate.memory_bytes),
+            human_bytes(other.memory_bytes),
+        ))),
+        Ok(()) if refusals > 0.0 => Err(CommandError::Refused(
+            "another rank's budget refused the reference (it says why)".into(),
+        )),
+        Ok(()) => Ok(()),
+    }
+}
+
+/// The reference of the one scene of `jobs`, computed (never read from `cache`: a cached
+/// reference costs nothing to measure), on `ranks` when given, and what it cost written to
+/// `path` ([`Measurement`]) by rank 0.
+fn measured(
+    jobs: &[ReferenceJob],
+    executor: &Executor,
+    (cache, ranks): (&Path, Option<&dyn Ranks>),
+    path: &Path,
+    say: &(dyn Fn(&str) + Sync),
+) -> Result<String, CommandError> {
+    let [job] = jobs else {
+        return Err(CommandError::Refused(format!(
+            "--measure {}: measures one reference; allowed: one scene, not {}",
+            path.display(),
+            jobs.len()
+        )));
+    };
+    if !matches!(executor, Executor::Local) {
+        return Err(CommandError::Refused(
+            "--measure measures a reference computed here; run it without --shard".into(),
+        ));
+    }
+    let key = reference_key(&job.problem, &job.config)?;
+    if Reference::cache_paths(cache, &key.stem()).0.exists() {
+        return Err(CommandError::Refused(format!(
+            "--measure: the reference of {} is in --cache {} already, and reading it measures \
+             nothing; give an empty --cache",
+            job.scene.name,
+            cache.display()
+        )));
+    }
+    let reference = match ranks {
+        Some(r) if r.rank() > 0 => {
+            Reference::follow(&job.problem, &job.config.settings, &key, r)?;
+            None
+        }
+        _ => Some(obtain_and_report(job, (cache, ranks), say)?),
+    };
+    match Measurement::gather(&job.scene.name, reference.as_ref(), ranks) {
+        Some(measurement) => {
+            measurement.write(path)?;
+            Ok(format!("what it cost is in {}", path.display()))
+        }
+        None => Ok(String::new()),
+    }
 }
 
 /// The references of `jobs` on `ranks`, in turn (see [`references`]): refused under a shard
@@ -169,13 +270,12 @@ fn on_ranks(
 }
 
 /// Obtains the reference of `job` from `cache` (computing and caching it when the cache does
-/// not match), tells `say` which it was, with the time it took now, and returns the scene's
-/// name.
+/// not match), tells `say` which it was, with the time it took now, and returns it.
 fn obtain_and_report(
     job: &ReferenceJob,
     (cache, ranks): (&Path, Option<&dyn Ranks>),
     say: &(dyn Fn(&str) + Sync),
-) -> Result<String, Error> {
+) -> Result<Reference, Error> {
     let clock = Instant::now();
     let store = ReferenceCache::ReadWrite(cache.to_path_buf());
     let reference = obtain_reference(
@@ -187,7 +287,7 @@ fn obtain_and_report(
     )?;
     let seconds = clock.elapsed().as_secs_f64();
     let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
-    let how = match reference.timings {
+    let how = match reference.cost.map(|c| c.timings) {
         Some(t) => format!(
             "computed and cached in {seconds:.1} s (the fine run: setup {:.1} s, steps {:.1} s, \
              contact {:.1} s, projections and check {:.1} s; wrote {} and {})",
@@ -214,5 +314,5 @@ fn obtain_and_report(
         reference.samples(),
     );
     progress::suspended(|| say(&said));
-    Ok(job.scene.name.clone())
+    Ok(reference)
 }

@@ -258,6 +258,84 @@ fn reference_command_says_whether_the_cache_matches() {
     let _ = std::fs::remove_file(&scene);
 }
 
+/// `reference --measure FILE` computes the reference and writes what it cost; a reference the
+/// cache already holds is refused (reading it measures nothing), as are two scenes; and the
+/// plan refuses measurements it cannot fit a model to, naming the field.
+#[test]
+fn reference_measure_writes_what_it_cost_and_refuses_what_it_cannot_measure() {
+    use signorini::studies::cluster_plan::Measurement;
+    let (cache, measure) = (temp("measure-cache"), temp("measure.json"));
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
+            .unwrap()
+            .replace(
+                "[10, 20, 40, 80], \"reference_level\": 640",
+                "[2], \"reference_level\": 8",
+            );
+    let scene = temp("measure-2d.json");
+    std::fs::write(&scene, text).unwrap();
+    let (scene_arg, cache_arg, measure_arg) = (
+        scene.to_str().unwrap(),
+        cache.to_str().unwrap(),
+        measure.to_str().unwrap(),
+    );
+    let args = [
+        "reference",
+        scene_arg,
+        "--cache",
+        cache_arg,
+        "--linear-solver",
+        "cg",
+        "--measure",
+        measure_arg,
+    ];
+    let said = success_stdout(&signorini(&args));
+    assert!(said.contains("what it cost is in"), "{said}");
+    let measured = Measurement::read(&measure).unwrap();
+    assert_eq!((measured.level, measured.ranks), (8, 1));
+    assert!(measured.dofs > 0 && measured.steps > 0, "{measured:?}");
+    assert!(
+        measured.iterations >= measured.solves && measured.solves > 0,
+        "{measured:?}"
+    );
+    assert!(measured.traffic.is_none(), "{measured:?}");
+    assert_eq!(measured.peak_bytes.len(), 1);
+    expect_error(&args, 2, &["--measure", "--cache"]);
+    expect_error(
+        &[
+            "reference",
+            scene_arg,
+            scene_arg,
+            "--cache",
+            &format!("{cache_arg}-two"),
+            "--measure",
+            measure_arg,
+        ],
+        2,
+        &["--measure", "one scene"],
+    );
+    expect_error(
+        &[
+            "cluster-plan",
+            "scenes/bar3d.json",
+            "--level",
+            "1280",
+            "--measured",
+            measure_arg,
+            "--measured-cores",
+            "2",
+            "--out",
+            &format!("{cache_arg}-plan"),
+        ],
+        2,
+        &["measured"],
+    );
+    assert!(!Path::new(&format!("{cache_arg}-plan")).exists());
+    let _ = std::fs::remove_dir_all(&cache);
+    let _ = std::fs::remove_file(&scene);
+    let _ = std::fs::remove_file(&measure);
+}
+
 #[test]
 fn reference_command_rejects_a_bar_scene() {
     expect_error(

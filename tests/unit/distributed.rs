@@ -407,3 +407,53 @@ fn a_solve_on_two_ranks_exchanges_what_the_cost_model_charges() {
         }
     );
 }
+
+/// The memory budget of a reference across ranks: every rank's estimate with the others' on
+/// its machine (thread ranks share one). A limit that holds rank 1's and not rank 0's stops
+/// both before anything is computed: rank 0 says why, rank 1 that another rank refused.
+#[test]
+fn a_reference_whose_rank_does_not_fit_its_machine_is_refused_on_every_rank() {
+    use signorini::engine::linalg::LinearSolver;
+    use signorini::harness::study::budget::{reference_rank, Limits};
+    use signorini::harness::study::executor::Executor;
+    use signorini::harness::study::scene::Scene;
+    use signorini::harness::study::shard::Invocation;
+    use signorini::studies::elastic_study::ElasticStudyConfig;
+    use signorini::studies::reference_run::{references, ReferenceRequest};
+
+    let path = std::path::PathBuf::from("scenes/bar3d.json");
+    let scene = Scene::load(&path).unwrap();
+    let problem = scene.box_problem("a box").unwrap();
+    let config = ElasticStudyConfig::from_scene(&scene, None).unwrap();
+    let rank_bytes = reference_rank(&problem, config.reference_level, 2).memory_bytes;
+    let limit = (2.0 * rank_bytes) as u64 + 1;
+    let cache = std::env::temp_dir().join(format!("signorini-rank-budget-{}", std::process::id()));
+    let invocation = Invocation {
+        command: "reference".into(),
+        arguments: vec![],
+        request: String::new(),
+        inputs: vec![],
+    };
+    let said = ThreadRanks::run(2, |r| {
+        let request = ReferenceRequest {
+            scenes: vec![path.clone()],
+            cache: cache.clone(),
+            out: None,
+            linear_solver: LinearSolver::Cg,
+            limits: Limits::or_defaults(Some(limit), None, None),
+            ranks: Some(r),
+            measure: None,
+        };
+        references(request, &Executor::Local, &invocation, &|_| {})
+            .err()
+            .map(|e| e.to_string())
+    });
+    let rank0 = said[0].as_deref().expect("rank 0 refuses");
+    assert!(
+        rank0.contains("rank 0 of 2") && rank0.contains("--max-memory"),
+        "{rank0}"
+    );
+    let rank1 = said[1].as_deref().expect("rank 1 stops with it");
+    assert!(rank1.contains("another rank"), "{rank1}");
+    assert!(!cache.exists(), "nothing is computed or cached");
+}

@@ -17,6 +17,7 @@ mod slabs;
 mod bouncing_bar;
 mod box_budget;
 mod box_mesh;
+mod cluster_plan;
 mod complementarity;
 mod contact_cross_check;
 mod contact_stabilised_newmark;

@@ -10,6 +10,8 @@ use super::Ranks;
 /// The processes of `MPI_COMM_WORLD`, with MPI initialised for as long as this lives.
 pub struct MpiRanks {
     world: SimpleCommunicator,
+    /// The ranks on this machine (`MPI_Comm_split_type` with `MPI_COMM_TYPE_SHARED`).
+    on_this_machine: usize,
     /// Finalises MPI when dropped, after `world` (fields drop in order).
     _universe: Universe,
 }
@@ -18,8 +20,11 @@ impl MpiRanks {
     /// Initialises MPI for this process; `None` when it was already initialised.
     pub fn initialise() -> Option<Self> {
         let universe = mpi::initialize()?;
+        let world = universe.world();
+        let on_this_machine = usize::try_from(world.split_shared(0).size()).unwrap_or(1);
         Some(Self {
-            world: universe.world(),
+            world,
+            on_this_machine,
             _universe: universe,
         })
     }
@@ -38,6 +43,10 @@ impl Ranks for MpiRanks {
 
     fn size(&self) -> usize {
         usize::try_from(self.world.size()).expect("MPI sizes are positive")
+    }
+
+    fn on_this_machine(&self) -> usize {
+        self.on_this_machine
     }
 
     fn send(&self, to: usize, values: &[f64]) {

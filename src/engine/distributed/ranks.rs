@@ -22,6 +22,16 @@ pub trait Ranks {
     /// ranks call it with each other: MPI's `sendrecv`, which cannot deadlock on the pair).
     fn exchange(&self, with: usize, values: &[f64], into: &mut [f64]);
 
+    /// The ranks that share this rank's machine, and so its memory (1 unless known).
+    fn on_this_machine(&self) -> usize {
+        1
+    }
+
+    /// What this rank has exchanged so far, where it is counted ([`super::CountedRanks`]).
+    fn traffic(&self) -> Option<super::Traffic> {
+        None
+    }
+
     /// Every rank's `value`, in rank order, into `into` (`size` entries), on every rank.
     fn gather_all(&self, value: f64, into: &mut [f64]);
 

@@ -160,6 +160,11 @@ impl<'r, R: Ranks + ?Sized> SlabCg<'r, R> {
         self.rows.own_dofs()
     }
 
+    /// The decomposition.
+    pub fn slabs(&self) -> &Slabs {
+        &self.slabs
+    }
+
     /// The range of the whole box's unknowns rank `rank` holds.
     pub fn dofs_of(&self, rank: usize) -> Range<usize> {
         let (layers, layer_dofs) = (self.slabs.of(rank), self.rows.layer_dofs());

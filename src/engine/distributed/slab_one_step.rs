@@ -213,6 +213,11 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         self.system.dofs_of(rank)
     }
 
+    /// The decomposition of the box over the ranks.
+    pub fn slabs(&self) -> &Slabs {
+        self.system.slabs()
+    }
+
     /// This rank's part of `U^n`.
     pub fn displacement(&self) -> &[f64] {
         &self.u

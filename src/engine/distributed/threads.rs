@@ -68,6 +68,11 @@ impl Ranks for ThreadRanks {
         self.to.len()
     }
 
+    /// Every rank: they are threads of one process.
+    fn on_this_machine(&self) -> usize {
+        self.to.len()
+    }
+
     fn send(&self, to: usize, values: &[f64]) {
         self.to[to]
             .send(values.to_vec())

@@ -87,6 +87,14 @@ impl<R: Ranks + ?Sized> Ranks for CountedRanks<'_, R> {
         self.inner.gather_all(value, into);
     }
 
+    fn on_this_machine(&self) -> usize {
+        self.inner.on_this_machine()
+    }
+
+    fn traffic(&self) -> Option<Traffic> {
+        Some(self.traffic.get())
+    }
+
     fn sum(&self, part: f64) -> f64 {
         self.count(|t| t.sums += 1);
         self.inner.sum(part)

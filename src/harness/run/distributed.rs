@@ -9,13 +9,19 @@
 //! a sum in which rank 0 says whether to go on ([`Follow`]): 0 at each step, 1 when its
 //! integrator is dropped, whatever ended the loop. The other ranks follow those sums
 //! ([`follow`]) and end with it.
+//!
+//! What needs the fine field without needing it whole, a reference's projections on its
+//! coarse levels, is a [`SlabObserver`]: every rank computes it from its own part of `U` after
+//! each step, inside the run, rank 0 holding the result.
+
+use std::cell::RefCell;
 
 use super::{time_grid, IntegratorFactory, RunConfig};
 use crate::engine::contact::Truncation;
 #[cfg(feature = "mpi")]
 pub use crate::engine::distributed::MpiRanks;
 pub use crate::engine::distributed::{CountedRanks, Ranks, Traffic};
-use crate::engine::distributed::{SlabOneStep, SlabRunError};
+use crate::engine::distributed::{SlabOneStep, SlabRunError, Slabs};
 use crate::engine::error::{ParameterError, SolveError};
 use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
@@ -50,11 +56,25 @@ impl Follow {
     }
 }
 
+/// What every rank of a distributed run computes from its part of the state after each step,
+/// all ranks together (its collective calls in the same order on every rank).
+pub trait SlabObserver {
+    /// Sets up on the run's decomposition, before the first observation.
+    fn start(&mut self, slabs: &Slabs) -> Result<(), Error>;
+
+    /// This rank's part of `U^n`, after step `n` (from `n = 0`, every step in turn).
+    fn observe_slab(&mut self, u: &[f64]);
+}
+
+/// The slab observers of a distributed run, each borrowed by the run while it steps.
+pub type SlabObservers<'r> = [&'r RefCell<dyn SlabObserver + 'r>];
+
 /// A distributed run's integrator on rank 0: the distributed steps, and the whole state
 /// gathered after each ([`GatheredRun::advance`]).
 pub struct GatheredRun<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     run: SlabOneStep<'r, R>,
+    observers: &'r SlabObservers<'r>,
     /// The whole `U^n`, `V^n`, `λ^n` on rank 0 (empty vectors elsewhere).
     state: SchemeState,
     energy: f64,
@@ -62,9 +82,10 @@ pub struct GatheredRun<'r, R: Ranks + ?Sized> {
 
 impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
     /// The distributed run of `model` with `scheme` (an implicit Newmark or θ-method one)
-    /// and `Δt = dt` from `u0`, `v0` with `conventions`, its initial state gathered.
+    /// and `Δt = dt` from `u0`, `v0` with `conventions`, its initial state gathered and
+    /// observed by `observers` (started on the run's decomposition first).
     pub fn new(
-        ranks: &'r R,
+        (ranks, observers): (&'r R, &'r SlabObservers<'r>),
         model: &Model,
         (scheme, dt): (Scheme, f64),
         (u0, v0): (&[f64], &[f64]),
@@ -96,9 +117,13 @@ impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
             SlabRunError::Decomposition(d) => Error::from(d),
             SlabRunError::Solve(s) => Error::from(s),
         })?;
+        for o in observers {
+            o.borrow_mut().start(run.slabs())?;
+        }
         let whole = if ranks.rank() == 0 { u0.len() } else { 0 };
         let mut gathered = Self {
             ranks,
+            observers,
             state: SchemeState::start(dt, vec![0.0; whole], vec![0.0; whole], Vec::new()),
             run,
             energy: 0.0,
@@ -107,8 +132,12 @@ impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
         Ok(gathered)
     }
 
-    /// The energy and the gathered state after a step (every rank together).
+    /// The energy, the slab observers and the gathered state after a step (every rank
+    /// together).
     fn observe(&mut self) {
+        for o in self.observers {
+            o.borrow_mut().observe_slab(self.run.displacement());
+        }
         self.energy = self.run.energy();
         gather(
             self.ranks,
@@ -202,33 +231,44 @@ pub fn follow<R: Ranks + ?Sized>(run: &mut GatheredRun<'_, R>) -> Result<(), Sol
     failed.map_or(Ok(()), Err)
 }
 
-/// The factory of [`GatheredRun`]s on `ranks` that rank 0's time loop builds its integrator
-/// with ([`super::elastic::run_box`]).
-pub fn gathered(ranks: &dyn Ranks) -> Box<IntegratorFactory<'_>> {
+/// The factory of [`GatheredRun`]s on `ranks` observed by `observers` that rank 0's time loop
+/// builds its integrator with ([`super::elastic::run_box`]).
+pub fn gathered<'r>(
+    ranks: &'r dyn Ranks,
+    observers: &'r SlabObservers<'r>,
+) -> Box<IntegratorFactory<'r>> {
     Box::new(move |model, scheme, dt, u0, v0, conventions| {
-        let run = GatheredRun::new(ranks, model, (scheme, dt), (u0, v0), conventions)?;
+        let run = GatheredRun::new(
+            (ranks, observers),
+            model,
+            (scheme, dt),
+            (u0, v0),
+            conventions,
+        )?;
         Ok(Box::new(run) as Box<dyn TimeIntegrator + '_>)
     })
 }
 
-/// A rank other than 0 of the distributed run of `problem` with `config`: the same
-/// discretisation, scheme and `Δt` as rank 0's time loop ([`super::drive_by`]), then its
-/// steps as rank 0 says ([`follow`]).
-pub fn follow_run(
+/// A rank other than 0 of the distributed run of `problem` with `config`, observed by
+/// `observers`: the same discretisation, scheme and `Δt` as rank 0's time loop
+/// ([`super::drive_by`]), then its steps as rank 0 says ([`follow`]). The whole discretisation
+/// is dropped once the run holds this rank's slab.
+pub fn follow_run<'r>(
     problem: &BoxProblem,
     config: &RunConfig,
-    ranks: &dyn Ranks,
+    (ranks, observers): (&'r dyn Ranks, &'r SlabObservers<'r>),
 ) -> Result<(), Error> {
     let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
     let scheme = config.scheme.validate()?;
     let h = discretisation.mesh.axial_element_size();
     let (_, dt) = time_grid(problem.horizon, h, config.ratio);
     let mut run = GatheredRun::new(
-        ranks,
+        (ranks, observers),
         &discretisation.model,
         (scheme, dt),
         (&discretisation.displacement, &discretisation.velocity),
         &discretisation.conventions,
     )?;
+    drop(discretisation);
     Ok(follow(&mut run)?)
 }

@@ -91,6 +91,18 @@ pub fn available_memory() -> u64 {
         .map_or(FALLBACK_MEMORY_BYTES, |kb| kb.saturating_mul(1024))
 }
 
+/// This process's peak resident memory so far: `VmHWM` of `/proc/self/status`, `None` where
+/// that cannot be read.
+pub fn peak_resident_bytes() -> Option<u64> {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()?
+        .lines()
+        .find_map(|line| line.strip_prefix("VmHWM:"))
+        .and_then(|rest| rest.trim().strip_suffix("kB"))
+        .and_then(|kb| kb.trim().parse::<u64>().ok())
+        .map(|kb| kb.saturating_mul(1024))
+}
+
 /// What a run or a study is estimated to cost.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Estimate {
@@ -103,7 +115,7 @@ pub struct Estimate {
 }
 
 /// `bytes` for a person: `3.2 GiB`.
-fn human_bytes(bytes: f64) -> String {
+pub fn human_bytes(bytes: f64) -> String {
     const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
     let mut value = bytes;
     let mut unit = 0;
@@ -229,9 +241,9 @@ impl Estimate {
     }
 }
 
-/// The number of time steps of a run with element size `h` ([`crate::harness::run::time_grid`]
-/// in `f64`: no cast can overflow).
-fn steps(horizon: f64, h: f64, ratio: f64) -> f64 {
+/// The number of time steps of a run over `horizon` with element size `h` and `Δx/Δt = ratio`
+/// ([`crate::harness::run::time_grid`] in `f64`: no cast can overflow).
+pub fn steps(horizon: f64, h: f64, ratio: f64) -> f64 {
     (horizon * ratio / h - 1e-9).ceil().max(1.0)
 }
 
@@ -276,6 +288,13 @@ struct BoxShape {
     contact_nodes: f64,
     h: f64,
     nodes: f64,
+}
+
+/// The unknowns and the element size along the axis of `problem`'s mesh on `n_axis`
+/// elements along it (as the estimates count them).
+pub fn box_size(problem: &BoxProblem, n_axis: usize) -> (f64, f64) {
+    let shape = box_shape(problem, n_axis);
+    (shape.dofs, shape.h)
 }
 
 fn box_shape(problem: &BoxProblem, n_axis: usize) -> BoxShape {
@@ -391,6 +410,31 @@ pub fn box_run(
             + snapshot_bytes,
         files,
         dof_steps: shape.dofs * (steps + shape.contact_nodes),
+    }
+}
+
+/// Peak bytes of a rank other than 0 of a distributed reference per unknown of the whole box:
+/// what every rank holds whole (the mesh, the start it computes whole, the model). With
+/// [`RANK_BYTES_PER_SLAB_UNKNOWN`], an upper bound of the measured peaks of ranks 1 and 2 of
+/// the 3D bar's references on 80 and 160 elements over 2 and 3 ranks (`make cluster-plan`:
+/// 23–61 MB, fitted 218 bytes per unknown and 183 per slab unknown).
+const RANK_BYTES_PER_UNKNOWN: f64 = 240.0;
+
+/// Peak bytes of such a rank per unknown of its slab (its parts of the state, its rows of the
+/// operators, the CG's and the projections' work vectors).
+const RANK_BYTES_PER_SLAB_UNKNOWN: f64 = 200.0;
+
+/// The memory of a rank other than 0 of `problem`'s reference on `n_axis` elements along the
+/// axis over `ranks` ranks (rank 0 holds what one process holds of a reference, and is held
+/// to [`box_study`]'s estimate).
+pub fn reference_rank(problem: &BoxProblem, n_axis: usize, ranks: usize) -> Estimate {
+    let dofs = box_shape(problem, n_axis).dofs;
+    Estimate {
+        memory_bytes: BASE_BYTES
+            + RANK_BYTES_PER_UNKNOWN * dofs
+            + RANK_BYTES_PER_SLAB_UNKNOWN * dofs / ranks.max(1) as f64,
+        files: 0.0,
+        dof_steps: 0.0,
     }
 }
 

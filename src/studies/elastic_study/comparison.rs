@@ -24,7 +24,8 @@ use std::collections::BTreeMap;
 use super::reference::ReferenceHistories;
 use crate::harness::files::error::Error;
 use crate::harness::run::nested_comparison::error_series::{ErrorSeries, Quantity};
-use crate::harness::run::nested_comparison::projection::{LevelProjections, NormMatrices};
+use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
+use crate::harness::run::nested_comparison::projection::LevelProjections;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{Observer, TimeIntegrator};
 

@@ -40,7 +40,7 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{MassVariant, Scheme, Settings};
 use crate::harness::run::distributed::Ranks;
 use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
-use crate::harness::run::nested_comparison::projection::NormMatrices;
+use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BoxRun, Observables, Observer, RunConfig, TimeIntegrator};
 use crate::harness::study::budget::{self, Estimate};

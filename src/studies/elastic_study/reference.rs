@@ -18,6 +18,7 @@
 //! field by field; otherwise it is recomputed. A [`ReferenceCache`] says whether the run may
 //! write the directory.
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -32,13 +33,12 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
 use crate::harness::problem::{Conventions, LinearSolver, MassVariant, Scheme, Settings};
-use crate::harness::run::distributed::{follow_run, gathered, Ranks};
+use crate::harness::run::distributed::{follow_run, gathered, Ranks, SlabObserver};
 use crate::harness::run::elastic::run_box;
 use crate::harness::run::elastic::{box_mesh, BoxMesh, BoxProblem};
 use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
-use crate::harness::run::nested_comparison::projection::{
-    LevelProjections, NormMatrices, ProjectionRecorder,
-};
+use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
+use crate::harness::run::nested_comparison::projection::{LevelProjections, ProjectionRecorder};
 use crate::harness::run::{run, Observables, RunConfig, Timings};
 use crate::harness::study::progress::StepProgress;
 
@@ -290,8 +290,19 @@ pub struct Reference {
     pub mesh: BoxMesh,
     /// Whether it was read from the cache.
     pub from_cache: bool,
-    /// How the fine run's time was spent, when it was computed now.
-    pub timings: Option<Timings>,
+    /// What the fine run cost, when it was computed now.
+    pub cost: Option<FineRunCost>,
+}
+
+/// What a reference's fine run cost.
+#[derive(Debug, Clone, Copy)]
+pub struct FineRunCost {
+    /// How its time was spent (rank 0's, for a distributed run).
+    pub timings: Timings,
+    /// Step systems solved.
+    pub solves: usize,
+    /// CG iterations over all of them.
+    pub iterations: usize,
 }
 
 impl Reference {
@@ -323,13 +334,24 @@ impl Reference {
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
         let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
-        let mut recorder = ProjectionRecorder::new(
-            &key.levels,
-            &mesh,
-            &fine_norms,
-            &mesh_of,
-            &problem.elasticity,
-        )?;
+        let recorder = match ranks {
+            None => ProjectionRecorder::new(
+                &key.levels,
+                &mesh,
+                &fine_norms,
+                &mesh_of,
+                &problem.elasticity,
+            )?,
+            Some(ranks) => ProjectionRecorder::distributed(
+                ranks,
+                &key.levels,
+                &mesh,
+                &fine_norms,
+                &mesh_of,
+                &problem.elasticity,
+            )?,
+        };
+        let recorder = RefCell::new(recorder);
         let check_config = RunConfig {
             nx: key.n_axis / 2,
             ..config.clone()
@@ -353,12 +375,19 @@ impl Reference {
                 &format!("reference on {} elements", key.n_axis),
                 problem.horizon,
             );
-            let factory = ranks.map(gathered);
-            let run = run_box(
-                problem,
-                (&config, factory.as_deref()),
-                &mut [&mut recorder, &mut comparison, &mut steps],
-            );
+            let slab_observers: [&RefCell<dyn SlabObserver>; 1] = [&recorder];
+            let run = match ranks {
+                None => run_box(
+                    problem,
+                    (&config, None),
+                    &mut [&mut *recorder.borrow_mut(), &mut comparison, &mut steps],
+                ),
+                Some(ranks) => run_box(
+                    problem,
+                    (&config, Some(&*gathered(ranks, &slab_observers))),
+                    &mut [&mut comparison, &mut steps],
+                ),
+            };
             let distance = comparison.finish();
             let check_run = check
                 .join()
@@ -366,9 +395,13 @@ impl Reference {
             (run, distance, check_run)
         });
         let run = run?.completed()?;
-        let timings = run.timings;
+        let cost = FineRunCost {
+            timings: run.timings,
+            solves: run.observed.step_solves.solves,
+            iterations: run.observed.step_solves.iterations,
+        };
         let check_run = check_run?.completed()?;
-        let projections = recorder.finish();
+        let projections = recorder.into_inner().finish();
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
         let centre_displacement: Vec<f64> = run
@@ -420,7 +453,7 @@ impl Reference {
             histories,
             projections,
             from_cache: false,
-            timings: Some(timings),
+            cost: Some(cost),
         })
     }
 
@@ -559,7 +592,7 @@ impl Reference {
             histories,
             projections,
             from_cache: true,
-            timings: None,
+            cost: None,
         })))
     }
 
@@ -654,7 +687,19 @@ impl Reference {
             observables: Observables::default(),
             settings: distributed_settings(settings)?,
         };
-        follow_run(problem, &config, ranks)
+        let mesh = box_mesh(problem, key.n_axis)?;
+        let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
+        let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
+        let recorder = RefCell::new(ProjectionRecorder::distributed(
+            ranks,
+            &key.levels,
+            &mesh,
+            &fine_norms,
+            &mesh_of,
+            &problem.elasticity,
+        )?);
+        let slab_observers: [&RefCell<dyn SlabObserver>; 1] = [&recorder];
+        follow_run(problem, &config, (ranks, &slab_observers))
     }
 }
 

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::sync::mpsc::{Receiver, SyncSender};
 
 use super::error_series::ErrorSeries;
-use super::projection::NormMatrices;
+use super::norm_matrices::NormMatrices;
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::error::Error;

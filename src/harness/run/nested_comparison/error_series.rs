@@ -1,5 +1,5 @@
 //! The time series of a run's errors against the reference, in every norm of a 2D/3D study (the
-//! displacement's `H` and `V` norms of [`super::projection::NormMatrices`], the total contact
+//! displacement's `H` and `V` norms of [`super::norm_matrices::NormMatrices`], the total contact
 //! force, the energy), and their `L∞(0, T)` and `L²(0, T)` norms.
 //!
 //! A sample may lack a quantity (another code's file that holds its fields at some times only,

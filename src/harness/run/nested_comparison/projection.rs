@@ -22,49 +22,16 @@
 //! Memory: `2 · dofs_ℓ` per step of each level (about 100 MB for the 3D levels 10–80), instead of
 //! the reference's trajectory (2.7 GB at 3D level 320 sampled at level 80's steps).
 
-use crate::engine::fem::{BoxMesh, Elasticity, MassVariant, Prolongation, SymmetricMatrix};
+use super::norm_matrices::NormMatrices;
+use super::slab_fine::SlabFine;
+use crate::engine::distributed::{Ranks, Slabs};
+use crate::engine::error::ParameterError;
+use crate::engine::fem::{BoxMesh, Elasticity, Prolongation};
 use crate::engine::linalg::SpdSolver;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::error::Error;
+use crate::harness::run::distributed::SlabObserver;
 use crate::harness::run::Observer;
-
-/// The matrices of the norms on one mesh: the standard consistent mass (`H`: `ρ ∫ |e|²`) and
-/// the stiffness (`a(e, e)`; `V` is their sum), matrix-free.
-#[derive(Debug, Clone)]
-pub struct NormMatrices {
-    /// Consistent mass.
-    pub mass: SymmetricMatrix,
-    /// Stiffness.
-    pub stiffness: SymmetricMatrix,
-}
-
-impl NormMatrices {
-    /// The norm matrices of `mesh` with the density and the Lamé coefficients of `elasticity`.
-    pub fn of(mesh: &BoxMesh, elasticity: &Elasticity) -> Self {
-        Self {
-            mass: mesh
-                .mass_stencil(MassVariant::Standard, elasticity.density)
-                .expect("the standard mass is built element by element"),
-            stiffness: mesh.stiffness_stencil(elasticity),
-        }
-    }
-
-    /// `‖e‖²_H = eᵀ M e` (`scratch` has `e`'s length).
-    pub fn h_squared(&self, e: &[f64], scratch: &mut [f64]) -> f64 {
-        self.mass.mul_dot(e, scratch)
-    }
-
-    /// `‖e‖²_V = eᵀ M e + eᵀ S e`.
-    pub fn v_squared(&self, e: &[f64], scratch: &mut [f64]) -> f64 {
-        self.h_squared(e, scratch) + self.stiffness.mul_dot(e, scratch)
-    }
-
-    /// `(‖e‖²_H, ‖e‖²_V)` of one `e`, the mass product done once.
-    pub fn squared(&self, e: &[f64], scratch: &mut [f64]) -> (f64, f64) {
-        let h2 = self.h_squared(e, scratch);
-        (h2, h2 + self.stiffness.mul_dot(e, scratch))
-    }
-}
 
 /// The projections of the reference on one level, at every step of that level.
 #[derive(Debug, Clone, PartialEq)]
@@ -156,12 +123,11 @@ impl LevelProjections {
 }
 
 /// One level of a [`ProjectionRecorder`]: its prolongation into the next finer level of the
-/// chain, the factorised `A_ℓ` of both norms and what has been recorded.
+/// chain (none for the finest, whose prolongation into the reference is the [`FineSide`]'s),
+/// the factorised `A_ℓ` of both norms and what has been recorded.
 struct LevelRecorder {
-    /// Fine steps between two of the level's steps.
-    stride: usize,
-    /// Into the next finer level (the reference for the finest).
-    prolongation: Prolongation,
+    /// Into the next finer level; `None` for the finest.
+    prolongation: Option<Prolongation>,
     mass: SpdSolver,
     energy: SpdSolver,
     /// Restricted loads `Pᵀ M u`, `Pᵀ (M + S) u` at the current step.
@@ -170,18 +136,44 @@ struct LevelRecorder {
     recorded: LevelProjections,
 }
 
-/// Records the [`LevelProjections`] of every level while the reference runs (an observer of
-/// the reference run). The levels form a chain of nested prolongations, coarsest first, so only
-/// the finest level's prolongation has the reference's size.
+/// The reference's side of the projections: its products with the fine norm matrices and the
+/// prolongation of the finest level into it.
+enum FineSide<'a> {
+    /// The whole reference mesh, in this process.
+    Whole {
+        norms: &'a NormMatrices,
+        prolongation: Prolongation,
+        mass_u: Vec<f64>,
+        energy_u: Vec<f64>,
+        pw: Vec<f64>,
+        residual: Vec<f64>,
+        scratch: Vec<f64>,
+    },
+    /// A distributed run's, before the run has cut the box into slabs.
+    Unstarted {
+        ranks: &'a dyn Ranks,
+        norms: &'a NormMatrices,
+        finest: BoxMesh,
+        reference: &'a BoxMesh,
+    },
+    /// This rank's slab of it ([`SlabFine`]).
+    Slab(Box<SlabFine<'a>>),
+}
+
+/// Records the [`LevelProjections`] of every level while the reference runs: an observer of
+/// the reference run in one process, or a [`SlabObserver`] of every rank of a distributed
+/// one, rank 0 holding the levels ([`ProjectionRecorder::distributed`]). The levels form a
+/// chain of nested prolongations, coarsest first, so only the finest level's prolongation has
+/// the reference's size.
 pub struct ProjectionRecorder<'a> {
-    fine: &'a NormMatrices,
+    fine: FineSide<'a>,
+    /// Fine steps between two steps of each level.
+    strides: Vec<usize>,
+    /// The levels (empty on a distributed run's ranks other than 0).
     levels: Vec<LevelRecorder>,
     step: usize,
-    mass_u: Vec<f64>,
-    energy_u: Vec<f64>,
+    /// `P w` of a level's `w` up the chain, each the next finer level's length.
     up: Vec<Vec<f64>>,
-    residual: Vec<f64>,
-    scratch: Vec<f64>,
 }
 
 impl<'a> ProjectionRecorder<'a> {
@@ -195,20 +187,75 @@ impl<'a> ProjectionRecorder<'a> {
         mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
         elasticity: &Elasticity,
     ) -> Result<Self, Error> {
+        let meshes = Self::meshes(levels, mesh_of)?;
+        let finest = meshes.last().ok_or_else(no_level)?;
+        let n = reference.n_dofs();
+        let side = FineSide::Whole {
+            norms: fine,
+            prolongation: Prolongation::new(finest, reference)?,
+            mass_u: vec![0.0; n],
+            energy_u: vec![0.0; n],
+            pw: vec![0.0; n],
+            residual: vec![0.0; n],
+            scratch: vec![0.0; n],
+        };
+        Self::with_side(side, levels, reference, &meshes, elasticity)
+    }
+
+    /// [`ProjectionRecorder::new`] for the rank `ranks.rank()` of a distributed run: its part
+    /// is set up when the run has cut the box ([`SlabObserver::start`]); only rank 0 holds the
+    /// levels and records.
+    pub fn distributed(
+        ranks: &'a dyn Ranks,
+        levels: &[usize],
+        reference: &'a BoxMesh,
+        fine: &'a NormMatrices,
+        mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
+        elasticity: &Elasticity,
+    ) -> Result<Self, Error> {
+        let mut meshes = Self::meshes(levels, mesh_of)?;
+        let finest = meshes.last().ok_or_else(no_level)?.clone();
+        if ranks.rank() != 0 {
+            meshes.clear();
+        }
+        let side = FineSide::Unstarted {
+            ranks,
+            norms: fine,
+            finest,
+            reference,
+        };
+        Self::with_side(side, levels, reference, &meshes, elasticity)
+    }
+
+    fn meshes(
+        levels: &[usize],
+        mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
+    ) -> Result<Vec<BoxMesh>, Error> {
+        levels.iter().map(|&n| mesh_of(n)).collect()
+    }
+
+    fn strides(levels: &[usize], reference: &BoxMesh) -> Vec<usize> {
         let n_axis = reference.counts()[reference.dim() - 1];
-        let meshes = (levels.iter())
-            .map(|&n| mesh_of(n))
-            .collect::<Result<Vec<BoxMesh>, Error>>()?;
-        let mut recorders = Vec::with_capacity(levels.len());
-        let mut up = Vec::with_capacity(levels.len());
+        levels.iter().map(|&level| n_axis / level).collect()
+    }
+
+    /// The recorder of the levels on `meshes` (none: a rank that holds no level).
+    fn with_side(
+        fine: FineSide<'a>,
+        levels: &[usize],
+        reference: &BoxMesh,
+        meshes: &[BoxMesh],
+        elasticity: &Elasticity,
+    ) -> Result<Self, Error> {
+        let mut recorders = Vec::with_capacity(meshes.len());
+        let mut up = Vec::with_capacity(meshes.len());
         for (i, (mesh, &level)) in meshes.iter().zip(levels).enumerate() {
-            let finer = meshes.get(i + 1).unwrap_or(reference);
+            let finer = meshes.get(i + 1);
             let norms = NormMatrices::of(mesh, elasticity);
             let energy_matrix = norms.mass.linear_combination(1.0, &norms.stiffness, 1.0);
             let dofs = mesh.n_dofs();
             recorders.push(LevelRecorder {
-                stride: n_axis / level,
-                prolongation: Prolongation::new(mesh, finer)?,
+                prolongation: finer.map(|f| Prolongation::new(mesh, f)).transpose()?,
                 mass: SpdSolver::factor(&norms.mass, "coarse mass of a norm")?,
                 energy: SpdSolver::factor(&energy_matrix, "coarse M + S of a norm")?,
                 h_load: vec![0.0; dofs],
@@ -222,82 +269,64 @@ impl<'a> ProjectionRecorder<'a> {
                     v_remainder: Vec::new(),
                 },
             });
-            up.push(vec![0.0; finer.n_dofs()]);
+            up.push(vec![0.0; finer.map_or(0, BoxMesh::n_dofs)]);
         }
-        let n = reference.n_dofs();
         Ok(Self {
             fine,
+            strides: Self::strides(levels, reference),
             levels: recorders,
             step: 0,
-            mass_u: vec![0.0; n],
-            energy_u: vec![0.0; n],
             up,
-            residual: vec![0.0; n],
-            scratch: vec![0.0; n],
         })
     }
 
-    /// The recorded projections, coarsest level first.
+    /// The recorded projections, coarsest level first (none on a distributed run's ranks
+    /// other than 0).
     pub fn finish(self) -> Vec<LevelProjections> {
         self.levels.into_iter().map(|l| l.recorded).collect()
     }
 
-    /// `P_{ℓ→ref} w`, through the chain of prolongations from level `from`, into
-    /// `self.up[last]`.
-    fn prolongate_to_reference(&mut self, from: usize, w: &[f64]) {
-        self.levels[from]
-            .prolongation
-            .apply_into(w, &mut self.up[from]);
-        for i in from + 1..self.levels.len() {
-            let (done, rest) = self.up.split_at_mut(i);
-            self.levels[i]
-                .prolongation
-                .apply_into(&done[i - 1], &mut rest[0]);
-        }
+    /// `‖u − P w‖²_A` with `A = M` (`energy` false) or `M + S`, `w` on level `from` (`None`:
+    /// a distributed run's rank other than 0, which holds no level).
+    fn remainder(&mut self, from: usize, u: &[f64], w: Option<&[f64]>, energy: bool) -> f64 {
+        let finest = w.map(|w| prolongate_to_finest(&self.levels, &mut self.up, from, w));
+        self.fine.remainder(u, finest, energy)
     }
 
-    /// `‖u − P w‖²_A` with `A = M` (`energy` false) or `M + S`, `w` on level `from`.
-    fn remainder(&mut self, from: usize, u: &[f64], w: &[f64], energy: bool) -> f64 {
-        self.prolongate_to_reference(from, w);
-        let pw = self.up.last().expect("at least one level");
-        for ((r, ui), pi) in self.residual.iter_mut().zip(u).zip(pw) {
-            *r = ui - pi;
-        }
-        if energy {
-            self.fine.v_squared(&self.residual, &mut self.scratch)
-        } else {
-            self.fine.h_squared(&self.residual, &mut self.scratch)
-        }
-    }
-}
-
-impl Observer for ProjectionRecorder<'_> {
-    /// At each reference step that is a step of some level: `M u` and `(M + S) u` once,
-    /// restricted down the chain to every level due, then each level's `w_H`, `w_V` and
-    /// remainders. A coarser level's stride is a multiple of a finer one's, so the levels due
-    /// are the finest ones from the coarsest due on.
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    /// The step's observation of the reference's `u` (the whole of it, or this rank's part
+    /// of it): at each reference step that is a step of some level, `M u` and `(M + S) u`
+    /// once, restricted down the chain to every level due, then each level's `w_H`, `w_V`
+    /// and remainders. A coarser level's stride is a multiple of a finer one's, so the levels
+    /// due are the finest ones from the coarsest due on.
+    fn record(&mut self, u: &[f64]) {
         let step = self.step;
         self.step += 1;
-        let Some(first) = self.levels.iter().position(|l| step % l.stride == 0) else {
-            return Ok(());
+        let Some(first) = self.strides.iter().position(|&s| step % s == 0) else {
+            return;
         };
-        let due = first..self.levels.len();
-        let u = state.displacement();
-        self.fine.mass.mul_into(u, &mut self.mass_u);
-        self.fine.stiffness.mul_into(u, &mut self.energy_u);
-        for (e, m) in self.energy_u.iter_mut().zip(&self.mass_u) {
-            *e += m;
+        let due = first..self.strides.len();
+        if self.levels.is_empty() {
+            // A rank other than 0 of a distributed run: its part of every collective.
+            self.fine.loads(u, None);
+            for _ in due {
+                self.fine.remainder(u, None, false);
+                self.fine.remainder(u, None, true);
+            }
+            return;
         }
-        for i in due.clone().rev() {
+        let last = self.levels.len() - 1;
+        {
+            let finest = &mut self.levels[last];
+            self.fine
+                .loads(u, Some((&mut finest.h_load, &mut finest.v_load)));
+        }
+        for i in due.clone().rev().filter(|&i| i < last) {
             let (coarser, finer) = self.levels.split_at_mut(i + 1);
             let level = &mut coarser[i];
-            let (h_from, v_from) = match finer.first() {
-                Some(next) => (next.h_load.as_slice(), next.v_load.as_slice()),
-                None => (self.mass_u.as_slice(), self.energy_u.as_slice()),
-            };
-            level.prolongation.restrict_into(h_from, &mut level.h_load);
-            level.prolongation.restrict_into(v_from, &mut level.v_load);
+            let next = &finer[0];
+            let prolongation = level.prolongation.as_ref().expect("a coarser level");
+            prolongation.restrict_into(&next.h_load, &mut level.h_load);
+            prolongation.restrict_into(&next.v_load, &mut level.v_load);
         }
         for i in due {
             // The loads are spent (every coarser level has been restricted from them): solve
@@ -306,8 +335,8 @@ impl Observer for ProjectionRecorder<'_> {
             let mut w_v = std::mem::take(&mut self.levels[i].v_load);
             self.levels[i].mass.solve_in_place(&mut w_h);
             self.levels[i].energy.solve_in_place(&mut w_v);
-            let h_remainder = self.remainder(i, u, &w_h, false);
-            let v_remainder = self.remainder(i, u, &w_v, true);
+            let h_remainder = self.remainder(i, u, Some(&w_h), false);
+            let v_remainder = self.remainder(i, u, Some(&w_v), true);
             let level = &mut self.levels[i];
             level.recorded.h_projection.extend_from_slice(&w_h);
             level.recorded.v_projection.extend_from_slice(&w_v);
@@ -315,6 +344,129 @@ impl Observer for ProjectionRecorder<'_> {
             level.recorded.v_remainder.push(v_remainder);
             (level.h_load, level.v_load) = (w_h, w_v);
         }
+    }
+}
+
+/// `P w` of level `from`'s `w` up the chain of `levels` to the finest one, through the
+/// buffers `up` (`w` itself for the finest).
+fn prolongate_to_finest<'w>(
+    levels: &[LevelRecorder],
+    up: &'w mut [Vec<f64>],
+    from: usize,
+    w: &'w [f64],
+) -> &'w [f64] {
+    let last = levels.len() - 1;
+    if from == last {
+        return w;
+    }
+    let into_finer = |i: usize| {
+        levels[i]
+            .prolongation
+            .as_ref()
+            .expect("a coarser level prolongates into the next")
+    };
+    into_finer(from).apply_into(w, &mut up[from]);
+    for i in from + 1..last {
+        let (done, rest) = up.split_at_mut(i);
+        into_finer(i).apply_into(&done[i - 1], &mut rest[0]);
+    }
+    &up[last - 1]
+}
+
+/// A recorder without a level.
+fn no_level() -> Error {
+    ParameterError::new(
+        "levels",
+        "none",
+        "at least one level to project the reference on",
+    )
+    .into()
+}
+
+impl FineSide<'_> {
+    /// The loads `Pᵀ M u` and `Pᵀ (M + S) u` of the finest level into `loads` (`None` on a
+    /// distributed run's ranks other than 0).
+    fn loads(&mut self, u: &[f64], loads: Option<(&mut [f64], &mut [f64])>) {
+        match self {
+            FineSide::Whole {
+                norms,
+                prolongation,
+                mass_u,
+                energy_u,
+                ..
+            } => {
+                let (h, v) = loads.expect("one process holds the levels");
+                norms.mass.mul_into(u, mass_u);
+                norms.stiffness.mul_into(u, energy_u);
+                for (e, m) in energy_u.iter_mut().zip(mass_u.iter()) {
+                    *e += m;
+                }
+                prolongation.restrict_into(mass_u, h);
+                prolongation.restrict_into(energy_u, v);
+            }
+            FineSide::Slab(slab) => slab.loads(u, loads),
+            FineSide::Unstarted { .. } => unreachable!("a distributed recorder is started first"),
+        }
+    }
+
+    /// `‖u − P w‖²_A` of the finest level's `w` (`None` on a distributed run's ranks other
+    /// than 0).
+    fn remainder(&mut self, u: &[f64], w: Option<&[f64]>, energy: bool) -> f64 {
+        match self {
+            FineSide::Whole {
+                norms,
+                prolongation,
+                pw,
+                residual,
+                scratch,
+                ..
+            } => {
+                prolongation.apply_into(w.expect("one process holds the levels"), pw);
+                for ((r, ui), pi) in residual.iter_mut().zip(u).zip(pw.iter()) {
+                    *r = ui - pi;
+                }
+                if energy {
+                    norms.v_squared(residual, scratch)
+                } else {
+                    norms.h_squared(residual, scratch)
+                }
+            }
+            FineSide::Slab(slab) => slab.remainder(u, w, energy),
+            FineSide::Unstarted { .. } => unreachable!("a distributed recorder is started first"),
+        }
+    }
+}
+
+impl Observer for ProjectionRecorder<'_> {
+    /// The step's projections ([`ProjectionRecorder::record`]) of the whole reference.
+    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+        self.record(state.displacement());
         Ok(())
+    }
+}
+
+impl SlabObserver for ProjectionRecorder<'_> {
+    /// Cuts the reference's side into this rank's slab.
+    fn start(&mut self, slabs: &Slabs) -> Result<(), Error> {
+        if let FineSide::Unstarted {
+            ranks,
+            norms,
+            finest,
+            reference,
+        } = &self.fine
+        {
+            self.fine = FineSide::Slab(Box::new(SlabFine::new(
+                *ranks,
+                norms,
+                (finest, reference),
+                slabs,
+            )?));
+        }
+        Ok(())
+    }
+
+    /// The step's projections ([`ProjectionRecorder::record`]) from this rank's part of `U`.
+    fn observe_slab(&mut self, u: &[f64]) {
+        self.record(u);
     }
 }

@@ -1,0 +1,302 @@
+//! The cost model of a distributed reference, fitted to [`Measurement`]s made here, and its
+//! prediction for a reference on `N` nodes of a stated size ([`Node`]).
+//!
+//! **Time per step** on rank 0 (the run's critical path: it steps its slab and observes), with
+//! `n` unknowns, `P` ranks of one thread each and `k` CG iterations per step:
+//! ```text
+//! t = a · k n / P  +  b · n  +  c  +  t_net(P)
+//! ```
+//! `a`: the slab's work per iteration and unknown (products, preconditioner, projections'
+//! share); `b`: what rank 0 does on the whole field (the gathered `U`, `V`, the energy balance,
+//! the check comparison); `c`: per step whatever the size. `a, b, c` are a least-squares fit to
+//! the measurements whose ranks × threads fit in this machine's cores (oversubscribed runs
+//! measure memory, not time). Messages between processes here go through shared memory; on a
+//! cluster the interconnect's are added from the counted traffic and the node's stated latency
+//! `α` and bandwidth `β`:
+//! ```text
+//! t_net = 2 (m α + s / β)  +  2 k (P − 1) α  +  q · 2 ⌈log₂ P⌉ α  +  16 n (P − 1) / (P β)
+//! ```
+//! `m`, `s`: messages and bytes rank 0 sent per step on 2 ranks (one neighbour; an inner rank has
+//! two), scaled by `k` and the layer's unknowns; the pipeline of the preconditioner's sweeps
+//! crossing `P − 1` ranks twice per iteration; `q` sums per step, each an all-gather; and the
+//! state gathered on rank 0 at each step. `k` is fitted as `k₀ ℓ^p` over the levels `ℓ` measured.
+//!
+//! **Memory per rank**: `A + B n + C n / P`, fitted separately to rank 0's peaks and to the
+//! others' over the runs on several ranks: `B n` is what every rank holds whole (the mesh, the
+//! start), `C n / P` its slab.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+use super::Measurement;
+
+/// A cluster node, as stated by the user (nothing here measures it).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Node {
+    /// Cores (one rank of one thread each, at most).
+    pub cores: usize,
+    /// Memory for the ranks, bytes.
+    pub memory_bytes: f64,
+    /// Interconnect bandwidth, bytes per second.
+    pub bandwidth: f64,
+    /// Interconnect latency, seconds.
+    pub latency: f64,
+}
+
+/// `A + B n + C n / P` bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MemoryModel {
+    /// `A`, bytes.
+    pub fixed: f64,
+    /// `B`, bytes per unknown of the whole mesh.
+    pub per_dof: f64,
+    /// `C`, bytes per unknown of the rank's slab.
+    pub per_slab_dof: f64,
+}
+
+impl MemoryModel {
+    /// Bytes for `n` unknowns over `ranks`.
+    pub fn bytes(&self, n: f64, ranks: f64) -> f64 {
+        self.fixed + self.per_dof * n + self.per_slab_dof * n / ranks
+    }
+}
+
+/// The fitted model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CostModel {
+    /// `a`, seconds per CG iteration and slab unknown.
+    pub per_iteration_dof: f64,
+    /// `b`, seconds per step and whole-mesh unknown on rank 0.
+    pub rank0_per_dof: f64,
+    /// `c`, seconds per step.
+    pub per_step: f64,
+    /// `k₀` and `p` of the iterations per step `k₀ ℓ^p`.
+    pub iterations: (f64, f64),
+    /// Messages rank 0 sent per step and iteration on 2 ranks.
+    pub messages_per_iteration: f64,
+    /// Bytes rank 0 sent per step, iteration and unknown of a layer, on 2 ranks.
+    pub bytes_per_iteration_layer_dof: f64,
+    /// Sums per step and iteration.
+    pub sums_per_iteration: f64,
+    /// Set-up seconds per unknown (rank 0's, the largest measurement's).
+    pub setup_per_dof: f64,
+    /// Rank 0's memory.
+    pub rank0_memory: MemoryModel,
+    /// Every other rank's.
+    pub rank_memory: MemoryModel,
+    /// Each timed measurement against the model: (level, ranks, measured, modelled) seconds
+    /// per step.
+    pub time_fit: Vec<(usize, usize, f64, f64)>,
+    /// Each rank's peak against the model: (level, ranks, rank, measured, modelled) bytes.
+    pub memory_fit: Vec<(usize, usize, usize, f64, f64)>,
+}
+
+/// Why the model cannot be fitted.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct FitError(pub String);
+
+/// Least squares `X β ≈ y`; `None` when `X` has fewer rows than columns.
+fn least_squares(rows: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
+    let columns = rows.first()?.len();
+    if rows.len() < columns {
+        return None;
+    }
+    let x = DMatrix::from_fn(rows.len(), columns, |i, j| rows[i][j]);
+    let y = DVector::from_column_slice(y);
+    let solved = x.svd(true, true).solve(&y, 1e-300).ok()?;
+    Some(solved.iter().copied().collect())
+}
+
+/// Each column scaled to unit size before the fit (unknowns of 1e4–1e6 beside a constant), the
+/// coefficients scaled back.
+fn scaled_least_squares(rows: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
+    let columns = rows.first()?.len();
+    let scale: Vec<f64> = (0..columns)
+        .map(|j| {
+            rows.iter()
+                .map(|r| r[j].abs())
+                .fold(0.0, f64::max)
+                .max(1e-300)
+        })
+        .collect();
+    let scaled: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|r| r.iter().zip(&scale).map(|(v, s)| v / s).collect())
+        .collect();
+    let beta = least_squares(&scaled, y)?;
+    Some(beta.iter().zip(&scale).map(|(b, s)| b / s).collect())
+}
+
+/// The unknowns of a layer of a measured run (the box's unknowns over its layers).
+fn layer_dofs(m: &Measurement) -> f64 {
+    m.dofs as f64 / m.level as f64
+}
+
+/// Iterations per step of a measured run.
+fn iterations_per_step(m: &Measurement) -> f64 {
+    m.iterations as f64 / m.steps.max(1) as f64
+}
+
+impl CostModel {
+    /// Fits the model to `measured`, whose timed runs used at most `cores` cores.
+    pub fn fit(measured: &[Measurement], cores: usize) -> Result<Self, FitError> {
+        let timed: Vec<&Measurement> = measured
+            .iter()
+            .filter(|m| m.ranks * m.threads <= cores && m.threads == 1)
+            .collect();
+        let rows: Vec<Vec<f64>> = (timed.iter())
+            .map(|m| {
+                let n = m.dofs as f64;
+                vec![iterations_per_step(m) * n / m.ranks as f64, n, 1.0]
+            })
+            .collect();
+        let seconds: Vec<f64> = (timed.iter())
+            .map(|m| (m.step_seconds + m.observe_seconds) / m.steps.max(1) as f64)
+            .collect();
+        let [a, b, c] = scaled_least_squares(&rows, &seconds)
+            .and_then(|v| <[f64; 3]>::try_from(v).ok())
+            .ok_or_else(|| {
+                FitError(format!(
+                    "{} one-thread runs within {cores} cores; the time model needs three, \
+                     on at least two levels and with 1 and 2 ranks",
+                    timed.len()
+                ))
+            })?;
+        let iterations = Self::fit_iterations(measured)?;
+        let on_two: Vec<(&Measurement, _)> = (measured.iter())
+            .filter(|m| m.ranks == 2)
+            .filter_map(|m| m.traffic.map(|t| (m, t)))
+            .collect();
+        let largest = on_two
+            .iter()
+            .max_by_key(|(m, _)| m.dofs)
+            .ok_or_else(|| FitError("no run on 2 ranks with its traffic".into()))?;
+        let (m2, t2) = *largest;
+        let per_iteration = m2.steps as f64 * iterations_per_step(m2);
+        let largest_run = measured.iter().max_by_key(|m| m.dofs).expect("some");
+        let (rank0_memory, rank_memory, memory_fit) = Self::fit_memory(measured)?;
+        let time_fit = timed
+            .iter()
+            .zip(&seconds)
+            .zip(&rows)
+            .map(|((m, &s), r)| (m.level, m.ranks, s, a * r[0] + b * r[1] + c * r[2]))
+            .collect();
+        Ok(Self {
+            per_iteration_dof: a,
+            rank0_per_dof: b,
+            per_step: c,
+            iterations,
+            messages_per_iteration: t2.messages as f64 / per_iteration,
+            bytes_per_iteration_layer_dof: t2.bytes_sent as f64 / per_iteration / layer_dofs(m2),
+            sums_per_iteration: t2.sums as f64 / per_iteration,
+            setup_per_dof: largest_run.setup_seconds / largest_run.dofs as f64,
+            rank0_memory,
+            rank_memory,
+            time_fit,
+            memory_fit,
+        })
+    }
+
+    /// `k₀ ℓ^p` through the iterations per step of the measured levels (a log-log fit).
+    fn fit_iterations(measured: &[Measurement]) -> Result<(f64, f64), FitError> {
+        let mut levels: Vec<usize> = measured.iter().map(|m| m.level).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        let rows: Vec<Vec<f64>> = levels.iter().map(|&l| vec![(l as f64).ln(), 1.0]).collect();
+        let y: Vec<f64> = (levels.iter())
+            .map(|&l| {
+                let at: Vec<f64> = (measured.iter())
+                    .filter(|m| m.level == l)
+                    .map(iterations_per_step)
+                    .collect();
+                (at.iter().sum::<f64>() / at.len() as f64).ln()
+            })
+            .collect();
+        let [p, ln_k0] = least_squares(&rows, &y)
+            .and_then(|v| <[f64; 2]>::try_from(v).ok())
+            .filter(|_| levels.len() >= 2)
+            .ok_or_else(|| FitError("the iterations need runs on two levels at least".into()))?;
+        Ok((ln_k0.exp(), p))
+    }
+
+    /// Rank 0's and the other ranks' memory models, and each peak against them.
+    #[allow(clippy::type_complexity)]
+    fn fit_memory(
+        measured: &[Measurement],
+    ) -> Result<
+        (
+            MemoryModel,
+            MemoryModel,
+            Vec<(usize, usize, usize, f64, f64)>,
+        ),
+        FitError,
+    > {
+        let mut zero = (Vec::new(), Vec::new(), Vec::new());
+        let mut other = (Vec::new(), Vec::new(), Vec::new());
+        for m in measured.iter().filter(|m| m.ranks >= 2) {
+            let n = m.dofs as f64;
+            for (rank, &peak) in m.peak_bytes.iter().enumerate().filter(|(_, &p)| p > 0) {
+                let into = if rank == 0 { &mut zero } else { &mut other };
+                into.0.push(vec![1.0, n, n / m.ranks as f64]);
+                into.1.push(peak as f64);
+                into.2.push((m.level, m.ranks, rank));
+            }
+        }
+        let model = |(rows, y, _): &(Vec<Vec<f64>>, Vec<f64>, _), whose: &str| {
+            scaled_least_squares(rows, y)
+                .and_then(|v| <[f64; 3]>::try_from(v).ok())
+                .map(|[fixed, per_dof, per_slab_dof]| MemoryModel {
+                    fixed,
+                    per_dof,
+                    per_slab_dof,
+                })
+                .ok_or_else(|| {
+                    FitError(format!(
+                        "{} peaks of {whose}; the memory model needs three, from runs on 2 and \
+                         3 ranks",
+                        rows.len()
+                    ))
+                })
+        };
+        let rank0 = model(&zero, "rank 0")?;
+        let rank = model(&other, "the other ranks")?;
+        let mut fit = Vec::new();
+        for (set, model) in [(&zero, rank0), (&other, rank)] {
+            for ((row, &y), &(level, ranks, r)) in set.0.iter().zip(&set.1).zip(&set.2) {
+                fit.push((level, ranks, r, y, model.bytes(row[1], ranks as f64)));
+            }
+        }
+        Ok((rank0, rank, fit))
+    }
+
+    /// CG iterations per step at `level`.
+    pub fn iterations_at(&self, level: usize) -> f64 {
+        self.iterations.0 * (level as f64).powf(self.iterations.1)
+    }
+
+    /// Seconds per step of a run on `level` with `n` unknowns over `ranks` one-thread ranks,
+    /// computing here (no interconnect).
+    pub fn compute_seconds(&self, level: usize, n: f64, ranks: f64) -> f64 {
+        self.per_iteration_dof * self.iterations_at(level) * n / ranks
+            + self.rank0_per_dof * n
+            + self.per_step
+    }
+
+    /// Seconds per step the interconnect of `node` adds to a run on `level` with `n` unknowns
+    /// over `ranks` ranks.
+    pub fn network_seconds(&self, node: &Node, level: usize, n: f64, ranks: f64) -> f64 {
+        if ranks <= 1.0 {
+            return 0.0;
+        }
+        let k = self.iterations_at(level);
+        let layer = n / level as f64;
+        let halo = 2.0
+            * (self.messages_per_iteration * k * node.latency
+                + self.bytes_per_iteration_layer_dof * k * layer / node.bandwidth);
+        let pipeline = 2.0 * k * (ranks - 1.0) * node.latency;
+        let sums = self.sums_per_iteration * k * 2.0 * ranks.log2().ceil() * node.latency;
+        let gather = 16.0 * n * (ranks - 1.0) / ranks / node.bandwidth;
+        halo + pipeline + sums + gather
+    }
+}

@@ -1,0 +1,117 @@
+//! The cluster plan's cost model (`studies::cluster_plan::fit`): fitted to measurements that a
+//! known model produced, it gives that model back, and it refuses too few measurements.
+
+use signorini::studies::cluster_plan::fit::{CostModel, Node};
+use signorini::studies::cluster_plan::measurement::{MeasuredTraffic, MEASUREMENT_FORMAT};
+use signorini::studies::cluster_plan::Measurement;
+
+/// The coefficients the synthetic measurements are made with.
+const A: f64 = 2.0e-8;
+const B: f64 = 5.0e-8;
+const C: f64 = 3.0e-3;
+const ITERATIONS: [(usize, usize); 2] = [(80, 10), (160, 9)];
+
+/// A run of `level` (3D bar: `3 (ℓ/10 + 1)² ℓ` unknowns, `2ℓ` steps) on `ranks` ranks of
+/// `threads` threads, its time and memory those of the known model.
+fn measured(level: usize, ranks: usize, threads: usize) -> Measurement {
+    let side = level / 10 + 1;
+    let dofs = 3 * side * side * level;
+    let steps = 2 * level;
+    let k = ITERATIONS.iter().find(|(l, _)| *l == level).unwrap().1;
+    let n = dofs as f64;
+    let per_step = A * k as f64 * n / ranks as f64 + B * n + C;
+    let peak = |rank: usize| {
+        let (fixed, whole, slab) = if rank == 0 {
+            (80e6, 400.0, 120.0)
+        } else {
+            (20e6, 200.0, 180.0)
+        };
+        (fixed + whole * n + slab * n / ranks as f64) as u64
+    };
+    Measurement {
+        format: MEASUREMENT_FORMAT.to_string(),
+        scene: "bar3d".into(),
+        level,
+        dofs,
+        steps,
+        ranks,
+        threads,
+        setup_seconds: 1e-6 * n,
+        step_seconds: per_step * steps as f64,
+        observe_seconds: 0.0,
+        solves: steps,
+        iterations: k * steps,
+        peak_bytes: (0..ranks).map(peak).collect(),
+        traffic: (ranks > 1).then_some(MeasuredTraffic {
+            messages: (10 * k * steps) as u64,
+            bytes_sent: (23 * k * steps * dofs / level) as u64,
+            bytes_received: 0,
+            sums: (4 * k * steps) as u64,
+        }),
+    }
+}
+
+fn runs() -> Vec<Measurement> {
+    let mut runs = Vec::new();
+    for (level, _) in ITERATIONS {
+        runs.push(measured(level, 1, 1));
+        runs.push(measured(level, 2, 1));
+        runs.push(measured(level, 3, 1));
+    }
+    runs
+}
+
+#[test]
+fn the_model_fitted_to_its_own_measurements_is_that_model() {
+    let model = CostModel::fit(&runs(), 2).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs();
+    assert!(
+        close(model.per_iteration_dof, A),
+        "{}",
+        model.per_iteration_dof
+    );
+    assert!(close(model.rank0_per_dof, B), "{}", model.rank0_per_dof);
+    assert!(close(model.per_step, C), "{}", model.per_step);
+    assert!(close(model.rank0_memory.per_dof, 400.0));
+    assert!(close(model.rank0_memory.per_slab_dof, 120.0));
+    assert!(close(model.rank_memory.per_dof, 200.0));
+    assert!(close(model.rank_memory.per_slab_dof, 180.0));
+    assert!(close(model.messages_per_iteration, 10.0));
+    assert!(close(model.sums_per_iteration, 4.0));
+    // Three ranks on two cores are oversubscribed: fitted for memory, not time.
+    assert!(model.time_fit.iter().all(|&(_, ranks, _, _)| ranks <= 2));
+    for &(_, _, measured, modelled) in &model.time_fit {
+        assert!(close(modelled, measured), "{modelled} vs {measured}");
+    }
+    // Nine iterations at 160 and ten at 80: k = k0 ℓ^p through both.
+    assert!(close(model.iterations_at(80), 10.0) && close(model.iterations_at(160), 9.0));
+}
+
+#[test]
+fn the_interconnect_costs_nothing_on_one_rank_and_grows_with_the_ranks() {
+    let model = CostModel::fit(&runs(), 2).unwrap();
+    let node = Node {
+        cores: 64,
+        memory_bytes: 256e9,
+        bandwidth: 12.5e9,
+        latency: 2e-6,
+    };
+    let n = 6.4e7;
+    assert_eq!(model.network_seconds(&node, 1280, n, 1.0), 0.0);
+    let few = model.network_seconds(&node, 1280, n, 8.0);
+    let many = model.network_seconds(&node, 1280, n, 512.0);
+    assert!(few > 0.0 && many > few, "{few} then {many}");
+}
+
+#[test]
+fn too_few_measurements_are_refused_with_what_the_model_needs() {
+    let only_one_level: Vec<Measurement> = runs().into_iter().filter(|m| m.level == 80).collect();
+    let err = CostModel::fit(&only_one_level, 2).unwrap_err();
+    assert!(
+        err.0.contains("three") || err.0.contains("two levels"),
+        "{}",
+        err.0
+    );
+    let one_rank: Vec<Measurement> = runs().into_iter().filter(|m| m.ranks == 1).collect();
+    assert!(CostModel::fit(&one_rank, 2).is_err());
+}
