@@ -141,8 +141,15 @@ fn crank_nicolson_run_agrees(ranks: &MpiRanks) {
         NitscheAcceleration::Consistent,
     )
     .unwrap();
-    let mut run =
-        SlabOneStep::new(ranks, model, coef, dt, &start, PredictorForm::Expanded).unwrap();
+    let mut run = SlabOneStep::new(
+        ranks,
+        model,
+        coef,
+        dt,
+        (ranks.rank() == 0).then_some(&start),
+        PredictorForm::Expanded,
+    )
+    .unwrap();
     let one_rank = ranks.size() == 1;
     for step in 0..=steps {
         if step > 0 {

@@ -27,6 +27,7 @@
 #[cfg(feature = "mpi")]
 mod mpi_ranks;
 mod ranks;
+mod slab_balance;
 mod slab_cg;
 mod slab_one_step;
 mod slab_operator;
@@ -72,8 +73,9 @@ pub enum DecompositionError {
         /// The layers rank 0 needs.
         first_layers: usize,
     },
-    /// Rank 0 could not set up what it alone holds (the contact operator); it reports why.
-    #[error("rank 0 could not set up the contact operator of Γ_Sig (it reports why)")]
+    /// Rank 0 could not set up what it alone holds (the initial state, the contact operator);
+    /// it reports why.
+    #[error("rank 0 could not set up the start or the contact operator of Γ_Sig (it reports why)")]
     RankZeroFailed,
     /// The step matrix is not what the distributed solve is for.
     #[error(

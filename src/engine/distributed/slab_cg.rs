@@ -165,12 +165,6 @@ impl<'r, R: Ranks + ?Sized> SlabCg<'r, R> {
         &self.slabs
     }
 
-    /// The range of the whole box's unknowns rank `rank` holds.
-    pub fn dofs_of(&self, rank: usize) -> Range<usize> {
-        let (layers, layer_dofs) = (self.slabs.of(rank), self.rows.layer_dofs());
-        layers.start * layer_dofs..layers.end * layer_dofs
-    }
-
     /// Solves `K x = b` from the initial guess in `x` (this rank's parts of both), overwriting
     /// `x` with the solution, and returns the iterations spent: the same on every rank.
     pub fn solve(&self, b: &[f64], x: &mut [f64], work: &mut PcgWork) -> Result<usize, SolveError> {

@@ -5,12 +5,14 @@
 
 use std::ops::Range;
 
+use super::slab_balance::{SlabBalanceData, SlabForms};
 use super::{DecompositionError, Ranks, SlabCg, SlabOperator, Slabs};
 use crate::engine::contact::{ContactStep, ContactTreatment, Truncation};
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{PcgWork, SolveCounts, DEFAULT_TOLERANCE};
 use crate::engine::model::Model;
 use crate::engine::schemes::conventions::PredictorForm;
+use crate::engine::schemes::energy_balance::{BalanceForms, Sides, StepVectors};
 use crate::engine::schemes::{InitialState, StepCoefficients};
 
 /// A rank's share of the run: its parts of `U^n`, `V^n`, `A^n`; the slabs of `M`, `S` and the
@@ -43,12 +45,20 @@ pub struct SlabOneStep<'r, R: Ranks + ?Sized> {
     predictor: Vec<f64>,
     scratch: Vec<f64>,
     guess: Vec<f64>,
+    /// `U^n`, `V^n`, `λ^n` of the last step's start, for its balance.
+    before: [Vec<f64>; 2],
+    lambda_before: Vec<f64>,
+    /// `ΔU`, `ΔV`, `U^{n+1} + U^n`, `V^{n+1} + V^n` of the last step's balance.
+    pairs: [Vec<f64>; 4],
+    balance: SlabBalanceData,
+    product: Vec<f64>,
 }
 
 impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     /// This rank's share of the run of `model` (the whole box, matrix-free) with the
     /// coefficients `coef`, the step `dt` and the predictor summed in `predictor_form`, from
-    /// `start` (the whole initial state, [`crate::engine::schemes::initial_state`]). The box
+    /// `start` (the whole initial state, [`crate::engine::schemes::initial_state`], which rank 0
+    /// alone holds and sends each rank its part of; the others pass `None`). The box
     /// is cut evenly, rank 0 holding the layers of the local contact operator's slab (its
     /// truncation is chosen on the whole step matrix, as in one process, and told to every
     /// rank). Refused for a penalty or Nitsche contact, a load, or more ranks than the
@@ -58,7 +68,7 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         model: &Model,
         coef: StepCoefficients,
         dt: f64,
-        start: &InitialState,
+        start: Option<&InitialState>,
         predictor_form: PredictorForm,
     ) -> Result<Self, SlabRunError> {
         if model.contact_law().treatment() != ContactTreatment::Multiplier {
@@ -73,10 +83,14 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         let k = model
             .mass()
             .linear_combination(1.0 / (coef.b * dt * dt), model.stiffness(), 1.0);
+        let contact_rows = match (ranks.rank(), model.contact()) {
+            (0, Some(c)) => model.contact_law().rows(c),
+            _ => Vec::new(),
+        };
         let contact = match (ranks.rank(), model.contact()) {
             (0, Some(c)) => {
-                let rows = model.contact_law().rows(c);
-                ContactStep::local(c, &rows, &k, model.contact_operator().layers()).map(Some)
+                ContactStep::local(c, &contact_rows, &k, model.contact_operator().layers())
+                    .map(Some)
             }
             _ => Ok(None),
         };
@@ -108,14 +122,18 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         let stiffness = SlabOperator::new(ranks, s, &slabs)?;
         let system = SlabCg::on_slabs(ranks, &k, slabs, DEFAULT_TOLERANCE)?;
         let own = system.own_dofs();
-        let part = |v: &[f64]| v[own.clone()].to_vec();
-        let lambda = if ranks.rank() == 0 {
-            start.multiplier.clone()
-        } else {
-            Vec::new()
-        };
+        let layer_dofs = k_stencil.nodes_per_layer() * k_stencil.components();
+        let [u, v, a] = scatter(ranks, system.slabs(), layer_dofs, start);
+        let lambda = start.map_or_else(Vec::new, |s| s.multiplier.clone());
+        let balance = SlabBalanceData::new(&mass, &stiffness, contact_rows);
+        let n = own.len();
         Ok(Self {
             ranks,
+            balance,
+            before: [vec![0.0; n], vec![0.0; n]],
+            lambda_before: Vec::new(),
+            pairs: std::array::from_fn(|_| vec![0.0; n]),
+            product: vec![0.0; n],
             mass,
             stiffness,
             work: PcgWork::new(own.len()),
@@ -126,9 +144,9 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
             predictor_form,
             dt,
             step: 0,
-            u: part(&start.displacement),
-            v: part(&start.velocity),
-            a: part(&start.acceleration),
+            u,
+            v,
+            a,
             lambda,
             predictor: vec![0.0; own.len()],
             scratch: vec![0.0; own.len()],
@@ -139,6 +157,9 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     /// One step (every rank together): see [`SlabOneStep`]. A failure of rank 0's contact
     /// solve is told to every rank, which all return an error.
     pub fn advance(&mut self) -> Result<(), SolveError> {
+        self.before[0].copy_from_slice(&self.u);
+        self.before[1].copy_from_slice(&self.v);
+        self.lambda_before.clone_from(&self.lambda);
         let dt = self.dt;
         let inv_bdt2 = 1.0 / (self.coef.b * dt * dt);
         self.coef.predict(
@@ -193,6 +214,47 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         0.5 * kinetic + 0.5 * strain
     }
 
+    /// The two sides of the last step's energy balance, which `law` assembles from the slab's
+    /// forms (e.g. [`crate::engine::schemes::energy_balance::newmark_sides`]) and the step's
+    /// vectors, every rank together (the module `slab_balance`).
+    pub fn balance(
+        &mut self,
+        law: impl FnOnce(&mut dyn BalanceForms, &StepVectors) -> Sides,
+    ) -> Sides {
+        let [du, dv, u_sum, v_sum] = &mut self.pairs;
+        for (((d, s), now), then) in du
+            .iter_mut()
+            .zip(u_sum.iter_mut())
+            .zip(&self.u)
+            .zip(&self.before[0])
+        {
+            *d = now - then;
+            *s = now + then;
+        }
+        for (((d, s), now), then) in dv
+            .iter_mut()
+            .zip(v_sum.iter_mut())
+            .zip(&self.v)
+            .zip(&self.before[1])
+        {
+            *d = now - then;
+            *s = now + then;
+        }
+        let vectors = StepVectors {
+            difference: [du, dv],
+            sum: [u_sum, v_sum],
+            multipliers: (&self.lambda_before, &self.lambda),
+        };
+        let mut forms = SlabForms {
+            ranks: self.ranks,
+            mass: &self.mass,
+            stiffness: &self.stiffness,
+            data: &self.balance,
+            product: &mut self.product,
+        };
+        law(&mut forms, &vectors)
+    }
+
     /// The steps taken.
     pub fn step(&self) -> usize {
         self.step
@@ -206,11 +268,6 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     /// The range of the whole box's unknowns this rank holds.
     pub fn own_dofs(&self) -> Range<usize> {
         self.system.own_dofs()
-    }
-
-    /// The range of the whole box's unknowns rank `rank` holds.
-    pub fn dofs_of(&self, rank: usize) -> Range<usize> {
-        self.system.dofs_of(rank)
     }
 
     /// The decomposition of the box over the ranks.
@@ -259,6 +316,36 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
     pub fn contact_truncation(&self) -> Option<Truncation> {
         self.contact.as_ref().and_then(ContactStep::truncation)
     }
+}
+
+/// Every rank's parts of `U⁰`, `V⁰`, `A⁰`, sent by rank 0 from the whole `start` it alone
+/// holds (the other ranks pass `None`): every rank together.
+fn scatter<R: Ranks + ?Sized>(
+    ranks: &R,
+    slabs: &Slabs,
+    layer_dofs: usize,
+    start: Option<&InitialState>,
+) -> [Vec<f64>; 3] {
+    let dofs = |r: usize| {
+        let layers = slabs.of(r);
+        layers.start * layer_dofs..layers.end * layer_dofs
+    };
+    let own = dofs(ranks.rank());
+    if ranks.rank() > 0 {
+        return std::array::from_fn(|_| {
+            let mut part = vec![0.0; own.len()];
+            ranks.receive(0, &mut part);
+            part
+        });
+    }
+    let start = start.expect("rank 0 holds the whole initial state");
+    let fields = [&start.displacement, &start.velocity, &start.acceleration];
+    for r in 1..ranks.size() {
+        for field in fields {
+            ranks.send(r, &field[dofs(r)]);
+        }
+    }
+    fields.map(|field| field[own.clone()].to_vec())
 }
 
 /// Why a distributed run could not be set up.

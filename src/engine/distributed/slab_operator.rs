@@ -49,11 +49,6 @@ impl<'r, R: Ranks + ?Sized> SlabOperator<'r, R> {
         self.own.start * self.layer_dofs..self.own.end * self.layer_dofs
     }
 
-    /// Unknowns per node layer.
-    pub fn layer_dofs(&self) -> usize {
-        self.layer_dofs
-    }
-
     /// This rank's rows of `A`.
     pub fn rows(&self) -> &Stencil {
         &self.rows

@@ -64,7 +64,7 @@ use super::paoli_schatzman::HalfStep;
 use super::{AlphaParameters, PredictorVelocity, Scheme, TimeIntegrator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactTreatment;
-use crate::engine::fem::sparse::SymmetricMatrix;
+use crate::engine::fem::sparse::{SymmetricMatrix, WeightedForm};
 use crate::engine::model::Model;
 use crate::engine::schemes::conventions::{Conventions, Start};
 
@@ -151,7 +151,7 @@ fn constraints(model: &Model) -> Vec<ConstraintRow> {
 }
 
 /// `Σ_i w_i f_iᵀ x` over the constraints, `f_i` their force vectors.
-fn contact_work(rows: &[ConstraintRow], x: &[f64], weights: impl Fn(usize) -> f64) -> f64 {
+fn contact_work(rows: &[ConstraintRow], x: &[f64], weights: &dyn Fn(usize) -> f64) -> f64 {
     rows.iter()
         .enumerate()
         .map(|(i, row)| sparse_dot(&row.force, x) * weights(i))
@@ -175,23 +175,29 @@ fn load_magnitude(model: &Model, x: &[f64]) -> f64 {
 /// A term `c xᵀAy` of a balance with the bound `|c| (Σ r_i x_i² · Σ r_i y_i²)^½` of the
 /// products it sums (`r` the row sums of `|A|`, see [`StepBalance::magnitude`]).
 #[derive(Debug, Clone, Copy, Default)]
-struct Term {
-    value: f64,
-    bound: f64,
+pub struct Term {
+    /// `c xᵀAy`.
+    pub value: f64,
+    /// `|c| (Σ r_i x_i² · Σ r_i y_i²)^½`.
+    pub bound: f64,
 }
 
 impl Term {
+    /// The term `c xᵀAy` of the weighted form `f` of `x`, `y`.
+    pub fn of(c: f64, f: WeightedForm) -> Self {
+        Self {
+            value: c * f.value,
+            bound: c.abs() * (f.x_squares * f.y_squares).sqrt(),
+        }
+    }
+
     /// `c xᵀAy` ([`SymmetricMatrix::weighted_form`]), not evaluated when `c = 0` (a term the
     /// scheme's parameters cancel, e.g. every `S`-term of Crank–Nicolson's eq. 33).
     fn form(a: &SymmetricMatrix, r: &[f64], c: f64, x: &[f64], y: &[f64]) -> Self {
         if c == 0.0 {
             return Self::default();
         }
-        let f = a.weighted_form(x, y, r);
-        Self {
-            value: c * f.value,
-            bound: c.abs() * (f.x_squares * f.y_squares).sqrt(),
-        }
+        Self::of(c, a.weighted_form(x, y, r))
     }
 }
 
@@ -225,15 +231,18 @@ impl RowSums {
 /// The two sides of a step's balance and the magnitude of their products
 /// ([`StepBalance::magnitude`]), without the energies.
 #[derive(Debug, Clone, Copy)]
-struct Sides {
-    change: f64,
-    predicted_change: f64,
-    magnitude: f64,
+pub struct Sides {
+    /// [`StepBalance::change`].
+    pub change: f64,
+    /// [`StepBalance::predicted_change`].
+    pub predicted_change: f64,
+    /// [`StepBalance::magnitude`].
+    pub magnitude: f64,
 }
 
 impl Sides {
     /// The step's balance with the energies at its two ends.
-    fn with_energies(self, energy_before: f64, energy_after: f64) -> StepBalance {
+    pub fn with_energies(self, energy_before: f64, energy_after: f64) -> StepBalance {
         StepBalance {
             energy_before,
             energy_after,
@@ -308,6 +317,17 @@ fn combined(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> Vec<f64> {
     out
 }
 
+impl<'w> Prepared<'w> {
+    /// Its pairs with the multipliers `l0`, `l1`.
+    fn vectors(&self, l0: &'w [f64], l1: &'w [f64]) -> StepVectors<'w> {
+        StepVectors {
+            difference: [&self.difference[0], &self.difference[1]],
+            sum: [&self.sum[0], &self.sum[1]],
+            multipliers: (l0, l1),
+        }
+    }
+}
+
 /// A balance's inputs ([`Workspace::prepare`]).
 struct Prepared<'w> {
     rows: &'w [ConstraintRow],
@@ -318,17 +338,83 @@ struct Prepared<'w> {
     sum: &'w [Vec<f64>; 2],
 }
 
+/// The products a one-step balance of the Newmark or θ family sums
+/// ([`newmark_sides`], [`theta_sides`]): those of a whole model ([`WholeForms`]), or of a slab
+/// of it summed over the ranks of a distributed run.
+pub trait BalanceForms {
+    /// The term `c xᵀMy`.
+    fn mass(&mut self, c: f64, x: &[f64], y: &[f64]) -> Term;
+    /// The term `c xᵀSy`.
+    fn stiffness(&mut self, c: f64, x: &[f64], y: &[f64]) -> Term;
+    /// `Σ_i w_i f_iᵀ x` over the contact constraints, `f_i` their force vectors.
+    fn contact_work(&mut self, x: &[f64], weights: &dyn Fn(usize) -> f64) -> f64;
+    /// `Fᵀx` and `Σ |F_i x_i|` (both 0 without a load).
+    fn load(&mut self, x: &[f64]) -> (f64, f64);
+}
+
+/// A one-step balance's vectors: `[ΔU, ΔV]`, `[U^{n+1} + U^n, V^{n+1} + V^n]` and
+/// `(λ^n, λ^{n+1})`.
+#[derive(Debug, Clone, Copy)]
+pub struct StepVectors<'v> {
+    /// `[ΔU, ΔV]`.
+    pub difference: [&'v [f64]; 2],
+    /// `[U^{n+1} + U^n, V^{n+1} + V^n]`.
+    pub sum: [&'v [f64]; 2],
+    /// `(λ^n, λ^{n+1})`.
+    pub multipliers: (&'v [f64], &'v [f64]),
+}
+
+/// The forms of a whole model.
+struct WholeForms<'a> {
+    model: &'a Model,
+    rows: &'a [ConstraintRow],
+    sums: &'a RowSums,
+}
+
+impl<'a> WholeForms<'a> {
+    fn of(model: &'a Model, p: &Prepared<'a>) -> Self {
+        Self {
+            model,
+            rows: p.rows,
+            sums: p.sums,
+        }
+    }
+}
+
+impl BalanceForms for WholeForms<'_> {
+    fn mass(&mut self, c: f64, x: &[f64], y: &[f64]) -> Term {
+        self.sums.mass(self.model, c, x, y)
+    }
+
+    fn stiffness(&mut self, c: f64, x: &[f64], y: &[f64]) -> Term {
+        self.sums.stiffness(self.model, c, x, y)
+    }
+
+    fn contact_work(&mut self, x: &[f64], weights: &dyn Fn(usize) -> f64) -> f64 {
+        contact_work(self.rows, x, weights)
+    }
+
+    fn load(&mut self, x: &[f64]) -> (f64, f64) {
+        (load_work(self.model, x), load_magnitude(self.model, x))
+    }
+}
+
 /// `E_h(after) − E_h(before)` in the form of eq. (43) with the load:
-/// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`, with `ΔU`, `U^{n+1} + U^n` in
-/// `p`'s pair 0 and the velocities' in pair 1; and the magnitude of its products.
-fn mechanical_energy_change(model: &Model, p: &Prepared) -> (f64, f64) {
-    let ([du, dv], [u_sum, v_sum], sums) = (p.difference, p.sum, p.sums);
-    let kinetic = sums.mass(model, 0.5, dv, v_sum);
-    let elastic = sums.stiffness(model, 0.5, du, u_sum);
+/// `½ ΔVᵀM(V^{n+1} + V^n) + ½ ΔUᵀS(U^{n+1} + U^n) − FᵀΔU`, and the magnitude of its products.
+fn energy_change(forms: &mut dyn BalanceForms, v: &StepVectors) -> (f64, f64) {
+    let ([du, dv], [u_sum, v_sum]) = (v.difference, v.sum);
+    let kinetic = forms.mass(0.5, dv, v_sum);
+    let elastic = forms.stiffness(0.5, du, u_sum);
+    let (load, load_magnitude) = forms.load(du);
     (
-        kinetic.value + elastic.value - load_work(model, du),
-        kinetic.bound + elastic.bound + load_magnitude(model, du),
+        kinetic.value + elastic.value - load,
+        kinetic.bound + elastic.bound + load_magnitude,
     )
+}
+
+/// [`energy_change`] of a whole model's prepared step.
+fn mechanical_energy_change(model: &Model, p: &Prepared) -> (f64, f64) {
+    energy_change(&mut WholeForms::of(model, p), &p.vectors(&[], &[]))
 }
 
 /// The Newmark(β, γ) balance over one step (eq. 33 for every (β, γ), see the module
@@ -364,14 +450,24 @@ fn newmark_in(
     (before, after): (&Level, &Level),
 ) -> Sides {
     let p = ws.prepare(model, before, after);
-    let (l0, l1) = (before.multiplier, after.multiplier);
-    let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
-    let work = contact_work(rows, du, |i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
-    let impulse_change = contact_work(rows, dv, |i| l1[i] - l0[i]);
+    let vectors = p.vectors(before.multiplier, after.multiplier);
+    newmark_sides(&mut WholeForms::of(model, &p), (beta, gamma), dt, &vectors)
+}
+
+/// The two sides of eq. (33) over one step (see [`newmark`]) with the products of `forms`.
+pub fn newmark_sides(
+    forms: &mut dyn BalanceForms,
+    (beta, gamma): (f64, f64),
+    dt: f64,
+    v: &StepVectors,
+) -> Sides {
+    let ((l0, l1), [du, dv]) = (v.multipliers, v.difference);
+    let work = forms.contact_work(du, &|i| (1.0 - gamma) * l0[i] + gamma * l1[i]);
+    let impulse_change = forms.contact_work(dv, &|i| l1[i] - l0[i]);
     let skew = dt * (beta - 0.5 * gamma);
-    let dissipated = sums.stiffness(model, 0.5 - gamma, du, du);
-    let skewed = sums.stiffness(model, skew, dv, du);
-    let (change, magnitude) = mechanical_energy_change(model, &p);
+    let dissipated = forms.stiffness(0.5 - gamma, du, du);
+    let skewed = forms.stiffness(skew, dv, du);
+    let (change, magnitude) = energy_change(forms, v);
     Sides {
         change,
         predicted_change: dissipated.value - work + skewed.value + skew * impulse_change,
@@ -423,12 +519,22 @@ fn theta_in(
     (before, after): (&Level, &Level),
 ) -> Sides {
     let p = ws.prepare(model, before, after);
-    let (l0, l1) = (before.multiplier, after.multiplier);
-    let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
-    let work = contact_work(rows, du, |i| (1.0 - weight) * l0[i] + weight * l1[i]);
-    let kinetic = sums.mass(model, 0.5 - theta, dv, dv);
-    let elastic = sums.stiffness(model, 0.5 - theta, du, du);
-    let (change, magnitude) = mechanical_energy_change(model, &p);
+    let vectors = p.vectors(before.multiplier, after.multiplier);
+    theta_sides(&mut WholeForms::of(model, &p), (theta, weight), &vectors)
+}
+
+/// The two sides of eq. (35) over one step (see [`theta`]; `weight` as in `theta_in`) with
+/// the products of `forms`.
+pub fn theta_sides(
+    forms: &mut dyn BalanceForms,
+    (theta, weight): (f64, f64),
+    v: &StepVectors,
+) -> Sides {
+    let ((l0, l1), [du, dv]) = (v.multipliers, v.difference);
+    let work = forms.contact_work(du, &|i| (1.0 - weight) * l0[i] + weight * l1[i]);
+    let kinetic = forms.mass(0.5 - theta, dv, dv);
+    let elastic = forms.stiffness(0.5 - theta, du, du);
+    let (change, magnitude) = energy_change(forms, v);
     Sides {
         change,
         predicted_change: kinetic.value + elastic.value - work,
@@ -480,7 +586,7 @@ fn generalised_alpha_in(
     let p = ws.prepare(model, before, after);
     let (l0, l1) = (before.multiplier, after.multiplier);
     let (rows, sums, [du, dv]) = (p.rows, p.sums, p.difference);
-    let work = contact_work(rows, du, |i| alpha_f * l0[i] + (1.0 - alpha_f) * l1[i]);
+    let work = contact_work(rows, du, &|i| alpha_f * l0[i] + (1.0 - alpha_f) * l1[i]);
     let elastic = sums.stiffness(model, alpha_f - 0.5, du, du);
     let inertial = sums.mass(model, gamma - 1.0 + alpha_m, &da, du);
     let skewed = sums.mass(model, -dt * (beta - 0.5 * gamma), &da, dv);
@@ -543,12 +649,12 @@ fn contact_stabilised_newmark_in(
         prepared.difference,
         prepared.sum,
     );
-    let work = contact_work(rows, du, |i| l1[i]);
+    let work = contact_work(rows, du, &|i| l1[i]);
     let (projected, bound) = match velocity {
         PredictorVelocity::Carried => {
             let elastic = sums.stiffness(model, 0.5, &p, u_sum);
             let load = load_work(model, &p);
-            let contact = contact_work(rows, &p, |i| l1[i]);
+            let contact = contact_work(rows, &p, &|i| l1[i]);
             (
                 elastic.value - load + contact,
                 elastic.bound + load_magnitude(model, &p) + contact.abs(),
@@ -661,7 +767,7 @@ fn row_residual(model: &Model, u: &[f64], z: usize) -> f64 {
 /// module documentation).
 pub fn central_difference(model: &Model, dt: f64, levels: &ThreeLevels) -> StepBalance {
     let span = combined(levels.later, levels.earlier, |x, y| x - y);
-    let work = contact_work(&constraints(model), &span, |i| levels.multiplier[i]);
+    let work = contact_work(&constraints(model), &span, &|i| levels.multiplier[i]);
     let past = combined(levels.current, levels.earlier, |a, b| (a - b) / dt);
     let next = combined(levels.later, levels.current, |a, b| (a - b) / dt);
     let dv = combined(&next, &past, |x, y| x - y);
@@ -773,6 +879,13 @@ impl<'m> BalanceMonitor<'m> {
     pub fn observe(&mut self, integrator: &dyn TimeIntegrator) -> Option<StepBalance> {
         let step = integrator.step_index();
         let follows = self.step.is_some_and(|last| step == last + 1);
+        if let Some(own) = integrator.own_balance() {
+            if self.step.is_none() {
+                self.initial_energy = integrator.energy().value.abs();
+            }
+            self.step = Some(step);
+            return self.record(own.filter(|_| follows)?);
+        }
         let balance = if follows {
             self.balance(integrator, step)
         } else {
@@ -795,7 +908,11 @@ impl<'m> BalanceMonitor<'m> {
             integrator.acceleration().unwrap_or_default(),
         );
         self.step = Some(step);
-        let b = balance?;
+        self.record(balance?)
+    }
+
+    /// Keeps the relative residual of the step balance `b`, and returns it.
+    fn record(&mut self, b: StepBalance) -> Option<StepBalance> {
         let scale = self
             .initial_energy
             .max(b.energy_before.abs())

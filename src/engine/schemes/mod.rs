@@ -223,6 +223,14 @@ pub trait TimeIntegrator {
         true
     }
 
+    /// The balance of the last step where the integrator computes it itself (a distributed
+    /// run, whose state no one process holds whole): `Some(None)` before its first step,
+    /// `Some(Some(b))` after a step; `None` when the [`energy_balance::BalanceMonitor`] is
+    /// to compute it from the states.
+    fn own_balance(&self) -> Option<Option<energy_balance::StepBalance>> {
+        None
+    }
+
     /// The slab of the local contact operator ([`crate::engine::contact::local`]); `None` with
     /// the full operator or without contact.
     fn contact_truncation(&self) -> Option<Truncation> {

@@ -1,18 +1,16 @@
-//! A box run on several ranks seen from rank 0 as a one-process run ([`GatheredRun`]): the
-//! steps are distributed ([`SlabOneStep`]), and after each one the ranks' parts of `U` and
-//! `V` are gathered on rank 0, where the run's observers (its histories, a reference's
-//! projections and check) see the whole state through the one time loop
-//! ([`super::drive_by`]) as they see a one-process run's.
+//! A box run on several ranks seen from rank 0's time loop as a one-process run
+//! ([`DistributedRun`]): the steps are distributed ([`SlabOneStep`]), and so is everything a
+//! reference observes of the fine field: after each step every rank's [`SlabObserver`]s (the
+//! projections on the coarse levels, the comparison with the check run) and the step's energy
+//! balance are computed on the slabs, summed across the ranks. No rank holds the whole state:
+//! rank 0's time loop sees rank 0's part of it, which holds `Γ_Sig` (the contact dofs its
+//! histories read) and the multipliers.
 //!
 //! Every rank makes the same collective calls in the same order. Rank 0's time loop decides
 //! when the run ends (completed, stopped by an observer, or failed), so each step starts with
 //! a sum in which rank 0 says whether to go on ([`Follow`]): 0 at each step, 1 when its
 //! integrator is dropped, whatever ended the loop. The other ranks follow those sums
 //! ([`follow`]) and end with it.
-//!
-//! What needs the fine field without needing it whole, a reference's projections on its
-//! coarse levels, is a [`SlabObserver`]: every rank computes it from its own part of `U` after
-//! each step, inside the run, rank 0 holding the result.
 
 use std::cell::RefCell;
 
@@ -21,11 +19,12 @@ use crate::engine::contact::Truncation;
 #[cfg(feature = "mpi")]
 pub use crate::engine::distributed::MpiRanks;
 pub use crate::engine::distributed::{CountedRanks, Ranks, Traffic};
-use crate::engine::distributed::{SlabOneStep, SlabRunError, Slabs};
-use crate::engine::error::{ParameterError, SolveError};
+use crate::engine::distributed::{DecompositionError, SlabOneStep, SlabRunError, Slabs};
+use crate::engine::error::{ParameterError, SolveError, StateField};
 use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
 use crate::engine::problem::{AxialMesh, BoxProblem};
+use crate::engine::schemes::energy_balance::{newmark_sides, theta_sides, StepBalance};
 use crate::engine::schemes::{
     initial_state, Conventions, Scheme, SchemeState, StepCoefficients, TimeIntegrator, Timed,
 };
@@ -62,28 +61,54 @@ pub trait SlabObserver {
     /// Sets up on the run's decomposition, before the first observation.
     fn start(&mut self, slabs: &Slabs) -> Result<(), Error>;
 
-    /// This rank's part of `U^n`, after step `n` (from `n = 0`, every step in turn).
-    fn observe_slab(&mut self, u: &[f64]);
+    /// This rank's part of the state after step `n` (from `n = 0`, every step in turn).
+    fn observe_slab(&mut self, state: &SlabState);
+}
+
+/// What a rank of a distributed run holds of the state after a step.
+#[derive(Debug, Clone, Copy)]
+pub struct SlabState<'s> {
+    /// This rank's part of `U^n`.
+    pub u: &'s [f64],
+    /// `t_n`.
+    pub time: f64,
+    /// The energy `E_h(U^n, V^n)` (summed over the ranks).
+    pub energy: f64,
+    /// `Σ λ^n` (rank 0's; 0 on the others).
+    pub total_force: f64,
 }
 
 /// The slab observers of a distributed run, each borrowed by the run while it steps.
 pub type SlabObservers<'r> = [&'r RefCell<dyn SlabObserver + 'r>];
 
-/// A distributed run's integrator on rank 0: the distributed steps, and the whole state
-/// gathered after each ([`GatheredRun::advance`]).
-pub struct GatheredRun<'r, R: Ranks + ?Sized> {
+/// A distributed run's integrator on each rank: the distributed steps, and after each the
+/// finite check, the energy, the balance and the slab observers ([`DistributedRun::advance`]);
+/// its state is this rank's part (rank 0's time loop reads rank 0's).
+pub struct DistributedRun<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     run: SlabOneStep<'r, R>,
     observers: &'r SlabObservers<'r>,
-    /// The whole `U^n`, `V^n`, `λ^n` on rank 0 (empty vectors elsewhere).
+    /// This rank's parts of `U^n`, `V^n`, and `λ^n` (rank 0's).
     state: SchemeState,
     energy: f64,
+    /// The scheme's balance law: Newmark's `(β, γ)` (eq. 33), or the θ-method's `θ` (eq. 35).
+    law: BalanceLaw,
+    dt: f64,
+    /// The last step's balance, computed on the slabs (none before the first step).
+    balance: Option<StepBalance>,
 }
 
-impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
+/// The balance law of a distributed run's scheme.
+#[derive(Debug, Clone, Copy)]
+enum BalanceLaw {
+    Newmark { beta: f64, gamma: f64 },
+    Theta { theta: f64 },
+}
+
+impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
     /// The distributed run of `model` with `scheme` (an implicit Newmark or θ-method one)
-    /// and `Δt = dt` from `u0`, `v0` with `conventions`, its initial state gathered and
-    /// observed by `observers` (started on the run's decomposition first).
+    /// and `Δt = dt` from `u0`, `v0` with `conventions`, its initial state observed by
+    /// `observers` (started on the run's decomposition first).
     pub fn new(
         (ranks, observers): (&'r R, &'r SlabObservers<'r>),
         model: &Model,
@@ -91,9 +116,14 @@ impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
         (u0, v0): (&[f64], &[f64]),
         conventions: &Conventions,
     ) -> Result<Self, Error> {
-        let coefficients = match scheme {
-            Scheme::Newmark { beta, gamma } if beta > 0.0 => StepCoefficients::newmark(beta, gamma),
-            Scheme::Theta { theta } => StepCoefficients::theta(theta),
+        let (coefficients, law) = match scheme {
+            Scheme::Newmark { beta, gamma } if beta > 0.0 => (
+                StepCoefficients::newmark(beta, gamma),
+                BalanceLaw::Newmark { beta, gamma },
+            ),
+            Scheme::Theta { theta } => {
+                (StepCoefficients::theta(theta), BalanceLaw::Theta { theta })
+            }
             other => {
                 return Err(ParameterError::new(
                     "scheme",
@@ -104,13 +134,19 @@ impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
                 .into())
             }
         };
-        let start = initial_state(model, u0, v0, conventions)?;
+        // Rank 0 alone computes the whole start, and tells the others whether it could.
+        let start = (ranks.rank() == 0).then(|| initial_state(model, u0, v0, conventions));
+        let failed = ranks.sum(f64::from(u8::from(matches!(start, Some(Err(_))))));
+        let start = start.transpose()?;
+        if failed > 0.0 {
+            return Err(DecompositionError::RankZeroFailed.into());
+        }
         let run = SlabOneStep::new(
             ranks,
             model,
             coefficients,
             dt,
-            &start,
+            start.as_ref(),
             conventions.predictor,
         )
         .map_err(|e| match e {
@@ -120,60 +156,79 @@ impl<'r, R: Ranks + ?Sized> GatheredRun<'r, R> {
         for o in observers {
             o.borrow_mut().start(run.slabs())?;
         }
-        let whole = if ranks.rank() == 0 { u0.len() } else { 0 };
-        let mut gathered = Self {
+        let mut distributed = Self {
             ranks,
             observers,
-            state: SchemeState::start(dt, vec![0.0; whole], vec![0.0; whole], Vec::new()),
+            state: SchemeState::start(dt, Vec::new(), Vec::new(), Vec::new()),
             run,
             energy: 0.0,
+            law,
+            dt,
+            balance: None,
         };
-        gathered.observe();
-        Ok(gathered)
+        distributed.observe()?;
+        Ok(distributed)
     }
 
-    /// The energy, the slab observers and the gathered state after a step (every rank
-    /// together).
-    fn observe(&mut self) {
-        for o in self.observers {
-            o.borrow_mut().observe_slab(self.run.displacement());
+    /// The state after a step (every rank together): a non-finite value on any rank ends
+    /// the run on every rank; then the energy, the step's balance and the slab observers.
+    fn observe(&mut self) -> Result<(), SolveError> {
+        let non_finite = |v: &[f64]| f64::from(u8::from(v.iter().any(|x| !x.is_finite())));
+        let displacement = self.ranks.sum(non_finite(self.run.displacement()));
+        let velocity = self.ranks.sum(non_finite(self.run.velocity()));
+        let quantity = if displacement > 0.0 {
+            Some(StateField::Displacement)
+        } else if velocity > 0.0 {
+            Some(StateField::Velocity)
+        } else {
+            None
+        };
+        if let Some(quantity) = quantity {
+            return Err(SolveError::NonFinite {
+                step: self.run.step(),
+                time: self.run.time(),
+                quantity,
+            });
         }
+        let energy_before = self.energy;
         self.energy = self.run.energy();
-        gather(
-            self.ranks,
-            &self.run,
-            self.run.displacement(),
-            &mut self.state.u,
-        );
-        gather(
-            self.ranks,
-            &self.run,
-            self.run.velocity(),
-            &mut self.state.v,
-        );
-        self.state.lambda = self.run.multipliers().to_vec();
+        let state = SlabState {
+            u: self.run.displacement(),
+            time: self.run.time(),
+            energy: self.energy,
+            total_force: self.run.multipliers().iter().sum(),
+        };
+        for o in self.observers {
+            o.borrow_mut().observe_slab(&state);
+        }
+        if self.run.step() > 0 {
+            let (law, dt) = (self.law, self.dt);
+            let sides = self.run.balance(|forms, vectors| match law {
+                BalanceLaw::Newmark { beta, gamma } => {
+                    newmark_sides(forms, (beta, gamma), dt, vectors)
+                }
+                BalanceLaw::Theta { theta } => theta_sides(forms, (theta, theta), vectors),
+            });
+            self.balance = Some(sides.with_energies(energy_before, energy_before + sides.change));
+        }
+        for (to, from) in [
+            (&mut self.state.u, self.run.displacement()),
+            (&mut self.state.v, self.run.velocity()),
+            (&mut self.state.lambda, self.run.multipliers()),
+        ] {
+            to.clear();
+            to.extend_from_slice(from);
+        }
         self.state.step = self.run.step();
+        Ok(())
     }
 }
 
-/// Every rank's part of a vector (`part`) into `whole` on rank 0, in rank order.
-fn gather<R: Ranks + ?Sized>(ranks: &R, run: &SlabOneStep<'_, R>, part: &[f64], whole: &mut [f64]) {
-    if ranks.rank() != 0 {
-        ranks.send(0, part);
-        return;
-    }
-    whole[run.own_dofs()].copy_from_slice(part);
-    for r in 1..ranks.size() {
-        ranks.receive(r, &mut whole[run.dofs_of(r)]);
-    }
-}
-
-impl<R: Ranks + ?Sized> TimeIntegrator for GatheredRun<'_, R> {
+impl<R: Ranks + ?Sized> TimeIntegrator for DistributedRun<'_, R> {
     fn advance(&mut self) -> Result<(), SolveError> {
         Follow::Step.agreed(self.ranks);
         self.run.advance()?;
-        self.observe();
-        Ok(())
+        self.observe()
     }
 
     fn state(&self) -> &SchemeState {
@@ -206,9 +261,14 @@ impl<R: Ranks + ?Sized> TimeIntegrator for GatheredRun<'_, R> {
     fn contact_truncation(&self) -> Option<Truncation> {
         self.run.contact_truncation()
     }
+
+    /// Computed on the slabs after each step.
+    fn own_balance(&self) -> Option<Option<StepBalance>> {
+        Some(self.balance)
+    }
 }
 
-impl<R: Ranks + ?Sized> Drop for GatheredRun<'_, R> {
+impl<R: Ranks + ?Sized> Drop for DistributedRun<'_, R> {
     /// Rank 0's time loop is over, however it ended: every rank is told.
     fn drop(&mut self) {
         if self.ranks.rank() == 0 {
@@ -220,25 +280,24 @@ impl<R: Ranks + ?Sized> Drop for GatheredRun<'_, R> {
 /// A rank other than 0 of a distributed run: its steps, as long as rank 0 says to go on,
 /// with the gathers of each. Returns the error of a step that failed (rank 0's loop fails
 /// with it too), after rank 0 has ended the run.
-pub fn follow<R: Ranks + ?Sized>(run: &mut GatheredRun<'_, R>) -> Result<(), SolveError> {
+pub fn follow<R: Ranks + ?Sized>(run: &mut DistributedRun<'_, R>) -> Result<(), SolveError> {
     let mut failed = None;
     while Follow::Step.agreed(run.ranks) == Follow::Step {
-        match run.run.advance() {
-            Ok(()) => run.observe(),
-            Err(e) => failed = Some(e),
+        if let Err(e) = run.run.advance().and_then(|()| run.observe()) {
+            failed = Some(e);
         }
     }
     failed.map_or(Ok(()), Err)
 }
 
-/// The factory of [`GatheredRun`]s on `ranks` observed by `observers` that rank 0's time loop
+/// The factory of [`DistributedRun`]s on `ranks` observed by `observers` that rank 0's time loop
 /// builds its integrator with ([`super::elastic::run_box`]).
-pub fn gathered<'r>(
+pub fn distributed_run<'r>(
     ranks: &'r dyn Ranks,
     observers: &'r SlabObservers<'r>,
 ) -> Box<IntegratorFactory<'r>> {
     Box::new(move |model, scheme, dt, u0, v0, conventions| {
-        let run = GatheredRun::new(
+        let run = DistributedRun::new(
             (ranks, observers),
             model,
             (scheme, dt),
@@ -262,7 +321,7 @@ pub fn follow_run<'r>(
     let scheme = config.scheme.validate()?;
     let h = discretisation.mesh.axial_element_size();
     let (_, dt) = time_grid(problem.horizon, h, config.ratio);
-    let mut run = GatheredRun::new(
+    let mut run = DistributedRun::new(
         (ranks, observers),
         &discretisation.model,
         (scheme, dt),

@@ -416,13 +416,14 @@ pub fn box_run(
 /// Peak bytes of a rank other than 0 of a distributed reference per unknown of the whole box:
 /// what every rank holds whole (the mesh, the start it computes whole, the model). With
 /// [`RANK_BYTES_PER_SLAB_UNKNOWN`], an upper bound of the measured peaks of ranks 1 and 2 of
-/// the 3D bar's references on 80 and 160 elements over 2 and 3 ranks (`make cluster-plan`:
-/// 23–61 MB, fitted 218 bytes per unknown and 183 per slab unknown).
-const RANK_BYTES_PER_UNKNOWN: f64 = 240.0;
+/// the 3D bar's references on 80 and 160 elements over 2 and 3 ranks (`make cluster-plan`,
+/// reports/cluster/cluster-plan.md: 26–70 MB, fitted 269 bytes per unknown and 215 per slab
+/// unknown).
+const RANK_BYTES_PER_UNKNOWN: f64 = 290.0;
 
 /// Peak bytes of such a rank per unknown of its slab (its parts of the state, its rows of the
 /// operators, the CG's and the projections' work vectors).
-const RANK_BYTES_PER_SLAB_UNKNOWN: f64 = 200.0;
+const RANK_BYTES_PER_SLAB_UNKNOWN: f64 = 230.0;
 
 /// The memory of a rank other than 0 of `problem`'s reference on `n_axis` elements along the
 /// axis over `ranks` ranks (rank 0 holds what one process holds of a reference, and is held

@@ -6,20 +6,21 @@
 //! ```text
 //! t = a · k n / P  +  b · n  +  c  +  t_net(P)
 //! ```
-//! `a`: the slab's work per iteration and unknown (products, preconditioner, projections'
-//! share); `b`: what rank 0 does on the whole field (the gathered `U`, `V`, the energy balance,
-//! the check comparison); `c`: per step whatever the size. `a, b, c` are a least-squares fit to
+//! `a`: the slab's work per iteration and unknown (products, preconditioner, the share of the
+//! projections, the check comparison and the balance); `b`: what does not shrink with the
+//! ranks, per unknown of the whole box (rank 0's check run one level coarser, beside it);
+//! `c`: per step whatever the size. `a, b, c` are a least-squares fit to
 //! the measurements whose ranks × threads fit in this machine's cores (oversubscribed runs
 //! measure memory, not time). Messages between processes here go through shared memory; on a
 //! cluster the interconnect's are added from the counted traffic and the node's stated latency
 //! `α` and bandwidth `β`:
 //! ```text
-//! t_net = 2 (m α + s / β)  +  2 k (P − 1) α  +  q · 2 ⌈log₂ P⌉ α  +  16 n (P − 1) / (P β)
+//! t_net = 2 (m α + s / β)  +  2 k (P − 1) α  +  q · 2 ⌈log₂ P⌉ α
 //! ```
 //! `m`, `s`: messages and bytes rank 0 sent per step on 2 ranks (one neighbour; an inner rank has
 //! two), scaled by `k` and the layer's unknowns; the pipeline of the preconditioner's sweeps
-//! crossing `P − 1` ranks twice per iteration; `q` sums per step, each an all-gather; and the
-//! state gathered on rank 0 at each step. `k` is fitted as `k₀ ℓ^p` over the levels `ℓ` measured.
+//! crossing `P − 1` ranks twice per iteration; and `q` sums per step, each an all-gather. `k` is
+//! fitted as `k₀ ℓ^p` over the levels `ℓ` measured.
 //!
 //! **Memory per rank**: `A + B n + C n / P`, fitted separately to rank 0's peaks and to the
 //! others' over the runs on several ranks: `B n` is what every rank holds whole (the mesh, the
@@ -66,7 +67,7 @@ impl MemoryModel {
 pub struct CostModel {
     /// `a`, seconds per CG iteration and slab unknown.
     pub per_iteration_dof: f64,
-    /// `b`, seconds per step and whole-mesh unknown on rank 0.
+    /// `b`, seconds per step and whole-mesh unknown that the ranks do not share.
     pub rank0_per_dof: f64,
     /// `c`, seconds per step.
     pub per_step: f64,
@@ -296,7 +297,6 @@ impl CostModel {
                 + self.bytes_per_iteration_layer_dof * k * layer / node.bandwidth);
         let pipeline = 2.0 * k * (ranks - 1.0) * node.latency;
         let sums = self.sums_per_iteration * k * 2.0 * ranks.log2().ceil() * node.latency;
-        let gather = 16.0 * n * (ranks - 1.0) / ranks / node.bandwidth;
-        halo + pipeline + sums + gather
+        halo + pipeline + sums
     }
 }

@@ -33,7 +33,7 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
 use crate::harness::problem::{Conventions, LinearSolver, MassVariant, Scheme, Settings};
-use crate::harness::run::distributed::{follow_run, gathered, Ranks, SlabObserver};
+use crate::harness::run::distributed::{distributed_run, follow_run, Ranks, SlabObserver};
 use crate::harness::run::elastic::run_box;
 use crate::harness::run::elastic::{box_mesh, BoxMesh, BoxProblem};
 use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
@@ -309,8 +309,8 @@ impl Reference {
     /// Runs the reference, projecting it on `key.levels` as it goes, with the check run one
     /// level coarser beside it, and keeps the scalar histories every `key.sample_every`-th step;
     /// with `ranks`, as rank 0 of a distributed run, whose steps the other ranks share
-    /// ([`Reference::follow`]; the projections and the check are rank 0's, on the gathered
-    /// field, [`crate::harness::run::distributed`]).
+    /// ([`Reference::follow`]; the projections and the check are computed on every rank's slab,
+    /// rank 0 keeping them, [`crate::harness::run::distributed`]).
     pub fn compute(
         problem: &BoxProblem,
         settings: &Settings,
@@ -359,13 +359,17 @@ impl Reference {
         // The check run's steps per sample: it has half the reference's steps.
         let check_stride = (every / 2).max(1);
         let (sender, receiver) = sync_channel(1);
-        let mut comparison = CheckComparison::new(
-            receiver,
-            &fine_norms,
-            &box_mesh(problem, check_config.nx)?,
-            &mesh,
-            every,
-        )?;
+        let check_mesh = box_mesh(problem, check_config.nx)?;
+        let comparison = RefCell::new(match ranks {
+            None => CheckComparison::new(receiver, &fine_norms, &check_mesh, &mesh, every)?,
+            Some(ranks) => CheckComparison::distributed(
+                ranks,
+                Some(receiver),
+                &fine_norms,
+                (&check_mesh, &mesh),
+                every,
+            ),
+        });
         let (run, distance, check_run) = std::thread::scope(|scope| {
             let check = scope.spawn(|| {
                 let mut send = CheckSender::new(sender, check_stride);
@@ -375,20 +379,24 @@ impl Reference {
                 &format!("reference on {} elements", key.n_axis),
                 problem.horizon,
             );
-            let slab_observers: [&RefCell<dyn SlabObserver>; 1] = [&recorder];
+            let slab_observers: [&RefCell<dyn SlabObserver>; 2] = [&recorder, &comparison];
             let run = match ranks {
                 None => run_box(
                     problem,
                     (&config, None),
-                    &mut [&mut *recorder.borrow_mut(), &mut comparison, &mut steps],
+                    &mut [
+                        &mut *recorder.borrow_mut(),
+                        &mut *comparison.borrow_mut(),
+                        &mut steps,
+                    ],
                 ),
                 Some(ranks) => run_box(
                     problem,
-                    (&config, Some(&*gathered(ranks, &slab_observers))),
-                    &mut [&mut comparison, &mut steps],
+                    (&config, Some(&*distributed_run(ranks, &slab_observers))),
+                    &mut [&mut steps],
                 ),
             };
-            let distance = comparison.finish();
+            let distance = comparison.into_inner().finish();
             let check_run = check
                 .join()
                 .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
@@ -698,7 +706,15 @@ impl Reference {
             &mesh_of,
             &problem.elasticity,
         )?);
-        let slab_observers: [&RefCell<dyn SlabObserver>; 1] = [&recorder];
+        let check_mesh = box_mesh(problem, key.n_axis / 2)?;
+        let comparison = RefCell::new(CheckComparison::distributed(
+            ranks,
+            None,
+            &fine_norms,
+            (&check_mesh, &mesh),
+            key.sample_every.max(1),
+        ));
+        let slab_observers: [&RefCell<dyn SlabObserver>; 2] = [&recorder, &comparison];
         follow_run(problem, &config, (ranks, &slab_observers))
     }
 }

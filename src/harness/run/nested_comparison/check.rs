@@ -14,9 +14,12 @@ use std::sync::mpsc::{Receiver, SyncSender};
 
 use super::error_series::ErrorSeries;
 use super::norm_matrices::NormMatrices;
+use super::slab_fine::SlabFine;
+use crate::engine::distributed::{Ranks, Slabs};
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::error::Error;
+use crate::harness::run::distributed::{SlabObserver, SlabState};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::Observer;
 
@@ -81,15 +84,34 @@ impl Observer for CheckSender {
 }
 
 /// The reference run's observer: receives the check run's sample every `stride` steps and
-/// measures its distance to the reference state.
+/// measures its distance to the reference state: in one process (an [`Observer`]), or on every
+/// rank of a distributed run (a [`SlabObserver`], rank 0 receiving the samples and keeping the
+/// series, [`CheckComparison::distributed`]).
 pub struct CheckComparison<'a> {
     channel: Option<Receiver<CheckSample>>,
-    norms: &'a NormMatrices,
-    prolongation: Prolongation,
     samples: Samples,
     series: ErrorSeries,
-    error: Vec<f64>,
-    scratch: Vec<f64>,
+    fine: CheckFine<'a>,
+}
+
+/// The reference's side of the comparison.
+enum CheckFine<'a> {
+    /// The whole reference mesh, in this process.
+    Whole {
+        norms: &'a NormMatrices,
+        prolongation: Prolongation,
+        error: Vec<f64>,
+        scratch: Vec<f64>,
+    },
+    /// A distributed run's, before the run has cut the box into slabs.
+    Unstarted {
+        ranks: &'a dyn Ranks,
+        norms: &'a NormMatrices,
+        coarse: BoxMesh,
+        fine: &'a BoxMesh,
+    },
+    /// This rank's slab of it.
+    Slab(Box<SlabFine<'a>>),
 }
 
 impl<'a> CheckComparison<'a> {
@@ -106,20 +128,54 @@ impl<'a> CheckComparison<'a> {
         let n = prolongation.fine_dofs();
         Ok(Self {
             channel: Some(channel),
-            norms,
-            prolongation,
             samples: Samples { stride, step: 0 },
             series: ErrorSeries::default(),
-            error: vec![0.0; n],
-            scratch: vec![0.0; n],
+            fine: CheckFine::Whole {
+                norms,
+                prolongation,
+                error: vec![0.0; n],
+                scratch: vec![0.0; n],
+            },
         })
     }
 
-    /// The distance in every norm over the samples both runs reached. Stops listening (the
-    /// check run's sends then return at once).
+    /// [`CheckComparison::new`] on the rank `ranks.rank()` of a distributed run: rank 0 is
+    /// given the `channel`, the others `None`; its part is set up when the run has cut the box
+    /// ([`SlabObserver::start`]).
+    pub fn distributed(
+        ranks: &'a dyn Ranks,
+        channel: Option<Receiver<CheckSample>>,
+        norms: &'a NormMatrices,
+        (coarse, fine): (&BoxMesh, &'a BoxMesh),
+        stride: usize,
+    ) -> Self {
+        Self {
+            channel,
+            samples: Samples { stride, step: 0 },
+            series: ErrorSeries::default(),
+            fine: CheckFine::Unstarted {
+                ranks,
+                norms,
+                coarse: coarse.clone(),
+                fine,
+            },
+        }
+    }
+
+    /// The distance in every norm over the samples both runs reached (none on a distributed
+    /// run's ranks other than 0). Stops listening (the check run's sends then return at once).
     pub fn finish(mut self) -> BTreeMap<Norm, f64> {
         self.channel = None;
         self.series.errors()
+    }
+
+    /// The check run's sample, when it still sends (it stops listening otherwise).
+    fn receive(&mut self) -> Option<CheckSample> {
+        let sample = self.channel.as_ref()?.recv().ok();
+        if sample.is_none() {
+            self.channel = None;
+        }
+        sample
     }
 }
 
@@ -127,19 +183,26 @@ impl Observer for CheckComparison<'_> {
     /// At a sample, waits for the check run's state at the same time and compares; once the
     /// check run has ended (its error, if any, is reported when it is joined), compares no more.
     fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
-        let (true, Some(channel)) = (self.samples.next_is_sample(), &self.channel) else {
+        if !self.samples.next_is_sample() {
+            return Ok(());
+        }
+        let Some(sample) = self.receive() else {
             return Ok(());
         };
-        let Ok(sample) = channel.recv() else {
-            self.channel = None;
-            return Ok(());
+        let CheckFine::Whole {
+            norms,
+            prolongation,
+            error,
+            scratch,
+        } = &mut self.fine
+        else {
+            unreachable!("a distributed comparison observes the slabs")
         };
-        self.prolongation
-            .apply_into(&sample.displacement, &mut self.error);
-        for (e, u) in self.error.iter_mut().zip(state.displacement()) {
+        prolongation.apply_into(&sample.displacement, error);
+        for (e, u) in error.iter_mut().zip(state.displacement()) {
             *e -= u;
         }
-        let squared = self.norms.squared(&self.error, &mut self.scratch);
+        let squared = norms.squared(error, scratch);
         let force: f64 = state.multiplier().value.iter().sum();
         self.series.push(
             state.time(),
@@ -148,5 +211,57 @@ impl Observer for CheckComparison<'_> {
             sample.energy - state.energy().value,
         );
         Ok(())
+    }
+}
+
+impl SlabObserver for CheckComparison<'_> {
+    /// Cuts the reference's side into this rank's slab.
+    fn start(&mut self, slabs: &Slabs) -> Result<(), Error> {
+        if let CheckFine::Unstarted {
+            ranks,
+            norms,
+            coarse,
+            fine,
+        } = &self.fine
+        {
+            self.fine = CheckFine::Slab(Box::new(SlabFine::new(
+                *ranks,
+                norms,
+                (coarse, fine),
+                slabs,
+            )?));
+        }
+        Ok(())
+    }
+
+    /// At a sample, rank 0 waits for the check run's state and tells every rank whether it
+    /// came; then every rank adds its part of the distance, and rank 0 keeps it.
+    fn observe_slab(&mut self, state: &SlabState) {
+        if !self.samples.next_is_sample() {
+            return;
+        }
+        let CheckFine::Slab(slab) = &self.fine else {
+            unreachable!("a distributed comparison is started first")
+        };
+        let sample = if slab.rank() == 0 {
+            self.receive()
+        } else {
+            None
+        };
+        let CheckFine::Slab(slab) = &mut self.fine else {
+            unreachable!("a distributed comparison is started first")
+        };
+        if !slab.rank_0_says(sample.is_some()) {
+            return;
+        }
+        let squared = slab.distances(state.u, sample.as_ref().map(|s| s.displacement.as_slice()));
+        if let Some(sample) = sample {
+            self.series.push(
+                state.time,
+                squared,
+                sample.total_force - state.total_force,
+                sample.energy - state.energy,
+            );
+        }
     }
 }

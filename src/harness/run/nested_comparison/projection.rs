@@ -30,7 +30,7 @@ use crate::engine::fem::{BoxMesh, Elasticity, Prolongation};
 use crate::engine::linalg::SpdSolver;
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::error::Error;
-use crate::harness::run::distributed::SlabObserver;
+use crate::harness::run::distributed::{SlabObserver, SlabState};
 use crate::harness::run::Observer;
 
 /// The projections of the reference on one level, at every step of that level.
@@ -466,7 +466,7 @@ impl SlabObserver for ProjectionRecorder<'_> {
     }
 
     /// The step's projections ([`ProjectionRecorder::record`]) from this rank's part of `U`.
-    fn observe_slab(&mut self, u: &[f64]) {
-        self.record(u);
+    fn observe_slab(&mut self, state: &SlabState) {
+        self.record(state.u);
     }
 }

@@ -1,6 +1,7 @@
 //! The reference's fine space cut into the slabs of a distributed run ([`SlabFine`]): what the
-//! projections of the reference on its coarse levels need of the fine field, computed by every
-//! rank on its slab, so that no rank holds the whole field for them.
+//! projections of the reference on its coarse levels, and its comparison with the check run,
+//! need of the fine field, computed by every rank on its slab, so that no rank holds the whole
+//! field for them.
 //!
 //! With `P` the prolongation from the finest coarse level into the reference mesh and `A` a
 //! fine norm matrix (`M`, or `M + S`), the projections need two things of the fine space
@@ -93,11 +94,6 @@ impl<'r> SlabFine<'r> {
         })
     }
 
-    /// The range of the reference's unknowns this rank holds.
-    pub fn own_dofs(&self) -> Range<usize> {
-        self.mass.own_dofs()
-    }
-
     /// The coarse loads `Pᵀ M u` and `Pᵀ (M + S) u` of this rank's part `u` of the reference,
     /// into `loads` on rank 0 (the whole finest level; `None` on the others). Every rank
     /// together.
@@ -142,9 +138,39 @@ impl<'r> SlabFine<'r> {
     }
 
     /// `‖u − P w‖²_M` (`energy` false) or `‖u − P w‖²_{M+S}` of this rank's part `u` of the
-    /// reference and the finest level's `w` (given on rank 0, `None` elsewhere), on every rank.
-    /// Every rank together.
+    /// reference and the coarse `w` (given on rank 0, `None` elsewhere), on every rank. Every
+    /// rank together.
     pub fn remainder(&mut self, u: &[f64], w: Option<&[f64]>, energy: bool) -> f64 {
+        self.residual(u, w);
+        let h = self.h_squared();
+        if energy {
+            h + self.s_squared()
+        } else {
+            h
+        }
+    }
+
+    /// `(‖u − P w‖²_M, ‖u − P w‖²_{M+S})`, as [`SlabFine::remainder`].
+    pub fn distances(&mut self, u: &[f64], w: Option<&[f64]>) -> (f64, f64) {
+        self.residual(u, w);
+        let h = self.h_squared();
+        (h, h + self.s_squared())
+    }
+
+    /// Whether rank 0 says yes (`yes`, read on rank 0 only), on every rank.
+    pub fn rank_0_says(&self, yes: bool) -> bool {
+        self.ranks
+            .sum(f64::from(u8::from(self.ranks.rank() == 0 && yes)))
+            > 0.0
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.ranks.rank()
+    }
+
+    /// `u − P w` on this rank's rows into `residual`, the parts of `w` sent by rank 0.
+    fn residual(&mut self, u: &[f64], w: Option<&[f64]>) {
         if self.ranks.rank() == 0 {
             let w = w.expect("rank 0 holds the coarse field");
             for r in 1..self.ranks.size() {
@@ -158,15 +184,17 @@ impl<'r> SlabFine<'r> {
         for (r, ui) in self.residual.iter_mut().zip(u) {
             *r = ui - *r;
         }
-        let h = self
-            .ranks
-            .sum(self.mass.mul_dot(&self.residual, &mut self.scratch));
-        if energy {
-            h + self
-                .ranks
-                .sum(self.stiffness.mul_dot(&self.residual, &mut self.scratch))
-        } else {
-            h
-        }
+    }
+
+    /// `rᵀ M r` of the residual, summed.
+    fn h_squared(&mut self) -> f64 {
+        self.ranks
+            .sum(self.mass.mul_dot(&self.residual, &mut self.scratch))
+    }
+
+    /// `rᵀ S r` of the residual, summed.
+    fn s_squared(&mut self) -> f64 {
+        self.ranks
+            .sum(self.stiffness.mul_dot(&self.residual, &mut self.scratch))
     }
 }
