@@ -158,9 +158,10 @@ mpi-check: mpi-install
 mpi-install:
 	@dpkg -s openmpi-bin libopenmpi-dev libclang-dev >/dev/null 2>&1 || (apt-get update -qq && apt-get install -y -qq openmpi-bin libopenmpi-dev libclang-dev)
 
-## The plan of the 3D bar's 1 280-element reference across a cluster (issue 36; about 3 min):
+## The plan of the 3D bar's 1 280-element reference across a cluster (issue 36; about 5 min):
 ## its reference on 80 and 160 elements computed and measured (`reference --measure`) in one
-## process of one thread and of every thread, and on 2 and 3 MPI ranks of one thread; the cost
+## process of every thread and on 3 MPI ranks of one thread (memory), and three times each in
+## one process of one thread and on 2 ranks of one thread (time and memory); the cost
 ## model fitted to them, checked against the finest study's one-process reference
 ## (reports/finest/elastic-3d.json) and its answer for 8, 16 and 32 nodes written to
 ## reports/cluster/ (cluster-plan.md, cluster-plan.json, and the measurements in measured/).
@@ -172,10 +173,11 @@ cluster-plan: mpi-install
 	rm -rf $(CLUSTER)/measured $(CLUSTER)/work && mkdir -p $(CLUSTER)/measured $(CLUSTER)/work
 	for level in 80 160; do \
 	  sed "s/\"reference_level\": [0-9]*/\"reference_level\": $$level/" scenes/bar3d.json > $(CLUSTER)/work/bar3d-$$level.json && \
-	  RAYON_NUM_THREADS=1 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1t1-$$level --measure $(CLUSTER)/measured/$$level-ranks1-threads1.json && \
 	  $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1-$$level --measure $(CLUSTER)/measured/$$level-ranks1-threads$$(nproc).json && \
-	  for ranks in 2 3; do \
-	    $(MPIRUN) -n $$ranks $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n$$ranks-$$level --measure $(CLUSTER)/measured/$$level-ranks$$ranks-threads1.json || exit 1; \
+	  $(MPIRUN) -n 3 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n3-$$level --measure $(CLUSTER)/measured/$$level-ranks3-threads1.json && \
+	  for run in 1 2 3; do \
+	    RAYON_NUM_THREADS=1 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1t1-$$level-$$run --measure $(CLUSTER)/measured/$$level-ranks1-threads1-run$$run.json && \
+	    $(MPIRUN) -n 2 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n2-$$level-$$run --measure $(CLUSTER)/measured/$$level-ranks2-threads1-run$$run.json || exit 1; \
 	  done || exit 1; \
 	done
 	$(MPI_BIN) cluster-plan scenes/bar3d.json --level 1280 --measured $(CLUSTER)/measured/*.json --measured-cores $$(nproc) --check reports/finest/elastic-3d.json --out $(CLUSTER)

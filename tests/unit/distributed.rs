@@ -514,3 +514,50 @@ fn a_distributed_run_checks_its_energy_balance_on_the_slabs() {
         "{distributed:e} on two ranks, {whole:e} in one process"
     );
 }
+
+/// A non-finite value on any rank ends the run on every rank, naming the quantity: the 3D
+/// bar's initial velocity with a NaN in its last unknown, which rank 1 holds, stops both ranks
+/// before the first step.
+#[test]
+fn a_non_finite_value_on_one_rank_stops_every_rank() {
+    use signorini::engine::error::{SolveError, StateField};
+    use signorini::engine::linalg::LinearSolver;
+    use signorini::engine::problem::Settings;
+    use signorini::harness::files::error::Error;
+    use signorini::harness::run::distributed::DistributedRun;
+    use signorini::harness::study::scene::Scene;
+
+    let problem = Scene::load(std::path::Path::new("scenes/bar3d.json"))
+        .unwrap()
+        .box_problem("a box")
+        .unwrap();
+    let settings = Settings {
+        linear_solver: LinearSolver::Cg,
+        ..Settings::default()
+    };
+    let discretisation = problem
+        .discretise(40, MassVariant::Redistributed, &settings)
+        .unwrap();
+    let mut velocity = discretisation.velocity.clone();
+    *velocity.last_mut().unwrap() = f64::NAN;
+    let outcomes = ThreadRanks::run(2, |r| {
+        DistributedRun::new(
+            (r, &[]),
+            &discretisation.model,
+            ("crank-nicolson".parse().unwrap(), 1.0 / 80.0),
+            (&discretisation.displacement, &velocity),
+            &discretisation.conventions,
+        )
+        .err()
+        .map(|e| e.to_string())
+    });
+    let expected = Error::from(SolveError::NonFinite {
+        step: 0,
+        time: 0.0,
+        quantity: StateField::Velocity,
+    })
+    .to_string();
+    for (rank, outcome) in outcomes.iter().enumerate() {
+        assert_eq!(outcome.as_deref(), Some(expected.as_str()), "rank {rank}");
+    }
+}

@@ -96,6 +96,9 @@ pub struct DistributedRun<'r, R: Ranks + ?Sized> {
     dt: f64,
     /// The last step's balance, computed on the slabs (none before the first step).
     balance: Option<StepBalance>,
+    /// Whether the start was observed: the run's steps are then rank 0's to end
+    /// ([`Follow`]); a start that failed failed on every rank together.
+    started: bool,
 }
 
 /// The balance law of a distributed run's scheme.
@@ -165,8 +168,10 @@ impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
             law,
             dt,
             balance: None,
+            started: false,
         };
         distributed.observe()?;
+        distributed.started = true;
         Ok(distributed)
     }
 
@@ -271,14 +276,14 @@ impl<R: Ranks + ?Sized> TimeIntegrator for DistributedRun<'_, R> {
 impl<R: Ranks + ?Sized> Drop for DistributedRun<'_, R> {
     /// Rank 0's time loop is over, however it ended: every rank is told.
     fn drop(&mut self) {
-        if self.ranks.rank() == 0 {
+        if self.ranks.rank() == 0 && self.started {
             Follow::End.agreed(self.ranks);
         }
     }
 }
 
 /// A rank other than 0 of a distributed run: its steps, as long as rank 0 says to go on,
-/// with the gathers of each. Returns the error of a step that failed (rank 0's loop fails
+/// with the observations of each. Returns the error of a step that failed (rank 0's loop fails
 /// with it too), after rank 0 has ended the run.
 pub fn follow<R: Ranks + ?Sized>(run: &mut DistributedRun<'_, R>) -> Result<(), SolveError> {
     let mut failed = None;

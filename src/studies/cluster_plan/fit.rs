@@ -1,19 +1,21 @@
 //! The cost model of a distributed reference, fitted to [`Measurement`]s made here, and its
 //! prediction for a reference on `N` nodes of a stated size ([`Node`]).
 //!
-//! **Time per step** on rank 0 (the run's critical path: it steps its slab and observes), with
-//! `n` unknowns, `P` ranks of one thread each and `k` CG iterations per step:
+//! **Time per step**, with `n` unknowns, `P` ranks of one thread each and `k` CG iterations per
+//! step:
 //! ```text
-//! t = a · k n / P  +  b · n  +  c  +  t_net(P)
+//! t = max(a · k n / P + c + t_net(P),  t_check)
 //! ```
-//! `a`: the slab's work per iteration and unknown (products, preconditioner, the share of the
-//! projections, the check comparison and the balance); `b`: what does not shrink with the
-//! ranks, per unknown of the whole box (rank 0's check run one level coarser, beside it);
-//! `c`: per step whatever the size. `a, b, c` are a least-squares fit to
-//! the measurements whose ranks × threads fit in this machine's cores (oversubscribed runs
-//! measure memory, not time). Messages between processes here go through shared memory; on a
-//! cluster the interconnect's are added from the counted traffic and the node's stated latency
-//! `α` and bandwidth `β`:
+//! `a`: the work per iteration and unknown (products, preconditioner, the share of the
+//! projections, the check comparison and the balance); `c`: per step whatever the size. They
+//! are a least-squares fit to the runs in one process of one thread (`k` from their
+//! iterations); the runs on two ranks are set beside the model, which they were not fitted to
+//! (on this machine their processes share two cores with the check run). The check run one
+//! level coarser runs beside rank 0 in lockstep, on one thread: each reference step waits for
+//! half of its step, `t_check = (a k_c n_c + c) / 2` (`n_c` its unknowns, `k_c` its
+//! iterations), which bounds the step time however many ranks share the reference. Messages
+//! between processes here go through shared memory; on a cluster the interconnect's are added
+//! from the counted traffic and the node's stated latency `α` and bandwidth `β`:
 //! ```text
 //! t_net = 2 (m α + s / β)  +  2 k (P − 1) α  +  q · 2 ⌈log₂ P⌉ α
 //! ```
@@ -67,8 +69,6 @@ impl MemoryModel {
 pub struct CostModel {
     /// `a`, seconds per CG iteration and slab unknown.
     pub per_iteration_dof: f64,
-    /// `b`, seconds per step and whole-mesh unknown that the ranks do not share.
-    pub rank0_per_dof: f64,
     /// `c`, seconds per step.
     pub per_step: f64,
     /// `k₀` and `p` of the iterations per step `k₀ ℓ^p`.
@@ -142,26 +142,24 @@ fn iterations_per_step(m: &Measurement) -> f64 {
 impl CostModel {
     /// Fits the model to `measured`, whose timed runs used at most `cores` cores.
     pub fn fit(measured: &[Measurement], cores: usize) -> Result<Self, FitError> {
-        let timed: Vec<&Measurement> = measured
-            .iter()
-            .filter(|m| m.ranks * m.threads <= cores && m.threads == 1)
+        let per_step =
+            |m: &Measurement| (m.step_seconds + m.observe_seconds) / m.steps.max(1) as f64;
+        let work = |m: &Measurement| iterations_per_step(m) * m.dofs as f64 / m.ranks as f64;
+        let one_thread: Vec<&Measurement> = (measured.iter())
+            .filter(|m| m.ranks == 1 && m.threads == 1)
             .collect();
-        let rows: Vec<Vec<f64>> = (timed.iter())
-            .map(|m| {
-                let n = m.dofs as f64;
-                vec![iterations_per_step(m) * n / m.ranks as f64, n, 1.0]
-            })
-            .collect();
-        let seconds: Vec<f64> = (timed.iter())
-            .map(|m| (m.step_seconds + m.observe_seconds) / m.steps.max(1) as f64)
-            .collect();
-        let [a, b, c] = scaled_least_squares(&rows, &seconds)
-            .and_then(|v| <[f64; 3]>::try_from(v).ok())
+        let rows: Vec<Vec<f64>> = one_thread.iter().map(|m| vec![work(m), 1.0]).collect();
+        let seconds: Vec<f64> = one_thread.iter().map(|m| per_step(m)).collect();
+        let mut levels: Vec<usize> = one_thread.iter().map(|m| m.level).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        let [a, c] = scaled_least_squares(&rows, &seconds)
+            .and_then(|v| <[f64; 2]>::try_from(v).ok())
+            .filter(|_| levels.len() >= 2)
             .ok_or_else(|| {
                 FitError(format!(
-                    "{} one-thread runs within {cores} cores; the time model needs three, \
-                     on at least two levels and with 1 and 2 ranks",
-                    timed.len()
+                    "one-process one-thread runs on {} level(s); the time model needs two",
+                    levels.len()
                 ))
             })?;
         let iterations = Self::fit_iterations(measured)?;
@@ -177,15 +175,12 @@ impl CostModel {
         let per_iteration = m2.steps as f64 * iterations_per_step(m2);
         let largest_run = measured.iter().max_by_key(|m| m.dofs).expect("some");
         let (rank0_memory, rank_memory, memory_fit) = Self::fit_memory(measured)?;
-        let time_fit = timed
-            .iter()
-            .zip(&seconds)
-            .zip(&rows)
-            .map(|((m, &s), r)| (m.level, m.ranks, s, a * r[0] + b * r[1] + c * r[2]))
+        let time_fit = (measured.iter())
+            .filter(|m| m.threads == 1 && m.ranks * m.threads <= cores)
+            .map(|m| (m.level, m.ranks, per_step(m), a * work(m) + c))
             .collect();
         Ok(Self {
             per_iteration_dof: a,
-            rank0_per_dof: b,
             per_step: c,
             iterations,
             messages_per_iteration: t2.messages as f64 / per_iteration,
@@ -276,12 +271,16 @@ impl CostModel {
         self.iterations.0 * (level as f64).powf(self.iterations.1)
     }
 
-    /// Seconds per step of a run on `level` with `n` unknowns over `ranks` one-thread ranks,
-    /// computing here (no interconnect).
-    pub fn compute_seconds(&self, level: usize, n: f64, ranks: f64) -> f64 {
-        self.per_iteration_dof * self.iterations_at(level) * n / ranks
-            + self.rank0_per_dof * n
-            + self.per_step
+    /// Seconds per step of the slab of a run on `level` with `n` unknowns over `ranks`
+    /// one-thread ranks, computing here (no interconnect).
+    pub fn slab_seconds(&self, level: usize, n: f64, ranks: f64) -> f64 {
+        self.per_iteration_dof * self.iterations_at(level) * n / ranks + self.per_step
+    }
+
+    /// Seconds per reference step of the check run on `level / 2` with `n_check` unknowns, on
+    /// one thread: half of its step.
+    pub fn check_seconds(&self, level: usize, n_check: f64) -> f64 {
+        0.5 * self.slab_seconds(level / 2, n_check, 1.0)
     }
 
     /// Seconds per step the interconnect of `node` adds to a run on `level` with `n` unknowns

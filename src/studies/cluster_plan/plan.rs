@@ -34,10 +34,13 @@ pub struct Prediction {
     pub rank_bytes: f64,
     /// The busiest node's bytes (rank 0's).
     pub node_bytes: f64,
-    /// Seconds per step computing.
-    pub compute_seconds_per_step: f64,
+    /// Seconds per step of a rank's slab, computing.
+    pub slab_seconds_per_step: f64,
     /// Seconds per step on the interconnect.
     pub network_seconds_per_step: f64,
+    /// Seconds per reference step of the check run beside rank 0 (one thread), the floor of a
+    /// step.
+    pub check_seconds_per_step: f64,
     /// The whole run, hours.
     pub hours: f64,
 }
@@ -129,10 +132,11 @@ impl Plan {
             m.steps as f64 * h_m / problem.horizon
         });
         let steps = steps(problem.horizon, h, ratio);
+        let (check_dofs, _) = box_size(problem, level / 2);
         let thread_speedup = Self::thread_speedup(measured);
         let predictions = nodes
             .iter()
-            .map(|&n| Self::predict(&model, &node, (level, dofs, steps), n))
+            .map(|&n| Self::predict(&model, &node, (level, dofs, steps, check_dofs), n))
             .collect();
         let checks = checks
             .iter()
@@ -147,8 +151,7 @@ impl Plan {
                     )
                     .into());
                 }
-                let one_thread = r.steps as f64
-                    * model.compute_seconds(r.level, r.dofs as f64, 1.0)
+                let one_thread = r.steps as f64 * model.slab_seconds(r.level, r.dofs as f64, 1.0)
                     + model.setup_per_dof * r.dofs as f64;
                 Ok(Check {
                     source: path.display().to_string(),
@@ -191,7 +194,7 @@ impl Plan {
     fn predict(
         model: &CostModel,
         node: &Node,
-        (level, dofs, steps): (usize, f64, f64),
+        (level, dofs, steps, check_dofs): (usize, f64, f64, f64),
         nodes: usize,
     ) -> Prediction {
         let most_ranks = (level / 2).max(1);
@@ -207,8 +210,9 @@ impl Plan {
             .unwrap_or(1);
         let ranks = (nodes * ranks_per_node).min(most_ranks);
         let (rank0_bytes, rank_bytes, node_bytes) = memory(ranks_per_node);
-        let compute = model.compute_seconds(level, dofs, ranks as f64);
+        let slab = model.slab_seconds(level, dofs, ranks as f64);
         let network = model.network_seconds(node, level, dofs, ranks as f64);
+        let check = model.check_seconds(level, check_dofs);
         Prediction {
             nodes,
             ranks_per_node,
@@ -216,9 +220,10 @@ impl Plan {
             rank0_bytes,
             rank_bytes,
             node_bytes,
-            compute_seconds_per_step: compute,
+            slab_seconds_per_step: slab,
             network_seconds_per_step: network,
-            hours: (steps * (compute + network) + model.setup_per_dof * dofs) / 3600.0,
+            check_seconds_per_step: check,
+            hours: (steps * (slab + network).max(check) + model.setup_per_dof * dofs) / 3600.0,
         }
     }
 
@@ -243,7 +248,6 @@ impl Plan {
              ## The fitted model\n\n\
              | term | value |\n|---|---|\n\
              | a: seconds per CG iteration and slab unknown | {:.3e} |\n\
-             | b: rank 0's seconds per step and unknown | {:.3e} |\n\
              | c: seconds per step | {:.3e} |\n\
              | iterations per step k = k0 ℓ^p | k0 = {:.3}, p = {:.3} |\n\
              | messages per iteration (2 ranks, rank 0) | {:.2} |\n\
@@ -260,7 +264,6 @@ impl Plan {
             self.node.bandwidth / 1e9,
             self.node.latency * 1e6,
             m.per_iteration_dof,
-            m.rank0_per_dof,
             m.per_step,
             m.iterations.0,
             m.iterations.1,
@@ -287,20 +290,25 @@ impl Plan {
                 model / 1048576.0
             );
         }
-        s += "\n## The prediction\n\n| nodes | ranks per node | ranks | rank 0 GiB | other \
-              ranks GiB | rank 0's node GiB | compute s/step | interconnect s/step | hours |\n\
-              |---|---|---|---|---|---|---|---|---|\n";
+        s += "\n(Fitted to the runs in one process of one thread; the runs on two ranks are set \
+              beside it, their processes sharing this machine's two cores with the check run.)\n\n\
+              ## The prediction\n\nA step takes the slab's time and the interconnect's, or \
+              the check run's beside rank 0 when that is longer.\n\n| nodes | ranks per node | \
+              ranks | rank 0 GiB | other ranks GiB | rank 0's node GiB | slab s/step | \
+              interconnect s/step | check run s/step | hours |\n\
+              |---|---|---|---|---|---|---|---|---|---|\n";
         for p in &self.predictions {
             s += &format!(
-                "| {} | {} | {} | {:.1} | {:.2} | {:.0} | {:.3} | {:.3} | {:.1} |\n",
+                "| {} | {} | {} | {:.1} | {:.2} | {:.0} | {:.3} | {:.3} | {:.3} | {:.1} |\n",
                 p.nodes,
                 p.ranks_per_node,
                 p.ranks,
                 gib(p.rank0_bytes),
                 gib(p.rank_bytes),
                 gib(p.node_bytes),
-                p.compute_seconds_per_step,
+                p.slab_seconds_per_step,
                 p.network_seconds_per_step,
+                p.check_seconds_per_step,
                 p.hours
             );
         }
