@@ -112,3 +112,71 @@ fn too_few_measurements_are_refused_with_what_the_model_needs() {
     let one_rank: Vec<Measurement> = runs().into_iter().filter(|m| m.ranks == 1).collect();
     assert!(CostModel::fit(&one_rank, 2).is_err());
 }
+
+/// `signorini cluster-plan` end to end on measurements written as `--measure` writes them:
+/// the plan's JSON has its documented fields, one prediction per number of nodes, each rank
+/// count within the layers and each node's memory within the stated node's.
+#[test]
+fn the_plan_command_writes_a_prediction_per_number_of_nodes() {
+    let dir = std::env::temp_dir().join(format!("signorini-plan-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let files: Vec<String> = runs()
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let path = dir.join(format!("m{i}.json"));
+            m.write(&path).unwrap();
+            path.to_str().unwrap().to_string()
+        })
+        .collect();
+    let out = dir.join("plan");
+    let mut args = vec![
+        "cluster-plan",
+        "scenes/bar3d.json",
+        "--level",
+        "640",
+        "--measured-cores",
+        "2",
+        "--nodes",
+        "2,4",
+        "--memory",
+        "64G",
+        "--out",
+        out.to_str().unwrap(),
+        "--measured",
+    ];
+    args.extend(files.iter().map(String::as_str));
+    let said = crate::common::success_stdout(&crate::common::signorini(&args));
+    assert!(said.contains("cluster-plan.md"), "{said}");
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cluster-plan.json")).unwrap())
+            .unwrap();
+    let predictions = plan["predictions"].as_array().unwrap();
+    assert_eq!(predictions.len(), 2);
+    for (p, nodes) in predictions.iter().zip([2, 4]) {
+        assert_eq!(p["nodes"], nodes);
+        let ranks = p["ranks"].as_u64().unwrap();
+        assert!(ranks >= 1 && ranks <= 320, "{p}");
+        assert!(
+            p["node_bytes"].as_f64().unwrap() <= 64.0 * f64::from(1u32 << 30),
+            "{p}"
+        );
+        let hours = p["hours"].as_f64().unwrap();
+        assert!(hours.is_finite() && hours > 0.0, "{p}");
+        for field in [
+            "ranks_per_node",
+            "rank0_bytes",
+            "rank_bytes",
+            "slab_seconds_per_step",
+            "network_seconds_per_step",
+            "check_seconds_per_step",
+        ] {
+            assert!(p[field].is_number(), "{field} in {p}");
+        }
+    }
+    assert!(plan["model"]["per_iteration_dof"].is_number());
+    assert!(std::fs::read_to_string(out.join("cluster-plan.md"))
+        .unwrap()
+        .contains("## The prediction"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
