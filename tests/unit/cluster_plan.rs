@@ -156,7 +156,7 @@ fn the_plan_command_writes_a_prediction_per_number_of_nodes() {
     for (p, nodes) in predictions.iter().zip([2, 4]) {
         assert_eq!(p["nodes"], nodes);
         let ranks = p["ranks"].as_u64().unwrap();
-        assert!(ranks >= 1 && ranks <= 320, "{p}");
+        assert!((1..=320).contains(&ranks), "{p}");
         assert!(
             p["node_bytes"].as_f64().unwrap() <= 64.0 * f64::from(1u32 << 30),
             "{p}"
