@@ -14,15 +14,14 @@ use std::process::Command;
 
 use signorini::engine::distributed::{MpiRanks, Ranks, SlabCg, SlabOneStep};
 use signorini::engine::fem::{BoxMesh, MassVariant};
-use signorini::engine::linalg::{CgSpace, LinearSolver, Pcg, PcgWork, DEFAULT_TOLERANCE};
-use signorini::engine::problem::Settings;
+use signorini::engine::linalg::{CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 use signorini::engine::schemes::conventions::{NitscheAcceleration, PredictorForm};
-use signorini::engine::schemes::{initial_state, OneStepScheme, StepCoefficients, TimeIntegrator};
+use signorini::engine::schemes::{OneStepScheme, StepCoefficients, TimeIntegrator};
 use signorini::harness::study::scene::Scene;
 
 #[path = "common/slabs.rs"]
 mod slabs;
-use slabs::{relative, step_matrix};
+use slabs::{level_40, relative, start_of, step_matrix};
 
 #[test]
 fn mpi_ranks_compute_the_one_process_solve() {
@@ -117,22 +116,10 @@ fn crank_nicolson_run_agrees(ranks: &MpiRanks) {
         .box_problem("a box")
         .unwrap();
     problem.horizon = 1.0;
-    let settings = Settings {
-        linear_solver: LinearSolver::Cg,
-        ..Settings::default()
-    };
-    let discretisation = problem
-        .discretise(40, MassVariant::Redistributed, &settings)
-        .unwrap();
+    let discretisation = level_40(&problem);
     let model = &discretisation.model;
     let (coef, dt, steps) = (StepCoefficients::newmark(0.25, 0.5), 1.0 / 80.0, 80);
-    let start = initial_state(
-        model,
-        &discretisation.displacement,
-        &discretisation.velocity,
-        &settings.conventions,
-    )
-    .unwrap();
+    let start = start_of(&discretisation);
     let mut whole = OneStepScheme::new(
         model,
         coef,

@@ -3,6 +3,9 @@
 //! of agreement they hold the ranks' results to.
 
 use signorini::engine::fem::{BoxMesh, Elasticity, MassVariant, SymmetricMatrix};
+use signorini::engine::linalg::LinearSolver;
+use signorini::engine::problem::{BoxProblem, Discretisation, Settings};
+use signorini::engine::schemes::{initial_state, InitialState};
 
 /// Crank–Nicolson's step matrix `M/(bΔt²) + S`, `b = ¼`, at `Δx/Δt = 2`, matrix-free.
 pub fn step_matrix(mesh: &BoxMesh, variant: MassVariant) -> SymmetricMatrix {
@@ -13,6 +16,29 @@ pub fn step_matrix(mesh: &BoxMesh, variant: MassVariant) -> SymmetricMatrix {
         &mesh.stiffness_stencil(&Elasticity::NOTE),
         1.0,
     )
+}
+
+/// `problem` on 40 elements along the axis with the redistributed mass, its steps solved by
+/// CG (as a distributed run solves them).
+pub fn level_40(problem: &BoxProblem) -> Discretisation<BoxMesh> {
+    let settings = Settings {
+        linear_solver: LinearSolver::Cg,
+        ..Settings::default()
+    };
+    problem
+        .discretise(40, MassVariant::Redistributed, &settings)
+        .unwrap()
+}
+
+/// The whole initial state of `discretisation` (the one-process start).
+pub fn start_of(discretisation: &Discretisation<BoxMesh>) -> InitialState {
+    initial_state(
+        &discretisation.model,
+        &discretisation.displacement,
+        &discretisation.velocity,
+        &discretisation.conventions,
+    )
+    .unwrap()
 }
 
 /// The largest `|a_i − b_i|` over the largest `|b_i|` (the largest `|a_i − b_i|` for a zero

@@ -9,7 +9,7 @@ use signorini::engine::distributed::{DecompositionError, Ranks, SlabCg, Slabs, T
 use signorini::engine::fem::{BoxMesh, MassVariant};
 use signorini::engine::linalg::{CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 
-use crate::slabs::{relative, step_matrix};
+use crate::slabs::{level_40, relative, start_of, step_matrix};
 
 fn boxes() -> Vec<BoxMesh> {
     vec![
@@ -153,12 +153,8 @@ fn a_decomposition_the_layers_cannot_give_is_refused() {
 #[test]
 fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
     use signorini::engine::distributed::SlabOneStep;
-    use signorini::engine::linalg::LinearSolver;
-    use signorini::engine::problem::Settings;
     use signorini::engine::schemes::conventions::{NitscheAcceleration, PredictorForm};
-    use signorini::engine::schemes::{
-        initial_state, OneStepScheme, StepCoefficients, TimeIntegrator,
-    };
+    use signorini::engine::schemes::{OneStepScheme, StepCoefficients, TimeIntegrator};
     use signorini::harness::study::scene::Scene;
 
     for scene in ["scenes/bar2d.json", "scenes/bar3d.json"] {
@@ -167,24 +163,12 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
             .box_problem("a box")
             .unwrap();
         problem.horizon = 1.0;
-        let settings = Settings {
-            linear_solver: LinearSolver::Cg,
-            ..Settings::default()
-        };
-        let discretisation = problem
-            .discretise(40, MassVariant::Redistributed, &settings)
-            .unwrap();
+        let discretisation = level_40(&problem);
         let model = &discretisation.model;
         let coef = StepCoefficients::newmark(0.25, 0.5);
         let dt = 1.0 / 40.0 / 2.0;
         let steps = 80;
-        let start = initial_state(
-            model,
-            &discretisation.displacement,
-            &discretisation.velocity,
-            &settings.conventions,
-        )
-        .unwrap();
+        let start = start_of(&discretisation);
         let mut whole = OneStepScheme::new(
             model,
             coef,
@@ -521,8 +505,6 @@ fn a_distributed_run_checks_its_energy_balance_on_the_slabs() {
 #[test]
 fn a_non_finite_value_on_one_rank_stops_every_rank() {
     use signorini::engine::error::{SolveError, StateField};
-    use signorini::engine::linalg::LinearSolver;
-    use signorini::engine::problem::Settings;
     use signorini::harness::files::error::Error;
     use signorini::harness::run::distributed::DistributedRun;
     use signorini::harness::study::scene::Scene;
@@ -531,13 +513,7 @@ fn a_non_finite_value_on_one_rank_stops_every_rank() {
         .unwrap()
         .box_problem("a box")
         .unwrap();
-    let settings = Settings {
-        linear_solver: LinearSolver::Cg,
-        ..Settings::default()
-    };
-    let discretisation = problem
-        .discretise(40, MassVariant::Redistributed, &settings)
-        .unwrap();
+    let discretisation = level_40(&problem);
     let mut velocity = discretisation.velocity.clone();
     *velocity.last_mut().unwrap() = f64::NAN;
     let outcomes = ThreadRanks::run(2, |r| {

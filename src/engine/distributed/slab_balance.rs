@@ -11,7 +11,8 @@
 
 use super::{Ranks, SlabOperator};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
-use crate::engine::fem::sparse::WeightedForm;
+use crate::engine::fem::sparse::{weighted_squares, WeightedForm};
+use crate::engine::linalg::dot;
 use crate::engine::schemes::energy_balance::{BalanceForms, Term};
 
 /// The row sums of `|M|` and `|S|` on a slab's rows, and its contact constraints.
@@ -60,12 +61,8 @@ impl<R: Ranks + ?Sized> SlabForms<'_, '_, R> {
             (self.stiffness, &self.data.stiffness_rows)
         };
         a.mul_dot(y, self.product);
-        let (mut value, mut x_squares, mut y_squares) = (0.0, 0.0, 0.0);
-        for (((xi, yi), ay), r) in x.iter().zip(y).zip(self.product.iter()).zip(rows) {
-            value += xi * ay;
-            x_squares += r * xi * xi;
-            y_squares += r * yi * yi;
-        }
+        let value = dot(x, self.product);
+        let (x_squares, y_squares) = weighted_squares(rows, x, y);
         Term::of(
             c,
             WeightedForm {

@@ -55,7 +55,7 @@ pub struct WeightedForm {
 }
 
 /// `(Σ r_i x_i², Σ r_i y_i²)` in one pass over [`LANES`] partial sums.
-fn weighted_squares(r: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
+pub fn weighted_squares(r: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let (mut sx, mut sy) = ([0.0; LANES], [0.0; LANES]);
     let chunks = r
         .chunks_exact(LANES)

@@ -134,22 +134,15 @@ fn layer_dofs(m: &Measurement) -> f64 {
     m.dofs as f64 / m.level as f64
 }
 
-/// Iterations per step of a measured run.
-fn iterations_per_step(m: &Measurement) -> f64 {
-    m.iterations as f64 / m.steps.max(1) as f64
-}
-
 impl CostModel {
     /// Fits the model to `measured`, whose timed runs used at most `cores` cores.
     pub fn fit(measured: &[Measurement], cores: usize) -> Result<Self, FitError> {
-        let per_step =
-            |m: &Measurement| (m.step_seconds + m.observe_seconds) / m.steps.max(1) as f64;
-        let work = |m: &Measurement| iterations_per_step(m) * m.dofs as f64 / m.ranks as f64;
+        let work = |m: &Measurement| m.iterations_per_step() * m.dofs as f64 / m.ranks as f64;
         let one_thread: Vec<&Measurement> = (measured.iter())
             .filter(|m| m.ranks == 1 && m.threads == 1)
             .collect();
         let rows: Vec<Vec<f64>> = one_thread.iter().map(|m| vec![work(m), 1.0]).collect();
-        let seconds: Vec<f64> = one_thread.iter().map(|m| per_step(m)).collect();
+        let seconds: Vec<f64> = one_thread.iter().map(|m| m.seconds_per_step()).collect();
         let mut levels: Vec<usize> = one_thread.iter().map(|m| m.level).collect();
         levels.sort_unstable();
         levels.dedup();
@@ -172,12 +165,12 @@ impl CostModel {
             .max_by_key(|(m, _)| m.dofs)
             .ok_or_else(|| FitError("no run on 2 ranks with its traffic".into()))?;
         let (m2, t2) = *largest;
-        let per_iteration = m2.steps as f64 * iterations_per_step(m2);
+        let per_iteration = m2.steps as f64 * m2.iterations_per_step();
         let largest_run = measured.iter().max_by_key(|m| m.dofs).expect("some");
         let (rank0_memory, rank_memory, memory_fit) = Self::fit_memory(measured)?;
         let time_fit = (measured.iter())
             .filter(|m| m.threads == 1 && m.ranks * m.threads <= cores)
-            .map(|m| (m.level, m.ranks, per_step(m), a * work(m) + c))
+            .map(|m| (m.level, m.ranks, m.seconds_per_step(), a * work(m) + c))
             .collect();
         Ok(Self {
             per_iteration_dof: a,
@@ -204,7 +197,7 @@ impl CostModel {
             .map(|&l| {
                 let at: Vec<f64> = (measured.iter())
                     .filter(|m| m.level == l)
-                    .map(iterations_per_step)
+                    .map(Measurement::iterations_per_step)
                     .collect();
                 (at.iter().sum::<f64>() / at.len() as f64).ln()
             })

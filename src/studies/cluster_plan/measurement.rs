@@ -113,6 +113,16 @@ impl Measurement {
         })
     }
 
+    /// Rank 0's seconds per step, its observers included.
+    pub fn seconds_per_step(&self) -> f64 {
+        (self.step_seconds + self.observe_seconds) / self.steps.max(1) as f64
+    }
+
+    /// CG iterations per step.
+    pub fn iterations_per_step(&self) -> f64 {
+        self.iterations as f64 / self.steps.max(1) as f64
+    }
+
     /// Writes it to `path` (whole or not at all).
     pub fn write(&self, path: &Path) -> Result<(), Error> {
         let json = serde_json::to_string_pretty(self).expect("a measurement serialises");

@@ -179,13 +179,15 @@ impl Plan {
     /// The speed-up of the measured one-process run with the most threads over the one-thread
     /// run of the same level.
     fn thread_speedup(measured: &[Measurement]) -> Option<(usize, f64)> {
-        let per_step = |m: &Measurement| (m.step_seconds + m.observe_seconds) / m.steps as f64;
         let many = (measured.iter())
             .filter(|m| m.ranks == 1 && m.threads > 1)
             .max_by_key(|m| m.threads)?;
         let one =
             (measured.iter()).find(|m| m.ranks == 1 && m.threads == 1 && m.level == many.level)?;
-        Some((many.threads, per_step(one) / per_step(many)))
+        Some((
+            many.threads,
+            one.seconds_per_step() / many.seconds_per_step(),
+        ))
     }
 
     /// The reference (`level`, `dofs` unknowns, `steps` steps) on `nodes` nodes: as many ranks

@@ -334,24 +334,12 @@ impl Reference {
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
         let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
-        let recorder = match ranks {
-            None => ProjectionRecorder::new(
-                &key.levels,
-                &mesh,
-                &fine_norms,
-                &mesh_of,
-                &problem.elasticity,
-            )?,
-            Some(ranks) => ProjectionRecorder::distributed(
-                ranks,
-                &key.levels,
-                &mesh,
-                &fine_norms,
-                &mesh_of,
-                &problem.elasticity,
-            )?,
-        };
-        let recorder = RefCell::new(recorder);
+        let recorder = RefCell::new(ProjectionRecorder::new(
+            (&key.levels, &mesh_of),
+            (&mesh, &fine_norms),
+            &problem.elasticity,
+            ranks,
+        )?);
         let check_config = RunConfig {
             nx: key.n_axis / 2,
             ..config.clone()
@@ -698,13 +686,11 @@ impl Reference {
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
         let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
-        let recorder = RefCell::new(ProjectionRecorder::distributed(
-            ranks,
-            &key.levels,
-            &mesh,
-            &fine_norms,
-            &mesh_of,
+        let recorder = RefCell::new(ProjectionRecorder::new(
+            (&key.levels, &mesh_of),
+            (&mesh, &fine_norms),
             &problem.elasticity,
+            Some(ranks),
         )?);
         let check_mesh = box_mesh(problem, key.n_axis / 2)?;
         let comparison = RefCell::new(CheckComparison::distributed(

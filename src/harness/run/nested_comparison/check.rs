@@ -14,7 +14,7 @@ use std::sync::mpsc::{Receiver, SyncSender};
 
 use super::error_series::ErrorSeries;
 use super::norm_matrices::NormMatrices;
-use super::slab_fine::SlabFine;
+use super::slab_fine::{SlabFine, SlabSetup};
 use crate::engine::distributed::{Ranks, Slabs};
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
@@ -104,12 +104,7 @@ enum CheckFine<'a> {
         scratch: Vec<f64>,
     },
     /// A distributed run's, before the run has cut the box into slabs.
-    Unstarted {
-        ranks: &'a dyn Ranks,
-        norms: &'a NormMatrices,
-        coarse: BoxMesh,
-        fine: &'a BoxMesh,
-    },
+    Unstarted(SlabSetup<'a>),
     /// This rank's slab of it.
     Slab(Box<SlabFine<'a>>),
 }
@@ -153,12 +148,12 @@ impl<'a> CheckComparison<'a> {
             channel,
             samples: Samples { stride, step: 0 },
             series: ErrorSeries::default(),
-            fine: CheckFine::Unstarted {
+            fine: CheckFine::Unstarted(SlabSetup {
                 ranks,
                 norms,
                 coarse: coarse.clone(),
                 fine,
-            },
+            }),
         }
     }
 
@@ -217,19 +212,8 @@ impl Observer for CheckComparison<'_> {
 impl SlabObserver for CheckComparison<'_> {
     /// Cuts the reference's side into this rank's slab.
     fn start(&mut self, slabs: &Slabs) -> Result<(), Error> {
-        if let CheckFine::Unstarted {
-            ranks,
-            norms,
-            coarse,
-            fine,
-        } = &self.fine
-        {
-            self.fine = CheckFine::Slab(Box::new(SlabFine::new(
-                *ranks,
-                norms,
-                (coarse, fine),
-                slabs,
-            )?));
+        if let CheckFine::Unstarted(setup) = &self.fine {
+            self.fine = CheckFine::Slab(Box::new(setup.start(slabs)?));
         }
         Ok(())
     }

@@ -23,7 +23,7 @@
 //! the reference's trajectory (2.7 GB at 3D level 320 sampled at level 80's steps).
 
 use super::norm_matrices::NormMatrices;
-use super::slab_fine::SlabFine;
+use super::slab_fine::{SlabFine, SlabSetup};
 use crate::engine::distributed::{Ranks, Slabs};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{BoxMesh, Elasticity, Prolongation};
@@ -150,12 +150,7 @@ enum FineSide<'a> {
         scratch: Vec<f64>,
     },
     /// A distributed run's, before the run has cut the box into slabs.
-    Unstarted {
-        ranks: &'a dyn Ranks,
-        norms: &'a NormMatrices,
-        finest: BoxMesh,
-        reference: &'a BoxMesh,
-    },
+    Unstarted(SlabSetup<'a>),
     /// This rank's slab of it ([`SlabFine`]).
     Slab(Box<SlabFine<'a>>),
 }
@@ -179,50 +174,43 @@ pub struct ProjectionRecorder<'a> {
 impl<'a> ProjectionRecorder<'a> {
     /// A recorder for the nested `levels` (increasing, each dividing the next and the
     /// reference's count along the axis) of the reference mesh `reference`, whose norm
-    /// matrices are `fine`; `mesh_of(n)` is the mesh on `n` elements along the axis.
+    /// matrices are `fine`; `mesh_of(n)` is the mesh on `n` elements along the axis. With
+    /// `ranks`, for the rank `ranks.rank()` of a distributed run: its part is set up when the
+    /// run has cut the box ([`SlabObserver::start`]), and only rank 0 holds the levels and
+    /// records.
     pub fn new(
-        levels: &[usize],
-        reference: &BoxMesh,
-        fine: &'a NormMatrices,
-        mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
+        (levels, mesh_of): (&[usize], &dyn Fn(usize) -> Result<BoxMesh, Error>),
+        (reference, fine): (&'a BoxMesh, &'a NormMatrices),
         elasticity: &Elasticity,
-    ) -> Result<Self, Error> {
-        let meshes = Self::meshes(levels, mesh_of)?;
-        let finest = meshes.last().ok_or_else(no_level)?;
-        let n = reference.n_dofs();
-        let side = FineSide::Whole {
-            norms: fine,
-            prolongation: Prolongation::new(finest, reference)?,
-            mass_u: vec![0.0; n],
-            energy_u: vec![0.0; n],
-            pw: vec![0.0; n],
-            residual: vec![0.0; n],
-            scratch: vec![0.0; n],
-        };
-        Self::with_side(side, levels, reference, &meshes, elasticity)
-    }
-
-    /// [`ProjectionRecorder::new`] for the rank `ranks.rank()` of a distributed run: its part
-    /// is set up when the run has cut the box ([`SlabObserver::start`]); only rank 0 holds the
-    /// levels and records.
-    pub fn distributed(
-        ranks: &'a dyn Ranks,
-        levels: &[usize],
-        reference: &'a BoxMesh,
-        fine: &'a NormMatrices,
-        mesh_of: &dyn Fn(usize) -> Result<BoxMesh, Error>,
-        elasticity: &Elasticity,
+        ranks: Option<&'a dyn Ranks>,
     ) -> Result<Self, Error> {
         let mut meshes = Self::meshes(levels, mesh_of)?;
-        let finest = meshes.last().ok_or_else(no_level)?.clone();
-        if ranks.rank() != 0 {
-            meshes.clear();
-        }
-        let side = FineSide::Unstarted {
-            ranks,
-            norms: fine,
-            finest,
-            reference,
+        let finest = meshes.last().ok_or_else(no_level)?;
+        let side = match ranks {
+            None => {
+                let n = reference.n_dofs();
+                FineSide::Whole {
+                    norms: fine,
+                    prolongation: Prolongation::new(finest, reference)?,
+                    mass_u: vec![0.0; n],
+                    energy_u: vec![0.0; n],
+                    pw: vec![0.0; n],
+                    residual: vec![0.0; n],
+                    scratch: vec![0.0; n],
+                }
+            }
+            Some(ranks) => {
+                let side = FineSide::Unstarted(SlabSetup {
+                    ranks,
+                    norms: fine,
+                    coarse: finest.clone(),
+                    fine: reference,
+                });
+                if ranks.rank() != 0 {
+                    meshes.clear();
+                }
+                side
+            }
         };
         Self::with_side(side, levels, reference, &meshes, elasticity)
     }
@@ -405,7 +393,7 @@ impl FineSide<'_> {
                 prolongation.restrict_into(energy_u, v);
             }
             FineSide::Slab(slab) => slab.loads(u, loads),
-            FineSide::Unstarted { .. } => unreachable!("a distributed recorder is started first"),
+            FineSide::Unstarted(_) => unreachable!("a distributed recorder is started first"),
         }
     }
 
@@ -432,7 +420,7 @@ impl FineSide<'_> {
                 }
             }
             FineSide::Slab(slab) => slab.remainder(u, w, energy),
-            FineSide::Unstarted { .. } => unreachable!("a distributed recorder is started first"),
+            FineSide::Unstarted(_) => unreachable!("a distributed recorder is started first"),
         }
     }
 }
@@ -448,19 +436,8 @@ impl Observer for ProjectionRecorder<'_> {
 impl SlabObserver for ProjectionRecorder<'_> {
     /// Cuts the reference's side into this rank's slab.
     fn start(&mut self, slabs: &Slabs) -> Result<(), Error> {
-        if let FineSide::Unstarted {
-            ranks,
-            norms,
-            finest,
-            reference,
-        } = &self.fine
-        {
-            self.fine = FineSide::Slab(Box::new(SlabFine::new(
-                *ranks,
-                norms,
-                (finest, reference),
-                slabs,
-            )?));
+        if let FineSide::Unstarted(setup) = &self.fine {
+            self.fine = FineSide::Slab(Box::new(setup.start(slabs)?));
         }
         Ok(())
     }

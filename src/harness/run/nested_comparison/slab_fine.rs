@@ -23,7 +23,29 @@ use crate::engine::distributed::{Ranks, SlabOperator, Slabs};
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::harness::files::error::Error;
 
-/// This rank's slab of the reference's fine space, for the projections on the coarse levels.
+/// What a [`SlabFine`] is made from before the run has cut the box into slabs: the ranks, the
+/// reference mesh's norm matrices, the coarse mesh whose field is prolongated and the
+/// reference mesh.
+pub struct SlabSetup<'r> {
+    /// The ranks of the run.
+    pub ranks: &'r dyn Ranks,
+    /// The reference mesh's norm matrices.
+    pub norms: &'r NormMatrices,
+    /// The coarse mesh prolongated from.
+    pub coarse: BoxMesh,
+    /// The reference mesh.
+    pub fine: &'r BoxMesh,
+}
+
+impl<'r> SlabSetup<'r> {
+    /// This rank's [`SlabFine`] on the run's `slabs` (every rank together).
+    pub fn start(&self, slabs: &Slabs) -> Result<SlabFine<'r>, Error> {
+        SlabFine::new(self.ranks, self.norms, (&self.coarse, self.fine), slabs)
+    }
+}
+
+/// This rank's slab of the reference's fine space, for the projections on the coarse
+/// levels and the check comparison.
 pub struct SlabFine<'r> {
     ranks: &'r dyn Ranks,
     mass: SlabOperator<'r, dyn Ranks + 'r>,
