@@ -319,7 +319,7 @@ fn numbering_and_vtk_connectivity() {
             if d == 2 { VTK_QUAD } else { VTK_HEXAHEDRON }
         );
         for node in 0..n_nodes {
-            let x = mesh.nodes()[node];
+            let x = mesh.node(node);
             let top = (x[d - 1] - mesh.lengths()[d - 1]).abs() < 1e-12;
             assert_eq!(mesh.on_dirichlet_boundary(node), top);
             assert_eq!(mesh.on_contact_boundary(node), x[d - 1] == 0.0);
@@ -348,7 +348,7 @@ fn numbering_and_vtk_connectivity() {
                 .map(|k| {
                     nodes
                         .iter()
-                        .map(|&n| mesh.nodes()[n][k])
+                        .map(|&n| mesh.node(n)[k])
                         .fold(f64::INFINITY, f64::min)
                 })
                 .collect();
@@ -360,7 +360,7 @@ fn numbering_and_vtk_connectivity() {
                 };
                 for k in 0..d {
                     let expected = min[k] + 0.5 * (s[k] + 1.0) * h[k];
-                    assert!((mesh.nodes()[n][k] - expected).abs() < 1e-12);
+                    assert!((mesh.node(n)[k] - expected).abs() < 1e-12);
                 }
             }
         }
@@ -570,7 +570,7 @@ fn interpolate_and_nodal_vector_round_trip() {
         assert_eq!(u.len(), mesh.n_dofs());
         let nodal = mesh.nodal_vector(&u);
         for (node, value) in nodal.iter().enumerate() {
-            let x = &mesh.nodes()[node][..d];
+            let x = &mesh.node(node)[..d];
             let expected = f(x);
             for c in 0..3 {
                 let want = if c >= d || mesh.on_dirichlet_boundary(node) {
@@ -653,7 +653,7 @@ fn contact_set_constrains_the_normal_displacement_of_the_bottom_nodes() {
         assert!(set.gaps.iter().all(|&g| g == gap));
         let mut bottom = 0;
         for node in 0..mesh.n_nodes() {
-            if mesh.nodes()[node][d - 1] != 0.0 {
+            if mesh.node(node)[d - 1] != 0.0 {
                 continue;
             }
             bottom += 1;

@@ -290,15 +290,40 @@ fn von_mises_of(normal: [f64; 3], shear: [f64; 3]) -> f64 {
 
 /// A structured Q1 mesh of the box `[0, L₁] × … × [0, L_d]`, `d ∈ {2, 3}`, with the space
 /// `V_h` (Dirichlet face `x_d = L_d` eliminated) and the contact face `x_d = 0` (note §2.1).
+///
+/// Its nodes, elements and dofs are numbered lexicographically, the first axis fastest, and
+/// computed from the grid index when asked for: the mesh holds its lengths and counts only,
+/// so a box of any size costs nothing until a vector or matrix is built on it (a rank of a
+/// distributed run builds only its slab's).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoxMesh {
     dim: usize,
     lengths: Vec<f64>,
     counts: Vec<usize>,
-    nodes: Vec<[f64; 3]>,
-    connectivity: Vec<usize>,
-    dof_map: Vec<Option<usize>>,
-    n_dofs: usize,
+}
+
+/// The corner nodes of an element, in VTK_QUAD / VTK_HEXAHEDRON order ([`BoxMesh::element`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ElementNodes {
+    nodes: [usize; 8],
+    len: usize,
+}
+
+impl std::ops::Deref for ElementNodes {
+    type Target = [usize];
+
+    fn deref(&self) -> &[usize] {
+        &self.nodes[..self.len]
+    }
+}
+
+impl IntoIterator for ElementNodes {
+    type Item = usize;
+    type IntoIter = std::iter::Take<std::array::IntoIter<usize, 8>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.nodes.into_iter().take(self.len)
+    }
 }
 
 impl BoxMesh {
@@ -340,70 +365,10 @@ impl BoxMesh {
             }
         }
 
-        let per_axis: Vec<usize> = counts.iter().map(|n| n + 1).collect();
-        let n_nodes: usize = per_axis.iter().product();
-        let coordinate = |k: usize, i: usize| {
-            if i == counts[k] {
-                lengths[k]
-            } else {
-                i as f64 * lengths[k] / counts[k] as f64
-            }
-        };
-        let nodes: Vec<[f64; 3]> = (0..n_nodes)
-            .map(|node| {
-                let index = unflatten(node, &per_axis);
-                let mut x = [0.0; 3];
-                for k in 0..dim {
-                    x[k] = coordinate(k, index[k]);
-                }
-                x
-            })
-            .collect();
-
-        let corners: &[[f64; 3]] = if dim == 2 {
-            &[
-                [-1.0, -1.0, 0.0],
-                [1.0, -1.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [-1.0, 1.0, 0.0],
-            ]
-        } else {
-            &HEX_CORNERS
-        };
-        let n_elements: usize = counts.iter().product();
-        let mut connectivity = Vec::with_capacity(n_elements * corners.len());
-        for element in 0..n_elements {
-            let base = unflatten(element, counts);
-            for s in corners {
-                let mut index = [0usize; 3];
-                for k in 0..dim {
-                    index[k] = base[k] + usize::from(s[k] > 0.0);
-                }
-                connectivity.push(flatten(&index[..dim], &per_axis));
-            }
-        }
-
-        let top = counts[dim - 1];
-        let mut dof_map = vec![None; n_nodes * dim];
-        let mut n_dofs = 0;
-        for node in 0..n_nodes {
-            if unflatten(node, &per_axis)[dim - 1] == top {
-                continue;
-            }
-            for c in 0..dim {
-                dof_map[node * dim + c] = Some(n_dofs);
-                n_dofs += 1;
-            }
-        }
-
         Ok(Self {
             dim,
             lengths: lengths.to_vec(),
             counts: counts.to_vec(),
-            nodes,
-            connectivity,
-            dof_map,
-            n_dofs,
         })
     }
 
@@ -443,7 +408,17 @@ impl BoxMesh {
 
     /// Number of nodes `Π (n_k + 1)`, Dirichlet nodes included.
     pub fn n_nodes(&self) -> usize {
-        self.nodes.len()
+        self.counts.iter().map(|n| n + 1).product()
+    }
+
+    /// The nodes off `Γ_Dir`, which carry the dofs: those below the last layer along the
+    /// axis, the first `Π_{k<d} (n_k + 1) · n_d` in the numbering.
+    fn kept_nodes(&self) -> usize {
+        self.counts[..self.dim - 1]
+            .iter()
+            .map(|n| n + 1)
+            .product::<usize>()
+            * self.counts[self.dim - 1]
     }
 
     /// Number of elements `Π n_k`.
@@ -467,12 +442,27 @@ impl BoxMesh {
 
     /// Number of unknowns: `d` per node off `Γ_Dir`.
     pub fn n_dofs(&self) -> usize {
-        self.n_dofs
+        self.dim * self.kept_nodes()
     }
 
-    /// Node coordinates, always three (`x₃ = 0` in 2D, as VTK wants), lexicographic order.
-    pub fn nodes(&self) -> &[[f64; 3]] {
-        &self.nodes
+    /// The coordinates of `node`, always three (`x₃ = 0` in 2D, as VTK wants): `i_k L_k / n_k`
+    /// of its grid index, exactly `L_k` on the last face.
+    pub fn node(&self, node: usize) -> [f64; 3] {
+        let index = self.node_index(node);
+        let mut x = [0.0; 3];
+        for k in 0..self.dim {
+            x[k] = if index[k] == self.counts[k] {
+                self.lengths[k]
+            } else {
+                index[k] as f64 * self.lengths[k] / self.counts[k] as f64
+            };
+        }
+        x
+    }
+
+    /// Every node's coordinates ([`BoxMesh::node`]), in the numbering's order.
+    pub fn nodes(&self) -> impl ExactSizeIterator<Item = [f64; 3]> + '_ {
+        (0..self.n_nodes()).map(|node| self.node(node))
     }
 
     /// The grid index `(i₁, …, i_d)` of a node (`i_k ∈ 0..=n_k`; the unused third entry is 0
@@ -485,22 +475,46 @@ impl BoxMesh {
         unflatten(node, &per_axis[..self.dim])
     }
 
-    /// The node indices of every element, in VTK_QUAD / VTK_HEXAHEDRON order (the element
-    /// matrices' local order: local dof `a·d + c` is component `c` of the `a`-th node listed).
-    pub fn elements(&self) -> std::slice::ChunksExact<'_, usize> {
-        self.connectivity.chunks_exact(self.nodes_per_element())
+    /// The node indices of every element ([`BoxMesh::element`]), in the elements' order.
+    pub fn elements(&self) -> impl ExactSizeIterator<Item = ElementNodes> + '_ {
+        (0..self.n_elements()).map(|e| self.element(e))
     }
 
-    /// The nodes of element `e`.
-    pub fn element(&self, e: usize) -> &[usize] {
-        let n = self.nodes_per_element();
-        &self.connectivity[e * n..(e + 1) * n]
+    /// The nodes of element `e` in VTK_QUAD / VTK_HEXAHEDRON order (the element matrices'
+    /// local order: local dof `a·d + c` is component `c` of the `a`-th node listed): the
+    /// element's lowest grid corner shifted by each corner of the reference element.
+    pub fn element(&self, e: usize) -> ElementNodes {
+        let per_axis: Vec<usize> = self.counts.iter().map(|n| n + 1).collect();
+        let base = unflatten(e, &self.counts);
+        let corners: &[[f64; 3]] = if self.dim == 2 {
+            &[
+                [-1.0, -1.0, 0.0],
+                [1.0, -1.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [-1.0, 1.0, 0.0],
+            ]
+        } else {
+            &HEX_CORNERS
+        };
+        let mut nodes = [0; 8];
+        for (node, s) in nodes.iter_mut().zip(corners) {
+            let mut index = [0usize; 3];
+            for k in 0..self.dim {
+                index[k] = base[k] + usize::from(s[k] > 0.0);
+            }
+            *node = flatten(&index[..self.dim], &per_axis);
+        }
+        ElementNodes {
+            nodes,
+            len: corners.len(),
+        }
     }
 
-    /// The dof of component `component` of `node`; `None` on `Γ_Dir` (eliminated).
+    /// The dof of component `component` of `node`; `None` on `Γ_Dir` (eliminated). The dofs
+    /// follow the nodes, `d` per node: `node · d + component` below the last layer.
     pub fn dof_of(&self, node: usize, component: usize) -> Option<usize> {
         assert!(component < self.dim, "component {component} >= d");
-        self.dof_map[node * self.dim + component]
+        (node < self.kept_nodes()).then_some(node * self.dim + component)
     }
 
     /// Whether `node` lies on `Γ_Sig` (`x_d = 0`).
@@ -536,13 +550,16 @@ impl BoxMesh {
     /// The global dofs of element `e` in local order (`None` for eliminated dofs).
     fn element_dofs<const ND: usize>(&self, e: usize) -> [Option<usize>; ND] {
         let nodes = self.element(e);
-        std::array::from_fn(|i| self.dof_map[nodes[i / self.dim] * self.dim + i % self.dim])
+        std::array::from_fn(|i| self.dof_of(nodes[i / self.dim], i % self.dim))
     }
 
     /// The corner coordinates of element `e` in local order.
     fn element_coords<const D: usize, const N: usize>(&self, e: usize) -> [[f64; D]; N] {
         let nodes = self.element(e);
-        std::array::from_fn(|a| std::array::from_fn(|k| self.nodes[nodes[a]][k]))
+        std::array::from_fn(|a| {
+            let x = self.node(nodes[a]);
+            std::array::from_fn(|k| x[k])
+        })
     }
 
     fn assemble<const D: usize, const N: usize, const ND: usize>(
@@ -551,7 +568,7 @@ impl BoxMesh {
         include: impl Fn(usize) -> bool,
     ) -> SymmetricMatrix {
         // The upper triangle's contributions `(column · n + row, value)`, in element order.
-        let n = self.n_dofs;
+        let n = self.n_dofs();
         let mut upper: Vec<(usize, f64)> =
             Vec::with_capacity(self.n_elements() * ND * (ND + 1) / 2);
         for e in (0..self.n_elements()).filter(|&e| include(e)) {
@@ -594,7 +611,7 @@ impl BoxMesh {
         };
         let layer = self.contact_nodes().len();
         let contact_dofs: Vec<Option<(usize, usize)>> = {
-            let mut owner = vec![None; self.n_dofs];
+            let mut owner = vec![None; self.n_dofs()];
             for node in 0..layer {
                 for c in 0..self.dim {
                     if let Some(d) = self.dof_of(node, c) {
@@ -761,7 +778,7 @@ impl BoxMesh {
     /// The full nodal displacement `u_h(a_i)` from the dofs `u`: zero at the Dirichlet nodes,
     /// three components (the third zero in 2D) as VTK wants.
     pub fn nodal_vector(&self, u: &[f64]) -> Vec<[f64; 3]> {
-        assert_eq!(u.len(), self.n_dofs, "dof vector length");
+        assert_eq!(u.len(), self.n_dofs(), "dof vector length");
         (0..self.n_nodes())
             .map(|node| {
                 let mut value = [0.0; 3];
@@ -779,8 +796,8 @@ impl BoxMesh {
     /// coordinates and returns three components, of which the first `d` are used. Values at
     /// the Dirichlet nodes are ignored (those dofs are eliminated).
     pub fn interpolate(&self, f: impl Fn(&[f64]) -> [f64; 3]) -> Vec<f64> {
-        let mut u = vec![0.0; self.n_dofs];
-        for (node, x) in self.nodes.iter().enumerate() {
+        let mut u = vec![0.0; self.n_dofs()];
+        for (node, x) in self.nodes().enumerate() {
             if self.dof_of(node, 0).is_none() {
                 continue;
             }
@@ -860,7 +877,7 @@ impl BoxMesh {
         let mut sum = vec![0.0; self.n_nodes()];
         let mut count = vec![0usize; self.n_nodes()];
         for (nodes, &v) in self.elements().zip(per_element) {
-            for &n in nodes {
+            for n in nodes {
                 sum[n] += v;
                 count[n] += 1;
             }

@@ -71,20 +71,43 @@ pub fn initial_dofs(problem: &BoxProblem, mesh: &BoxMesh) -> (Vec<f64>, Vec<f64>
 }
 
 impl BoxProblem {
-    /// The discretisation with `n_axis` elements along the axis ([`box_mesh`]) and the mass
-    /// matrix `mass`, solved with `settings`: the mesh, the model with the problem's contact
-    /// treatment, the settings' step solver and contact operator, and the initial dofs
-    /// ([`initial_dofs`]) with the settings' round-off perturbation (if any) added to every
-    /// velocity dof (the contact face's included). The model is matrix-free
-    /// ([`Model::of_box_matrix_free`]) when its step solver is `cg` and the mass has a
-    /// matrix-free form, assembled ([`Model::of_box`]) otherwise: the direct solver needs the
-    /// entries.
+    /// The discretisation with `n_axis` elements along the axis and the mass matrix `mass`,
+    /// solved with `settings`: the mesh and the model ([`BoxProblem::model`]), and the initial
+    /// dofs ([`initial_dofs`]) with the settings' round-off perturbation (if any) added to every
+    /// velocity dof (the contact face's included).
     pub fn discretise(
         &self,
         n_axis: usize,
         mass: MassVariant,
         settings: &Settings,
     ) -> Result<Discretisation<BoxMesh>, ParameterError> {
+        let (mesh, model) = self.model(n_axis, mass, settings)?;
+        let (displacement, mut velocity) = initial_dofs(self, &mesh);
+        if let Some(p) = &settings.round_off {
+            p.apply(&mut velocity, &[]);
+        }
+        Ok(Discretisation {
+            mesh,
+            model,
+            displacement,
+            velocity,
+            conventions: settings.conventions,
+            step_perturbation: settings.step_round_off,
+        })
+    }
+
+    /// The mesh with `n_axis` elements along the axis ([`box_mesh`]) and the model on it with
+    /// the mass matrix `mass`, the problem's contact treatment, and `settings`' step solver and
+    /// contact operator: no vector of the box's size when the model is matrix-free
+    /// ([`Model::of_box_matrix_free`], what a rank of a distributed run builds), which it is
+    /// when its step solver is `cg` and the mass has a matrix-free form; assembled
+    /// ([`Model::of_box`]) otherwise: the direct solver needs the entries.
+    pub fn model(
+        &self,
+        n_axis: usize,
+        mass: MassVariant,
+        settings: &Settings,
+    ) -> Result<(BoxMesh, Model), ParameterError> {
         settings.validate()?;
         let mesh = box_mesh(self, n_axis)?;
         self.elasticity.validate(mesh.dim())?;
@@ -99,17 +122,6 @@ impl BoxProblem {
             .with_contact_law(law)
             .with_linear_solver(solver)
             .with_contact_operator(settings.contact_operator);
-        let (displacement, mut velocity) = initial_dofs(self, &mesh);
-        if let Some(p) = &settings.round_off {
-            p.apply(&mut velocity, &[]);
-        }
-        Ok(Discretisation {
-            mesh,
-            model,
-            displacement,
-            velocity,
-            conventions: settings.conventions,
-            step_perturbation: settings.step_round_off,
-        })
+        Ok((mesh, model))
     }
 }

@@ -110,13 +110,14 @@ enum BalanceLaw {
 
 impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
     /// The distributed run of `model` with `scheme` (an implicit Newmark or θ-method one)
-    /// and `Δt = dt` from `u0`, `v0` with `conventions`, its initial state observed by
-    /// `observers` (started on the run's decomposition first).
+    /// and `Δt = dt` from `initial` (`U⁰`, `V⁰`, given on rank 0 only: the other ranks pass
+    /// `None` and receive their parts of the start) with `conventions`, its initial state
+    /// observed by `observers` (started on the run's decomposition first).
     pub fn new(
         (ranks, observers): (&'r R, &'r SlabObservers<'r>),
         model: &Model,
         (scheme, dt): (Scheme, f64),
-        (u0, v0): (&[f64], &[f64]),
+        initial: Option<(&[f64], &[f64])>,
         conventions: &Conventions,
     ) -> Result<Self, Error> {
         let (coefficients, law) = match scheme {
@@ -138,7 +139,10 @@ impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
             }
         };
         // Rank 0 alone computes the whole start, and tells the others whether it could.
-        let start = (ranks.rank() == 0).then(|| initial_state(model, u0, v0, conventions));
+        let start = (ranks.rank() == 0).then(|| {
+            let (u0, v0) = initial.expect("rank 0 is given the initial values");
+            initial_state(model, u0, v0, conventions)
+        });
         let failed = ranks.sum(f64::from(u8::from(matches!(start, Some(Err(_))))));
         let start = start.transpose()?;
         if failed > 0.0 {
@@ -306,7 +310,7 @@ pub fn distributed_run<'r>(
             (ranks, observers),
             model,
             (scheme, dt),
-            (u0, v0),
+            Some((u0, v0)),
             conventions,
         )?;
         Ok(Box::new(run) as Box<dyn TimeIntegrator + '_>)
@@ -314,25 +318,25 @@ pub fn distributed_run<'r>(
 }
 
 /// A rank other than 0 of the distributed run of `problem` with `config`, observed by
-/// `observers`: the same discretisation, scheme and `Δt` as rank 0's time loop
-/// ([`super::drive_by`]), then its steps as rank 0 says ([`follow`]). The whole discretisation
-/// is dropped once the run holds this rank's slab.
+/// `observers`: the same model, scheme and `Δt` as rank 0's time loop ([`super::drive_by`]),
+/// then its steps as rank 0 says ([`follow`]). It builds nothing of the whole box's size: the
+/// model is matrix-free, the mesh is its counts, and rank 0 sends this rank its part of the
+/// start.
 pub fn follow_run<'r>(
     problem: &BoxProblem,
     config: &RunConfig,
     (ranks, observers): (&'r dyn Ranks, &'r SlabObservers<'r>),
 ) -> Result<(), Error> {
-    let discretisation = problem.discretise(config.nx, config.mass, &config.settings)?;
+    let (mesh, model) = problem.model(config.nx, config.mass, &config.settings)?;
     let scheme = config.scheme.validate()?;
-    let h = discretisation.mesh.axial_element_size();
-    let (_, dt) = time_grid(problem.horizon, h, config.ratio);
+    let (_, dt) = time_grid(problem.horizon, mesh.axial_element_size(), config.ratio);
     let mut run = DistributedRun::new(
         (ranks, observers),
-        &discretisation.model,
+        &model,
         (scheme, dt),
-        (&discretisation.displacement, &discretisation.velocity),
-        &discretisation.conventions,
+        None,
+        &config.settings.conventions,
     )?;
-    drop(discretisation);
+    drop(model);
     Ok(follow(&mut run)?)
 }

@@ -104,7 +104,7 @@ impl FaceRecorder {
         let mid: Vec<f64> = problem.lengths[..d - 1].iter().map(|l| 0.5 * l).collect();
         let centre = (0..set.len()).min_by(|&a, &b| {
             let dist = |k: usize| {
-                let x = mesh.nodes()[nodes[k]];
+                let x = mesh.node(nodes[k]);
                 mid.iter()
                     .enumerate()
                     .map(|(i, m)| (x[i] - m).powi(2))
@@ -285,8 +285,8 @@ pub fn write_vtu(
     path: &Path,
 ) -> Result<(), Error> {
     let flat = |v: Vec<[f64; 3]>| v.into_iter().flatten().collect::<Vec<f64>>();
-    let points: Vec<f64> = mesh.nodes().iter().flatten().copied().collect();
-    let connectivity: Vec<u64> = mesh.elements().flatten().map(|&n| n as u64).collect();
+    let points: Vec<f64> = mesh.nodes().flatten().collect();
+    let connectivity: Vec<u64> = mesh.elements().flatten().map(|n| n as u64).collect();
     let per = mesh.nodes_per_element() as u64;
     let offsets: Vec<u64> = (1..=mesh.n_elements() as u64).map(|k| k * per).collect();
     let cell_type = if mesh.vtk_cell_type() == VTK_HEXAHEDRON {
