@@ -250,25 +250,18 @@ fn a_reference_across_two_mpi_ranks_is_the_one_process_reference() {
         );
         let said = signorini(Some("2"), &["reference", scene_arg, "--cache", &cache(1)]);
         assert!(said.contains("computed across 2 ranks"), "{said}");
+        // The check run on 20 elements: its contact slab takes every layer.
+        assert!(
+            said.contains("check run in one process beside rank 0"),
+            "{said}"
+        );
         signorini(
             Some("1"),
             &[&["reference", scene_arg, "--cache", &cache(2)][..], &cg].concat(),
         );
-        let read = |k: usize| {
-            let json: serde_json::Value = serde_json::from_str(
-                &std::fs::read_to_string(cached(&caches[k], ".json")).unwrap(),
-            )
-            .unwrap();
-            let bin = std::fs::read(cached(&caches[k], ".bin")).unwrap();
-            let values: Vec<f64> = bin
-                .chunks_exact(8)
-                .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
-                .collect();
-            (json, values)
-        };
-        let (whole, whole_bin) = read(0);
-        let (two, two_bin) = read(1);
-        let (one, one_bin) = read(2);
+        let (whole, whole_bin) = read_cache(&caches[0]);
+        let (two, two_bin) = read_cache(&caches[1]);
+        let (one, one_bin) = read_cache(&caches[2]);
         assert!(
             one_bin == whole_bin,
             "{dim}: one rank's projections not bit for bit"
@@ -331,6 +324,80 @@ fn a_reference_across_two_mpi_ranks_is_the_one_process_reference() {
         }
     }
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// The 3D bar's reference on 80 elements under `mpirun -n 2`: its check run on 40 elements is
+/// distributed over the two ranks too (stepped by the reference's steps), and the cached
+/// histories, check distances and projections are the one-process ones to 1e-10 of each one's
+/// scale.
+#[test]
+fn the_check_run_of_a_reference_across_two_mpi_ranks_is_shared_by_them() {
+    let dir = std::env::temp_dir().join(format!("signorini-mpi-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("scenes/bar3d.json").unwrap()).unwrap();
+    scene["discretisation"]["levels"] = serde_json::json!([20, 40]);
+    scene["discretisation"]["reference_level"] = serde_json::json!(80);
+    scene["discretisation"]["schemes"] = serde_json::json!(["crank-nicolson"]);
+    let scene_path = dir.join("scene.json");
+    std::fs::write(&scene_path, scene.to_string()).unwrap();
+    let scene_arg = scene_path.to_str().unwrap();
+    let (whole_dir, two_dir) = (dir.join("one-process"), dir.join("two-ranks"));
+    signorini(
+        None,
+        &[
+            "reference",
+            scene_arg,
+            "--cache",
+            whole_dir.to_str().unwrap(),
+            "--linear-solver",
+            "cg",
+        ],
+    );
+    let said = signorini(
+        Some("2"),
+        &["reference", scene_arg, "--cache", two_dir.to_str().unwrap()],
+    );
+    assert!(said.contains("the check run across 2 ranks"), "{said}");
+    let (whole, whole_bin) = read_cache(&whole_dir);
+    let (two, two_bin) = read_cache(&two_dir);
+    for series in [
+        "energy",
+        "total_force",
+        "centre_displacement",
+        "centre_multiplier",
+    ] {
+        let values = |j: &serde_json::Value| -> Vec<f64> {
+            (j[series].as_array().unwrap().iter())
+                .map(|v| v.as_f64().unwrap())
+                .collect()
+        };
+        let d = relative(&values(&two), &values(&whole));
+        assert!(d <= 1e-10, "{series} on two ranks: {d:e}");
+    }
+    let distances = |j: &serde_json::Value| -> Vec<f64> {
+        (j["check"]["distance"].as_object().unwrap().values())
+            .filter_map(serde_json::Value::as_f64)
+            .collect()
+    };
+    assert!(!distances(&whole).is_empty(), "{}", whole["check"]);
+    let d = relative(&distances(&two), &distances(&whole));
+    assert!(d <= 1e-10, "check distances on two ranks: {d:e}");
+    let d = relative(&two_bin, &whole_bin);
+    assert!(d <= 1e-10, "projections on two ranks: {d:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The JSON and the binary values of the one reference cached in `dir`.
+fn read_cache(dir: &Path) -> (serde_json::Value, Vec<f64>) {
+    let json =
+        serde_json::from_str(&std::fs::read_to_string(cached(dir, ".json")).unwrap()).unwrap();
+    let bin = std::fs::read(cached(dir, ".bin")).unwrap();
+    let values = bin
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    (json, values)
 }
 
 /// A decomposition the mesh cannot give (the 3D bar's reference on 20 elements: rank 0 needs

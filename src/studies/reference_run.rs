@@ -15,7 +15,7 @@ use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
 use crate::studies::cluster_plan::Measurement;
-use crate::studies::elastic_study::reference::{Reference, ReferenceCache};
+use crate::studies::elastic_study::reference::{FineRunCost, Reference, ReferenceCache};
 use crate::studies::elastic_study::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::studies::outputs::{complete_or_write, shard_output, CommandError, Received};
 
@@ -287,14 +287,25 @@ fn obtain_and_report(
     )?;
     let seconds = clock.elapsed().as_secs_f64();
     let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
-    let how = match reference.cost.map(|c| c.timings) {
-        Some(t) => format!(
+    let how = match reference.cost {
+        Some(FineRunCost {
+            timings: t,
+            check_ranks,
+            ..
+        }) => format!(
             "computed and cached in {seconds:.1} s (the fine run: setup {:.1} s, steps {:.1} s, \
-             contact {:.1} s, projections and check {:.1} s; wrote {} and {})",
+             contact {:.1} s, projections and check {:.1} s; the check run {}; wrote {} and {})",
             t.setup,
             t.stepping,
             t.contact,
             t.observe,
+            match (ranks.map_or(1, |r| r.size()), check_ranks) {
+                (1, _) => "in one process beside it".to_string(),
+                (_, 1) => "in one process beside rank 0 (its contact slab leaves no layer for \
+                           some rank)"
+                    .to_string(),
+                (_, n) => format!("across {n} ranks"),
+            },
             json.display(),
             bin.display()
         ),

@@ -8,17 +8,39 @@ use signorini::studies::cluster_plan::Measurement;
 /// The coefficients the synthetic measurements are made with.
 const A: f64 = 2.0e-8;
 const C: f64 = 3.0e-3;
+/// Contact seconds per step and contact slab unknown, and the slab's layers.
+const E: f64 = 1.0e-7;
+const L: usize = 21;
 const ITERATIONS: [(usize, usize); 2] = [(80, 10), (160, 9)];
 
+/// The iterations per step through both measured levels, `k = 10 (ℓ/80)^log₂0.9`.
+fn iterations(level: usize) -> f64 {
+    10.0 * (level as f64 / 80.0).powf(0.9f64.log2())
+}
+
+/// The known model's seconds per step of rank 0 of a run on `level` (`dofs` unknowns) over
+/// `ranks` ranks: its layers' CG work, the contact on its slab, and the step.
+fn step_seconds(level: usize, dofs: usize, ranks: usize) -> f64 {
+    let layer = dofs as f64 / level as f64;
+    let own = level.div_ceil(ranks).max(L + 1).min(level) as f64;
+    A * iterations(level) * layer * own + E * layer * (L + 1) as f64 + C
+}
+
 /// A run of `level` (3D bar: `3 (ℓ/10 + 1)² ℓ` unknowns, `2ℓ` steps) on `ranks` ranks of
-/// `threads` threads, its time and memory those of the known model.
+/// `threads` threads, its time and memory those of the known model: on several ranks, the
+/// check run (`level / 2`) distributed over them adds half a step of it.
 fn measured(level: usize, ranks: usize, threads: usize) -> Measurement {
     let side = level / 10 + 1;
     let dofs = 3 * side * side * level;
+    let check_dofs = 3 * (level / 20 + 1).pow(2) * (level / 2);
     let steps = 2 * level;
     let k = ITERATIONS.iter().find(|(l, _)| *l == level).unwrap().1;
     let n = dofs as f64;
-    let per_step = A * k as f64 * n / ranks as f64 + C;
+    let mut per_step = step_seconds(level, dofs, ranks);
+    if ranks > 1 {
+        per_step += 0.5 * step_seconds(level / 2, check_dofs, ranks);
+    }
+    let contact_per_step = E * n / level as f64 * (L + 1) as f64;
     let peak = |rank: usize| {
         let (fixed, whole, slab) = if rank == 0 {
             (80e6, 400.0, 120.0)
@@ -35,8 +57,12 @@ fn measured(level: usize, ranks: usize, threads: usize) -> Measurement {
         steps,
         ranks,
         threads,
+        check_ranks: ranks,
+        check_dofs,
         setup_seconds: 1e-6 * n,
         step_seconds: per_step * steps as f64,
+        contact_seconds: contact_per_step * steps as f64,
+        contact_layers: Some(L),
         observe_seconds: 0.0,
         solves: steps,
         iterations: k * steps,
@@ -70,6 +96,8 @@ fn the_model_fitted_to_its_own_measurements_is_that_model() {
         model.per_iteration_dof
     );
     assert!(close(model.per_step, C), "{}", model.per_step);
+    assert!(close(model.contact_per_slab_dof, E));
+    assert_eq!(model.contact_layers, L);
     assert!(close(model.rank0_memory.per_dof, 400.0));
     assert!(close(model.rank0_memory.per_slab_dof, 120.0));
     assert!(close(model.rank_memory.per_dof, 200.0));
@@ -96,9 +124,12 @@ fn the_interconnect_costs_nothing_on_one_rank_and_grows_with_the_ranks() {
     };
     let n = 6.4e7;
     assert_eq!(model.network_seconds(&node, 1280, n, 1.0), 0.0);
-    // The check run beside rank 0 takes half a step of one eighth of the unknowns.
-    let check = model.check_seconds(1280, n / 8.0);
-    assert!((check - 0.5 * model.slab_seconds(640, n / 8.0, 1.0)).abs() < 1e-15);
+    // The check run takes half a step of one eighth of the unknowns; rank 0 holds the contact
+    // slab's layers however many ranks share the box.
+    let check = model.check_seconds(1280, n / 8.0, 64.0);
+    assert!((check - 0.5 * model.step_seconds(640, n / 8.0, 64.0)).abs() < 1e-15);
+    assert_eq!(model.rank0_layers(1280, 8.0), 160);
+    assert_eq!(model.rank0_layers(1280, 512.0), L + 1);
     let few = model.network_seconds(&node, 1280, n, 8.0);
     let many = model.network_seconds(&node, 1280, n, 512.0);
     assert!(few > 0.0 && many > few, "{few} then {many}");

@@ -265,9 +265,30 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
 /// The 3D bar's reference on 40 elements (projected on levels 10 and 20) computed by rank 0
 /// of `N` thread ranks ([`Reference::obtain`] with the ranks, the others following) against
 /// the one-process reference: every history, check distance and projection bit for bit on one
-/// rank, to 1e-10 of its scale on 2 and 3.
+/// rank, to 1e-10 of its scale on 2 and 3. Its check run on 20 elements cannot be cut (its
+/// contact slab takes every layer), so on 2 and 3 ranks it runs in one process beside rank 0.
 #[test]
 fn a_reference_on_ranks_is_the_one_process_reference() {
+    reference_on_ranks_against_one_process(40, &[10, 20], &[(1, 1), (2, 1), (3, 1)]);
+}
+
+/// The reference on 80 elements on two thread ranks: its check run on 40 elements is
+/// distributed over them too (a step of it every second reference step, on every rank), and
+/// the reference is still the one-process one to 1e-10.
+#[test]
+fn a_reference_on_two_ranks_shares_its_check_run_with_them() {
+    reference_on_ranks_against_one_process(80, &[20, 40], &[(2, 2)]);
+}
+
+/// The 3D bar's reference on `level` elements projected on `levels`, computed by rank 0 of
+/// `ranks` thread ranks, its check run shared by `check_ranks` of them, for each case
+/// `(ranks, check_ranks)`, against the one-process reference: bit for bit on one rank, to
+/// 1e-10 of each value's scale otherwise.
+fn reference_on_ranks_against_one_process(
+    level: usize,
+    levels: &[usize],
+    cases: &[(usize, usize)],
+) {
     use signorini::engine::linalg::LinearSolver;
     use signorini::harness::study::scene::Scene;
     use signorini::studies::elastic_study::reference::{Reference, ReferenceCache};
@@ -275,14 +296,14 @@ fn a_reference_on_ranks_is_the_one_process_reference() {
 
     let scene = Scene::load(std::path::Path::new("scenes/bar3d.json")).unwrap();
     let problem = scene.box_problem("a box").unwrap();
-    let mut config = ElasticStudyConfig::from_scene(&scene, Some(40)).unwrap();
-    config.levels = vec![10, 20];
+    let mut config = ElasticStudyConfig::from_scene(&scene, Some(level)).unwrap();
+    config.levels = levels.to_vec();
     config.settings.linear_solver = LinearSolver::Cg;
     let key = reference_key(&problem, &config).unwrap();
     let settings = config.settings;
     let whole = Reference::compute(&problem, &settings, key.clone(), None).unwrap();
     let empty = std::env::temp_dir().join(format!("signorini-no-cache-{}", std::process::id()));
-    for ranks in 1..=3 {
+    for &(ranks, check_ranks) in cases {
         let computed = ThreadRanks::run(ranks, |r| {
             if r.rank() > 0 {
                 Reference::follow(&problem, &settings, &key, r).unwrap();
@@ -302,6 +323,11 @@ fn a_reference_on_ranks_is_the_one_process_reference() {
             )
         });
         let reference = computed[0].as_ref().expect("rank 0's reference");
+        assert_eq!(
+            reference.cost.map(|c| c.check_ranks),
+            Some(check_ranks),
+            "the ranks of the check run"
+        );
         let (h, w) = (&reference.histories, &whole.histories);
         let what = format!("{ranks} ranks");
         let series = [

@@ -18,12 +18,12 @@ use super::{time_grid, IntegratorFactory, RunConfig};
 use crate::engine::contact::Truncation;
 #[cfg(feature = "mpi")]
 pub use crate::engine::distributed::MpiRanks;
-pub use crate::engine::distributed::{CountedRanks, Ranks, Traffic};
-use crate::engine::distributed::{DecompositionError, SlabOneStep, SlabRunError, Slabs};
+pub use crate::engine::distributed::{CountedRanks, DecompositionError, Ranks, Traffic};
+use crate::engine::distributed::{SlabOneStep, SlabRunError, Slabs};
 use crate::engine::error::{ParameterError, SolveError, StateField};
 use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
-use crate::engine::problem::{AxialMesh, BoxProblem};
+use crate::engine::problem::{initial_dofs, AxialMesh, BoxProblem};
 use crate::engine::schemes::energy_balance::{newmark_sides, theta_sides, StepBalance};
 use crate::engine::schemes::{
     initial_state, Conventions, Scheme, SchemeState, StepCoefficients, TimeIntegrator, Timed,
@@ -96,9 +96,10 @@ pub struct DistributedRun<'r, R: Ranks + ?Sized> {
     dt: f64,
     /// The last step's balance, computed on the slabs (none before the first step).
     balance: Option<StepBalance>,
-    /// Whether the start was observed: the run's steps are then rank 0's to end
-    /// ([`Follow`]); a start that failed failed on every rank together.
-    started: bool,
+    /// Whether rank 0's drop tells the other ranks the run has ended ([`Follow`]): once the
+    /// start was observed, for a run rank 0's time loop drives (a start that failed failed on
+    /// every rank together); never for a run every rank steps together ([`lockstep_run`]).
+    tells_end: bool,
 }
 
 /// The balance law of a distributed run's scheme.
@@ -172,11 +173,18 @@ impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
             law,
             dt,
             balance: None,
-            started: false,
+            tells_end: false,
         };
         distributed.observe()?;
-        distributed.started = true;
+        distributed.tells_end = true;
         Ok(distributed)
+    }
+
+    /// One step and its observations, every rank together, without rank 0's word on whether
+    /// to go on: each rank's loop decides alike ([`follow`], [`lockstep_run`]).
+    pub fn step_together(&mut self) -> Result<(), SolveError> {
+        self.run.advance()?;
+        self.observe()
     }
 
     /// The state after a step (every rank together): a non-finite value on any rank ends
@@ -280,7 +288,7 @@ impl<R: Ranks + ?Sized> TimeIntegrator for DistributedRun<'_, R> {
 impl<R: Ranks + ?Sized> Drop for DistributedRun<'_, R> {
     /// Rank 0's time loop is over, however it ended: every rank is told.
     fn drop(&mut self) {
-        if self.ranks.rank() == 0 && self.started {
+        if self.ranks.rank() == 0 && self.tells_end {
             Follow::End.agreed(self.ranks);
         }
     }
@@ -292,7 +300,7 @@ impl<R: Ranks + ?Sized> Drop for DistributedRun<'_, R> {
 pub fn follow<R: Ranks + ?Sized>(run: &mut DistributedRun<'_, R>) -> Result<(), SolveError> {
     let mut failed = None;
     while Follow::Step.agreed(run.ranks) == Follow::Step {
-        if let Err(e) = run.run.advance().and_then(|()| run.observe()) {
+        if let Err(e) = run.step_together() {
             failed = Some(e);
         }
     }
@@ -315,6 +323,31 @@ pub fn distributed_run<'r>(
         )?;
         Ok(Box::new(run) as Box<dyn TimeIntegrator + '_>)
     })
+}
+
+/// The distributed run of `problem` with `config`, observed by `observers`, that every rank
+/// steps together ([`DistributedRun::step_together`]) from a loop of its own, the same on every
+/// rank (a reference's check run, stepped by the reference's steps): rank 0 computes the start
+/// (its model and mesh as [`follow_run`]'s, with the initial values), and no rank waits for
+/// rank 0's word at a step or its end.
+pub fn lockstep_run<'r>(
+    problem: &BoxProblem,
+    config: &RunConfig,
+    (ranks, observers): (&'r dyn Ranks, &'r SlabObservers<'r>),
+) -> Result<DistributedRun<'r, dyn Ranks + 'r>, Error> {
+    let (mesh, model) = problem.model(config.nx, config.mass, &config.settings)?;
+    let scheme = config.scheme.validate()?;
+    let (_, dt) = time_grid(problem.horizon, mesh.axial_element_size(), config.ratio);
+    let initial = (ranks.rank() == 0).then(|| initial_dofs(problem, &mesh));
+    let mut run = DistributedRun::new(
+        (ranks, observers),
+        &model,
+        (scheme, dt),
+        initial.as_ref().map(|(u0, v0)| (&u0[..], &v0[..])),
+        &config.settings.conventions,
+    )?;
+    run.tells_end = false;
+    Ok(run)
 }
 
 /// A rank other than 0 of the distributed run of `problem` with `config`, observed by

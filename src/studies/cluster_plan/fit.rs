@@ -1,21 +1,26 @@
 //! The cost model of a distributed reference, fitted to [`Measurement`]s made here, and its
 //! prediction for a reference on `N` nodes of a stated size ([`Node`]).
 //!
-//! **Time per step**, with `n` unknowns, `P` ranks of one thread each and `k` CG iterations per
-//! step:
+//! **Time per step.** Every rank waits for the slowest at each CG iteration, and the slowest is
+//! rank 0: it holds `ℓ₀ = max(⌈ℓ/P⌉, L + 1)` of the `ℓ` node layers (the local contact
+//! operator's slab of `L` layers and the next, [`crate::harness::run::distributed`]) and solves
+//! the contact. With `n` unknowns, `P` ranks of one thread each and `k` CG iterations per step,
+//! a run's step on rank 0 takes
 //! ```text
-//! t = max(a · k n / P + c + t_net(P),  t_check)
+//! t(ℓ, n, P) = a · k n ℓ₀/ℓ + e · n (L + 1)/ℓ + c + t_net(P)
 //! ```
 //! `a`: the work per iteration and unknown (products, preconditioner, the share of the
-//! projections, the check comparison and the balance); `c`: per step whatever the size. They
-//! are a least-squares fit to the runs in one process of one thread (`k` from their
-//! iterations); the runs on two ranks are set beside the model, which they were not fitted to
-//! (on this machine their processes share two cores with the check run). The check run one
-//! level coarser runs beside rank 0 in lockstep, on one thread: each reference step waits for
-//! half of its step, `t_check = (a k_c n_c + c) / 2` (`n_c` its unknowns, `k_c` its
-//! iterations), which bounds the step time however many ranks share the reference. Messages
-//! between processes here go through shared memory; on a cluster the interconnect's are added
-//! from the counted traffic and the node's stated latency `α` and bandwidth `β`:
+//! projections, the check comparison and the balance); `e`: the contact solves' per step and
+//! unknown of their slab; `c`: per step whatever the size. `e` is the measured contact seconds
+//! of the runs in one process of one thread, `a` and `c` a least-squares fit to the rest of
+//! their seconds (`k` from their iterations). The check run one level coarser is distributed
+//! over the same ranks, in a second thread of each, and takes half as many steps: a reference
+//! step costs `t(ℓ, n, P) + t(ℓ/2, n_c, P) / 2` on rank 0's core (`n_c` its unknowns). Where
+//! the check's contact slab leaves no layer for some rank it runs in one process beside rank 0
+//! instead, and a step waits for the slower: `max(t(ℓ, n, P), t(ℓ/2, n_c, 1) / 2)`. The runs
+//! on two ranks are set beside the model, which they were not fitted to. Messages between
+//! processes here go through shared memory; on a cluster the interconnect's are added from the
+//! counted traffic and the node's stated latency `α` and bandwidth `β`:
 //! ```text
 //! t_net = 2 (m α + s / β)  +  2 k (P − 1) α  +  q · 2 ⌈log₂ P⌉ α
 //! ```
@@ -25,8 +30,9 @@
 //! fitted as `k₀ ℓ^p` over the levels `ℓ` measured.
 //!
 //! **Memory per rank**: `A + B n + C n / P`, fitted separately to rank 0's peaks and to the
-//! others' over the runs on several ranks: `B n` is what every rank holds whole (the mesh, the
-//! start), `C n / P` its slab.
+//! others' over the runs on several ranks: `B n` is what a rank holds of the whole box (rank 0:
+//! what one process holds of a reference but the slabs; the others: the operators' node
+//! classes), `C n / P` its slabs of the reference and of the check run.
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -71,6 +77,10 @@ pub struct CostModel {
     pub per_iteration_dof: f64,
     /// `c`, seconds per step.
     pub per_step: f64,
+    /// `e`, contact seconds per step and unknown of the contact slab.
+    pub contact_per_slab_dof: f64,
+    /// `L`, the contact slab's layers of the finest level measured, taken for every level.
+    pub contact_layers: usize,
     /// `k₀` and `p` of the iterations per step `k₀ ℓ^p`.
     pub iterations: (f64, f64),
     /// Messages rank 0 sent per step and iteration on 2 ranks.
@@ -137,12 +147,22 @@ fn layer_dofs(m: &Measurement) -> f64 {
 impl CostModel {
     /// Fits the model to `measured`, whose timed runs used at most `cores` cores.
     pub fn fit(measured: &[Measurement], cores: usize) -> Result<Self, FitError> {
-        let work = |m: &Measurement| m.iterations_per_step() * m.dofs as f64 / m.ranks as f64;
         let one_thread: Vec<&Measurement> = (measured.iter())
             .filter(|m| m.ranks == 1 && m.threads == 1)
             .collect();
-        let rows: Vec<Vec<f64>> = one_thread.iter().map(|m| vec![work(m), 1.0]).collect();
-        let seconds: Vec<f64> = one_thread.iter().map(|m| m.seconds_per_step()).collect();
+        let rows: Vec<Vec<f64>> = (one_thread.iter())
+            .map(|m| vec![m.iterations_per_step() * m.dofs as f64, 1.0])
+            .collect();
+        let seconds: Vec<f64> = (one_thread.iter())
+            .map(|m| m.seconds_per_step() - m.contact_seconds / m.steps.max(1) as f64)
+            .collect();
+        let finest = one_thread.iter().max_by_key(|m| m.level);
+        let contact_layers = finest.and_then(|m| m.contact_layers).unwrap_or(0);
+        let contact_per_slab_dof = finest.map_or(0.0, |m| {
+            m.contact_seconds
+                / m.steps.max(1) as f64
+                / (layer_dofs(m) * (contact_layers + 1) as f64)
+        });
         let mut levels: Vec<usize> = one_thread.iter().map(|m| m.level).collect();
         levels.sort_unstable();
         levels.dedup();
@@ -168,13 +188,11 @@ impl CostModel {
         let per_iteration = m2.steps as f64 * m2.iterations_per_step();
         let largest_run = measured.iter().max_by_key(|m| m.dofs).expect("some");
         let (rank0_memory, rank_memory, memory_fit) = Self::fit_memory(measured)?;
-        let time_fit = (measured.iter())
-            .filter(|m| m.threads == 1 && m.ranks * m.threads <= cores)
-            .map(|m| (m.level, m.ranks, m.seconds_per_step(), a * work(m) + c))
-            .collect();
-        Ok(Self {
+        let mut model = Self {
             per_iteration_dof: a,
             per_step: c,
+            contact_per_slab_dof,
+            contact_layers,
             iterations,
             messages_per_iteration: t2.messages as f64 / per_iteration,
             bytes_per_iteration_layer_dof: t2.bytes_sent as f64 / per_iteration / layer_dofs(m2),
@@ -182,9 +200,23 @@ impl CostModel {
             setup_per_dof: largest_run.setup_seconds / largest_run.dofs as f64,
             rank0_memory,
             rank_memory,
-            time_fit,
+            time_fit: Vec::new(),
             memory_fit,
-        })
+        };
+        model.time_fit = (measured.iter())
+            .filter(|m| m.threads == 1 && m.ranks * m.threads <= cores)
+            .map(|m| {
+                let ranks = m.ranks as f64;
+                let fine = model.step_seconds(m.level, m.dofs as f64, ranks);
+                let check = if m.ranks > 1 && m.check_ranks == m.ranks {
+                    model.check_seconds(m.level, m.check_dofs as f64, ranks)
+                } else {
+                    0.0
+                };
+                (m.level, m.ranks, m.seconds_per_step(), fine + check)
+            })
+            .collect();
+        Ok(model)
     }
 
     /// `k₀ ℓ^p` through the iterations per step of the measured levels (a log-log fit).
@@ -264,16 +296,30 @@ impl CostModel {
         self.iterations.0 * (level as f64).powf(self.iterations.1)
     }
 
-    /// Seconds per step of the slab of a run on `level` with `n` unknowns over `ranks`
-    /// one-thread ranks, computing here (no interconnect).
-    pub fn slab_seconds(&self, level: usize, n: f64, ranks: f64) -> f64 {
-        self.per_iteration_dof * self.iterations_at(level) * n / ranks + self.per_step
+    /// The node layers rank 0 holds of a run on `level` over `ranks` ranks: its share, or the
+    /// contact slab's `L + 1` when that is more ([`crate::harness::run::distributed`]).
+    pub fn rank0_layers(&self, level: usize, ranks: f64) -> usize {
+        let share = (level as f64 / ranks.max(1.0)).ceil() as usize;
+        share.max(self.contact_layers + 1).min(level)
     }
 
-    /// Seconds per reference step of the check run on `level / 2` with `n_check` unknowns, on
-    /// one thread: half of its step.
-    pub fn check_seconds(&self, level: usize, n_check: f64) -> f64 {
-        0.5 * self.slab_seconds(level / 2, n_check, 1.0)
+    /// Seconds per step of rank 0 of a run on `level` with `n` unknowns over `ranks`
+    /// one-thread ranks, computing here (no interconnect): its layers' CG work, the contact
+    /// solves on its slab, and the per-step cost.
+    pub fn step_seconds(&self, level: usize, n: f64, ranks: f64) -> f64 {
+        let layer = n / level as f64;
+        self.per_iteration_dof
+            * self.iterations_at(level)
+            * layer
+            * self.rank0_layers(level, ranks) as f64
+            + self.contact_per_slab_dof * layer * (self.contact_layers + 1).min(level) as f64
+            + self.per_step
+    }
+
+    /// Seconds per reference step of the check run on `level / 2` with `n_check` unknowns
+    /// over `ranks` ranks (1: in one process beside rank 0): half of its step.
+    pub fn check_seconds(&self, level: usize, n_check: f64, ranks: f64) -> f64 {
+        0.5 * self.step_seconds(level / 2, n_check, ranks)
     }
 
     /// Seconds per step the interconnect of `node` adds to a run on `level` with `n` unknowns

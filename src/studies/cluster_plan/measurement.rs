@@ -13,7 +13,7 @@ use crate::harness::study::budget::peak_resident_bytes;
 use crate::studies::elastic_study::reference::Reference;
 
 /// The `format` of a measurement file.
-pub const MEASUREMENT_FORMAT: &str = "signorini-reference-measurement/1";
+pub const MEASUREMENT_FORMAT: &str = "signorini-reference-measurement/2";
 
 /// What a rank sent and summed over the fine run (a distributed run's rank 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -45,10 +45,20 @@ pub struct Measurement {
     pub ranks: usize,
     /// Threads of each process's pool (`RAYON_NUM_THREADS`).
     pub threads: usize,
+    /// Processes the check run was shared by: `ranks` when it ran distributed beside the
+    /// reference, 1 when it ran in one process beside rank 0.
+    pub check_ranks: usize,
+    /// The check run's unknowns.
+    pub check_dofs: usize,
     /// Set-up seconds (rank 0's).
     pub setup_seconds: f64,
     /// Seconds of the steps, contact solves included (rank 0's).
     pub step_seconds: f64,
+    /// Seconds of the contact solves, of `step_seconds` (rank 0's).
+    pub contact_seconds: f64,
+    /// `L`, the layers of the local contact operator's slab around `Γ_Sig` (rank 0 holds
+    /// them and the next); `None` without one.
+    pub contact_layers: Option<usize>,
     /// Seconds of the observers (projections, check, histories; rank 0's).
     pub observe_seconds: f64,
     /// Step systems solved.
@@ -103,8 +113,12 @@ impl Measurement {
             steps: h.steps,
             ranks: ranks.map_or(1, |r| r.size()),
             threads: rayon::current_num_threads(),
+            check_ranks: cost.check_ranks,
+            check_dofs: h.check.dofs,
             setup_seconds: cost.timings.setup,
             step_seconds: cost.timings.stepping + cost.timings.contact,
+            contact_seconds: cost.timings.contact,
+            contact_layers: cost.contact_layers,
             observe_seconds: cost.timings.observe,
             solves: cost.solves,
             iterations: cost.iterations,

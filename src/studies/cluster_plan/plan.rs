@@ -34,13 +34,19 @@ pub struct Prediction {
     pub rank_bytes: f64,
     /// The busiest node's bytes (rank 0's).
     pub node_bytes: f64,
-    /// Seconds per step of a rank's slab, computing.
+    /// The node layers rank 0 holds: its share, or the contact slab's when that is more.
+    pub rank0_layers: usize,
+    /// Seconds per step of rank 0's slab (the slowest), computing, its contact solves included.
     pub slab_seconds_per_step: f64,
     /// Seconds per step on the interconnect.
     pub network_seconds_per_step: f64,
-    /// Seconds per reference step of the check run beside rank 0 (one thread), the floor of a
-    /// step.
+    /// Seconds per reference step of the check run on rank 0's core: half a step of it over
+    /// the same ranks, its interconnect included (added to the reference's step); or, where
+    /// its contact slab leaves no layer for some rank, in one process beside rank 0 (then the
+    /// floor of a step, `check_distributed` false).
     pub check_seconds_per_step: f64,
+    /// Whether the check run is distributed over the ranks.
+    pub check_distributed: bool,
     /// The whole run, hours.
     pub hours: f64,
 }
@@ -151,7 +157,7 @@ impl Plan {
                     )
                     .into());
                 }
-                let one_thread = r.steps as f64 * model.slab_seconds(r.level, r.dofs as f64, 1.0)
+                let one_thread = r.steps as f64 * model.step_seconds(r.level, r.dofs as f64, 1.0)
                     + model.setup_per_dof * r.dofs as f64;
                 Ok(Check {
                     source: path.display().to_string(),
@@ -212,9 +218,19 @@ impl Plan {
             .unwrap_or(1);
         let ranks = (nodes * ranks_per_node).min(most_ranks);
         let (rank0_bytes, rank_bytes, node_bytes) = memory(ranks_per_node);
-        let slab = model.slab_seconds(level, dofs, ranks as f64);
-        let network = model.network_seconds(node, level, dofs, ranks as f64);
-        let check = model.check_seconds(level, check_dofs);
+        let p = ranks as f64;
+        let slab = model.step_seconds(level, dofs, p);
+        let network = model.network_seconds(node, level, dofs, p);
+        // The check run's layers give every rank one beyond rank 0's contact slab.
+        let check_distributed = level / 2 > model.contact_layers + ranks - 1;
+        let (check, step) = if check_distributed {
+            let check = model.check_seconds(level, check_dofs, p)
+                + 0.5 * model.network_seconds(node, level / 2, check_dofs, p);
+            (check, slab + network + check)
+        } else {
+            let check = model.check_seconds(level, check_dofs, 1.0);
+            (check, (slab + network).max(check))
+        };
         Prediction {
             nodes,
             ranks_per_node,
@@ -222,10 +238,12 @@ impl Plan {
             rank0_bytes,
             rank_bytes,
             node_bytes,
+            rank0_layers: model.rank0_layers(level, p),
             slab_seconds_per_step: slab,
             network_seconds_per_step: network,
             check_seconds_per_step: check,
-            hours: (steps * (slab + network).max(check) + model.setup_per_dof * dofs) / 3600.0,
+            check_distributed,
+            hours: (steps * step + model.setup_per_dof * dofs) / 3600.0,
         }
     }
 
@@ -251,6 +269,8 @@ impl Plan {
              | term | value |\n|---|---|\n\
              | a: seconds per CG iteration and slab unknown | {:.3e} |\n\
              | c: seconds per step | {:.3e} |\n\
+             | e: contact seconds per step and contact slab unknown | {:.3e} |\n\
+             | L: the contact slab's layers (finest level measured) | {} |\n\
              | iterations per step k = k0 ℓ^p | k0 = {:.3}, p = {:.3} |\n\
              | messages per iteration (2 ranks, rank 0) | {:.2} |\n\
              | bytes per iteration and layer unknown | {:.2} |\n\
@@ -267,6 +287,8 @@ impl Plan {
             self.node.latency * 1e6,
             m.per_iteration_dof,
             m.per_step,
+            m.contact_per_slab_dof,
+            m.contact_layers,
             m.iterations.0,
             m.iterations.1,
             m.messages_per_iteration,
@@ -293,24 +315,30 @@ impl Plan {
             );
         }
         s += "\n(Fitted to the runs in one process of one thread; the runs on two ranks are set \
-              beside it, their processes sharing this machine's two cores with the check run.)\n\n\
-              ## The prediction\n\nA step takes the slab's time and the interconnect's, or \
-              the check run's beside rank 0 when that is longer.\n\n| nodes | ranks per node | \
-              ranks | rank 0 GiB | other ranks GiB | rank 0's node GiB | slab s/step | \
-              interconnect s/step | check run s/step | hours |\n\
-              |---|---|---|---|---|---|---|---|---|---|\n";
+              beside it: each of their processes runs the reference's slab and the check run's \
+              on one of this machine's two cores.)\n\n\
+              ## The prediction\n\nA step takes rank 0's slab (the slowest: it holds the \
+              contact slab's layers at least), the interconnect's time, and half a step of the \
+              check run distributed over the same ranks (or, where the check's contact slab \
+              leaves no layer for some rank, the longer of the reference's step and the check's \
+              in one process).\n\n| nodes | ranks per node | ranks | rank 0 GiB | other ranks \
+              GiB | rank 0's node GiB | rank 0's layers | slab s/step | interconnect s/step | \
+              check run s/step | hours |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
         for p in &self.predictions {
-            s += &format!(
-                "| {} | {} | {} | {:.1} | {:.2} | {:.0} | {:.3} | {:.3} | {:.3} | {:.1} |\n",
+            s +=
+                &format!(
+                "| {} | {} | {} | {:.1} | {:.2} | {:.0} | {} | {:.3} | {:.3} | {:.3}{} | {:.1} |\n",
                 p.nodes,
                 p.ranks_per_node,
                 p.ranks,
                 gib(p.rank0_bytes),
                 gib(p.rank_bytes),
                 gib(p.node_bytes),
+                p.rank0_layers,
                 p.slab_seconds_per_step,
                 p.network_seconds_per_step,
                 p.check_seconds_per_step,
+                if p.check_distributed { "" } else { " (one process)" },
                 p.hours
             );
         }

@@ -22,7 +22,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::sync_channel;
+use std::sync::mpsc::{channel, sync_channel};
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -33,10 +33,15 @@ use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
 use crate::harness::problem::{Conventions, LinearSolver, MassVariant, Scheme, Settings};
-use crate::harness::run::distributed::{distributed_run, follow_run, Ranks, SlabObserver};
+use crate::harness::run::distributed::{
+    distributed_run, follow_run, lockstep_run, DecompositionError, Ranks, SlabObserver,
+    SlabObservers,
+};
 use crate::harness::run::elastic::run_box;
 use crate::harness::run::elastic::{box_mesh, BoxMesh, BoxProblem};
-use crate::harness::run::nested_comparison::check::{CheckComparison, CheckSender};
+use crate::harness::run::nested_comparison::check::{
+    CheckComparison, CheckGather, CheckSender, LockstepCheck,
+};
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::nested_comparison::projection::{LevelProjections, ProjectionRecorder};
 use crate::harness::run::{run, Observables, RunConfig, Timings};
@@ -303,6 +308,10 @@ pub struct FineRunCost {
     pub solves: usize,
     /// CG iterations over all of them.
     pub iterations: usize,
+    /// The ranks the check run was shared by (1: in one process, [`lockstep_check`]).
+    pub check_ranks: usize,
+    /// `L`, the layers of the local contact operator's slab (rank 0's), when it has one.
+    pub contact_layers: Option<usize>,
 }
 
 impl Reference {
@@ -346,8 +355,29 @@ impl Reference {
         };
         // The check run's steps per sample: it has half the reference's steps.
         let check_stride = (every / 2).max(1);
-        let (sender, receiver) = sync_channel(1);
         let check_mesh = box_mesh(problem, check_config.nx)?;
+        // Beside a distributed reference, every rank together: the check run distributed too,
+        // stepped by the reference's steps, unless it cannot be cut into the ranks' slabs.
+        let (lockstep_to, lockstep_from) = channel();
+        let gather = ranks.map(|r| {
+            let to = (r.rank() == 0).then_some(lockstep_to);
+            RefCell::new(CheckGather::new(r, to, check_stride, &check_mesh))
+        });
+        let gather_observers: Vec<&RefCell<dyn SlabObserver>> = (gather.iter())
+            .map(|g| g as &RefCell<dyn SlabObserver>)
+            .collect();
+        let lockstep = match (ranks, &gather) {
+            (Some(r), Some(g)) => {
+                lockstep_check(problem, &check_config, (r, &gather_observers, g))?
+            }
+            _ => None,
+        };
+        let (sender, receiver) = sync_channel(1);
+        let receiver = if lockstep.is_some() {
+            lockstep_from
+        } else {
+            receiver
+        };
         let comparison = RefCell::new(match ranks {
             None => CheckComparison::new(receiver, &fine_norms, &check_mesh, &mesh, every)?,
             Some(ranks) => CheckComparison::distributed(
@@ -358,16 +388,22 @@ impl Reference {
                 every,
             ),
         });
-        let (run, distance, check_run) = std::thread::scope(|scope| {
-            let check = scope.spawn(|| {
-                let mut send = CheckSender::new(sender, check_stride);
-                run(problem, &check_config, &mut [&mut send])
+        let (run, distance, in_one_process) = std::thread::scope(|scope| {
+            let check = lockstep.is_none().then(|| {
+                scope.spawn(|| {
+                    let mut send = CheckSender::new(sender, check_stride);
+                    run(problem, &check_config, &mut [&mut send])
+                })
             });
             let mut steps = StepProgress::new(
                 &format!("reference on {} elements", key.n_axis),
                 problem.horizon,
             );
-            let slab_observers: [&RefCell<dyn SlabObserver>; 2] = [&recorder, &comparison];
+            let mut slab_observers: Vec<&RefCell<dyn SlabObserver>> = vec![&recorder];
+            if let Some(lockstep) = &lockstep {
+                slab_observers.push(lockstep);
+            }
+            slab_observers.push(&comparison);
             let run = match ranks {
                 None => run_box(
                     problem,
@@ -385,18 +421,32 @@ impl Reference {
                 ),
             };
             let distance = comparison.into_inner().finish();
-            let check_run = check
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            (run, distance, check_run)
+            let in_one_process = check.map(|c| {
+                c.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            });
+            (run, distance, in_one_process)
         });
         let run = run?.completed()?;
+        let (check_dofs, check_steps, check_ranks) = match (in_one_process, lockstep) {
+            (Some(check), _) => {
+                let check = check?.completed()?;
+                (check.dofs, check.steps, 1)
+            }
+            (None, Some(lockstep)) => (
+                check_mesh.n_dofs(),
+                lockstep.into_inner().finish()?,
+                ranks.map_or(1, |r| r.size()),
+            ),
+            (None, None) => unreachable!("the check ran in one process or in lockstep"),
+        };
         let cost = FineRunCost {
             timings: run.timings,
             solves: run.observed.step_solves.solves,
             iterations: run.observed.step_solves.iterations,
+            check_ranks,
+            contact_layers: run.observed.contact_slab.map(|t| t.layers),
         };
-        let check_run = check_run?.completed()?;
         let projections = recorder.into_inner().finish();
         let gap = problem.obstacle_gap.unwrap_or(0.0);
         let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
@@ -434,8 +484,8 @@ impl Reference {
                 .collect(),
             check: CheckOutcome {
                 level: check_config.nx,
-                dofs: check_run.dofs,
-                steps: check_run.steps,
+                dofs: check_dofs,
+                steps: check_steps,
                 distance: distance
                     .into_iter()
                     .map(|(norm, d)| (norm.key().to_string(), d))
@@ -665,7 +715,9 @@ impl Reference {
 impl Reference {
     /// A rank other than 0 of the distributed reference of `key` (rank 0 runs
     /// [`Reference::obtain`] with the same arguments): when rank 0 computes it, this rank's
-    /// share of the fine run's steps ([`follow_run`]); nothing when rank 0 found it cached.
+    /// share of the fine run's steps ([`follow_run`]) and of the check run's, stepped by them
+    /// ([`lockstep_check`]; unless the check cannot be cut into the ranks' slabs, when rank 0
+    /// runs it in one process); nothing when rank 0 found it cached.
     pub fn follow(
         problem: &BoxProblem,
         settings: &Settings,
@@ -692,7 +744,11 @@ impl Reference {
             &problem.elasticity,
             Some(ranks),
         )?);
-        let check_mesh = box_mesh(problem, key.n_axis / 2)?;
+        let check_config = RunConfig {
+            nx: key.n_axis / 2,
+            ..config.clone()
+        };
+        let check_mesh = box_mesh(problem, check_config.nx)?;
         let comparison = RefCell::new(CheckComparison::distributed(
             ranks,
             None,
@@ -700,8 +756,49 @@ impl Reference {
             (&check_mesh, &mesh),
             key.sample_every.max(1),
         ));
-        let slab_observers: [&RefCell<dyn SlabObserver>; 2] = [&recorder, &comparison];
-        follow_run(problem, &config, (ranks, &slab_observers))
+        let gather = RefCell::new(CheckGather::new(
+            ranks,
+            None,
+            (key.sample_every / 2).max(1),
+            &check_mesh,
+        ));
+        let gather_observers: [&RefCell<dyn SlabObserver>; 1] = [&gather];
+        let lockstep = lockstep_check(problem, &check_config, (ranks, &gather_observers, &gather))?;
+        let mut slab_observers: Vec<&RefCell<dyn SlabObserver>> = vec![&recorder];
+        if let Some(lockstep) = &lockstep {
+            slab_observers.push(lockstep);
+        }
+        slab_observers.push(&comparison);
+        follow_run(problem, &config, (ranks, &slab_observers))?;
+        match lockstep {
+            Some(lockstep) => lockstep
+                .into_inner()
+                .finish()
+                .map(|_| ())
+                .map_err(Error::from),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Every rank's check run (`config`) beside a distributed reference on `ranks`, observed by
+/// `observers` (its `gather`), stepped by the reference's steps ([`LockstepCheck`]); `None`
+/// when its box cannot be cut into the ranks' slabs (its contact slab leaves no layer for some
+/// rank: every rank learns it together, before any step), in which case rank 0 runs it in one
+/// process beside the reference, as a reference in one process does.
+fn lockstep_check<'r>(
+    problem: &BoxProblem,
+    config: &RunConfig,
+    (ranks, observers, gather): (
+        &'r dyn Ranks,
+        &'r SlabObservers<'r>,
+        &'r RefCell<CheckGather<'r>>,
+    ),
+) -> Result<Option<RefCell<LockstepCheck<'r>>>, Error> {
+    match lockstep_run(problem, config, (ranks, observers)) {
+        Ok(run) => Ok(Some(RefCell::new(LockstepCheck::new(run, gather)))),
+        Err(Error::Distributed(DecompositionError::TooManyRanks { .. })) => Ok(None),
+        Err(e) => Err(e),
     }
 }
 

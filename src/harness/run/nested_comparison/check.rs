@@ -8,18 +8,27 @@
 //! observer ([`CheckComparison`]) receives them at the same sample, prolongates the displacement
 //! and measures the error in every norm of an [`ErrorSeries`]. Memory is one coarse displacement in
 //! flight; the two runs advance together, the faster waiting for the slower.
+//!
+//! Beside a distributed reference the check run is distributed too, over the same ranks, and
+//! stepped by the reference's own steps in the same thread ([`LockstepCheck`]): one check step
+//! every second reference step, so that each rank's core does both runs' work in turn and no
+//! thread waits for another. At each sample every rank sends its part of the check run's
+//! displacement to rank 0 ([`CheckGather`]), which hands the whole sample to the comparison.
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
-use std::sync::mpsc::{Receiver, SyncSender};
+use std::ops::Range;
+use std::sync::mpsc::{Receiver, Sender, SyncSender};
 
 use super::error_series::ErrorSeries;
 use super::norm_matrices::NormMatrices;
 use super::slab_fine::{SlabFine, SlabSetup};
 use crate::engine::distributed::{Ranks, Slabs};
+use crate::engine::error::SolveError;
 use crate::engine::fem::{BoxMesh, Prolongation};
 use crate::engine::schemes::TimeIntegrator;
 use crate::harness::files::error::Error;
-use crate::harness::run::distributed::{SlabObserver, SlabState};
+use crate::harness::run::distributed::{DistributedRun, SlabObserver, SlabState};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::Observer;
 
@@ -80,6 +89,139 @@ impl Observer for CheckSender {
             self.channel = None;
         }
         Ok(())
+    }
+}
+
+/// The check run's slab observer on every rank of its distributed run: every `stride` steps
+/// (from step 0) each rank sends rank 0 its part of the displacement, and rank 0 sends the
+/// whole sample into its channel, as [`CheckSender`] does (once the reference has stopped
+/// listening, the run goes on without sending). The channel has no bound: the two runs are
+/// stepped in one thread, so a sample is sent before the comparison that reads it.
+pub struct CheckGather<'r> {
+    ranks: &'r dyn Ranks,
+    /// Rank 0's channel to the reference (`None` on the other ranks).
+    channel: Option<Sender<CheckSample>>,
+    samples: Samples,
+    /// Unknowns per node layer of the check run's mesh.
+    layer_dofs: usize,
+    /// Every rank's range of the whole displacement, once the run has cut the box.
+    parts: Vec<Range<usize>>,
+}
+
+impl<'r> CheckGather<'r> {
+    /// The observer of rank `ranks.rank()` of the check run on `mesh`, sending into `channel`
+    /// (rank 0's; `None` on the others) every `stride`-th step.
+    pub fn new(
+        ranks: &'r dyn Ranks,
+        channel: Option<Sender<CheckSample>>,
+        stride: usize,
+        mesh: &BoxMesh,
+    ) -> Self {
+        let d = mesh.dim();
+        let per_layer: usize = mesh.counts()[..d - 1].iter().map(|n| n + 1).product();
+        Self {
+            ranks,
+            channel,
+            samples: Samples { stride, step: 0 },
+            layer_dofs: per_layer * d,
+            parts: Vec::new(),
+        }
+    }
+}
+
+impl SlabObserver for CheckGather<'_> {
+    fn start(&mut self, slabs: &Slabs) -> Result<(), Error> {
+        self.parts = (0..slabs.ranks())
+            .map(|r| {
+                let layers = slabs.of(r);
+                layers.start * self.layer_dofs..layers.end * self.layer_dofs
+            })
+            .collect();
+        Ok(())
+    }
+
+    fn observe_slab(&mut self, state: &SlabState) {
+        if !self.samples.next_is_sample() {
+            return;
+        }
+        if self.ranks.rank() != 0 {
+            self.ranks.send(0, state.u);
+            return;
+        }
+        let mut displacement = vec![0.0; self.parts.last().map_or(0, |p| p.end)];
+        displacement[self.parts[0].clone()].copy_from_slice(state.u);
+        for (r, part) in self.parts.iter().enumerate().skip(1) {
+            self.ranks.receive(r, &mut displacement[part.clone()]);
+        }
+        let sample = CheckSample {
+            displacement,
+            energy: state.energy,
+            total_force: state.total_force,
+        };
+        if self
+            .channel
+            .as_ref()
+            .is_some_and(|c| c.send(sample).is_err())
+        {
+            self.channel = None;
+        }
+    }
+}
+
+/// The check run of a distributed reference stepped by the reference's steps, on every rank:
+/// a slab observer of the reference, listed before its comparison, that takes one step of the
+/// check run at every second reference step (the check has half its steps), in the reference's
+/// thread; the check's [`CheckGather`] sends rank 0's samples to the comparison. A failed check
+/// step fails on every rank alike: the check then stops, its channel is closed (the comparison
+/// compares no more), and [`LockstepCheck::finish`] returns the failure.
+pub struct LockstepCheck<'r> {
+    run: DistributedRun<'r, dyn Ranks + 'r>,
+    gather: &'r RefCell<CheckGather<'r>>,
+    /// Reference steps observed.
+    observed: usize,
+    failed: Option<SolveError>,
+}
+
+impl<'r> LockstepCheck<'r> {
+    /// The check `run` (a [`crate::harness::run::distributed::lockstep_run`] observed by
+    /// `gather`), at its start.
+    pub fn new(
+        run: DistributedRun<'r, dyn Ranks + 'r>,
+        gather: &'r RefCell<CheckGather<'r>>,
+    ) -> Self {
+        Self {
+            run,
+            gather,
+            observed: 0,
+            failed: None,
+        }
+    }
+
+    /// The check run's steps, or its failure.
+    pub fn finish(self) -> Result<usize, SolveError> {
+        match self.failed {
+            Some(e) => Err(e),
+            None => Ok(self.run.state().step),
+        }
+    }
+}
+
+impl SlabObserver for LockstepCheck<'_> {
+    /// The check run was set up on its own decomposition.
+    fn start(&mut self, _: &Slabs) -> Result<(), Error> {
+        Ok(())
+    }
+
+    fn observe_slab(&mut self, _: &SlabState) {
+        let step = self.observed;
+        self.observed += 1;
+        if step == 0 || step % 2 == 1 || self.failed.is_some() {
+            return;
+        }
+        if let Err(e) = self.run.step_together() {
+            self.failed = Some(e);
+            self.gather.borrow_mut().channel = None;
+        }
     }
 }
 
