@@ -160,10 +160,10 @@ mpi-install:
 
 ## The plan of the 3D bar's 1 280-element reference across a cluster (issue 36; about 5 min):
 ## its reference on 80 and 160 elements computed and measured (`reference --measure`) in one
-## process of every thread and on 3 MPI ranks of one thread (memory), and three times each in
-## one process of one thread and on 2 ranks of one thread (time and memory); the cost
+## process of every thread and on 3 and 4 MPI ranks of one thread (memory), and three times
+## each in one process of one thread and on 2 ranks of one thread (time and memory); the cost
 ## model fitted to them, checked against the finest study's one-process reference
-## (reports/finest/elastic-3d.json) and its answer for 8, 16 and 32 nodes written to
+## (reports/finest/elastic-3d.json) and its answer for 1 to 32 nodes written to
 ## reports/cluster/ (cluster-plan.md, cluster-plan.json, and the measurements in measured/).
 CLUSTER := reports/cluster
 MPI_BIN := target/mpi/release/signorini
@@ -175,12 +175,13 @@ cluster-plan: mpi-install
 	  sed "s/\"reference_level\": [0-9]*/\"reference_level\": $$level/" scenes/bar3d.json > $(CLUSTER)/work/bar3d-$$level.json && \
 	  $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1-$$level --measure $(CLUSTER)/measured/$$level-ranks1-threads$$(nproc).json && \
 	  $(MPIRUN) -n 3 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n3-$$level --measure $(CLUSTER)/measured/$$level-ranks3-threads1.json && \
+	  $(MPIRUN) -n 4 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n4-$$level --measure $(CLUSTER)/measured/$$level-ranks4-threads1.json && \
 	  for run in 1 2 3; do \
 	    RAYON_NUM_THREADS=1 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n1t1-$$level-$$run --measure $(CLUSTER)/measured/$$level-ranks1-threads1-run$$run.json && \
 	    $(MPIRUN) -n 2 $(MPI_BIN) reference $(CLUSTER)/work/bar3d-$$level.json --cache $(CLUSTER)/work/n2-$$level-$$run --measure $(CLUSTER)/measured/$$level-ranks2-threads1-run$$run.json || exit 1; \
 	  done || exit 1; \
 	done
-	$(MPI_BIN) cluster-plan scenes/bar3d.json --level 1280 --measured $(CLUSTER)/measured/*.json --measured-cores $$(nproc) --check reports/finest/elastic-3d.json --out $(CLUSTER)
+	$(MPI_BIN) cluster-plan scenes/bar3d.json --level 1280 --nodes 1,2,4,8,16,32 --measured $(CLUSTER)/measured/*.json --measured-cores $$(nproc) --check reports/finest/elastic-3d.json --out $(CLUSTER)
 	rm -rf $(CLUSTER)/work
 
 bench:

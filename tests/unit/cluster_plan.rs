@@ -42,12 +42,12 @@ fn measured(level: usize, ranks: usize, threads: usize) -> Measurement {
     }
     let contact_per_step = E * n / level as f64 * (L + 1) as f64;
     let peak = |rank: usize| {
-        let (fixed, whole, slab) = if rank == 0 {
-            (80e6, 400.0, 120.0)
+        let (fixed, whole, slab, per_rank) = if rank == 0 {
+            (80e6, 400.0, 120.0, 2e6)
         } else {
-            (20e6, 200.0, 180.0)
+            (20e6, 200.0, 180.0, 3e6)
         };
-        (fixed + whole * n + slab * n / ranks as f64) as u64
+        (fixed + whole * n + slab * n / ranks as f64 + per_rank * ranks as f64) as u64
     };
     Measurement {
         format: MEASUREMENT_FORMAT.to_string(),
@@ -82,6 +82,7 @@ fn runs() -> Vec<Measurement> {
         runs.push(measured(level, 1, 1));
         runs.push(measured(level, 2, 1));
         runs.push(measured(level, 3, 1));
+        runs.push(measured(level, 4, 1));
     }
     runs
 }
@@ -102,9 +103,10 @@ fn the_model_fitted_to_its_own_measurements_is_that_model() {
     assert!(close(model.rank0_memory.per_slab_dof, 120.0));
     assert!(close(model.rank_memory.per_dof, 200.0));
     assert!(close(model.rank_memory.per_slab_dof, 180.0));
+    assert!(close(model.rank0_memory.per_rank, 2e6) && close(model.rank_memory.per_rank, 3e6));
     assert!(close(model.messages_per_iteration, 10.0));
     assert!(close(model.sums_per_iteration, 4.0));
-    // Three ranks on two cores are oversubscribed: fitted for memory, not time.
+    // Three and four ranks on two cores are oversubscribed: fitted for memory, not time.
     assert!(model.time_fit.iter().all(|&(_, ranks, _, _)| ranks <= 2));
     for &(_, _, measured, modelled) in &model.time_fit {
         assert!(close(modelled, measured), "{modelled} vs {measured}");
@@ -184,6 +186,9 @@ fn the_plan_command_writes_a_prediction_per_number_of_nodes() {
             .unwrap();
     let predictions = plan["predictions"].as_array().unwrap();
     assert_eq!(predictions.len(), 2);
+    // Beyond ℓ/(L + 1) ranks rank 0's contact slab bounds the step: four nodes are given
+    // no more ranks than two.
+    assert_eq!(predictions[0]["ranks"], predictions[1]["ranks"], "{plan}");
     for (p, nodes) in predictions.iter().zip([2, 4]) {
         assert_eq!(p["nodes"], nodes);
         let ranks = p["ranks"].as_u64().unwrap();

@@ -414,26 +414,32 @@ pub fn box_run(
 }
 
 /// Peak bytes of a rank other than 0 of a distributed reference per unknown of the whole box:
-/// what every rank holds whole (the mesh, the start it computes whole, the model). With
-/// [`RANK_BYTES_PER_SLAB_UNKNOWN`], an upper bound of the measured peaks of ranks 1 and 2 of
-/// the 3D bar's references on 80 and 160 elements over 2 and 3 ranks (`make cluster-plan`,
-/// reports/cluster/cluster-plan.md: 26–70 MB, fitted 269 bytes per unknown and 215 per slab
-/// unknown).
-const RANK_BYTES_PER_UNKNOWN: f64 = 290.0;
+/// the operators' node classes (the mesh, the model and the start are not built whole there).
+/// With [`RANK_BYTES_PER_SLAB_UNKNOWN`] and [`RANK_BYTES_PER_RANK`], an upper bound of the
+/// measured peaks of ranks 1 to 3 of the 3D bar's references on 80 and 160 elements over 2, 3
+/// and 4 ranks (`make cluster-plan`, reports/cluster/cluster-plan.md: 24–56 MiB, fitted
+/// 25 bytes per unknown, 494 per slab unknown and 1.0 MiB per rank).
+const RANK_BYTES_PER_UNKNOWN: f64 = 40.0;
 
-/// Peak bytes of such a rank per unknown of its slab (its parts of the state, its rows of the
-/// operators, the CG's and the projections' work vectors).
-const RANK_BYTES_PER_SLAB_UNKNOWN: f64 = 230.0;
+/// Peak bytes of such a rank per unknown of its slab of the reference (its parts of the state,
+/// its rows of the operators, the CG's and the projections' work vectors, and its slab of the
+/// check run).
+const RANK_BYTES_PER_SLAB_UNKNOWN: f64 = 560.0;
+
+/// Peak bytes of such a rank per rank of the run: the MPI library's buffers for its peers.
+const RANK_BYTES_PER_RANK: f64 = 2.0 * 1024.0 * 1024.0;
 
 /// The memory of a rank other than 0 of `problem`'s reference on `n_axis` elements along the
 /// axis over `ranks` ranks (rank 0 holds what one process holds of a reference, and is held
 /// to [`box_study`]'s estimate).
 pub fn reference_rank(problem: &BoxProblem, n_axis: usize, ranks: usize) -> Estimate {
     let dofs = box_shape(problem, n_axis).dofs;
+    let ranks = ranks.max(1) as f64;
     Estimate {
         memory_bytes: BASE_BYTES
             + RANK_BYTES_PER_UNKNOWN * dofs
-            + RANK_BYTES_PER_SLAB_UNKNOWN * dofs / ranks.max(1) as f64,
+            + RANK_BYTES_PER_SLAB_UNKNOWN * dofs / ranks
+            + RANK_BYTES_PER_RANK * ranks,
         files: 0.0,
         dof_steps: 0.0,
     }

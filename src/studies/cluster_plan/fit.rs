@@ -29,10 +29,12 @@
 //! crossing `P − 1` ranks twice per iteration; and `q` sums per step, each an all-gather. `k` is
 //! fitted as `k₀ ℓ^p` over the levels `ℓ` measured.
 //!
-//! **Memory per rank**: `A + B n + C n / P`, fitted separately to rank 0's peaks and to the
-//! others' over the runs on several ranks: `B n` is what a rank holds of the whole box (rank 0:
-//! what one process holds of a reference but the slabs; the others: the operators' node
-//! classes), `C n / P` its slabs of the reference and of the check run.
+//! **Memory per rank**: `A + B n + C n / P + D P`, fitted separately to rank 0's peaks and to
+//! the others' over the runs on 2, 3 and 4 ranks: `B n` is what a rank holds of the whole box
+//! (rank 0: what one process holds of a reference but the slabs; the others: the operators'
+//! node classes), `C n / P` its slabs of the reference and of the check run, and `D P` the MPI
+//! library's buffers for its peers (measured here: 17.8 MB before the run on 2 ranks, 21.1 MB
+//! on 3).
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -52,7 +54,7 @@ pub struct Node {
     pub latency: f64,
 }
 
-/// `A + B n + C n / P` bytes.
+/// `A + B n + C n / P + D P` bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MemoryModel {
     /// `A`, bytes.
@@ -61,12 +63,14 @@ pub struct MemoryModel {
     pub per_dof: f64,
     /// `C`, bytes per unknown of the rank's slab.
     pub per_slab_dof: f64,
+    /// `D`, bytes per rank of the run.
+    pub per_rank: f64,
 }
 
 impl MemoryModel {
     /// Bytes for `n` unknowns over `ranks`.
     pub fn bytes(&self, n: f64, ranks: f64) -> f64 {
-        self.fixed + self.per_dof * n + self.per_slab_dof * n / ranks
+        self.fixed + self.per_dof * n + self.per_slab_dof * n / ranks + self.per_rank * ranks
     }
 }
 
@@ -259,23 +263,31 @@ impl CostModel {
             let n = m.dofs as f64;
             for (rank, &peak) in m.peak_bytes.iter().enumerate().filter(|(_, &p)| p > 0) {
                 let into = if rank == 0 { &mut zero } else { &mut other };
-                into.0.push(vec![1.0, n, n / m.ranks as f64]);
+                into.0
+                    .push(vec![1.0, n, n / m.ranks as f64, m.ranks as f64]);
                 into.1.push(peak as f64);
                 into.2.push((m.level, m.ranks, rank));
             }
         }
         let model = |(rows, y, _): &(Vec<Vec<f64>>, Vec<f64>, _), whose: &str| {
             scaled_least_squares(rows, y)
-                .and_then(|v| <[f64; 3]>::try_from(v).ok())
-                .map(|[fixed, per_dof, per_slab_dof]| MemoryModel {
+                .and_then(|v| <[f64; 4]>::try_from(v).ok())
+                .filter(|_| {
+                    let mut ranks: Vec<u64> = rows.iter().map(|r| r[3] as u64).collect();
+                    ranks.sort_unstable();
+                    ranks.dedup();
+                    ranks.len() >= 3
+                })
+                .map(|[fixed, per_dof, per_slab_dof, per_rank]| MemoryModel {
                     fixed,
                     per_dof,
                     per_slab_dof,
+                    per_rank,
                 })
                 .ok_or_else(|| {
                     FitError(format!(
-                        "{} peaks of {whose}; the memory model needs three, from runs on 2 and \
-                         3 ranks",
+                        "{} peaks of {whose}; the memory model needs runs on three numbers of \
+                         ranks (2, 3 and 4)",
                         rows.len()
                     ))
                 })

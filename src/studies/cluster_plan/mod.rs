@@ -1,5 +1,5 @@
 //! The plan of a reference too large for one machine (issue 36): what references computed here
-//! on 1, 2 and 3 ranks cost ([`Measurement`], `signorini reference --measure`), a cost model
+//! on 1 to 4 ranks cost ([`Measurement`], `signorini reference --measure`), a cost model
 //! fitted to them ([`fit`]), and its prediction for a finer reference on `N` nodes of a stated
 //! size (`signorini cluster-plan`, `make cluster-plan`).
 

@@ -24,7 +24,7 @@ pub const PLAN_MD: &str = "cluster-plan.md";
 pub struct Prediction {
     /// Nodes.
     pub nodes: usize,
-    /// Ranks per node: the node's cores, or fewer where their memory does not fit.
+    /// Ranks per node (rank 0's node holds as many as any).
     pub ranks_per_node: usize,
     /// All ranks.
     pub ranks: usize,
@@ -196,49 +196,58 @@ impl Plan {
         ))
     }
 
-    /// The reference (`level`, `dofs` unknowns, `steps` steps) on `nodes` nodes: as many ranks
-    /// per node as cores, fewer while rank 0's node does not hold them, at most one per two
-    /// layers along the axis.
+    /// The reference (`level`, `dofs` unknowns, `steps` steps) on `nodes` nodes: on the number
+    /// of ranks whose step is the shortest (the fewest of those that tie), among those the
+    /// nodes hold (a rank per core at most, rank 0's node within its memory) and the layers
+    /// allow (one per two). Beyond about `ℓ/(L + 1)` ranks rank 0's contact slab bounds the
+    /// step, and more ranks only add to the interconnect's time.
     fn predict(
         model: &CostModel,
         node: &Node,
         (level, dofs, steps, check_dofs): (usize, f64, f64, f64),
         nodes: usize,
     ) -> Prediction {
-        let most_ranks = (level / 2).max(1);
-        let memory = |ranks_per_node: usize| {
-            let ranks = (nodes * ranks_per_node).min(most_ranks) as f64;
-            let rank0 = model.rank0_memory.bytes(dofs, ranks);
-            let rank = model.rank_memory.bytes(dofs, ranks);
-            (rank0, rank, rank0 + (ranks_per_node - 1) as f64 * rank)
+        let nodes = nodes.max(1);
+        let most_ranks = (level / 2).max(1).min(nodes * node.cores.max(1));
+        let memory = |ranks: usize| {
+            let p = ranks as f64;
+            let rank0 = model.rank0_memory.bytes(dofs, p);
+            let rank = model.rank_memory.bytes(dofs, p);
+            (
+                rank0,
+                rank,
+                rank0 + (ranks.div_ceil(nodes) - 1) as f64 * rank,
+            )
         };
-        let ranks_per_node = (1..=node.cores.max(1))
-            .rev()
-            .find(|&r| memory(r).2 <= node.memory_bytes)
+        // The check run's layers give every rank one beyond rank 0's contact slab, or it runs
+        // in one process beside rank 0.
+        let timing = |ranks: usize| {
+            let p = ranks as f64;
+            let slab = model.step_seconds(level, dofs, p);
+            let network = model.network_seconds(node, level, dofs, p);
+            if level / 2 > model.contact_layers + ranks - 1 {
+                let check = model.check_seconds(level, check_dofs, p)
+                    + 0.5 * model.network_seconds(node, level / 2, check_dofs, p);
+                (slab, network, check, true, slab + network + check)
+            } else {
+                let check = model.check_seconds(level, check_dofs, 1.0);
+                (slab, network, check, false, (slab + network).max(check))
+            }
+        };
+        let ranks = (1..=most_ranks)
+            .filter(|&r| memory(r).2 <= node.memory_bytes)
+            .min_by(|&a, &b| timing(a).4.total_cmp(&timing(b).4))
             .unwrap_or(1);
-        let ranks = (nodes * ranks_per_node).min(most_ranks);
-        let (rank0_bytes, rank_bytes, node_bytes) = memory(ranks_per_node);
-        let p = ranks as f64;
-        let slab = model.step_seconds(level, dofs, p);
-        let network = model.network_seconds(node, level, dofs, p);
-        // The check run's layers give every rank one beyond rank 0's contact slab.
-        let check_distributed = level / 2 > model.contact_layers + ranks - 1;
-        let (check, step) = if check_distributed {
-            let check = model.check_seconds(level, check_dofs, p)
-                + 0.5 * model.network_seconds(node, level / 2, check_dofs, p);
-            (check, slab + network + check)
-        } else {
-            let check = model.check_seconds(level, check_dofs, 1.0);
-            (check, (slab + network).max(check))
-        };
+        let (rank0_bytes, rank_bytes, node_bytes) = memory(ranks);
+        let (slab, network, check, check_distributed, step) = timing(ranks);
         Prediction {
             nodes,
-            ranks_per_node,
+            ranks_per_node: ranks.div_ceil(nodes),
             ranks,
             rank0_bytes,
             rank_bytes,
             node_bytes,
-            rank0_layers: model.rank0_layers(level, p),
+            rank0_layers: model.rank0_layers(level, ranks as f64),
             slab_seconds_per_step: slab,
             network_seconds_per_step: network,
             check_seconds_per_step: check,
@@ -261,7 +270,7 @@ impl Plan {
         let mut s = format!(
             "# The {} reference on {} elements across a cluster\n\n\
              Written by `signorini cluster-plan` (`make cluster-plan`) from references computed \
-             here with `signorini reference --measure` on 1, 2 and 3 ranks; the model and its \
+             here with `signorini reference --measure` on 1 to 4 ranks; the model and its \
              terms are in `docs/src/distributed-reference.md`. {:.3e} unknowns, {:.0} steps.\n\n\
              ## The node (stated)\n\n\
              {} cores, {:.0} GiB, interconnect {:.1} GB/s and {:.1} µs.\n\n\
@@ -275,8 +284,8 @@ impl Plan {
              | messages per iteration (2 ranks, rank 0) | {:.2} |\n\
              | bytes per iteration and layer unknown | {:.2} |\n\
              | sums per iteration | {:.2} |\n\
-             | rank 0 memory A + B n + C n/P | {:.0} MiB + {:.1} B n + {:.1} B n/P |\n\
-             | other ranks' memory | {:.0} MiB + {:.1} B n + {:.1} B n/P |\n\n",
+             | rank 0 memory A + B n + C n/P + D P | {:.0} MiB + {:.1} B n + {:.1} B n/P + {:.2} MiB P |\n\
+             | other ranks' memory | {:.0} MiB + {:.1} B n + {:.1} B n/P + {:.2} MiB P |\n\n",
             self.scene,
             self.level,
             self.dofs,
@@ -297,9 +306,11 @@ impl Plan {
             m.rank0_memory.fixed / 1048576.0,
             m.rank0_memory.per_dof,
             m.rank0_memory.per_slab_dof,
+            m.rank0_memory.per_rank / 1048576.0,
             m.rank_memory.fixed / 1048576.0,
             m.rank_memory.per_dof,
             m.rank_memory.per_slab_dof,
+            m.rank_memory.per_rank / 1048576.0,
         );
         s +=
             "## The fit\n\n| level | ranks | measured s/step | model s/step |\n|---|---|---|---|\n";
@@ -317,7 +328,9 @@ impl Plan {
         s += "\n(Fitted to the runs in one process of one thread; the runs on two ranks are set \
               beside it: each of their processes runs the reference's slab and the check run's \
               on one of this machine's two cores.)\n\n\
-              ## The prediction\n\nA step takes rank 0's slab (the slowest: it holds the \
+              ## The prediction\n\nOn each number of nodes, the number of ranks whose step \
+              is the shortest (the fewest of those that tie), among those the nodes' cores and \
+              memory hold. A step takes rank 0's slab (the slowest: it holds the \
               contact slab's layers at least), the interconnect's time, and half a step of the \
               check run distributed over the same ranks (or, where the check's contact slab \
               leaves no layer for some rank, the longer of the reference's step and the check's \
