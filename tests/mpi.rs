@@ -266,25 +266,12 @@ fn a_reference_across_two_mpi_ranks_is_the_one_process_reference() {
             one_bin == whole_bin,
             "{dim}: one rank's projections not bit for bit"
         );
-        for series in [
-            "energy",
-            "total_force",
-            "centre_displacement",
-            "centre_multiplier",
-        ] {
-            let values = |j: &serde_json::Value| -> Vec<f64> {
-                j[series]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|v| v.as_f64().unwrap())
-                    .collect()
-            };
+        for series in HISTORIES {
             assert!(
-                values(&one) == values(&whole),
+                history(&one, series) == history(&whole, series),
                 "{dim}: {series} on one rank"
             );
-            let d = relative(&values(&two), &values(&whole));
+            let d = relative(&history(&two, series), &history(&whole, series));
             assert!(d <= 1e-10, "{dim}: {series} on two ranks: {d:e}");
         }
         assert_eq!(one["check"], whole["check"], "{dim}: one rank's check");
@@ -361,18 +348,8 @@ fn the_check_run_of_a_reference_across_two_mpi_ranks_is_shared_by_them() {
     assert!(said.contains("the check run across 2 ranks"), "{said}");
     let (whole, whole_bin) = read_cache(&whole_dir);
     let (two, two_bin) = read_cache(&two_dir);
-    for series in [
-        "energy",
-        "total_force",
-        "centre_displacement",
-        "centre_multiplier",
-    ] {
-        let values = |j: &serde_json::Value| -> Vec<f64> {
-            (j[series].as_array().unwrap().iter())
-                .map(|v| v.as_f64().unwrap())
-                .collect()
-        };
-        let d = relative(&values(&two), &values(&whole));
+    for series in HISTORIES {
+        let d = relative(&history(&two, series), &history(&whole, series));
         assert!(d <= 1e-10, "{series} on two ranks: {d:e}");
     }
     let distances = |j: &serde_json::Value| -> Vec<f64> {
@@ -386,6 +363,21 @@ fn the_check_run_of_a_reference_across_two_mpi_ranks_is_shared_by_them() {
     let d = relative(&two_bin, &whole_bin);
     assert!(d <= 1e-10, "projections on two ranks: {d:e}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The scalar histories of a cached reference.
+const HISTORIES: [&str; 4] = [
+    "energy",
+    "total_force",
+    "centre_displacement",
+    "centre_multiplier",
+];
+
+/// The history `series` of a cached reference's JSON.
+fn history(json: &serde_json::Value, series: &str) -> Vec<f64> {
+    (json[series].as_array().unwrap().iter())
+        .map(|v| v.as_f64().unwrap())
+        .collect()
 }
 
 /// The JSON and the binary values of the one reference cached in `dir`.

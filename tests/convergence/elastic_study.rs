@@ -232,9 +232,9 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-#[test]
-fn reference_command_says_whether_the_cache_matches() {
-    let cache = temp("reference-cache");
+/// The 2D bar with one level (2) and its reference on 8 elements, written to the temporary
+/// file `name`.
+fn small_2d_scene(name: &str) -> std::path::PathBuf {
     let text =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
             .unwrap()
@@ -242,8 +242,15 @@ fn reference_command_says_whether_the_cache_matches() {
                 "[10, 20, 40, 80], \"reference_level\": 640",
                 "[2], \"reference_level\": 8",
             );
-    let scene = temp("small-2d.json");
+    let scene = temp(name);
     std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+#[test]
+fn reference_command_says_whether_the_cache_matches() {
+    let cache = temp("reference-cache");
+    let scene = small_2d_scene("small-2d.json");
     let args = [
         "reference",
         scene.to_str().unwrap(),
@@ -265,15 +272,7 @@ fn reference_command_says_whether_the_cache_matches() {
 fn reference_measure_writes_what_it_cost_and_refuses_what_it_cannot_measure() {
     use signorini::studies::cluster_plan::Measurement;
     let (cache, measure) = (temp("measure-cache"), temp("measure.json"));
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bar2d.json"))
-            .unwrap()
-            .replace(
-                "[10, 20, 40, 80], \"reference_level\": 640",
-                "[2], \"reference_level\": 8",
-            );
-    let scene = temp("measure-2d.json");
-    std::fs::write(&scene, text).unwrap();
+    let scene = small_2d_scene("measure-2d.json");
     let (scene_arg, cache_arg, measure_arg) = (
         scene.to_str().unwrap(),
         cache.to_str().unwrap(),

@@ -408,7 +408,7 @@ impl BoxMesh {
 
     /// Number of nodes `Π (n_k + 1)`, Dirichlet nodes included.
     pub fn n_nodes(&self) -> usize {
-        self.counts.iter().map(|n| n + 1).product()
+        self.nodes_per_axis().iter().product()
     }
 
     /// The nodes off `Γ_Dir`, which carry the dofs: those below the last layer along the
@@ -468,11 +468,16 @@ impl BoxMesh {
     /// The grid index `(i₁, …, i_d)` of a node (`i_k ∈ 0..=n_k`; the unused third entry is 0
     /// in 2D).
     pub fn node_index(&self, node: usize) -> [usize; 3] {
+        unflatten(node, &self.nodes_per_axis()[..self.dim])
+    }
+
+    /// Nodes per axis, `n_k + 1` (1 on an unused third axis).
+    fn nodes_per_axis(&self) -> [usize; 3] {
         let mut per_axis = [1; 3];
         for (p, n) in per_axis.iter_mut().zip(&self.counts) {
             *p = n + 1;
         }
-        unflatten(node, &per_axis[..self.dim])
+        per_axis
     }
 
     /// The node indices of every element ([`BoxMesh::element`]), in the elements' order.
@@ -484,7 +489,7 @@ impl BoxMesh {
     /// local order: local dof `a·d + c` is component `c` of the `a`-th node listed): the
     /// element's lowest grid corner shifted by each corner of the reference element.
     pub fn element(&self, e: usize) -> ElementNodes {
-        let per_axis: Vec<usize> = self.counts.iter().map(|n| n + 1).collect();
+        let per_axis = self.nodes_per_axis();
         let base = unflatten(e, &self.counts);
         let corners: &[[f64; 3]] = if self.dim == 2 {
             &[
@@ -502,7 +507,7 @@ impl BoxMesh {
             for k in 0..self.dim {
                 index[k] = base[k] + usize::from(s[k] > 0.0);
             }
-            *node = flatten(&index[..self.dim], &per_axis);
+            *node = flatten(&index[..self.dim], &per_axis[..self.dim]);
         }
         ElementNodes {
             nodes,

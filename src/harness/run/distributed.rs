@@ -325,11 +325,14 @@ pub fn distributed_run<'r>(
     })
 }
 
-/// The distributed run of `problem` with `config`, observed by `observers`, that every rank
-/// steps together ([`DistributedRun::step_together`]) from a loop of its own, the same on every
-/// rank (a reference's check run, stepped by the reference's steps): rank 0 computes the start
-/// (its model and mesh as [`follow_run`]'s, with the initial values), and no rank waits for
-/// rank 0's word at a step or its end.
+/// This rank's share of the distributed run of `problem` with `config`, observed by
+/// `observers`, outside rank 0's time loop: the same model, scheme and `Δt` as that loop's
+/// ([`super::drive_by`]), rank 0 computing the start with the initial values. Nothing of the
+/// whole box's size is built on the other ranks: the model is matrix-free, the mesh is its
+/// counts, and rank 0 sends each rank its part of the start. Every rank steps it together
+/// ([`DistributedRun::step_together`]: a reference's check run, stepped by the reference's
+/// steps), or a rank other than 0 follows rank 0's loop with it ([`follow_run`]); its drop
+/// tells no rank anything.
 pub fn lockstep_run<'r>(
     problem: &BoxProblem,
     config: &RunConfig,
@@ -351,25 +354,13 @@ pub fn lockstep_run<'r>(
 }
 
 /// A rank other than 0 of the distributed run of `problem` with `config`, observed by
-/// `observers`: the same model, scheme and `Δt` as rank 0's time loop ([`super::drive_by`]),
-/// then its steps as rank 0 says ([`follow`]). It builds nothing of the whole box's size: the
-/// model is matrix-free, the mesh is its counts, and rank 0 sends this rank its part of the
-/// start.
+/// `observers`: its share of the run ([`lockstep_run`]), then its steps as rank 0 says
+/// ([`follow`]).
 pub fn follow_run<'r>(
     problem: &BoxProblem,
     config: &RunConfig,
     (ranks, observers): (&'r dyn Ranks, &'r SlabObservers<'r>),
 ) -> Result<(), Error> {
-    let (mesh, model) = problem.model(config.nx, config.mass, &config.settings)?;
-    let scheme = config.scheme.validate()?;
-    let (_, dt) = time_grid(problem.horizon, mesh.axial_element_size(), config.ratio);
-    let mut run = DistributedRun::new(
-        (ranks, observers),
-        &model,
-        (scheme, dt),
-        None,
-        &config.settings.conventions,
-    )?;
-    drop(model);
+    let mut run = lockstep_run(problem, config, (ranks, observers))?;
     Ok(follow(&mut run)?)
 }

@@ -327,18 +327,11 @@ impl Reference {
         ranks: Option<&dyn Ranks>,
     ) -> Result<Self, Error> {
         let clock = Instant::now();
-        let distributed = ranks.map(|_| distributed_settings(settings)).transpose()?;
-        let settings = distributed.as_ref().unwrap_or(settings);
-        let scheme: Scheme = key.scheme.parse()?;
-        let mass: MassVariant = key.mass.parse()?;
-        let config = RunConfig {
-            nx: key.n_axis,
-            ratio: key.ratio,
-            scheme,
-            mass,
-            observables: Observables::default(),
-            settings: *settings,
+        let settings = match ranks {
+            Some(_) => distributed_settings(settings)?,
+            None => *settings,
         };
+        let config = fine_config(&key, settings)?;
         let every = key.sample_every.max(1);
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
@@ -399,11 +392,7 @@ impl Reference {
                 &format!("reference on {} elements", key.n_axis),
                 problem.horizon,
             );
-            let mut slab_observers: Vec<&RefCell<dyn SlabObserver>> = vec![&recorder];
-            if let Some(lockstep) = &lockstep {
-                slab_observers.push(lockstep);
-            }
-            slab_observers.push(&comparison);
+            let slab_observers = fine_observers(&recorder, lockstep.as_ref(), &comparison);
             let run = match ranks {
                 None => run_box(
                     problem,
@@ -727,14 +716,7 @@ impl Reference {
         if ranks.sum(0.0) == 0.0 {
             return Ok(());
         }
-        let config = RunConfig {
-            nx: key.n_axis,
-            ratio: key.ratio,
-            scheme: key.scheme.parse()?,
-            mass: key.mass.parse()?,
-            observables: Observables::default(),
-            settings: distributed_settings(settings)?,
-        };
+        let config = fine_config(key, distributed_settings(settings)?)?;
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
         let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
@@ -764,11 +746,7 @@ impl Reference {
         ));
         let gather_observers: [&RefCell<dyn SlabObserver>; 1] = [&gather];
         let lockstep = lockstep_check(problem, &check_config, (ranks, &gather_observers, &gather))?;
-        let mut slab_observers: Vec<&RefCell<dyn SlabObserver>> = vec![&recorder];
-        if let Some(lockstep) = &lockstep {
-            slab_observers.push(lockstep);
-        }
-        slab_observers.push(&comparison);
+        let slab_observers = fine_observers(&recorder, lockstep.as_ref(), &comparison);
         follow_run(problem, &config, (ranks, &slab_observers))?;
         match lockstep {
             Some(lockstep) => lockstep
@@ -779,6 +757,34 @@ impl Reference {
             None => Ok(()),
         }
     }
+}
+
+/// The reference run's configuration of `key`, solved with `settings`.
+fn fine_config(key: &ReferenceKey, settings: Settings) -> Result<RunConfig, Error> {
+    Ok(RunConfig {
+        nx: key.n_axis,
+        ratio: key.ratio,
+        scheme: key.scheme.parse()?,
+        mass: key.mass.parse()?,
+        observables: Observables::default(),
+        settings,
+    })
+}
+
+/// A distributed reference's slab observers on every rank, in their order: the projections,
+/// the check run's steps when it is stepped by the reference's (before the comparison that
+/// reads their samples), and the comparison.
+fn fine_observers<'o, 'a: 'o, 'b: 'o, 'c: 'o>(
+    recorder: &'o RefCell<ProjectionRecorder<'a>>,
+    lockstep: Option<&'o RefCell<LockstepCheck<'b>>>,
+    comparison: &'o RefCell<CheckComparison<'c>>,
+) -> Vec<&'o RefCell<dyn SlabObserver + 'o>> {
+    let mut observers: Vec<&'o RefCell<dyn SlabObserver + 'o>> = vec![recorder];
+    if let Some(lockstep) = lockstep {
+        observers.push(lockstep);
+    }
+    observers.push(comparison);
+    observers
 }
 
 /// Every rank's check run (`config`) beside a distributed reference on `ranks`, observed by
