@@ -26,10 +26,18 @@ use std::path::Path;
 const LAYERS: [&str; 4] = ["engine", "harness", "studies", "commands"];
 
 /// The parts of the harness, bottom to top: a part imports only the parts before it. The
-/// engine's vocabulary and the files first, then a run, the studies of runs, their rendering,
+/// engine's vocabulary and the files first, then a run, the studies of runs, the references they
+/// measure runs against, their rendering,
 /// and the two witnesses that use all of these, another code's runs and GetFEM's demo.
-const HARNESS_PARTS: [&str; 7] = [
-    "problem", "files", "run", "study", "render", "external", "getfem",
+const HARNESS_PARTS: [&str; 8] = [
+    "problem",
+    "files",
+    "run",
+    "study",
+    "reference",
+    "render",
+    "external",
+    "getfem",
 ];
 
 /// Pairs (layer, lower layer): the layer imports nothing under the lower layer directly, only

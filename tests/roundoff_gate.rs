@@ -10,10 +10,11 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::conventions::PredictorForm;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::problem::Settings;
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::Problem1d;
 use signorini::harness::study::golden::{compare, compare_ensemble, read_golden, render_drifts};
-use signorini::harness::study::{run_study, Case, StudyConfig};
+use signorini::harness::study::{Case, StudyConfig};
 use signorini::studies::benchmark;
 use signorini::studies::tables::{tables_sensitivity_under, GOLDEN_TABLES};
 

@@ -13,6 +13,7 @@
 //! | [`files`] | reading and writing any file, output directories whole or absent, the harness's [`files::error::Error`] |
 //! | [`run`] | one run of a bar or a box: the loop, its observers, norms, results and files; box runs compared across nested meshes |
 //! | [`study`] | runs over cases × levels: jobs and their executor, sharding, fits, round-off ensembles, the regression gate, scenes, budgets |
+//! | [`reference`] | what a study measures a case at a level against: a bar's exact solution, a box's fine-mesh reference (its run, cache, comparison, ensembles and check) |
 //! | [`render`] | markdown tables and SVG figures of what the parts below computed |
 //! | [`external`] | another code's runs, verified through the harness's observers, fits, tables and gate |
 //! | [`getfem`] | GetFEM's 1D demo as a witness: its runs read, its norms and energy computed its way |
@@ -21,6 +22,7 @@ pub mod external;
 pub mod files;
 pub mod getfem;
 pub mod problem;
+pub mod reference;
 pub mod render;
 pub mod run;
 pub mod study;

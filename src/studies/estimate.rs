@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d};
+use crate::harness::reference::fine_mesh::ElasticStudyConfig;
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::Executor;
 use crate::harness::study::scene::Scene;
@@ -14,7 +15,6 @@ use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::{Case, StudyConfig};
 use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::gate::ELASTIC_2D_SCENE;
-use crate::studies::elastic_study::ElasticStudyConfig;
 use crate::studies::experiment::EXPERIMENT_HORIZONS;
 use crate::studies::extended::{extended_cases, extended_config, extended_problem, TREATMENTS};
 use crate::studies::gravity::GRAVITY_SCENE;

@@ -8,10 +8,11 @@ use std::path::Path;
 
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
+use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Batch;
 use crate::harness::study::rates::fit_rate;
-use crate::harness::study::{Case, CaseStudy, Study, StudyConfig, StudyJobs};
+use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 
 /// The experiment's markdown, under a reports directory.
@@ -85,7 +86,7 @@ pub fn defaults_experiment(
     let jobs = problems
         .iter()
         .zip(&configs)
-        .map(|(problem, config)| StudyJobs::new(problem, &cases, &norms, config))
+        .map(|(problem, config)| ExactSolution::jobs(problem, &cases, &norms, config))
         .collect::<Result<Vec<_>, _>>()?;
     let runs = jobs
         .iter()

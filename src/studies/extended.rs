@@ -15,6 +15,7 @@ use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
+use crate::harness::reference::exact::{run_study, ExactSolution};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::executor::Batch;
@@ -23,7 +24,7 @@ use crate::harness::study::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, SensitivityJobs, Spread,
 };
 use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
-use crate::harness::study::{run_study, Case, CaseStudy, Study, StudyConfig, StudyJobs};
+use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 
 /// The golden file of the extended table, relative to the repository root.
@@ -623,7 +624,7 @@ pub fn extended_studies_in(
         .collect::<Result<Vec<_>, _>>()?;
     let studies = problems
         .iter()
-        .map(|p| StudyJobs::new(p, &cases, &norms, &config))
+        .map(|p| ExactSolution::jobs(p, &cases, &norms, &config))
         .collect::<Result<Vec<_>, _>>()?;
     let ensembles = problems
         .iter()

@@ -9,6 +9,7 @@ use std::path::Path;
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
+use crate::harness::reference::exact::{run_study, ExactSolution};
 use crate::harness::render::report::convergence_tables;
 use crate::harness::run::run_files::{points_csv, strain_csv, strain_csv_name};
 use crate::harness::run::{run, BarRun, RunConfig};
@@ -17,7 +18,7 @@ use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::{
     class_table, rate_ranges, run_sensitivity, EnsembleConfig, Sensitivity, SensitivityJobs,
 };
-use crate::harness::study::{run_study, Case, Study, StudyJobs};
+use crate::harness::study::{Case, Study};
 use crate::studies::benchmark::bar_scene;
 
 /// The golden file of the gravity benchmark's study, relative to the repository root.
@@ -121,7 +122,7 @@ pub fn gravity_benchmark(
     let cases = gravity_cases(&scene);
     let config = scene.study_config();
     let norms = &scene.observables.norms;
-    let study = StudyJobs::new(&problem, &cases, norms, &config)?;
+    let study = ExactSolution::jobs(&problem, &cases, norms, &config)?;
     let ensembles =
         SensitivityJobs::new(&problem, &cases, norms, &config, EnsembleConfig::default())?;
     let figure_run = |case: &Case| {

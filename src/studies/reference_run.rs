@@ -8,6 +8,9 @@ use std::time::Instant;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
+use crate::harness::reference::fine_mesh::cache::{self, ReferenceCache};
+use crate::harness::reference::fine_mesh::fine_run::{FineReference, FineRunCost};
+use crate::harness::reference::fine_mesh::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::harness::run::distributed::Ranks;
 use crate::harness::study::budget::{self, human_bytes, Estimate, Limits};
 use crate::harness::study::executor::{Executor, Jobs};
@@ -15,8 +18,6 @@ use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
 use crate::studies::cluster_plan::Measurement;
-use crate::studies::elastic_study::reference::{FineRunCost, Reference, ReferenceCache};
-use crate::studies::elastic_study::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::studies::outputs::{complete_or_write, shard_output, CommandError, Received};
 
 /// The references `make report` keeps, relative to the repository root.
@@ -68,7 +69,7 @@ pub struct ReferenceRequest<'a> {
 ///
 /// With ranks, every rank runs this with the same request: the scenes in turn (no shard),
 /// rank 0 obtaining each reference as one process does, the others sharing its fine run's
-/// steps when it computes one ([`Reference::follow`]); they return an empty line.
+/// steps when it computes one ([`FineReference::follow`]); they return an empty line.
 pub fn references(
     request: ReferenceRequest<'_>,
     executor: &Executor,
@@ -211,7 +212,7 @@ fn measured(
         ));
     }
     let key = reference_key(&job.problem, &job.config)?;
-    if Reference::cache_paths(cache, &key.stem()).0.exists() {
+    if cache::cache_paths(cache, &key.stem()).0.exists() {
         return Err(CommandError::Refused(format!(
             "--measure: the reference of {} is in --cache {} already, and reading it measures \
              nothing; give an empty --cache",
@@ -221,7 +222,7 @@ fn measured(
     }
     let reference = match ranks {
         Some(r) if r.rank() > 0 => {
-            Reference::follow(&job.problem, &job.config.settings, &key, r)?;
+            FineReference::follow(&job.problem, &job.config.settings, &key, r)?;
             None
         }
         _ => Some(obtain_and_report(job, (cache, ranks), say)?),
@@ -255,7 +256,7 @@ fn on_ranks(
             obtain_and_report(job, (cache, Some(ranks)), say)?;
         } else {
             let key = reference_key(&job.problem, &job.config)?;
-            Reference::follow(&job.problem, &job.config.settings, &key, ranks)?;
+            FineReference::follow(&job.problem, &job.config.settings, &key, ranks)?;
         }
     }
     Ok(if ranks.rank() == 0 {
@@ -275,7 +276,7 @@ fn obtain_and_report(
     job: &ReferenceJob,
     (cache, ranks): (&Path, Option<&dyn Ranks>),
     say: &(dyn Fn(&str) + Sync),
-) -> Result<Reference, Error> {
+) -> Result<FineReference, Error> {
     let clock = Instant::now();
     let store = ReferenceCache::ReadWrite(cache.to_path_buf());
     let reference = obtain_reference(
@@ -286,7 +287,7 @@ fn obtain_and_report(
         &|| Ok(()),
     )?;
     let seconds = clock.elapsed().as_secs_f64();
-    let (json, bin) = Reference::cache_paths(cache, &reference.histories.key.stem());
+    let (json, bin) = cache::cache_paths(cache, &reference.histories.key.stem());
     let how = match reference.cost {
         Some(FineRunCost {
             timings: t,

@@ -11,10 +11,11 @@ use std::path::Path;
 use crate::harness::files::artifacts::read_json;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
+use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Batch;
 use crate::harness::study::sensitivity::{EnsembleConfig, Sensitivity, SensitivityJobs};
-use crate::harness::study::{Case, Study, StudyConfig, StudyJobs};
+use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
 use crate::studies::histories::{write_histories, HistoryJobs, SchemeHistories, HISTORY_LEVELS};
@@ -57,11 +58,11 @@ pub fn tables_report(root: &Path, batch: &mut Batch<'_>) -> Result<Option<Tables
     let longer_problem = dirichlet(root, LONGER_HORIZON)?;
     let implicit_config = implicit_start(&config);
     let implicit_cases = massless_contact(cases.iter().copied());
-    let study = StudyJobs::new(&problem, &cases, &norms, &config)?;
+    let study = ExactSolution::jobs(&problem, &cases, &norms, &config)?;
     let ensembles =
         SensitivityJobs::new(&problem, &cases, &norms, &config, EnsembleConfig::default())?;
-    let longer = StudyJobs::new(&longer_problem, &cases, &norms, &longer_config)?;
-    let implicit = StudyJobs::new(&problem, &implicit_cases, &norms, &implicit_config)?;
+    let longer = ExactSolution::jobs(&longer_problem, &cases, &norms, &longer_config)?;
+    let implicit = ExactSolution::jobs(&problem, &implicit_cases, &norms, &implicit_config)?;
     let histories = HistoryJobs::new(root, &HISTORY_LEVELS)?;
     let ran = (
         batch.execute(&study.list())?,

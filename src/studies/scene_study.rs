@@ -13,17 +13,17 @@ use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
     Scheme, Settings, Start,
 };
+use crate::harness::reference::exact::ExactSolution;
+use crate::harness::reference::fine_mesh::cache::ReferenceCache;
+use crate::harness::reference::fine_mesh::{ElasticHistories, ElasticStudyConfig};
 use crate::harness::render::report::convergence_tables;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::Scene;
-use crate::harness::study::{run_study_on, Case, Study, StudyConfig, StudyJobs};
+use crate::harness::study::{run_study_on, Case, Study, StudyConfig};
 use crate::studies::elastic_study::files::write_elastic_files;
-use crate::studies::elastic_study::reference::ReferenceCache;
-use crate::studies::elastic_study::{
-    report, run_elastic_study_on, ElasticHistories, ElasticStudy, ElasticStudyConfig,
-};
+use crate::studies::elastic_study::{report, run_elastic_study_on, ElasticStudy};
 
 /// What a user chooses over a scene's study; each empty list or `None` keeps the scene's.
 #[derive(Debug, Clone, Default)]
@@ -279,7 +279,7 @@ impl SceneStudy {
                 norms,
                 config,
             } => {
-                let jobs = StudyJobs::new(problem, cases, norms, config)?;
+                let jobs = ExactSolution::jobs(problem, cases, norms, config)?;
                 run_study_on(executor, &jobs)?.reduce(|(study, _)| {
                     Ok(StudyOutcome::Bar {
                         scene: scene.clone(),

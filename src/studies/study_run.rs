@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::MassVariant;
+use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::study::budget::{self, Limits};
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::executor::Executor;
@@ -17,7 +18,6 @@ use crate::harness::study::sensitivity::{run_sensitivity_on, EnsembleConfig};
 use crate::harness::study::shard::Invocation;
 use crate::harness::study::Case;
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
-use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::elastic_study::rejudge;
 use crate::studies::outputs::{
     complete_or_write, shard_output, CommandError, Destination, Received,

@@ -14,13 +14,13 @@ use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::Problem;
+use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
 use crate::studies::elastic_study::external::{
     render as render_box, verify_box, BoxVerification, BoxVerifyRequest,
 };
-use crate::studies::elastic_study::reference::ReferenceCache;
 use crate::studies::outputs::CommandError;
 use crate::studies::reference_run::REPORT_REFERENCES;
 

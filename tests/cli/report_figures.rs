@@ -7,13 +7,14 @@ use std::path::Path;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::render::figures::FigureError;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
 use signorini::harness::study::sensitivity::{
     CaseSensitivity, EnsembleConfig, Sensitivity, SensitivityClass, Spread, STEP_EPSILON,
 };
-use signorini::harness::study::{run_study, Case, Study, StudyConfig};
+use signorini::harness::study::{Case, Study, StudyConfig};
 use signorini::studies::benchmark;
 use signorini::studies::figures::convergence::convergence_figures;
 use signorini::studies::figures::from_reports::{scheme_figures, stability_figures, write_figures};

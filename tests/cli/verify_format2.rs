@@ -19,8 +19,9 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Problem1d, Settings};
 use signorini::engine::schemes::conventions::{Conventions, Start};
 use signorini::engine::schemes::Scheme;
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::run::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
-use signorini::harness::study::{run_study, Case, StudyConfig};
+use signorini::harness::study::{Case, StudyConfig};
 use signorini::studies::benchmark;
 
 /// The levels of every series here, at the Dirichlet scene's Δx/Δt = 10.

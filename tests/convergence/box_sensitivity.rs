@@ -9,15 +9,16 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Scheme, TimeIntegrator};
 use signorini::harness::files::error::Error;
+use signorini::harness::reference::fine_mesh::cache::ReferenceCache;
+use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
 use signorini::harness::run::elastic::{box_mesh, initial_dofs, BoxProblem};
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, RunConfig};
 use signorini::harness::study::scene::{Scene, SceneError};
 use signorini::harness::study::sensitivity::{EnsembleConfig, SensitivityClass};
 use signorini::harness::study::Case;
-use signorini::studies::elastic_study::reference::ReferenceCache;
 use signorini::studies::elastic_study::report::render;
-use signorini::studies::elastic_study::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
+use signorini::studies::elastic_study::{run_elastic_study, ElasticStudy};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

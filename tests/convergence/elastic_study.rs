@@ -457,9 +457,10 @@ fn work_precision_is_rendered_from_the_studies_data_alone() {
 fn cg_studies_have_the_errors_and_rates_of_direct_ones_to_1e_8() {
     use signorini::engine::linalg::LinearSolver;
     use signorini::engine::problem::Problem;
+    use signorini::harness::reference::fine_mesh::cache::ReferenceCache;
+    use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
     use signorini::harness::study::scene::Scene;
-    use signorini::studies::elastic_study::reference::ReferenceCache;
-    use signorini::studies::elastic_study::{run_elastic_study, ElasticStudyConfig};
+    use signorini::studies::elastic_study::run_elastic_study;
 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = Scene::load(&root.join("scenes/bar2d.json")).unwrap();

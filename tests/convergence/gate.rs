@@ -6,12 +6,13 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use signorini::engine::schemes::Scheme;
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::study::golden::{
     compare, gate, read_golden, render_drifts, Golden, Tolerances,
 };
 use signorini::harness::study::sensitivity::{Sensitivity, SensitivityClass};
-use signorini::harness::study::{run_study, Case, Study, StudyConfig};
+use signorini::harness::study::{Case, Study, StudyConfig};
 use signorini::studies::extended::{
     extended_sensitivity, extended_studies, read_extended_golden, GOLDEN_EXTENDED, TREATMENTS,
 };

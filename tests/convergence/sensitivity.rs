@@ -165,7 +165,7 @@ fn the_tables_mark_a_chaotic_case_with_its_ensemble_range() {
     use signorini::studies::tables::paper::PaperTables;
     let s = small_sensitivity();
     let cases = crank_nicolson_cases();
-    let study = signorini::harness::study::run_study(
+    let study = signorini::harness::reference::exact::run_study(
         &benchmarks::dirichlet(3.0),
         &cases,
         &[Norm::DisplacementLinfH, Norm::EnergyL2].into(),

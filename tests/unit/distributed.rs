@@ -263,7 +263,7 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
 }
 
 /// The 3D bar's reference on 40 elements (projected on levels 10 and 20) computed by rank 0
-/// of `N` thread ranks ([`Reference::obtain`] with the ranks, the others following) against
+/// of `N` thread ranks ([`FineReference::obtain`] with the ranks, the others following) against
 /// the one-process reference: every history, check distance and projection bit for bit on one
 /// rank, to 1e-10 of its scale on 2 and 3. Its check run on 20 elements cannot be cut (its
 /// contact slab takes every layer), so on 2 and 3 ranks it runs in one process beside rank 0.
@@ -290,9 +290,10 @@ fn reference_on_ranks_against_one_process(
     cases: &[(usize, usize)],
 ) {
     use signorini::engine::linalg::LinearSolver;
+    use signorini::harness::reference::fine_mesh::cache::ReferenceCache;
+    use signorini::harness::reference::fine_mesh::fine_run::FineReference;
+    use signorini::harness::reference::fine_mesh::{reference_key, ElasticStudyConfig};
     use signorini::harness::study::scene::Scene;
-    use signorini::studies::elastic_study::reference::{Reference, ReferenceCache};
-    use signorini::studies::elastic_study::{reference_key, ElasticStudyConfig};
 
     let scene = Scene::load(std::path::Path::new("scenes/bar3d.json")).unwrap();
     let problem = scene.box_problem("a box").unwrap();
@@ -301,17 +302,17 @@ fn reference_on_ranks_against_one_process(
     config.settings.linear_solver = LinearSolver::Cg;
     let key = reference_key(&problem, &config).unwrap();
     let settings = config.settings;
-    let whole = Reference::compute(&problem, &settings, key.clone(), None).unwrap();
+    let whole = FineReference::compute(&problem, &settings, key.clone(), None).unwrap();
     let empty = std::env::temp_dir().join(format!("signorini-no-cache-{}", std::process::id()));
     for &(ranks, check_ranks) in cases {
         let computed = ThreadRanks::run(ranks, |r| {
             if r.rank() > 0 {
-                Reference::follow(&problem, &settings, &key, r).unwrap();
+                FineReference::follow(&problem, &settings, &key, r).unwrap();
                 return None;
             }
             let cache = ReferenceCache::ReadOnly(empty.clone());
             Some(
-                Reference::obtain(
+                FineReference::obtain(
                     &problem,
                     &settings,
                     (&cache, key.clone()),
@@ -431,11 +432,11 @@ fn a_solve_on_two_ranks_exchanges_what_the_cost_model_charges() {
 #[test]
 fn a_reference_whose_rank_does_not_fit_its_machine_is_refused_on_every_rank() {
     use signorini::engine::linalg::LinearSolver;
+    use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
     use signorini::harness::study::budget::{reference_rank, Limits};
     use signorini::harness::study::executor::Executor;
     use signorini::harness::study::scene::Scene;
     use signorini::harness::study::shard::Invocation;
-    use signorini::studies::elastic_study::ElasticStudyConfig;
     use signorini::studies::reference_run::{references, ReferenceRequest};
 
     let path = std::path::PathBuf::from("scenes/bar3d.json");

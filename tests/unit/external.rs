@@ -12,9 +12,10 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::external::load::load;
 use signorini::harness::external::{compare, verify, ExternalError, VerifyGolden};
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::study::scene::Scene;
-use signorini::harness::study::{run_study, Case, StudyConfig};
+use signorini::harness::study::{Case, StudyConfig};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-ext-{}-{name}", std::process::id()));

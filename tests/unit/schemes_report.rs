@@ -7,10 +7,11 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use signorini::engine::fem::MassVariant;
+use signorini::harness::reference::exact::run_study;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::study::decision::Verdict as Decided;
 use signorini::harness::study::sensitivity::{run_sensitivity, EnsembleConfig};
-use signorini::harness::study::{run_study, Case, StudyConfig};
+use signorini::harness::study::{Case, StudyConfig};
 use signorini::studies::schemes::render;
 use signorini::studies::stability::{hard_cases, judge};
 

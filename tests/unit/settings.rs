@@ -8,8 +8,8 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::linalg::LinearSolver;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Conventions, Scheme};
+use signorini::harness::reference::fine_mesh::cache::ReferenceKey;
 use signorini::harness::study::scene::Scene;
-use signorini::studies::elastic_study::reference::ReferenceKey;
 
 #[test]
 fn a_round_off_amplitude_that_is_not_finite_and_non_negative_is_refused_by_name() {

@@ -7,7 +7,7 @@
 //!
 //! | module | its face |
 //! |---|---|
-//! | this file | [`Case`], [`StudyConfig`], [`run_study_on`] (the study of any geometry: [`StudyJobs`] measured by a [`LevelMeasure`], [`AgainstExact`] for a bar), [`run_study`] (a bar's, here), [`LevelOutcome`], [`Study::assemble`], [`CaseStudy`], [`NormRates`], [`fit_norm_rates`]; the case × level jobs [`CaseLevels`], [`by_case`] |
+//! | this file | [`Case`], [`StudyConfig`], [`run_study_on`] (the study of any geometry: [`StudyJobs`] measured by a [`LevelMeasure`], which [`crate::harness::reference`] implements), [`LevelOutcome`], [`Study::assemble`], [`CaseStudy`], [`NormRates`], [`fit_norm_rates`]; the case × level jobs [`CaseLevels`], [`by_case`] |
 //! | [`executor`] | [`executor::JobList`], [`executor::Executor`] (local, a shard's share, a merge of the shards) and [`executor::Executed`] |
 //! | [`shard`] | `--shard K/N` and `merge`: [`shard::ShardSpec`], [`shard::ShardFile`], [`shard::merge`], [`shard::codec`], [`shard::InRange`] |
 //! | [`rates`] | [`rates::fit_rate`], [`rates::RateFit`], [`rates::observed_orders`] |
@@ -43,8 +43,8 @@ use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus, Timings};
-use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
+use crate::harness::run::{BarRun, RunStatus, Timings};
+use crate::harness::study::executor::{Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, positive};
 use crate::harness::study::shard::InRange;
@@ -369,19 +369,6 @@ impl Study {
     }
 }
 
-/// Runs every case of a bar at every level (in parallel over case × level, largest levels
-/// first) and fits the rates of every norm in `norms`. Only those norms are evaluated.
-pub fn run_study(
-    problem: &Problem1d,
-    cases: &[Case],
-    norms: &BTreeSet<Norm>,
-    config: &StudyConfig,
-) -> Result<Study, Error> {
-    let jobs = StudyJobs::new(problem, cases, norms, config)?;
-    let ran = run_local(&jobs.list())?;
-    Ok(jobs.reduce(ran, cases))
-}
-
 /// A study of any geometry against its reference: its case × level jobs handed to `executor`,
 /// each measured by `jobs`' [`LevelMeasure`], then fitted ([`Study::assemble`]). What the
 /// study, or a shard's share of its jobs, gives back: the study and what each case it fitted
@@ -399,8 +386,8 @@ pub fn run_study_on<M: LevelMeasure>(
 pub type Fitted<K> = (Study, Vec<(Case, Vec<K>)>);
 
 /// How a study measures one case at one level against its reference: a bar's run against its
-/// exact solution ([`AgainstExact`]), a box's run against a fine-mesh reference
-/// (`crate::studies::elastic_study`).
+/// exact solution ([`crate::harness::reference::exact::ExactSolution`]), a box's run against a
+/// fine-mesh reference ([`crate::harness::reference::fine_mesh`]).
 pub trait LevelMeasure: Sync {
     /// What a job keeps besides its outcome, for the study's own use (nothing for a bar; a
     /// box's histories and round-off ensemble).
@@ -436,63 +423,14 @@ impl<K: InRange> InRange for Measured<K> {
     }
 }
 
-/// A bar's runs against its exact solution: the run's own error observers measure the
-/// requested norms while it steps.
-pub struct AgainstExact<'a> {
-    problem: &'a Problem1d,
-    ratio: f64,
-    settings: Settings,
-    observables: Observables,
-}
-
-impl LevelMeasure for AgainstExact<'_> {
-    type Kept = ();
-
-    fn measure(&self, case: Case, level: usize) -> Result<Measured<()>, Error> {
-        let config = RunConfig {
-            nx: level,
-            ratio: self.ratio,
-            scheme: case.scheme,
-            mass: case.mass,
-            observables: self.observables.clone(),
-            settings: self.settings,
-        };
-        let outcome = LevelOutcome::of_bar_run(run(self.problem, &config, &mut [])?);
-        Ok(Measured { outcome, kept: () })
-    }
-}
-
 /// A study as its jobs (one per case × level, [`StudyJobs::list`], each measured by `M`) and
 /// its reduce step ([`StudyJobs::reduce`]), for [`run_study_on`] or a command that hands
 /// several lists to one executor ([`crate::harness::study::executor::Batch`]).
-pub struct StudyJobs<'a, M = AgainstExact<'a>> {
+pub struct StudyJobs<'a, M> {
     measure: M,
     cases: &'a [Case],
     norms: Vec<Norm>,
     config: &'a StudyConfig,
-}
-
-impl<'a> StudyJobs<'a> {
-    /// The study of `cases` of the bar `problem` at the levels of `config` against its exact
-    /// solution, evaluating `norms`; its configuration checked.
-    pub fn new(
-        problem: &'a Problem1d,
-        cases: &'a [Case],
-        norms: &BTreeSet<Norm>,
-        config: &'a StudyConfig,
-    ) -> Result<Self, Error> {
-        config.validate()?;
-        let measure = AgainstExact {
-            problem,
-            ratio: config.ratio,
-            settings: config.settings,
-            observables: Observables {
-                norms: norms.clone(),
-                ..Observables::default()
-            },
-        };
-        Ok(Self::measured_by(measure, cases, norms, config))
-    }
 }
 
 impl<'a, M: LevelMeasure> StudyJobs<'a, M> {

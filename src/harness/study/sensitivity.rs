@@ -230,7 +230,7 @@ impl Spread {
 }
 
 /// How one member's contact-node displacement parts from the unperturbed run's (the box
-/// ensembles of `crate::studies::elastic_study::sensitivity` measure it on the centre contact node).
+/// ensembles of `crate::harness::reference::fine_mesh::ensemble` measure it on the centre contact node).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Separation {
     /// The first step at which `|u_m(0, t_n) − u(0, t_n)| > PARTING`.

@@ -8,9 +8,9 @@ use serde::{Deserialize, Serialize};
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::{self, Limit};
+use crate::harness::reference::fine_mesh::fine_run::FineReference;
 use crate::harness::run::distributed::{Ranks, Traffic};
 use crate::harness::study::budget::peak_resident_bytes;
-use crate::studies::elastic_study::reference::Reference;
 
 /// The `format` of a measurement file.
 pub const MEASUREMENT_FORMAT: &str = "signorini-reference-measurement/2";
@@ -77,7 +77,7 @@ impl Measurement {
     /// get `None`). `None` on rank 0 too when the reference was read from a cache.
     pub fn gather(
         scene: &str,
-        reference: Option<&Reference>,
+        reference: Option<&FineReference>,
         ranks: Option<&dyn Ranks>,
     ) -> Option<Self> {
         let own_peak = peak_resident_bytes().unwrap_or(0);

@@ -24,11 +24,8 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::comparison::ComparedSample;
 use super::findings::{findings_of_cases, Finding};
-use super::reference::ReferenceCache;
 use super::report::findings_table;
-use super::{obtain_reference, rate_bias_bound, Comparator, ElasticStudyConfig};
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
 use crate::harness::external::report::{reported_energies, sampled_displacement, tables};
 use crate::harness::external::verify::{
@@ -37,6 +34,11 @@ use crate::harness::external::verify::{
 use crate::harness::external::{ExternalError, Verification};
 use crate::harness::files::error::Error;
 use crate::harness::problem::{BoxProblem, MassVariant, Problem, Scheme, Settings};
+use crate::harness::reference::fine_mesh::cache::ReferenceCache;
+use crate::harness::reference::fine_mesh::comparison::ComparedSample;
+use crate::harness::reference::fine_mesh::{
+    obtain_reference, rate_bias_bound, Comparator, ElasticStudyConfig,
+};
 use crate::harness::run::nested_comparison::error_series::Quantity;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::Timings;

@@ -4,10 +4,11 @@
 
 use std::path::Path;
 
-use super::reference::ReferenceCache;
-use super::{run_elastic_study, ElasticStudy, ElasticStudyConfig};
+use super::{run_elastic_study, ElasticStudy};
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::problem::{LinearSolver, Problem};
+use crate::harness::reference::fine_mesh::cache::ReferenceCache;
+use crate::harness::reference::fine_mesh::ElasticStudyConfig;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Case;

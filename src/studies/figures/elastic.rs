@@ -6,14 +6,13 @@
 
 use super::convergence::convergence_figures_named;
 use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::reference::fine_mesh::{CaseHistories, ElasticHistories, ReferenceCurves};
 use crate::harness::render::figures::heatmap::{space_time_map, SpaceTimePanel};
 use crate::harness::render::figures::{
     contact_node_figure_labelled, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
 };
 use crate::harness::run::{ContactHistory, EnergyHistory};
-use crate::studies::elastic_study::{
-    CaseHistories, ElasticHistories, ElasticStudy, ReferenceCurves,
-};
+use crate::studies::elastic_study::ElasticStudy;
 
 /// "No exact value" at each of `n` samples: the figures skip non-finite points, so the exact
 /// curve of a box (which has none) is simply not drawn.

@@ -18,6 +18,7 @@ use crate::harness::files::artifacts::{read_json, write_atomic};
 use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::reference::fine_mesh::ElasticHistories;
 use crate::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
     work_precision_figure, Colouring, ContactPanel, EnergyPanel, Figure, FigureError,
@@ -28,7 +29,7 @@ use crate::harness::run::BarRun;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
-use crate::studies::elastic_study::{files as elastic_files, ElasticHistories, ElasticStudy};
+use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::gravity;
 use crate::studies::histories::{SchemeHistories, HISTORIES_DIR};
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};

@@ -18,11 +18,12 @@ use self::starts::starts_section;
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error::Error;
 use crate::harness::problem::Settings;
+use crate::harness::reference::exact::run_study;
 use crate::harness::render::report::convergence_tables;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
 use crate::harness::study::verdicts::oscillation_word;
-use crate::harness::study::{run_study, Case, Study, StudyConfig};
+use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 
 /// The golden file of the Tables 1–2 study, relative to the repository root.

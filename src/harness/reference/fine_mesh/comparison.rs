@@ -21,7 +21,7 @@
 
 use std::collections::BTreeMap;
 
-use super::reference::ReferenceHistories;
+use super::cache::ReferenceHistories;
 use crate::harness::files::error::Error;
 use crate::harness::run::nested_comparison::error_series::{ErrorSeries, Quantity};
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;

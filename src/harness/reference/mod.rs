@@ -1,0 +1,11 @@
+//! What a study measures a case at a level against: the reference a scene declares. Above
+//! [`crate::harness::study`], whose jobs ([`crate::harness::study::StudyJobs`]) it measures
+//! through [`crate::harness::study::LevelMeasure`], with two implementations:
+//!
+//! | module | its face |
+//! |---|---|
+//! | [`exact`] | a bar against its closed-form solution: [`exact::ExactSolution`], [`exact::run_study`] |
+//! | [`fine_mesh`] | a box against one run on a finer nested mesh: [`fine_mesh::run_fine_mesh_study_on`], the fine run in one process or across ranks ([`fine_mesh::fine_run::FineReference`]), its cache ([`fine_mesh::cache`]), the comparison of a run with it ([`fine_mesh::comparison`]), its round-off ensembles ([`fine_mesh::ensemble`]) and its check ([`fine_mesh::ReferenceCheck`]) |
+
+pub mod exact;
+pub mod fine_mesh;
