@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::ParameterError;
 use crate::harness::problem::{Conventions, LinearSolver, Start};
-use crate::studies::scene_study::ConventionChoice;
+use crate::harness::reference::scene_study::ConventionChoice;
 
 /// The reports directory of `make report`, relative to the repository root: the default
 /// `--out` of the commands that write reports.

@@ -11,6 +11,7 @@ use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
+use crate::harness::reference::scene_study::StudyChoices;
 use crate::harness::run::distributed::Ranks;
 #[cfg(feature = "mpi")]
 use crate::harness::run::distributed::{CountedRanks, MpiRanks, Traffic};
@@ -19,7 +20,6 @@ use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::studies::outputs::this_invocation;
 use crate::studies::reference_run::{references, ReferenceRequest, REPORT_REFERENCES};
-use crate::studies::scene_study::StudyChoices;
 use crate::studies::study_run::{self, StudyRequest};
 
 /// The arguments of `signorini study`.

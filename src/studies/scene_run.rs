@@ -12,6 +12,7 @@ use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Scheme,
 };
+use crate::harness::reference::scene_study::{chosen_settings, ConventionChoice};
 use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::run_files::RUN_JSON;
@@ -21,7 +22,6 @@ use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::progress::{self, StepProgress};
 use crate::harness::study::scene::Scene;
 use crate::studies::outputs::CommandError;
-use crate::studies::scene_study::{chosen_settings, ConventionChoice};
 
 /// What a user chooses for one run of a scene; each `None` keeps the scene's.
 #[derive(Debug, Clone)]

@@ -1,128 +1,35 @@
-//! A refinement study of a scene as a user asks for it (`signorini study`): the scene's own
-//! study (its schemes, the paper's two masses, its norms, levels and ratio) with the user's
-//! choices over it, whatever the geometry: the one study ([`run_study_on`]) of its cases ×
-//! levels, a bar's measured against its exact solution, a box's against its fine-mesh reference
-//! ([`run_elastic_study_on`]); the command only parses, hands over an executor and prints or
-//! writes what comes back.
+//! A scene's study as a report: the outcome of the study a user asked for
+//! ([`crate::harness::reference::scene_study`]) judged ([`JudgedStudy`]), printed as the rate
+//! tables of a bar or the report of a box, or written as a box's report files.
 
-use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::problem::{
-    BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
-    Scheme, Settings, Start,
-};
-use crate::harness::reference::exact::ExactSolution;
-use crate::harness::reference::fine_mesh::cache::ReferenceCache;
-use crate::harness::reference::fine_mesh::{ElasticHistories, ElasticStudyConfig};
+use crate::harness::files::error::Error;
+use crate::harness::reference::fine_mesh::ElasticHistories;
+use crate::harness::reference::scene_study::StudyOutcome;
 use crate::harness::render::report::convergence_tables;
-use crate::harness::run::norms::Norm;
-use crate::harness::study::budget::{self, Estimate};
-use crate::harness::study::executor::{Executed, Executor};
-use crate::harness::study::scene::Scene;
-use crate::harness::study::{run_study_on, Case, Study, StudyConfig};
+use crate::harness::study::Study;
 use crate::studies::elastic_study::files::write_elastic_files;
-use crate::studies::elastic_study::{report, run_elastic_study_on, ElasticStudy};
+use crate::studies::elastic_study::{report, ElasticStudy};
 
-/// What a user chooses over a scene's study; each empty list or `None` keeps the scene's.
-#[derive(Debug, Clone, Default)]
-pub struct StudyChoices {
-    /// The schemes (default: the scene's, else the paper's seven).
-    pub schemes: Vec<Scheme>,
-    /// The masses (default: the paper's two).
-    pub masses: Vec<MassVariant>,
-    /// The norms of a bar study (default: the scene's; a box study measures every norm).
-    pub norms: Vec<Norm>,
-    /// The levels.
-    pub levels: Vec<usize>,
-    /// `Δx/Δt`.
-    pub ratio: Option<f64>,
-    /// The level of a box study's fine-mesh reference.
-    pub reference_level: Option<usize>,
-    /// The contact treatment of every case.
-    pub contact: Option<ContactTreatment>,
-    /// The schemes' conventions.
-    pub conventions: ConventionChoice,
-    /// The step solver.
-    pub linear_solver: LinearSolver,
+/// `n` and `noun`, in the plural unless `n` is 1: `1 case`, `7 levels`.
+fn counted(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
-/// The conventions a user chooses over a scene's: a named set, and a start over it; `None`
-/// keeps the scene's.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct ConventionChoice {
-    /// The named set.
-    pub conventions: Option<Conventions>,
-    /// The start.
-    pub start: Option<Start>,
-}
-
-impl ConventionChoice {
-    /// `scene`'s conventions with the choices applied over them.
-    fn over(self, scene: Conventions) -> Conventions {
-        let mut c = self.conventions.unwrap_or(scene);
-        if let Some(start) = self.start {
-            c.start = start;
-        }
-        c
-    }
-}
-
-/// `scene`'s settings with the user's conventions and step solver over them: what every run of
-/// a study or a run of the scene is solved with.
-pub(crate) fn chosen_settings(
-    scene: &Scene,
-    conventions: ConventionChoice,
-    linear_solver: LinearSolver,
-) -> Settings {
-    let settings = scene.settings();
-    Settings {
-        conventions: conventions.over(settings.conventions),
-        linear_solver,
-        ..settings
-    }
-}
-
-/// A scene's study with the user's choices applied: a bar's against its exact solution, or a
-/// box's against its fine-mesh reference.
-#[derive(Debug, Clone)]
-pub enum SceneStudy {
-    /// A bar: its cases × levels and norms.
-    Bar {
-        /// The scene's name.
-        scene: String,
-        /// The problem.
-        problem: Problem1d,
-        /// The cases.
-        cases: Vec<Case>,
-        /// The norms measured.
-        norms: BTreeSet<Norm>,
-        /// Levels, ratio, horizon.
-        config: StudyConfig,
-    },
-    /// A box: its cases × levels against the reference.
-    Box {
-        /// The problem.
-        problem: BoxProblem,
-        /// Levels, reference, cases and ensemble.
-        config: ElasticStudyConfig,
-    },
-}
-
-/// What a study hands back: a bar's rates, or a box's study with its figure data.
-#[derive(Debug, Clone)]
+/// A study's outcome judged: the rates against the exact solution as they are, or the study
+/// against the fine-mesh reference with the note's findings and its figure data.
 #[allow(clippy::large_enum_variant)] // one per study, moved once
-pub enum StudyOutcome {
-    /// A bar's study.
-    Bar {
+pub enum JudgedStudy {
+    /// Against the exact solution.
+    Exact {
         /// The scene's name.
         scene: String,
         /// The study.
         study: Study,
     },
-    /// A box's study.
-    Box {
+    /// Against the fine-mesh reference.
+    FineMesh {
         /// The study, the reference check and the findings.
         study: ElasticStudy,
         /// The figure data.
@@ -130,202 +37,45 @@ pub enum StudyOutcome {
     },
 }
 
-impl SceneStudy {
-    /// The study of `scene` with `choices` over its own. A reference level for a bar is
-    /// refused naming `reference_level`; a mass given with `--mass` that a chosen scheme is not
-    /// defined with is refused naming `--mass` (with the default masses, such a pair is left
-    /// out, [`Case::matrix`]).
-    pub fn of(scene: &Scene, choices: StudyChoices) -> Result<Self, Error> {
-        let schemes = if choices.schemes.is_empty() {
-            scene.default_schemes()
-        } else {
-            choices.schemes
-        };
-        let masses = if choices.masses.is_empty() {
-            MassVariant::PAPER.to_vec()
-        } else {
-            let undefined = choices
-                .masses
-                .iter()
-                .find(|&&mass| schemes.iter().any(|s| !s.is_defined_with(mass)));
-            if let Some(mass) = undefined {
-                return Err(ParameterError::new(
-                    "--mass",
-                    mass.name(),
-                    "a mass every chosen scheme is defined with: contact-stabilised Newmark \
-                     needs standard or lumped (its predictor is an M-projection, blind to \
-                     massless dofs)",
-                )
-                .into());
-            }
-            choices.masses
-        };
-        let settings = chosen_settings(scene, choices.conventions, choices.linear_solver);
-        match scene.problem() {
-            Problem::Box(mut problem) => {
-                problem.contact = choices.contact.unwrap_or(problem.contact);
-                let mut config = ElasticStudyConfig::from_scene(scene, choices.reference_level)?;
-                config.settings = settings;
-                if !choices.levels.is_empty() {
-                    config.levels = choices.levels;
-                }
-                config.ratio = choices.ratio.unwrap_or(config.ratio);
-                config.cases = Case::matrix(&schemes, &masses);
-                Ok(Self::Box { problem, config })
-            }
-            Problem::Bar(mut problem) => {
-                if let Some(level) = choices.reference_level {
-                    return Err(ParameterError::new(
-                        "--reference-level",
-                        level,
-                        "none: a fine-mesh reference is for box scenes (a bar1d study compares \
-                         with its exact solution)",
-                    )
-                    .into());
-                }
-                problem.contact = choices.contact.unwrap_or(problem.contact);
-                let mut config = scene.study_config();
-                config.settings = settings;
-                if !choices.levels.is_empty() {
-                    config.levels = choices.levels;
-                }
-                config.ratio = choices.ratio.unwrap_or(config.ratio);
-                Ok(Self::Bar {
-                    scene: scene.name.clone(),
-                    problem,
-                    cases: Case::matrix(&schemes, &masses),
-                    norms: if choices.norms.is_empty() {
-                        scene.observables.norms.clone()
-                    } else {
-                        choices.norms.into_iter().collect()
-                    },
-                    config,
-                })
-            }
+impl JudgedStudy {
+    /// `outcome` judged: a fine-mesh study's findings judged on its rates.
+    pub fn of(outcome: StudyOutcome) -> Self {
+        match outcome {
+            StudyOutcome::Exact { scene, study } => Self::Exact { scene, study },
+            StudyOutcome::FineMesh { study, histories } => Self::FineMesh {
+                study: ElasticStudy::judged(study),
+                histories,
+            },
         }
     }
 
-    /// The schemes the study runs, case by case.
-    pub fn schemes(&self) -> Vec<Scheme> {
-        let cases = match self {
-            Self::Bar { cases, .. } => cases,
-            Self::Box { config, .. } => &config.cases,
-        };
-        cases.iter().map(|c| c.scheme).collect()
-    }
-
-    /// Whether the study compares with a fine-mesh reference (and reads or fills its cache).
-    pub fn has_reference(&self) -> bool {
-        matches!(self, Self::Box { .. })
-    }
-
-    /// Refuses a reports directory `dir` for a study that has no report files (a bar's, which
-    /// prints its tables), naming `--out`.
-    pub fn check_reports_dir(&self, dir: &Path) -> Result<(), Error> {
-        match self {
-            Self::Box { .. } => Ok(()),
-            Self::Bar { .. } => Err(ParameterError::new(
-                "--out",
-                dir.display(),
-                "none for a bar1d scene: report files are for box scenes (a bar1d study prints \
-                 its tables; --out takes a shard's file with --shard)",
-            )
-            .into()),
-        }
-    }
-
-    /// The estimate of what `executor` computes of the study here ([`budget`]).
-    pub fn estimate(&self, executor: &Executor) -> Estimate {
-        match self {
-            Self::Bar {
-                problem,
-                cases,
-                config,
-                ..
-            } => budget::bar_study(
-                problem,
-                &config.levels,
-                config.ratio,
-                &budget::jobs_per_level(&config.levels, cases.len(), executor),
-            ),
-            Self::Box { problem, config } => {
-                let members = config.sensitivity.map_or(0, |e| e.perturbed_members());
-                budget::box_study(
-                    problem,
-                    &config.settings,
-                    &config.levels,
-                    config.reference_level,
-                    config.ratio,
-                    &budget::jobs_per_level(&config.levels, config.cases.len(), executor),
-                    members.saturating_add(1),
-                )
-            }
-        }
-    }
-
-    /// Runs the study's jobs through `executor`; a box study obtains its reference from
-    /// `cache` first (`note` hears why a cache was not used).
-    pub fn run_on(
-        &self,
-        executor: &Executor,
-        cache: &ReferenceCache,
-        note: &mut dyn FnMut(String),
-    ) -> Result<Executed<StudyOutcome>, Error> {
-        match self {
-            Self::Bar {
-                scene,
-                problem,
-                cases,
-                norms,
-                config,
-            } => {
-                let jobs = ExactSolution::jobs(problem, cases, norms, config)?;
-                run_study_on(executor, &jobs)?.reduce(|(study, _)| {
-                    Ok(StudyOutcome::Bar {
-                        scene: scene.clone(),
-                        study,
-                    })
-                })
-            }
-            Self::Box { problem, config } => {
-                run_elastic_study_on(executor, problem, config, cache, note)?
-                    .reduce(|(study, histories)| Ok(StudyOutcome::Box { study, histories }))
-            }
-        }
-    }
-}
-
-/// `n` and `noun`, in the plural unless `n` is 1: `1 case`, `7 levels`.
-fn counted(n: usize, noun: &str) -> String {
-    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
-}
-
-impl StudyOutcome {
     /// The outcome as a person reads it: a bar's rate tables and a line with its size and
     /// time, or a box's report saying it was made by `command`; as JSON with `json`.
     pub fn render(&self, json: bool, command: &str) -> Result<String, Error> {
         let encode = Error::encode(Path::new("stdout"));
         Ok(match (self, json) {
-            (Self::Bar { study, .. }, true) => {
+            (Self::Exact { study, .. }, true) => {
                 serde_json::to_string_pretty(study).map_err(encode)?
             }
-            (Self::Box { study, .. }, true) => {
+            (Self::FineMesh { study, .. }, true) => {
                 serde_json::to_string_pretty(study).map_err(encode)?
             }
-            (Self::Bar { scene, study }, false) => format!(
+            (Self::Exact { scene, study }, false) => format!(
                 "{}\n\n{scene}: {} × {}, {:.2} s wall",
                 convergence_tables(study).trim_end(),
                 counted(study.cases.len(), "case"),
                 counted(study.config.levels.len(), "level"),
                 study.wall_seconds
             ),
-            (Self::Box { study, .. }, false) => report::render(study, command).trim_end().into(),
+            (Self::FineMesh { study, .. }, false) => {
+                report::render(study, command).trim_end().into()
+            }
         })
     }
 
     /// Writes a box study's report, study and figure data into `out_dir` (`kept_from`: the
     /// reports directory it will replace files of) and returns what was written, for the
-    /// user; a bar's study has none ([`SceneStudy::check_reports_dir`]): it writes nothing and
+    /// user; a bar's study has none ([`crate::harness::reference::scene_study::SceneStudy::check_reports_dir`]): it writes nothing and
     /// returns its rendering.
     pub fn write_reports(
         &self,
@@ -334,7 +84,7 @@ impl StudyOutcome {
         shown_dir: &Path,
         command: &str,
     ) -> Result<String, Error> {
-        let Self::Box { study, histories } = self else {
+        let Self::FineMesh { study, histories } = self else {
             return self.render(false, command);
         };
         let written: Vec<String> =

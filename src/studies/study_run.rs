@@ -9,6 +9,7 @@ use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::MassVariant;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
+use crate::harness::reference::scene_study::{SceneStudy, StudyChoices};
 use crate::harness::study::budget::{self, Limits};
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::executor::Executor;
@@ -23,7 +24,7 @@ use crate::studies::outputs::{
     complete_or_write, shard_output, CommandError, Destination, Received,
 };
 use crate::studies::reference_run::{cache_is_a_directory, REPORT_REFERENCES};
-use crate::studies::scene_study::{SceneStudy, StudyChoices};
+use crate::studies::scene_study::JudgedStudy;
 use crate::studies::tables::write_sensitivity_files;
 
 /// A study as the user asked for it.
@@ -85,7 +86,7 @@ pub fn study(
     };
     let executed = study.run_on(executor, &cache, &mut |why| progress::note(&why))?;
     let outcome = match complete_or_write(executed, shard, invocation)? {
-        Received::Complete(outcome) => outcome,
+        Received::Complete(outcome) => JudgedStudy::of(outcome),
         Received::ShardWritten(line) => return Ok(line),
     };
     Ok(match reports {

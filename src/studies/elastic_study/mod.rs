@@ -20,11 +20,9 @@ use serde::{Deserialize, Serialize};
 use crate::harness::files::error::Error;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::{
-    run_fine_mesh_study, run_fine_mesh_study_on, ElasticHistories, ElasticStudyConfig,
-    FineMeshStudy, ReferenceCheck,
+    run_fine_mesh_study, ElasticHistories, ElasticStudyConfig, FineMeshStudy, ReferenceCheck,
 };
 use crate::harness::run::elastic::BoxProblem;
-use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use findings::{note_findings, Finding};
@@ -51,7 +49,7 @@ pub struct ElasticStudy {
 impl ElasticStudy {
     /// The study measured against the fine-mesh reference, with the note's findings judged on
     /// its rates and its reference's rate-bias bounds.
-    fn judged(measured: FineMeshStudy) -> Self {
+    pub fn judged(measured: FineMeshStudy) -> Self {
         let FineMeshStudy {
             dimension,
             config,
@@ -88,17 +86,4 @@ pub fn run_elastic_study(
 ) -> Result<(ElasticStudy, ElasticHistories), Error> {
     let (measured, histories) = run_fine_mesh_study(problem, config, cache, note)?;
     Ok((ElasticStudy::judged(measured), histories))
-}
-
-/// [`run_elastic_study`] with its case × level jobs handed to `executor`
-/// ([`run_fine_mesh_study_on`]), or a shard's share of its jobs.
-pub fn run_elastic_study_on(
-    executor: &Executor,
-    problem: &BoxProblem,
-    config: &ElasticStudyConfig,
-    cache: &ReferenceCache,
-    note: &mut dyn FnMut(String),
-) -> Result<Executed<(ElasticStudy, ElasticHistories)>, Error> {
-    run_fine_mesh_study_on(executor, problem, config, cache, note)?
-        .reduce(|(measured, histories)| Ok((ElasticStudy::judged(measured), histories)))
 }
