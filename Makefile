@@ -26,8 +26,7 @@ report-fine: build
 ## The finest 3D study into reports/finest/: levels 10–160 against a reference on 640 elements
 ## along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and figures. The
 ## reference takes most of the time and memory (reports/finest/elastic-3d.md gives its run time;
-## docs/src/convergence-2d-3d.md, "What a finer reference would take"); it is cached in
-## reports/finest/data/references/.
+## docs/src/make-targets.md); it is cached in reports/finest/data/references/.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
 	$(BIN) figures --out reports/finest

@@ -1,6 +1,8 @@
 //! The documentation: README.md is a first screen, and every relative link of the README and of
-//! the book (`docs/src/`, mdBook) leads to a file that exists; every chapter is in the book's
-//! table of contents (`docs/src/SUMMARY.md`) and every entry of it is a chapter.
+//! the book (`docs/src/`, mdBook) leads to a file that exists, and so does every file a chapter
+//! includes (`{{#include PATH}}`); every chapter is in the book's table of contents
+//! (`docs/src/SUMMARY.md`) and every entry of it is a chapter. The commands the tutorials show
+//! are run by `tutorial.rs`, those of the README by `readme_commands.rs`.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -8,6 +10,9 @@ use std::path::{Path, PathBuf};
 
 /// The most lines README.md may have: what it is, the two commands, a map of the book.
 const README_MAX_LINES: usize = 250;
+
+/// The lines of README.md's first screen.
+const README_FIRST_SCREEN: usize = 45;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -131,6 +136,40 @@ fn every_relative_link_in_the_readme_and_the_book_resolves() {
     );
 }
 
+/// The paths of mdBook's `{{#include PATH}}` (or `PATH:anchor`, `PATH:1:10`) in `text`.
+fn includes(text: &str) -> Vec<String> {
+    text.split("{{#include ")
+        .skip(1)
+        .filter_map(|rest| rest.split("}}").next())
+        .map(|inside| inside.trim().split(':').next().unwrap_or("").to_string())
+        .collect()
+}
+
+#[test]
+fn every_file_the_book_includes_exists() {
+    let mut missing = Vec::new();
+    let mut found = 0;
+    for chapter in chapters() {
+        let text = fs::read_to_string(&chapter).unwrap();
+        for path in includes(&text) {
+            found += 1;
+            if !chapter.parent().unwrap().join(&path).is_file() {
+                missing.push(format!("{}: {path}", chapter.display()));
+            }
+        }
+    }
+    assert!(found > 0, "no {{{{#include}}}} found in the book");
+    assert!(
+        missing.is_empty(),
+        "included files missing:\n{}",
+        missing.join("\n")
+    );
+    assert_eq!(
+        includes("a {{#include ../x.py}} b {{#include y.rs:anchor}}"),
+        ["../x.py", "y.rs"]
+    );
+}
+
 #[test]
 fn every_chapter_is_in_the_summary_and_every_entry_is_a_chapter() {
     let summary_path = book_src().join("SUMMARY.md");
@@ -164,6 +203,29 @@ fn the_readme_is_a_first_screen() {
         "README.md has {lines} lines, more than {README_MAX_LINES}: move the detail into a \
          chapter of the book (docs/src/)"
     );
+}
+
+/// The first screen cites the papers, explains "redistributed mass" and what a verdict means, and
+/// gives the two commands, before anything else.
+#[test]
+fn the_readme_first_screen_cites_the_papers_and_gives_the_two_commands() {
+    let readme = fs::read_to_string(root().join("README.md")).unwrap();
+    let screen: Vec<&str> = readme.lines().take(README_FIRST_SCREEN).collect();
+    let screen = screen.join("\n");
+    for needle in [
+        "Dabaghi, A. Petrov, J. Pousin, Y. Renard",
+        "hal-00917450",
+        "Numerical study of convergence of the mass",
+        "**redistributed mass**",
+        "*undecided*",
+        "make report",
+        "make test",
+    ] {
+        assert!(
+            screen.contains(needle),
+            "README.md's first {README_FIRST_SCREEN} lines do not contain {needle:?}"
+        );
+    }
 }
 
 #[test]

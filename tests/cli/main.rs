@@ -28,6 +28,7 @@ mod reliability;
 mod report_figures;
 mod scenes;
 mod shards;
+mod tutorial;
 mod verify;
 mod verify_box;
 mod verify_format2;
