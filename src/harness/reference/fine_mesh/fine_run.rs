@@ -36,7 +36,7 @@ use crate::harness::run::nested_comparison::check::{
 };
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::nested_comparison::projection::{LevelProjections, ProjectionRecorder};
-use crate::harness::run::{run, Observables, RunConfig, Timings};
+use crate::harness::run::{run, BoxRun, Observables, RunConfig, Timings};
 use crate::harness::study::progress::StepProgress;
 
 /// A reference: the histories and the projections on the fitted levels, with its mesh.
@@ -349,6 +349,36 @@ fn fine_run(
         contact_layers: run.observed.contact_slab.map(|t| t.layers),
     };
     let projections = recorder.into_inner().finish();
+    let check = CheckOutcome {
+        level: check_config.nx,
+        dofs: check_dofs,
+        steps: check_steps,
+        distance: distance
+            .into_iter()
+            .map(|(norm, d)| (norm.key().to_string(), d))
+            .collect(),
+    };
+    let seconds = clock.elapsed().as_secs_f64();
+    let histories = sampled_histories(problem, key, (&run, &projections), check, seconds);
+    Ok(Some(FineReference {
+        mesh,
+        histories,
+        projections,
+        from_cache: false,
+        cost: Some(cost),
+    }))
+}
+
+/// The scalar histories the reference keeps of its fine run `run`, every `key.sample_every`-th
+/// step, with the layout of its `projections`, its `check` and the run's wall time `seconds`.
+fn sampled_histories(
+    problem: &BoxProblem,
+    key: ReferenceKey,
+    (run, projections): (&BoxRun, &[LevelProjections]),
+    check: CheckOutcome,
+    seconds: f64,
+) -> ReferenceHistories {
+    let every = key.sample_every.max(1);
     let gap = problem.obstacle_gap.unwrap_or(0.0);
     let pick = |v: &[f64]| v.iter().step_by(every).copied().collect::<Vec<f64>>();
     let centre_displacement: Vec<f64> = run
@@ -359,11 +389,11 @@ fn fine_run(
         .map(|g| g - gap)
         .collect();
     let energy: Vec<f64> = run.observed.energy.iter().map(|&(_, e)| e).collect();
-    let histories = ReferenceHistories {
+    ReferenceHistories {
         dofs: run.dofs,
         steps: run.steps,
         dt: run.dt,
-        seconds: clock.elapsed().as_secs_f64(),
+        seconds,
         time: run
             .observed
             .energy
@@ -383,25 +413,10 @@ fn fine_run(
                 samples: p.samples(),
             })
             .collect(),
-        check: CheckOutcome {
-            level: check_config.nx,
-            dofs: check_dofs,
-            steps: check_steps,
-            distance: distance
-                .into_iter()
-                .map(|(norm, d)| (norm.key().to_string(), d))
-                .collect(),
-        },
+        check,
         key,
         checksum: String::new(),
-    };
-    Ok(Some(FineReference {
-        mesh,
-        histories,
-        projections,
-        from_cache: false,
-        cost: Some(cost),
-    }))
+    }
 }
 
 /// The reference run's configuration of `key`, solved with `settings`.
