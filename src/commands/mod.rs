@@ -42,6 +42,7 @@ pub use run::{run_scene, RunArgs};
 pub use sharding::{
     EnsembleShardArgs, ReferenceShardArgs, ReportShardArgs, ShardArgs, SuiteShardArgs,
 };
+pub use study::reference_run::{references, ReferenceRequest};
 pub use study::{
     reference, rejudge, sensitivity, study_scene, ReferenceArgs, RejudgeArgs, SensitivityArgs,
     StudyArgs,
@@ -53,7 +54,7 @@ use std::path::PathBuf;
 use options::REPORTS;
 
 use crate::harness::study::progress::{self, Shown};
-use crate::studies::outputs::read_shards;
+use sharding::outputs::read_shards;
 
 /// Shows the progress of this process's subcommand on stderr while the guard lives (on a
 /// terminal, without `CI`).

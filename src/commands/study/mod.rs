@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
+use super::sharding::outputs::this_invocation;
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
 use crate::harness::run::distributed::Ranks;
@@ -17,10 +18,13 @@ use crate::harness::run::distributed::{CountedRanks, MpiRanks, Traffic};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
-use crate::studies::outputs::this_invocation;
-use crate::studies::reference_run::{references, ReferenceRequest, REPORT_REFERENCES};
+use crate::studies::reports_index::REPORT_REFERENCES;
 use crate::studies::scene_study::StudyChoices;
-use crate::studies::study_run::{self, StudyRequest};
+use reference_run::{references, ReferenceRequest};
+use study_run::StudyRequest;
+
+pub(crate) mod reference_run;
+mod study_run;
 
 /// The arguments of `signorini study`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]

@@ -1,54 +1,23 @@
 //! Where a command's results go, below the command line: the request its shards record
 //! ([`this_invocation`]), a shard's partial result file ([`ShardOutput`]) or the reports staged
 //! in `--out` ([`Destination`]), the share of the work a shard is held to ([`share_of_work`]),
-//! the shards of one invocation read back for `merge` ([`read_shards`]), and how a command
-//! below the command line fails ([`CommandError`]).
+//! and the shards of one invocation read back for `merge` ([`read_shards`]).
 
 use std::path::{Path, PathBuf};
 
 use serde::de::DeserializeOwned;
 use serde::Serialize;
-use thiserror::Error;
 
 use crate::harness::files::artifacts::{read_json, write_json};
-use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::files::output_dir::{OutputDirError, Replace, StagedDir};
+use crate::harness::files::command_error::CommandError;
+use crate::harness::files::error::Error;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{Executed, Executor};
-use crate::harness::study::scene::SceneError;
 use crate::harness::study::shard::merge::{merge, Merged};
 use crate::harness::study::shard::{
     codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
 };
-
-/// How a command fails below the command line; the command gives each its exit code.
-#[derive(Debug, Error)]
-pub enum CommandError {
-    /// An error of the harness (its own exit code: usage or failure).
-    #[error(transparent)]
-    Harness(#[from] Error),
-    /// An output directory that cannot be staged or committed.
-    #[error(transparent)]
-    OutputDir(#[from] OutputDirError),
-    /// Options that do not go together (a usage error).
-    #[error("{0}")]
-    Refused(String),
-    /// A step that could not be done (a failure).
-    #[error("{0}")]
-    Failed(String),
-}
-
-impl From<SceneError> for CommandError {
-    fn from(e: SceneError) -> Self {
-        Self::Harness(e.into())
-    }
-}
-
-impl From<ParameterError> for CommandError {
-    fn from(e: ParameterError) -> Self {
-        Self::Harness(e.into())
-    }
-}
 
 /// The options that the shards of one invocation may give differently: dropped from the
 /// recorded arguments (`--out` is the merge's to give).

@@ -4,6 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub(crate) mod outputs;
+
 use super::options::parsed;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::shard::ShardSpec;

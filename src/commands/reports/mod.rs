@@ -1,5 +1,5 @@
 //! The commands behind the make targets that write `reports/` and `golden/`: `report`,
-//! `experiment`, `figures`, `stability` and `golden` ([`crate::studies::report_run`] does
+//! `experiment`, `figures`, `stability` and `golden` ([`report_run`] does
 //! them). `report`, `experiment` and `stability` shard.
 
 use std::path::PathBuf;
@@ -10,12 +10,13 @@ use serde::{Deserialize, Serialize};
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
+use super::sharding::outputs::this_invocation;
 use super::sharding::{ReportShardArgs, SuiteShardArgs};
 use crate::harness::study::executor::Executor;
 use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::gravity::GRAVITY_SCENE;
-use crate::studies::outputs::this_invocation;
-use crate::studies::report_run;
+
+mod report_run;
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
