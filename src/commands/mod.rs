@@ -100,8 +100,12 @@ impl ShardableCommand {
         self.run_on(None, line)
     }
 
-    /// Runs the command with `merged`'s results when given (a merge), else as typed.
-    fn run_on(self, merged: Option<&Executor>, line: &CommandLine) -> Result<(), Failure> {
+    /// Runs the command with `merged`'s results and `--out` when given (a merge), else as typed.
+    fn run_on(
+        self,
+        merged: Option<(&Executor, Option<PathBuf>)>,
+        line: &CommandLine,
+    ) -> Result<(), Failure> {
         match self {
             Self::Study(args) => run_sharded(args, Self::Study, merged, line),
             Self::Stability(args) => run_sharded(args, Self::Stability, merged, line),
@@ -111,30 +115,19 @@ impl ShardableCommand {
             Self::Experiment(args) => run_sharded(args, Self::Experiment, merged, line),
         }
     }
-
-    /// The recorded command with a merge's `--out` (`None`: the command's default).
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        match self {
-            Self::Study(args) => Self::Study(args.merged_into(out)),
-            Self::Stability(args) => Self::Stability(args.merged_into(out)),
-            Self::Sensitivity(args) => Self::Sensitivity(args.merged_into(out)),
-            Self::Reference(args) => Self::Reference(args.merged_into(out)),
-            Self::Report(args) => Self::Report(args.merged_into(out)),
-            Self::Experiment(args) => Self::Experiment(args.merged_into(out)),
-        }
-    }
 }
 
 /// The one path of every sharded command `args` (`typed` makes it a [`ShardableCommand`]): the
 /// invocation its shards record (its recorded options as the typed command, the arguments of
-/// `line` and the files it reads), then the command run with `merged`'s results, or as typed.
+/// `line` and the files it reads), then the command run with `merged`'s results and `--out`, or
+/// as typed.
 fn run_sharded<C: Sharded>(
     args: C,
     typed: fn(C) -> ShardableCommand,
-    merged: Option<&Executor>,
+    merged: Option<(&Executor, Option<PathBuf>)>,
     line: &CommandLine,
 ) -> Result<(), Failure> {
-    let recorded = typed(args.recorded());
+    let recorded = typed(args.recorded(None));
     let invocation = Invocation {
         command: recorded.name().to_string(),
         arguments: line.shard_arguments(),
@@ -142,7 +135,7 @@ fn run_sharded<C: Sharded>(
         inputs: args.inputs(),
     };
     match merged {
-        Some(executor) => args.run_with(executor, &invocation, line),
+        Some((executor, out)) => args.recorded(out).run_with(executor, &invocation, line),
         None => args.run(&invocation, line),
     }
 }
@@ -162,8 +155,6 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
         )));
     }
     let line = CommandLine::of_merge(name, &shards.arguments, args.out.as_deref());
-    shards
-        .command
-        .merged_into(args.out)
-        .run_on(Some(&shards.executor), &line)
+    let merged = Some((&shards.executor, args.out));
+    shards.command.run_on(merged, &line)
 }

@@ -37,9 +37,9 @@ pub struct ReportArgs {
 /// The 1D part of `make report`: the gravity benchmark, Tables 1–2 beside the paper and the
 /// extended table.
 impl Sharded for ReportArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
-            out: PathBuf::from(REPORTS),
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
             shard: ReportShardArgs::default(),
             ..self.clone()
         }
@@ -51,13 +51,6 @@ impl Sharded for ReportArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        Self {
-            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
-            ..self
-        }
     }
 
     fn run_with(
@@ -89,9 +82,9 @@ pub struct ExperimentArgs {
 
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
 impl Sharded for ExperimentArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
-            out: PathBuf::from(REPORTS),
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
             shard: ReportShardArgs::default(),
             ..self.clone()
         }
@@ -103,13 +96,6 @@ impl Sharded for ExperimentArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        Self {
-            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
-            ..self
-        }
     }
 
     fn run_with(
@@ -163,9 +149,9 @@ pub struct StabilityArgs {
 /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
 /// verdict each; writes stability.md and stability.json.
 impl Sharded for StabilityArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
-            out: PathBuf::from(REPORTS),
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
             shard: SuiteShardArgs::default(),
             ..self.clone()
         }
@@ -177,13 +163,6 @@ impl Sharded for StabilityArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        Self {
-            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
-            ..self
-        }
     }
 
     fn run_with(

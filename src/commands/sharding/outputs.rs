@@ -1,6 +1,6 @@
 //! Where a command's results go: a shard's partial result file ([`ShardOutput`]) or the reports
-//! staged in `--out` ([`Destination`]), the share of the work a shard is held to ([`share_of_work`]),
-//! and the shards of one invocation read back for `merge` ([`read_shards`]).
+//! staged in `--out` ([`Destination`]), the share of the work a shard is held to
+//! ([`share_of_work`]), and the shards of one invocation read back for `merge` ([`read_shards`]).
 
 use std::path::{Path, PathBuf};
 

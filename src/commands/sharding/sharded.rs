@@ -1,7 +1,7 @@
 //! What a command whose job lists shard states of its own ([`Sharded`]): the options its shards
-//! record, the files they read, the executor its `--shard` asks for, the `--out` a merge gives it
-//! and how it runs with an executor. Running it, as typed, as a shard or as a merge, is one path
-//! for every such command (the dispatcher's `ShardableCommand`).
+//! record and a merge runs again with its own `--out`, the files they read, the executor its
+//! `--shard` asks for and how it runs with an executor. Running it, as typed, as a shard or as a
+//! merge, is one path for every such command (the dispatcher's `ShardableCommand`).
 
 use std::path::PathBuf;
 
@@ -12,18 +12,16 @@ use crate::harness::study::shard::Invocation;
 
 /// A command whose job lists shard (`--shard k/n`) and merge (`signorini merge`).
 pub trait Sharded: Sized {
-    /// Its options as its shards record them: `--shard` and `--out` cleared (each shard gives
-    /// its own, and the merge its `--out`).
-    fn recorded(&self) -> Self;
+    /// Its options with `--shard` cleared and `--out` set to `out` (`None`: the command's
+    /// default): as its shards record them (`None`, since each shard gives its own), or as a
+    /// merge runs them again (the merge's `--out`).
+    fn recorded(&self, out: Option<PathBuf>) -> Self;
 
     /// The files it reads, whose contents a shard's identity covers.
     fn inputs(&self) -> Vec<PathBuf>;
 
     /// The executor its `--shard` asks for: that shard's share, or every job here.
     fn executor(&self) -> Executor;
-
-    /// Its recorded options with a merge's `--out` (`None`: the command's default).
-    fn merged_into(self, out: Option<PathBuf>) -> Self;
 
     /// Runs it with its job lists handed to `executor`: a shard's file records `invocation`,
     /// a report says it was made by `line`.

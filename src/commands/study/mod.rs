@@ -105,9 +105,9 @@ fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> V
 /// markdown or JSON. Nothing outside the selection is computed; a box study's report says it was
 /// made by the command line it is given.
 impl Sharded for StudyArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
-            out: None,
+            out,
             shard: ShardArgs::default(),
             ..self.clone()
         }
@@ -119,10 +119,6 @@ impl Sharded for StudyArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        Self { out, ..self }
     }
 
     fn run_with(
@@ -198,9 +194,9 @@ pub struct SensitivityArgs {
 /// as an ensemble of members with seeded noise of relative size A on the initial
 /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
 impl Sharded for SensitivityArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
-            out: PathBuf::from(REPORTS),
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
             shard: EnsembleShardArgs::default(),
             ..self.clone()
         }
@@ -212,13 +208,6 @@ impl Sharded for SensitivityArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, out: Option<PathBuf>) -> Self {
-        Self {
-            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
-            ..self
-        }
     }
 
     fn run_with(
@@ -281,7 +270,7 @@ pub struct ReferenceArgs {
 /// ranks share each reference's run ([`on_mpi_ranks`]); a merge finds every reference in the
 /// cache and runs in one process.
 impl Sharded for ReferenceArgs {
-    fn recorded(&self) -> Self {
+    fn recorded(&self, _out: Option<PathBuf>) -> Self {
         Self {
             out: None,
             shard: ReferenceShardArgs::default(),
@@ -295,10 +284,6 @@ impl Sharded for ReferenceArgs {
 
     fn executor(&self) -> Executor {
         self.shard.executor()
-    }
-
-    fn merged_into(self, _out: Option<PathBuf>) -> Self {
-        self
     }
 
     fn run_with(
