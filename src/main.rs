@@ -9,9 +9,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use signorini::commands::{
-    self, ClusterPlanArgs, ExperimentArgs, Failure, FiguresArgs, GetfemArgs, GetfemBoxArgs,
-    GoldenArgs, LeagueArgs, ListArgs, MergeArgs, ReferenceArgs, RejudgeArgs, ReportArgs, RunArgs,
-    SensitivityArgs, StabilityArgs, StudyArgs, VerifyArgs,
+    self, ClusterPlanArgs, CommandLine, ExperimentArgs, Failure, FiguresArgs, GetfemArgs,
+    GetfemBoxArgs, GoldenArgs, LeagueArgs, ListArgs, MergeArgs, ReferenceArgs, RejudgeArgs,
+    ReportArgs, RunArgs, SensitivityArgs, ShardableCommand, StabilityArgs, StudyArgs, VerifyArgs,
 };
 
 const AFTER_HELP: &str = "\
@@ -104,20 +104,30 @@ enum Command {
     Merge(MergeArgs),
 }
 
+/// Reads the command line once (the only read of this process's arguments), parses it and runs
+/// its subcommand; a command whose job lists shard runs as its typed [`ShardableCommand`], given
+/// the line it was typed as.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let progress = commands::show_progress();
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let cli = Cli::parse_from(&argv);
+    let line = CommandLine::new(
+        argv.iter()
+            .skip(1)
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect(),
+    );
+    let progress = commands::show_progress(&line);
     let result: Result<(), Failure> = match cli.command {
         Command::Run(args) => commands::run_scene(args),
-        Command::Study(args) => commands::study_scene(args),
+        Command::Study(args) => ShardableCommand::Study(args).run(&line),
         Command::Rejudge(args) => commands::rejudge(args),
-        Command::Sensitivity(args) => commands::sensitivity(args),
-        Command::Reference(args) => commands::reference(args),
+        Command::Sensitivity(args) => ShardableCommand::Sensitivity(args).run(&line),
+        Command::Reference(args) => ShardableCommand::Reference(args).run(&line),
         Command::ClusterPlan(args) => commands::cluster_plan(args),
-        Command::Report(args) => commands::report(args),
-        Command::Experiment(args) => commands::experiment(args),
+        Command::Report(args) => ShardableCommand::Report(args).run(&line),
+        Command::Experiment(args) => ShardableCommand::Experiment(args).run(&line),
         Command::Figures(args) => commands::figures(args),
-        Command::Stability(args) => commands::stability(args),
+        Command::Stability(args) => ShardableCommand::Stability(args).run(&line),
         Command::Golden(args) => commands::golden(args),
         Command::Verify(args) => commands::verify_runs(args),
         Command::Getfem(args) => commands::getfem(args),

@@ -1,7 +1,7 @@
 //! The layering of `src/`, checked on the import graph the source states.
 //!
 //! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
-//! defines it. Seven rules hold:
+//! defines it. Eight rules hold:
 //! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
 //!   `harness` does not import `studies`;
 //! - a layer does not skip the layers between it and a lower one it is listed with in
@@ -16,7 +16,9 @@
 //!   children, is a component's root and is left to the rule above);
 //! - in `commands/`, no file imports the dispatcher (`mod.rs`) and no subcommand's file imports
 //!   another's: they share only [`SHARED_COMMAND_PARTS`];
-//! - no `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`).
+//! - no `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`);
+//! - no module of the library reads the process's arguments (`std::env::args`, `args_os`):
+//!   `main.rs` reads them once and hands the commands their typed command and its line.
 //!
 //! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
@@ -554,5 +556,45 @@ fn the_geometry_rule_sees_a_branch() {
     assert_eq!(
         commands_branching_on_the_geometry(&modules),
         ["commands::run"]
+    );
+}
+
+/// The library's modules that read the process's arguments (`env::args`, `env::args_os`): none
+/// may, the commands below `main.rs` least of all.
+fn modules_reading_the_arguments(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    modules
+        .iter()
+        .filter(|(_, source)| code_of(source).contains("env::args"))
+        .map(|(m, _)| show(m))
+        .collect()
+}
+
+#[test]
+fn no_module_reads_the_process_arguments() {
+    let reading = modules_reading_the_arguments(&modules());
+    assert!(
+        reading.is_empty(),
+        "modules reading the process's arguments (main.rs reads them once into a CommandLine \
+         and a typed command, passed down): {reading:?}"
+    );
+}
+
+#[test]
+fn the_argument_rule_sees_a_read() {
+    let mut modules = modules();
+    let progress = vec![
+        "harness".to_string(),
+        "study".to_string(),
+        "progress".to_string(),
+    ];
+    modules
+        .get_mut(&progress)
+        .expect("harness/study/progress.rs")
+        .push_str(
+            "\n// std::env::args in a comment\nfn f() -> usize { std::env::args().count() }\n",
+        );
+    assert_eq!(
+        modules_reading_the_arguments(&modules),
+        ["harness::study::progress"]
     );
 }

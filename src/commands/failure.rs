@@ -1,9 +1,9 @@
 //! How a command fails: a message and its exit code, from every error of the layers below.
 
+use crate::harness::files::command_error::CommandError;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
 use crate::harness::study::scene::SceneError;
-use crate::studies::outputs::CommandError;
 
 /// A failure with its exit code.
 pub struct Failure {

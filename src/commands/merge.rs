@@ -1,7 +1,7 @@
 //! `signorini merge`: the arguments of reading a sharded command's partial result files back
-//! ([`crate::studies::outputs::read_shards`]); the dispatcher runs the recorded request again
-//! with every job's result taken from them: it writes the very files the unsharded command
-//! writes.
+//! ([`super::sharding::outputs::read_shards`]); the dispatcher runs the typed command they
+//! recorded again with every job's result taken from them: it writes the very files the
+//! unsharded command writes.
 
 use std::path::PathBuf;
 

@@ -35,81 +35,126 @@ pub use list::{list, ListArgs};
 pub use merge::MergeArgs;
 pub use options::{ConventionArgs, LinearSolverArgs};
 pub use reports::{
-    experiment, figures, golden, report, stability, ExperimentArgs, FiguresArgs, GoldenArgs,
-    ReportArgs, StabilityArgs,
+    figures, golden, ExperimentArgs, FiguresArgs, GoldenArgs, ReportArgs, StabilityArgs,
 };
 pub use run::{run_scene, RunArgs};
+pub use sharding::command_line::CommandLine;
 pub use sharding::{
     EnsembleShardArgs, ReferenceShardArgs, ReportShardArgs, ShardArgs, SuiteShardArgs,
 };
-pub use study::{
-    reference, rejudge, sensitivity, study_scene, ReferenceArgs, RejudgeArgs, SensitivityArgs,
-    StudyArgs,
-};
+pub use study::reference_run::{references, ReferenceRequest};
+pub use study::{rejudge, ReferenceArgs, RejudgeArgs, SensitivityArgs, StudyArgs};
 pub use verify::{league, verify_runs, LeagueArgs, VerifyArgs};
 
 use std::path::PathBuf;
 
-use options::REPORTS;
+use serde::{Deserialize, Serialize};
 
+use crate::harness::study::executor::Executor;
 use crate::harness::study::progress::{self, Shown};
-use crate::studies::outputs::read_shards;
+use crate::harness::study::shard::{codec, Invocation};
+use sharding::outputs::read_shards;
+use sharding::sharded::Sharded;
 
-/// Shows the progress of this process's subcommand on stderr while the guard lives (on a
+/// Shows the progress of the subcommand of `line` on stderr while the guard lives (on a
 /// terminal, without `CI`).
-pub fn show_progress() -> Shown {
-    let command: Vec<String> = std::env::args().skip(1).take(1).collect();
-    progress::show(&format!("signorini {}", command.join(" ")))
+pub fn show_progress(line: &CommandLine) -> Shown {
+    progress::show(&format!("signorini {}", line.subcommand()))
 }
 
-/// `signorini merge`: reads the shards of one invocation ([`read_shards`]) and runs their
-/// recorded request again with every job's result taken from them, with `--out` when given (else
-/// the command's default): it writes, or prints, what the unsharded command does. A `reference`
-/// merge finds every reference in the shared cache.
-pub fn merge(args: MergeArgs) -> Result<(), Failure> {
-    let shards = read_shards(&args.shards, args.out.as_deref(), &args.limits.limits())?;
-    let (executor, out) = (&shards.executor, args.out);
-    let reports = out.clone().unwrap_or_else(|| PathBuf::from(REPORTS));
-    match shards.command.as_str() {
-        "study" => {
-            let request = StudyArgs {
-                out,
-                ..shards.request()?
-            };
-            study::study_scene_with(request, &shards.command_line, executor)
+/// A command whose job lists shard, with its options as parsed: what `main.rs` runs, what its
+/// shards record in their files (tagged with its subcommand's name) and what `merge` reads back
+/// and runs again.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShardableCommand {
+    /// `signorini study`.
+    Study(StudyArgs),
+    /// `signorini stability`.
+    Stability(StabilityArgs),
+    /// `signorini sensitivity`.
+    Sensitivity(SensitivityArgs),
+    /// `signorini reference`.
+    Reference(ReferenceArgs),
+    /// `signorini report`.
+    Report(ReportArgs),
+    /// `signorini experiment`.
+    Experiment(ExperimentArgs),
+}
+
+impl ShardableCommand {
+    /// Its subcommand's name, which names its shards' files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Study(_) => "study",
+            Self::Stability(_) => "stability",
+            Self::Sensitivity(_) => "sensitivity",
+            Self::Reference(_) => "reference",
+            Self::Report(_) => "report",
+            Self::Experiment(_) => "experiment",
         }
-        "stability" => {
-            let request = StabilityArgs {
-                out: reports,
-                ..shards.request()?
-            };
-            reports::stability_with(request, executor)
-        }
-        "sensitivity" => {
-            let request = SensitivityArgs {
-                out: reports,
-                ..shards.request()?
-            };
-            study::sensitivity_with(request, executor)
-        }
-        "reference" => study::reference_with(shards.request()?, executor, None),
-        "report" => {
-            let request = ReportArgs {
-                out: reports,
-                ..shards.request()?
-            };
-            reports::report_with(request, executor)
-        }
-        "experiment" => {
-            let request = ExperimentArgs {
-                out: reports,
-                ..shards.request()?
-            };
-            reports::experiment_with(request, executor)
-        }
-        other => Err(Failure::usage(format!(
-            "the shards are of `{other}`; allowed: shards of study, stability, sensitivity, \
-             reference, report or experiment"
-        ))),
     }
+
+    /// Runs the command as typed on `line`: every job here, or the share of its `--shard`.
+    pub fn run(self, line: &CommandLine) -> Result<(), Failure> {
+        self.run_on(None, line)
+    }
+
+    /// Runs the command with `merged`'s results and `--out` when given (a merge), else as typed.
+    fn run_on(
+        self,
+        merged: Option<(&Executor, Option<PathBuf>)>,
+        line: &CommandLine,
+    ) -> Result<(), Failure> {
+        match self {
+            Self::Study(args) => run_sharded(args, Self::Study, merged, line),
+            Self::Stability(args) => run_sharded(args, Self::Stability, merged, line),
+            Self::Sensitivity(args) => run_sharded(args, Self::Sensitivity, merged, line),
+            Self::Reference(args) => run_sharded(args, Self::Reference, merged, line),
+            Self::Report(args) => run_sharded(args, Self::Report, merged, line),
+            Self::Experiment(args) => run_sharded(args, Self::Experiment, merged, line),
+        }
+    }
+}
+
+/// The one path of every sharded command `args` (`typed` makes it a [`ShardableCommand`]): the
+/// invocation its shards record (its recorded options as the typed command, the arguments of
+/// `line` and the files it reads), then the command run with `merged`'s results and `--out`, or
+/// as typed.
+fn run_sharded<C: Sharded>(
+    args: C,
+    typed: fn(C) -> ShardableCommand,
+    merged: Option<(&Executor, Option<PathBuf>)>,
+    line: &CommandLine,
+) -> Result<(), Failure> {
+    let recorded = typed(args.recorded(None));
+    let invocation = Invocation {
+        command: recorded.name().to_string(),
+        arguments: line.shard_arguments(),
+        request: codec::encode(&recorded).map_err(|e| Failure::runtime(e.to_string()))?,
+        inputs: args.inputs(),
+    };
+    match merged {
+        Some((executor, out)) => args.recorded(out).run_with(executor, &invocation, line),
+        None => args.run(&invocation, line),
+    }
+}
+
+/// `signorini merge`: reads the shards of one invocation ([`read_shards`]) and runs the command
+/// they recorded again with every job's result taken from them, with `--out` when given (else
+/// the command's default): it writes, or prints, what the unsharded command does, and a report
+/// says it was made by the unsharded command line. A `reference` merge finds every reference in
+/// the shared cache.
+pub fn merge(args: MergeArgs) -> Result<(), Failure> {
+    let shards = read_shards::<ShardableCommand>(&args.shards, &args.limits.limits())?;
+    let name = shards.command.name();
+    if name != shards.name {
+        return Err(Failure::usage(format!(
+            "the shards' files name the command `{}` but recorded `{name}`",
+            shards.name
+        )));
+    }
+    let line = CommandLine::of_merge(name, &shards.arguments, args.out.as_deref());
+    let merged = Some((&shards.executor, args.out));
+    shards.command.run_on(merged, &line)
 }

@@ -1,15 +1,23 @@
 //! `signorini run`: one run of a scene, bar or box, with its summary on the terminal and,
 //! with `--out`, its result and histories as files.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs};
+use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::command_error::CommandError;
+use crate::harness::files::error::Error;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
-use crate::studies::scene_run::{run_scene as run_scene_of, RunChoices};
+use crate::harness::run::run_files::RUN_JSON;
+use crate::harness::study::budget::Limits;
+use crate::harness::study::progress;
+use crate::harness::study::scene::Scene;
+use crate::studies::scene_run::{RunChoices, SceneRun};
 
 /// The arguments of `signorini run`.
 #[derive(Debug, Args)]
@@ -84,4 +92,46 @@ pub fn run_scene(args: RunArgs) -> Result<(), Failure> {
         &limits,
         &mut |said| out!("{said}"),
     )?)
+}
+
+/// `signorini run` below the command line: the run of `choices` on the scene file `scene`,
+/// held to `limits`, its summary told to `say`; with `out`, its files written there whole or
+/// not at all, and each named.
+fn run_scene_of(
+    scene: &Path,
+    choices: RunChoices,
+    out: Option<&Path>,
+    limits: &Limits,
+    say: &mut dyn FnMut(&str),
+) -> Result<(), CommandError> {
+    let scene = Scene::load(scene)?;
+    if let Some(w) = choices.scheme.warning() {
+        progress::note(&format!("warning: {w}"));
+    }
+    let check_balance = choices.check_balance;
+    let run = SceneRun::of(&scene, choices)?;
+    run.estimate().check(limits).map_err(Error::from)?;
+    let staged = out
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
+        .transpose()?;
+    if let Some(advice) = run.advice() {
+        say(&advice);
+    }
+    let mut outcome = run.run(staged.as_ref().map(StagedDir::path))?;
+    say(&outcome.summary(&run, check_balance));
+    let (Some(dir), Some(staged)) = (out, staged) else {
+        return Ok(());
+    };
+    let (json, histories) = outcome.files(|f| staged.final_path(f))?;
+    write_atomic(&staged.path().join(RUN_JSON), json.as_bytes())?;
+    let mut written = vec![dir.join(RUN_JSON)];
+    for (name, text) in histories {
+        write_atomic(&staged.path().join(&name), text.as_bytes())?;
+        written.push(dir.join(name));
+    }
+    staged.commit()?;
+    written.extend(outcome.vtk_files().iter().cloned());
+    let named: Vec<String> = written.iter().map(|f| f.display().to_string()).collect();
+    say(&format!("wrote {}", named.join(", ")));
+    Ok(())
 }

@@ -1,27 +1,23 @@
 //! One run of a scene as a user asks for it (`signorini run`): the scheme and mass chosen, the
 //! scene's level, ratio and contact treatment unless overridden, whatever the geometry: one
 //! [`run`] of the scene's [`Problem`], a bar's measuring its errors against the exact solution,
-//! a box's its energy and contact face. The command only parses, stages its directory and
-//! prints what comes back.
+//! a box's its energy and contact face, and the summary and files of its outcome. The command
+//! (`crate::commands`) parses, stages its directory and writes what comes back.
 
 use std::path::{Path, PathBuf};
 
-use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Scheme,
 };
 use crate::harness::reference::scene_study::{chosen_settings, ConventionChoice};
 use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
-use crate::harness::run::run_files::RUN_JSON;
 use crate::harness::run::run_files::{box_history_csv, history_csv};
 use crate::harness::run::{run, time_grid, Observables, Observed, RunConfig, RunResult};
-use crate::harness::study::budget::{self, Estimate, Limits};
-use crate::harness::study::progress::{self, StepProgress};
+use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::progress::StepProgress;
 use crate::harness::study::scene::Scene;
-use crate::studies::outputs::CommandError;
 
 /// What a user chooses for one run of a scene; each `None` keeps the scene's.
 #[derive(Debug, Clone)]
@@ -334,46 +330,4 @@ fn balance_line(scheme: Scheme, residual: Option<f64>) -> String {
              scheme's equations; see docs/src/schemes-and-balances.md)"
         ),
     }
-}
-
-/// `signorini run` below the command line: the run of `choices` on the scene file `scene`,
-/// held to `limits`, its summary told to `say`; with `out`, its files written there whole or
-/// not at all, and each named.
-pub fn run_scene(
-    scene: &Path,
-    choices: RunChoices,
-    out: Option<&Path>,
-    limits: &Limits,
-    say: &mut dyn FnMut(&str),
-) -> Result<(), CommandError> {
-    let scene = Scene::load(scene)?;
-    if let Some(w) = choices.scheme.warning() {
-        progress::note(&format!("warning: {w}"));
-    }
-    let check_balance = choices.check_balance;
-    let run = SceneRun::of(&scene, choices)?;
-    run.estimate().check(limits).map_err(Error::from)?;
-    let staged = out
-        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
-        .transpose()?;
-    if let Some(advice) = run.advice() {
-        say(&advice);
-    }
-    let mut outcome = run.run(staged.as_ref().map(StagedDir::path))?;
-    say(&outcome.summary(&run, check_balance));
-    let (Some(dir), Some(staged)) = (out, staged) else {
-        return Ok(());
-    };
-    let (json, histories) = outcome.files(|f| staged.final_path(f))?;
-    write_atomic(&staged.path().join(RUN_JSON), json.as_bytes())?;
-    let mut written = vec![dir.join(RUN_JSON)];
-    for (name, text) in histories {
-        write_atomic(&staged.path().join(&name), text.as_bytes())?;
-        written.push(dir.join(name));
-    }
-    staged.commit()?;
-    written.extend(outcome.vtk_files().iter().cloned());
-    let named: Vec<String> = written.iter().map(|f| f.display().to_string()).collect();
-    say(&format!("wrote {}", named.join(", ")));
-    Ok(())
 }

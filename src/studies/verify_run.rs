@@ -10,6 +10,7 @@ use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify as verify_runs, ExternalError, VerifyGolden};
 use crate::harness::files::artifacts::{read_json, writable, write_atomic, write_json};
+use crate::harness::files::command_error::CommandError;
 use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::files::output_dir::{Replace, StagedDir};
@@ -21,8 +22,7 @@ use crate::harness::study::scene::Scene;
 use crate::studies::elastic_study::external::{
     render as render_box, verify_box, BoxVerification, BoxVerifyRequest,
 };
-use crate::studies::outputs::CommandError;
-use crate::studies::reference_run::REPORT_REFERENCES;
+use crate::studies::reports_index::REPORT_REFERENCES;
 
 /// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
 pub const VERIFY_JSON: &str = "verify.json";

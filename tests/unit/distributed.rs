@@ -431,13 +431,13 @@ fn a_solve_on_two_ranks_exchanges_what_the_cost_model_charges() {
 /// both before anything is computed: rank 0 says why, rank 1 that another rank refused.
 #[test]
 fn a_reference_whose_rank_does_not_fit_its_machine_is_refused_on_every_rank() {
+    use signorini::commands::{references, ReferenceRequest};
     use signorini::engine::linalg::LinearSolver;
     use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
     use signorini::harness::study::budget::{reference_rank, Limits};
     use signorini::harness::study::executor::Executor;
     use signorini::harness::study::scene::Scene;
     use signorini::harness::study::shard::Invocation;
-    use signorini::studies::reference_run::{references, ReferenceRequest};
 
     let path = std::path::PathBuf::from("scenes/bar3d.json");
     let scene = Scene::load(&path).unwrap();

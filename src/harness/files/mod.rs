@@ -11,9 +11,11 @@
 //! | [`artifacts`] | [`artifacts::write_atomic`], [`artifacts::write_json`], [`artifacts::csv`]: every write, whole or not at all |
 //! | [`output_dir`] | [`output_dir::StagedDir`]: an output directory staged beside its target and moved into place at the end |
 //! | [`manifest`] | [`manifest::Manifest`]: the files a command wrote into a directory, with their SHA-256 |
+//! | [`command_error`] | [`command_error::CommandError`]: how a command fails below the command line |
 //! | [`error`] | [`error::Error`], the harness's error, and the errors it wraps ([`error::SceneError`], [`error::ShardError`], [`error::BudgetError`], …) |
 
 pub mod artifacts;
+pub mod command_error;
 pub mod error;
 pub mod input;
 pub mod manifest;

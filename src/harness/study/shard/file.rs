@@ -5,11 +5,11 @@
 //!
 //! | field | what |
 //! | --- | --- |
-//! | `format` | `"signorini-shard/5"` |
+//! | `format` | `"signorini-shard/6"` |
 //! | `signorini` | the version of the binary that ran the shard |
 //! | `command` | the subcommand: `study`, `stability`, `sensitivity`, `reference`, `report` or `experiment` |
 //! | `arguments` | its arguments as typed, less `--shard` and `--out`: what the merge's report says it was made by |
-//! | `request` | the command's parsed options, less `--shard` and `--out`, as hexadecimal MessagePack: what the merge runs again (it parses no command line) |
+//! | `request` | the typed command, tagged with the subcommand's name, its parsed options less `--shard` and `--out`, as hexadecimal MessagePack: what the merge runs again (it parses no command line) |
 //! | `inputs` | the files the command reads (scene files), whose contents the identity covers |
 //! | `identity` | 16 hexadecimal digits: FNV-1a (64 bits) of `signorini`, `command`, `arguments`, `request` and the contents of `inputs` |
 //! | `k`, `n` | shard `k` of `n` |
@@ -20,8 +20,8 @@
 //!
 //! The checksum covers every other field (the parameters through `identity`, and the results):
 //! a file changed or damaged after its shard wrote it is refused by the merge
-//! ([`ShardFile::verify`]). Files of versions 1 to 4 (no request, no lists, or version 4's job results) are refused with
-//! the reason.
+//! ([`ShardFile::verify`]). Files of versions 1 to 5 (no request, no lists, version 4's job results, or
+//! version 5's request of bare options) are refused with the reason.
 //!
 //! A `result` is the job's result as hexadecimal MessagePack ([`super::codec`]); for the
 //! `reference` command it is the scene's name, the reference itself being in the cache.
@@ -44,7 +44,7 @@ pub const SHARD_FILE: Limit = Limit {
 };
 
 /// The `format` of the files this version writes and reads.
-pub const SHARD_FORMAT: &str = "signorini-shard/5";
+pub const SHARD_FORMAT: &str = "signorini-shard/6";
 
 /// One job's result, [`super::codec::encode`]d, with the job's index in its list.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,7 +96,8 @@ pub struct ShardFile {
     pub command: String,
     /// Its arguments, less `--shard` and `--out`.
     pub arguments: Vec<String>,
-    /// Its parsed options, less `--shard` and `--out`, [`super::codec::encode`]d (absent from
+    /// The typed command, its parsed options less `--shard` and `--out`, tagged with the
+    /// subcommand's name, [`super::codec::encode`]d (absent from
     /// files of earlier formats, which the merge refuses by their `format`).
     #[serde(default)]
     pub request: String,
@@ -160,8 +161,8 @@ pub struct Invocation {
     pub command: String,
     /// Its arguments, less `--shard` and `--out`, as typed.
     pub arguments: Vec<String>,
-    /// Its parsed options, less `--shard` and `--out`, [`super::codec::encode`]d: what a merge
-    /// runs again.
+    /// The typed command, its parsed options less `--shard` and `--out`, tagged with the
+    /// subcommand's name, [`super::codec::encode`]d: what a merge runs again.
     pub request: String,
     /// The files it reads.
     pub inputs: Vec<PathBuf>,

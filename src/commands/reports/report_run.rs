@@ -5,7 +5,9 @@
 
 use std::path::Path;
 
+use crate::commands::sharding::outputs::{share_of_work, Destination, Received};
 use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::command_error::CommandError;
 use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
@@ -18,7 +20,6 @@ use crate::studies::extended::{extended_studies_in, write_extended_report};
 use crate::studies::figures::from_reports::write_figures;
 use crate::studies::golden::write_golden;
 use crate::studies::gravity::{gravity_benchmark, write_gravity_report};
-use crate::studies::outputs::{share_of_work, CommandError, Destination, Received};
 use crate::studies::report::{tables_report, write_report};
 use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
 use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files, Verdict};

@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs, REPORTS};
+use super::sharding::command_line::CommandLine;
+use super::sharding::sharded::Sharded;
 use super::sharding::{EnsembleShardArgs, ReferenceShardArgs, ShardArgs};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
 use crate::harness::reference::scene_study::StudyChoices;
@@ -18,9 +20,13 @@ use crate::harness::run::distributed::{CountedRanks, MpiRanks, Traffic};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
-use crate::studies::outputs::this_invocation;
-use crate::studies::reference_run::{references, ReferenceRequest, REPORT_REFERENCES};
-use crate::studies::study_run::{self, StudyRequest};
+use crate::harness::study::shard::Invocation;
+use crate::studies::reports_index::REPORT_REFERENCES;
+use reference_run::{references, ReferenceRequest};
+use study_run::StudyRequest;
+
+pub(crate) mod reference_run;
+mod study_run;
 
 /// The arguments of `signorini study`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
@@ -96,46 +102,53 @@ fn distinct<T: PartialEq + std::fmt::Display>(option: &str, values: Vec<T>) -> V
 }
 
 /// A refinement study of a scene: the rate table of the selected cases and norms, as
-/// markdown or JSON. Nothing outside the selection is computed.
-pub fn study_scene(args: StudyArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    study_scene_with(args, &invocation(), &executor)
-}
+/// markdown or JSON. Nothing outside the selection is computed; a box study's report says it was
+/// made by the command line it is given.
+impl Sharded for StudyArgs {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
+        Self {
+            out,
+            shard: ShardArgs::default(),
+            ..self.clone()
+        }
+    }
 
-/// [`study_scene`] with its jobs handed to `executor`, whose box report says it was made by
-/// `command_line`.
-pub(crate) fn study_scene_with(
-    args: StudyArgs,
-    command_line: &str,
-    executor: &Executor,
-) -> Result<(), Failure> {
-    let recorded = StudyArgs {
-        out: None,
-        shard: ShardArgs::default(),
-        ..args.clone()
-    };
-    let invocation = this_invocation("study", &recorded, vec![args.scene.clone()])?;
-    let request = StudyRequest {
-        choices: StudyChoices {
-            schemes: distinct("--scheme", args.scheme),
-            masses: distinct("--mass", args.mass),
-            norms: args.norm,
-            levels: args.levels,
-            ratio: args.ratio,
-            reference_level: args.reference_level,
-            contact: args.contact,
-            conventions: args.conventions.choice(),
-            linear_solver: args.solver.linear_solver,
-        },
-        scene: args.scene,
-        json: args.json,
-        out: args.out,
-        cache: args.cache,
-        limits: args.limits.limits(),
-    };
-    let said = study_run::study(request, executor, &invocation, command_line)?;
-    out!("{said}");
-    Ok(())
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.scene.clone()]
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        line: &CommandLine,
+    ) -> Result<(), Failure> {
+        let request = StudyRequest {
+            choices: StudyChoices {
+                schemes: distinct("--scheme", self.scheme),
+                masses: distinct("--mass", self.mass),
+                norms: self.norm,
+                levels: self.levels,
+                ratio: self.ratio,
+                reference_level: self.reference_level,
+                contact: self.contact,
+                conventions: self.conventions.choice(),
+                linear_solver: self.solver.linear_solver,
+            },
+            scene: self.scene,
+            json: self.json,
+            out: self.out,
+            cache: self.cache,
+            limits: self.limits.limits(),
+        };
+        let said = study_run::study(request, executor, invocation, &line.typed())?;
+        out!("{said}");
+        Ok(())
+    }
 }
 
 /// The arguments of `signorini rejudge`.
@@ -180,34 +193,45 @@ pub struct SensitivityArgs {
 /// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
 /// as an ensemble of members with seeded noise of relative size A on the initial
 /// displacement; writes sensitivity.md and sensitivity.json with each case's class.
-pub fn sensitivity(args: SensitivityArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    sensitivity_with(args, &executor)
-}
+impl Sharded for SensitivityArgs {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
+        Self {
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+            shard: EnsembleShardArgs::default(),
+            ..self.clone()
+        }
+    }
 
-/// [`sensitivity`] with its ensembles handed to `executor`.
-pub(crate) fn sensitivity_with(args: SensitivityArgs, executor: &Executor) -> Result<(), Failure> {
-    let recorded = SensitivityArgs {
-        out: PathBuf::from(REPORTS),
-        shard: EnsembleShardArgs::default(),
-        ..args.clone()
-    };
-    let invocation = this_invocation("sensitivity", &recorded, vec![args.scene.clone()])?;
-    let ensemble = EnsembleConfig {
-        members: args.members,
-        amplitude: args.amplitude,
-    };
-    let limits = args.limits.limits();
-    let said = study_run::sensitivity(
-        &args.scene,
-        ensemble,
-        &args.out,
-        &limits,
-        executor,
-        &invocation,
-    )?;
-    out!("{said}");
-    Ok(())
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.scene.clone()]
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        _line: &CommandLine,
+    ) -> Result<(), Failure> {
+        let ensemble = EnsembleConfig {
+            members: self.members,
+            amplitude: self.amplitude,
+        };
+        let limits = self.limits.limits();
+        let said = study_run::sensitivity(
+            &self.scene,
+            ensemble,
+            &self.out,
+            &limits,
+            executor,
+            invocation,
+        )?;
+        out!("{said}");
+        Ok(())
+    }
 }
 
 /// The arguments of `signorini reference`.
@@ -243,16 +267,44 @@ pub struct ReferenceArgs {
 /// parameters match the scene's, says which differ otherwise, and recomputes it.
 ///
 /// Built with the `mpi` feature and launched by `mpirun` or `srun` on more than one rank, the
-/// ranks share each reference's run ([`on_mpi_ranks`]).
-pub fn reference(args: ReferenceArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    #[cfg(feature = "mpi")]
-    if let Some(ranks) = launched_by_mpi().then(MpiRanks::initialise).flatten() {
-        if ranks.size() > 1 {
-            return on_mpi_ranks(args, &executor, &ranks);
+/// ranks share each reference's run ([`on_mpi_ranks`]); a merge finds every reference in the
+/// cache and runs in one process.
+impl Sharded for ReferenceArgs {
+    fn recorded(&self, _out: Option<PathBuf>) -> Self {
+        Self {
+            out: None,
+            shard: ReferenceShardArgs::default(),
+            ..self.clone()
         }
     }
-    reference_with(args, &executor, None)
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        self.scenes.clone()
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        _line: &CommandLine,
+    ) -> Result<(), Failure> {
+        reference_with(self, executor, invocation, None)
+    }
+
+    fn run(self, invocation: &Invocation, line: &CommandLine) -> Result<(), Failure> {
+        let executor = self.executor();
+        #[cfg(feature = "mpi")]
+        if let Some(ranks) = launched_by_mpi().then(MpiRanks::initialise).flatten() {
+            if ranks.size() > 1 {
+                return on_mpi_ranks(self, &executor, invocation, &ranks);
+            }
+        }
+        self.run_with(&executor, invocation, line)
+    }
 }
 
 /// Whether this process was started by an MPI launcher (Open MPI's `mpirun`, or a PMI or
@@ -264,13 +316,18 @@ fn launched_by_mpi() -> bool {
         .any(|name| std::env::var_os(name).is_some())
 }
 
-/// [`reference`] on this MPI rank: every rank runs it (MPI is finalised when the caller drops
-/// `ranks`); a rank that fails says why, with its rank, and ends every rank with its exit code
-/// (`MPI_Abort`), so that none waits forever on it.
+/// `signorini reference` on this MPI rank: every rank runs it (MPI is finalised when the caller
+/// drops `ranks`); a rank that fails says why, with its rank, and ends every rank with its exit
+/// code (`MPI_Abort`), so that none waits forever on it.
 #[cfg(feature = "mpi")]
-fn on_mpi_ranks(args: ReferenceArgs, executor: &Executor, ranks: &MpiRanks) -> Result<(), Failure> {
+fn on_mpi_ranks(
+    args: ReferenceArgs,
+    executor: &Executor,
+    invocation: &Invocation,
+    ranks: &MpiRanks,
+) -> Result<(), Failure> {
     let counted = CountedRanks::new(ranks);
-    match reference_with(args, executor, Some(&counted)) {
+    match reference_with(args, executor, invocation, Some(&counted)) {
         Ok(()) => {
             let Traffic {
                 messages,
@@ -299,19 +356,14 @@ fn on_mpi_ranks(args: ReferenceArgs, executor: &Executor, ranks: &MpiRanks) -> R
     }
 }
 
-/// [`reference`] with its scenes handed to `executor`, one at a time, this process one of
-/// `ranks` when given.
-pub(crate) fn reference_with(
+/// `signorini reference` with its scenes handed to `executor`, one at a time, its shard's file
+/// recording `invocation`, this process one of `ranks` when given.
+fn reference_with(
     args: ReferenceArgs,
     executor: &Executor,
+    invocation: &Invocation,
     ranks: Option<&dyn Ranks>,
 ) -> Result<(), Failure> {
-    let recorded = ReferenceArgs {
-        out: None,
-        shard: ReferenceShardArgs::default(),
-        ..args.clone()
-    };
-    let invocation = this_invocation("reference", &recorded, args.scenes.clone())?;
     let request = ReferenceRequest {
         scenes: args.scenes,
         cache: args.cache,
@@ -322,17 +374,9 @@ pub(crate) fn reference_with(
         measure: args.measure,
     };
     let say = |said: &str| out!("{said}");
-    let done = references(request, executor, &invocation, &say)?;
+    let done = references(request, executor, invocation, &say)?;
     if !done.is_empty() {
         out!("{done}");
     }
     Ok(())
-}
-
-/// This process's command line as a user types it: `signorini` and the arguments.
-pub(crate) fn invocation() -> String {
-    std::iter::once("signorini".to_string())
-        .chain(std::env::args().skip(1))
-        .collect::<Vec<_>>()
-        .join(" ")
 }

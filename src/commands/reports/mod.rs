@@ -1,5 +1,5 @@
 //! The commands behind the make targets that write `reports/` and `golden/`: `report`,
-//! `experiment`, `figures`, `stability` and `golden` ([`crate::studies::report_run`] does
+//! `experiment`, `figures`, `stability` and `golden` ([`report_run`] does
 //! them). `report`, `experiment` and `stability` shard.
 
 use std::path::PathBuf;
@@ -10,12 +10,15 @@ use serde::{Deserialize, Serialize};
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
+use super::sharding::command_line::CommandLine;
+use super::sharding::sharded::Sharded;
 use super::sharding::{ReportShardArgs, SuiteShardArgs};
 use crate::harness::study::executor::Executor;
+use crate::harness::study::shard::Invocation;
 use crate::studies::benchmark::DIRICHLET_SCENE;
 use crate::studies::gravity::GRAVITY_SCENE;
-use crate::studies::outputs::this_invocation;
-use crate::studies::report_run;
+
+mod report_run;
 
 /// The arguments of `signorini report`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
@@ -33,26 +36,34 @@ pub struct ReportArgs {
 
 /// The 1D part of `make report`: the gravity benchmark, Tables 1–2 beside the paper and the
 /// extended table.
-pub fn report(args: ReportArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    report_with(args, &executor)
-}
+impl Sharded for ReportArgs {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
+        Self {
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+            shard: ReportShardArgs::default(),
+            ..self.clone()
+        }
+    }
 
-/// [`report`] with its job lists handed to `executor`.
-pub(crate) fn report_with(args: ReportArgs, executor: &Executor) -> Result<(), Failure> {
-    let recorded = ReportArgs {
-        out: PathBuf::from(REPORTS),
-        shard: ReportShardArgs::default(),
-        ..args.clone()
-    };
-    let inputs = vec![PathBuf::from(GRAVITY_SCENE), PathBuf::from(DIRICHLET_SCENE)];
-    let invocation = this_invocation("report", &recorded, inputs)?;
-    let limits = args.limits.limits();
-    out!(
-        "{}",
-        report_run::report(&args.out, &limits, executor, &invocation)?
-    );
-    Ok(())
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![PathBuf::from(GRAVITY_SCENE), PathBuf::from(DIRICHLET_SCENE)]
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        _line: &CommandLine,
+    ) -> Result<(), Failure> {
+        let limits = self.limits.limits();
+        let said = report_run::report(&self.out, &limits, executor, invocation)?;
+        out!("{said}");
+        Ok(())
+    }
 }
 
 /// The arguments of `signorini experiment`.
@@ -70,25 +81,34 @@ pub struct ExperimentArgs {
 }
 
 /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
-pub fn experiment(args: ExperimentArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    experiment_with(args, &executor)
-}
+impl Sharded for ExperimentArgs {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
+        Self {
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+            shard: ReportShardArgs::default(),
+            ..self.clone()
+        }
+    }
 
-/// [`experiment`] with its job lists handed to `executor`.
-pub(crate) fn experiment_with(args: ExperimentArgs, executor: &Executor) -> Result<(), Failure> {
-    let recorded = ExperimentArgs {
-        out: PathBuf::from(REPORTS),
-        shard: ReportShardArgs::default(),
-        ..args.clone()
-    };
-    let invocation = this_invocation("experiment", &recorded, vec![DIRICHLET_SCENE.into()])?;
-    let limits = args.limits.limits();
-    out!(
-        "{}",
-        report_run::experiment(&args.out, &limits, executor, &invocation)?
-    );
-    Ok(())
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![PathBuf::from(DIRICHLET_SCENE)]
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        _line: &CommandLine,
+    ) -> Result<(), Failure> {
+        let limits = self.limits.limits();
+        let said = report_run::experiment(&self.out, &limits, executor, invocation)?;
+        out!("{said}");
+        Ok(())
+    }
 }
 
 /// The arguments of `signorini figures`.
@@ -128,23 +148,34 @@ pub struct StabilityArgs {
 
 /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
 /// verdict each; writes stability.md and stability.json.
-pub fn stability(args: StabilityArgs) -> Result<(), Failure> {
-    let executor = args.shard.executor();
-    stability_with(args, &executor)
-}
+impl Sharded for StabilityArgs {
+    fn recorded(&self, out: Option<PathBuf>) -> Self {
+        Self {
+            out: out.unwrap_or_else(|| PathBuf::from(REPORTS)),
+            shard: SuiteShardArgs::default(),
+            ..self.clone()
+        }
+    }
 
-/// [`stability`] with its runs handed to `executor`.
-pub(crate) fn stability_with(args: StabilityArgs, executor: &Executor) -> Result<(), Failure> {
-    let recorded = StabilityArgs {
-        out: PathBuf::from(REPORTS),
-        shard: SuiteShardArgs::default(),
-        ..args.clone()
-    };
-    let invocation = this_invocation("stability", &recorded, vec![DIRICHLET_SCENE.into()])?;
-    let (limits, subset) = (args.limits.limits(), args.ci_subset);
-    let said = report_run::stability(&args.out, subset, &limits, executor, &invocation)?;
-    out!("{said}");
-    Ok(())
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![PathBuf::from(DIRICHLET_SCENE)]
+    }
+
+    fn executor(&self) -> Executor {
+        self.shard.executor()
+    }
+
+    fn run_with(
+        self,
+        executor: &Executor,
+        invocation: &Invocation,
+        _line: &CommandLine,
+    ) -> Result<(), Failure> {
+        let (limits, subset) = (self.limits.limits(), self.ci_subset);
+        let said = report_run::stability(&self.out, subset, &limits, executor, invocation)?;
+        out!("{said}");
+        Ok(())
+    }
 }
 
 /// The arguments of `signorini golden`.

@@ -1,8 +1,14 @@
 //! `--shard k/n` on the commands that run job lists (`study`, `stability`, `sensitivity`,
-//! `reference`, `report`, `experiment`): the option and the executor it asks for. What a shard
-//! writes is [`crate::studies::outputs`]'s.
+//! `reference`, `report`, `experiment`): the option and the executor it asks for, what such a
+//! command states of its own ([`sharded::Sharded`]), the command line it is given, read once
+//! ([`command_line::CommandLine`]), and where its results go and how its shards are read back
+//! ([`outputs`]).
 
 use serde::{Deserialize, Serialize};
+
+pub(crate) mod command_line;
+pub(crate) mod outputs;
+pub(crate) mod sharded;
 
 use super::options::parsed;
 use crate::harness::study::executor::Executor;

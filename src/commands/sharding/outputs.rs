@@ -1,91 +1,21 @@
-//! Where a command's results go, below the command line: the request its shards record
-//! ([`this_invocation`]), a shard's partial result file ([`ShardOutput`]) or the reports staged
-//! in `--out` ([`Destination`]), the share of the work a shard is held to ([`share_of_work`]),
-//! the shards of one invocation read back for `merge` ([`read_shards`]), and how a command
-//! below the command line fails ([`CommandError`]).
+//! Where a command's results go: a shard's partial result file ([`ShardOutput`]) or the reports
+//! staged in `--out` ([`Destination`]), the share of the work a shard is held to
+//! ([`share_of_work`]), and the shards of one invocation read back for `merge` ([`read_shards`]).
 
 use std::path::{Path, PathBuf};
 
 use serde::de::DeserializeOwned;
-use serde::Serialize;
-use thiserror::Error;
 
 use crate::harness::files::artifacts::{read_json, write_json};
-use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::files::output_dir::{OutputDirError, Replace, StagedDir};
+use crate::harness::files::command_error::CommandError;
+use crate::harness::files::error::Error;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{Executed, Executor};
-use crate::harness::study::scene::SceneError;
 use crate::harness::study::shard::merge::{merge, Merged};
 use crate::harness::study::shard::{
     codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
 };
-
-/// How a command fails below the command line; the command gives each its exit code.
-#[derive(Debug, Error)]
-pub enum CommandError {
-    /// An error of the harness (its own exit code: usage or failure).
-    #[error(transparent)]
-    Harness(#[from] Error),
-    /// An output directory that cannot be staged or committed.
-    #[error(transparent)]
-    OutputDir(#[from] OutputDirError),
-    /// Options that do not go together (a usage error).
-    #[error("{0}")]
-    Refused(String),
-    /// A step that could not be done (a failure).
-    #[error("{0}")]
-    Failed(String),
-}
-
-impl From<SceneError> for CommandError {
-    fn from(e: SceneError) -> Self {
-        Self::Harness(e.into())
-    }
-}
-
-impl From<ParameterError> for CommandError {
-    fn from(e: ParameterError) -> Self {
-        Self::Harness(e.into())
-    }
-}
-
-/// The options that the shards of one invocation may give differently: dropped from the
-/// recorded arguments (`--out` is the merge's to give).
-const PER_SHARD_OPTIONS: [&str; 2] = ["--shard", "--out"];
-
-/// This process's arguments after the subcommand, less [`PER_SHARD_OPTIONS`] and their values.
-fn shard_arguments() -> Vec<String> {
-    let mut kept = Vec::new();
-    let mut args = std::env::args().skip(2);
-    while let Some(a) = args.next() {
-        if PER_SHARD_OPTIONS.contains(&a.as_str()) {
-            args.next();
-        } else if !PER_SHARD_OPTIONS
-            .iter()
-            .any(|o| a.starts_with(&format!("{o}=")))
-        {
-            kept.push(a);
-        }
-    }
-    kept
-}
-
-/// This process's command as its shards record it: `command`, its arguments (less
-/// [`PER_SHARD_OPTIONS`]), its parsed options `request` (with `--shard` and `--out` cleared by
-/// the caller) and the files it reads.
-pub fn this_invocation<A: Serialize>(
-    command: &str,
-    request: &A,
-    inputs: Vec<PathBuf>,
-) -> Result<Invocation, CommandError> {
-    Ok(Invocation {
-        command: command.to_string(),
-        arguments: shard_arguments(),
-        request: codec::encode(request).map_err(|e| CommandError::Failed(e.to_string()))?,
-        inputs,
-    })
-}
 
 /// Where a shard's partial result file goes: `out`, staged before the shard runs (an `--out`
 /// that cannot be written is refused before any job).
@@ -227,37 +157,24 @@ const SHARD_MEMORY_PER_BYTE: f64 = 8.5;
 
 /// The shards of one invocation, read and checked: what `merge` runs again, with every job's
 /// result taken from them.
-pub struct MergedShards {
-    /// The subcommand the shards ran.
-    pub command: String,
-    /// Its recorded request, encoded.
-    request: String,
-    /// The command line the reports say they were made by.
-    pub command_line: String,
-    /// The executor that hands every job's result from the shards to the study.
+pub struct MergedShards<C> {
+    /// The command the shards ran, as they recorded it.
+    pub command: C,
+    /// The name of its subcommand, as its shards' files give it.
+    pub name: String,
+    /// Its arguments as typed, less `--shard` and `--out`.
+    pub arguments: Vec<String>,
+    /// The executor that hands every job's result from the shards to the command.
     pub executor: Executor,
 }
 
-impl MergedShards {
-    /// The request the shards recorded, as the options of their command.
-    pub fn request<A: DeserializeOwned>(&self) -> Result<A, CommandError> {
-        codec::read(&self.request).map_err(|e| {
-            CommandError::Refused(format!(
-                "the shards' request does not read as `{}` options: {e}",
-                self.command
-            ))
-        })
-    }
-}
-
 /// Reads the shard files `paths` (their reading held to `limits`), checks they are the `n`
-/// shards of one invocation whose inputs are unchanged, and returns what `merge` runs again
-/// (with `--out out` on the command line its reports name, when given).
-pub fn read_shards(
+/// shards of one invocation whose inputs are unchanged, and returns what `merge` runs again:
+/// the typed command `C` the shards recorded.
+pub fn read_shards<C: DeserializeOwned>(
     paths: &[PathBuf],
-    out: Option<&Path>,
     limits: &Limits,
-) -> Result<MergedShards, CommandError> {
+) -> Result<MergedShards<C>, CommandError> {
     let bytes: f64 = budget::file_sizes(paths).iter().sum();
     budget::reading(bytes, SHARD_MEMORY_PER_BYTE)
         .check(limits)
@@ -282,15 +199,15 @@ pub fn read_shards(
         };
         return Err(Error::from(changed).into());
     }
-    let mut argv = vec!["signorini".to_string(), invocation.command.clone()];
-    argv.extend(invocation.arguments.iter().cloned());
-    if let Some(out) = out {
-        argv.extend(["--out".to_string(), out.display().to_string()]);
-    }
+    let command = codec::read(&invocation.request).map_err(|e| {
+        CommandError::Refused(format!(
+            "the shards' command does not read as one of signorini's sharded commands: {e}"
+        ))
+    })?;
     Ok(MergedShards {
-        command: invocation.command,
-        request: invocation.request,
-        command_line: argv.join(" "),
+        command,
+        name: invocation.command,
+        arguments: invocation.arguments,
         executor: Executor::Merge(jobs),
     })
 }

@@ -5,6 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::reference_run::cache_is_a_directory;
+use crate::commands::sharding::outputs::{complete_or_write, shard_output, Destination, Received};
+use crate::harness::files::command_error::CommandError;
 use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::MassVariant;
@@ -20,10 +23,7 @@ use crate::harness::study::shard::Invocation;
 use crate::harness::study::Case;
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::rejudge;
-use crate::studies::outputs::{
-    complete_or_write, shard_output, CommandError, Destination, Received,
-};
-use crate::studies::reference_run::{cache_is_a_directory, REPORT_REFERENCES};
+use crate::studies::reports_index::REPORT_REFERENCES;
 use crate::studies::scene_study::JudgedStudy;
 use crate::studies::tables::write_sensitivity_files;
 

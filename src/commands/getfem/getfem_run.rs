@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use crate::harness::files::artifacts::write_json;
+use crate::harness::files::command_error::CommandError;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::getfem::anchor::convert_anchor;
 use crate::harness::study::budget::Limits;
 use crate::studies::getfem::{export_runs, write_getfem_report, Expectation, GETFEM_REPORT};
-use crate::studies::outputs::CommandError;
 
 /// Reproduces every demo run under `runs` into `out`'s `getfem.md` (each run's work and memory
 /// held to `limits` as it is read), after exporting them into `export` when given; tells `say`

@@ -9,7 +9,8 @@ use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::REPORTS;
 use crate::studies::getfem::GETFEM_RUNS;
-use crate::studies::getfem_run;
+
+mod getfem_run;
 
 /// The arguments of `signorini getfem`.
 #[derive(Debug, Args)]
