@@ -89,7 +89,7 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         };
         let contact = match (ranks.rank(), model.contact()) {
             (0, Some(c)) => {
-                ContactStep::local(c, &contact_rows, &k, model.contact_operator().layers())
+                ContactStep::local(c, &contact_rows, &k, model.solver_plan().contact.layers())
                     .map(Some)
             }
             _ => Ok(None),

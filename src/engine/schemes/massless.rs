@@ -45,7 +45,7 @@ impl QuasiStatic {
         let s_zz = model.stiffness().principal_submatrix(&massless);
         let solver = StepSolver::new(
             s_zz,
-            model.linear_solver(),
+            model.solver_plan().step,
             "stiffness on the massless dofs",
         )?;
         let on_z = |v: &[(usize, f64)]| -> SparseVector {
@@ -91,7 +91,7 @@ impl QuasiStatic {
                 &rows,
                 &solver,
                 massless.len(),
-                model.contact_operator(),
+                model.solver_plan().contact,
             )?)
         };
         let n = model.n_dofs();

@@ -53,20 +53,21 @@ use crate::engine::fem::SymmetricMatrix;
 use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
 
-/// The step system `k` of an implicit scheme on `model` (named `name` in errors), solved by
-/// the model's linear solver, and the contact step on it when the model has an obstacle: what
+/// The step system `k` of an implicit scheme on `model` (named `name` in errors), solved as
+/// the model's solver plan says, and the contact step on it when the model has an obstacle: what
 /// the scheme factors once before its steps.
 fn step_system(
     model: &Model,
     k: SymmetricMatrix,
     name: &'static str,
 ) -> Result<(StepSolver, Option<ContactStep>), SolveError> {
-    let system = StepSolver::new(k, model.linear_solver(), name)?;
+    let plan = model.solver_plan();
+    let system = StepSolver::new(k, plan.step, name)?;
     let contact = model
         .contact()
         .map(|c| {
             let rows = model.contact_law().rows(c);
-            ContactStep::new(c, &rows, &system, model.n_dofs(), model.contact_operator())
+            ContactStep::new(c, &rows, &system, model.n_dofs(), plan.contact)
         })
         .transpose()?;
     Ok((system, contact))

@@ -152,7 +152,8 @@ pub fn initial_state(
     let mut acceleration = vec![0.0; n];
     if !with_mass.is_empty() {
         let m_rr = model.mass().principal_submatrix(&with_mass);
-        let mut solver = StepSolver::new(m_rr, model.linear_solver(), "mass (dofs with inertia)")?;
+        let mut solver =
+            StepSolver::new(m_rr, model.solver_plan().step, "mass (dofs with inertia)")?;
         let mut a_r: Vec<f64> = with_mass.iter().map(|&i| rhs[i]).collect();
         solver.solve(&mut a_r, &vec![0.0; with_mass.len()])?;
         for (&i, a) in with_mass.iter().zip(a_r) {

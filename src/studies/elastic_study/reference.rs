@@ -32,7 +32,7 @@ use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::{Error, ParameterError};
 use crate::harness::files::input::{self, InputError, JsonError, Limit};
 use crate::harness::files::manifest::hex;
-use crate::harness::problem::{Conventions, LinearSolver, MassVariant, Scheme, Settings};
+use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::distributed::{
     distributed_run, follow_run, lockstep_run, DecompositionError, Ranks, SlabObserver,
     SlabObservers,
@@ -328,7 +328,7 @@ impl Reference {
     ) -> Result<Self, Error> {
         let clock = Instant::now();
         let settings = match ranks {
-            Some(_) => distributed_settings(settings)?,
+            Some(_) => settings.distributed()?,
             None => *settings,
         };
         let config = fine_config(&key, settings)?;
@@ -716,7 +716,7 @@ impl Reference {
         if ranks.sum(0.0) == 0.0 {
             return Ok(());
         }
-        let config = fine_config(key, distributed_settings(settings)?)?;
+        let config = fine_config(key, settings.distributed()?)?;
         let mesh = box_mesh(problem, key.n_axis)?;
         let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
         let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
@@ -806,22 +806,6 @@ fn lockstep_check<'r>(
         Err(Error::Distributed(DecompositionError::TooManyRanks { .. })) => Ok(None),
         Err(e) => Err(e),
     }
-}
-
-/// The settings of a distributed reference: `settings` with the `cg` step solver (a
-/// distributed step is solved by CG; `auto` becomes it, `direct` is refused).
-fn distributed_settings(settings: &Settings) -> Result<Settings, ParameterError> {
-    if settings.linear_solver == LinearSolver::Direct {
-        return Err(ParameterError::new(
-            "linear-solver",
-            "direct",
-            "cg or auto for a reference across MPI ranks (its steps are solved by CG)",
-        ));
-    }
-    Ok(Settings {
-        linear_solver: LinearSolver::Cg,
-        ..*settings
-    })
 }
 
 /// Where a study's reference is looked up, and whether it is kept there.
