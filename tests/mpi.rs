@@ -162,7 +162,10 @@ fn crank_nicolson_run_agrees(ranks: &MpiRanks) {
         (one_rank && got == expected) || relative(got, expected) <= 1e-10,
         "U at T"
     );
-    assert_eq!(run.step_solves().iterations, whole.step_solves().iterations);
+    assert_eq!(
+        run.statistics().step_solves.iterations,
+        whole.statistics().step_solves.iterations
+    );
 }
 
 /// Runs `signorini` with `args` (under `mpirun -n N` when `ranks` is given), expecting success.

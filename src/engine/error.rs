@@ -99,13 +99,6 @@ pub enum SolveError {
         /// Iterations spent.
         iterations: usize,
     },
-    /// The local contact operator was asked for with a step solver that does not keep the step
-    /// matrix (the direct solver keeps only its factor).
-    #[error(
-        "the local contact operator needs the step matrix, which only the iterative (cg) step \
-         solver keeps; use the cg step solver or the full (or automatic) contact operator"
-    )]
-    LocalContactNeedsMatrix,
     /// Explicit Newmark with `Δt` above its stability bound (checked before the first step).
     #[error(
         "time step too large for explicit Newmark (β = 0, γ = {gamma}): Δt = {dt:.6e} but the CFL \

@@ -11,3 +11,4 @@ pub mod linalg;
 pub mod model;
 pub mod problem;
 pub mod schemes;
+pub mod solver_plan;

@@ -5,10 +5,10 @@
 //! [`ContactLaw`] (see [`crate::engine::contact::law`]).
 
 pub use crate::engine::contact::ContactSet;
-use crate::engine::contact::{ContactLaw, ContactOperator, ContactTreatment};
+use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::{Bar1d, MassVariant, SparseAssembler, SymmetricMatrix};
-use crate::engine::linalg::LinearSolver;
+use crate::engine::solver_plan::SolverPlan;
 
 /// Matrices, load and constraints of one spatial discretisation.
 #[derive(Debug, Clone)]
@@ -19,13 +19,13 @@ pub struct Model {
     contact: Option<ContactSet>,
     law: ContactLaw,
     massless: Vec<usize>,
-    linear_solver: LinearSolver,
-    contact_operator: ContactOperator,
+    solver_plan: SolverPlan,
 }
 
 impl Model {
-    /// A model from its parts; `load` is constant in time. The massless dofs (zero rows of
-    /// `mass`) are found here, once.
+    /// A model from its parts; `load` is constant in time, the solver plan the default one
+    /// (`direct`, the full contact operator). The massless dofs (zero rows of `mass`) are found
+    /// here, once.
     pub fn new(
         mass: SymmetricMatrix,
         stiffness: SymmetricMatrix,
@@ -41,33 +41,20 @@ impl Model {
             contact,
             law,
             massless,
-            linear_solver: LinearSolver::default(),
-            contact_operator: ContactOperator::default(),
+            solver_plan: SolverPlan::default(),
         }
     }
 
-    /// The model with its step matrices solved as `choice` says (default: [`LinearSolver::Auto`],
-    /// which is `direct` outside a box).
-    pub fn with_linear_solver(mut self, choice: LinearSolver) -> Self {
-        self.linear_solver = choice;
+    /// The model with its steps solved as `plan` says (the step solver and the contact
+    /// steps' Delassus operator, resolved where the problem was discretised).
+    pub fn with_solver_plan(mut self, plan: SolverPlan) -> Self {
+        self.solver_plan = plan;
         self
     }
 
-    /// How the implicit schemes solve their step matrices.
-    pub fn linear_solver(&self) -> LinearSolver {
-        self.linear_solver
-    }
-
-    /// The model with the contact steps using the Delassus operator `choice` selects (default:
-    /// [`ContactOperator::Auto`]).
-    pub fn with_contact_operator(mut self, choice: ContactOperator) -> Self {
-        self.contact_operator = choice;
-        self
-    }
-
-    /// Which Delassus operator the contact steps use.
-    pub fn contact_operator(&self) -> ContactOperator {
-        self.contact_operator
+    /// How the schemes solve their step matrices and contact steps.
+    pub fn solver_plan(&self) -> &SolverPlan {
+        &self.solver_plan
     }
 
     /// The model with the contact treated by `law` instead of the multiplier. For Nitsche the

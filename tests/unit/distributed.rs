@@ -185,7 +185,7 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
             lambda.push(whole.state().lambda.clone());
         }
         let u = whole.state().u.clone();
-        let iterations = whole.step_solves().iterations;
+        let iterations = whole.statistics().step_solves.iterations;
         let force_scale = lambda.iter().flatten().fold(0.0_f64, |m, l| m.max(l.abs()));
         assert!(force_scale > 0.0, "{scene}: the bar hits the obstacle");
         let u_scale = u.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
@@ -207,7 +207,7 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
                     energy.push(run.energy());
                     lambda.push(run.multipliers().to_vec());
                 }
-                let spent = run.step_solves().iterations;
+                let spent = run.statistics().step_solves.iterations;
                 (
                     run.own_dofs(),
                     run.displacement().to_vec(),

@@ -12,7 +12,7 @@ use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::problem::{Perturbation, Settings};
-use signorini::engine::schemes::{Scheme, SchemeState, TimeIntegrator, Timed};
+use signorini::engine::schemes::{Scheme, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use signorini::harness::files::error::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
@@ -158,14 +158,8 @@ impl TimeIntegrator for Replay {
     fn energy(&self) -> Timed<f64> {
         unreachable!("DemoNorms reads no energy")
     }
-    fn contact_solves(&self) -> usize {
-        0
-    }
-    fn contact_seconds(&self) -> f64 {
-        0.0
-    }
-    fn complementarity_violation(&self) -> f64 {
-        0.0
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics::default()
     }
 }
 

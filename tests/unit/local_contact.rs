@@ -9,7 +9,7 @@ use signorini::engine::contact::{
     ContactOperator, ContactTreatment, Delassus, LocalDelassus, SlabSolve,
 };
 use signorini::engine::fem::{MassVariant, SymmetricMatrix};
-use signorini::engine::linalg::{LinearSolver, StepSolver};
+use signorini::engine::linalg::{LinearSolver, StepSolver, StepSolverKind};
 use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
 use signorini::harness::run::elastic::BoxProblem;
@@ -83,7 +83,7 @@ fn a_slab_covering_the_system_is_the_full_operator() {
         for contact in [ContactTreatment::Multiplier, penalty] {
             let (k, rows) = step_matrix(scene, nx, 0.25, contact);
             let n = k.dim();
-            let direct = StepSolver::new(k.clone(), LinearSolver::Direct, "step").unwrap();
+            let direct = StepSolver::new(k.clone(), StepSolverKind::Direct, "step").unwrap();
             let full = Delassus::new(&direct, n, &rows).unwrap();
             let mut local = LocalDelassus::new(&k, &rows, Some(usize::MAX)).unwrap();
             let slab = local.truncation();

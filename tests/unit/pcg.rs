@@ -4,12 +4,15 @@
 
 use std::path::Path;
 
+use signorini::engine::contact::{ContactOperator, DelassusKind};
 use signorini::engine::fem::{MassVariant, SparseAssembler};
 use signorini::engine::linalg::{
-    LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, AUTO_CG_FROM_DOFS, DEFAULT_TOLERANCE,
+    LinearSolver, Pcg, PcgWork, SpdSolver, StepSolver, StepSolverKind, AUTO_CG_FROM_DOFS,
+    DEFAULT_TOLERANCE,
 };
 use signorini::engine::problem::{Problem, Settings};
 use signorini::engine::schemes::Scheme;
+use signorini::engine::solver_plan::{box_step_solver, SolverPlan};
 use signorini::harness::run::elastic::BoxProblem;
 use signorini::harness::run::{run, BoxRun, Observables, RunConfig};
 use signorini::harness::study::scene::Scene;
@@ -62,7 +65,7 @@ fn pcg_matches_cholesky_on_a_random_spd_system() {
         assert_eq!(pcg.solve(&b, &mut x, &mut work).unwrap(), 0);
     }
     // The columns of the Delassus operator: the same solutions, in parallel.
-    let cg = StepSolver::new(a.clone(), LinearSolver::Cg, "random").unwrap();
+    let cg = StepSolver::new(a.clone(), StepSolverKind::Cg, "random").unwrap();
     let mut columns = vec![b.clone(), b.iter().map(|x| 2.0 * x).collect()];
     cg.solve_columns(&mut columns).unwrap();
     for (k, column) in columns.iter().enumerate() {
@@ -94,10 +97,33 @@ fn linear_solver_names_round_trip_and_errors_name_the_option() {
 #[test]
 fn auto_chooses_cg_on_large_boxes_only() {
     use LinearSolver::{Auto, Cg, Direct};
-    assert_eq!(Auto.for_box(AUTO_CG_FROM_DOFS), Cg);
-    assert_eq!(Auto.for_box(AUTO_CG_FROM_DOFS - 1), Direct);
-    assert_eq!(Cg.for_box(10), Cg);
-    assert_eq!(Direct.for_box(100 * AUTO_CG_FROM_DOFS), Direct);
+    let step = |choice, unknowns| box_step_solver(choice, unknowns).0;
+    assert_eq!(step(Auto, AUTO_CG_FROM_DOFS), StepSolverKind::Cg);
+    assert_eq!(step(Auto, AUTO_CG_FROM_DOFS - 1), StepSolverKind::Direct);
+    assert_eq!(step(Cg, 10), StepSolverKind::Cg);
+    assert_eq!(
+        step(Direct, 100 * AUTO_CG_FROM_DOFS),
+        StepSolverKind::Direct
+    );
+}
+
+#[test]
+fn a_box_plan_resolves_auto_once_and_says_why() {
+    let plan = SolverPlan::for_box(LinearSolver::Auto, ContactOperator::Auto, 19_440).unwrap();
+    assert_eq!(plan.step, StepSolverKind::Cg);
+    assert_eq!(plan.contact, DelassusKind::Local { layers: None });
+    assert_eq!(
+        plan.reason,
+        "step solver cg (auto: cg from 10000 unknowns, this box has 19440); \
+         contact operator local (auto: local with cg)"
+    );
+    let small = SolverPlan::for_box(LinearSolver::Auto, ContactOperator::Auto, 3_000).unwrap();
+    assert_eq!(small.step, StepSolverKind::Direct);
+    assert_eq!(small.contact, DelassusKind::Full);
+    let fixed = SolverPlan::for_box(LinearSolver::Cg, ContactOperator::LocalLayers(3), 10).unwrap();
+    assert_eq!(fixed.contact.layers(), Some(3));
+    let err = SolverPlan::for_box(LinearSolver::Direct, ContactOperator::Local, 10).unwrap_err();
+    assert!(err.to_string().contains("needs the step matrix"), "{err}");
 }
 
 fn box_problem(scene: &str) -> BoxProblem {

@@ -1,10 +1,10 @@
 //! The Delassus operator `W = B K⁻¹ Bᵀ` of a factorised system, shifted by the compliance of a
 //! regularised treatment (`W_ij = m_iᵀK⁻¹f_j + ε_i δ_ij`, see [`super::law`]), and the contact
 //! correction of one step, with the full operator ([`Delassus`]) or the local one
-//! ([`LocalDelassus`]) as the [`ContactOperator`] rule chooses.
+//! ([`LocalDelassus`]) as the model's solver plan resolved it ([`DelassusKind`]).
 
 use super::law::{sparse_dot, ConstraintRow};
-use super::local::{ContactOperator, LocalDelassus, Truncation};
+use super::local::{DelassusKind, LocalDelassus, Truncation};
 use super::{default_solver, ContactSolver, ContactStatus};
 use crate::engine::contact::ContactSet;
 use crate::engine::error::SolveError;
@@ -108,22 +108,23 @@ pub struct ContactStep {
 
 impl ContactStep {
     /// Prepares the contact correction of the constraints `rows` of `set` for the step matrix
-    /// of `system` with the operator `choice` selects ([`ContactOperator::is_local_for`]).
-    /// Fails when a local operator is asked for without the step matrix (the direct solver
-    /// keeps only its factor), or when a diagonal entry of the (shifted) Delassus operator is
-    /// not positive: the step's complementarity problem would not be well posed.
+    /// of `system` with the operator `kind`: the local one needs the step matrix, which the
+    /// iterative solver keeps; a matrix solved directly for its form (bandwidth one or less,
+    /// [`StepSolver::new`]) takes the full operator, one triangular solve pair per constraint.
+    /// Fails when a diagonal entry of the (shifted) Delassus operator is not positive: the
+    /// step's complementarity problem would not be well posed.
     pub fn new(
         set: &ContactSet,
         rows: &[ConstraintRow],
         system: &StepSolver,
         n_dofs: usize,
-        choice: ContactOperator,
+        kind: DelassusKind,
     ) -> Result<Self, SolveError> {
-        let delassus = if choice.is_local_for(system) {
-            let k = system.matrix().ok_or(SolveError::LocalContactNeedsMatrix)?;
-            Operator::Local(LocalDelassus::new(k, rows, choice.layers())?)
-        } else {
-            Operator::Full(Delassus::new(system, n_dofs, rows)?)
+        let delassus = match (kind, system.matrix()) {
+            (DelassusKind::Local { layers }, Some(k)) => {
+                Operator::Local(LocalDelassus::new(k, rows, layers)?)
+            }
+            _ => Operator::Full(Delassus::new(system, n_dofs, rows)?),
         };
         Self::with_operator(set, rows, delassus)
     }

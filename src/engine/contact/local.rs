@@ -31,10 +31,11 @@
 //! (about 0.2 per layer at `Δx/Δt = 2`), so each slab that falls short predicts the next `L`
 //! from its own ratio ([`next_layers`]). The ratio reached and `L` are kept ([`Truncation`]).
 //!
-//! **The selection rule** ([`ContactOperator`]): `auto` takes the local operator when the step
-//! solver is iterative (it keeps the step matrix, [`StepSolver::matrix`]; the full operator
-//! would cost `n_c` CG solves and `n_c · n` stored values) and the full operator with the direct
-//! solver (one factor, `n_c` triangular solve pairs).
+//! **The selection rule** ([`ContactOperator`], resolved into a [`DelassusKind`] by the model's
+//! solver plan, [`crate::engine::solver_plan`]): `auto` takes the local operator when the step
+//! solver is iterative (it keeps the step matrix, [`crate::engine::linalg::StepSolver::matrix`];
+//! the full operator would cost `n_c` CG solves and `n_c · n` stored values) and the full
+//! operator with the direct solver (one factor, `n_c` triangular solve pairs).
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -42,7 +43,7 @@ use serde::{Deserialize, Serialize};
 use super::law::{sparse_dot, ConstraintRow, SparseVector};
 use crate::engine::error::SolveError;
 use crate::engine::fem::SymmetricMatrix;
-use crate::engine::linalg::{Pcg, PcgWork, SpdSolver, StepSolver, DEFAULT_TOLERANCE};
+use crate::engine::linalg::{Pcg, PcgWork, SpdSolver, DEFAULT_TOLERANCE};
 
 /// Columns of `W` solved together (one pass over the slab's factor per block).
 const BLOCK: usize = 32;
@@ -410,23 +411,34 @@ impl LocalDelassus {
     }
 }
 
-impl ContactOperator {
-    /// Whether a contact step on `system` builds the local operator: `Local` and
-    /// `LocalLayers` always (an error without the step matrix), `Auto` when the step solver is
-    /// iterative.
-    pub fn is_local_for(self, system: &StepSolver) -> bool {
+/// The Delassus operator a run's plan resolved its [`ContactOperator`] to: `auto` is no longer
+/// one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DelassusKind {
+    /// One solve of the step matrix per constraint ([`super::Delassus`]).
+    Full,
+    /// The slab operator ([`LocalDelassus`]) with this many layers, or, when `None`, the
+    /// adaptive number.
+    Local {
+        /// The fixed number of layers, `None` when adaptive.
+        layers: Option<usize>,
+    },
+}
+
+impl DelassusKind {
+    /// The fixed number of layers of a local operator, `None` when adaptive or full.
+    pub fn layers(self) -> Option<usize> {
         match self {
-            ContactOperator::Full => false,
-            ContactOperator::Local | ContactOperator::LocalLayers(_) => true,
-            ContactOperator::Auto => system.matrix().is_some(),
+            DelassusKind::Local { layers } => layers,
+            DelassusKind::Full => None,
         }
     }
 
-    /// The fixed number of layers, `None` when adaptive.
-    pub fn layers(self) -> Option<usize> {
+    /// The name of the operator (`full` or `local`).
+    pub fn name(self) -> &'static str {
         match self {
-            ContactOperator::LocalLayers(l) => Some(l),
-            _ => None,
+            DelassusKind::Full => "full",
+            DelassusKind::Local { .. } => "local",
         }
     }
 }

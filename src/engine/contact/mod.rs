@@ -7,7 +7,8 @@
 //!
 //! `W` and the correction `K⁻¹Bᵀμ` come from one solve per constraint ([`Delassus`]) or from
 //! a slab of dofs around the contact face ([`local`]): the local operator with the iterative
-//! step solver, the full one with the direct solver ([`ContactOperator`]).
+//! step solver, the full one with the direct solver ([`ContactOperator`], resolved once into a
+//! [`DelassusKind`]).
 //!
 //! The penalty and Nitsche treatments ([`ContactTreatment`]) lead to the same problem with a
 //! shifted operator (see [`law`]), so the same solvers serve every treatment.
@@ -25,7 +26,9 @@ pub use active_set::PrimalDualActiveSet;
 pub use closed_form::ClosedFormContact;
 pub use delassus::{ContactStep, Delassus};
 pub use law::{ConstraintRow, ContactLaw};
-pub use local::{ContactOperator, LocalDelassus, SlabSolve, Truncation, CG_SLAB_FROM_DOFS};
+pub use local::{
+    ContactOperator, DelassusKind, LocalDelassus, SlabSolve, Truncation, CG_SLAB_FROM_DOFS,
+};
 pub use qp::ClarabelContact;
 pub use set::ContactSet;
 pub use treatment::{ContactTreatment, TREATMENT_LIST, TREATMENT_NAMES};

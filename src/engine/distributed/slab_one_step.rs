@@ -7,13 +7,13 @@ use std::ops::Range;
 
 use super::slab_balance::{SlabBalanceData, SlabForms};
 use super::{DecompositionError, Ranks, SlabCg, SlabOperator, Slabs};
-use crate::engine::contact::{ContactStep, ContactTreatment, Truncation};
+use crate::engine::contact::{ContactStep, ContactTreatment};
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{PcgWork, SolveCounts, DEFAULT_TOLERANCE};
 use crate::engine::model::Model;
 use crate::engine::schemes::conventions::PredictorForm;
 use crate::engine::schemes::energy_balance::{BalanceForms, Sides, StepVectors};
-use crate::engine::schemes::{InitialState, StepCoefficients};
+use crate::engine::schemes::{InitialState, StepCoefficients, StepStatistics};
 
 /// A rank's share of the run: its parts of `U^n`, `V^n`, `A^n`; the slabs of `M`, `S` and the
 /// step matrix `K = M/(bΔt²) + S`; and, on rank 0, which holds `Γ_Sig` and the slab of the
@@ -89,7 +89,7 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         };
         let contact = match (ranks.rank(), model.contact()) {
             (0, Some(c)) => {
-                ContactStep::local(c, &contact_rows, &k, model.contact_operator().layers())
+                ContactStep::local(c, &contact_rows, &k, model.solver_plan().contact.layers())
                     .map(Some)
             }
             _ => Ok(None),
@@ -290,31 +290,10 @@ impl<'r, R: Ranks + ?Sized> SlabOneStep<'r, R> {
         &self.lambda
     }
 
-    /// The step solves so far and their CG iterations (the same on every rank).
-    pub fn step_solves(&self) -> SolveCounts {
-        self.counts
-    }
-
-    /// The contact solves so far, on rank 0 (0 elsewhere).
-    pub fn contact_solves(&self) -> usize {
-        self.contact.as_ref().map_or(0, ContactStep::solves)
-    }
-
-    /// The seconds spent in contact solves, on rank 0.
-    pub fn contact_seconds(&self) -> f64 {
-        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
-    }
-
-    /// The largest complementarity violation so far, on rank 0.
-    pub fn complementarity_violation(&self) -> f64 {
-        self.contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation)
-    }
-
-    /// The slab of the local contact operator, on rank 0.
-    pub fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+    /// The step solves so far and their CG iterations (the same on every rank), and rank 0's
+    /// contact solves, violation and slab (none elsewhere).
+    pub fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(self.counts, &self.contact)
     }
 }
 

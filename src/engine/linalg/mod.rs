@@ -11,7 +11,9 @@ pub use condensed::CondensedPlane;
 pub use pcg::{conjugate_gradient, dot, jacobi, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use product::ProductPreconditioner;
 pub use spd::SpdSolver;
-pub use step::{LinearSolver, SolveCounts, StepSolver, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES};
+pub use step::{
+    LinearSolver, SolveCounts, StepSolver, StepSolverKind, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES,
+};
 pub use tridiagonal::{
     solve_interleaved_rows, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
 };

@@ -8,9 +8,11 @@
 //!   ([`crate::engine::fem::stencil`]) and the preconditioner is the product of the separable
 //!   part ([`crate::engine::fem::separable`]); Jacobi otherwise.
 //! * `auto` (the default): on a box, `cg` from [`AUTO_CG_FROM_DOFS`] unknowns on and `direct`
-//!   below ([`LinearSolver::for_box`]); `direct` for every other model.
+//!   below; `direct` for every other model.
 //!
-//! A matrix of bandwidth one (every 1D bar) always takes the direct (tridiagonal) solver.
+//! The choice is resolved once, into the [`StepSolverKind`] of the model's solver plan
+//! ([`crate::engine::solver_plan`]). A matrix of bandwidth one or less (every 1D bar, a lumped
+//! mass) always takes the direct (tridiagonal or diagonal) solver: it is a form, not a choice.
 
 use std::fmt;
 use std::str::FromStr;
@@ -39,7 +41,7 @@ pub enum LinearSolver {
     Direct,
     /// Preconditioned conjugate gradients.
     Cg,
-    /// On a box, [`LinearSolver::for_box`]; on any other model, `direct`.
+    /// On a box, by its size ([`AUTO_CG_FROM_DOFS`]); on any other model, `direct`.
     #[default]
     Auto,
 }
@@ -55,22 +57,6 @@ impl LinearSolver {
             LinearSolver::Cg => "cg",
             LinearSolver::Auto => "auto",
         }
-    }
-
-    /// The choice for a box with `unknowns` dofs: `auto` becomes `cg` from
-    /// [`AUTO_CG_FROM_DOFS`] unknowns on and `direct` below; `direct` and `cg` stay as given.
-    pub fn for_box(self, unknowns: usize) -> LinearSolver {
-        match self {
-            LinearSolver::Auto if unknowns >= AUTO_CG_FROM_DOFS => LinearSolver::Cg,
-            LinearSolver::Auto => LinearSolver::Direct,
-            chosen => chosen,
-        }
-    }
-
-    /// Whether a matrix of `bandwidth` is solved by CG under this choice (never a tridiagonal
-    /// one).
-    fn uses_cg(self, bandwidth: usize) -> bool {
-        self == LinearSolver::Cg && bandwidth > 1
     }
 }
 
@@ -91,7 +77,26 @@ impl FromStr for LinearSolver {
     }
 }
 
-/// A step matrix ready to be solved with, by the solver its [`LinearSolver`] chose.
+/// The step solver a run's plan resolved its [`LinearSolver`] to: `auto` is no longer one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StepSolverKind {
+    /// Sparse Cholesky.
+    Direct,
+    /// Preconditioned conjugate gradients.
+    Cg,
+}
+
+impl StepSolverKind {
+    /// The name on the command line and in a box run's record (`direct` or `cg`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StepSolverKind::Direct => LinearSolver::Direct.name(),
+            StepSolverKind::Cg => LinearSolver::Cg.name(),
+        }
+    }
+}
+
+/// A step matrix ready to be solved with, by the solver its plan chose.
 #[derive(Debug)]
 pub enum StepSolver {
     /// Factorised.
@@ -120,15 +125,16 @@ pub struct SolveCounts {
 }
 
 impl StepSolver {
-    /// Prepares `a` (factorised, or kept for CG) as `choice` decides; `name` says which matrix
-    /// this is in error messages.
+    /// Prepares `a` (factorised, or kept for CG) as `kind` says, but for a matrix of bandwidth
+    /// one or less, which is always factorised (tridiagonal or diagonal); `name` says which
+    /// matrix this is in error messages.
     pub fn new(
         a: SymmetricMatrix,
-        choice: LinearSolver,
+        kind: StepSolverKind,
         name: &'static str,
     ) -> Result<Self, SolveError> {
         let n = a.dim();
-        if choice.uses_cg(a.bandwidth()) {
+        if kind == StepSolverKind::Cg && a.bandwidth() > 1 {
             Ok(StepSolver::Cg {
                 pcg: Box::new(Pcg::new(a, DEFAULT_TOLERANCE, name)?),
                 x: vec![0.0; n],

@@ -8,8 +8,8 @@ use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::{Bar1d, EndCondition, MassVariant};
-use crate::engine::linalg::LinearSolver;
 use crate::engine::model::Model;
+use crate::engine::solver_plan::SolverPlan;
 
 /// A 1D benchmark: the bar, its obstacle and load, the exact solution that supplies the
 /// initial data and the reference, and the horizon.
@@ -64,7 +64,8 @@ impl Problem1d {
     }
 
     /// The discretisation with `nx` elements and the mass matrix `mass`, solved with
-    /// `settings`: the mesh, the model ([`Problem1d::model`]) and the initial dofs
+    /// `settings`: the mesh, the model ([`Problem1d::model`]) with its solver plan
+    /// ([`SolverPlan::for_bar`]) and the initial dofs
     /// ([`Problem1d::initial_dofs`]), with the settings' round-off perturbation (if any) added
     /// to every displacement dof except the contact dofs, after the declared one.
     pub fn discretise(
@@ -74,14 +75,9 @@ impl Problem1d {
         settings: &Settings,
     ) -> Result<Discretisation<Bar1d>, ParameterError> {
         settings.validate()?;
-        if settings.linear_solver == LinearSolver::Cg {
-            return Err(ParameterError::new(
-                "linear_solver",
-                settings.linear_solver.name(),
-                "direct or auto for a bar1d (its steps are tridiagonal, solved directly)",
-            ));
-        }
+        let plan = SolverPlan::for_bar(settings.linear_solver)?;
         let (bar, model) = self.model(nx, mass)?;
+        let model = model.with_solver_plan(plan);
         let (mut displacement, velocity) = self.initial_dofs(&bar, &model);
         if let Some(p) = &settings.round_off {
             p.apply(&mut displacement, contact_dofs(&model));

@@ -7,8 +7,9 @@ use crate::engine::contact::{ContactLaw, ContactTreatment};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::engine::fem::MassVariant;
-use crate::engine::linalg::LinearSolver;
+use crate::engine::linalg::StepSolverKind;
 use crate::engine::model::Model;
+use crate::engine::solver_plan::SolverPlan;
 
 /// A 2D/3D bar problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,8 +98,8 @@ impl BoxProblem {
     }
 
     /// The mesh with `n_axis` elements along the axis ([`box_mesh`]) and the model on it with
-    /// the mass matrix `mass`, the problem's contact treatment, and `settings`' step solver and
-    /// contact operator: no vector of the box's size when the model is matrix-free
+    /// the mass matrix `mass`, the problem's contact treatment, and the solver plan of
+    /// `settings`' step solver and contact operator on this box ([`SolverPlan::for_box`]): no vector of the box's size when the model is matrix-free
     /// ([`Model::of_box_matrix_free`], what a rank of a distributed run builds), which it is
     /// when its step solver is `cg` and the mass has a matrix-free form; assembled
     /// ([`Model::of_box`]) otherwise: the direct solver needs the entries.
@@ -113,15 +114,18 @@ impl BoxProblem {
         self.elasticity.validate(mesh.dim())?;
         mesh.check_mass(mass)?;
         let law = ContactLaw::boxed(self.contact, &mesh, &self.elasticity)?;
-        let solver = settings.linear_solver.for_box(mesh.n_dofs());
-        let matrix_free = (solver == LinearSolver::Cg)
+        let plan = SolverPlan::for_box(
+            settings.linear_solver,
+            settings.contact_operator,
+            mesh.n_dofs(),
+        )?;
+        let matrix_free = (plan.step == StepSolverKind::Cg)
             .then(|| Model::of_box_matrix_free(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .flatten();
         let model = matrix_free
             .unwrap_or_else(|| Model::of_box(&mesh, &self.elasticity, mass, self.obstacle_gap))
             .with_contact_law(law)
-            .with_linear_solver(solver)
-            .with_contact_operator(settings.contact_operator);
+            .with_solver_plan(plan);
         Ok((mesh, model))
     }
 }

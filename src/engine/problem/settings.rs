@@ -70,6 +70,22 @@ impl Settings {
         }
     }
 
+    /// These settings for a run distributed over ranks, whose steps are solved by CG: the step
+    /// solver `auto` becomes `cg`, `direct` is refused.
+    pub fn distributed(&self) -> Result<Self, ParameterError> {
+        if self.linear_solver == LinearSolver::Direct {
+            return Err(ParameterError::new(
+                "linear-solver",
+                "direct",
+                "cg or auto for a reference across MPI ranks (its steps are solved by CG)",
+            ));
+        }
+        Ok(Self {
+            linear_solver: LinearSolver::Cg,
+            ..*self
+        })
+    }
+
     /// These settings with the round-off perturbation `round_off`.
     pub fn with_round_off(self, round_off: Perturbation) -> Self {
         Self {

@@ -48,8 +48,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
-use crate::engine::contact::{ContactStep, Truncation};
+use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::{Error, ParameterError, SolveError};
 use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::Model;
@@ -135,14 +135,6 @@ impl<'m> ContactStabilisedNewmark<'m> {
     }
 }
 
-impl ContactStabilisedNewmark<'_> {
-    /// The contact steps of the projection (CSN-a) and of the corrector (CSN-b), where there is
-    /// an obstacle.
-    fn contact_steps(&self) -> impl Iterator<Item = &ContactStep> {
-        [&self.projection, &self.contact].into_iter().flatten()
-    }
-}
-
 impl TimeIntegrator for ContactStabilisedNewmark<'_> {
     fn advance(&mut self) -> Result<(), SolveError> {
         let dt = self.state.dt;
@@ -222,31 +214,15 @@ impl TimeIntegrator for ContactStabilisedNewmark<'_> {
         }
     }
 
-    /// The steps that needed a complementarity solve, in the projection or in the corrector.
-    fn contact_solves(&self) -> usize {
-        self.contact_steps().map(ContactStep::solves).sum()
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.contact_steps().map(ContactStep::seconds).sum()
-    }
-
-    fn step_solves(&self) -> SolveCounts {
+    /// The steps that needed a complementarity solve, in the corrector or in the projection,
+    /// the largest violation of (CSN-a) or (CSN-b), the solves of both matrices, and the
+    /// corrector's slab.
+    fn statistics(&self) -> StepStatistics {
         let (k, m) = (self.system.counts(), self.mass.counts());
-        SolveCounts {
+        let step_solves = SolveCounts {
             solves: k.solves + m.solves,
             iterations: k.iterations + m.iterations,
-        }
-    }
-
-    /// The largest violation of (CSN-a) or (CSN-b) over the steps.
-    fn complementarity_violation(&self) -> f64 {
-        self.contact_steps()
-            .map(ContactStep::max_violation)
-            .fold(0.0, f64::max)
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+        };
+        StepStatistics::of(step_solves, self.contact.iter().chain(&self.projection))
     }
 }

@@ -38,11 +38,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::conventions::PredictorForm;
-use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
+use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::law::ConstraintRow;
-use crate::engine::contact::{ContactStep, Truncation};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::{SolveCounts, StepSolver};
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::Model;
 
 /// The parameters `(α_m, α_f, β, γ)` of (GA-a–c).
@@ -229,25 +229,7 @@ impl TimeIntegrator for GeneralisedAlpha<'_> {
         }
     }
 
-    fn contact_solves(&self) -> usize {
-        self.contact.as_ref().map_or(0, ContactStep::solves)
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
-    }
-
-    fn step_solves(&self) -> SolveCounts {
-        self.system.counts()
-    }
-
-    fn complementarity_violation(&self) -> f64 {
-        self.contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation)
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(self.system.counts(), &self.contact)
     }
 }

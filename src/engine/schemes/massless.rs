@@ -11,11 +11,11 @@
 //! initial data ([`super::initial_state`]) and at every step of the explicit scheme
 //! ([`super::ExplicitNewmark`]).
 
-use super::residual_force;
+use super::{residual_force, StepStatistics};
 use crate::engine::contact::law::{ConstraintRow, SparseVector};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::StepSolver;
+use crate::engine::linalg::{SolveCounts, StepSolver};
 use crate::engine::model::{ContactSet, Model};
 
 /// `S_ZZ` factorised, with the contact correction of the contact dofs in `Z`.
@@ -45,7 +45,7 @@ impl QuasiStatic {
         let s_zz = model.stiffness().principal_submatrix(&massless);
         let solver = StepSolver::new(
             s_zz,
-            model.linear_solver(),
+            model.solver_plan().step,
             "stiffness on the massless dofs",
         )?;
         let on_z = |v: &[(usize, f64)]| -> SparseVector {
@@ -91,7 +91,7 @@ impl QuasiStatic {
                 &rows,
                 &solver,
                 massless.len(),
-                model.contact_operator(),
+                model.solver_plan().contact,
             )?)
         };
         let n = model.n_dofs();
@@ -150,17 +150,9 @@ impl QuasiStatic {
         Ok(())
     }
 
-    /// The largest complementarity violation of the static contact solves so far.
-    pub fn complementarity_violation(&self) -> f64 {
-        self.contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation)
-    }
-
-    /// How many solves needed a complementarity solve, and their wall-clock seconds.
-    pub fn contact_work(&self) -> (usize, f64) {
-        self.contact
-            .as_ref()
-            .map_or((0, 0.0), |c| (c.solves(), c.seconds()))
+    /// The static contact solves so far and their largest violation (no step solves: `S_ZZ`'s
+    /// are not counted).
+    pub fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(SolveCounts::default(), &self.contact)
     }
 }

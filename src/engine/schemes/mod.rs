@@ -15,6 +15,7 @@
 //! | [`massless`] | the quasi-static equation of the massless dofs | §3.2 |
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
+//! | [`statistics`] | [`StepStatistics`]: what the steps cost (step and contact solves, their seconds) and the largest complementarity violation | — |
 //! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
 //! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration, Paoli–Schatzman's massless rows and first step and the one-step predictor's form, the harness's or GetFEM demo's | — |
 //!
@@ -34,6 +35,7 @@ pub mod newmark;
 pub mod one_step;
 pub mod paoli_schatzman;
 pub mod scheme;
+pub mod statistics;
 pub mod theta;
 
 pub use contact_stabilised_newmark::{ContactStabilisedNewmark, PredictorVelocity};
@@ -46,27 +48,29 @@ pub use newmark::{initial_state, ExplicitNewmark};
 pub use one_step::{OneStepScheme, StepCoefficients};
 pub use paoli_schatzman::PaoliSchatzman;
 pub use scheme::{Scheme, SCHEME_NAMES};
+pub use statistics::StepStatistics;
 
-use crate::engine::contact::{ContactStep, Truncation};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
 use crate::engine::fem::SymmetricMatrix;
-use crate::engine::linalg::{SolveCounts, StepSolver};
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::Model;
 
-/// The step system `k` of an implicit scheme on `model` (named `name` in errors), solved by
-/// the model's linear solver, and the contact step on it when the model has an obstacle: what
+/// The step system `k` of an implicit scheme on `model` (named `name` in errors), solved as
+/// the model's solver plan says, and the contact step on it when the model has an obstacle: what
 /// the scheme factors once before its steps.
 fn step_system(
     model: &Model,
     k: SymmetricMatrix,
     name: &'static str,
 ) -> Result<(StepSolver, Option<ContactStep>), SolveError> {
-    let system = StepSolver::new(k, model.linear_solver(), name)?;
+    let plan = model.solver_plan();
+    let system = StepSolver::new(k, plan.step, name)?;
     let contact = model
         .contact()
         .map(|c| {
             let rows = model.contact_law().rows(c);
-            ContactStep::new(c, &rows, &system, model.n_dofs(), model.contact_operator())
+            ContactStep::new(c, &rows, &system, model.n_dofs(), plan.contact)
         })
         .transpose()?;
     Ok((system, contact))
@@ -202,18 +206,9 @@ pub trait TimeIntegrator {
     }
     /// The scheme's discrete energy with the time it approximates (computed on demand).
     fn energy(&self) -> Timed<f64>;
-    /// How many steps needed a complementarity solve.
-    fn contact_solves(&self) -> usize;
-    /// Wall-clock seconds spent in those solves.
-    fn contact_seconds(&self) -> f64;
-    /// The largest complementarity violation of any step so far (on the constrained quantity
-    /// of the scheme: `u^{n+1}`, or `(u^{n+1} + e u^{n−1})/(1 + e)` for Paoli–Schatzman).
-    fn complementarity_violation(&self) -> f64;
-    /// The step matrix's solves so far and their CG iterations (none for a scheme without
-    /// one, or that solves directly).
-    fn step_solves(&self) -> SolveCounts {
-        SolveCounts::default()
-    }
+    /// What the steps so far cost (step and contact solves) and how well they kept the
+    /// contact condition.
+    fn statistics(&self) -> StepStatistics;
 
     /// Whether the scheme's discrete energy balance (1D paper eqs. 33, 35, 37;
     /// [`energy_balance`]) is an identity of the last step: false for a step of explicit
@@ -228,12 +223,6 @@ pub trait TimeIntegrator {
     /// `Some(Some(b))` after a step; `None` when the [`energy_balance::BalanceMonitor`] is
     /// to compute it from the states.
     fn own_balance(&self) -> Option<Option<energy_balance::StepBalance>> {
-        None
-    }
-
-    /// The slab of the local contact operator ([`crate::engine::contact::local`]); `None` with
-    /// the full operator or without contact.
-    fn contact_truncation(&self) -> Option<Truncation> {
         None
     }
 

@@ -34,11 +34,11 @@
 //! `−½ Δt (1 − e) Σ_i λ_i^{n+1} (B V^n)_i`, which is ≤ 0 when the constraints that push were
 //! approaching, `(B V^n)_i ≤ 0`, as at an impact: energy is lost there unless e = 1.
 
-use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
+use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
-use crate::engine::contact::{ContactStep, Truncation};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::{SolveCounts, StepSolver};
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::Model;
 
 /// Which constraints a step's impact law (MJ-d) applies to.
@@ -201,26 +201,8 @@ impl TimeIntegrator for MoreauJean<'_> {
         }
     }
 
-    fn contact_solves(&self) -> usize {
-        self.contact.as_ref().map_or(0, ContactStep::solves)
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
-    }
-
-    fn step_solves(&self) -> SolveCounts {
-        self.system.counts()
-    }
-
-    /// The largest violation of Newton's law (MJ-d) on the velocities, over the steps.
-    fn complementarity_violation(&self) -> f64 {
-        self.contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation)
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+    /// The violation is the largest of Newton's law (MJ-d) on the velocities, over the steps.
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(self.system.counts(), &self.contact)
     }
 }

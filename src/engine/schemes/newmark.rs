@@ -78,7 +78,10 @@
 use super::cfl::{largest_eigenvalue, stable_step};
 use super::conventions::{Conventions, NitscheAcceleration, Start};
 use super::massless::QuasiStatic;
-use super::{residual_force, InitialState, SchemeState, StepCoefficients, TimeIntegrator, Timed};
+use super::{
+    residual_force, InitialState, SchemeState, StepCoefficients, StepStatistics, TimeIntegrator,
+    Timed,
+};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::error::SolveError;
 use crate::engine::linalg::{SpdSolver, StepSolver};
@@ -152,7 +155,8 @@ pub fn initial_state(
     let mut acceleration = vec![0.0; n];
     if !with_mass.is_empty() {
         let m_rr = model.mass().principal_submatrix(&with_mass);
-        let mut solver = StepSolver::new(m_rr, model.linear_solver(), "mass (dofs with inertia)")?;
+        let mut solver =
+            StepSolver::new(m_rr, model.solver_plan().step, "mass (dofs with inertia)")?;
         let mut a_r: Vec<f64> = with_mass.iter().map(|&i| rhs[i]).collect();
         solver.solve(&mut a_r, &vec![0.0; with_mass.len()])?;
         for (&i, a) in with_mass.iter().zip(a_r) {
@@ -421,21 +425,17 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
         })
     }
 
-    fn contact_solves(&self) -> usize {
-        self.statics.as_ref().map_or(0, |s| s.contact_work().0)
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.statics.as_ref().map_or(0.0, |s| s.contact_work().1)
+    /// The quasi-static contact solves of the massless dofs (their slab is not reported, nor
+    /// are the solves of `M_RR` and `S_ZZ`).
+    fn statistics(&self) -> StepStatistics {
+        let statics = self.statics.as_ref().map(QuasiStatic::statistics);
+        StepStatistics {
+            contact_truncation: None,
+            ..statics.unwrap_or_default()
+        }
     }
 
     fn balance_holds(&self) -> bool {
         !self.impulse
-    }
-
-    fn complementarity_violation(&self) -> f64 {
-        self.statics
-            .as_ref()
-            .map_or(0.0, QuasiStatic::complementarity_violation)
     }
 }

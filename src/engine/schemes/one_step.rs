@@ -23,11 +23,11 @@
 //! elastic stiffness, `A^{n+1} − M⁻¹ (θ/γ) a (aᵀU^{n+1})` ([`ElasticAcceleration`]).
 
 use super::conventions::{NitscheAcceleration, PredictorForm};
-use super::{step_system, InitialState, SchemeState, TimeIntegrator, Timed};
+use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
-use crate::engine::contact::{ContactStep, Truncation};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::{SolveCounts, SpdSolver, StepSolver};
+use crate::engine::linalg::{SpdSolver, StepSolver};
 use crate::engine::model::Model;
 
 /// The coefficients `(a, b, c, d)` of the one-step form; Newmark's (eq. 32) are built in
@@ -297,25 +297,7 @@ impl TimeIntegrator for OneStepScheme<'_> {
         }
     }
 
-    fn contact_solves(&self) -> usize {
-        self.contact.as_ref().map_or(0, ContactStep::solves)
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.contact.as_ref().map_or(0.0, ContactStep::seconds)
-    }
-
-    fn step_solves(&self) -> SolveCounts {
-        self.system.counts()
-    }
-
-    fn complementarity_violation(&self) -> f64 {
-        self.contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation)
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(self.system.counts(), &self.contact)
     }
 }

@@ -27,11 +27,11 @@ use super::conventions::{
 };
 use super::{
     residual_force, step_system, InitialState, OneStepScheme, SchemeState, StepCoefficients,
-    TimeIntegrator, Timed,
+    StepStatistics, TimeIntegrator, Timed,
 };
-use crate::engine::contact::{ContactStep, Truncation};
+use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
-use crate::engine::linalg::{SolveCounts, StepSolver};
+use crate::engine::linalg::StepSolver;
 use crate::engine::model::Model;
 
 /// `V^{n−½} = (U^n − U^{n−1})/Δt` into `velocity` and `Ū = (U^n + U^{n−1})/2` into `mean`, from
@@ -98,9 +98,8 @@ pub struct PaoliSchatzman<'m> {
     three_level_start: Option<Vec<(usize, f64)>>,
     system: StepSolver,
     contact: Option<ContactStep>,
-    start_contact_solves: usize,
-    start_contact_seconds: f64,
-    start_violation: f64,
+    /// The contact work of the start step ([`OneStepScheme`]).
+    start_statistics: StepStatistics,
     /// `λ` is `λ^{n−1}` of eq. (36), which produced `U^n` ([`TimeIntegrator::scheme_multiplier`]).
     state: SchemeState,
     u_prev: Vec<f64>,
@@ -154,9 +153,7 @@ impl<'m> PaoliSchatzman<'m> {
             three_level_start,
             system,
             contact,
-            start_contact_solves: 0,
-            start_contact_seconds: 0.0,
-            start_violation: 0.0,
+            start_statistics: StepStatistics::default(),
             state: SchemeState::start(
                 dt,
                 start.displacement.clone(),
@@ -201,9 +198,7 @@ impl<'m> PaoliSchatzman<'m> {
             }
             _ => first.advance()?,
         }
-        self.start_contact_solves = first.contact_solves();
-        self.start_contact_seconds = first.contact_seconds();
-        self.start_violation = first.complementarity_violation();
+        self.start_statistics = first.statistics();
         self.u_prev.copy_from_slice(&self.state.u);
         self.state.u.copy_from_slice(first.displacement());
         self.state.lambda.copy_from_slice(first.multiplier().value);
@@ -337,27 +332,10 @@ impl TimeIntegrator for PaoliSchatzman<'_> {
         })
     }
 
-    fn contact_solves(&self) -> usize {
-        self.start_contact_solves + self.contact.as_ref().map_or(0, ContactStep::solves)
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.start_contact_seconds + self.contact.as_ref().map_or(0.0, ContactStep::seconds)
-    }
-
-    fn step_solves(&self) -> SolveCounts {
-        self.system.counts()
-    }
-
-    fn complementarity_violation(&self) -> f64 {
-        let own = self
-            .contact
-            .as_ref()
-            .map_or(0.0, ContactStep::max_violation);
-        self.start_violation.max(own)
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.contact.as_ref().and_then(ContactStep::truncation)
+    /// The start step's contact solves and violation with the two-step's own (its step solves
+    /// and slab are the two-step's alone).
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics::of(self.system.counts(), &self.contact)
+            .after_contact_of(&self.start_statistics)
     }
 }

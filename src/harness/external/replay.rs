@@ -15,7 +15,7 @@ use crate::engine::error::{SolveError, StateField};
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::model::Model;
-use crate::engine::schemes::{SchemeState, TimeIntegrator, Timed};
+use crate::engine::schemes::{SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::harness::files::error::Error;
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::nested_comparison::error_series::DisplacementError;
@@ -134,19 +134,12 @@ impl TimeIntegrator for Replay<'_> {
         }
     }
 
-    /// None: a replay solves nothing.
-    fn contact_solves(&self) -> usize {
-        0
-    }
-
-    /// None: a replay solves nothing.
-    fn contact_seconds(&self) -> f64 {
-        0.0
-    }
-
-    /// Unknown for another code's run: NaN.
-    fn complementarity_violation(&self) -> f64 {
-        f64::NAN
+    /// None: a replay solves nothing; its complementarity violation is unknown (NaN).
+    fn statistics(&self) -> StepStatistics {
+        StepStatistics {
+            complementarity_violation: f64::NAN,
+            ..StepStatistics::default()
+        }
     }
 }
 

@@ -15,18 +15,17 @@
 use std::cell::RefCell;
 
 use super::{time_grid, IntegratorFactory, RunConfig};
-use crate::engine::contact::Truncation;
 #[cfg(feature = "mpi")]
 pub use crate::engine::distributed::MpiRanks;
 pub use crate::engine::distributed::{CountedRanks, DecompositionError, Ranks, Traffic};
 use crate::engine::distributed::{SlabOneStep, SlabRunError, Slabs};
 use crate::engine::error::{ParameterError, SolveError, StateField};
-use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
 use crate::engine::problem::{initial_dofs, AxialMesh, BoxProblem};
 use crate::engine::schemes::energy_balance::{newmark_sides, theta_sides, StepBalance};
 use crate::engine::schemes::{
-    initial_state, Conventions, Scheme, SchemeState, StepCoefficients, TimeIntegrator, Timed,
+    initial_state, Conventions, Scheme, SchemeState, StepCoefficients, StepStatistics,
+    TimeIntegrator, Timed,
 };
 use crate::harness::files::error::Error;
 
@@ -259,24 +258,8 @@ impl<R: Ranks + ?Sized> TimeIntegrator for DistributedRun<'_, R> {
         }
     }
 
-    fn contact_solves(&self) -> usize {
-        self.run.contact_solves()
-    }
-
-    fn contact_seconds(&self) -> f64 {
-        self.run.contact_seconds()
-    }
-
-    fn complementarity_violation(&self) -> f64 {
-        self.run.complementarity_violation()
-    }
-
-    fn step_solves(&self) -> SolveCounts {
-        self.run.step_solves()
-    }
-
-    fn contact_truncation(&self) -> Option<Truncation> {
-        self.run.contact_truncation()
+    fn statistics(&self) -> StepStatistics {
+        self.run.statistics()
     }
 
     /// Computed on the slabs after each step.

@@ -423,19 +423,20 @@ pub fn drive_by<'r, M: AxialMesh>(
     if let (RunStatus::Completed, Some(e)) = (&status, violation) {
         status = RunStatus::of(&e).ok_or(e)?;
     }
+    let statistics = integ.statistics();
     Ok(Stepped {
         status,
         steps,
         dt,
-        contact_solves: integ.contact_solves(),
-        complementarity_violation: integ.complementarity_violation(),
-        step_solves: integ.step_solves(),
-        contact_truncation: integ.contact_truncation(),
+        contact_solves: statistics.contact_solves,
+        complementarity_violation: statistics.complementarity_violation,
+        step_solves: statistics.step_solves,
+        contact_truncation: statistics.contact_truncation,
         max_balance_residual: balance.as_ref().map(BalanceMonitor::largest_residual),
         timings: Timings {
             setup,
-            stepping: stepping - integ.contact_seconds(),
-            contact: integ.contact_seconds(),
+            stepping: stepping - statistics.contact_seconds,
+            contact: statistics.contact_seconds,
             observe,
         },
     })

@@ -246,7 +246,7 @@ pub fn run_box<'r>(
     let observed = BoxObservations {
         elements: mesh.counts().to_vec(),
         contact_nodes: model.contact().map_or(0, |c| c.len()),
-        linear_solver: model.linear_solver().name().to_string(),
+        linear_solver: model.solver_plan().step.name().to_string(),
         step_solves: stepped.step_solves,
         contact_slab: stepped.contact_truncation,
         energy: energy.energy,

@@ -27,9 +27,10 @@
 pub use crate::harness::files::error::BudgetError;
 
 use crate::engine::fem::MassVariant;
-use crate::engine::linalg::LinearSolver;
+use crate::engine::linalg::{LinearSolver, StepSolverKind};
 use crate::engine::problem::{BoxProblem, Problem1d, Settings};
 use crate::engine::schemes::Scheme;
+use crate::engine::solver_plan::box_step_solver;
 use crate::harness::run::RunConfig;
 use crate::harness::study::executor::{computed_here, Executor};
 
@@ -330,8 +331,9 @@ const CG_BOX_BYTES_PER_DOF: f64 = 400.0;
 const CG_BOX_FIXED_BYTES: f64 = 48.0 * 1024.0 * 1024.0;
 
 /// Peak bytes of the matrices and factor of a box run of `problem` with `dofs` unknowns and
-/// `contact_nodes` contact constraints: the step solver `linear_solver` chooses
-/// ([`LinearSolver::for_box`]) decides between the matrix-free model and the Cholesky fill's.
+/// `contact_nodes` contact constraints: the step solver the box's solver plan resolves
+/// `linear_solver` to ([`box_step_solver`], as the run's plan does) decides between the
+/// matrix-free model and the Cholesky fill's.
 fn box_matrix_bytes(
     problem: &BoxProblem,
     linear_solver: LinearSolver,
@@ -344,9 +346,9 @@ fn box_matrix_bytes(
     } else {
         usize::MAX
     };
-    let matrices = match linear_solver.for_box(unknowns) {
-        LinearSolver::Cg => CG_BOX_FIXED_BYTES + CG_BOX_BYTES_PER_DOF * dofs,
-        _ => cholesky_bytes(dim, dofs),
+    let matrices = match box_step_solver(linear_solver, unknowns).0 {
+        StepSolverKind::Cg => CG_BOX_FIXED_BYTES + CG_BOX_BYTES_PER_DOF * dofs,
+        StepSolverKind::Direct => cholesky_bytes(dim, dofs),
     };
     matrices + 3.0 * 8.0 * contact_nodes * contact_nodes
 }

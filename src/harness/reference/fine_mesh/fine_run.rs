@@ -25,7 +25,7 @@ use super::cache::{
     ReferenceCache, ReferenceHistories, ReferenceKey,
 };
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::problem::{LinearSolver, Settings};
+use crate::harness::problem::Settings;
 use crate::harness::run::distributed::{
     distributed_run, follow_run, lockstep_run, DecompositionError, Ranks, SlabObserver,
     SlabObservers,
@@ -231,7 +231,7 @@ fn fine_run(
     let clock = Instant::now();
     let ranks = part.ranks();
     let settings = match ranks {
-        Some(_) => distributed_settings(settings)?,
+        Some(_) => settings.distributed()?,
         None => *settings,
     };
     let config = fine_config(&key, settings)?;
@@ -466,20 +466,4 @@ fn lockstep_check<'r>(
         Err(Error::Distributed(DecompositionError::TooManyRanks { .. })) => Ok(None),
         Err(e) => Err(e),
     }
-}
-
-/// The settings of a distributed reference: `settings` with the `cg` step solver (a
-/// distributed step is solved by CG; `auto` becomes it, `direct` is refused).
-fn distributed_settings(settings: &Settings) -> Result<Settings, ParameterError> {
-    if settings.linear_solver == LinearSolver::Direct {
-        return Err(ParameterError::new(
-            "linear-solver",
-            "direct",
-            "cg or auto for a reference across MPI ranks (its steps are solved by CG)",
-        ));
-    }
-    Ok(Settings {
-        linear_solver: LinearSolver::Cg,
-        ..*settings
-    })
 }
