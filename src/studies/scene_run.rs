@@ -310,6 +310,9 @@ fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &RunResult, body: &Bo
     } else {
         format!("  step solver {}", body.linear_solver)
     });
+    if !body.solver_plan.is_empty() {
+        lines.push(format!("  solver plan: {}", body.solver_plan));
+    }
     lines.push(format!(
         "  energy {e0:.6e} → {e_end:.6e}; largest total contact force {max_force:.4e}; complementarity {:.1e}",
         r.complementarity_violation

@@ -165,8 +165,8 @@ fn bad_box_input_is_rejected_naming_the_field() {
     );
 }
 
-/// `--linear-solver` chooses the step solver of a box run; an unknown one is a usage error
-/// naming the option and the allowed values.
+/// `--linear-solver` chooses the step solver of a box run, the run saying why (its solver plan);
+/// an unknown one is a usage error naming the option and the allowed values.
 #[test]
 fn the_linear_solver_is_chosen_on_the_command_line() {
     let args = |solver: &'static str| {
@@ -198,6 +198,18 @@ fn the_linear_solver_is_chosen_on_the_command_line() {
     };
     let direct = energy(success_stdout(&signorini(&args("direct"))));
     assert_eq!(energy(success_stdout(&signorini(&args("cg")))), direct);
+    // `auto` is resolved once, by the solver plan, which says why: this box is below the size
+    // from which `auto` takes cg.
+    let auto = success_stdout(&signorini(&args("auto")));
+    let plan = auto
+        .lines()
+        .find(|l| l.trim_start().starts_with("solver plan:"))
+        .unwrap_or_else(|| panic!("no solver plan line in:\n{auto}"));
+    assert!(
+        plan.contains("step solver direct (auto:") && plan.contains("contact operator"),
+        "{plan}"
+    );
+    assert_eq!(energy(auto), direct);
     expect_error(
         &args("lu"),
         2,

@@ -56,6 +56,11 @@ pub struct BoxObservations {
     pub contact_nodes: usize,
     /// The step solver used (`direct` or `cg`, [`crate::engine::linalg::LinearSolver`]).
     pub linear_solver: String,
+    /// Why the step solver and the contact operator were chosen: the reason of the model's
+    /// solver plan ([`crate::engine::solver_plan::SolverPlan`]), for the run's summary; not
+    /// written (`run.json` records the choice, [`BoxObservations::linear_solver`]).
+    #[serde(skip)]
+    pub solver_plan: String,
     /// Its per-step solves and their CG iterations (0 for `direct`).
     pub step_solves: SolveCounts,
     /// The slab of the local contact operator (`L`, truncation ratio, size); absent with the
@@ -247,6 +252,7 @@ pub fn run_box<'r>(
         elements: mesh.counts().to_vec(),
         contact_nodes: model.contact().map_or(0, |c| c.len()),
         linear_solver: model.solver_plan().step.name().to_string(),
+        solver_plan: model.solver_plan().reason.clone(),
         step_solves: stepped.step_solves,
         contact_slab: stepped.contact_truncation,
         energy: energy.energy,
