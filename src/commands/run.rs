@@ -13,11 +13,11 @@ use crate::harness::files::command_error::CommandError;
 use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
+use crate::harness::reference::scene_run::{RunChoices, SceneRun};
 use crate::harness::run::run_files::RUN_JSON;
 use crate::harness::study::budget::Limits;
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
-use crate::studies::scene_run::{RunChoices, SceneRun};
 
 /// The arguments of `signorini run`.
 #[derive(Debug, Args)]

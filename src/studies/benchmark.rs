@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::harness::files::error::SceneError;
-use crate::harness::problem::{Problem, Problem1d};
+use crate::harness::problem::Problem1d;
 use crate::harness::study::scene::Scene;
 
 /// The Signorini–Dirichlet benchmark's scene (1D paper §5, Tables 1–2), relative to the
@@ -14,17 +14,7 @@ pub const DIRICHLET_SCENE: &str = "scenes/bar1d-dirichlet.json";
 /// The scene `root`/`file` and its bar problem; an error naming the file when it is a box
 /// scene.
 pub fn bar_scene(root: &Path, file: &str) -> Result<(Scene, Problem1d), SceneError> {
-    let path = root.join(file);
-    let scene = Scene::load(&path)?;
-    match scene.problem() {
-        Problem::Bar(problem) => Ok((scene, problem)),
-        Problem::Box(_) => Err(SceneError::Invalid {
-            path,
-            field: "geometry.kind".to_string(),
-            value: "box".to_string(),
-            allowed: "bar1d (this study runs a 1D bar)".to_string(),
-        }),
-    }
+    Scene::load_bar(&root.join(file), "this study runs a 1D bar")
 }
 
 /// The Signorini–Dirichlet benchmark as `root`/[`DIRICHLET_SCENE`] declares it, run to

@@ -74,7 +74,7 @@ pub fn report(root: &Path) -> Result<Estimate, Error> {
 /// ensemble, its reference computed afresh.
 pub fn golden(root: &Path) -> Result<Estimate, Error> {
     let scene = Scene::load(&root.join(ELASTIC_2D_SCENE))?;
-    let crate::harness::problem::Problem::Box(problem) = scene.problem() else {
+    let Ok(problem) = scene.box_problem("a box scene: the gated 2D study's") else {
         return report(root);
     };
     let config = ElasticStudyConfig::from_scene(&scene, None)?;

@@ -3,10 +3,9 @@
 //! histories, which scheme to trust, what accuracy costs, the defaults experiment, the extended
 //! table, stability, the
 //! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
-//! Below them, what the commands share with the studies: one run of a scene whatever its
-//! geometry (`scene_run`), a scene's refinement study (`scene_study`) and another code's runs
-//! verified (`verify_run`); the commands themselves, their back-ends and their shards' files are
-//! `crate::commands`'.
+//! Below them, what the commands share with the studies: a scene's refinement study judged
+//! (`scene_study`) and another code's runs verified (`verify_run`); the commands themselves,
+//! their back-ends and their shards' files are `crate::commands`'.
 
 pub mod benchmark;
 pub mod catalogue;
@@ -24,7 +23,6 @@ pub mod histories;
 pub mod league;
 pub mod report;
 pub mod reports_index;
-pub mod scene_run;
 pub mod scene_study;
 pub mod schemes;
 pub mod stability;

@@ -106,6 +106,21 @@ impl Scene {
         Self::parse(&text, path)
     }
 
+    /// The bar1d scene at `path` and its bar; a box scene is refused, naming the file and its
+    /// `geometry.kind`, with `why` (what only a bar is for) as what is allowed.
+    pub fn load_bar(path: &Path, why: &str) -> Result<(Self, Problem1d), SceneError> {
+        let scene = Self::load(path)?;
+        match scene.problem() {
+            Problem::Bar(problem) => Ok((scene, problem)),
+            Problem::Box(_) => Err(SceneError::Invalid {
+                path: path.to_path_buf(),
+                field: "geometry.kind".to_string(),
+                value: "box".to_string(),
+                allowed: format!("bar1d ({why})"),
+            }),
+        }
+    }
+
     /// Parses and validates scene text; `path` is used in messages. A leading UTF-8 byte
     /// order mark is skipped.
     pub fn parse(text: &str, path: &Path) -> Result<Self, SceneError> {

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::{run_elastic_study, ElasticStudy};
 use crate::harness::files::error::{Error, ParameterError};
-use crate::harness::problem::{LinearSolver, Problem};
+use crate::harness::problem::LinearSolver;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::ElasticStudyConfig;
 use crate::harness::study::scene::Scene;
@@ -52,14 +52,7 @@ fn elastic_gate(
     with_ensemble: bool,
 ) -> Result<ElasticStudy, Error> {
     let scene = Scene::load(&root.join(ELASTIC_2D_SCENE))?;
-    let Problem::Box(problem) = scene.problem() else {
-        return Err(ParameterError::new(
-            "geometry.kind",
-            "bar1d",
-            "box (the 2D gate studies a box scene)",
-        )
-        .into());
-    };
+    let problem = scene.box_problem("a box scene: the 2D gate studies one")?;
     // The gate keeps the direct solver at every level, its reference too (21 120 unknowns, where
     // `auto` would take CG): its golden values are held at the round-off of one solver, and CG's
     // residual tolerance moves the errors by a few times the ensemble's spread (up to 6.1e-9
