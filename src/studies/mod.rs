@@ -8,7 +8,6 @@
 //! their back-ends and their shards' files are `crate::commands`'.
 
 pub mod benchmark;
-pub mod catalogue;
 pub mod cluster_plan;
 pub mod cost;
 pub mod elastic_study;

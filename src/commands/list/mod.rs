@@ -1,12 +1,14 @@
 //! `signorini list`: the schemes, mass variants, contact treatments, norms and scenes
-//! ([`crate::studies::catalogue`]).
+//! ([`catalogue`]).
 
 use std::path::PathBuf;
 
 use clap::Args;
 
 use super::failure::Failure;
-use crate::studies::catalogue::catalogue;
+use catalogue::catalogue;
+
+mod catalogue;
 
 /// The arguments of `signorini list`.
 #[derive(Debug, Args)]
