@@ -1,9 +1,11 @@
 //! How a command fails: a message and its exit code, from every error of the layers below.
 
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
+use crate::harness::study::error as study;
 use crate::harness::study::scene::SceneError;
+use crate::studies::command_error::CommandError;
+use crate::studies::error as section;
 
 /// A failure with its exit code.
 pub struct Failure {
@@ -35,26 +37,45 @@ impl From<SceneError> for Failure {
     }
 }
 
-impl From<Error> for Failure {
-    fn from(e: Error) -> Self {
+impl From<files::Error> for Failure {
+    fn from(e: files::Error) -> Self {
+        use files::Error;
         match e {
             Error::Parameter(p) => Self::usage(p),
             Error::Solve(s) if s.is_usage() => Self::usage(s),
             Error::Solve(s) => Self::runtime(s),
-            Error::Scene(e) => Self::usage(e),
             Error::Distributed(e) => Self::usage(e),
             e @ (Error::Io { .. }
             | Error::Encode { .. }
             | Error::Decode { .. }
-            | Error::Figure(_)
             | Error::Vtk { .. }) => Self::runtime(e),
-            Error::DemoRun(e) => Self::usage(e),
-            e @ (Error::Input(_)
-            | Error::NotRegularOutput { .. }
-            | Error::Budget(_)
-            | Error::OutOfRange { .. }) => Self::usage(e),
+            e @ (Error::Input(_) | Error::NotRegularOutput { .. } | Error::OutOfRange { .. }) => {
+                Self::usage(e)
+            }
+        }
+    }
+}
+
+impl From<study::Error> for Failure {
+    fn from(e: study::Error) -> Self {
+        use study::Error;
+        match e {
+            Error::Run(e) => e.into(),
+            Error::Scene(e) => Self::usage(e),
+            Error::Budget(e) => Self::usage(e),
             Error::Shard(e) if e.is_usage() => Self::usage(e),
             Error::Shard(e) => Self::runtime(e),
+        }
+    }
+}
+
+impl From<section::Error> for Failure {
+    fn from(e: section::Error) -> Self {
+        use section::Error;
+        match e {
+            Error::Study(e) => e.into(),
+            Error::Figure(e) => Self::runtime(e),
+            Error::DemoRun(e) => Self::usage(e),
         }
     }
 }

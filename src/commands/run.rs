@@ -9,8 +9,6 @@ use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs};
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
 use crate::harness::reference::scene_run::{RunChoices, SceneRun};
@@ -18,6 +16,8 @@ use crate::harness::run::run_files::RUN_JSON;
 use crate::harness::study::budget::Limits;
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
+use crate::studies::command_error::CommandError;
+use crate::studies::error::Error;
 
 /// The arguments of `signorini run`.
 #[derive(Debug, Args)]

@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use crate::harness::files::error::SceneError;
 use crate::harness::problem::Problem1d;
 use crate::harness::study::scene::Scene;
+use crate::harness::study::scene::SceneError;
 
 /// The Signorini–Dirichlet benchmark's scene (1D paper §5, Tables 1–2), relative to the
 /// repository root.

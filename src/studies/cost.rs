@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{CaseStudy, Study};
+use crate::studies::error::Error;
 
 /// The work–precision table and the cost to reach the targets, under a reports directory.
 pub const WORK_PRECISION_MD: &str = "work-precision.md";
@@ -316,7 +316,10 @@ pub fn write_work_precision_md(out_dir: &Path, kept_from: &Path) -> Result<(), E
             .map(|dir| dir.join(name))
             .find(|path| path.is_file())
     })?;
-    write_atomic(&out_dir.join(WORK_PRECISION_MD), text.as_bytes())
+    Ok(write_atomic(
+        &out_dir.join(WORK_PRECISION_MD),
+        text.as_bytes(),
+    )?)
 }
 
 /// Writes `work-precision.json` of `study` into `out_dir`.
@@ -328,5 +331,5 @@ pub fn write_work_precision_json(study: &Study, out_dir: &Path) -> Result<(), Er
         cost_to_target_norm: COST_NORM,
         cost_to_target: costs_to_targets(study, COST_NORM),
     };
-    write_json(&out_dir.join(WORK_PRECISION_JSON), &file)
+    Ok(write_json(&out_dir.join(WORK_PRECISION_JSON), &file)?)
 }

@@ -5,7 +5,6 @@
 
 use std::path::Path;
 
-use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d};
 use crate::harness::reference::fine_mesh::ElasticStudyConfig;
 use crate::harness::study::budget::{self, Estimate};
@@ -15,6 +14,7 @@ use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::{Case, StudyConfig};
 use crate::studies::benchmark::{bar_scene, dirichlet};
 use crate::studies::elastic_study::gate::ELASTIC_2D_SCENE;
+use crate::studies::error::Error;
 use crate::studies::experiment::EXPERIMENT_HORIZONS;
 use crate::studies::extended::{extended_cases, extended_config, extended_problem, TREATMENTS};
 use crate::studies::gravity::GRAVITY_SCENE;

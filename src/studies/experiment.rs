@@ -7,13 +7,13 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::error::Error;
 use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Batch;
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// The experiment's markdown, under a reports directory.
 pub const DEFAULTS_EXPERIMENT_MD: &str = "defaults-experiment.md";

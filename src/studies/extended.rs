@@ -12,7 +12,6 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::problem::{ContactTreatment, MassVariant, Problem1d, Scheme};
 use crate::harness::reference::exact::{run_study, ExactSolution};
@@ -26,6 +25,7 @@ use crate::harness::study::sensitivity::{
 use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// The golden file of the extended table, relative to the repository root.
 pub const GOLDEN_EXTENDED: &str = "golden/rates-1d-extended.json";
@@ -125,13 +125,13 @@ pub fn extended_sensitivity(
     contact: &str,
     cases: &[Case],
 ) -> Result<Sensitivity, Error> {
-    run_sensitivity(
+    Ok(run_sensitivity(
         &extended_problem(root, contact)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &extended_config(),
         EnsembleConfig::default(),
-    )
+    )?)
 }
 
 /// What the energy error does under refinement, decided by the interval of the least-squares

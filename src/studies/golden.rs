@@ -5,12 +5,12 @@
 use std::path::Path;
 
 use crate::harness::files::artifacts::write_json;
-use crate::harness::files::error::Error;
 use crate::harness::study::golden::{read_golden, Golden, Tolerances};
 use crate::harness::study::Case;
 use crate::studies::elastic_study::gate::{
     elastic_gate_sensitivity, elastic_gate_study, GOLDEN_ELASTIC_2D,
 };
+use crate::studies::error::Error;
 use crate::studies::extended::{
     extended_studies_with_sensitivity, read_extended_golden, ExtendedGolden, GOLDEN_EXTENDED,
 };

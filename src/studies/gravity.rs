@@ -7,7 +7,6 @@
 use std::path::Path;
 
 use crate::harness::files::artifacts::{write_atomic, write_json};
-use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
 use crate::harness::reference::exact::{run_study, ExactSolution};
 use crate::harness::render::report::convergence_tables;
@@ -20,6 +19,7 @@ use crate::harness::study::sensitivity::{
 };
 use crate::harness::study::{Case, Study};
 use crate::studies::benchmark::bar_scene;
+use crate::studies::error::Error;
 
 /// The golden file of the gravity benchmark's study, relative to the repository root.
 pub const GOLDEN_GRAVITY: &str = "golden/rates-1d-gravity.json";
@@ -71,12 +71,12 @@ fn gravity_cases(scene: &Scene) -> Vec<Case> {
 /// both masses, its levels, ratio and norms. `root` is the repository root.
 pub fn gravity_study(root: &Path) -> Result<Study, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
-    run_study(
+    Ok(run_study(
         &problem,
         &gravity_cases(&scene),
         &scene.observables.norms,
         &scene.study_config(),
-    )
+    )?)
 }
 
 /// The level whose predictability horizon and separation growth `gravity.md` shows.
@@ -87,13 +87,13 @@ const GRAVITY_SENSITIVITY_SHOWN_LEVEL: usize = 160;
 /// holds its chaotic cases to. `root` is the repository root.
 pub fn gravity_sensitivity(root: &Path, cases: &[Case]) -> Result<Sensitivity, Error> {
     let (scene, problem) = bar_scene(root, GRAVITY_SCENE)?;
-    run_sensitivity(
+    Ok(run_sensitivity(
         &problem,
         cases,
         &scene.observables.norms,
         &scene.study_config(),
         EnsembleConfig::default(),
-    )
+    )?)
 }
 
 /// The gravity benchmark as `signorini report` writes it: its study, the round-off sensitivity

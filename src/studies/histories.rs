@@ -8,12 +8,12 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::write_json_compact;
-use crate::harness::files::error::Error;
 use crate::harness::problem::{MassVariant, Problem1d, Scheme};
 use crate::harness::run::{run, BarRun, Observables, RunConfig};
 use crate::harness::study::executor::JobList;
 use crate::harness::study::{by_case, Case, CaseLevels, StudyConfig};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// The levels whose contact and energy histories `make report` keeps for the figures.
 pub const HISTORY_LEVELS: [usize; 3] = [10, 20, 40];

@@ -34,13 +34,13 @@ use crate::harness::external::format::Code;
 use crate::harness::external::verify::{Declared, Series, Verification};
 use crate::harness::external::ExternalError;
 use crate::harness::files::artifacts::{write_atomic, write_json};
-use crate::harness::files::command_error::CommandError;
 use crate::harness::files::input::{read_json, Limit};
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{Case, CaseStudy};
+use crate::studies::command_error::CommandError;
 
 /// `league.json`'s format.
 pub const LEAGUE_FORMAT: &str = "signorini-league/1";

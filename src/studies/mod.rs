@@ -9,8 +9,10 @@
 
 pub mod benchmark;
 pub mod cluster_plan;
+pub mod command_error;
 pub mod cost;
 pub mod elastic_study;
+pub mod error;
 pub mod estimate;
 pub mod experiment;
 pub mod extended;

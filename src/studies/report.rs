@@ -9,7 +9,6 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::harness::files::artifacts::read_json;
-use crate::harness::files::error::Error;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
@@ -18,6 +17,7 @@ use crate::harness::study::sensitivity::{EnsembleConfig, Sensitivity, Sensitivit
 use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
+use crate::studies::error::Error;
 use crate::studies::histories::{write_histories, HistoryJobs, SchemeHistories, HISTORY_LEVELS};
 use crate::studies::schemes::write_schemes;
 use crate::studies::stability::{StabilityRecord, STABILITY_JSON};

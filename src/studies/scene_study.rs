@@ -4,13 +4,14 @@
 
 use std::path::Path;
 
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::reference::fine_mesh::ElasticHistories;
 use crate::harness::reference::scene_study::StudyOutcome;
 use crate::harness::render::report::convergence_tables;
 use crate::harness::study::Study;
 use crate::studies::elastic_study::files::write_elastic_files;
 use crate::studies::elastic_study::{report, ElasticStudy};
+use crate::studies::error::Error;
 
 /// `n` and `noun`, in the plural unless `n` is 1: `1 case`, `7 levels`.
 fn counted(n: usize, noun: &str) -> String {
@@ -52,7 +53,7 @@ impl JudgedStudy {
     /// The outcome as a person reads it: a bar's rate tables and a line with its size and
     /// time, or a box's report saying it was made by `command`; as JSON with `json`.
     pub fn render(&self, json: bool, command: &str) -> Result<String, Error> {
-        let encode = Error::encode(Path::new("stdout"));
+        let encode = files::Error::encode(Path::new("stdout"));
         Ok(match (self, json) {
             (Self::Exact { study, .. }, true) => {
                 serde_json::to_string_pretty(study).map_err(encode)?

@@ -20,7 +20,6 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::error::Error;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::chaotic_spread;
 use crate::harness::run::norms::Norm;
@@ -28,6 +27,7 @@ use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
+use crate::studies::error::Error;
 use crate::studies::stability::StabilityRecord;
 
 /// The report, under a reports directory.
@@ -441,8 +441,8 @@ pub fn write_schemes(
     stability: Option<&[StabilityRecord]>,
     out_dir: &Path,
 ) -> Result<(), Error> {
-    write_atomic(
+    Ok(write_atomic(
         &out_dir.join(SCHEMES_MD),
         render(study, sensitivity, longer, stability).as_bytes(),
-    )
+    )?)
 }

@@ -34,7 +34,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::{write_atomic, write_json};
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
 use crate::harness::run::{BarRun, Observables, RunConfig};
 use crate::harness::study::decision::{self, Decision};
@@ -48,6 +48,7 @@ use crate::harness::study::shard::InRange;
 use crate::harness::study::verdicts::OSCILLATION_YES_FROM;
 use crate::harness::study::Case;
 use crate::studies::benchmark::{bar_scene, DIRICHLET_SCENE};
+use crate::studies::error::Error;
 
 /// The suite's report, under a reports directory.
 pub const STABILITY_MD: &str = "stability.md";
@@ -363,7 +364,7 @@ impl StabilityRecord {
 
 /// Runs one hard case with one scheme and mass as an ensemble ([`STABILITY_ENSEMBLE`]), and
 /// judges the unperturbed run and every member.
-pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
+pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, files::Error> {
     let config = RunConfig {
         nx: hard.nx,
         ratio: hard.ratio,
@@ -406,7 +407,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, Error> {
                 ..unmeasured(hard, case)
             }),
         },
-        Err(Error::Solve(e)) => Ok(StabilityRecord {
+        Err(files::Error::Solve(e)) => Ok(StabilityRecord {
             failure: Some(e.to_string()),
             ..unmeasured(hard, case)
         }),
@@ -517,13 +518,13 @@ pub fn run_suite_on(
     cases: &[Case],
 ) -> Result<Executed<Vec<StabilityRecord>>, Error> {
     let items = suite_jobs(hard, cases);
-    executor
+    Ok(executor
         .execute(&Jobs {
             items: &items,
             size: &|&(h, _)| hard[h].nx,
             run: &|&(h, c)| judge(&hard[h], cases[c]),
         })?
-        .reduce(|ran| Ok(ran.results))
+        .reduce(|ran| Ok(ran.results))?)
 }
 
 /// The suite's jobs: (hard case, case) index pairs, hard case by hard case.
@@ -543,7 +544,7 @@ pub fn write_stability_files(
         &out_dir.join(STABILITY_MD),
         render(hard, records).as_bytes(),
     )?;
-    write_json(&out_dir.join(STABILITY_JSON), &records)
+    Ok(write_json(&out_dir.join(STABILITY_JSON), &records)?)
 }
 
 /// The round-off column of a record: the class, a chaotic run's predictability horizon, and

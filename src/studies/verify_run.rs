@@ -10,8 +10,6 @@ use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::report::render;
 use crate::harness::external::{compare, verify as verify_runs, ExternalError, VerifyGolden};
 use crate::harness::files::artifacts::{read_json, writable, write_atomic, write_json};
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::Error;
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::Problem;
@@ -19,9 +17,11 @@ use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
+use crate::studies::command_error::CommandError;
 use crate::studies::elastic_study::external::{
     render as render_box, verify_box, BoxVerification, BoxVerifyRequest,
 };
+use crate::studies::error::Error;
 use crate::studies::reports_index::REPORT_REFERENCES;
 
 /// `verify.json` under `--out`: the [`crate::harness::external::Verification`].

@@ -8,12 +8,13 @@ use std::path::{Path, PathBuf};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Scheme, TimeIntegrator};
-use signorini::harness::files::error::Error;
+use signorini::harness::files::error as files;
 use signorini::harness::reference::fine_mesh::cache::ReferenceCache;
 use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
 use signorini::harness::run::elastic::{box_mesh, initial_dofs, BoxProblem};
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, RunConfig};
+use signorini::harness::study::error::Error;
 use signorini::harness::study::scene::{Scene, SceneError};
 use signorini::harness::study::sensitivity::{EnsembleConfig, SensitivityClass};
 use signorini::harness::study::Case;
@@ -180,7 +181,7 @@ fn the_perturbation_touches_the_initial_velocity_only() {
                 settings,
             };
             let mut state = None;
-            let mut first = |integ: &dyn TimeIntegrator| -> Result<(), Error> {
+            let mut first = |integ: &dyn TimeIntegrator| -> Result<(), files::Error> {
                 if state.is_none() {
                     state = Some((integ.displacement().to_vec(), integ.velocity().to_vec()));
                 }
@@ -204,7 +205,7 @@ fn refused_field(problem: &BoxProblem, config: &ElasticStudyConfig) -> &'static 
         &ReferenceCache::ReadWrite(dir.clone()),
         &mut |_| {},
     ) {
-        Err(Error::Parameter(p)) => {
+        Err(Error::Run(files::Error::Parameter(p))) => {
             assert!(
                 !dir.exists(),
                 "{}: refused after the reference was computed",

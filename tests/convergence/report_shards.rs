@@ -8,10 +8,10 @@
 use std::path::{Path, PathBuf};
 
 use crate::timings::assert_same_files_less_timings;
-use signorini::harness::files::error::Error;
 use signorini::harness::study::executor::{Batch, Executed, Executor};
 use signorini::harness::study::shard::merge::merge;
 use signorini::harness::study::shard::{Invocation, MergedJobs, ShardSpec};
+use signorini::studies::error::Error;
 use signorini::studies::experiment::{defaults_experiment, write_defaults_experiment};
 use signorini::studies::gravity::{
     gravity_benchmark, write_gravity_report, GRAVITY_DIR, STUDY_JSON,

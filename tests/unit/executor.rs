@@ -8,7 +8,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
-use signorini::harness::files::error::Error;
+use signorini::harness::study::error::Error;
 use signorini::harness::study::executor::{
     largest_first, run_local, Batch, Executed, Executor, JobList, ListResults,
 };

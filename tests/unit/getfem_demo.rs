@@ -13,7 +13,7 @@ use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::problem::{Perturbation, Settings};
 use signorini::engine::schemes::{Scheme, SchemeState, StepStatistics, TimeIntegrator, Timed};
-use signorini::harness::files::error::DemoRunError;
+use signorini::harness::getfem::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
     DemoSeries, DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,

@@ -7,13 +7,13 @@ use std::path::Path;
 
 use crate::commands::sharding::outputs::{share_of_work, Destination, Received};
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{computed_here, Executor};
 use crate::harness::study::shard::Invocation;
 use crate::harness::study::Case;
+use crate::studies::command_error::CommandError;
+use crate::studies::error::Error;
 use crate::studies::estimate;
 use crate::studies::experiment::{defaults_experiment, write_defaults_experiment};
 use crate::studies::extended::{extended_studies_in, write_extended_report};
@@ -44,7 +44,7 @@ pub fn report(
         let gravity = gravity_benchmark(root, batch)?;
         let tables = tables_report(root, batch)?;
         let extended = extended_studies_in(root, batch)?;
-        Ok(gravity.zip(tables).zip(extended))
+        Ok::<_, Error>(gravity.zip(tables).zip(extended))
     })?;
     let (((gravity, tables), extended), staged) = match destination.receive(executed, invocation)? {
         Received::Complete(value) => value,

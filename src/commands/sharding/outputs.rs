@@ -7,8 +7,6 @@ use std::path::{Path, PathBuf};
 use serde::de::DeserializeOwned;
 
 use crate::harness::files::artifacts::{read_json, write_json};
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::Error;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{Executed, Executor};
@@ -16,6 +14,8 @@ use crate::harness::study::shard::merge::{merge, Merged};
 use crate::harness::study::shard::{
     codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
 };
+use crate::studies::command_error::CommandError;
+use crate::studies::error::Error;
 
 /// Where a shard's partial result file goes: `out`, staged before the shard runs (an `--out`
 /// that cannot be written is refused before any job).

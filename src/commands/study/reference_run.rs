@@ -6,8 +6,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::sharding::outputs::{complete_or_write, shard_output, Received};
-use crate::harness::files::command_error::CommandError;
-use crate::harness::files::error::Error;
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
 use crate::harness::reference::fine_mesh::cache::{self, ReferenceCache};
@@ -15,11 +13,13 @@ use crate::harness::reference::fine_mesh::fine_run::{FineReference, FineRunCost}
 use crate::harness::reference::fine_mesh::{obtain_reference, reference_key, ElasticStudyConfig};
 use crate::harness::run::distributed::Ranks;
 use crate::harness::study::budget::{self, human_bytes, Estimate, Limits};
+use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executor, Jobs};
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
 use crate::studies::cluster_plan::Measurement;
+use crate::studies::command_error::CommandError;
 
 /// Refuses a reference cache `dir` that exists and is not a directory, before anything is
 /// computed (its references could not be saved there).

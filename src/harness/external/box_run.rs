@@ -262,9 +262,8 @@ impl BoxScene<'_> {
     fn level_with(&self, nodes: usize, path: &Path) -> Result<(usize, BoxMesh), ExternalError> {
         let mut sizes = Vec::new();
         for &level in self.levels {
-            let mesh = box_mesh(self.problem, level).map_err(|e| {
-                ExternalError::Harness(crate::harness::files::error::Error::from(e))
-            })?;
+            let mesh =
+                box_mesh(self.problem, level).map_err(|e| ExternalError::Harness(e.into()))?;
             if mesh.n_nodes() == nodes {
                 return Ok((level, mesh));
             }

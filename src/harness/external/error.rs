@@ -6,8 +6,9 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 use crate::engine::error::compact;
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::files::input::{InputError, JsonError, Shown};
+use crate::harness::study::error::Error;
 
 /// A run file that cannot be read, or whose content is not a valid run of the scene; a series
 /// of runs that cannot be fitted; or an error of the harness while verifying.
@@ -99,5 +100,12 @@ impl ExternalError {
             value: compact(value.to_string()),
             allowed: allowed.into(),
         }
+    }
+}
+
+/// A run's or a file's error lifts through the study's, so that `?` takes it.
+impl From<files::Error> for ExternalError {
+    fn from(e: files::Error) -> Self {
+        Self::Harness(e.into())
     }
 }

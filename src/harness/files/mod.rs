@@ -15,7 +15,6 @@
 //! | [`error`] | [`error::Error`], the harness's error, and the errors it wraps ([`error::SceneError`], [`error::ShardError`], [`error::BudgetError`], …) |
 
 pub mod artifacts;
-pub mod command_error;
 pub mod error;
 pub mod input;
 pub mod manifest;

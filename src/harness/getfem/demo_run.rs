@@ -30,8 +30,8 @@ use crate::engine::contact::ContactTreatment;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 use crate::engine::schemes::Scheme;
-use crate::harness::files::error::DemoRunError;
 use crate::harness::files::input::{self, InputError, Limit};
+use crate::harness::getfem::error::DemoRunError;
 
 /// The largest run file accepted, in bytes (compressed).
 pub const MAX_COMPRESSED_BYTES: u64 = 8 << 20;

@@ -7,6 +7,7 @@
 pub mod anchor;
 mod demo_run;
 mod energy;
+pub(crate) mod error;
 mod exact;
 mod norms;
 
@@ -15,5 +16,6 @@ pub use demo_run::{
     DemoVersion, MAX_COMPRESSED_BYTES, MAX_JSON_BYTES,
 };
 pub use energy::DemoEnergy;
+pub use error::DemoRunError;
 pub use exact::demo_exact;
 pub use norms::{DemoErrorNorms, DemoNorms, DemoSeries};

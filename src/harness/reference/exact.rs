@@ -4,10 +4,11 @@
 
 use std::collections::BTreeSet;
 
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::problem::Settings;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, Observables, Problem1d, RunConfig};
+use crate::harness::study::error::Error;
 use crate::harness::study::executor::run_local;
 use crate::harness::study::{
     Case, LevelMeasure, LevelOutcome, Measured, Study, StudyConfig, StudyJobs,
@@ -48,7 +49,7 @@ impl<'a> ExactSolution<'a> {
 impl LevelMeasure for ExactSolution<'_> {
     type Kept = ();
 
-    fn measure(&self, case: Case, level: usize) -> Result<Measured<()>, Error> {
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<()>, files::Error> {
         let config = RunConfig {
             nx: level,
             ratio: self.ratio,

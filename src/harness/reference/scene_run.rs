@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Scheme,
 };
@@ -16,6 +16,7 @@ use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
 use crate::harness::run::run_files::{box_history_csv, history_csv};
 use crate::harness::run::{run, time_grid, Observables, Observed, RunConfig, RunResult};
 use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::error::Error;
 use crate::harness::study::progress::StepProgress;
 use crate::harness::study::scene::Scene;
 
@@ -253,7 +254,7 @@ impl RunOutcome {
         &mut self,
         final_path: impl Fn(&Path) -> PathBuf,
     ) -> Result<(String, Vec<(String, String)>), Error> {
-        let encode = Error::encode(Path::new("run.json"));
+        let encode = files::Error::encode(Path::new("run.json"));
         let r = &mut self.0;
         if let Observed::Box(body) = &mut r.observed {
             body.vtk_files = body.vtk_files.iter().map(|f| final_path(f)).collect();

@@ -14,13 +14,14 @@ use super::fine_mesh::cache::ReferenceCache;
 use super::fine_mesh::{
     run_fine_mesh_study_on, ElasticHistories, ElasticStudyConfig, FineMeshStudy,
 };
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::ParameterError;
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, Conventions, LinearSolver, MassVariant, Problem, Problem1d,
     Scheme, Settings, Start,
 };
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::Scene;
 use crate::harness::study::{run_study_on, Case, Study, StudyConfig};

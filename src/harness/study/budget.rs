@@ -24,14 +24,13 @@
 //! Work is counted in dof-steps (unknowns × time steps, summed over the runs; a box's contact
 //! set-up counts one solve per contact node as a step).
 
-pub use crate::harness::files::error::BudgetError;
-
 use crate::engine::fem::MassVariant;
 use crate::engine::linalg::{LinearSolver, StepSolverKind};
 use crate::engine::problem::{BoxProblem, Problem1d, Settings};
 use crate::engine::schemes::Scheme;
 use crate::engine::solver_plan::box_step_solver;
 use crate::harness::run::RunConfig;
+pub use crate::harness::study::error::BudgetError;
 use crate::harness::study::executor::{computed_here, Executor};
 
 /// Peak bytes per unknown of a bar run (an upper bound of the measured 423–444).

@@ -23,7 +23,8 @@ use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
+use crate::harness::study::error::Error;
 use crate::harness::study::progress::{self, Stage};
 use crate::harness::study::shard::{
     codec, EncodedResult, InRange, ListRun, MergedJobs, ShardError, ShardSpec, Share,
@@ -45,17 +46,23 @@ pub trait JobList: Sync {
 }
 
 /// The jobs of a list given as items, their sizes and a function of an item: a [`JobList`]
-/// written in one expression.
-pub struct Jobs<'a, J, T> {
+/// written in one expression. A job fails with a run's or a file's error, or with any other
+/// that lifts into a study's (`E`).
+pub struct Jobs<'a, J, T, E = files::Error> {
     /// The items, one per job.
     pub items: &'a [J],
     /// The work of an item.
     pub size: &'a (dyn Fn(&J) -> usize + Sync),
     /// The job of an item.
-    pub run: &'a (dyn Fn(&J) -> Result<T, Error> + Sync),
+    pub run: &'a (dyn Fn(&J) -> Result<T, E> + Sync),
 }
 
-impl<J: Sync, T: Send + Serialize + DeserializeOwned + InRange> JobList for Jobs<'_, J, T> {
+impl<J, T, E> JobList for Jobs<'_, J, T, E>
+where
+    J: Sync,
+    T: Send + Serialize + DeserializeOwned + InRange,
+    E: Into<Error>,
+{
     type Output = T;
 
     fn count(&self) -> usize {
@@ -67,7 +74,7 @@ impl<J: Sync, T: Send + Serialize + DeserializeOwned + InRange> JobList for Jobs
     }
 
     fn run(&self, index: usize) -> Result<T, Error> {
-        (self.run)(&self.items[index])
+        (self.run)(&self.items[index]).map_err(Into::into)
     }
 }
 
@@ -135,17 +142,17 @@ impl Executor {
     /// Hands `plan` a [`Batch`] of this executor, into which it hands its job lists one after
     /// the other, and returns what it makes of their results; a shard's share of every list
     /// when the executor is a shard's (`plan` then returns `None`: no list hands it results).
-    pub fn execute_lists<T>(
+    pub fn execute_lists<T, E: From<Error>>(
         &self,
-        plan: impl FnOnce(&mut Batch<'_>) -> Result<Option<T>, Error>,
-    ) -> Result<Executed<T>, Error> {
+        plan: impl FnOnce(&mut Batch<'_>) -> Result<Option<T>, E>,
+    ) -> Result<Executed<T>, E> {
         let mut batch = Batch {
             executor: self,
             lists: Vec::new(),
             results: Vec::new(),
         };
         let value = plan(&mut batch)?;
-        batch.finish(value)
+        Ok(batch.finish(value)?)
     }
 }
 

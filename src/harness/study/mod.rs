@@ -22,11 +22,13 @@
 pub mod budget;
 pub mod class_decision;
 pub mod decision;
+pub mod error;
 pub mod executor;
 pub mod golden;
 pub mod progress;
 pub mod rates;
 pub mod scene;
+pub mod scene_error;
 pub mod sensitivity;
 pub mod shard;
 pub mod verdicts;
@@ -41,9 +43,10 @@ use crate::engine::error::ParameterError;
 use crate::engine::fem::MassVariant;
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{BarRun, RunStatus, Timings};
+use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, positive};
@@ -395,13 +398,13 @@ pub trait LevelMeasure: Sync {
 
     /// The outcome of `case` at `level` (`NX`, or elements along a box's axis) against the
     /// reference, with what the job keeps.
-    fn measure(&self, case: Case, level: usize) -> Result<Measured<Self::Kept>, Error>;
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<Self::Kept>, files::Error>;
 }
 
 impl<T: LevelMeasure> LevelMeasure for &T {
     type Kept = T::Kept;
 
-    fn measure(&self, case: Case, level: usize) -> Result<Measured<T::Kept>, Error> {
+    fn measure(&self, case: Case, level: usize) -> Result<Measured<T::Kept>, files::Error> {
         (**self).measure(case, level)
     }
 }
@@ -507,7 +510,7 @@ pub struct CaseLevels<'a, T, F> {
     output: PhantomData<fn() -> T>,
 }
 
-impl<'a, T, F: Fn(usize, usize) -> Result<T, Error> + Sync> CaseLevels<'a, T, F> {
+impl<'a, T, F: Fn(usize, usize) -> Result<T, files::Error> + Sync> CaseLevels<'a, T, F> {
     /// The jobs of `n_cases` cases at every level of `levels`, each running `job(case, level)`
     /// with their indices.
     pub fn new(n_cases: usize, levels: &'a [usize], job: F) -> Self {
@@ -525,7 +528,7 @@ impl<'a, T, F: Fn(usize, usize) -> Result<T, Error> + Sync> CaseLevels<'a, T, F>
 impl<T, F> JobList for CaseLevels<'_, T, F>
 where
     T: Send + Serialize + DeserializeOwned + InRange,
-    F: Fn(usize, usize) -> Result<T, Error> + Sync,
+    F: Fn(usize, usize) -> Result<T, files::Error> + Sync,
 {
     type Output = T;
 
@@ -539,7 +542,7 @@ where
 
     fn run(&self, index: usize) -> Result<T, Error> {
         let (c, l) = self.jobs[index];
-        (self.job)(c, l)
+        Ok((self.job)(c, l)?)
     }
 }
 

@@ -29,8 +29,8 @@ use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::StudyConfig;
 
 use crate::harness::files::error::printable;
-pub use crate::harness::files::error::SceneError;
 use crate::harness::files::input::{self, SCENE_FILE};
+pub use crate::harness::study::scene_error::SceneError;
 
 /// A scene: the problem, the study parameters and the observables a scene file declares,
 /// checked and typed when the file is read ([`Scene::load`]).

@@ -35,6 +35,7 @@ use crate::harness::files::error::Error;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunStatus};
 use crate::harness::study::decision::{Decision, Verdict};
+use crate::harness::study::error as study;
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, least_squares_slope};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
@@ -571,7 +572,7 @@ pub fn run_sensitivity(
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
     ensemble: EnsembleConfig,
-) -> Result<Sensitivity, Error> {
+) -> Result<Sensitivity, study::Error> {
     let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
     let ran = run_local(&study.list())?;
     study.reduce(ran, cases)
@@ -586,7 +587,7 @@ pub fn run_sensitivity_on(
     norms: &BTreeSet<Norm>,
     config: &StudyConfig,
     ensemble: EnsembleConfig,
-) -> Result<Executed<Sensitivity>, Error> {
+) -> Result<Executed<Sensitivity>, study::Error> {
     let study = SensitivityJobs::new(problem, cases, norms, config, ensemble)?;
     let executed = executor.execute(&study.list())?;
     executed.reduce(|levels| study.reduce(levels, cases))
@@ -655,7 +656,7 @@ impl<'a> SensitivityJobs<'a> {
         &self,
         ran: ListResults<LevelEnsemble>,
         kept: &[Case],
-    ) -> Result<Sensitivity, Error> {
+    ) -> Result<Sensitivity, study::Error> {
         let h: Vec<f64> = self
             .config
             .levels

@@ -6,11 +6,11 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::error::Error;
 use crate::harness::files::input::{self, Limit};
 use crate::harness::reference::fine_mesh::fine_run::FineReference;
 use crate::harness::run::distributed::{Ranks, Traffic};
 use crate::harness::study::budget::peak_resident_bytes;
+use crate::studies::error::Error;
 
 /// The `format` of a measurement file.
 pub const MEASUREMENT_FORMAT: &str = "signorini-reference-measurement/2";
@@ -140,7 +140,7 @@ impl Measurement {
     /// Writes it to `path` (whole or not at all).
     pub fn write(&self, path: &Path) -> Result<(), Error> {
         let json = serde_json::to_string_pretty(self).expect("a measurement serialises");
-        write_atomic(path, json.as_bytes())
+        Ok(write_atomic(path, json.as_bytes())?)
     }
 
     /// Reads a measurement file, refusing another format.

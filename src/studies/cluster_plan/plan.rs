@@ -9,10 +9,12 @@ use serde::Serialize;
 use super::fit::{CostModel, Node};
 use super::Measurement;
 use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error as files;
+use crate::harness::files::error::ParameterError;
 use crate::harness::files::input::Limit;
 use crate::harness::run::elastic::BoxProblem;
 use crate::harness::study::budget::{box_size, steps};
+use crate::studies::error::Error;
 
 /// The machine-readable plan's file name.
 pub const PLAN_JSON: &str = "cluster-plan.json";
@@ -258,9 +260,9 @@ impl Plan {
 
     /// Writes `cluster-plan.json` and `cluster-plan.md` into `out`.
     pub fn write(&self, out: &Path) -> Result<(), Error> {
-        std::fs::create_dir_all(out).map_err(Error::write(out))?;
+        std::fs::create_dir_all(out).map_err(files::Error::write(out))?;
         write_json(&out.join(PLAN_JSON), self)?;
-        write_atomic(&out.join(PLAN_MD), self.render().as_bytes())
+        Ok(write_atomic(&out.join(PLAN_MD), self.render().as_bytes())?)
     }
 
     /// The report.

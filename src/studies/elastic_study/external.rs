@@ -32,7 +32,6 @@ use crate::harness::external::verify::{
     into_series, Declared, ReportedEnergy, RunRecord, Series, VerifiedFile,
 };
 use crate::harness::external::{ExternalError, Verification};
-use crate::harness::files::error::Error;
 use crate::harness::problem::{BoxProblem, MassVariant, Problem, Scheme, Settings};
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::comparison::ComparedSample;
@@ -43,6 +42,7 @@ use crate::harness::run::nested_comparison::error_series::Quantity;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
 use crate::harness::run::Timings;
 use crate::harness::study::budget::Limits;
+use crate::harness::study::error::Error;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::{Case, CaseStudy, LevelRecord};
 

@@ -9,11 +9,11 @@ use std::path::Path;
 
 use super::{run_elastic_study, ElasticStudy};
 use crate::harness::files::artifacts::{write_atomic, write_json, write_json_compact};
-use crate::harness::files::error::Error;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::{ElasticHistories, ElasticStudyConfig};
 use crate::harness::run::elastic::BoxProblem;
 use crate::studies::cost::{write_work_precision_md, WORK_PRECISION_MD};
+use crate::studies::error::Error;
 
 /// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
 pub const REFERENCE_CACHE: &str = "data/references";

@@ -5,13 +5,14 @@
 use std::path::Path;
 
 use super::{run_elastic_study, ElasticStudy};
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::ParameterError;
 use crate::harness::problem::LinearSolver;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::ElasticStudyConfig;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Case;
+use crate::studies::error::Error;
 
 /// The golden file of the gated 2D study, relative to the repository root.
 pub const GOLDEN_ELASTIC_2D: &str = "golden/rates-2d.json";

@@ -17,12 +17,12 @@ pub mod report;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::files::error::Error;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::{
     run_fine_mesh_study, ElasticHistories, ElasticStudyConfig, FineMeshStudy, ReferenceCheck,
 };
 use crate::harness::run::elastic::BoxProblem;
+use crate::harness::study::error::Error;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use findings::{note_findings, Finding};

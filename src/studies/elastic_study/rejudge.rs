@@ -9,9 +9,11 @@ use std::path::Path;
 use super::files::{report_file, study_file};
 use super::{report, ElasticStudy, ElasticStudyConfig};
 use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error as files;
+use crate::harness::files::error::ParameterError;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::study::scene::Scene;
+use crate::studies::error::Error;
 
 /// The command line that ran the study of `scene` into `out`, as its report names it.
 pub fn study_command(scene: &Path, out: &Path) -> String {
@@ -31,10 +33,11 @@ pub fn read_committed(scene: &Scene, reports: &Path) -> Result<ElasticStudy, Err
     if let Some(findings) = value.get_mut("findings") {
         *findings = serde_json::Value::Array(Vec::new());
     }
-    let study: ElasticStudy = serde_json::from_value(value).map_err(|source| Error::Decode {
-        path: path.clone(),
-        source,
-    })?;
+    let study: ElasticStudy =
+        serde_json::from_value(value).map_err(|source| files::Error::Decode {
+            path: path.clone(),
+            source,
+        })?;
     let declared = ElasticStudyConfig::from_scene(scene, None)?;
     let same = (
         &study.config.levels,

@@ -15,7 +15,7 @@ use std::path::Path;
 use super::convergence::{convergence_figures, convergence_series, panel_label};
 use super::elastic::elastic_figures;
 use crate::harness::files::artifacts::{read_json, write_atomic};
-use crate::harness::files::error::Error;
+use crate::harness::files::error as files;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::reference::fine_mesh::ElasticHistories;
@@ -30,6 +30,7 @@ use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::Study;
 use crate::studies::cost::{WorkPrecision, WorkPrecisionFile, WORK_PRECISION_JSON};
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
+use crate::studies::error::Error;
 use crate::studies::gravity;
 use crate::studies::histories::{SchemeHistories, HISTORIES_DIR};
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
@@ -316,12 +317,12 @@ fn percent(fraction: f64) -> String {
 }
 
 /// Why an input of the figures could not be read: a missing file is `make report`'s to write.
-fn unreadable(e: &Error) -> String {
+fn unreadable(e: &files::Error) -> String {
     match e {
-        Error::Io { path, .. } if path.ends_with(STABILITY_JSON) => {
+        files::Error::Io { path, .. } if path.ends_with(STABILITY_JSON) => {
             format!("{e} (run `make stability` first)")
         }
-        Error::Io { .. } => format!("{e} (run `make report` first)"),
+        files::Error::Io { .. } => format!("{e} (run `make report` first)"),
         _ => e.to_string(),
     }
 }

@@ -18,9 +18,9 @@
 //! per-step members reproduce: the norms are judged against the range of both sets.
 
 use super::{parting, solve, Difference};
-use crate::harness::files::error::Error;
 use crate::harness::getfem::{DemoConfig, DemoErrorNorms, DemoMass, DemoRun, DemoVersion};
 use crate::harness::study::sensitivity::{EnsembleConfig, Member, Spread};
+use crate::studies::error::Error;
 use std::path::Path;
 
 /// The amplitudes whose ensembles' horizons bracket GetFEM's parting step in the report.

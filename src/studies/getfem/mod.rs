@@ -23,7 +23,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use crate::harness::files::error::{Error, SolveError};
+use crate::harness::files::error::{self as files, SolveError};
 use crate::harness::getfem::{
     DemoConfig, DemoEnergy, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoVersion,
 };
@@ -33,6 +33,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
 use crate::harness::study::sensitivity::{Member, PARTING};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// Where the demo's runs are kept, relative to the repository root.
 pub const GETFEM_RUNS: &str = "tests/data/getfem";
@@ -210,7 +211,7 @@ fn solve(
     let (steps, _) = time_grid(problem.horizon, discretisation.mesh.h(), ratio);
     let (mut u0, mut e, mut s, mut last) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let paoli_schatzman = config.version == DemoVersion::PaoliSchatzman;
-    let mut record = |state: &dyn TimeIntegrator| -> Result<(), Error> {
+    let mut record = |state: &dyn TimeIntegrator| -> Result<(), files::Error> {
         // Paoli–Schatzman's λ^n produced U^{n+1}: the demo stores it with U^{n+1}.
         let stress = if paoli_schatzman {
             state.scheme_multiplier()[0]
@@ -265,7 +266,8 @@ pub fn reproduce(root: &Path, path: &Path, run: &DemoRun) -> Result<Reproduction
     let getfem_trace_norms = match contact_trace(path, run).map(|t| trace_norms(root, &t)) {
         Some(Ok(norms)) => Some(norms),
         // The demo's blown-up run: not finite, or finite with an energy error that overflows.
-        None | Some(Err(Error::Solve(SolveError::NonFinite { .. }))) => None,
+        None => None,
+        Some(Err(e)) if matches!(e.as_solve(), Some(SolveError::NonFinite { .. })) => None,
         Some(Err(e)) => return Err(e),
     };
     Ok(Reproduction {

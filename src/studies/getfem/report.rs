@@ -11,13 +11,13 @@ use super::{
     NormInEnsemble, Reproduction, AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
 };
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::error::Error;
 use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::progress;
 use crate::harness::study::rates::observed_orders;
 use crate::harness::study::sensitivity::{EnsembleConfig, Spread, STEP_EPSILON};
+use crate::studies::error::Error;
 
 /// The report's file name.
 pub const GETFEM_REPORT: &str = "getfem.md";

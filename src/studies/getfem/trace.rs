@@ -13,11 +13,12 @@ use crate::harness::external::format::{
 };
 use crate::harness::external::replay::{replay, EnergySource};
 use crate::harness::files::artifacts::write_atomic;
-use crate::harness::files::error::{DemoRunError, Error};
+use crate::harness::getfem::DemoRunError;
 use crate::harness::getfem::{list_runs, read_run, DemoRun, DemoVersion};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{Estimate, Limits};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// The scene every demo run solves.
 const SCENE: &str = "bar1d-dirichlet";

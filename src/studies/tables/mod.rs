@@ -16,7 +16,6 @@ use self::agreement::{disagreement_section, disagreements, paper_tables, Disagre
 use self::paper::PaperTables;
 use self::starts::starts_section;
 use crate::harness::files::artifacts::{write_atomic, write_json};
-use crate::harness::files::error::Error;
 use crate::harness::problem::Settings;
 use crate::harness::reference::exact::run_study;
 use crate::harness::render::report::convergence_tables;
@@ -25,6 +24,7 @@ use crate::harness::study::sensitivity::{run_sensitivity, EnsembleConfig, Sensit
 use crate::harness::study::verdicts::oscillation_word;
 use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
+use crate::studies::error::Error;
 
 /// The golden file of the Tables 1–2 study, relative to the repository root.
 pub const GOLDEN_TABLES: &str = "golden/rates-1d-dirichlet.json";
@@ -54,7 +54,12 @@ pub fn tables_study(root: &Path) -> Result<Study, Error> {
     let config = StudyConfig::paper_default();
     let problem = dirichlet(root, config.horizon)?;
     let norms: BTreeSet<Norm> = Norm::ALL.into_iter().collect();
-    run_study(&problem, &Case::tables_matrix(), &norms, &config)
+    Ok(run_study(
+        &problem,
+        &Case::tables_matrix(),
+        &norms,
+        &config,
+    )?)
 }
 
 /// One case's oscillation indicator in `rates.json`, classified, beside the paper's word.
@@ -224,13 +229,13 @@ pub fn tables_sensitivity_under(
         settings,
         ..StudyConfig::paper_default()
     };
-    run_sensitivity(
+    Ok(run_sensitivity(
         &dirichlet(root, config.horizon)?,
         cases,
         &Norm::ALL.into_iter().collect(),
         &config,
         EnsembleConfig::default(),
-    )
+    )?)
 }
 
 /// Writes `sensitivity.md` and `sensitivity.json` of `s` into `out_dir`.

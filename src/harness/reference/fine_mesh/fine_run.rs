@@ -24,7 +24,7 @@ use super::cache::{
     self, closest_other, CacheLookup, CachedReference, CheckOutcome, ProjectionLayout,
     ReferenceCache, ReferenceHistories, ReferenceKey,
 };
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::problem::Settings;
 use crate::harness::run::distributed::{
     distributed_run, follow_run, lockstep_run, DecompositionError, Ranks, SlabObserver,
@@ -37,6 +37,7 @@ use crate::harness::run::nested_comparison::check::{
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::nested_comparison::projection::{LevelProjections, ProjectionRecorder};
 use crate::harness::run::{run, BoxRun, Observables, RunConfig, Timings};
+use crate::harness::study::error::Error;
 use crate::harness::study::progress::StepProgress;
 
 /// A reference: the histories and the projections on the fitted levels, with its mesh.
@@ -238,7 +239,7 @@ fn fine_run(
     let every = key.sample_every.max(1);
     let mesh = box_mesh(problem, key.n_axis)?;
     let fine_norms = NormMatrices::of(&mesh, &problem.elasticity);
-    let mesh_of = |n| box_mesh(problem, n).map_err(Error::from);
+    let mesh_of = |n| box_mesh(problem, n).map_err(files::Error::from);
     let recorder = RefCell::new(ProjectionRecorder::new(
         (&key.levels, &mesh_of),
         (&mesh, &fine_norms),
@@ -463,7 +464,7 @@ fn lockstep_check<'r>(
 ) -> Result<Option<RefCell<LockstepCheck<'r>>>, Error> {
     match lockstep_run(problem, config, (ranks, observers)) {
         Ok(run) => Ok(Some(RefCell::new(LockstepCheck::new(run, gather)))),
-        Err(Error::Distributed(DecompositionError::TooManyRanks { .. })) => Ok(None),
-        Err(e) => Err(e),
+        Err(files::Error::Distributed(DecompositionError::TooManyRanks { .. })) => Ok(None),
+        Err(e) => Err(e.into()),
     }
 }

@@ -32,7 +32,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::files::error::{Error, ParameterError};
+use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::problem::{MassVariant, Scheme, Settings};
 use crate::harness::run::distributed::Ranks;
 use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
@@ -40,6 +40,7 @@ use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::norms::Norm;
 use crate::harness::run::{run, BoxRun, Observables, Observer, RunConfig, TimeIntegrator};
 use crate::harness::study::budget::{self, Estimate};
+use crate::harness::study::error::Error;
 use crate::harness::study::executor::{run_local, Executed, Executor};
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::scene::Scene;
@@ -472,7 +473,7 @@ impl LevelMeasure for AgainstFineMesh<'_> {
     type Kept = BoxKept;
 
     /// `case` on `n` elements along the axis, with its ensemble when the study has one.
-    fn measure(&self, case: Case, n: usize) -> Result<Measured<BoxKept>, Error> {
+    fn measure(&self, case: Case, n: usize) -> Result<Measured<BoxKept>, files::Error> {
         let (problem, config, comparator) = (self.problem, self.config, &self.comparator);
         let (mut measured, base) = run_level(
             problem,
@@ -677,7 +678,7 @@ fn run_compared(
     n_axis: usize,
     comparison: &mut ReferenceComparison<'_>,
     observers: &mut [&mut dyn Observer],
-) -> Result<BoxRun, Error> {
+) -> Result<BoxRun, files::Error> {
     let config = RunConfig {
         nx: n_axis,
         ratio,
@@ -702,7 +703,7 @@ fn run_level(
     n_axis: usize,
     keep_histories: bool,
     mut comparison: ReferenceComparison<'_>,
-) -> Result<(Measured<BoxKept>, BoxContactHistory), Error> {
+) -> Result<(Measured<BoxKept>, BoxContactHistory), files::Error> {
     // `h` and the step count as the run computes them (`box_mesh`, `time_grid`).
     let h = axial_element_size(problem, n_axis);
     let (steps, _) = crate::harness::run::time_grid(problem.horizon, h, config.ratio);
@@ -714,7 +715,7 @@ fn run_level(
     let mesh = box_mesh(problem, n_axis)?;
     let per_layer = mesh.n_elements() / n_axis;
     let mut step = 0usize;
-    let mut sample_stress = |state: &dyn TimeIntegrator| -> Result<(), Error> {
+    let mut sample_stress = |state: &dyn TimeIntegrator| -> Result<(), files::Error> {
         if keep_histories && step % every == 0 {
             let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
             stress.time.push(state.time());

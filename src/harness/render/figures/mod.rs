@@ -24,6 +24,7 @@
 
 mod chart;
 mod draw;
+mod error;
 pub mod heatmap;
 pub mod layout;
 mod style;
@@ -34,10 +35,10 @@ pub use draw::{
 };
 pub use layout::FigureLayout;
 
-pub use crate::harness::files::error::FigureError;
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::harness::study::rates::RateFit;
 use crate::harness::study::sensitivity::Spread;
+pub use error::FigureError;
 
 /// A named SVG document: the file name and its text.
 pub type Figure = (String, String);

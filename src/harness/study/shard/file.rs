@@ -31,9 +31,9 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::ShardSpec;
-use crate::harness::files::error::Error;
 use crate::harness::files::input::{self, Limit, SCENE_FILE};
 use crate::harness::files::manifest::sha256;
+use crate::harness::study::error::Error;
 
 /// A shard file, as [`crate::harness::files::input`] reads it: at most 64 MiB. Its strings are held
 /// as read, so the file takes at most about eight times its size in memory (a list of empty

@@ -8,6 +8,7 @@
 //! are with the harness's others.
 
 pub mod codec;
+mod error;
 pub mod file;
 pub mod merge;
 pub mod range;
@@ -21,4 +22,4 @@ pub use merge::MergedJobs;
 pub use range::InRange;
 pub use spec::ShardSpec;
 
-pub use crate::harness::files::error::ShardError;
+pub use error::ShardError;
