@@ -16,8 +16,12 @@
 //! | [`cfl`] | the stability bound of explicit Newmark | — |
 //! | [`scheme`] | [`Scheme`]: names, parameters, validation | Tables 1–2 |
 //! | [`statistics`] | [`StepStatistics`]: what the steps cost (step and contact solves, their seconds) and the largest complementarity violation | — |
-//! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model | — |
+//! | [`factory`] | [`integrator`]: the integrator of a [`Scheme`] on a model with its [`SchemeState`] at `t = 0` | — |
 //! | [`conventions`] | [`Conventions`]: the start, the Nitsche acceleration, Paoli–Schatzman's massless rows and first step and the one-step predictor's form, the harness's or GetFEM demo's | — |
+//!
+//! A scheme is a method ([`TimeIntegrator`]: its operators, factorisations and scratch); the
+//! state it advances ([`SchemeState`]) is a value the time loop holds and hands to it at every
+//! step, and to the loop's observers with the scheme that computed it ([`Integration`]).
 //!
 //! Every scheme but contact-stabilised Newmark stays well defined with a singular mass matrix
 //! (see [`newmark`], the start); that one refuses it.
