@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Problem1d, Settings};
-use signorini::engine::schemes::{Scheme, TimeIntegrator};
+use signorini::engine::schemes::{Integration, Scheme};
 use signorini::harness::files::error::Error;
 use signorini::harness::run::{drive, Observer};
 
@@ -62,7 +62,7 @@ pub fn export_run_with(
         lambda: Vec::new(),
         energy: Vec::new(),
     };
-    let mut record = |s: &dyn TimeIntegrator| -> Result<(), Error> {
+    let mut record = |s: &Integration| -> Result<(), Error> {
         let nodal = |f: &[f64]| (0..=nx).map(|i| bar.nodal_value(f, i)).collect();
         e.time.push(s.time());
         e.displacement.push(nodal(s.displacement()));

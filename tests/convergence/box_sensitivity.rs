@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
-use signorini::engine::schemes::{Scheme, TimeIntegrator};
+use signorini::engine::schemes::{Integration, Scheme};
 use signorini::harness::files::error as files;
 use signorini::harness::reference::fine_mesh::cache::ReferenceCache;
 use signorini::harness::reference::fine_mesh::ElasticStudyConfig;
@@ -181,7 +181,7 @@ fn the_perturbation_touches_the_initial_velocity_only() {
                 settings,
             };
             let mut state = None;
-            let mut first = |integ: &dyn TimeIntegrator| -> Result<(), files::Error> {
+            let mut first = |integ: &Integration| -> Result<(), files::Error> {
                 if state.is_none() {
                     state = Some((integ.displacement().to_vec(), integ.velocity().to_vec()));
                 }

@@ -2,13 +2,14 @@
 //! set method and clarabel's interior-point QP give the same displacements and contact forces
 //! at every step, and complementarity holds at every step.
 
+use crate::stepper::Stepper;
 use signorini::engine::contact::{ClarabelContact, ContactSolver};
 use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::model::Model;
 use signorini::engine::schemes::conventions::NitscheAcceleration;
 use signorini::engine::schemes::{
-    initial_state, Conventions, OneStepScheme, StepCoefficients, TimeIntegrator,
+    initial_state, Conventions, OneStepScheme, SchemeState, StepCoefficients,
 };
 
 fn setup(mesh: &BoxMesh, mass: MassVariant) -> (Model, Vec<f64>, Vec<f64>) {
@@ -51,18 +52,16 @@ fn active_set_and_clarabel_agree_at_every_step() {
             let h = mesh.element_sizes()[mesh.dim() - 1];
             let dt = h / 2.0;
             let start = initial_state(&model, &u0, &v0, &Conventions::HARNESS).unwrap();
-            let mut pdas = OneStepScheme::new(
-                &model,
-                scheme,
-                dt,
-                start.clone(),
-                NitscheAcceleration::Consistent,
-            )
-            .unwrap();
-            let mut qp =
-                OneStepScheme::new(&model, scheme, dt, start, NitscheAcceleration::Consistent)
+            let mut pdas = Stepper::new(
+                OneStepScheme::new(&model, scheme, dt, NitscheAcceleration::Consistent).unwrap(),
+                SchemeState::start(dt, start.clone()),
+            );
+            let mut qp = Stepper::new(
+                OneStepScheme::new(&model, scheme, dt, NitscheAcceleration::Consistent)
                     .unwrap()
-                    .with_contact_solver(Box::new(ClarabelContact::default()));
+                    .with_contact_solver(Box::new(ClarabelContact::default())),
+                SchemeState::start(dt, start),
+            );
             let contact = model.contact().unwrap();
             let mut steps_in_contact = 0;
             for step in 0..((1.0 / dt).round() as usize) {

@@ -3,8 +3,9 @@
 //! convergence of the penalty to the multiplier, Nitsche's rates on the Dirichlet benchmark,
 //! the penalty on the 2D box, and bad input from the command line.
 
+use crate::stepper::Stepper;
 use crate::{benchmarks, common};
-use signorini::engine::schemes::{integrator, Conventions, Scheme, TimeIntegrator};
+use signorini::engine::schemes::{integrator, Conventions, Integration, Scheme};
 
 use std::collections::BTreeSet;
 
@@ -145,7 +146,7 @@ struct State {
     energy: f64,
 }
 
-fn state(s: &dyn TimeIntegrator) -> State {
+fn state(s: &Integration) -> State {
     State {
         u: s.displacement().to_vec(),
         lambda: s.multiplier().value.to_vec(),
@@ -194,17 +195,18 @@ fn balance(
 ) -> Balance {
     let set = model.contact().unwrap().clone();
     let rows = model.contact_law().rows(&set);
-    let mut s = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap();
+    let mut s =
+        Stepper::from(integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap());
     let mut monitor = BalanceMonitor::new(model, scheme, dt);
-    monitor.observe(s.as_ref());
-    let mut before = state(s.as_ref());
+    monitor.observe(&s.observed());
+    let mut before = state(&s.observed());
     let e0 = before.energy;
     let mut out = Balance::default();
     let crank_nicolson = scheme == Scheme::CRANK_NICOLSON;
     for _ in 0..steps {
         s.advance().unwrap();
-        let identity = monitor.observe(s.as_ref()).expect("one step further");
-        let after = state(s.as_ref());
+        let identity = monitor.observe(&s.observed()).expect("one step further");
+        let after = state(&s.observed());
         let du = diff(&after.u, &before.u);
         let mut total_rhs = identity.predicted_change;
         let mut crossing = false;
@@ -371,8 +373,10 @@ fn distance_to_multiplier(scheme: Scheme, mass: MassVariant, gamma0: f64) -> f64
     let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
     let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
     let dt = bar.h() / RATIO;
-    let mut a = integrator(&plain, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
-    let mut b = integrator(&penalised, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
+    let mut a =
+        Stepper::from(integrator(&plain, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut b =
+        Stepper::from(integrator(&penalised, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
     let mut worst: f64 = 0.0;
     for _ in 0..(3.0 / dt).round() as usize {
         a.advance().unwrap();

@@ -152,9 +152,10 @@ fn a_decomposition_the_layers_cannot_give_is_refused() {
 /// on 2 and 3 ranks, in as many CG iterations.
 #[test]
 fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
+    use crate::stepper::Stepper;
     use signorini::engine::distributed::SlabOneStep;
     use signorini::engine::schemes::conventions::{NitscheAcceleration, PredictorForm};
-    use signorini::engine::schemes::{OneStepScheme, StepCoefficients, TimeIntegrator};
+    use signorini::engine::schemes::{OneStepScheme, SchemeState, StepCoefficients};
     use signorini::harness::study::scene::Scene;
 
     for scene in ["scenes/bar2d.json", "scenes/bar3d.json"] {
@@ -169,22 +170,18 @@ fn a_crank_nicolson_run_on_slabs_is_the_one_process_run() {
         let dt = 1.0 / 40.0 / 2.0;
         let steps = 80;
         let start = start_of(&discretisation);
-        let mut whole = OneStepScheme::new(
-            model,
-            coef,
-            dt,
-            start.clone(),
-            NitscheAcceleration::Consistent,
-        )
-        .unwrap();
+        let mut whole = Stepper::new(
+            OneStepScheme::new(model, coef, dt, NitscheAcceleration::Consistent).unwrap(),
+            SchemeState::start(dt, start.clone()),
+        );
         let mut energy = vec![whole.energy().value];
-        let mut lambda = vec![whole.state().lambda.clone()];
+        let mut lambda = vec![whole.lambda.clone()];
         for _ in 0..steps {
             whole.advance().unwrap();
             energy.push(whole.energy().value);
-            lambda.push(whole.state().lambda.clone());
+            lambda.push(whole.lambda.clone());
         }
-        let u = whole.state().u.clone();
+        let u = whole.u.clone();
         let iterations = whole.statistics().step_solves.iterations;
         let force_scale = lambda.iter().flatten().fold(0.0_f64, |m, l| m.max(l.abs()));
         assert!(force_scale > 0.0, "{scene}: the bar hits the obstacle");

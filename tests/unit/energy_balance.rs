@@ -12,6 +12,7 @@
 //! `tests/convergence/stability.rs`) and by `run --check-balance` (`tests/cli/commands.rs`).
 
 use crate::benchmarks;
+use crate::stepper::Stepper;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
@@ -20,7 +21,7 @@ use signorini::engine::schemes::energy_balance::{
     self, BalanceMonitor, Level, StepBalance, ThreeLevels,
 };
 use signorini::engine::schemes::{
-    initial_state, integrator, Conventions, PaoliSchatzman, Scheme, TimeIntegrator,
+    initial_state, integrator, Conventions, Integration, PaoliSchatzman, Scheme, SchemeState,
 };
 use signorini::harness::run::time_grid;
 
@@ -61,7 +62,7 @@ struct Snapshot {
 }
 
 impl Snapshot {
-    fn of(s: &dyn TimeIntegrator) -> Self {
+    fn of(s: &Integration) -> Self {
         Self {
             u: s.displacement().to_vec(),
             v: s.velocity().to_vec(),
@@ -99,14 +100,15 @@ fn one_step_balance_with_load(
 ) -> f64 {
     let (bar, model, u0, v0) = setup(mass, load);
     let dt = bar.h() / RATIO;
-    let mut s = integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
-    let mut before = Snapshot::of(s.as_ref());
+    let mut s =
+        Stepper::from(integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut before = Snapshot::of(&s.observed());
     let e0 = s.energy().value;
     let mut worst: f64 = 0.0;
     let mut contact_steps = 0;
     for _ in 0..steps(dt) {
         s.advance().unwrap();
-        let after = Snapshot::of(s.as_ref());
+        let after = Snapshot::of(&s.observed());
         if after.lambda[0] != 0.0 {
             contact_steps += 1;
         }
@@ -218,7 +220,9 @@ fn dissipative_schemes_never_gain_energy() {
         for mass in MassVariant::ALL {
             let (bar, model, u0, v0) = setup(mass, None);
             let dt = bar.h() / RATIO;
-            let mut s = integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
+            let mut s = Stepper::from(
+                integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
+            );
             let mut e = s.energy().value;
             let e0 = e;
             for _ in 0..steps(dt) {
@@ -248,14 +252,22 @@ fn paoli_schatzman_balance(
     let (bar, model, u0, v0) = setup(mass, load);
     let dt = bar.h() / RATIO;
     let start = initial_state(&model, &u0, &v0, &Conventions::HARNESS).unwrap();
-    let mut s = PaoliSchatzman::new(&model, beta, e, dt, start, &Conventions::HARNESS).unwrap();
+    let method = PaoliSchatzman::new(
+        &model,
+        (beta, e),
+        dt,
+        &start.multiplier,
+        &Conventions::HARNESS,
+    )
+    .unwrap();
+    let mut s = Stepper::new(method, SchemeState::start(dt, start));
     s.advance().unwrap();
     let e0 = s.energy().value;
     let mut worst: f64 = 0.0;
     let mut contact_steps = 0;
     for _ in 1..steps(dt) {
         let (u_prev, u_now) = (
-            s.previous_displacement().to_vec(),
+            s.previous_displacement().unwrap().to_vec(),
             s.displacement().to_vec(),
         );
         let e_before = s.energy().value;
@@ -346,15 +358,17 @@ fn printed_load_term_of_eq_31_is_not_conserved() {
         let vf: f64 = v.iter().zip(&load).map(|(a, b)| a * b).sum();
         0.5 * (model.mass().quadratic_form(v) + model.stiffness().quadratic_form(u) - vf)
     };
-    let mut s = integrator(
-        &model,
-        Scheme::CRANK_NICOLSON,
-        dt,
-        &u0,
-        &v0,
-        &Conventions::HARNESS,
-    )
-    .unwrap();
+    let mut s = Stepper::from(
+        integrator(
+            &model,
+            Scheme::CRANK_NICOLSON,
+            dt,
+            &u0,
+            &v0,
+            &Conventions::HARNESS,
+        )
+        .unwrap(),
+    );
     let (e0, p0) = (s.energy().value, printed(s.displacement(), s.velocity()));
     let (mut previous, mut ours, mut theirs): (f64, f64, f64) = (e0, 0.0, 0.0);
     for _ in 0..steps(dt) {
@@ -391,17 +405,17 @@ fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
                 let model = model.with_contact_law(law);
                 let dt = bar.h() / RATIO;
                 let scheme = Scheme::Newmark { beta, gamma };
-                let mut s =
-                    integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
-                let mechanical = |s: &dyn TimeIntegrator| {
-                    s.energy().value - model.contact_energy(s.displacement())
-                };
-                let mut before = Snapshot::of(s.as_ref());
-                let e0 = mechanical(s.as_ref());
+                let mut s = Stepper::from(
+                    integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
+                );
+                let mechanical =
+                    |s: &Integration| s.energy().value - model.contact_energy(s.displacement());
+                let mut before = Snapshot::of(&s.observed());
+                let e0 = mechanical(&s.observed());
                 let (mut worst, mut contact_steps): (f64, usize) = (0.0, 0);
                 for _ in 0..steps(dt) {
                     s.advance().unwrap();
-                    let after = Snapshot::of(s.as_ref());
+                    let after = Snapshot::of(&s.observed());
                     contact_steps += usize::from(after.lambda[0] != 0.0);
                     let b = energy_balance::newmark(
                         &model,
@@ -411,7 +425,7 @@ fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
                         &before.level(),
                         &after.level(),
                     );
-                    assert_eq!(b.energy_after, mechanical(s.as_ref()));
+                    assert_eq!(b.energy_after, mechanical(&s.observed()));
                     worst = worst.max(b.residual().abs() / e0.abs());
                     before = after;
                 }
@@ -470,15 +484,17 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
             let u0 = bar.interpolate(|x| (std::f64::consts::FRAC_PI_2 * x).cos());
             let v0 = bar.interpolate(|x| 0.3 * x * (1.0 - x));
             let dt = 0.5 * bar.h();
-            let mut s = integrator(
-                &model,
-                Scheme::CENTRAL_DIFFERENCE,
-                dt,
-                &u0,
-                &v0,
-                &Conventions::HARNESS,
-            )
-            .unwrap();
+            let mut s = Stepper::from(
+                integrator(
+                    &model,
+                    Scheme::CENTRAL_DIFFERENCE,
+                    dt,
+                    &u0,
+                    &v0,
+                    &Conventions::HARNESS,
+                )
+                .unwrap(),
+            );
             s.advance().unwrap();
             let e_half = s.energy().value;
             let (mut previous, mut per_step, mut drift): (f64, f64, f64) = (e_half, 0.0, 0.0);
@@ -506,15 +522,17 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
         beta: 0.0,
         gamma: 0.6,
     };
-    let mut s = integrator(
-        &model,
-        damped,
-        0.5 * bar.h(),
-        &u0,
-        &vec![0.0; u0.len()],
-        &Conventions::HARNESS,
-    )
-    .unwrap();
+    let mut s = Stepper::from(
+        integrator(
+            &model,
+            damped,
+            0.5 * bar.h(),
+            &u0,
+            &vec![0.0; u0.len()],
+            &Conventions::HARNESS,
+        )
+        .unwrap(),
+    );
     s.advance().unwrap();
     let e_half = s.energy().value;
     for _ in 0..200 {
@@ -535,15 +553,17 @@ fn explicit_contact_balance_and_complementarity_every_step() {
         let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
         let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
         let (steps, dt) = time_grid(3.0, bar.h(), 10.0);
-        let mut s = integrator(
-            &model,
-            Scheme::CENTRAL_DIFFERENCE,
-            dt,
-            &u0,
-            &v0,
-            &Conventions::HARNESS,
-        )
-        .unwrap();
+        let mut s = Stepper::from(
+            integrator(
+                &model,
+                Scheme::CENTRAL_DIFFERENCE,
+                dt,
+                &u0,
+                &v0,
+                &Conventions::HARNESS,
+            )
+            .unwrap(),
+        );
         let mut u_prev = s.displacement().to_vec();
         s.advance().unwrap();
         let e0 = s.energy().value;
@@ -602,23 +622,27 @@ fn dynamic_smoke(mesh: &BoxMesh) {
     for variant in MassVariant::ON_EVERY_MESH {
         let model = Model::of_box(mesh, &Elasticity::NOTE, variant, Some(gap));
         let contact = model.contact().unwrap().clone();
-        let mut integ = integrator(
-            &model,
-            Scheme::CRANK_NICOLSON,
-            dt,
-            &u0,
-            &v0,
-            &Conventions::HARNESS,
-        )
-        .unwrap();
+        let mut integ = Stepper::from(
+            integrator(
+                &model,
+                Scheme::CRANK_NICOLSON,
+                dt,
+                &u0,
+                &v0,
+                &Conventions::HARNESS,
+            )
+            .unwrap(),
+        );
         let e0 = model.energy(integ.displacement(), integ.velocity());
         assert!(e0 > 0.0);
         let mut touched = false;
         let mut monitor = BalanceMonitor::new(&model, Scheme::CRANK_NICOLSON, dt);
-        monitor.observe(integ.as_ref());
+        monitor.observe(&integ.observed());
         for n in 0..steps {
             integ.advance().unwrap();
-            let balance = monitor.observe(integ.as_ref()).expect("one step further");
+            let balance = monitor
+                .observe(&integ.observed())
+                .expect("one step further");
             let u = integ.displacement();
             let lambda = integ.multiplier().value;
             for (i, &c) in contact.dofs.iter().enumerate() {
@@ -676,16 +700,18 @@ fn backward_euler_balance_holds_every_step_in_2d_and_3d() {
             });
             let dt = mesh.element_sizes()[d - 1] / 2.0;
             let scheme = Scheme::Theta { theta: 1.0 };
-            let mut s = integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap();
+            let mut s = Stepper::from(
+                integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
+            );
             let mut monitor = BalanceMonitor::new(&model, scheme, dt);
-            monitor.observe(s.as_ref());
+            monitor.observe(&s.observed());
             let e0 = s.energy().value;
             let mut worst: f64 = 0.0;
             let mut touched = false;
             for _ in 0..((1.5 / dt).round() as usize) {
                 s.advance().unwrap();
                 touched |= s.multiplier().value.iter().any(|&l| l < 0.0);
-                let balance = monitor.observe(s.as_ref()).expect("one step further");
+                let balance = monitor.observe(&s.observed()).expect("one step further");
                 worst = worst.max(balance.residual().abs() / e0);
             }
             assert!(touched, "{d}D {mass}: no contact");

@@ -2,10 +2,11 @@
 //! the singular masses, on the bar and the 2D box. Its energy conservation and contact balance
 //! are in `energy_balance.rs`, its second-order convergence in `tests/convergence/smooth.rs`.
 
+use crate::stepper::Stepper;
 use crate::{benchmarks, common};
 use signorini::engine::problem::Settings;
 use signorini::engine::schemes::{
-    initial_state, integrator, Conventions, ExplicitNewmark, Scheme, TimeIntegrator,
+    initial_state, integrator, Conventions, ExplicitNewmark, Scheme, SchemeState,
 };
 
 use nalgebra::DMatrix;
@@ -115,18 +116,19 @@ fn cfl_violation_is_a_typed_error_naming_the_bound() {
         .to_string();
         assert!(message.contains("Δt ≤ √(2/γ)/ω_max"), "{message}");
         assert!(message.contains("2/ω_max"), "{message}");
-        let start = initial_state(&model, &u0, &v0, &Conventions::HARNESS).unwrap();
-        let explicit = ExplicitNewmark::new(&model, 0.5, bound * 0.99, start).unwrap();
+        let explicit = ExplicitNewmark::new(&model, 0.5, bound * 0.99).unwrap();
         assert_eq!(explicit.stable_dt(), bound);
-        let mut ok = integrator(
-            &model,
-            Scheme::CENTRAL_DIFFERENCE,
-            bound * 0.99,
-            &u0,
-            &v0,
-            &Conventions::HARNESS,
-        )
-        .unwrap_or_else(|e| panic!("{mass}: {e}"));
+        let mut ok = Stepper::from(
+            integrator(
+                &model,
+                Scheme::CENTRAL_DIFFERENCE,
+                bound * 0.99,
+                &u0,
+                &v0,
+                &Conventions::HARNESS,
+            )
+            .unwrap_or_else(|e| panic!("{mass}: {e}")),
+        );
         for _ in 0..2000 {
             ok.advance().unwrap();
         }
@@ -196,7 +198,10 @@ fn explicit_contact_with_mass_takes_the_taylor_flanagan_step() {
         let v0 = vec![-1.0; bar.n_dofs()];
         let dt = bar.h() / 2.0;
         let start = initial_state(&model, &u0, &v0, &Conventions::HARNESS).unwrap();
-        let mut s = ExplicitNewmark::new(&model, 0.5, dt, start).unwrap();
+        let mut s = Stepper::new(
+            ExplicitNewmark::new(&model, 0.5, dt).unwrap(),
+            SchemeState::start(dt, start),
+        );
         let (mut impulses, mut deepest) = (0, 0.0_f64);
         for _ in 0..200 {
             s.advance().unwrap();

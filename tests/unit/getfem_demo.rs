@@ -12,7 +12,9 @@ use signorini::engine::error::SolveError;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::problem::{Perturbation, Settings};
-use signorini::engine::schemes::{Scheme, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use signorini::engine::schemes::{
+    Integration, Scheme, SchemeState, StepStatistics, TimeIntegrator, Timed,
+};
 use signorini::harness::getfem::DemoRunError;
 use signorini::harness::getfem::{
     demo_exact, list_runs, read_run, DemoErrorNorms, DemoMass, DemoNorms, DemoRun, DemoRunName,
@@ -133,29 +135,31 @@ fn series_norms_are_the_demos_printed_norms() {
 }
 
 /// A state replayed from a run file: the dofs `U`, `V` of the bar (the clamped node dropped) at
-/// step `n`, with the stress `s` as the multiplier.
+/// step `n`, time `n Δt`, with the stress `s` as the multiplier.
 struct Replay(SchemeState);
 
 impl Replay {
     fn new(n: usize, dt: f64, u: Vec<f64>, v: Vec<f64>, s: f64) -> Self {
-        Self(SchemeState {
-            step: n,
-            dt,
-            u,
-            v,
-            lambda: vec![s],
-        })
+        Self(SchemeState::sample(n, n as f64 * dt, dt, (u, v)).with_multiplier(vec![s]))
+    }
+
+    /// The state as an observer sees it, with no scheme behind it.
+    fn observed(&self) -> Integration<'_> {
+        Integration {
+            scheme: &NoScheme,
+            state: &self.0,
+        }
     }
 }
 
-impl TimeIntegrator for Replay {
-    fn advance(&mut self) -> Result<(), SolveError> {
+/// What a replayed state was computed by: nothing.
+struct NoScheme;
+
+impl TimeIntegrator for NoScheme {
+    fn advance(&mut self, _: &mut SchemeState) -> Result<(), SolveError> {
         unreachable!("a replayed state is observed, never stepped")
     }
-    fn state(&self) -> &SchemeState {
-        &self.0
-    }
-    fn energy(&self) -> Timed<f64> {
+    fn energy(&self, _: &SchemeState) -> Timed<f64> {
         unreachable!("DemoNorms reads no energy")
     }
     fn statistics(&self) -> StepStatistics {
@@ -185,7 +189,7 @@ fn demo_norms_reproduce_the_stored_samples() {
         let mut zero = DemoNorms::new(&bar).unwrap();
         for n in 0..stored.len() {
             let state = Replay::new(n, c.dt, vec![0.0; c.nx], vec![0.0; c.nx], 0.0);
-            zero.observe(&state).unwrap();
+            zero.observe(&state.observed()).unwrap();
         }
         let ours = zero.series();
         assert_eq!(ours.time, stored.time);
@@ -225,13 +229,16 @@ fn demo_norms_reproduce_the_stored_samples() {
         let last = stored.len() - 1;
         let mut at_end = DemoNorms::new(&bar).unwrap();
         at_end
-            .observe(&Replay::new(
-                last,
-                c.dt,
-                f.u[..c.nx].to_vec(),
-                f.v[..c.nx].to_vec(),
-                stored.s0[last],
-            ))
+            .observe(
+                &Replay::new(
+                    last,
+                    c.dt,
+                    f.u[..c.nx].to_vec(),
+                    f.v[..c.nx].to_vec(),
+                    stored.s0[last],
+                )
+                .observed(),
+            )
             .unwrap();
         let end = at_end.series();
         for (x, y) in [
@@ -305,7 +312,7 @@ fn newmark_one(nx: usize, round_off: Option<Perturbation>) -> DemoNorms {
         .unwrap();
     let mut demo = DemoNorms::new(&discretisation.mesh).unwrap();
     // The demo pairs its stress with t_n; Newmark's multiplier is the one at t_n.
-    let mut multiplier_at_t_n = |state: &dyn TimeIntegrator| {
+    let mut multiplier_at_t_n = |state: &Integration| {
         assert_eq!(state.multiplier().time, state.time());
         Ok(())
     };

@@ -43,3 +43,4 @@ mod settings;
 mod signorini_dirichlet;
 mod stencil;
 mod step_perturbation;
+mod stepper;

@@ -6,6 +6,7 @@
 //! round-off (and a balance with a wrong parameter does not); Laursen–Chawla conserves the
 //! energy exactly; and what is not defined is refused naming the field.
 
+use crate::stepper::Stepper;
 use signorini::engine::contact::{ContactLaw, ContactTreatment};
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::box_mesh::{BoxMesh, Elasticity};
@@ -14,9 +15,7 @@ use signorini::engine::model::Model;
 use signorini::engine::schemes::conventions::NitscheAcceleration;
 use signorini::engine::schemes::energy_balance::{self, BalanceMonitor, Level, BALANCE_TOLERANCE};
 use signorini::engine::schemes::scheme::{generalised_alpha, hht};
-use signorini::engine::schemes::{
-    integrator, AlphaParameters, Conventions, Scheme, TimeIntegrator,
-};
+use signorini::engine::schemes::{integrator, AlphaParameters, Conventions, Integration, Scheme};
 
 pub(crate) const NX: usize = 20;
 const RATIO: f64 = 10.0;
@@ -42,7 +41,8 @@ pub(crate) fn steps() -> usize {
 
 /// `(U^n, V^n, λ^n)` after every step of `scheme` on `model`.
 pub(crate) fn history(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64]) -> Vec<[Vec<f64>; 3]> {
-    let mut s = integrator(model, scheme, dt(), u0, v0, &Conventions::HARNESS).unwrap();
+    let mut s =
+        Stepper::from(integrator(model, scheme, dt(), u0, v0, &Conventions::HARNESS).unwrap());
     (0..steps())
         .map(|_| {
             s.advance().unwrap();
@@ -137,14 +137,15 @@ pub(crate) fn monitored(
     dt: f64,
     n: usize,
 ) -> f64 {
-    let mut s = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap();
+    let mut s =
+        Stepper::from(integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap());
     let mut monitor = BalanceMonitor::new(model, scheme, dt);
-    monitor.observe(s.as_ref());
+    monitor.observe(&s.observed());
     let mut touched = false;
     for _ in 0..n {
         s.advance().unwrap();
         touched |= s.multiplier().value.iter().any(|&l| l < 0.0);
-        monitor.observe(s.as_ref()).expect("one step further");
+        monitor.observe(&s.observed()).expect("one step further");
     }
     assert!(touched, "{scheme}: no contact");
     assert_eq!(monitor.balanced_steps(), n, "{scheme}");
@@ -238,14 +239,15 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         gamma: 0.8,
     };
     let scheme = Scheme::GeneralisedAlpha(run);
-    let mut s = integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+    let mut s =
+        Stepper::from(integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
     for _ in 0..5 {
         s.advance().unwrap();
     }
-    let before = snapshot_plain(s.as_ref());
+    let before = snapshot_plain(&s.observed());
     let a0 = s.acceleration().unwrap().to_vec();
     s.advance().unwrap();
-    let after = snapshot_plain(s.as_ref());
+    let after = snapshot_plain(&s.observed());
     let a1 = s.acceleration().unwrap().to_vec();
     let relative = |p: AlphaParameters| {
         let b = energy_balance::generalised_alpha(
@@ -281,12 +283,13 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         theta: 0.5,
         restitution: 0.0,
     };
-    let mut s = integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+    let mut s =
+        Stepper::from(integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
     let (mut worst_as_theta, mut worst): (f64, f64) = (0.0, 0.0);
     for _ in 0..steps() {
-        let before = snapshot_plain(s.as_ref());
+        let before = snapshot_plain(&s.observed());
         s.advance().unwrap();
-        let after = snapshot_plain(s.as_ref());
+        let after = snapshot_plain(&s.observed());
         let b = energy_balance::theta(&model, 0.5, &plain(&before), &plain(&after));
         worst_as_theta = worst_as_theta.max(b.residual().abs() / b.magnitude);
         let b = energy_balance::moreau_jean(&model, 0.5, &plain(&before), &plain(&after));
@@ -301,7 +304,7 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
 
 pub(crate) type Plain = (Vec<f64>, Vec<f64>, Vec<f64>);
 
-pub(crate) fn snapshot_plain(s: &dyn TimeIntegrator) -> Plain {
+pub(crate) fn snapshot_plain(s: &Integration) -> Plain {
     (
         s.displacement().to_vec(),
         s.velocity().to_vec(),
@@ -327,7 +330,9 @@ fn moreau_jean_keeps_newtons_law_and_loses_energy_only_at_impacts() {
                 theta: 0.5,
                 restitution,
             };
-            let mut s = integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+            let mut s = Stepper::from(
+                integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap(),
+            );
             let e0 = s.energy().value;
             let mut impacts = 0;
             for n in 0..steps() {
@@ -363,7 +368,9 @@ fn laursen_chawla_conserves_the_energy_at_every_step_and_never_penetrates() {
         let (model, u0, v0) = dirichlet(mass, true);
         let c = model.contact().unwrap().dofs[0];
         let scheme = Scheme::LaursenChawla {};
-        let mut s = integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+        let mut s = Stepper::from(
+            integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap(),
+        );
         let e0 = s.energy().value;
         let mut pushed = 0;
         for n in 0..steps() {
@@ -389,7 +396,7 @@ fn laursen_chawla_conserves_the_energy_at_every_step_and_never_penetrates() {
             restitution: 0.0,
         };
         let mut dissipative =
-            integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap();
+            Stepper::from(integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
         for _ in 0..steps() {
             dissipative.advance().unwrap();
         }

@@ -48,7 +48,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use super::{step_system, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::{Error, ParameterError, SolveError};
 use crate::engine::linalg::{SolveCounts, StepSolver};
@@ -64,7 +64,9 @@ pub enum PredictorVelocity {
     Projected,
 }
 
-/// A contact-stabilised Newmark integrator with its state and its two factorised systems.
+/// A contact-stabilised Newmark integrator: its two factorised systems and their contact steps.
+/// The state it advances carries `(U^n, V^n)`, no acceleration, and the last step's `U^pred`
+/// ([`SchemeState::predictor`]), which its energy balance (CSN-E) reads.
 #[derive(Debug)]
 pub struct ContactStabilisedNewmark<'m> {
     model: &'m Model,
@@ -77,9 +79,6 @@ pub struct ContactStabilisedNewmark<'m> {
     mass: StepSolver,
     /// The predictor's projection (CSN-a).
     projection: Option<ContactStep>,
-    state: SchemeState,
-    /// `U^pred` of the last step.
-    predictor: Vec<f64>,
     /// The projection's multipliers, which its contact step writes (no balance reads them).
     projection_multiplier: Vec<f64>,
     rhs: Vec<f64>,
@@ -87,16 +86,11 @@ pub struct ContactStabilisedNewmark<'m> {
 }
 
 impl<'m> ContactStabilisedNewmark<'m> {
-    /// Factorises `M` and `M + ¼Δt² S` and prepares their contact steps; `start` gives `U^0`,
-    /// `V^0` and `λ^0`. Refuses a mass with massless dofs (field `mass`): (CSN-a) is not defined
+    /// Factorises `M` and `M + ¼Δt² S` and prepares their contact steps for `constraints`
+    /// contact constraints. Refuses a mass with massless dofs (field `mass`): (CSN-a) is not defined
     /// there (the factory, [`super::integrator`], refuses the treatments other than the
     /// multiplier).
-    pub fn new(
-        model: &'m Model,
-        velocity: PredictorVelocity,
-        dt: f64,
-        start: InitialState,
-    ) -> Result<Self, Error> {
+    pub fn new(model: &'m Model, velocity: PredictorVelocity, dt: f64) -> Result<Self, Error> {
         let massless = model.massless_dofs().len();
         if massless > 0 {
             return Err(ParameterError::new(
@@ -118,7 +112,7 @@ impl<'m> ContactStabilisedNewmark<'m> {
             "contact-stabilised Newmark projection M",
         )?;
         let n = model.n_dofs();
-        let constraints = start.multiplier.len();
+        let constraints = model.contact().map_or(0, |c| c.len());
         Ok(Self {
             model,
             velocity,
@@ -126,8 +120,6 @@ impl<'m> ContactStabilisedNewmark<'m> {
             contact,
             mass,
             projection,
-            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
-            predictor: vec![0.0; n],
             projection_multiplier: vec![0.0; constraints],
             rhs: vec![0.0; n],
             scratch: vec![0.0; n],
@@ -136,52 +128,42 @@ impl<'m> ContactStabilisedNewmark<'m> {
 }
 
 impl TimeIntegrator for ContactStabilisedNewmark<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        let dt = self.state.dt;
-        let step = self.state.step + 1;
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let (dt, step) = (state.dt, state.step + 1);
+        let SchemeState {
+            u,
+            v,
+            lambda,
+            predictor,
+            ..
+        } = state;
+        let predictor = predictor.get_or_insert_with(|| vec![0.0; u.len()]);
         // (CSN-a): `U^n + Δt V^n`, projected onto `K` in the `M`-norm.
-        for ((p, u), v) in self
-            .predictor
-            .iter_mut()
-            .zip(&self.state.u)
-            .zip(&self.state.v)
-        {
+        for ((p, u), v) in predictor.iter_mut().zip(u.iter()).zip(v.iter()) {
             *p = u + dt * v;
         }
         if let Some(projection) = self.projection.as_mut() {
-            projection.enforce(
-                step,
-                &mut self.predictor,
-                |_, g| g,
-                &mut self.projection_multiplier,
-            )?;
+            projection.enforce(step, predictor, |_, g| g, &mut self.projection_multiplier)?;
         }
         // (CSN-b): `(M + ¼Δt² S) U^{n+1} = M U^pred + ¼Δt² (2F − S U^n)`, then the contact.
         let quarter = 0.25 * dt * dt;
-        self.model
-            .stiffness()
-            .mul_into(&self.state.u, &mut self.scratch);
-        self.model.mass().mul_into(&self.predictor, &mut self.rhs);
+        self.model.stiffness().mul_into(u, &mut self.scratch);
+        self.model.mass().mul_into(predictor, &mut self.rhs);
         let load = self.model.load();
         for (k, (r, su)) in self.rhs.iter_mut().zip(&self.scratch).enumerate() {
             let f = load.map_or(0.0, |f| f[k]);
             *r += quarter * (2.0 * f - su);
         }
-        self.system.solve(&mut self.rhs, &self.predictor)?;
+        self.system.solve(&mut self.rhs, predictor)?;
         if let Some(contact) = self.contact.as_mut() {
-            contact.enforce(step, &mut self.rhs, |_, g| g, &mut self.state.lambda)?;
+            contact.enforce(step, &mut self.rhs, |_, g| g, lambda)?;
             let scale = 2.0 / (dt * dt);
-            self.state.lambda.iter_mut().for_each(|l| *l *= scale);
+            lambda.iter_mut().for_each(|l| *l *= scale);
         }
         // (CSN-c).
         let start_velocity = self.velocity;
-        let levels = self
-            .state
-            .u
-            .iter_mut()
-            .zip(self.state.v.iter_mut())
-            .zip(&self.rhs);
-        for (((u, v), u_new), p) in levels.zip(&self.predictor) {
+        let levels = u.iter_mut().zip(v.iter_mut()).zip(&self.rhs);
+        for (((u, v), u_new), p) in levels.zip(predictor.iter()) {
             let w = match start_velocity {
                 PredictorVelocity::Carried => *v,
                 PredictorVelocity::Projected => (p - *u) / dt,
@@ -189,29 +171,17 @@ impl TimeIntegrator for ContactStabilisedNewmark<'_> {
             *v = w + 2.0 / dt * (u_new - p);
             *u = *u_new;
         }
-        self.state.step = step;
+        state.next_step();
         Ok(())
     }
 
     /// `U^{n+1}` and `V^{n+1}`: the next step reads both.
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        perturb(&mut self.state.v);
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        state.perturb_levels(perturb);
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn projected_predictor(&self) -> Option<&[f64]> {
-        Some(&self.predictor)
-    }
-
-    fn energy(&self) -> Timed<f64> {
-        Timed {
-            time: self.time(),
-            value: self.model.energy(&self.state.u, &self.state.v),
-        }
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        state.mechanical_energy(self.model)
     }
 
     /// The steps that needed a complementarity solve, in the corrector or in the projection,

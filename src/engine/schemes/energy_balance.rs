@@ -61,7 +61,7 @@
 
 use super::newmark::staggered_energy;
 use super::paoli_schatzman::HalfStep;
-use super::{AlphaParameters, PredictorVelocity, Scheme, TimeIntegrator};
+use super::{AlphaParameters, Integration, PredictorVelocity, Scheme, SchemeState};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactTreatment;
 use crate::engine::fem::sparse::{SymmetricMatrix, WeightedForm};
@@ -114,12 +114,12 @@ pub struct Level<'a> {
 }
 
 impl<'a> Level<'a> {
-    /// The current level of an integrator (its [`TimeIntegrator::scheme_multiplier`]).
-    pub fn of(integrator: &'a dyn TimeIntegrator) -> Self {
+    /// The level of a state (with its [`SchemeState::scheme_multiplier`]).
+    pub fn of(state: &'a SchemeState) -> Self {
         Self {
-            displacement: integrator.displacement(),
-            velocity: integrator.velocity(),
-            multiplier: integrator.scheme_multiplier(),
+            displacement: state.displacement(),
+            velocity: state.velocity(),
+            multiplier: state.scheme_multiplier(),
         }
     }
 }
@@ -841,7 +841,7 @@ pub struct BalanceMonitor<'m> {
     displacement: Vec<f64>,
     velocity: Vec<f64>,
     multiplier: Vec<f64>,
-    /// `A^n` of a scheme that carries it ([`TimeIntegrator::acceleration`]).
+    /// `A^n` of a scheme that carries it ([`SchemeState::acceleration()`]).
     acceleration: Vec<f64>,
     balanced_steps: usize,
     largest: f64,
@@ -876,7 +876,7 @@ impl<'m> BalanceMonitor<'m> {
     /// Records the integrator's state; when it is one step past the last recorded state,
     /// first evaluates the balance of that step, keeps its relative residual and returns it.
     /// Call it before the first step and after every step.
-    pub fn observe(&mut self, integrator: &dyn TimeIntegrator) -> Option<StepBalance> {
+    pub fn observe(&mut self, integrator: &Integration<'_>) -> Option<StepBalance> {
         let step = integrator.step_index();
         let follows = self.step.is_some_and(|last| step == last + 1);
         if let Some(own) = integrator.own_balance() {
@@ -927,13 +927,13 @@ impl<'m> BalanceMonitor<'m> {
         Some(b)
     }
 
-    fn balance(&mut self, integrator: &dyn TimeIntegrator, step: usize) -> Option<StepBalance> {
+    fn balance(&mut self, integrator: &Integration<'_>, step: usize) -> Option<StepBalance> {
         let before = Level {
             displacement: &self.displacement,
             velocity: &self.velocity,
             multiplier: &self.multiplier,
         };
-        let after = Level::of(integrator);
+        let after = Level::of(integrator.state);
         let (model, dt, ws) = (self.model, self.dt, &mut self.workspace);
         let (sides, energy_before) = match self.scheme {
             Scheme::Newmark { beta, gamma } => (

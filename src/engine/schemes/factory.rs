@@ -11,14 +11,18 @@ use super::conventions::{Conventions, NitscheAcceleration};
 use super::laursen_chawla::laursen_chawla;
 use super::{
     initial_state, ContactStabilisedNewmark, ExplicitNewmark, GeneralisedAlpha, MoreauJean,
-    OneStepScheme, PaoliSchatzman, Scheme, StepCoefficients, TimeIntegrator,
+    OneStepScheme, PaoliSchatzman, Scheme, SchemeState, StepCoefficients, TimeIntegrator,
 };
 use crate::engine::contact::ContactTreatment;
 use crate::engine::error::{Error, ParameterError};
 use crate::engine::model::Model;
 
-/// Builds the integrator of `scheme` on `model` with step `dt`, from the displacement and
-/// velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman,
+/// A scheme on a model with the state it starts from: the method the time loop calls and the
+/// state `t_0` the loop holds and hands to it.
+pub type Integrator<'m> = (Box<dyn TimeIntegrator + 'm>, SchemeState);
+
+/// Builds the integrator of `scheme` on `model` with step `dt` and its state at `t = 0`, from
+/// the displacement and velocity dofs `u0`, `v0`, under the implementation `conventions`. Paoli–Schatzman,
 /// Moreau–Jean and contact-stabilised Newmark run with the multiplier only (the first's energy
 /// balance with a penalty or Nitsche force is not derived; the second constrains velocities;
 /// the third projects onto the admissible set): other treatments are a [`ParameterError`] on
@@ -32,7 +36,7 @@ pub fn integrator<'m>(
     u0: &[f64],
     v0: &[f64],
     conventions: &Conventions,
-) -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
+) -> Result<Integrator<'m>, Error> {
     let treatment = model.contact_law().treatment();
     if treatment != ContactTreatment::Multiplier {
         let only_multiplier = match scheme {
@@ -68,55 +72,42 @@ pub fn integrator<'m>(
         )
         .into());
     }
-    let start = initial_state(model, u0, v0, conventions)?;
-    let coefficients = match scheme {
+    let state = SchemeState::start(dt, initial_state(model, u0, v0, conventions)?);
+    let one_step = |coefficients| -> Result<Box<dyn TimeIntegrator + 'm>, Error> {
+        let scheme = OneStepScheme::new(model, coefficients, dt, conventions.nitsche_acceleration)?;
+        Ok(Box::new(scheme.with_predictor(conventions.predictor)))
+    };
+    Ok(match scheme {
         Scheme::Newmark { gamma, .. } if scheme.is_explicit() => {
-            return Ok(Box::new(ExplicitNewmark::new(model, gamma, dt, start)?));
+            (Box::new(ExplicitNewmark::new(model, gamma, dt)?), state)
         }
         Scheme::PaoliSchatzman { beta, restitution } => {
-            return Ok(Box::new(PaoliSchatzman::new(
-                model,
-                beta,
-                restitution,
-                dt,
-                start,
-                conventions,
-            )?));
+            let method =
+                PaoliSchatzman::new(model, (beta, restitution), dt, &state.lambda, conventions)?;
+            (Box::new(method), state)
         }
         Scheme::GeneralisedAlpha(parameters) => {
-            return Ok(Box::new(
-                GeneralisedAlpha::new(model, parameters, dt, start)?
-                    .with_predictor(conventions.predictor),
-            ));
+            let method = GeneralisedAlpha::new(model, parameters, dt)?;
+            (
+                Box::new(method.with_predictor(conventions.predictor)),
+                state,
+            )
         }
-        Scheme::MoreauJean { theta, restitution } => {
-            return Ok(Box::new(MoreauJean::new(
-                model,
-                theta,
-                restitution,
-                dt,
-                start,
-            )?));
+        Scheme::MoreauJean { theta, restitution } => (
+            Box::new(MoreauJean::new(model, theta, restitution, dt)?),
+            state.without_acceleration(),
+        ),
+        Scheme::LaursenChawla {} => (
+            Box::new(laursen_chawla(model, dt)?),
+            state.without_acceleration(),
+        ),
+        Scheme::ContactStabilisedNewmark { velocity } => (
+            Box::new(ContactStabilisedNewmark::new(model, velocity, dt)?),
+            state.without_acceleration(),
+        ),
+        Scheme::Newmark { beta, gamma } => {
+            (one_step(StepCoefficients::newmark(beta, gamma))?, state)
         }
-        Scheme::LaursenChawla {} => {
-            return Ok(Box::new(laursen_chawla(model, dt, start)?));
-        }
-        Scheme::ContactStabilisedNewmark { velocity } => {
-            return Ok(Box::new(ContactStabilisedNewmark::new(
-                model, velocity, dt, start,
-            )?));
-        }
-        Scheme::Newmark { beta, gamma } => StepCoefficients::newmark(beta, gamma),
-        Scheme::Theta { theta } => StepCoefficients::theta(theta),
-    };
-    Ok(Box::new(
-        OneStepScheme::new(
-            model,
-            coefficients,
-            dt,
-            start,
-            conventions.nitsche_acceleration,
-        )?
-        .with_predictor(conventions.predictor),
-    ))
+        Scheme::Theta { theta } => (one_step(StepCoefficients::theta(theta))?, state),
+    })
 }

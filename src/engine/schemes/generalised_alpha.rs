@@ -38,7 +38,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::conventions::PredictorForm;
-use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use super::{
+    step_system, SchemeState, StepStatistics, TimeIntegrator, Timed, CARRIES_ACCELERATION,
+};
 use crate::engine::contact::law::ConstraintRow;
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -59,7 +61,9 @@ pub struct AlphaParameters {
     pub gamma: f64,
 }
 
-/// A generalised-α integrator with its state and factorised step matrix.
+/// A generalised-α integrator: its factorised step matrix and contact step. The state it
+/// advances carries `A^n` ([`SchemeState::acceleration()`]), which (GA-a–c) and the balance
+/// (GA-E) read.
 #[derive(Debug)]
 pub struct GeneralisedAlpha<'m> {
     model: &'m Model,
@@ -68,9 +72,6 @@ pub struct GeneralisedAlpha<'m> {
     contact: Option<ContactStep>,
     /// The force vectors `f_i` of the contact constraints (none without an obstacle).
     rows: Vec<ConstraintRow>,
-    state: SchemeState,
-    /// `A^n`.
-    a: Vec<f64>,
     predictor: Vec<f64>,
     predictor_form: PredictorForm,
     scratch: Vec<f64>,
@@ -80,12 +81,7 @@ pub struct GeneralisedAlpha<'m> {
 
 impl<'m> GeneralisedAlpha<'m> {
     /// Factorises `c M + S` (see the module documentation) and prepares the contact step.
-    pub fn new(
-        model: &'m Model,
-        parameters: AlphaParameters,
-        dt: f64,
-        start: InitialState,
-    ) -> Result<Self, SolveError> {
+    pub fn new(model: &'m Model, parameters: AlphaParameters, dt: f64) -> Result<Self, SolveError> {
         let AlphaParameters {
             alpha_m,
             alpha_f,
@@ -105,8 +101,6 @@ impl<'m> GeneralisedAlpha<'m> {
             system,
             contact,
             rows,
-            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
-            a: start.acceleration,
             predictor: vec![0.0; n],
             predictor_form: PredictorForm::Expanded,
             scratch: vec![0.0; n],
@@ -121,18 +115,16 @@ impl<'m> GeneralisedAlpha<'m> {
         self
     }
 
-    /// `α_m M A^n + α_f (S U^n + Σ λ_i^n f_i)` into `history`: what (GA-c) keeps of level `n`
-    /// (nothing for Newmark, α_m = α_f = 0).
-    fn level_n_forces(&mut self) {
+    /// `α_m M A^n + α_f (S U^n + Σ λ_i^n f_i)` of `(U^n, λ^n)` and `a` (`A^n`) into
+    /// `history`: what (GA-c) keeps of level `n` (nothing for Newmark, α_m = α_f = 0).
+    fn level_n_forces(&mut self, (u, lambda): (&[f64], &[f64]), a: &[f64]) {
         let AlphaParameters {
             alpha_m, alpha_f, ..
         } = self.parameters;
         self.history.fill(0.0);
         if alpha_f != 0.0 {
-            self.model
-                .stiffness()
-                .mul_into(&self.state.u, &mut self.history);
-            for (row, &l) in self.rows.iter().zip(&self.state.lambda) {
+            self.model.stiffness().mul_into(u, &mut self.history);
+            for (row, &l) in self.rows.iter().zip(lambda) {
                 for &(k, f) in &row.force {
                     self.history[k] += l * f;
                 }
@@ -140,7 +132,7 @@ impl<'m> GeneralisedAlpha<'m> {
             self.history.iter_mut().for_each(|h| *h *= alpha_f);
         }
         if alpha_m != 0.0 {
-            self.model.mass().mul_into(&self.a, &mut self.scratch);
+            self.model.mass().mul_into(a, &mut self.scratch);
             for (h, ma) in self.history.iter_mut().zip(&self.scratch) {
                 *h += alpha_m * ma;
             }
@@ -149,8 +141,8 @@ impl<'m> GeneralisedAlpha<'m> {
 }
 
 impl TimeIntegrator for GeneralisedAlpha<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        let dt = self.state.dt;
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let (dt, step) = (state.dt, state.step + 1);
         let AlphaParameters {
             alpha_m,
             alpha_f,
@@ -161,20 +153,23 @@ impl TimeIntegrator for GeneralisedAlpha<'_> {
         let c = (1.0 - alpha_m) / ((1.0 - alpha_f) * beta * dt * dt);
         let a = 0.5 - beta;
         let factored = self.predictor_form == PredictorForm::Factored;
-        for (((p, u), v), acc) in self
-            .predictor
-            .iter_mut()
-            .zip(&self.state.u)
-            .zip(&self.state.v)
-            .zip(&self.a)
-        {
+        let SchemeState {
+            u,
+            v,
+            lambda,
+            acceleration,
+            ..
+        } = state;
+        let acceleration = acceleration.as_mut().expect(CARRIES_ACCELERATION);
+        let levels = self.predictor.iter_mut().zip(u.iter()).zip(v.iter());
+        for (((p, u), v), acc) in levels.zip(acceleration.iter()) {
             *p = if factored {
                 u + dt * (v + a * dt * acc)
             } else {
                 u + dt * v + a * dt * dt * acc
             };
         }
-        self.level_n_forces();
+        self.level_n_forces((u, lambda), acceleration);
         self.model
             .mass()
             .mul_into(&self.predictor, &mut self.scratch);
@@ -184,49 +179,32 @@ impl TimeIntegrator for GeneralisedAlpha<'_> {
             *r = *r * c + (f - h) / (1.0 - alpha_f);
         }
         let b_dt2 = beta * dt * dt;
-        for ((g, p), acc) in self.guess.iter_mut().zip(&self.predictor).zip(&self.a) {
+        let guesses = self.guess.iter_mut().zip(&self.predictor);
+        for ((g, p), acc) in guesses.zip(acceleration.iter()) {
             *g = p + b_dt2 * acc;
         }
         self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
-            contact.enforce(
-                self.state.step + 1,
-                &mut self.scratch,
-                |_, g| g,
-                &mut self.state.lambda,
-            )?;
+            contact.enforce(step, &mut self.scratch, |_, g| g, lambda)?;
         }
         let updates = self.scratch.iter().zip(&self.predictor);
-        for ((v, acc), (u_new, p)) in self.state.v.iter_mut().zip(self.a.iter_mut()).zip(updates) {
+        for ((v, acc), (u_new, p)) in v.iter_mut().zip(acceleration.iter_mut()).zip(updates) {
             let a_new = (u_new - p) * inv_bdt2;
             *v += dt * ((1.0 - gamma) * *acc + gamma * a_new);
             *acc = a_new;
         }
-        std::mem::swap(&mut self.state.u, &mut self.scratch);
-        self.state.step += 1;
+        std::mem::swap(u, &mut self.scratch);
+        state.next_step();
         Ok(())
     }
 
     /// `U^{n+1}`, `V^{n+1}` and `A^{n+1}`: the next step reads all three.
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        perturb(&mut self.state.v);
-        perturb(&mut self.a);
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        state.perturb_levels(perturb);
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn acceleration(&self) -> Option<&[f64]> {
-        Some(&self.a)
-    }
-
-    fn energy(&self) -> Timed<f64> {
-        Timed {
-            time: self.time(),
-            value: self.model.energy(&self.state.u, &self.state.v),
-        }
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        state.mechanical_energy(self.model)
     }
 
     fn statistics(&self) -> StepStatistics {

@@ -28,16 +28,11 @@
 //! only on the trial.
 
 use super::moreau_jean::{Activation, MoreauJean};
-use super::InitialState;
 use crate::engine::error::SolveError;
 use crate::engine::model::Model;
 
-/// The Laursen–Chawla integrator on `model` with step `dt` from `start`: Moreau–Jean with
-/// θ = ½, e = 1 and the trial-gap activation (see the module documentation).
-pub fn laursen_chawla(
-    model: &Model,
-    dt: f64,
-    start: InitialState,
-) -> Result<MoreauJean<'_>, SolveError> {
-    Ok(MoreauJean::new(model, 0.5, 1.0, dt, start)?.with_activation(Activation::FreeStep))
+/// The Laursen–Chawla integrator on `model` with step `dt`: Moreau–Jean with θ = ½, e = 1 and
+/// the trial-gap activation (see the module documentation).
+pub fn laursen_chawla(model: &Model, dt: f64) -> Result<MoreauJean<'_>, SolveError> {
+    Ok(MoreauJean::new(model, 0.5, 1.0, dt)?.with_activation(Activation::FreeStep))
 }

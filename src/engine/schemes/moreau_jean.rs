@@ -34,7 +34,7 @@
 //! `−½ Δt (1 − e) Σ_i λ_i^{n+1} (B V^n)_i`, which is ≤ 0 when the constraints that push were
 //! approaching, `(B V^n)_i ≤ 0`, as at an impact: energy is lost there unless e = 1.
 
-use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use super::{step_system, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::law::{sparse_dot, ConstraintRow};
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -52,7 +52,8 @@ pub enum Activation {
     FreeStep,
 }
 
-/// A Moreau–Jean integrator with its state and factorised step matrix.
+/// A Moreau–Jean integrator: its factorised step matrix and contact step. The state it advances
+/// carries `(U^n, V^n)` and no acceleration: the scheme works on velocities.
 #[derive(Debug)]
 pub struct MoreauJean<'m> {
     model: &'m Model,
@@ -63,7 +64,6 @@ pub struct MoreauJean<'m> {
     contact: Option<ContactStep>,
     /// The contact constraints (none without an obstacle).
     rows: Vec<ConstraintRow>,
-    state: SchemeState,
     /// `(B U^n)_i` and `(B V^n)_i` of the constraints, for (MJ-c–d).
     positions: Vec<f64>,
     velocities: Vec<f64>,
@@ -76,14 +76,12 @@ pub struct MoreauJean<'m> {
 }
 
 impl<'m> MoreauJean<'m> {
-    /// Factorises `M / (θ²Δt²) + S` and prepares the contact step; `start` gives `U^0`, `V^0`
-    /// and `λ^0`.
+    /// Factorises `M / (θ²Δt²) + S` and prepares the contact step.
     pub fn new(
         model: &'m Model,
         theta: f64,
         restitution: f64,
         dt: f64,
-        start: InitialState,
     ) -> Result<Self, SolveError> {
         let scale = 1.0 / (theta * theta * dt * dt);
         let k = model
@@ -103,7 +101,6 @@ impl<'m> MoreauJean<'m> {
             system,
             contact,
             rows,
-            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
             positions: vec![0.0; constraints],
             velocities: vec![0.0; constraints],
             trial: vec![0.0; constraints],
@@ -121,31 +118,26 @@ impl<'m> MoreauJean<'m> {
 }
 
 impl TimeIntegrator for MoreauJean<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        let (dt, theta, e) = (self.state.dt, self.theta, self.restitution);
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let (dt, theta, e) = (state.dt, self.theta, self.restitution);
         let theta2_dt = theta * theta * dt;
         // The right-hand side `M V^n / (θ²Δt²) + (F − S W) / (θ²Δt)`, `W = U^n + θ(1 − θ)Δt V^n`.
-        for ((w, u), v) in self
-            .scratch
-            .iter_mut()
-            .zip(&self.state.u)
-            .zip(&self.state.v)
-        {
+        for ((w, u), v) in self.scratch.iter_mut().zip(&state.u).zip(&state.v) {
             *w = u + theta * (1.0 - theta) * dt * v;
         }
         self.model
             .stiffness()
             .mul_into(&self.scratch, &mut self.rhs);
-        self.model.mass().mul_into(&self.state.v, &mut self.scratch);
+        self.model.mass().mul_into(&state.v, &mut self.scratch);
         let load = self.model.load();
         for (k, (r, mv)) in self.rhs.iter_mut().zip(&self.scratch).enumerate() {
             let f = load.map_or(0.0, |f| f[k]);
             *r = mv / (theta2_dt * dt) + (f - *r) / theta2_dt;
         }
-        self.system.solve(&mut self.rhs, &self.state.v)?;
+        self.system.solve(&mut self.rhs, &state.v)?;
         for (i, row) in self.rows.iter().enumerate() {
-            self.positions[i] = sparse_dot(&row.measure, &self.state.u);
-            self.velocities[i] = sparse_dot(&row.measure, &self.state.v);
+            self.positions[i] = sparse_dot(&row.measure, &state.u);
+            self.velocities[i] = sparse_dot(&row.measure, &state.v);
             let free = sparse_dot(&row.measure, &self.rhs);
             self.trial[i] =
                 self.positions[i] + dt * ((1.0 - theta) * self.velocities[i] + theta * free);
@@ -154,7 +146,7 @@ impl TimeIntegrator for MoreauJean<'_> {
             let (positions, velocities, trial) = (&self.positions, &self.velocities, &self.trial);
             let activation = self.activation;
             contact.enforce(
-                self.state.step + 1,
+                state.step + 1,
                 &mut self.rhs,
                 |i, g| {
                     let active = match activation {
@@ -171,34 +163,26 @@ impl TimeIntegrator for MoreauJean<'_> {
                 },
                 &mut self.nu,
             )?;
-            for (l, nu) in self.state.lambda.iter_mut().zip(&self.nu) {
+            for (l, nu) in state.lambda.iter_mut().zip(&self.nu) {
                 *l = theta2_dt * nu;
             }
         }
-        let updates = self.state.u.iter_mut().zip(self.state.v.iter_mut());
+        let updates = state.u.iter_mut().zip(state.v.iter_mut());
         for ((u, v), v_new) in updates.zip(&self.rhs) {
             *u += dt * ((1.0 - theta) * *v + theta * v_new);
             *v = *v_new;
         }
-        self.state.step += 1;
+        state.next_step();
         Ok(())
     }
 
     /// `U^{n+1}` and `V^{n+1}`: the next step reads both.
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        perturb(&mut self.state.v);
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        state.perturb_levels(perturb);
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn energy(&self) -> Timed<f64> {
-        Timed {
-            time: self.time(),
-            value: self.model.energy(&self.state.u, &self.state.v),
-        }
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        state.mechanical_energy(self.model)
     }
 
     /// The violation is the largest of Newton's law (MJ-d) on the velocities, over the steps.

@@ -80,7 +80,7 @@ use super::conventions::{Conventions, NitscheAcceleration, Start};
 use super::massless::QuasiStatic;
 use super::{
     residual_force, InitialState, SchemeState, StepCoefficients, StepStatistics, TimeIntegrator,
-    Timed,
+    Timed, CARRIES_ACCELERATION,
 };
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::error::SolveError;
@@ -273,7 +273,10 @@ impl TaylorFlanagan {
     }
 }
 
-/// Explicit Newmark(0, γ) with its state.
+/// Explicit Newmark(0, γ): the factorised `M_RR`, the static rows of the massless dofs and the
+/// Taylor–Flanagan step. The state it advances carries `A^n` ([`SchemeState::acceleration()`]),
+/// which its update reads, and `U^{n−1}` ([`SchemeState::previous`]), which its staggered
+/// energy reads.
 #[derive(Debug)]
 pub struct ExplicitNewmark<'m> {
     model: &'m Model,
@@ -285,10 +288,6 @@ pub struct ExplicitNewmark<'m> {
     /// Whether the last step applied a Taylor–Flanagan impulse.
     impulse: bool,
     stable_dt: f64,
-    state: SchemeState,
-    u_prev: Vec<f64>,
-    a: Vec<f64>,
-    energy_at_start: f64,
     next: Vec<f64>,
     force: Vec<f64>,
     force_r: Vec<f64>,
@@ -297,12 +296,7 @@ pub struct ExplicitNewmark<'m> {
 impl<'m> ExplicitNewmark<'m> {
     /// Checks the CFL bound, then factorises `M_RR` and prepares the contact steps (static
     /// for massless contact dofs, Taylor–Flanagan for the others).
-    pub fn new(
-        model: &'m Model,
-        gamma: f64,
-        dt: f64,
-        start: InitialState,
-    ) -> Result<Self, SolveError> {
+    pub fn new(model: &'m Model, gamma: f64, dt: f64) -> Result<Self, SolveError> {
         let n = model.n_dofs();
         let with_mass = model.dofs_with_mass();
         let (mass_solver, stable_dt) = if with_mass.is_empty() {
@@ -321,7 +315,6 @@ impl<'m> ExplicitNewmark<'m> {
                 gamma,
             });
         }
-        let energy_at_start = model.energy(&start.displacement, &start.velocity);
         Ok(Self {
             model,
             gamma,
@@ -330,10 +323,6 @@ impl<'m> ExplicitNewmark<'m> {
             taylor_flanagan: TaylorFlanagan::new(model, &with_mass),
             impulse: false,
             stable_dt,
-            u_prev: start.displacement.clone(),
-            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
-            a: start.acceleration,
-            energy_at_start,
             next: vec![0.0; n],
             force: vec![0.0; n],
             force_r: vec![0.0; with_mass.len()],
@@ -348,27 +337,26 @@ impl<'m> ExplicitNewmark<'m> {
 }
 
 impl TimeIntegrator for ExplicitNewmark<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        let dt = self.state.dt;
-        for ((next, u), (v, a)) in self
-            .next
-            .iter_mut()
-            .zip(&self.state.u)
-            .zip(self.state.v.iter().zip(&self.a))
-        {
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let (dt, step) = (state.dt, state.step + 1);
+        let SchemeState {
+            u,
+            v,
+            lambda,
+            acceleration,
+            previous,
+            ..
+        } = state;
+        let a = acceleration.as_mut().expect(CARRIES_ACCELERATION);
+        for ((next, u), (v, a)) in self.next.iter_mut().zip(&*u).zip(v.iter().zip(&*a)) {
             *next = u + dt * v + 0.5 * dt * dt * a;
         }
         if let Some(statics) = self.statics.as_mut() {
-            statics.solve(
-                self.model,
-                self.state.step + 1,
-                &mut self.next,
-                &mut self.state.lambda,
-            )?;
+            statics.solve(self.model, step, &mut self.next, lambda)?;
         }
         let gamma = self.gamma;
         for &i in &self.with_mass {
-            self.state.v[i] += dt * (1.0 - gamma) * self.a[i];
+            v[i] += dt * (1.0 - gamma) * a[i];
         }
         if let (Some(tf), Some(m), Some(set)) = (
             &self.taylor_flanagan,
@@ -376,12 +364,11 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
             self.model.contact(),
         ) {
             for (f, &i) in self.force_r.iter_mut().zip(&self.with_mass) {
-                *f = self.state.v[i];
+                *f = v[i];
             }
-            let lambda = &mut self.state.lambda;
             self.impulse = tf.apply(set, m, dt, &mut self.next, &mut self.force_r, lambda)?;
-            for (&i, &v) in self.with_mass.iter().zip(&self.force_r) {
-                self.state.v[i] = v;
+            for (&i, &vi) in self.with_mass.iter().zip(&self.force_r) {
+                v[i] = vi;
             }
         }
         residual_force(self.model, &self.next, &mut self.force);
@@ -392,36 +379,31 @@ impl TimeIntegrator for ExplicitNewmark<'_> {
             m.solve_in_place(&mut self.force_r);
         }
         for (&i, &a_new) in self.with_mass.iter().zip(&self.force_r) {
-            self.state.v[i] += dt * gamma * a_new;
-            self.a[i] = a_new;
+            v[i] += dt * gamma * a_new;
+            a[i] = a_new;
         }
         for &z in self.model.massless_dofs() {
-            self.state.v[z] = (self.next[z] - self.state.u[z]) / dt;
+            v[z] = (self.next[z] - u[z]) / dt;
         }
-        std::mem::swap(&mut self.u_prev, &mut self.state.u);
-        std::mem::swap(&mut self.state.u, &mut self.next);
-        self.state.step += 1;
+        let previous = previous.get_or_insert_with(|| vec![0.0; u.len()]);
+        std::mem::swap(previous, u);
+        std::mem::swap(u, &mut self.next);
+        state.next_step();
         Ok(())
-    }
-
-    fn state(&self) -> &SchemeState {
-        &self.state
     }
 
     /// `U^{n+1}`, `V^{n+1}` and `A^{n+1}`, which the next step's update reads (`U^n`, kept for
     /// the staggered energy, was perturbed when it was computed).
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        perturb(&mut self.state.v);
-        perturb(&mut self.a);
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        state.perturb_levels(perturb);
     }
 
     /// `E^{n−½}` at `t_{n−½}` (see the module documentation); `E_h(U^0, V^0)` before the
     /// first step.
-    fn energy(&self) -> Timed<f64> {
-        let (model, dt) = (self.model, self.state.dt);
-        self.state.staggered_energy(self.energy_at_start, || {
-            staggered_energy(model, dt, &self.u_prev, &self.state.u)
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        let (model, dt) = (self.model, state.dt);
+        state.staggered_energy(model, |previous| {
+            staggered_energy(model, dt, previous, &state.u)
         })
     }
 

@@ -23,7 +23,7 @@
 //! elastic stiffness, `A^{n+1} − M⁻¹ (θ/γ) a (aᵀU^{n+1})` ([`ElasticAcceleration`]).
 
 use super::conventions::{NitscheAcceleration, PredictorForm};
-use super::{step_system, InitialState, SchemeState, StepStatistics, TimeIntegrator, Timed};
+use super::{step_system, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::engine::contact::law::sparse_dot;
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -93,7 +93,8 @@ impl ElasticAcceleration {
     }
 }
 
-/// A Newmark or θ-method integrator with its state and factorised step matrix.
+/// A Newmark or θ-method integrator: its factorised step matrix and contact step. The state
+/// it advances carries `A^n` ([`SchemeState::acceleration()`]), which its predictor reads.
 #[derive(Debug)]
 pub struct OneStepScheme<'m> {
     model: &'m Model,
@@ -101,9 +102,6 @@ pub struct OneStepScheme<'m> {
     system: StepSolver,
     contact: Option<ContactStep>,
     elastic_acceleration: Option<ElasticAcceleration>,
-    state: SchemeState,
-    /// `A^n`.
-    a: Vec<f64>,
     predictor: Vec<f64>,
     /// How `predictor` is summed.
     predictor_form: PredictorForm,
@@ -168,7 +166,6 @@ impl<'m> OneStepScheme<'m> {
         model: &'m Model,
         coef: StepCoefficients,
         dt: f64,
-        start: InitialState,
         nitsche: NitscheAcceleration,
     ) -> Result<Self, SolveError> {
         let k = model
@@ -182,8 +179,6 @@ impl<'m> OneStepScheme<'m> {
             system,
             contact,
             elastic_acceleration: ElasticAcceleration::new(model, nitsche)?,
-            state: SchemeState::start(dt, start.displacement, start.velocity, start.multiplier),
-            a: start.acceleration,
             predictor: vec![0.0; n],
             predictor_form: PredictorForm::Expanded,
             scratch: vec![0.0; n],
@@ -205,30 +200,30 @@ impl<'m> OneStepScheme<'m> {
         self.contact = self.contact.map(|c| c.with_solver(solver));
         self
     }
-
-    /// `A^n`.
-    pub fn acceleration(&self) -> &[f64] {
-        &self.a
-    }
 }
 
 impl OneStepScheme<'_> {
-    /// One step with the contact condition `B U^{n+1} + shift(i, g_i) ≥ 0` instead of
-    /// `B U^{n+1} + g ≥ 0` (Paoli–Schatzman's first step,
+    /// One step of `state` with the contact condition `B U^{n+1} + shift(i, g_i) ≥ 0` instead
+    /// of `B U^{n+1} + g ≥ 0` (Paoli–Schatzman's first step,
     /// [`super::conventions::FirstStepContact`]).
     pub fn advance_with_gap(
         &mut self,
+        state: &mut SchemeState,
         shift: impl Fn(usize, f64) -> f64,
     ) -> Result<(), SolveError> {
-        let dt = self.state.dt;
+        let (dt, step) = (state.dt, state.step + 1);
         let StepCoefficients { b, c, d, .. } = self.coef;
         let inv_bdt2 = 1.0 / (b * dt * dt);
-        self.coef.predict(
-            self.predictor_form,
-            dt,
-            (&self.state.u, &self.state.v, &self.a),
-            &mut self.predictor,
-        );
+        let SchemeState {
+            u,
+            v,
+            lambda,
+            acceleration,
+            ..
+        } = state;
+        let acc = acceleration.as_mut().expect(super::CARRIES_ACCELERATION);
+        self.coef
+            .predict(self.predictor_form, dt, (u, v, acc), &mut self.predictor);
         self.model
             .mass()
             .mul_into(&self.predictor, &mut self.scratch);
@@ -237,23 +232,15 @@ impl OneStepScheme<'_> {
             self.scratch.iter_mut().zip(f).for_each(|(r, fi)| *r += fi);
         }
         self.coef
-            .warm_start(dt, &self.predictor, &self.a, &mut self.guess);
+            .warm_start(dt, &self.predictor, acc, &mut self.guess);
         self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
-            contact.enforce(
-                self.state.step + 1,
-                &mut self.scratch,
-                shift,
-                &mut self.state.lambda,
-            )?;
+            contact.enforce(step, &mut self.scratch, shift, lambda)?;
         }
         match &self.elastic_acceleration {
-            None => self.coef.update(
-                dt,
-                (&self.scratch, &self.predictor),
-                &mut self.state.v,
-                &mut self.a,
-            ),
+            None => self
+                .coef
+                .update(dt, (&self.scratch, &self.predictor), v, acc),
             Some(elastic) => {
                 // A^{n+1} needs the whole of U^{n+1} before the velocity update: the predictor
                 // buffer takes it.
@@ -261,40 +248,31 @@ impl OneStepScheme<'_> {
                     *p = (u_new - *p) * inv_bdt2;
                 }
                 elastic.apply(&self.scratch, &mut self.predictor);
-                let updates = self.state.v.iter_mut().zip(self.a.iter_mut());
+                let updates = v.iter_mut().zip(acc.iter_mut());
                 for ((v, acc), &a_new) in updates.zip(&self.predictor) {
                     *v += dt * (c * *acc + d * a_new);
                     *acc = a_new;
                 }
             }
         }
-        std::mem::swap(&mut self.state.u, &mut self.scratch);
-        self.state.step += 1;
+        std::mem::swap(u, &mut self.scratch);
+        state.next_step();
         Ok(())
     }
 }
 
 impl TimeIntegrator for OneStepScheme<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        self.advance_with_gap(|_, g| g)
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        self.advance_with_gap(state, |_, g| g)
     }
 
     /// `U^{n+1}`, `V^{n+1}` and `A^{n+1}`: the predictor of the next step reads all three.
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        perturb(&mut self.state.v);
-        perturb(&mut self.a);
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        state.perturb_levels(perturb);
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn energy(&self) -> Timed<f64> {
-        Timed {
-            time: self.time(),
-            value: self.model.energy(&self.state.u, &self.state.v),
-        }
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        state.mechanical_energy(self.model)
     }
 
     fn statistics(&self) -> StepStatistics {

@@ -26,8 +26,8 @@ use super::conventions::{
     Conventions, FirstStepContact, MasslessRows, NitscheAcceleration, PredictorForm,
 };
 use super::{
-    residual_force, step_system, InitialState, OneStepScheme, SchemeState, StepCoefficients,
-    StepStatistics, TimeIntegrator, Timed,
+    residual_force, step_system, OneStepScheme, SchemeState, StepCoefficients, StepStatistics,
+    TimeIntegrator, Timed,
 };
 use crate::engine::contact::ContactStep;
 use crate::engine::error::SolveError;
@@ -81,7 +81,13 @@ impl HalfStep {
     }
 }
 
-/// A Paoli–Schatzman integrator.
+/// A Paoli–Schatzman integrator: its factorised step matrix and contact step, and how it treats
+/// the massless rows and the first step. The state it advances carries `U^{n−1}`
+/// ([`SchemeState::previous`]), which its step reads, with the half-step velocity `V^{n−½}` as
+/// its velocity, `λ^{n−1}` of eq. (36) as the scheme's multipliers
+/// ([`SchemeState::scheme_multiplier`]) and, with `U^{n+1}`, the multipliers it reports
+/// ([`SchemeState::reported`]): `λ^n / β` at `t_{n+1}` with a massless contact node, `λ^n` at
+/// `t_n` otherwise.
 #[derive(Debug)]
 pub struct PaoliSchatzman<'m> {
     model: &'m Model,
@@ -100,28 +106,20 @@ pub struct PaoliSchatzman<'m> {
     contact: Option<ContactStep>,
     /// The contact work of the start step ([`OneStepScheme`]).
     start_statistics: StepStatistics,
-    /// `λ` is `λ^{n−1}` of eq. (36), which produced `U^n` ([`TimeIntegrator::scheme_multiplier`]).
-    state: SchemeState,
-    u_prev: Vec<f64>,
-    mid: Vec<f64>,
-    lambda_reported: Vec<f64>,
-    lambda_time: f64,
-    energy_at_start: f64,
     work: Vec<f64>,
     force: Vec<f64>,
     next: Vec<f64>,
-    pending_start: Option<InitialState>,
 }
 
 impl<'m> PaoliSchatzman<'m> {
     /// Factorises `M/Δt² + βS` and prepares the contact correction, with the treatment of the
-    /// massless rows and of the first step that `conventions` ask for.
+    /// massless rows and of the first step that `conventions` ask for; `initial_multiplier` is
+    /// the start's `λ^0`.
     pub fn new(
         model: &'m Model,
-        beta: f64,
-        restitution: f64,
+        (beta, restitution): (f64, f64),
         dt: f64,
-        start: InitialState,
+        initial_multiplier: &[f64],
         conventions: &Conventions,
     ) -> Result<Self, SolveError> {
         let k = model
@@ -129,13 +127,12 @@ impl<'m> PaoliSchatzman<'m> {
             .linear_combination(1.0 / (dt * dt), model.stiffness(), beta);
         let (system, contact) = step_system(model, k, "Paoli–Schatzman system M/Δt² + βS")?;
         let n = model.n_dofs();
-        let energy_at_start = model.energy(&start.displacement, &start.velocity);
         let three_level = conventions.paoli_schatzman_massless_rows == MasslessRows::ThreeLevel;
         let three_level_start = three_level.then(|| {
             let massless = model.massless_dofs();
             let mut start_force = Vec::new();
             if let Some(c) = model.contact() {
-                for (&d, &l) in c.dofs.iter().zip(&start.multiplier) {
+                for (&d, &l) in c.dofs.iter().zip(initial_multiplier) {
                     if massless.binary_search(&d).is_ok() {
                         start_force.push((d, beta * l));
                     }
@@ -154,27 +151,10 @@ impl<'m> PaoliSchatzman<'m> {
             system,
             contact,
             start_statistics: StepStatistics::default(),
-            state: SchemeState::start(
-                dt,
-                start.displacement.clone(),
-                start.velocity.clone(),
-                start.multiplier.clone(),
-            ),
-            u_prev: start.displacement.clone(),
-            mid: start.displacement.clone(),
-            lambda_reported: start.multiplier.clone(),
-            lambda_time: 0.0,
-            energy_at_start,
             work: vec![0.0; n],
             force: vec![0.0; n],
             next: vec![0.0; n],
-            pending_start: Some(start),
         })
-    }
-
-    /// `U^{n−1}`.
-    pub fn previous_displacement(&self) -> &[f64] {
-        &self.u_prev
     }
 
     /// β.
@@ -182,39 +162,56 @@ impl<'m> PaoliSchatzman<'m> {
         self.beta
     }
 
-    fn start_step(&mut self, start: InitialState) -> Result<(), SolveError> {
+    /// `U^1` from `U^0` by one Newmark(β, ½) step, `A^0` dropped after it.
+    fn start_step(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
         let mut first = OneStepScheme::new(
             self.model,
             StepCoefficients::newmark(self.beta, 0.5),
-            self.state.dt,
-            start,
+            state.dt,
             NitscheAcceleration::Consistent,
         )?
         .with_predictor(self.predictor);
+        let u0 = state.u.clone();
+        // A massless contact node reports the force at t_1 that the Newmark start step imposes;
+        // a node with mass keeps reporting λ^0 at t_0 until eq. (36) yields λ^1.
+        let lambda0 = state.lambda.clone();
         match (self.first_step, self.model.contact()) {
             (FirstStepContact::PreviousEqualsInitial, Some(set)) => {
-                let (e, u0) = (self.restitution, &self.state.u);
-                first.advance_with_gap(|i, g| e * u0[set.dofs[i]] + (1.0 + e) * g)?;
+                let e = self.restitution;
+                first.advance_with_gap(state, |i, g| e * u0[set.dofs[i]] + (1.0 + e) * g)?;
             }
-            _ => first.advance()?,
+            _ => first.advance(state)?,
         }
         self.start_statistics = first.statistics();
-        self.u_prev.copy_from_slice(&self.state.u);
-        self.state.u.copy_from_slice(first.displacement());
-        self.state.lambda.copy_from_slice(first.multiplier().value);
-        // A massless contact node reports the force at t_1 that the Newmark start step imposed;
-        // a node with mass keeps reporting λ^0 at t_0 until eq. (36) yields λ^1.
-        if self.massless_contact {
-            self.lambda_reported
-                .copy_from_slice(first.multiplier().value);
-            self.lambda_time = self.state.dt;
-        }
+        state.acceleration = None;
+        state.previous = Some(u0);
+        state.reported = Some(if self.massless_contact {
+            Timed {
+                time: state.dt,
+                value: state.lambda.clone(),
+            }
+        } else {
+            Timed {
+                time: 0.0,
+                value: lambda0,
+            }
+        });
         Ok(())
     }
 
-    fn two_step(&mut self) -> Result<(), SolveError> {
-        let (beta, e, dt) = (self.beta, self.restitution, self.state.dt);
-        let levels = || self.state.u.iter().zip(&self.u_prev);
+    fn two_step(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let (beta, e, dt, step) = (self.beta, self.restitution, state.dt, state.step);
+        let SchemeState {
+            u,
+            lambda,
+            previous,
+            reported,
+            ..
+        } = state;
+        let u_prev = previous
+            .as_mut()
+            .expect("Paoli–Schatzman's state after its start step carries U^{n−1}");
+        let levels = || u.iter().zip(u_prev.iter());
         for (w, (u, up)) in self.work.iter_mut().zip(levels()) {
             *w = (1.0 - 2.0 * beta) * u + beta * up;
         }
@@ -232,7 +229,7 @@ impl<'m> PaoliSchatzman<'m> {
                     self.force[z] = 0.0;
                 }
             }
-            Some(start_force) if self.state.step == 1 => {
+            Some(start_force) if step == 1 => {
                 for &(z, f) in start_force {
                     self.force[z] += f;
                 }
@@ -259,76 +256,72 @@ impl<'m> PaoliSchatzman<'m> {
         }
         self.system.solve(&mut self.next, &self.work)?;
         if let (Some(contact), Some(set)) = (self.contact.as_mut(), self.model.contact()) {
-            let u_prev = &self.u_prev;
+            let u_prev = &*u_prev;
             contact.enforce(
-                self.state.step + 1,
+                step + 1,
                 &mut self.next,
                 |i, g| e * u_prev[set.dofs[i]] + (1.0 + e) * g,
-                &mut self.state.lambda,
+                lambda,
             )?;
         }
-        std::mem::swap(&mut self.u_prev, &mut self.state.u);
-        std::mem::swap(&mut self.state.u, &mut self.next);
+        std::mem::swap(u_prev, u);
+        std::mem::swap(u, &mut self.next);
+        let reported = reported
+            .as_mut()
+            .expect("Paoli–Schatzman's state after its start step carries its report");
         if self.massless_contact {
-            for (r, l) in self.lambda_reported.iter_mut().zip(&self.state.lambda) {
+            for (r, l) in reported.value.iter_mut().zip(lambda.iter()) {
                 *r = l / beta;
             }
-            self.lambda_time = (self.state.step + 1) as f64 * dt;
+            reported.time = (step + 1) as f64 * dt;
         } else {
-            self.lambda_reported.copy_from_slice(&self.state.lambda);
-            self.lambda_time = self.state.step as f64 * dt;
+            reported.value.copy_from_slice(lambda);
+            reported.time = step as f64 * dt;
         }
+        state.next_step();
         Ok(())
     }
 }
 
-impl PaoliSchatzman<'_> {
-    /// The half-step velocity and mean from the two levels `U^{n−1}`, `U^n` ([`half_step`]).
-    fn update_half_step(&mut self) {
-        half_step(
-            self.state.dt,
-            &self.u_prev,
-            &self.state.u,
-            &mut self.state.v,
-            &mut self.mid,
-        );
+/// The half-step velocity `V^{n−½} = (U^n − U^{n−1})/Δt` of `state` from its two levels
+/// (as [`half_step`]; the energy recomputes `Ū`).
+fn update_half_step(state: &mut SchemeState) {
+    let SchemeState {
+        dt, u, v, previous, ..
+    } = state;
+    if let Some(previous) = previous {
+        for ((v, u), up) in v.iter_mut().zip(u.iter()).zip(previous.iter()) {
+            *v = (u - up) / *dt;
+        }
     }
 }
 
 impl TimeIntegrator for PaoliSchatzman<'_> {
-    fn advance(&mut self) -> Result<(), SolveError> {
-        match self.pending_start.take() {
-            Some(start) => self.start_step(start)?,
-            None => self.two_step()?,
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        if state.step == 0 {
+            self.start_step(state)?;
+        } else {
+            self.two_step(state)?;
         }
-        self.update_half_step();
-        self.state.step += 1;
+        update_half_step(state);
         Ok(())
     }
 
     /// `U^{n+1}`, the one level the step computed (`U^n`, the other level the next step
-    /// reads, was perturbed when it was computed); the half-step velocity and mean are
-    /// recomputed from the perturbed level.
-    fn perturb_carried(&mut self, perturb: &mut dyn FnMut(&mut [f64])) {
-        perturb(&mut self.state.u);
-        self.update_half_step();
+    /// reads, was perturbed when it was computed); the half-step velocity is recomputed from
+    /// the perturbed level.
+    fn perturb_carried(&self, state: &mut SchemeState, perturb: &mut dyn FnMut(&mut [f64])) {
+        perturb(&mut state.u);
+        update_half_step(state);
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn multiplier(&self) -> Timed<&[f64]> {
-        Timed {
-            time: self.lambda_time,
-            value: &self.lambda_reported,
-        }
-    }
-
-    fn energy(&self) -> Timed<f64> {
-        let (model, beta, dt) = (self.model, self.beta, self.state.dt);
-        self.state.staggered_energy(self.energy_at_start, || {
-            energy_of_half_step(model, beta, dt, &self.mid, &self.state.v)
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
+        let (model, beta, dt) = (self.model, self.beta, state.dt);
+        state.staggered_energy(model, |previous| {
+            let mean: Vec<f64> = (state.u.iter().zip(previous))
+                .map(|(u, up)| 0.5 * (u + up))
+                .collect();
+            energy_of_half_step(model, beta, dt, &mean, &state.v)
         })
     }
 

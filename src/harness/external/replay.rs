@@ -15,7 +15,7 @@ use crate::engine::error::{SolveError, StateField};
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
 use crate::engine::model::Model;
-use crate::engine::schemes::{SchemeState, StepStatistics, TimeIntegrator, Timed};
+use crate::engine::schemes::{Integration, SchemeState, StepStatistics, TimeIntegrator, Timed};
 use crate::harness::files::error::Error;
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::nested_comparison::error_series::DisplacementError;
@@ -39,95 +39,85 @@ pub enum EnergySource<'a> {
 /// The samples of a run file as the states of a time integrator on the scene's bar: sample `n`
 /// is state `n` at the file's time `t_n`; the fields are the file's nodal values (without a
 /// clamped end's node, as the bar's dofs), the multiplier and the energy are the file's with
-/// the times they approximate.
+/// the times they approximate. The replay reads the file; the state it moves from sample to
+/// sample is the caller's ([`Replay::start`]).
 pub struct Replay<'a> {
     run: &'a ExternalRun,
     /// The bar's dofs: the nodes less a clamped end.
     dofs: usize,
-    /// The current sample: its index, the spacing to the previous sample (to the next one at
-    /// the first sample), the file's nodal displacements and velocities (empty when the file
-    /// has none) and its multiplier (none when the file has none).
-    state: SchemeState,
     /// What [`TimeIntegrator::energy`] reports.
     energy: EnergySource<'a>,
 }
 
 impl<'a> Replay<'a> {
-    /// The replay of `run` on `bar` (the scene's bar with the file's `NX`), at its first
-    /// sample, its energy from `energy`.
+    /// The replay of `run` on `bar` (the scene's bar with the file's `NX`), its energy from
+    /// `energy`.
     pub fn new(run: &'a ExternalRun, bar: &Bar1d, energy: EnergySource<'a>) -> Self {
-        let mut replay = Self {
+        Self {
             run,
             dofs: bar.n_dofs(),
-            state: SchemeState::start(0.0, Vec::new(), Vec::new(), Vec::new()),
             energy,
-        };
-        replay.load();
-        replay
+        }
     }
 
-    /// Copies the current sample of the file into the state.
-    fn load(&mut self) {
-        let (run, n, dofs) = (self.run, self.state.step, self.dofs);
+    /// The state at the file's first sample.
+    pub fn start(&self) -> SchemeState {
+        let mut state = SchemeState::sample(0, 0.0, 0.0, (Vec::new(), Vec::new()));
+        self.load(0, &mut state);
+        state
+    }
+
+    /// Copies sample `n` of the file into `state`: its index and time, the spacing to the
+    /// previous sample (to the next one at the first sample), the file's nodal displacements
+    /// and velocities (empty when the file has none), its multiplier (none when the file has
+    /// none) with the file's `lambda_time` when it gives one.
+    fn load(&self, n: usize, state: &mut SchemeState) {
+        let (run, dofs) = (self.run, self.dofs);
         let row = |field| {
             run.row(field, n)
                 .map_or_else(Vec::new, |r| r[..dofs].to_vec())
         };
-        self.state.u = row(&run.displacement);
-        self.state.v = row(&run.velocity);
-        self.state.lambda = run.lambda_at(n).into_iter().collect();
-        let (t, k) = (&self.run.time, n.max(1));
-        self.state.dt = t[k] - t[k - 1];
+        state.u = row(&run.displacement);
+        state.v = row(&run.velocity);
+        state.lambda = run.lambda_at(n).into_iter().collect();
+        let (t, k) = (&run.time, n.max(1));
+        state.dt = t[k] - t[k - 1];
+        state.set_clock(n, t[n]);
+        state.reported = run.lambda_time.as_ref().map(|times| Timed {
+            time: times[n],
+            value: state.lambda.clone(),
+        });
     }
 
-    /// The current sample's entry of `times` (`lambda_time`, `energy_time`) when the file gives
-    /// them, else the sample's time.
-    fn reported_time(&self, times: &Option<Vec<f64>>) -> f64 {
-        times.as_ref().map_or(self.time(), |t| t[self.state.step])
+    /// The sample of `state`'s entry of `times` (`lambda_time`, `energy_time`) when the file
+    /// gives them, else the sample's time.
+    fn reported_time(&self, times: &Option<Vec<f64>>, state: &SchemeState) -> f64 {
+        times
+            .as_ref()
+            .map_or(state.time(), |t| t[state.step_index()])
     }
 }
 
 impl TimeIntegrator for Replay<'_> {
     /// Moves to the next sample; the last sample stays (a file holds nothing after its horizon).
-    fn advance(&mut self) -> Result<(), SolveError> {
-        if self.state.step + 1 < self.run.samples() {
-            self.state.step += 1;
-            self.load();
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
+        let next = state.step_index() + 1;
+        if next < self.run.samples() {
+            self.load(next, state);
         }
         Ok(())
-    }
-
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    /// The file's time of the current sample.
-    fn time(&self) -> f64 {
-        self.run.time[self.state.step]
-    }
-
-    /// The file's multiplier at `lambda_time` (default: the sample's time); empty when the
-    /// file has none.
-    fn multiplier(&self) -> Timed<&[f64]> {
-        Timed {
-            time: self.reported_time(&self.run.lambda_time),
-            value: &self.state.lambda,
-        }
     }
 
     /// The energy of the [`EnergySource`]: the file's at `energy_time` (default: the sample's
     /// time), or the harness's of the sample's fields at its time; NaN when there is none,
     /// which no observer is then built to read.
-    fn energy(&self) -> Timed<f64> {
+    fn energy(&self, state: &SchemeState) -> Timed<f64> {
         match self.energy {
-            EnergySource::Fields(model) => Timed {
-                time: self.time(),
-                value: model.energy(&self.state.u, &self.state.v),
-            },
+            EnergySource::Fields(model) => state.mechanical_energy(model),
             EnergySource::Reported | EnergySource::Absent => Timed {
-                time: self.reported_time(&self.run.energy_time),
+                time: self.reported_time(&self.run.energy_time, state),
                 value: match (self.energy, &self.run.energy) {
-                    (EnergySource::Reported, Some(e)) => e[self.state.step],
+                    (EnergySource::Reported, Some(e)) => e[state.step_index()],
                     _ => f64::NAN,
                 },
             },
@@ -204,11 +194,16 @@ pub fn replay(
         (EnergySource::Reported, _) | (_, None) => None,
         (_, Some(_)) => Some(TimeSeriesNorm::default()),
     };
-    let mut state = Replay::new(run, bar, energy);
+    let mut replayed = Replay::new(run, bar, energy);
+    let mut sample = replayed.start();
     for k in 0..samples {
         if k > 0 {
-            state.advance()?;
+            replayed.advance(&mut sample)?;
         }
+        let state = Integration {
+            scheme: &replayed,
+            state: &sample,
+        };
         if let Some(o) = errors.displacement.as_mut() {
             o.observe(&state)?;
         }
@@ -232,7 +227,7 @@ pub fn replay(
             c.push(t, u0 - exact.eval(0.0, t).u);
         }
         if let (Some(r), Some(e)) = (reported.as_mut(), &run.energy) {
-            let te = state.reported_time(&run.energy_time);
+            let te = replayed.reported_time(&run.energy_time, &sample);
             r.push(
                 te,
                 finite(&state, StateField::Energy, e[k])? - exact.energy(te),

@@ -98,7 +98,7 @@ pub fn rerun_declared(
     let u0 = u(0).expect("checked above");
     let zero = vec![0.0; dofs];
     let v0 = v(0).unwrap_or(&zero);
-    let mut harness = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS)
+    let (mut harness, mut state) = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS)
         .map_err(|e| format!("the harness refuses it: {e}"))?;
     let (mut du, mut dv, mut dl) = (Largest::default(), Largest::default(), Largest::default());
     let (mut velocities, mut multipliers) = (0, 0);
@@ -106,15 +106,15 @@ pub fn rerun_declared(
     for k in 0..samples {
         if k > 0 {
             harness
-                .advance()
+                .advance(&mut state)
                 .map_err(|e| format!("the harness's run fails: {e}"))?;
         }
-        du.add(u(k).expect("checked above"), harness.displacement());
+        du.add(u(k).expect("checked above"), state.displacement());
         if let Some(vk) = v(k) {
-            dv.add(vk, harness.velocity());
+            dv.add(vk, state.velocity());
             velocities += 1;
         }
-        let reported = harness.multiplier();
+        let reported = state.multiplier();
         let same_time = (lambda_time(k) - (t0 + reported.time)).abs() <= UNIFORM_TIMES * span;
         if let (Some(l), Some(&h), true) = (run.lambda_at(k), reported.value.first(), same_time) {
             dl.add(&[l], &[h]);

@@ -6,7 +6,7 @@ use crate::engine::fem::{Bar1d, SymmetricMatrix};
 use crate::engine::linalg::SpdSolver;
 use crate::engine::model::Model;
 use crate::engine::problem::Discretisation;
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::error::Error;
 
 /// The demo's energy evaluated on the harness's state: `½ VᵀMV + ½ UᵀKU` with the scheme's
@@ -41,7 +41,7 @@ impl<'a> DemoEnergy<'a> {
 
     /// The demo's energy of `state`, whose contact stress as the demo stores it is `stress`;
     /// called at every step in order (Paoli–Schatzman's `M·V` needs the previous displacement).
-    pub fn energy(&mut self, state: &dyn TimeIntegrator, stress: f64) -> f64 {
+    pub fn energy(&mut self, state: &Integration<'_>, stress: f64) -> f64 {
         let (u, n, dt) = (state.displacement(), self.model.n_dofs(), state.dt());
         let mut mv = vec![0.0; n];
         match (&self.previous, self.config.version) {

@@ -17,7 +17,7 @@
 use super::exact::demo_exact;
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{Bar1d, EndCondition};
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::error::Error;
 use crate::harness::run::Observer;
 
@@ -168,11 +168,11 @@ fn p1_squares(x: &[f64], f: &[f64]) -> (f64, f64) {
 /// The observer that records a run on the demo's bar as the demo does ([`DemoSeries`]), for
 /// its seven norms ([`DemoNorms::norms`]).
 ///
-/// At every state `t_n` ([`TimeIntegrator::time`]) it takes the P1 fields of
-/// [`TimeIntegrator::displacement`] and [`TimeIntegrator::velocity`] at all `NX + 1` nodes (`0`
+/// At every state `t_n` ([`crate::engine::schemes::SchemeState::time`]) it takes the P1 fields of
+/// [`crate::engine::schemes::SchemeState::displacement`] and [`crate::engine::schemes::SchemeState::velocity`] at all `NX + 1` nodes (`0`
 /// at the clamped node, which the bar eliminates and the demo keeps), the interpolants
 /// `I_h u(t_n)`, `I_h u_t(t_n)` of [`demo_exact`], and the first contact multiplier
-/// [`TimeIntegrator::multiplier`] as the stress `s_h(t_n)`, compared with `u_x(0, t_n)`: the
+/// [`crate::engine::schemes::SchemeState::multiplier`] as the stress `s_h(t_n)`, compared with `u_x(0, t_n)`: the
 /// harness's `λ ≤ 0` has the demo's sign (`λ = u_x(0, t)`, `store_s0 = −F_c[0]`). Every quantity
 /// is paired with the state's time `t_n`, as the demo pairs its latest stress and its velocity
 /// with `t_n` whatever time the scheme gives them (the harness's Paoli–Schatzman carries its
@@ -240,7 +240,7 @@ impl DemoNorms {
 }
 
 impl Observer for DemoNorms {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let t = state.time();
         let (u, v) = (state.displacement(), state.velocity());
         for (i, (&x, dof)) in self.nodes.iter().zip(&self.dofs).enumerate() {

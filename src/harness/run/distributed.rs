@@ -81,14 +81,13 @@ pub struct SlabState<'s> {
 pub type SlabObservers<'r> = [&'r RefCell<dyn SlabObserver + 'r>];
 
 /// A distributed run's integrator on each rank: the distributed steps, and after each the
-/// finite check, the energy, the balance and the slab observers ([`DistributedRun::advance`]);
-/// its state is this rank's part (rank 0's time loop reads rank 0's).
+/// finite check, the energy, the balance and the slab observers ([`DistributedRun::advance`]).
+/// The steps' state is the slabs' ([`SlabOneStep`]); the [`SchemeState`] it writes after each
+/// step is this rank's part of it (rank 0's time loop reads rank 0's).
 pub struct DistributedRun<'r, R: Ranks + ?Sized> {
     ranks: &'r R,
     run: SlabOneStep<'r, R>,
     observers: &'r SlabObservers<'r>,
-    /// This rank's parts of `U^n`, `V^n`, and `λ^n` (rank 0's).
-    state: SchemeState,
     energy: f64,
     /// The scheme's balance law: Newmark's `(β, γ)` (eq. 33), or the θ-method's `θ` (eq. 35).
     law: BalanceLaw,
@@ -166,7 +165,6 @@ impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
         let mut distributed = Self {
             ranks,
             observers,
-            state: SchemeState::start(dt, Vec::new(), Vec::new(), Vec::new()),
             run,
             energy: 0.0,
             law,
@@ -227,31 +225,45 @@ impl<'r, R: Ranks + ?Sized> DistributedRun<'r, R> {
             });
             self.balance = Some(sides.with_energies(energy_before, energy_before + sides.change));
         }
+        Ok(())
+    }
+
+    /// The steps taken.
+    pub fn step_index(&self) -> usize {
+        self.run.step()
+    }
+
+    /// This rank's part of the state: `U^n`, `V^n` and `λ^n` (rank 0's) at step `n`.
+    pub fn state(&self) -> SchemeState {
+        let mut state = SchemeState::sample(0, 0.0, self.dt, (Vec::new(), Vec::new()));
+        self.copy_state(&mut state);
+        state
+    }
+
+    /// This rank's part of the state, written into `state`.
+    fn copy_state(&self, state: &mut SchemeState) {
         for (to, from) in [
-            (&mut self.state.u, self.run.displacement()),
-            (&mut self.state.v, self.run.velocity()),
-            (&mut self.state.lambda, self.run.multipliers()),
+            (&mut state.u, self.run.displacement()),
+            (&mut state.v, self.run.velocity()),
+            (&mut state.lambda, self.run.multipliers()),
         ] {
             to.clear();
             to.extend_from_slice(from);
         }
-        self.state.step = self.run.step();
-        Ok(())
+        state.set_clock(self.run.step(), self.run.time());
     }
 }
 
 impl<R: Ranks + ?Sized> TimeIntegrator for DistributedRun<'_, R> {
-    fn advance(&mut self) -> Result<(), SolveError> {
+    fn advance(&mut self, state: &mut SchemeState) -> Result<(), SolveError> {
         Follow::Step.agreed(self.ranks);
         self.run.advance()?;
-        self.observe()
+        self.observe()?;
+        self.copy_state(state);
+        Ok(())
     }
 
-    fn state(&self) -> &SchemeState {
-        &self.state
-    }
-
-    fn energy(&self) -> Timed<f64> {
+    fn energy(&self, _state: &SchemeState) -> Timed<f64> {
         Timed {
             time: self.run.time(),
             value: self.energy,
@@ -304,7 +316,8 @@ pub fn distributed_run<'r>(
             Some((u0, v0)),
             conventions,
         )?;
-        Ok(Box::new(run) as Box<dyn TimeIntegrator + '_>)
+        let state = run.state();
+        Ok((Box::new(run) as Box<dyn TimeIntegrator + '_>, state))
     })
 }
 

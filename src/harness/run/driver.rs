@@ -12,19 +12,21 @@ use crate::engine::linalg::SolveCounts;
 use crate::engine::model::Model;
 use crate::engine::problem::{AxialMesh, Discretisation};
 use crate::engine::schemes::energy_balance::{self, BalanceMonitor, BALANCE_TOLERANCE};
-use crate::engine::schemes::{integrator, Conventions, Scheme, TimeIntegrator};
+use crate::engine::schemes::{
+    integrator, Conventions, Integration, Integrator, Scheme, SchemeState,
+};
 use crate::harness::files::error::Error;
 
 /// What a run does with each state of the scheme: accumulate a norm, record a history, write
 /// a snapshot. Observers see the state at `t_0` (the initial data) and after every step.
 pub trait Observer {
-    /// Takes in the state `t_n` of `state`.
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error>;
+    /// Takes in the state `t_n` (with the scheme that computed it).
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error>;
 }
 
 /// A closure is an observer (a one-off probe: a test, a sampled history).
-impl<F: FnMut(&dyn TimeIntegrator) -> Result<(), Error>> Observer for F {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+impl<F: FnMut(&Integration<'_>) -> Result<(), Error>> Observer for F {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         self(state)
     }
 }
@@ -199,7 +201,7 @@ impl SnapshotTimes {
 
     /// The next requested time that the state at `t_n` is the nearest step to
     /// (`t_n + Δt/2 ≥ t`), removed from the pending ones; `None` when none is due.
-    pub fn next_due(&mut self, state: &dyn TimeIntegrator) -> Option<f64> {
+    pub fn next_due(&mut self, state: &SchemeState) -> Option<f64> {
         let wanted = *self.pending.last()?;
         (state.time() + 0.5 * state.dt() >= wanted).then(|| {
             self.pending.pop();
@@ -211,7 +213,7 @@ impl SnapshotTimes {
 /// `value`, observed as `quantity` from `state`, when finite; otherwise the error that stops
 /// the run at `state`'s step ([`RunStatus::Diverged`]). Observers check what they compute with
 /// it, so that no non-finite value reaches a result.
-pub fn finite(state: &dyn TimeIntegrator, quantity: StateField, value: f64) -> Result<f64, Error> {
+pub fn finite(state: &SchemeState, quantity: StateField, value: f64) -> Result<f64, Error> {
     if value.is_finite() {
         Ok(value)
     } else {
@@ -249,10 +251,10 @@ fn inaccurate_solve(error: SolveError, step: usize, time: f64) -> SolveError {
 /// solve that the run ends with, unless the run diverges first (a growing unstable mode takes
 /// the balance's round-off with it before the state overflows: the run is then diverged, not
 /// inaccurate). A step the scheme takes outside its balance
-/// ([`TimeIntegrator::balance_holds`]) is recorded, not checked.
+/// ([`crate::engine::schemes::TimeIntegrator::balance_holds`]) is recorded, not checked.
 fn balance_violation(
     monitor: &mut BalanceMonitor,
-    state: &dyn TimeIntegrator,
+    state: &Integration<'_>,
     scheme: Scheme,
 ) -> Option<SolveError> {
     monitor.observe(state)?;
@@ -273,17 +275,17 @@ fn balance_violation(
 }
 
 /// The first non-finite value of the state, as the error that stops the run.
-fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
+fn check_finite(state: &SchemeState) -> Result<(), SolveError> {
     let fields: [(StateField, &[f64]); 3] = [
-        (StateField::Displacement, scheme.displacement()),
-        (StateField::Velocity, scheme.velocity()),
-        (StateField::Multiplier, scheme.multiplier().value),
+        (StateField::Displacement, state.displacement()),
+        (StateField::Velocity, state.velocity()),
+        (StateField::Multiplier, state.multiplier().value),
     ];
     for (quantity, values) in fields {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite {
-                step: scheme.step_index(),
-                time: scheme.time(),
+                step: state.step_index(),
+                time: state.time(),
                 quantity,
             });
         }
@@ -296,7 +298,7 @@ fn check_finite(scheme: &dyn TimeIntegrator) -> Result<(), SolveError> {
 /// every state to each of `observers` in order. With a per-step perturbation
 /// ([`Discretisation::step_perturbation`], an ensemble member's), the state each step carries
 /// forward is perturbed right after the step, before the checks and the observers see it
-/// ([`TimeIntegrator::perturb_carried`]); observers only read. The first non-finite displacement, velocity
+/// ([`crate::engine::schemes::TimeIntegrator::perturb_carried`]); observers only read. The first non-finite displacement, velocity
 /// or multiplier (the initial state's included), a non-finite value an observer computes
 /// ([`finite`]), or a contact solve that does not converge, stops the run with that
 /// [`RunStatus`]. A `ratio` that makes `Δt` longer than the horizon is refused; a failure to
@@ -320,18 +322,11 @@ pub fn drive<M: AxialMesh>(
     )
 }
 
-/// Builds a run's integrator from its model, scheme, `Δt`, initial data and conventions in
-/// place of the one-process schemes ([`integrator`]): a distributed run's
-/// ([`crate::harness::run::distributed`]).
-pub type IntegratorFactory<'r> = dyn Fn(
-        &Model,
-        Scheme,
-        f64,
-        &[f64],
-        &[f64],
-        &Conventions,
-    ) -> Result<Box<dyn TimeIntegrator + 'r>, Error>
-    + 'r;
+/// Builds a run's integrator and its state at `t = 0` from its model, scheme, `Δt`, initial
+/// data and conventions in place of the one-process schemes ([`integrator`]): a distributed
+/// run's ([`crate::harness::run::distributed`]).
+pub type IntegratorFactory<'r> =
+    dyn Fn(&Model, Scheme, f64, &[f64], &[f64], &Conventions) -> Result<Integrator<'r>, Error> + 'r;
 
 /// [`drive`] with the integrator `make` builds, when given, instead of the one-process
 /// scheme's.
@@ -368,7 +363,7 @@ pub fn drive_by<'r, M: AxialMesh>(
         &discretisation.velocity,
     );
     let conventions = &discretisation.conventions;
-    let mut integ: Box<dyn TimeIntegrator + '_> = match make {
+    let (mut integ, mut state): Integrator<'_> = match make {
         Some(make) => make(model, scheme, dt, u0, v0, conventions)?,
         None => integrator(model, scheme, dt, u0, v0, conventions)?,
     };
@@ -385,19 +380,23 @@ pub fn drive_by<'r, M: AxialMesh>(
         let clock = Instant::now();
         let stepped = if step > 0 {
             integ
-                .advance()
+                .advance(&mut state)
                 .map_err(|e| inaccurate_solve(e, step, step as f64 * dt))
                 .map(|()| {
                     if let Some(noise) = step_noise.as_mut() {
-                        integ.perturb_carried(&mut |values| noise.perturb(values));
+                        integ.perturb_carried(&mut state, &mut |values| noise.perturb(values));
                     }
                 })
-                .and_then(|()| check_finite(integ.as_ref()))
+                .and_then(|()| check_finite(&state))
         } else {
-            check_finite(integ.as_ref())
+            check_finite(&state)
+        };
+        let observed = Integration {
+            scheme: integ.as_ref(),
+            state: &state,
         };
         if let (Ok(()), Some(monitor), None) = (&stepped, balance.as_mut(), &violation) {
-            violation = balance_violation(monitor, integ.as_ref(), scheme);
+            violation = balance_violation(monitor, &observed, scheme);
         }
         stepping += clock.elapsed().as_secs_f64();
         if let Err(e) = stepped {
@@ -406,7 +405,7 @@ pub fn drive_by<'r, M: AxialMesh>(
         }
         let clock = Instant::now();
         for o in observers.iter_mut() {
-            match o.observe(integ.as_ref()) {
+            match o.observe(&observed) {
                 Ok(()) => {}
                 Err(Error::Solve(e)) => match RunStatus::of(&e) {
                     Some(stopped) => {

@@ -24,7 +24,7 @@ pub use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::fem::box_mesh::{Elasticity, VTK_HEXAHEDRON};
 use crate::engine::linalg::SolveCounts;
 pub use crate::engine::problem::{box_mesh, initial_dofs, BoxProblem};
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::run::{
@@ -83,7 +83,7 @@ struct EnergyTrace {
 }
 
 impl Observer for EnergyTrace {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let energy = finite(state, StateField::Energy, state.energy().value)?;
         self.energy.push((state.time(), energy));
         Ok(())
@@ -127,7 +127,7 @@ impl FaceRecorder {
 }
 
 impl Observer for FaceRecorder {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let lambda = state.multiplier().value;
         let gaps = &mut self.gaps;
         self.set.gaps_of(state.displacement(), gaps);
@@ -155,7 +155,7 @@ struct VtkSnapshots<'a> {
 }
 
 impl Observer for VtkSnapshots<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         while let Some(wanted) = self.pending.next_due(state) {
             let file = format!("field-t{wanted}.vtu");
             if self.written.last().is_some_and(|last| last.file == file) {
@@ -287,7 +287,7 @@ fn nodal_multipliers(mesh: &BoxMesh, lambda: &[f64]) -> Vec<f64> {
 pub fn write_vtu(
     mesh: &BoxMesh,
     elasticity: &Elasticity,
-    state: &dyn TimeIntegrator,
+    state: &Integration<'_>,
     path: &Path,
 ) -> Result<(), Error> {
     let flat = |v: Vec<[f64; 3]>| v.into_iter().flatten().collect::<Vec<f64>>();

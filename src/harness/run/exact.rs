@@ -8,7 +8,7 @@ use super::{ContactHistory, EnergyHistory, FieldSnapshot, MultiplierVariation, P
 use crate::engine::error::StateField;
 use crate::engine::exact::ExactSolution;
 use crate::engine::fem::Bar1d;
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::error::Error;
 use crate::harness::run::driver::{finite, Observer, SnapshotTimes};
 use crate::harness::run::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
@@ -17,7 +17,7 @@ use crate::harness::run::norms::{Norm, SpaceErrorIntegrator, TimeSeriesNorm};
 /// ([`finite`]): a norm that overflows stops the run as `quantity` instead of being reported.
 fn push_finite(
     norm: &mut TimeSeriesNorm,
-    state: &dyn TimeIntegrator,
+    state: &Integration<'_>,
     quantity: StateField,
     time: f64,
     value: f64,
@@ -55,7 +55,7 @@ impl<'a> DisplacementErrors<'a> {
 }
 
 impl Observer for DisplacementErrors<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let t = state.time();
         let e = self
             .space
@@ -92,7 +92,7 @@ impl<'a> MultiplierErrors<'a> {
 }
 
 impl Observer for MultiplierErrors<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let m = state.multiplier();
         let lambda_h = m.value.first().copied().unwrap_or(0.0);
         let lambda = self.exact.contact_multiplier(m.time);
@@ -135,7 +135,7 @@ impl<'a> EnergyErrors<'a> {
 }
 
 impl Observer for EnergyErrors<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let e = state.energy();
         let value = finite(state, StateField::Energy, e.value)?;
         let error = value - self.exact.energy(e.time);
@@ -240,7 +240,7 @@ impl<'a> ContactRecorder<'a> {
 }
 
 impl Observer for ContactRecorder<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let t = state.time();
         let m = state.multiplier();
         let c = &mut self.history;
@@ -276,7 +276,7 @@ impl<'a> EnergyRecorder<'a> {
 }
 
 impl Observer for EnergyRecorder<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let e = state.energy();
         let h = &mut self.history;
         if h.time.last().is_none_or(|&last| e.time > last) {
@@ -313,7 +313,7 @@ impl<'a> PointRecorder<'a> {
 }
 
 impl Observer for PointRecorder<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let t = state.time();
         let p = &mut self.history;
         p.time.push(t);
@@ -348,7 +348,7 @@ impl<'a> FieldRecorder<'a> {
 }
 
 impl Observer for FieldRecorder<'_> {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let t = state.time();
         while let Some(wanted) = self.pending.next_due(state) {
             let u = state.displacement();

@@ -1,8 +1,9 @@
 //! Runs: a problem, a mesh level, a scheme and a mass variant, time stepped to the horizon
 //! while observers accumulate only the requested error norms and histories: one [`run`] of a
 //! bar, a box or either ([`RunProblem`]), one [`RunResult`] whose geometry's observations are
-//! one field, all through the one loop [`drive`]. An [`Observer`] sees each state as
-//! the engine's [`TimeIntegrator`]. What the runs produce (results, norms, their files, box runs
+//! one field, all through the one loop [`drive`], which holds the [`SchemeState`] and hands it to
+//! the engine's [`TimeIntegrator`]. An [`Observer`] sees each state with its scheme
+//! ([`Integration`]). What the runs produce (results, norms, their files, box runs
 //! compared across nested meshes) is here too; above [`crate::harness::files`] only.
 //!
 //! | module | its face |
@@ -42,7 +43,7 @@ use crate::engine::fem::MassVariant;
 use crate::engine::problem::{AxialMesh, Discretisation};
 pub use crate::engine::problem::{Problem, Problem1d};
 /// The discrete energy balances every run is checked against (eqs. 33/35/37), by scheme.
-pub use crate::engine::schemes::{energy_balance, TimeIntegrator};
+pub use crate::engine::schemes::{energy_balance, Integration, SchemeState, TimeIntegrator};
 
 use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
@@ -198,7 +199,7 @@ pub struct RunResult<O = Observed> {
     /// Steps that needed a complementarity solve.
     pub contact_solves: usize,
     /// The largest complementarity violation of any step (see
-    /// [`TimeIntegrator::complementarity_violation`]).
+    /// [`crate::engine::schemes::StepStatistics::complementarity_violation`]).
     pub complementarity_violation: f64,
     /// Wall-clock split (setup includes assembly, factorisation and the Delassus operator).
     pub timings: Timings,

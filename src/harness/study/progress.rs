@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::harness::files::error::Error;
-use crate::harness::run::{Observer, TimeIntegrator};
+use crate::harness::run::{Integration, Observer};
 
 /// Whether progress is drawn: stderr is a terminal and `CI` is not set.
 fn visible() -> bool {
@@ -215,7 +215,7 @@ impl StepProgress {
 }
 
 impl Observer for StepProgress {
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let step = state.step_index();
         let (stage, every) = self.stage.get_or_insert_with(|| {
             let steps = (self.horizon / state.dt()).round().max(1.0) as usize;

@@ -30,7 +30,7 @@ use crate::harness::getfem::{
 use crate::harness::problem::{Conventions, MassVariant, Scheme, Settings};
 use crate::harness::run::exact::ErrorObservers;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{drive, time_grid, Observer, RunStatus, TimeIntegrator};
+use crate::harness::run::{drive, time_grid, Integration, Observer, RunStatus};
 use crate::harness::study::sensitivity::{Member, PARTING};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::error::Error;
@@ -211,7 +211,7 @@ fn solve(
     let (steps, _) = time_grid(problem.horizon, discretisation.mesh.h(), ratio);
     let (mut u0, mut e, mut s, mut last) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let paoli_schatzman = config.version == DemoVersion::PaoliSchatzman;
-    let mut record = |state: &dyn TimeIntegrator| -> Result<(), files::Error> {
+    let mut record = |state: &Integration<'_>| -> Result<(), files::Error> {
         // Paoli–Schatzman's λ^n produced U^{n+1}: the demo stores it with U^{n+1}.
         let stress = if paoli_schatzman {
             state.scheme_multiplier()[0]

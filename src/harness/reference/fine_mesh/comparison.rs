@@ -27,7 +27,7 @@ use crate::harness::run::nested_comparison::error_series::{ErrorSeries, Quantity
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::nested_comparison::projection::LevelProjections;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{Observer, TimeIntegrator};
+use crate::harness::run::{Integration, Observer};
 
 /// Accumulates the errors of one coarse run against the reference.
 #[derive(Debug)]
@@ -143,7 +143,7 @@ impl ReferenceComparison<'_> {
 
 impl Observer for ReferenceComparison<'_> {
     /// Compares the state at the next coarse step `t_n` ([`ReferenceComparison::compare`]).
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         self.compare(ComparedSample {
             displacement: Some(state.displacement()),
             total_force: Some(state.multiplier().value.iter().sum()),

@@ -38,7 +38,7 @@ use crate::harness::run::distributed::Ranks;
 use crate::harness::run::elastic::{box_mesh, BoxContactHistory, BoxProblem};
 use crate::harness::run::nested_comparison::norm_matrices::NormMatrices;
 use crate::harness::run::norms::Norm;
-use crate::harness::run::{run, BoxRun, Observables, Observer, RunConfig, TimeIntegrator};
+use crate::harness::run::{run, BoxRun, Integration, Observables, Observer, RunConfig};
 use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::error::Error;
 use crate::harness::study::executor::{run_local, Executed, Executor};
@@ -715,7 +715,7 @@ fn run_level(
     let mesh = box_mesh(problem, n_axis)?;
     let per_layer = mesh.n_elements() / n_axis;
     let mut step = 0usize;
-    let mut sample_stress = |state: &dyn TimeIntegrator| -> Result<(), files::Error> {
+    let mut sample_stress = |state: &Integration<'_>| -> Result<(), files::Error> {
         if keep_histories && step % every == 0 {
             let vm = mesh.von_mises(state.displacement(), &problem.elasticity);
             stress.time.push(state.time());

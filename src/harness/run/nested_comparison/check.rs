@@ -26,7 +26,7 @@ use super::slab_fine::{SlabFine, SlabSetup};
 use crate::engine::distributed::{Ranks, Slabs};
 use crate::engine::error::SolveError;
 use crate::engine::fem::{BoxMesh, Prolongation};
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::error::Error;
 use crate::harness::run::distributed::{DistributedRun, SlabObserver, SlabState};
 use crate::harness::run::norms::Norm;
@@ -76,7 +76,7 @@ impl CheckSender {
 impl Observer for CheckSender {
     /// Sends the state at a sample; once the reference has stopped listening (it has finished,
     /// or failed and reports why), the run goes on without sending.
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         let (true, Some(channel)) = (self.samples.next_is_sample(), &self.channel) else {
             return Ok(());
         };
@@ -201,7 +201,7 @@ impl<'r> LockstepCheck<'r> {
     pub fn finish(self) -> Result<usize, SolveError> {
         match self.failed {
             Some(e) => Err(e),
-            None => Ok(self.run.state().step),
+            None => Ok(self.run.step_index()),
         }
     }
 }
@@ -319,7 +319,7 @@ impl<'a> CheckComparison<'a> {
 impl Observer for CheckComparison<'_> {
     /// At a sample, waits for the check run's state at the same time and compares; once the
     /// check run has ended (its error, if any, is reported when it is joined), compares no more.
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         if !self.samples.next_is_sample() {
             return Ok(());
         }

@@ -28,7 +28,7 @@ use crate::engine::distributed::{Ranks, Slabs};
 use crate::engine::error::ParameterError;
 use crate::engine::fem::{BoxMesh, Elasticity, Prolongation};
 use crate::engine::linalg::SpdSolver;
-use crate::engine::schemes::TimeIntegrator;
+use crate::engine::schemes::Integration;
 use crate::harness::files::error::Error;
 use crate::harness::run::distributed::{SlabObserver, SlabState};
 use crate::harness::run::Observer;
@@ -427,7 +427,7 @@ impl FineSide<'_> {
 
 impl Observer for ProjectionRecorder<'_> {
     /// The step's projections ([`ProjectionRecorder::record`]) of the whole reference.
-    fn observe(&mut self, state: &dyn TimeIntegrator) -> Result<(), Error> {
+    fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         self.record(state.displacement());
         Ok(())
     }
