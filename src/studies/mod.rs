@@ -4,9 +4,8 @@
 //! table, stability, the
 //! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
 //! Below them, what the commands share with the studies: one run of a scene whatever its
-//! geometry (`scene_run`), a scene's refinement study (`scene_study`) and another code's runs
-//! verified (`verify_run`); the commands themselves, their back-ends and their shards' files are
-//! `crate::commands`'.
+//! geometry (`scene_run`) and a scene's refinement study (`scene_study`); the commands
+//! themselves, their back-ends and their shards' files are `crate::commands`'.
 
 pub mod benchmark;
 pub mod catalogue;
@@ -29,4 +28,3 @@ pub mod scene_study;
 pub mod schemes;
 pub mod stability;
 pub mod tables;
-pub mod verify_run;
