@@ -21,17 +21,16 @@
 //! (norm keys), `oscillation_indicator` and `oscillation` (the word, null without λ),
 //! `energy_verdict` (`holds`, `fails`, `undecided`) and `energy_reason`.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::elastic_study::external::declared_cases;
+use super::elastic_study::external::JudgedVerification;
 use super::elastic_study::findings::{findings_of_cases, Finding};
 use super::elastic_study::report::findings_table;
 use crate::harness::external::format::Code;
-use crate::harness::external::verify::{Declared, Series, Verification};
+use crate::harness::external::verify::{declared_cases, Declared, Series};
 use crate::harness::external::ExternalError;
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::input::{read_json, Limit};
@@ -61,17 +60,6 @@ const SHOWN: [Norm; 4] = [
     Norm::MultiplierL2,
     Norm::EnergyLinf,
 ];
-
-/// A verify.json of either geometry: a box scene's adds the rate-bias bounds and the findings.
-#[derive(Debug, Deserialize)]
-struct VerifyFile {
-    #[serde(flatten)]
-    verification: Verification,
-    #[serde(default)]
-    rate_bias: Option<BTreeMap<String, Option<f64>>>,
-    #[serde(default)]
-    findings: Vec<Finding>,
-}
 
 /// One norm's rate in a row.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -180,7 +168,7 @@ pub fn read_league(dir: &Path) -> Result<League, CommandError> {
     let read = files
         .into_iter()
         .map(|(name, file)| {
-            let v: VerifyFile = read_json(&file, VERIFY_FILE)
+            let v: JudgedVerification = read_json(&file, VERIFY_FILE)
                 .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
             Ok((name, v))
         })
@@ -192,31 +180,24 @@ pub fn read_league(dir: &Path) -> Result<League, CommandError> {
     })
 }
 
-impl VerifyFile {
-    /// The reference's rate-bias bound of `norm`: 0 against an exact solution (a bar's
-    /// verification has no `rate_bias`), the recorded bound against a fine-mesh reference
-    /// (`None`: unbounded or not formed).
-    fn bias(&self, norm: Norm) -> Option<f64> {
-        match &self.rate_bias {
-            None => Some(0.0),
-            Some(map) => map.get(norm.key()).copied().flatten(),
-        }
+/// The reference's rate-bias bound of `norm` in `v`: 0 against an exact solution (a bar's
+/// verification has no `rate_bias`), the recorded bound against a fine-mesh reference (`None`:
+/// unbounded or not formed).
+fn bias(v: &JudgedVerification, norm: Norm) -> Option<f64> {
+    match &v.rate_bias {
+        None => Some(0.0),
+        Some(map) => map.get(norm.key()).copied().flatten(),
     }
 }
 
-fn entry(name: &str, v: &VerifyFile) -> LeagueEntry {
-    let bias = |norm: Norm| v.bias(norm);
-    let rows = v
-        .verification
-        .series
-        .iter()
-        .map(|s| row(s, &bias))
-        .collect();
+fn entry(name: &str, v: &JudgedVerification) -> LeagueEntry {
+    let bias = |norm: Norm| bias(v, norm);
+    let rows = v.series.iter().map(|s| row(s, &bias)).collect();
     LeagueEntry {
         entry: name.to_string(),
-        scene: v.verification.scene.clone(),
-        reference: v.verification.reference.clone(),
-        findings: v.findings.clone(),
+        scene: v.scene.clone(),
+        reference: v.reference.clone(),
+        findings: v.judgement.findings.clone().unwrap_or_default(),
         rows,
     }
 }
@@ -225,11 +206,11 @@ fn entry(name: &str, v: &VerifyFile) -> LeagueEntry {
 /// (the first series of each declared scheme × mass), each rate's interval widened by the bias
 /// bound of the entry its series comes from (that entry's largest over the cases it declares;
 /// the harness's entries declare one case each); codes without a declared case have none.
-fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
+fn findings_by_code(files: &[(String, JudgedVerification)]) -> Vec<CodeFindings> {
     let mut keys: Vec<(String, Code)> = Vec::new();
     for (_, v) in files {
-        for s in &v.verification.series {
-            let key = (v.verification.scene.clone(), s.code.clone());
+        for s in &v.series {
+            let key = (v.scene.clone(), s.code.clone());
             if !keys.contains(&key) {
                 keys.push(key);
             }
@@ -239,10 +220,9 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
         .filter_map(|(scene, code)| {
             let mut entries = Vec::new();
             let mut series: Vec<Series> = Vec::new();
-            let mut holders: Vec<(Vec<Case>, &VerifyFile)> = Vec::new();
-            for (name, v) in files.iter().filter(|(_, v)| v.verification.scene == scene) {
+            let mut holders: Vec<(Vec<Case>, &JudgedVerification)> = Vec::new();
+            for (name, v) in files.iter().filter(|(_, v)| v.scene == scene) {
                 let own: Vec<Series> = v
-                    .verification
                     .series
                     .iter()
                     .filter(|s| s.code == code)
@@ -265,7 +245,7 @@ fn findings_by_code(files: &[(String, VerifyFile)]) -> Vec<CodeFindings> {
                 holders
                     .iter()
                     .find(|(declared, _)| declared.contains(&c.case))
-                    .and_then(|(_, v)| v.bias(norm))
+                    .and_then(|(_, v)| bias(v, norm))
             };
             Some(CodeFindings {
                 scene,

@@ -4,8 +4,8 @@
 //! table, stability, the
 //! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
 //! Below them, what the commands share with the studies: a scene's refinement study judged
-//! (`scene_study`) and another code's runs verified (`verify_run`); the commands themselves,
-//! their back-ends and their shards' files are `crate::commands`'.
+//! (`scene_study`); the commands themselves, their back-ends and their shards' files are
+//! `crate::commands`'.
 
 pub mod benchmark;
 pub mod cluster_plan;
@@ -28,4 +28,3 @@ pub mod scene_study;
 pub mod schemes;
 pub mod stability;
 pub mod tables;
-pub mod verify_run;

@@ -56,15 +56,6 @@ pub enum ExternalError {
         /// What is wrong, naming the files.
         problem: String,
     },
-    /// The scene has no exact solution to verify against.
-    #[error(
-        "scene {scene}: verify needs a bar1d scene with an exact solution (a box scene has only \
-         a fine-mesh reference of the harness's own)"
-    )]
-    NoExactReference {
-        /// The scene's name.
-        scene: String,
-    },
     /// The harness failed (the reference, an observer, an output file).
     #[error(transparent)]
     Harness(#[from] Error),

@@ -63,7 +63,7 @@ impl VerifyGolden {
     /// The golden values of `verification`, at the default tolerances. Every computed norm of
     /// every series needs its rates (two levels or more with a positive finite error; three for
     /// `rate_last_three`): a gate cannot hold a rate that does not exist.
-    pub fn from_verification(verification: &Verification) -> Result<Self, ExternalError> {
+    pub fn from_verification<J>(verification: &Verification<J>) -> Result<Self, ExternalError> {
         for s in &verification.series {
             if let Some(r) = s
                 .rates
@@ -93,7 +93,7 @@ impl VerifyGolden {
 /// Every entry of `verification` that drifted from `golden` (empty: the gate passes): each
 /// series' rates and errors by [`compare_rates`]; a series or norm on one side only, other
 /// levels or another scene is a drift too.
-pub fn compare(golden: &VerifyGolden, verification: &Verification) -> Vec<Drift> {
+pub fn compare<J>(golden: &VerifyGolden, verification: &Verification<J>) -> Vec<Drift> {
     let mut drifts = Vec::new();
     if golden.scene != verification.scene {
         drifts.push(Drift::missing(

@@ -12,7 +12,7 @@
 //! | [`pvd`], [`box_run`] | a box scene's run: a ParaView collection or the JSON format's box form, matched to the scene's mesh and time grid |
 //! | [`replay`] | the samples as a [`crate::engine::schemes::TimeIntegrator`], through the observers |
 //! | [`rerun`] | the harness's own run of a bar file's declared scheme and mass, compared sample by sample |
-//! | [`verify`] | every file replayed, grouped into series, fitted |
+//! | [`verify`] | every file measured against the scene's reference (a bar's replayed against its exact solution, a box's compared with its fine-mesh reference), grouped into series, fitted |
 //! | [`report`], [`golden`] | the tables; the golden file and its gate |
 //! | [`error`] | what can be wrong, naming the file and the field |
 
@@ -32,4 +32,4 @@ pub mod verify;
 pub use error::ExternalError;
 pub use format::ExternalRun;
 pub use golden::{compare, VerifyGolden};
-pub use verify::{verify, Verification};
+pub use verify::{verify, Measured, Verification, VerifySources};

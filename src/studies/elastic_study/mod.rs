@@ -5,7 +5,7 @@
 //! ensembles are the harness's ([`crate::harness::reference::fine_mesh`]); this section adds the
 //! note's findings as tested verdicts ([`findings`], which [`rejudge`] applies again to a
 //! committed study's file), the report ([`report`]), its files ([`files`]), the regression gate
-//! of the 2D/3D studies ([`gate`]) and another code's box runs verified against the reference
+//! of the 2D/3D studies ([`gate`]) and the note's findings judged on another code's runs
 //! ([`external`]).
 
 pub mod external;

@@ -1,5 +1,7 @@
 //! `signorini verify`: another code's runs of a scene checked with the harness's norms and
-//! rates ([`crate::studies::verify_run`]).
+//! rates (its back-end: [`verify_run`]); `signorini league`: the verifications side by side.
+
+mod verify_run;
 
 use std::path::PathBuf;
 
@@ -12,7 +14,7 @@ use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::Code;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::studies::league::write_league;
-use crate::studies::verify_run::{verify, VerifyRequest};
+use verify_run::{verify, VerifyRequest};
 
 /// The arguments of `signorini verify`.
 #[derive(Debug, Args)]

@@ -1,30 +1,29 @@
-//! `signorini verify` below the command line: another code's runs of a scene, read from JSON or
-//! CSV run files, measured with the harness's norms, fitted into rates per label and printed as
-//! Tables 1–2; optionally gated against a golden file, written as one, and saved as JSON and
-//! markdown.
+//! `signorini verify` below the command line: another code's runs of a scene, read from its
+//! files and measured by the harness against the reference the scene declares, fitted into rates
+//! per label, judged by the report section ([`judged`]) and printed as Tables 1–2; optionally
+//! gated against a golden file, written as one, and saved as JSON and markdown.
 
 use std::path::{Path, PathBuf};
 
 use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::MAX_VALUES;
-use crate::harness::external::report::render;
-use crate::harness::external::{compare, verify as verify_runs, ExternalError, VerifyGolden};
+use crate::harness::external::verify::fine_mesh::ReferenceSource;
+use crate::harness::external::{
+    compare, verify as measure, ExternalError, Verification, VerifyGolden, VerifySources,
+};
 use crate::harness::files::artifacts::{read_json, writable, write_atomic, write_json};
 use crate::harness::files::input::GOLDEN_FILE;
 use crate::harness::files::output_dir::{Replace, StagedDir};
-use crate::harness::problem::Problem;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
 use crate::studies::command_error::CommandError;
-use crate::studies::elastic_study::external::{
-    render as render_box, verify_box, BoxVerification, BoxVerifyRequest,
-};
+use crate::studies::elastic_study::external::{judged, render};
 use crate::studies::error::Error;
 use crate::studies::reports_index::REPORT_REFERENCES;
 
-/// `verify.json` under `--out`: the [`crate::harness::external::Verification`].
+/// `verify.json` under `--out`: the judged [`Verification`].
 pub const VERIFY_JSON: &str = "verify.json";
 
 /// `verify.md` under `--out`: the tables.
@@ -56,24 +55,6 @@ impl From<ExternalError> for CommandError {
         match e {
             ExternalError::Harness(e) => e.into(),
             e => Self::Refused(e.to_string()),
-        }
-    }
-}
-
-/// A verification of either geometry.
-enum Verified {
-    /// A bar scene's, against its exact solution.
-    Bar(crate::harness::external::Verification),
-    /// A box scene's, against its fine-mesh reference.
-    Box(Box<BoxVerification>),
-}
-
-impl Verified {
-    /// Its series, which the golden file records and gates.
-    fn series(&self) -> &crate::harness::external::Verification {
-        match self {
-            Verified::Bar(v) => v,
-            Verified::Box(v) => &v.verification,
         }
     }
 }
@@ -120,47 +101,33 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         .as_deref()
         .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
         .transpose()?;
-    let (verified, markdown) = match scene.problem() {
-        Problem::Bar(_) => {
-            let verification = verify_runs(&scene, &runs)?;
-            let markdown = render(&verification);
-            (Verified::Bar(verification), markdown)
-        }
-        Problem::Box(_) => {
-            let cache = match references {
-                Some(dir) => ReferenceCache::ReadWrite(dir),
-                None => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
-            };
-            let request = BoxVerifyRequest {
-                scene: &scene,
-                files: &runs,
-                options: &box_options,
-                cache: &cache,
-                limits: &limits,
-            };
-            let verification = verify_box(&request, &mut |note| say(&note))?;
-            let markdown = render_box(&verification);
-            (Verified::Box(Box::new(verification)), markdown)
-        }
+    let cache = match references {
+        Some(dir) => ReferenceCache::ReadWrite(dir),
+        None => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
     };
-    let verification = verified.series();
+    let sources = VerifySources {
+        pvd: &box_options,
+        reference: ReferenceSource {
+            cache: &cache,
+            limits: &limits,
+        },
+    };
+    let verification = judged(measure(&scene, &runs, &sources, &mut |note| say(&note))?);
+    let markdown = render(&verification);
     say(markdown.trim_end());
     if let (Some(dir), Some(staged)) = (&out, staged) {
-        match &verified {
-            Verified::Bar(v) => write_json(&staged.path().join(VERIFY_JSON), v)?,
-            Verified::Box(v) => write_json(&staged.path().join(VERIFY_JSON), v)?,
-        }
+        write_json(&staged.path().join(VERIFY_JSON), &verification)?;
         write_atomic(&staged.path().join(VERIFY_MD), markdown.as_bytes())?;
         staged.commit()?;
         let (json, md) = (dir.join(VERIFY_JSON), dir.join(VERIFY_MD));
         say(&format!("wrote {} and {}", json.display(), md.display()));
     }
     if let Some(path) = write_golden {
-        write_json(&path, &VerifyGolden::from_verification(verification)?)?;
+        write_json(&path, &VerifyGolden::from_verification(&verification)?)?;
         say(&format!("wrote the golden file {}", path.display()));
     }
     if let Some(path) = golden {
-        gate(&path, verification)?;
+        gate(&path, &verification)?;
         say(&format!(
             "golden gate passed: every rate and error within its tolerance of {}",
             path.display()
@@ -170,10 +137,7 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
 }
 
 /// The verification gated against the golden file `path`: a drift is a failure.
-fn gate(
-    path: &Path,
-    verification: &crate::harness::external::Verification,
-) -> Result<(), CommandError> {
+fn gate<J>(path: &Path, verification: &Verification<J>) -> Result<(), CommandError> {
     let golden: VerifyGolden =
         read_json(path, GOLDEN_FILE).map_err(|e| CommandError::Refused(e.to_string()))?;
     let series = golden.series.iter().map(|s| (s.case.as_str(), &s.norms));
