@@ -5,7 +5,9 @@ BIN := target/release/signorini
 .PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check mpi-install cluster-plan
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
-## (tables, data, figures; README.md is the index).
+## (tables, data, figures; README.md is the index). Each command writes its own study's data and
+## pages; the last, `figures`, builds from those data the pages that gather several studies
+## (schemes.md, work-precision.md), the figures and the index.
 report: build
 	$(BIN) report --out reports
 	$(BIN) experiment --out reports
@@ -74,13 +76,15 @@ experiment: build
 	$(BIN) experiment --out reports
 
 ## The stability suite: every scheme × mass of the tables, the paper's and the rivals', on the hard
-## cases (the NX = 5000 case takes most of its time), then the figures.
+## cases (the NX = 5000 case takes most of its time), then the figures and schemes.md with the
+## suite's section.
 stability: build
 	$(BIN) stability --out reports
 	$(BIN) figures --out reports
 
-## The figures from the data in reports/, and one rendered to PNG for a person to look at
-## (rsvg-convert, from Debian's librsvg2-bin, installed if missing).
+## The render step from the data in reports/: the pages that gather several studies (schemes.md,
+## work-precision.md), the figures and the index, and one figure rendered to PNG for a person to
+## look at (rsvg-convert, from Debian's librsvg2-bin, installed if missing).
 figures: build
 	$(BIN) figures --out reports
 	@command -v rsvg-convert >/dev/null || (apt-get update -qq && apt-get install -y -qq librsvg2-bin)

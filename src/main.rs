@@ -72,8 +72,9 @@ enum Command {
     Report(ReportArgs),
     /// How the Tables 1–2 rates move with the horizon and the level range (`make experiment`).
     Experiment(ExperimentArgs),
-    /// Draw the figures (SVG) from the data under a reports directory (--out) into its
-    /// figures/ (`make figures`), and write its README.md index.
+    /// The render step (`make figures`): from the data under a reports directory (--out), the
+    /// pages that gather several studies (schemes.md, work-precision.md), the figures (SVG)
+    /// into its figures/ and its README.md index.
     Figures(FiguresArgs),
     /// The stability suite (`make stability`): every scheme × mass on the hard cases, with a
     /// verdict each; writes stability.md and stability.json.

@@ -1,7 +1,7 @@
 //! The layering of `src/`, checked on the import graph the source states.
 //!
 //! Every `crate::…` and `super::…` path outside comments is resolved to the module file that
-//! defines it. Eight rules hold:
+//! defines it. Nine rules hold:
 //! - the layers import downward only: `engine` imports neither `harness` nor `studies`, and
 //!   `harness` does not import `studies`;
 //! - a layer does not skip the layers between it and a lower one it is listed with in
@@ -18,7 +18,10 @@
 //!   another's: they share only [`SHARED_COMMAND_PARTS`];
 //! - no `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`);
 //! - no module of the library reads the process's arguments (`std::env::args`, `args_os`):
-//!   `main.rs` reads them once and hands the commands their typed command and its line.
+//!   `main.rs` reads them once and hands the commands their typed command and its line;
+//! - no report section reads another's output: only the render step ([`RENDER_STEP`]) reads a
+//!   reports directory's data (`REPORT_DATA`), and no module names a previous reports directory
+//!   to read from (`kept_from`).
 //!
 //! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
@@ -596,5 +599,80 @@ fn the_argument_rule_sees_a_read() {
     assert_eq!(
         modules_reading_the_arguments(&modules),
         ["harness::study::progress"]
+    );
+}
+
+/// The render step (`signorini figures`): the modules that build a reports directory's
+/// cross-section pages, figures and index from the data files its commands wrote there.
+const RENDER_STEP: [&str; 3] = [
+    "studies::render",
+    "studies::reports_index",
+    "studies::figures::from_reports",
+];
+
+/// The modules that read their own section's data back from a reports directory: the 2D/3D
+/// study judged again from its `elastic-<d>d.json` (`signorini rejudge`).
+const READ_THEIR_OWN_DATA: [&str; 1] = ["studies::elastic_study::rejudge"];
+
+/// The modules that read a reports directory's data outside the render step, or name a previous
+/// reports directory to read from (`kept_from`). A read of a reports directory's data names
+/// `REPORT_DATA` (the kind of file `read_json` is given, its size limit and its name in the
+/// messages); only the render step reads them, so that no section reads another's output and a
+/// page gathering several sections is built once, from the data, whatever order the commands
+/// ran in. A module that reads its own section's data back ([`READ_THEIR_OWN_DATA`]) may too.
+fn sections_reading_report_data(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    let definition = ["harness", "files", "input"];
+    modules
+        .iter()
+        .filter(|(m, _)| m.as_slice() != definition)
+        .filter(|(m, _)| {
+            let name = show(m);
+            !RENDER_STEP.contains(&name.as_str()) && !READ_THEIR_OWN_DATA.contains(&name.as_str())
+        })
+        .filter(|(_, source)| {
+            let code = code_of(source);
+            code.contains("REPORT_DATA") || code.contains("kept_from")
+        })
+        .map(|(m, _)| show(m))
+        .collect()
+}
+
+#[test]
+fn only_the_render_step_reads_the_reports_data() {
+    let reading = sections_reading_report_data(&modules());
+    assert!(
+        reading.is_empty(),
+        "modules reading a reports directory's data outside the render step ({RENDER_STEP:?}): \
+         {reading:?}; a section writes its own data and pages, and a page gathering several \
+         sections' data is built by studies::render"
+    );
+}
+
+#[test]
+fn the_render_step_rule_sees_a_read_and_a_kept_directory() {
+    let mut modules = modules();
+    let report = vec!["studies".to_string(), "report".to_string()];
+    modules
+        .get_mut(&report)
+        .expect("studies/report.rs")
+        .push_str("\nfn f(p: &Path) -> Study { read_json(p, REPORT_DATA).unwrap() }\n");
+    let study_run = vec![
+        "commands".to_string(),
+        "study".to_string(),
+        "study_run".to_string(),
+    ];
+    modules
+        .get_mut(&study_run)
+        .expect("commands/study/study_run.rs")
+        .push_str("\n// REPORT_DATA in a comment\nfn g(kept_from: &Path) {}\n");
+    let rejudge = vec![
+        "studies".to_string(),
+        "elastic_study".to_string(),
+        "rejudge".to_string(),
+    ];
+    assert!(modules[&rejudge].contains("REPORT_DATA"));
+    assert_eq!(
+        sections_reading_report_data(&modules),
+        ["commands::study::study_run", "studies::report"]
     );
 }

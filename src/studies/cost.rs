@@ -1,15 +1,15 @@
 //! What accuracy costs (`make report`): error against wall time per case (work–precision), and
 //! the estimated time to reach a target error from the log–log fit `ln e = a + b ln s` over the
-//! levels; the files of this section are `work-precision.md` and `work-precision.json`
-//! ([`WorkPrecisionFile`]).
+//! levels. `signorini report` writes this section's data, `work-precision.json`
+//! ([`WorkPrecisionFile`]); its page, `work-precision.md`, gathers the Tables study and the 2D/3D
+//! studies, and the render step builds it from their data files ([`work_precision_page`]).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::input::REPORT_DATA;
+use crate::harness::files::artifacts::write_json;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::rates::fit_rate;
 use crate::harness::study::{CaseStudy, Study};
@@ -192,16 +192,10 @@ pub fn render(study: &Study, costs: &[CostToTarget]) -> String {
     md
 }
 
-/// What `work-precision.md` reads of the Tables study's `rates.json` (its other fields are not
-/// needed here).
+/// What `work-precision.md` takes of a box study's `elastic-{d}d.json` (its other fields are
+/// not needed here).
 #[derive(Debug, Deserialize)]
-struct TablesCosts {
-    study: Study,
-}
-
-/// What `work-precision.md` reads of a box study's `elastic-{d}d.json`.
-#[derive(Debug, Deserialize)]
-struct BoxCosts {
+pub struct BoxCosts {
     dimension: usize,
     study: Study,
     reference: ReferenceCost,
@@ -217,14 +211,6 @@ struct ReferenceCost {
     seconds: f64,
     next_coarser: usize,
     from_cache: bool,
-}
-
-/// The Tables study's data in a reports directory.
-const TABLES_DATA: &str = "rates.json";
-
-/// A box study's data in a reports directory.
-fn box_data(dimension: usize) -> String {
-    format!("elastic-{dimension}d.json")
 }
 
 /// The `d`-D box section of `work-precision.md`: the wall time per dof-step of every case and
@@ -285,41 +271,18 @@ fn box_section(costs: &BoxCosts) -> String {
     md
 }
 
-/// `work-precision.md` rendered in one pass from the studies' data in a reports directory:
-/// the Tables study of `rates.json` ([`render`]) and the box studies of `elastic-2d.json` and
-/// `elastic-3d.json` ([`box_section`]), each where it exists. `data(name)` finds a data file:
-/// the one a command has just written, else the reports directory's.
-pub fn render_work_precision(data: impl Fn(&str) -> Option<PathBuf>) -> Result<String, Error> {
-    let mut md = match data(TABLES_DATA) {
-        Some(path) => {
-            let tables: TablesCosts = read_json(&path, REPORT_DATA)?;
-            render(&tables.study, &costs_to_targets(&tables.study, COST_NORM))
-        }
+/// `work-precision.md` of the Tables study `tables` ([`render`], its title alone without one)
+/// and of the box studies `boxes` ([`box_section`], in the order given). The render step reads
+/// them from a reports directory's `rates.json` and `elastic-2d.json`, `elastic-3d.json`.
+pub fn work_precision_page(tables: Option<&Study>, boxes: &[BoxCosts]) -> String {
+    let mut md = match tables {
+        Some(study) => render(study, &costs_to_targets(study, COST_NORM)),
         None => WORK_PRECISION_TITLE.to_string(),
     };
-    for dimension in [2, 3] {
-        if let Some(path) = data(&box_data(dimension)) {
-            let costs: BoxCosts = read_json(&path, REPORT_DATA)?;
-            md = format!("{}\n\n{}", md.trim_end(), box_section(&costs));
-        }
+    for costs in boxes {
+        md = format!("{}\n\n{}", md.trim_end(), box_section(costs));
     }
-    Ok(md)
-}
-
-/// Writes `out_dir/work-precision.md` ([`render_work_precision`]) from the data in `out_dir`
-/// and, for what it lacks, in `kept_from` (the reports directory a staged `out_dir` will
-/// replace files of).
-pub fn write_work_precision_md(out_dir: &Path, kept_from: &Path) -> Result<(), Error> {
-    let text = render_work_precision(|name| {
-        [out_dir, kept_from]
-            .iter()
-            .map(|dir| dir.join(name))
-            .find(|path| path.is_file())
-    })?;
-    Ok(write_atomic(
-        &out_dir.join(WORK_PRECISION_MD),
-        text.as_bytes(),
-    )?)
+    md
 }
 
 /// Writes `work-precision.json` of `study` into `out_dir`.

@@ -2,7 +2,9 @@
 //! (their names and formats, which the readers import): the paper's tables, gravity, the
 //! histories, which scheme to trust, what accuracy costs, the defaults experiment, the extended
 //! table, stability, the
-//! 2D/3D elastic study, and the figures drawn from their files; `report` and `golden` run them.
+//! 2D/3D elastic study, each writing its own files; the render step (`render`) builds from those
+//! files the pages that gather several sections, the figures and the index; `report` and
+//! `golden` run them.
 //! Below them, what the commands share with the studies: a scene's refinement study judged
 //! (`scene_study`); the commands themselves, their back-ends and their shards' files are
 //! `crate::commands`'.
@@ -22,6 +24,7 @@ pub mod golden;
 pub mod gravity;
 pub mod histories;
 pub mod league;
+pub mod render;
 pub mod report;
 pub mod reports_index;
 pub mod scene_study;

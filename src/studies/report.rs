@@ -8,19 +8,15 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::harness::files::artifacts::read_json;
-use crate::harness::files::input::REPORT_DATA;
 use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Batch;
 use crate::harness::study::sensitivity::{EnsembleConfig, Sensitivity, SensitivityJobs};
 use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
-use crate::studies::cost::{write_work_precision_json, write_work_precision_md};
+use crate::studies::cost::write_work_precision_json;
 use crate::studies::error::Error;
 use crate::studies::histories::{write_histories, HistoryJobs, SchemeHistories, HISTORY_LEVELS};
-use crate::studies::schemes::write_schemes;
-use crate::studies::stability::{StabilityRecord, STABILITY_JSON};
 use crate::studies::tables::starts::{implicit_start, massless_contact};
 use crate::studies::tables::{write_sensitivity_files, write_tables, LONGER_HORIZON};
 
@@ -88,12 +84,12 @@ pub fn tables_report(root: &Path, batch: &mut Batch<'_>) -> Result<Option<Tables
 }
 
 /// Writes, into `out_dir`, the sensitivity (`sensitivity.md`, `sensitivity.json`), the tables
-/// beside the paper's (`tables.md`, `rates.json`), which scheme to trust (`schemes.md`), what accuracy costs (`work-precision.md`,
-/// `work-precision.json`) and the histories of the figures (`data/histories/`) of `report`.
-/// `kept_from` is the reports directory a staged `out_dir` will replace files of:
-/// `work-precision.md` takes the 2D/3D studies' data from it, `schemes.md` the stability
-/// suite's records (`stability.json`, when there).
-pub fn write_report(report: &TablesReport, out_dir: &Path, kept_from: &Path) -> Result<(), Error> {
+/// beside the paper's (`tables.md`, `rates.json`, `rates-longer-horizon.json`), what accuracy
+/// costs (`work-precision.json`) and the histories of the figures (`data/histories/`) of
+/// `report`: this section's data and pages only. The pages that gather it with other sections'
+/// data, `schemes.md` and `work-precision.md`, are the render step's
+/// ([`crate::studies::render`]).
+pub fn write_report(report: &TablesReport, out_dir: &Path) -> Result<(), Error> {
     let TablesReport {
         study,
         sensitivity,
@@ -103,15 +99,7 @@ pub fn write_report(report: &TablesReport, out_dir: &Path, kept_from: &Path) -> 
     } = report;
     write_sensitivity_files(sensitivity, out_dir)?;
     write_tables(study, sensitivity, longer, implicit, out_dir)?;
-    let stability_json = kept_from.join(STABILITY_JSON);
-    let stability: Option<Vec<StabilityRecord>> = if stability_json.is_file() {
-        Some(read_json(&stability_json, REPORT_DATA)?)
-    } else {
-        None
-    };
-    write_schemes(study, sensitivity, longer, stability.as_deref(), out_dir)?;
     write_work_precision_json(study, out_dir)?;
-    write_work_precision_md(out_dir, kept_from)?;
     write_histories(histories, out_dir)?;
     Ok(())
 }

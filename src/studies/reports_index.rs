@@ -1,8 +1,8 @@
 //! `reports/README.md`, the index a person reads: one section per study with what it found, in a
 //! sentence or two computed from the study's own data file, the one or two figures that show it
 //! drawn inline, then links to its report, its data and every figure of its families. Built from
-//! what exists under the reports directory: a study whose report is absent is left out, a figure
-//! is listed when its file is there (or was just drawn), and the finer studies, GetFEM's witness
+//! what exists under the reports directory: a study whose report is absent is left out, a report
+//! or a figure is listed when its file is there (or was just written), and the finer studies, GetFEM's witness
 //! and the benchmarks are linked when their directories or files are present.
 
 use std::collections::BTreeSet;
@@ -168,9 +168,9 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ("bench.md", "the speed and memory figures (`make bench`)"),
 ];
 
-/// The index of `reports`; `drawn`: the figures just drawn into it (listed whether or not the
-/// directory already holds them).
-pub fn reports_index(reports: &Path, drawn: &[String]) -> String {
+/// The index of `reports`; `drawn`: the figures just drawn into it, and `pages`: the pages just
+/// written into it (each listed whether or not the directory already holds it).
+pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String {
     let mut figures: BTreeSet<String> = drawn.iter().cloned().collect();
     if let Ok(entries) = std::fs::read_dir(reports.join(FIGURES_DIR)) {
         figures.extend(entries.filter_map(|e| {
@@ -184,7 +184,8 @@ pub fn reports_index(reports: &Path, drawn: &[String]) -> String {
          stability`, `make report-fine`, `make report-finest`, `make verify-getfem` and `make \
          bench` the rest.\n",
     );
-    for s in SECTIONS.iter().filter(|s| reports.join(s.report).is_file()) {
+    let listed = |s: &&Section| pages.contains(&s.report) || reports.join(s.report).is_file();
+    for s in SECTIONS.iter().filter(listed) {
         let _ = write!(md, "\n## {}\n\n", s.title);
         if let Some(headline) = (s.headline)(reports) {
             let _ = writeln!(md, "{headline}\n");

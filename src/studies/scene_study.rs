@@ -74,25 +74,23 @@ impl JudgedStudy {
         })
     }
 
-    /// Writes a box study's report, study and figure data into `out_dir` (`kept_from`: the
-    /// reports directory it will replace files of) and returns what was written, for the
-    /// user; a bar's study has none ([`crate::harness::reference::scene_study::SceneStudy::check_reports_dir`]): it writes nothing and
-    /// returns its rendering.
+    /// Writes a box study's report, study and figure data into `out_dir` and returns what was
+    /// written (named under `shown_dir`), for the user; a bar's study has none
+    /// ([`crate::harness::reference::scene_study::SceneStudy::check_reports_dir`]): it writes
+    /// nothing and returns its rendering.
     pub fn write_reports(
         &self,
         out_dir: &Path,
-        kept_from: &Path,
         shown_dir: &Path,
         command: &str,
     ) -> Result<String, Error> {
         let Self::FineMesh { study, histories } = self else {
             return self.render(false, command);
         };
-        let written: Vec<String> =
-            write_elastic_files(study, histories, out_dir, kept_from, command)?
-                .iter()
-                .map(|f| shown_dir.join(f).display().to_string())
-                .collect();
+        let written: Vec<String> = write_elastic_files(study, histories, out_dir, command)?
+            .iter()
+            .map(|f| shown_dir.join(f).display().to_string())
+            .collect();
         let mut summary = format!(
             "wrote {} ({}, study {:.1} s wall)",
             written.join(", "),

@@ -3,7 +3,10 @@
 //! rate in each norm, the contact-force oscillation, the energy error over the longer horizon,
 //! the round-off class, the stability suite's verdicts over 100 periods and on the hard cases
 //! (when `stability.json` is there), and the cost to reach a target error — each with what
-//! decides it, and for each criterion the cases no other case is decidedly better than.
+//! decides it, and for each criterion the cases no other case is decidedly better than. The page
+//! gathers four sections' data, so no command writes it: the render step builds it from
+//! `rates.json`, `sensitivity.json`, `rates-longer-horizon.json` and `stability.json`
+//! ([`render`]).
 //!
 //! **What decides a comparison.** A rate is its 95 % interval (Student t over the levels), or
 //! for a round-off chaotic case its ensemble's [min, max]: case A is decidedly faster than B
@@ -17,9 +20,7 @@
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::path::Path;
 
-use crate::harness::files::artifacts::write_atomic;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::chaotic_spread;
 use crate::harness::run::norms::Norm;
@@ -27,7 +28,6 @@ use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
-use crate::studies::error::Error;
 use crate::studies::stability::StabilityRecord;
 
 /// The report, under a reports directory.
@@ -431,18 +431,4 @@ fn list_or_none(names: &[String]) -> String {
     } else {
         names.join("; ")
     }
-}
-
-/// Writes [`SCHEMES_MD`] of `study` into `out_dir`.
-pub fn write_schemes(
-    study: &Study,
-    sensitivity: &Sensitivity,
-    longer: &Study,
-    stability: Option<&[StabilityRecord]>,
-    out_dir: &Path,
-) -> Result<(), Error> {
-    Ok(write_atomic(
-        &out_dir.join(SCHEMES_MD),
-        render(study, sensitivity, longer, stability).as_bytes(),
-    )?)
 }

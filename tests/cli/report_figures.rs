@@ -410,7 +410,7 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
 #[test]
 fn the_index_says_what_each_study_found_and_links_every_figure() {
     let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
-    let index = reports_index(&reports, &[]);
+    let index = reports_index(&reports, &[], &[]);
     let on_disk: Vec<String> = std::fs::read_dir(reports.join("figures"))
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
@@ -453,7 +453,7 @@ fn the_index_of_a_partial_directory_lists_only_what_it_holds() {
         std::fs::copy(reports.join(f), dir.join(f)).unwrap();
     }
     let drawn = vec!["elastic-3d-contact-crank-nicolson.svg".to_string()];
-    let index = reports_index(&dir, &drawn);
+    let index = reports_index(&dir, &drawn, &[]);
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(index.contains("[elastic-3d.md](elastic-3d.md)"), "{index}");
     assert!(index.contains("(figures/elastic-3d-contact-crank-nicolson.svg)"));

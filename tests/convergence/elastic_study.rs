@@ -141,6 +141,12 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
     ] {
         assert!(out.join(file).is_file(), "{file} missing");
     }
+    // The study writes its own section only: the page that gathers the studies' costs is the
+    // render step's.
+    assert_eq!(
+        std::fs::read_to_string(out.join("work-precision.md")).unwrap(),
+        "# What accuracy costs\n\n1D table\n"
+    );
     let md = std::fs::read_to_string(out.join("elastic-2d.md")).unwrap();
     assert!(md.contains("## The note's findings, tested"));
     assert!(md.contains("Is the reference fine enough?"));
@@ -157,9 +163,10 @@ fn study_writes_its_report_and_reuses_the_cached_reference() {
 
     let second = signorini(&args);
     success_stdout(&second);
-    // work-precision.md is rendered from the studies' data: this directory has no Tables study
-    // (`rates.json`), so the file written before is replaced by the title and the 2D section,
-    // once however often the study runs.
+    success_stdout(&signorini(&["figures", "--out", &o]));
+    // work-precision.md is rendered from the studies' data by the render step: this directory
+    // has no Tables study (`rates.json`), so the file written before is replaced by the title
+    // and the 2D section, once however often the study and the render step run.
     let costs = std::fs::read_to_string(out.join("work-precision.md")).unwrap();
     assert!(
         costs.starts_with("# What accuracy costs\n\n## 2D bar (note §3): cost per dof-step"),
@@ -427,21 +434,27 @@ fn a_level_projected_through_finer_levels_has_the_errors_of_a_direct_projection(
     }
 }
 
-/// `work-precision.md` is rendered from the studies' data alone: from the committed
-/// `rates.json`, `elastic-2d.json` and `elastic-3d.json` it is the committed
-/// `reports/work-precision.md` byte for byte, and from the box studies alone (`make
-/// report-fine`'s and `make report-finest`'s directories, which have no Tables study) theirs.
+/// The cross-section pages are rendered from the studies' data alone: from the committed data
+/// (`rates.json`, `sensitivity.json`, `rates-longer-horizon.json`, `stability.json`,
+/// `elastic-2d.json`, `elastic-3d.json`) `schemes.md` and `work-precision.md` are the committed
+/// pages byte for byte, and from the box studies alone (`make report-fine`'s and `make
+/// report-finest`'s directories, which have no Tables study) `work-precision.md` is theirs.
 #[test]
-fn work_precision_is_rendered_from_the_studies_data_alone() {
+fn the_cross_section_pages_are_rendered_from_the_studies_data_alone() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    for dir in ["reports", "reports/fine", "reports/finest"] {
+    for (dir, expected) in [
+        ("reports", ["schemes.md", "work-precision.md"].as_slice()),
+        ("reports/fine", ["work-precision.md"].as_slice()),
+        ("reports/finest", ["work-precision.md"].as_slice()),
+    ] {
         let reports = root.join(dir);
-        let rendered = signorini::studies::cost::render_work_precision(|name| {
-            Some(reports.join(name)).filter(|p| p.is_file())
-        })
-        .unwrap();
-        let committed = std::fs::read_to_string(reports.join("work-precision.md")).unwrap();
-        assert_eq!(rendered, committed, "{dir}/work-precision.md");
+        let pages = signorini::studies::render::cross_section_pages(&reports).unwrap();
+        let names: Vec<&str> = pages.rendered.iter().map(|(name, _)| *name).collect();
+        assert_eq!(names, expected, "{dir}: {:?}", pages.missing);
+        for (name, rendered) in &pages.rendered {
+            let committed = std::fs::read_to_string(reports.join(name)).unwrap();
+            assert_eq!(rendered, &committed, "{dir}/{name}");
+        }
     }
 }
 

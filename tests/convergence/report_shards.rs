@@ -16,6 +16,7 @@ use signorini::studies::experiment::{defaults_experiment, write_defaults_experim
 use signorini::studies::gravity::{
     gravity_benchmark, write_gravity_report, GRAVITY_DIR, STUDY_JSON,
 };
+use signorini::studies::render::cross_section_pages;
 use signorini::studies::report::{tables_report, write_report};
 
 fn root() -> &'static Path {
@@ -113,7 +114,14 @@ fn the_merge_of_three_shards_of_the_tables_writes_their_unsharded_files() {
     let (jobs, _) = merged_equals_unsharded(
         "tables",
         &|batch| tables_report(root(), batch),
-        &|report, dir| write_report(report, dir, dir),
+        &|report, dir| {
+            write_report(report, dir)?;
+            // The pages the render step builds from these data (schemes.md, work-precision.md).
+            for (name, text) in cross_section_pages(dir)?.rendered {
+                std::fs::write(dir.join(name), text).unwrap();
+            }
+            Ok(())
+        },
     );
     assert_eq!(jobs.lists.len(), 5);
 }

@@ -1,5 +1,5 @@
 //! The commands behind the make targets that write `reports/` and `golden/`: `report`,
-//! `experiment`, `figures`, `stability` and `golden` ([`report_run`] does
+//! `experiment`, `figures` (the render step), `stability` and `golden` ([`report_run`] does
 //! them). `report`, `experiment` and `stability` shard.
 
 use std::path::PathBuf;
@@ -114,7 +114,8 @@ impl Sharded for ExperimentArgs {
 /// The arguments of `signorini figures`.
 #[derive(Debug, Args)]
 pub struct FiguresArgs {
-    /// The reports directory: its data is read, its figures/ and README.md written.
+    /// The reports directory: its data is read, its cross-section pages, figures/ and README.md
+    /// written.
     #[arg(long, alias = "reports", default_value = REPORTS)]
     pub out: PathBuf,
     /// The resource limits.
@@ -122,8 +123,9 @@ pub struct FiguresArgs {
     pub limits: LimitArgs,
 }
 
-/// Draw the figures (SVG) from the data under a reports directory into its figures/
-/// (`make figures`), and write its README.md index.
+/// The render step (`make figures`): from the data under a reports directory, the pages that
+/// gather several studies (schemes.md, work-precision.md), the figures (SVG) into its figures/
+/// and its README.md index.
 pub fn figures(args: FiguresArgs) -> Result<(), Failure> {
     out!("{}", report_run::figures(&args.out, &args.limits.limits())?);
     Ok(())

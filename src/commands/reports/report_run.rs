@@ -6,7 +6,6 @@
 use std::path::Path;
 
 use crate::commands::sharding::outputs::{share_of_work, Destination, Received};
-use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{computed_here, Executor};
@@ -17,11 +16,11 @@ use crate::studies::error::Error;
 use crate::studies::estimate;
 use crate::studies::experiment::{defaults_experiment, write_defaults_experiment};
 use crate::studies::extended::{extended_studies_in, write_extended_report};
-use crate::studies::figures::from_reports::write_figures;
 use crate::studies::golden::write_golden;
 use crate::studies::gravity::{gravity_benchmark, write_gravity_report};
+use crate::studies::render::render_reports;
 use crate::studies::report::{tables_report, write_report};
-use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
+use crate::studies::reports_index::REPORTS_INDEX;
 use crate::studies::stability::{hard_cases, run_suite_on, write_stability_files, Verdict};
 
 /// `estimate` checked against `limits`.
@@ -51,7 +50,7 @@ pub fn report(
         Received::ShardWritten(line) => return Ok(line),
     };
     write_gravity_report(&gravity, staged.path())?;
-    write_report(&tables, staged.path(), &staged.final_path(staged.path()))?;
+    write_report(&tables, staged.path())?;
     write_extended_report(&extended, staged.path())?;
     staged.commit()?;
     let o = out.display();
@@ -146,29 +145,29 @@ pub fn golden(root: &Path, limits: &Limits) -> Result<String, CommandError> {
     Ok(lines.join("\n"))
 }
 
-/// `signorini figures`: the figures drawn from the data under `reports` into its figures/,
-/// and its README.md index; the data read is held to `limits`' memory, the files drawn to its
-/// number of files before any is moved into place.
+/// `signorini figures`, the render step: the pages that gather several sections' data
+/// (`schemes.md`, `work-precision.md`), the figures and the README.md index built from the data
+/// under `reports` ([`render_reports`]); the data read is held to `limits`' memory, the files
+/// written to its number of files before any is moved into place.
 pub fn figures(reports: &Path, limits: &Limits) -> Result<String, CommandError> {
     within(
         budget::reading(bytes_under(&reports.join("data")), 4.0),
         limits,
     )?;
     let staged = StagedDir::begin("--out", reports, Replace::Files)?;
-    let (names, missing) = write_figures(reports, staged.path())?;
-    within(
-        Estimate::default().writing(names.len() as f64 + 1.0),
-        limits,
-    )?;
-    let index = reports_index(reports, &names);
-    write_atomic(&staged.path().join(REPORTS_INDEX), index.as_bytes())?;
+    let rendered = render_reports(reports, staged.path())?;
+    let files = rendered.figures.len() + rendered.pages.len() + 1;
+    within(Estimate::default().writing(files as f64), limits)?;
     staged.commit()?;
     let r = reports.display();
     let mut said = format!(
         "wrote {} figures into {r}/figures and {r}/{REPORTS_INDEX}",
-        names.len()
+        rendered.figures.len()
     );
-    for m in missing {
+    for page in &rendered.pages {
+        said.push_str(&format!("\nwrote {r}/{page}"));
+    }
+    for m in rendered.missing {
         said.push_str(&format!("\nskipped (input missing): {m}"));
     }
     Ok(said)

@@ -91,8 +91,7 @@ pub fn study(
     };
     Ok(match reports {
         Some((staged, dir)) => {
-            let kept_from = staged.final_path(staged.path());
-            let written = outcome.write_reports(staged.path(), &kept_from, &dir, command_line)?;
+            let written = outcome.write_reports(staged.path(), &dir, command_line)?;
             staged.commit()?;
             written
         }

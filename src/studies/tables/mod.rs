@@ -1,7 +1,8 @@
 //! The 1D paper's Tables 1–2 recomputed (`make report`): the study, its round-off sensitivity,
 //! the agreement with the paper ([`agreement`], [`paper`]) and the files of this section:
-//! `tables.md`, `rates.json` ([`RatesFile`]), `sensitivity.md` and `sensitivity.json`
-//! ([`Sensitivity`]), and the golden file [`GOLDEN_TABLES`].
+//! `tables.md`, `rates.json` ([`RatesFile`]), `rates-longer-horizon.json`
+//! ([`LongerHorizonFile`]), `sensitivity.md` and `sensitivity.json` ([`Sensitivity`]), and the
+//! golden file [`GOLDEN_TABLES`].
 
 pub mod agreement;
 pub mod paper;
@@ -34,6 +35,12 @@ pub const TABLES_MD: &str = "tables.md";
 
 /// [`RatesFile`], under a reports directory.
 pub const RATES_JSON: &str = "rates.json";
+
+/// The problem of the tables' data files.
+const PROBLEM: &str = "signorini-dirichlet";
+
+/// [`LongerHorizonFile`], under a reports directory.
+pub const LONGER_HORIZON_JSON: &str = "rates-longer-horizon.json";
 
 /// The round-off sensitivity of the tables' cases, rendered, under a reports directory.
 pub const SENSITIVITY_MD: &str = "sensitivity.md";
@@ -97,6 +104,20 @@ pub struct RatesFile {
     /// `(case, norm, rate over all levels with T = longer_horizon)` of each disagreement.
     #[serde(default)]
     pub longer_horizon_rates: Vec<(String, Norm, Option<f64>)>,
+}
+
+/// `rates-longer-horizon.json`: the Tables 1–2 study run to [`LONGER_HORIZON`] (three periods
+/// of the benchmark), every case and every norm. `tables.md` takes the rates of its
+/// disagreements from it (`rates.json` lists them), and the render step judges on it the
+/// energy error over the longer horizon of `schemes.md`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LongerHorizonFile {
+    /// The crate version that wrote it.
+    pub signorini_version: String,
+    /// `signorini-dirichlet`.
+    pub problem: String,
+    /// The study, its configuration's horizon [`LONGER_HORIZON`].
+    pub study: Study,
 }
 
 /// The disagreements of `study` with the paper, each with its rate over all levels at
@@ -169,7 +190,7 @@ pub fn render(
 pub fn rates_file(study: &Study, paper: &PaperTables, list: &[Disagreement]) -> RatesFile {
     RatesFile {
         signorini_version: env!("CARGO_PKG_VERSION").to_string(),
-        problem: "signorini-dirichlet".to_string(),
+        problem: PROBLEM.to_string(),
         study: study.clone(),
         oscillations: study
             .cases
@@ -193,7 +214,8 @@ pub fn rates_file(study: &Study, paper: &PaperTables, list: &[Disagreement]) -> 
 
 /// Compares `study` with the paper (with `longer`, the study at [`LONGER_HORIZON`], for the
 /// disagreements) and with its M^mod cases under the implicit-multiplier start (`implicit`),
-/// and writes `tables.md` and `rates.json` into `out_dir`.
+/// and writes `tables.md`, `rates.json` and `rates-longer-horizon.json` (`longer`) into
+/// `out_dir`.
 pub fn write_tables(
     study: &Study,
     sensitivity: &Sensitivity,
@@ -208,6 +230,14 @@ pub fn write_tables(
         render(study, &paper, sensitivity, &list, implicit).as_bytes(),
     )?;
     write_json(&out_dir.join(RATES_JSON), &rates_file(study, &paper, &list))?;
+    write_json(
+        &out_dir.join(LONGER_HORIZON_JSON),
+        &LongerHorizonFile {
+            signorini_version: env!("CARGO_PKG_VERSION").to_string(),
+            problem: PROBLEM.to_string(),
+            study: longer.clone(),
+        },
+    )?;
     Ok(())
 }
 
