@@ -16,7 +16,8 @@
 //!   children, is a component's root and is left to the rule above);
 //! - in `commands/`, no file imports the dispatcher (`mod.rs`) and no subcommand's file imports
 //!   another's: they share only [`SHARED_COMMAND_PARTS`];
-//! - no `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`);
+//! - no `studies/` or `commands/` file branches on the geometry (`Problem::Bar`, `Problem::Box`,
+//!   `Observed::Bar`, `Observed::Box`): the harness's problem and reference parts do;
 //! - no module of the library reads the process's arguments (`std::env::args`, `args_os`):
 //!   `main.rs` reads them once and hands the commands their typed command and its line;
 //! - no report section reads another's output: only the render step ([`RENDER_STEP`]) reads a
@@ -524,27 +525,38 @@ fn the_command_rule_sees_a_subcommand_importing_another() {
     );
 }
 
-/// The `commands/` files that branch on the geometry (`Problem::Bar`, `Problem::Box`): what a
-/// command does is the same for a bar and a box, the difference is below it.
-fn commands_branching_on_the_geometry(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+/// The geometry's variants: a bar's or a box's problem, or what a run of either observed.
+const GEOMETRY_BRANCHES: [&str; 4] = [
+    "Problem::Bar",
+    "Problem::Box",
+    "Observed::Bar",
+    "Observed::Box",
+];
+
+/// The `studies/` and `commands/` files that branch on the geometry ([`GEOMETRY_BRANCHES`]):
+/// what a report section or a command does is the same for a bar and a box, the difference is
+/// below them, in the problem and the reference parts of the harness (a scene's run and study,
+/// the reference a scene declares).
+fn layers_branching_on_the_geometry(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
     modules
         .iter()
-        .filter(|(m, _)| m[0] == "commands")
+        .filter(|(m, _)| m[0] == "commands" || m[0] == "studies")
         .filter(|(_, source)| {
             let code = code_of(source);
-            code.contains("Problem::Bar") || code.contains("Problem::Box")
+            GEOMETRY_BRANCHES.iter().any(|branch| code.contains(branch))
         })
         .map(|(m, _)| show(m))
         .collect()
 }
 
 #[test]
-fn commands_do_not_branch_on_the_geometry() {
-    let branching = commands_branching_on_the_geometry(&modules());
+fn studies_and_commands_do_not_branch_on_the_geometry() {
+    let branching = layers_branching_on_the_geometry(&modules());
     assert!(
         branching.is_empty(),
-        "commands/ files branching on the geometry (the studies' SceneRun and SceneStudy, and \
-         Scene::bar_problem / box_problem, take it): {branching:?}"
+        "studies/ and commands/ files branching on the geometry (the harness's SceneRun, \
+         SceneStudy and DeclaredReference, and Scene::bar_problem / box_problem / load_bar, \
+         take it): {branching:?}"
     );
 }
 
@@ -556,9 +568,14 @@ fn the_geometry_rule_sees_a_branch() {
         .get_mut(&run)
         .expect("commands/run.rs")
         .push_str("\nfn f(p: Problem) { if let Problem::Box(_) = p {} }\n");
+    let gravity = vec!["studies".to_string(), "gravity".to_string()];
+    modules
+        .get_mut(&gravity)
+        .expect("studies/gravity.rs")
+        .push_str("\nfn g(o: Observed) { if let Observed::Bar(_) = o {} }\n");
     assert_eq!(
-        commands_branching_on_the_geometry(&modules),
-        ["commands::run"]
+        layers_branching_on_the_geometry(&modules),
+        ["commands::run", "studies::gravity"]
     );
 }
 
