@@ -6,9 +6,7 @@ use crate::stepper::Stepper;
 use signorini::engine::exact::{ExactSolution, SignoriniDirichlet};
 use signorini::engine::fem::{Bar1d, EndCondition, MassVariant};
 use signorini::engine::model::Model;
-use signorini::engine::schemes::{
-    initial_state, integrator, Conventions, PaoliSchatzman, Scheme, SchemeState,
-};
+use signorini::engine::schemes::{initial_state, Conventions, PaoliSchatzman, Scheme, SchemeState};
 use signorini::harness::run::time_grid;
 
 const COMPLEMENTARITY_TOL: f64 = 1e-12;
@@ -83,9 +81,7 @@ fn complementarity_holds_at_every_step() {
                     }
                 }
                 _ => {
-                    let mut s = Stepper::from(
-                        integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
-                    );
+                    let mut s = Stepper::harness(&model, scheme, dt, &u0, &v0);
                     for step in 1..=steps {
                         s.advance().unwrap();
                         assert_eq!(s.step_index(), step);

@@ -79,9 +79,7 @@ fn its_balance_holds_every_step_in_1d_and_on_boxes() {
 fn the_predictor_velocity_variant_never_gains_energy() {
     for mass in DEFINITE {
         let (model, u0, v0) = dirichlet(mass, true);
-        let mut s = Stepper::from(
-            integrator(&model, PROJECTED, dt(), &u0, &v0, &Conventions::HARNESS).unwrap(),
-        );
+        let mut s = Stepper::harness(&model, PROJECTED, dt(), &u0, &v0);
         let e0 = s.energy().value;
         let (mut projected_steps, mut worst_as_carried, mut worst): (usize, f64, f64) =
             (0, 0.0, 0.0);

@@ -5,7 +5,7 @@
 
 use crate::stepper::Stepper;
 use crate::{benchmarks, common};
-use signorini::engine::schemes::{integrator, Conventions, Integration, Scheme};
+use signorini::engine::schemes::{Integration, Scheme};
 
 use std::collections::BTreeSet;
 
@@ -195,8 +195,7 @@ fn balance(
 ) -> Balance {
     let set = model.contact().unwrap().clone();
     let rows = model.contact_law().rows(&set);
-    let mut s =
-        Stepper::from(integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(model, scheme, dt, u0, v0);
     let mut monitor = BalanceMonitor::new(model, scheme, dt);
     monitor.observe(&s.observed());
     let mut before = state(&s.observed());
@@ -373,10 +372,8 @@ fn distance_to_multiplier(scheme: Scheme, mass: MassVariant, gamma0: f64) -> f64
     let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
     let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
     let dt = bar.h() / RATIO;
-    let mut a =
-        Stepper::from(integrator(&plain, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
-    let mut b =
-        Stepper::from(integrator(&penalised, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut a = Stepper::harness(&plain, scheme, dt, &u0, &v0);
+    let mut b = Stepper::harness(&penalised, scheme, dt, &u0, &v0);
     let mut worst: f64 = 0.0;
     for _ in 0..(3.0 / dt).round() as usize {
         a.advance().unwrap();

@@ -21,7 +21,7 @@ use signorini::engine::schemes::energy_balance::{
     self, BalanceMonitor, Level, StepBalance, ThreeLevels,
 };
 use signorini::engine::schemes::{
-    initial_state, integrator, Conventions, Integration, PaoliSchatzman, Scheme, SchemeState,
+    initial_state, Conventions, Integration, PaoliSchatzman, Scheme, SchemeState,
 };
 use signorini::harness::run::time_grid;
 
@@ -100,8 +100,7 @@ fn one_step_balance_with_load(
 ) -> f64 {
     let (bar, model, u0, v0) = setup(mass, load);
     let dt = bar.h() / RATIO;
-    let mut s =
-        Stepper::from(integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(&model, scheme, dt, &u0, &v0);
     let mut before = Snapshot::of(&s.observed());
     let e0 = s.energy().value;
     let mut worst: f64 = 0.0;
@@ -220,9 +219,7 @@ fn dissipative_schemes_never_gain_energy() {
         for mass in MassVariant::ALL {
             let (bar, model, u0, v0) = setup(mass, None);
             let dt = bar.h() / RATIO;
-            let mut s = Stepper::from(
-                integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
-            );
+            let mut s = Stepper::harness(&model, scheme, dt, &u0, &v0);
             let mut e = s.energy().value;
             let e0 = e;
             for _ in 0..steps(dt) {
@@ -358,17 +355,7 @@ fn printed_load_term_of_eq_31_is_not_conserved() {
         let vf: f64 = v.iter().zip(&load).map(|(a, b)| a * b).sum();
         0.5 * (model.mass().quadratic_form(v) + model.stiffness().quadratic_form(u) - vf)
     };
-    let mut s = Stepper::from(
-        integrator(
-            &model,
-            Scheme::CRANK_NICOLSON,
-            dt,
-            &u0,
-            &v0,
-            &Conventions::HARNESS,
-        )
-        .unwrap(),
-    );
+    let mut s = Stepper::harness(&model, Scheme::CRANK_NICOLSON, dt, &u0, &v0);
     let (e0, p0) = (s.energy().value, printed(s.displacement(), s.velocity()));
     let (mut previous, mut ours, mut theirs): (f64, f64, f64) = (e0, 0.0, 0.0);
     for _ in 0..steps(dt) {
@@ -405,9 +392,7 @@ fn newmark_family_balance_holds_with_penalty_and_nitsche_forces() {
                 let model = model.with_contact_law(law);
                 let dt = bar.h() / RATIO;
                 let scheme = Scheme::Newmark { beta, gamma };
-                let mut s = Stepper::from(
-                    integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
-                );
+                let mut s = Stepper::harness(&model, scheme, dt, &u0, &v0);
                 let mechanical =
                     |s: &Integration| s.energy().value - model.contact_energy(s.displacement());
                 let mut before = Snapshot::of(&s.observed());
@@ -484,17 +469,7 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
             let u0 = bar.interpolate(|x| (std::f64::consts::FRAC_PI_2 * x).cos());
             let v0 = bar.interpolate(|x| 0.3 * x * (1.0 - x));
             let dt = 0.5 * bar.h();
-            let mut s = Stepper::from(
-                integrator(
-                    &model,
-                    Scheme::CENTRAL_DIFFERENCE,
-                    dt,
-                    &u0,
-                    &v0,
-                    &Conventions::HARNESS,
-                )
-                .unwrap(),
-            );
+            let mut s = Stepper::harness(&model, Scheme::CENTRAL_DIFFERENCE, dt, &u0, &v0);
             s.advance().unwrap();
             let e_half = s.energy().value;
             let (mut previous, mut per_step, mut drift): (f64, f64, f64) = (e_half, 0.0, 0.0);
@@ -522,17 +497,7 @@ fn central_differences_conserve_the_staggered_energy_without_contact() {
         beta: 0.0,
         gamma: 0.6,
     };
-    let mut s = Stepper::from(
-        integrator(
-            &model,
-            damped,
-            0.5 * bar.h(),
-            &u0,
-            &vec![0.0; u0.len()],
-            &Conventions::HARNESS,
-        )
-        .unwrap(),
-    );
+    let mut s = Stepper::harness(&model, damped, 0.5 * bar.h(), &u0, &vec![0.0; u0.len()]);
     s.advance().unwrap();
     let e_half = s.energy().value;
     for _ in 0..200 {
@@ -553,17 +518,7 @@ fn explicit_contact_balance_and_complementarity_every_step() {
         let u0 = bar.interpolate(|x| exact.eval(x, 0.0).u);
         let v0 = bar.interpolate(|x| exact.eval(x, 0.0).ut);
         let (steps, dt) = time_grid(3.0, bar.h(), 10.0);
-        let mut s = Stepper::from(
-            integrator(
-                &model,
-                Scheme::CENTRAL_DIFFERENCE,
-                dt,
-                &u0,
-                &v0,
-                &Conventions::HARNESS,
-            )
-            .unwrap(),
-        );
+        let mut s = Stepper::harness(&model, Scheme::CENTRAL_DIFFERENCE, dt, &u0, &v0);
         let mut u_prev = s.displacement().to_vec();
         s.advance().unwrap();
         let e0 = s.energy().value;
@@ -622,17 +577,7 @@ fn dynamic_smoke(mesh: &BoxMesh) {
     for variant in MassVariant::ON_EVERY_MESH {
         let model = Model::of_box(mesh, &Elasticity::NOTE, variant, Some(gap));
         let contact = model.contact().unwrap().clone();
-        let mut integ = Stepper::from(
-            integrator(
-                &model,
-                Scheme::CRANK_NICOLSON,
-                dt,
-                &u0,
-                &v0,
-                &Conventions::HARNESS,
-            )
-            .unwrap(),
-        );
+        let mut integ = Stepper::harness(&model, Scheme::CRANK_NICOLSON, dt, &u0, &v0);
         let e0 = model.energy(integ.displacement(), integ.velocity());
         assert!(e0 > 0.0);
         let mut touched = false;
@@ -700,9 +645,7 @@ fn backward_euler_balance_holds_every_step_in_2d_and_3d() {
             });
             let dt = mesh.element_sizes()[d - 1] / 2.0;
             let scheme = Scheme::Theta { theta: 1.0 };
-            let mut s = Stepper::from(
-                integrator(&model, scheme, dt, &u0, &v0, &Conventions::HARNESS).unwrap(),
-            );
+            let mut s = Stepper::harness(&model, scheme, dt, &u0, &v0);
             let mut monitor = BalanceMonitor::new(&model, scheme, dt);
             monitor.observe(&s.observed());
             let e0 = s.energy().value;

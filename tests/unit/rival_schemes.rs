@@ -41,8 +41,7 @@ pub(crate) fn steps() -> usize {
 
 /// `(U^n, V^n, λ^n)` after every step of `scheme` on `model`.
 pub(crate) fn history(model: &Model, scheme: Scheme, u0: &[f64], v0: &[f64]) -> Vec<[Vec<f64>; 3]> {
-    let mut s =
-        Stepper::from(integrator(model, scheme, dt(), u0, v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(model, scheme, dt(), u0, v0);
     (0..steps())
         .map(|_| {
             s.advance().unwrap();
@@ -137,8 +136,7 @@ pub(crate) fn monitored(
     dt: f64,
     n: usize,
 ) -> f64 {
-    let mut s =
-        Stepper::from(integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(model, scheme, dt, u0, v0);
     let mut monitor = BalanceMonitor::new(model, scheme, dt);
     monitor.observe(&s.observed());
     let mut touched = false;
@@ -239,8 +237,7 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         gamma: 0.8,
     };
     let scheme = Scheme::GeneralisedAlpha(run);
-    let mut s =
-        Stepper::from(integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(&model, scheme, dt(), &u0, &v0);
     for _ in 0..5 {
         s.advance().unwrap();
     }
@@ -283,8 +280,7 @@ fn a_balance_with_a_wrong_parameter_does_not_hold() {
         theta: 0.5,
         restitution: 0.0,
     };
-    let mut s =
-        Stepper::from(integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
+    let mut s = Stepper::harness(&model, mj, dt(), &u0, &v0);
     let (mut worst_as_theta, mut worst): (f64, f64) = (0.0, 0.0);
     for _ in 0..steps() {
         let before = snapshot_plain(&s.observed());
@@ -330,9 +326,7 @@ fn moreau_jean_keeps_newtons_law_and_loses_energy_only_at_impacts() {
                 theta: 0.5,
                 restitution,
             };
-            let mut s = Stepper::from(
-                integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap(),
-            );
+            let mut s = Stepper::harness(&model, scheme, dt(), &u0, &v0);
             let e0 = s.energy().value;
             let mut impacts = 0;
             for n in 0..steps() {
@@ -368,9 +362,7 @@ fn laursen_chawla_conserves_the_energy_at_every_step_and_never_penetrates() {
         let (model, u0, v0) = dirichlet(mass, true);
         let c = model.contact().unwrap().dofs[0];
         let scheme = Scheme::LaursenChawla {};
-        let mut s = Stepper::from(
-            integrator(&model, scheme, dt(), &u0, &v0, &Conventions::HARNESS).unwrap(),
-        );
+        let mut s = Stepper::harness(&model, scheme, dt(), &u0, &v0);
         let e0 = s.energy().value;
         let mut pushed = 0;
         for n in 0..steps() {
@@ -395,8 +387,7 @@ fn laursen_chawla_conserves_the_energy_at_every_step_and_never_penetrates() {
             theta: 0.5,
             restitution: 0.0,
         };
-        let mut dissipative =
-            Stepper::from(integrator(&model, mj, dt(), &u0, &v0, &Conventions::HARNESS).unwrap());
+        let mut dissipative = Stepper::harness(&model, mj, dt(), &u0, &v0);
         for _ in 0..steps() {
             dissipative.advance().unwrap();
         }

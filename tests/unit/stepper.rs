@@ -5,8 +5,10 @@
 use std::ops::Deref;
 
 use signorini::engine::error::SolveError;
+use signorini::engine::model::Model;
 use signorini::engine::schemes::{
-    Integration, Integrator, SchemeState, StepStatistics, TimeIntegrator, Timed,
+    integrator, Conventions, Integration, Integrator, Scheme, SchemeState, StepStatistics,
+    TimeIntegrator, Timed,
 };
 
 /// A scheme and its state.
@@ -24,6 +26,12 @@ impl<'m> Stepper<'m> {
             scheme: Box::new(scheme),
             state,
         }
+    }
+
+    /// The factory's `scheme` on `model` with the harness's conventions, from `U^0 = u0`,
+    /// `V^0 = v0` with step `dt`; a scheme the factory refuses fails the test.
+    pub fn harness(model: &'m Model, scheme: Scheme, dt: f64, u0: &[f64], v0: &[f64]) -> Self {
+        Self::from(integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS).unwrap())
     }
 
     /// One step of the state.
