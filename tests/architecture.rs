@@ -22,7 +22,9 @@
 //!   `main.rs` reads them once and hands the commands their typed command and its line;
 //! - no report section reads another's output: only the render step ([`RENDER_STEP`]) reads a
 //!   reports directory's data (`REPORT_DATA`), and no module names a previous reports directory
-//!   to read from (`kept_from`).
+//!   to read from (`kept_from`);
+//! - no report section does a command's work: no `studies/` module stages an output directory or
+//!   fails as a command ([`COMMAND_PLUMBING`]).
 //!
 //! Every path names its layer: the crate root declares the four layers and re-exports nothing.
 
@@ -475,7 +477,8 @@ fn the_checker_sees_imports_through_groups_and_super() {
 
 /// The parts of `commands/` that every subcommand may use: how a command fails, its resource
 /// limits, the shared options and parsers, and sharding. Every other file is one subcommand's.
-const SHARED_COMMAND_PARTS: [&str; 4] = ["failure", "limits", "options", "sharding"];
+const SHARED_COMMAND_PARTS: [&str; 5] =
+    ["command_error", "failure", "limits", "options", "sharding"];
 
 /// The imports inside `commands/` that break its shape: a file importing the dispatcher
 /// (`commands/mod.rs`), a subcommand importing another subcommand, or a shared part importing a
@@ -691,5 +694,55 @@ fn the_render_step_rule_sees_a_read_and_a_kept_directory() {
     assert_eq!(
         sections_reading_report_data(&modules),
         ["commands::study::study_run", "studies::report"]
+    );
+}
+
+/// What only a command's back-end does: stage its `--out` directory (`StagedDir`) and fail as a
+/// command (`CommandError`, the exit code's input).
+const COMMAND_PLUMBING: [&str; 2] = ["StagedDir", "CommandError"];
+
+/// The `studies/` modules doing a command's work ([`COMMAND_PLUMBING`]): a report section is a
+/// function from data to pages and data files, written where it is told; staging and exit codes
+/// are the command's (`commands/`).
+fn sections_doing_command_work(modules: &BTreeMap<ModPath, String>) -> Vec<String> {
+    modules
+        .iter()
+        .filter(|(m, _)| m[0] == "studies")
+        .filter(|(_, source)| {
+            let code = code_of(source);
+            COMMAND_PLUMBING.iter().any(|name| code.contains(name))
+        })
+        .map(|(m, _)| show(m))
+        .collect()
+}
+
+#[test]
+fn report_sections_leave_staging_and_exit_codes_to_the_commands() {
+    let doing = sections_doing_command_work(&modules());
+    assert!(
+        doing.is_empty(),
+        "studies/ modules staging an output directory or failing as a command (the command \
+         back-ends in commands/ do): {doing:?}"
+    );
+}
+
+#[test]
+fn the_section_rule_sees_a_staged_directory_and_a_command_error() {
+    let mut modules = modules();
+    let league = vec!["studies".to_string(), "league".to_string()];
+    modules
+        .get_mut(&league)
+        .expect("studies/league.rs")
+        .push_str(
+            "\n// CommandError in a comment\nfn f(d: &Path) { StagedDir::begin(\"--out\", d); }\n",
+        );
+    let gravity = vec!["studies".to_string(), "gravity".to_string()];
+    modules
+        .get_mut(&gravity)
+        .expect("studies/gravity.rs")
+        .push_str("\nfn g() -> Result<(), CommandError> { Ok(()) }\n");
+    assert_eq!(
+        sections_doing_command_work(&modules),
+        ["studies::gravity", "studies::league"]
     );
 }

@@ -1,10 +1,10 @@
 //! How a command fails: a message and its exit code, from every error of the layers below.
 
+use crate::commands::command_error::CommandError;
 use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::files::output_dir::OutputDirError;
 use crate::harness::study::error as study;
 use crate::harness::study::scene::SceneError;
-use crate::studies::command_error::CommandError;
 use crate::studies::error as section;
 
 /// A failure with its exit code.

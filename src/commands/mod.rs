@@ -15,6 +15,7 @@ macro_rules! out {
 }
 
 mod cluster_plan;
+mod command_error;
 mod failure;
 mod getfem;
 mod limits;

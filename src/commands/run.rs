@@ -8,6 +8,7 @@ use clap::Args;
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, ConventionArgs, LinearSolverArgs};
+use crate::commands::command_error::CommandError;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::problem::{ContactTreatment, MassVariant, Scheme};
@@ -16,7 +17,6 @@ use crate::harness::run::run_files::RUN_JSON;
 use crate::harness::study::budget::Limits;
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
-use crate::studies::command_error::CommandError;
 use crate::studies::error::Error;
 
 /// The arguments of `signorini run`.

@@ -22,7 +22,6 @@
 //! `energy_verdict` (`holds`, `fails`, `undecided`) and `energy_reason`.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -31,27 +30,13 @@ use super::elastic_study::findings::{findings_of_cases, Finding};
 use super::elastic_study::report::findings_table;
 use crate::harness::external::format::Code;
 use crate::harness::external::verify::{declared_cases, Declared, Series};
-use crate::harness::external::ExternalError;
-use crate::harness::files::artifacts::{write_atomic, write_json};
-use crate::harness::files::input::{read_json, Limit};
-use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{Case, CaseStudy};
-use crate::studies::command_error::CommandError;
 
 /// `league.json`'s format.
 pub const LEAGUE_FORMAT: &str = "signorini-league/1";
-
-/// The file each entry directory holds.
-const VERIFY_JSON: &str = "verify.json";
-
-/// A verify.json, as read (64 MiB at most).
-const VERIFY_FILE: Limit = Limit {
-    what: "verification",
-    max_bytes: 64 << 20,
-};
 
 /// The norms the markdown table shows (league.json has every computed norm).
 const SHOWN: [Norm; 4] = [
@@ -142,42 +127,16 @@ pub struct League {
     pub findings: Vec<CodeFindings>,
 }
 
-/// Reads every `<dir>/<entry>/verify.json` into the league (entries by name).
-pub fn read_league(dir: &Path) -> Result<League, CommandError> {
-    let listing = std::fs::read_dir(dir).map_err(|e| {
-        CommandError::Refused(format!(
-            "cannot read the league's directory {}: {e}",
-            dir.display()
-        ))
-    })?;
-    let mut files: Vec<(String, PathBuf)> = listing
-        .filter_map(Result::ok)
-        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
-        .map(|(name, path)| (name, path.join(VERIFY_JSON)))
-        .filter(|(_, file)| file.is_file())
-        .collect();
-    files.sort();
-    if files.is_empty() {
-        return Err(CommandError::Refused(format!(
-            "{} holds no <entry>/{VERIFY_JSON}: write one with `signorini verify SCENE RUN... \
-             --out {}/<entry>`",
-            dir.display(),
-            dir.display()
-        )));
+impl League {
+    /// The league of the verifications `read`, one entry per `(name, verification)`, in the
+    /// order given.
+    pub fn of(read: &[(String, JudgedVerification)]) -> Self {
+        Self {
+            format: LEAGUE_FORMAT.to_string(),
+            entries: read.iter().map(|(name, v)| entry(name, v)).collect(),
+            findings: findings_by_code(read),
+        }
     }
-    let read = files
-        .into_iter()
-        .map(|(name, file)| {
-            let v: JudgedVerification = read_json(&file, VERIFY_FILE)
-                .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
-            Ok((name, v))
-        })
-        .collect::<Result<Vec<_>, CommandError>>()?;
-    Ok(League {
-        format: LEAGUE_FORMAT.to_string(),
-        entries: read.iter().map(|(name, v)| entry(name, v)).collect(),
-        findings: findings_by_code(&read),
-    })
 }
 
 /// The reference's rate-bias bound of `norm` in `v`: 0 against an exact solution (a bar's
@@ -393,21 +352,4 @@ pub fn render(league: &League) -> String {
         );
     }
     out
-}
-
-/// Reads the league under `dir` and writes `league.md` and `league.json` into `out`; tells
-/// `say` what it wrote.
-pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result<(), CommandError> {
-    let league = read_league(dir)?;
-    let staged = StagedDir::begin("--out", out, Replace::Files)?;
-    write_json(&staged.path().join("league.json"), &league)?;
-    write_atomic(&staged.path().join("league.md"), render(&league).as_bytes())?;
-    staged.commit()?;
-    let rows: usize = league.entries.iter().map(|e| e.rows.len()).sum();
-    say(&format!(
-        "wrote {}/league.md and league.json ({} entries, {rows} series)",
-        out.display(),
-        league.entries.len()
-    ));
-    Ok(())
 }

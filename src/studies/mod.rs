@@ -11,7 +11,6 @@
 
 pub mod benchmark;
 pub mod cluster_plan;
-pub mod command_error;
 pub mod cost;
 pub mod elastic_study;
 pub mod error;

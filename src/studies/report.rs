@@ -11,7 +11,9 @@ use std::path::Path;
 use crate::harness::reference::exact::ExactSolution;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Batch;
-use crate::harness::study::sensitivity::{EnsembleConfig, Sensitivity, SensitivityJobs};
+use crate::harness::study::sensitivity::{
+    EnsembleConfig, InitialNoise, Sensitivity, SensitivityJobs,
+};
 use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::cost::write_work_precision_json;
@@ -97,7 +99,7 @@ pub fn write_report(report: &TablesReport, out_dir: &Path) -> Result<(), Error> 
         implicit,
         histories,
     } = report;
-    write_sensitivity_files(sensitivity, out_dir)?;
+    write_sensitivity_files(sensitivity, InitialNoise::Displacement, out_dir)?;
     write_tables(study, sensitivity, longer, implicit, out_dir)?;
     write_work_precision_json(study, out_dir)?;
     write_histories(histories, out_dir)?;

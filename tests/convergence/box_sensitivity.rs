@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::common::{signorini, success_stdout};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::problem::{Perturbation, Problem, Settings};
 use signorini::engine::schemes::{Integration, Scheme};
@@ -273,4 +274,67 @@ fn a_scene_declares_its_ensemble_and_bad_values_name_the_field() {
     let mut bar = read("scenes/bar1d-dirichlet.json");
     bar["discretisation"]["sensitivity"] = serde_json::json!({"members": 4, "amplitude": 1e-13});
     assert_eq!(invalid_field(&bar), "discretisation.sensitivity");
+}
+
+/// The 2D scene cut to Crank–Nicolson on levels 4 and 8 against a reference on 16 elements, to
+/// t = 0.8, with an ensemble of 2 members: its path in `dir`.
+fn tiny_box_scene(dir: &Path) -> PathBuf {
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join("scenes/bar2d.json")).unwrap())
+            .unwrap();
+    scene["horizon"] = 0.8.into();
+    scene["observables"]["fields_at"] = serde_json::json!([0.4, 0.8]);
+    let discretisation = &mut scene["discretisation"];
+    discretisation["levels"] = serde_json::json!([4, 8]);
+    discretisation["reference_level"] = 16.into();
+    discretisation["schemes"] = serde_json::json!(["crank-nicolson"]);
+    discretisation["sensitivity"] = serde_json::json!({"members": 2, "amplitude": 1e-13});
+    let path = dir.join("tiny-box.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    path
+}
+
+/// `json` without its wall-clock time.
+fn without_wall_seconds(mut json: serde_json::Value) -> serde_json::Value {
+    json.as_object_mut().unwrap().remove("wall_seconds");
+    json
+}
+
+#[test]
+fn the_sensitivity_command_on_a_box_scene_is_the_ensemble_of_its_study() {
+    let dir = cache("command");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = |p: PathBuf| p.to_string_lossy().into_owned();
+    let scene = text(tiny_box_scene(&dir));
+    let (refs, study_out, out) = (
+        text(dir.join("refs")),
+        text(dir.join("study")),
+        text(dir.join("sensitivity")),
+    );
+    let run = |args: &[&str]| success_stdout(&signorini(args));
+    run(&["study", &scene, "--cache", &refs, "--out", &study_out]);
+    let said = run(&[
+        "sensitivity",
+        &scene,
+        "--members",
+        "2",
+        "--cache",
+        &refs,
+        "--out",
+        &out,
+    ]);
+    assert!(said.contains("crank-nicolson/standard"), "{said}");
+    let read = |p: PathBuf| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    let of_study = read(Path::new(&study_out).join("elastic-2d.json"))["sensitivity"].clone();
+    let of_command = read(Path::new(&out).join("sensitivity.json"));
+    assert_eq!(of_command["cases"].as_array().unwrap().len(), 2);
+    assert_eq!(
+        without_wall_seconds(of_command),
+        without_wall_seconds(of_study)
+    );
+    let md = std::fs::read_to_string(Path::new(&out).join("sensitivity.md")).unwrap();
+    assert!(md.contains("parting step at NX = 8"), "{md}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

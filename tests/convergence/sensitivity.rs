@@ -106,7 +106,11 @@ fn bad_ensemble_input_exits_2_naming_the_field() {
         2,
         &["amplitude", "(0, 1e-3]"],
     );
-    expect_error(&["sensitivity", "scenes/bar2d.json"], 2, &["bar1d"]);
+    expect_error(
+        &["sensitivity", "scenes/bar2d.json", "--members", "1"],
+        2,
+        &["members", "[2, 1024]"],
+    );
 }
 
 #[test]

@@ -5,11 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::commands::command_error::CommandError;
 use crate::harness::files::artifacts::write_json;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::getfem::anchor::convert_anchor;
 use crate::harness::study::budget::Limits;
-use crate::studies::command_error::CommandError;
 use crate::studies::getfem::{export_runs, write_getfem_report, Expectation, GETFEM_REPORT};
 
 /// Reproduces every demo run under `runs` into `out`'s `getfem.md` (each run's work and memory

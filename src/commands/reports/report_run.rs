@@ -5,13 +5,13 @@
 
 use std::path::Path;
 
+use crate::commands::command_error::CommandError;
 use crate::commands::sharding::outputs::{share_of_work, Destination, Received};
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::executor::{computed_here, Executor};
 use crate::harness::study::shard::Invocation;
 use crate::harness::study::Case;
-use crate::studies::command_error::CommandError;
 use crate::studies::error::Error;
 use crate::studies::estimate;
 use crate::studies::experiment::{defaults_experiment, write_defaults_experiment};

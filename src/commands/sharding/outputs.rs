@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde::de::DeserializeOwned;
 
+use crate::commands::command_error::CommandError;
 use crate::harness::files::artifacts::{read_json, write_json};
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::{self, Estimate, Limits};
@@ -14,7 +15,6 @@ use crate::harness::study::shard::merge::{merge, Merged};
 use crate::harness::study::shard::{
     codec, shard_file_name, Invocation, ShardError, ShardFile, ShardSpec, Share, SHARD_FILE,
 };
-use crate::studies::command_error::CommandError;
 use crate::studies::error::Error;
 
 /// Where a shard's partial result file goes: `out`, staged before the shard runs (an `--out`

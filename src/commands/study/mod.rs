@@ -23,7 +23,7 @@ use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::shard::Invocation;
 use crate::studies::reports_index::REPORT_REFERENCES;
 use reference_run::{references, ReferenceRequest};
-use study_run::StudyRequest;
+use study_run::{SensitivityRequest, StudyRequest};
 
 pub(crate) mod reference_run;
 mod study_run;
@@ -171,9 +171,9 @@ pub fn rejudge(args: RejudgeArgs) -> Result<(), Failure> {
 /// The arguments of `signorini sensitivity`.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
 pub struct SensitivityArgs {
-    /// The scene file (a bar1d scene with an obstacle).
+    /// The scene file (a bar1d or box scene with an obstacle).
     pub scene: PathBuf,
-    /// Perturbed members per case and level (2 to 1024).
+    /// Perturbed members of each set per case and level (2 to 1024).
     #[arg(long, default_value_t = 16)]
     pub members: usize,
     /// Relative noise amplitude, in (0, 1e-3].
@@ -182,6 +182,10 @@ pub struct SensitivityArgs {
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
+    /// Box scenes: where the fine-mesh reference is looked up and kept (default:
+    /// OUT/data/references, read and written).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
     /// The shard to run.
     #[command(flatten)]
     pub shard: EnsembleShardArgs,
@@ -190,9 +194,10 @@ pub struct SensitivityArgs {
     pub limits: LimitArgs,
 }
 
-/// Round-off sensitivity of a bar1d scene's study (`make report`): every case and level run
-/// as an ensemble of members with seeded noise of relative size A on the initial
-/// displacement; writes sensitivity.md and sensitivity.json with each case's class.
+/// Round-off sensitivity of a scene's study (`make report` runs it on the bar): every case and
+/// level run as an ensemble of members perturbed on the initial data (a bar's displacement, a
+/// box's velocity) and at every step; writes sensitivity.md and sensitivity.json with each
+/// case's class.
 impl Sharded for SensitivityArgs {
     fn recorded(&self, out: Option<PathBuf>) -> Self {
         Self {
@@ -216,20 +221,17 @@ impl Sharded for SensitivityArgs {
         invocation: &Invocation,
         _line: &CommandLine,
     ) -> Result<(), Failure> {
-        let ensemble = EnsembleConfig {
-            members: self.members,
-            amplitude: self.amplitude,
+        let request = SensitivityRequest {
+            scene: self.scene,
+            ensemble: EnsembleConfig {
+                members: self.members,
+                amplitude: self.amplitude,
+            },
+            out: self.out,
+            cache: self.cache,
+            limits: self.limits.limits(),
         };
-        let limits = self.limits.limits();
-        let said = study_run::sensitivity(
-            &self.scene,
-            ensemble,
-            &self.out,
-            &limits,
-            executor,
-            invocation,
-        )?;
-        out!("{said}");
+        out!("{}", study_run::sensitivity(request, executor, invocation)?);
         Ok(())
     }
 }

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::commands::command_error::CommandError;
 use crate::commands::sharding::outputs::{complete_or_write, shard_output, Received};
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
@@ -19,7 +20,6 @@ use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::shard::Invocation;
 use crate::studies::cluster_plan::Measurement;
-use crate::studies::command_error::CommandError;
 
 /// Refuses a reference cache `dir` that exists and is not a directory, before anything is
 /// computed (its references could not be saved there).

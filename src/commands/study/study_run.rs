@@ -1,25 +1,24 @@
 //! `signorini study`, `rejudge` and `sensitivity` below the command line: a scene's refinement
 //! study (its rate tables printed, or a box's reports written), a box study's findings judged
-//! again from its committed file, and a bar's round-off ensembles, held to their limits, their
+//! again from its committed file, and a scene's round-off ensembles, held to their limits, their
 //! jobs handed to the executor they are given.
 
 use std::path::{Path, PathBuf};
 
 use super::reference_run::cache_is_a_directory;
+use crate::commands::command_error::CommandError;
 use crate::commands::sharding::outputs::{complete_or_write, shard_output, Destination, Received};
 use crate::harness::files::output_dir::{Replace, StagedDir};
-use crate::harness::problem::MassVariant;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
+use crate::harness::reference::scene_sensitivity::SceneSensitivity;
 use crate::harness::reference::scene_study::{SceneStudy, StudyChoices};
-use crate::harness::study::budget::{self, Limits};
+use crate::harness::study::budget::Limits;
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
-use crate::harness::study::sensitivity::{run_sensitivity_on, EnsembleConfig};
+use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::shard::Invocation;
-use crate::harness::study::Case;
-use crate::studies::command_error::CommandError;
 use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::rejudge;
 use crate::studies::error::Error;
@@ -120,37 +119,55 @@ pub fn rejudge(scene: &Path, out: &Path) -> Result<String, CommandError> {
     ))
 }
 
-/// `signorini sensitivity`: the round-off ensembles of `members` members (noise of relative
-/// size `amplitude`) of every case and level of the bar scene `scene`, into `out`.
+/// A sensitivity study as the user asked for it.
+pub struct SensitivityRequest {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The members and their noise.
+    pub ensemble: EnsembleConfig,
+    /// Where sensitivity.md and sensitivity.json go (or a shard's file).
+    pub out: PathBuf,
+    /// A box's reference cache, when given (default: OUT/data/references).
+    pub cache: Option<PathBuf>,
+    /// The limits it is held to.
+    pub limits: Limits,
+}
+
+/// `signorini sensitivity`: the round-off ensembles of every case and level of the scene's
+/// study, a bar's or a box's ([`SceneSensitivity`]), into `out`.
 pub fn sensitivity(
-    scene: &Path,
-    ensemble: EnsembleConfig,
-    out: &Path,
-    limits: &Limits,
+    request: SensitivityRequest,
     executor: &Executor,
     invocation: &Invocation,
 ) -> Result<String, CommandError> {
-    let scene = Scene::load(scene)?;
-    let problem = scene.bar_problem(
-        "bar1d scenes: the sensitivity command is for them (a box scene's ensemble is its \
-         discretisation.sensitivity, run by `signorini study`)",
-    )?;
-    let cases = Case::matrix(&scene.default_schemes(), &MassVariant::PAPER);
-    let norms = &scene.observables.norms;
-    let config = scene.study_config();
-    let runs_per_job = ensemble.perturbed_members() as f64 + 1.0;
-    let jobs = budget::jobs_per_level(&config.levels, cases.len(), executor);
-    let runs: Vec<f64> = jobs.iter().map(|j| j * runs_per_job).collect();
-    budget::bar_study(&problem, &config.levels, config.ratio, &runs)
-        .check(limits)
+    let SensitivityRequest {
+        scene,
+        ensemble,
+        out,
+        cache,
+        limits,
+    } = request;
+    let scene = Scene::load(&scene)?;
+    let choices = StudyChoices {
+        linear_solver: scene.settings().linear_solver,
+        ..StudyChoices::default()
+    };
+    let sensitivity = SceneSensitivity::of(SceneStudy::of(&scene, choices)?, ensemble)?;
+    let cache = ReferenceCache::ReadWrite(cache.unwrap_or_else(|| out.join(REFERENCE_CACHE)));
+    if sensitivity.study().has_reference() {
+        cache_is_a_directory(cache.dir())?;
+    }
+    sensitivity
+        .estimate(executor)
+        .check(&limits)
         .map_err(Error::from)?;
-    let destination = Destination::begin(executor, out)?;
-    let executed = run_sensitivity_on(executor, &problem, &cases, norms, &config, ensemble)?;
+    let destination = Destination::begin(executor, &out)?;
+    let executed = sensitivity.run_on(executor, &cache, &mut |why| progress::note(&why))?;
     let (s, staged) = match destination.receive(executed, invocation)? {
         Received::Complete(value) => value,
         Received::ShardWritten(line) => return Ok(line),
     };
-    write_sensitivity_files(&s, staged.path())?;
+    write_sensitivity_files(&s, sensitivity.initial_noise(), staged.path())?;
     staged.commit()?;
     let mut said = s.class_lines();
     let o = out.display();

@@ -1,6 +1,7 @@
 //! `signorini verify`: another code's runs of a scene checked with the harness's norms and
 //! rates (its back-end: [`verify_run`]); `signorini league`: the verifications side by side.
 
+mod league_run;
 mod verify_run;
 
 use std::path::PathBuf;
@@ -13,7 +14,7 @@ use super::options::{parsed, REPORTS};
 use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::Code;
 use crate::harness::problem::{MassVariant, Scheme};
-use crate::studies::league::write_league;
+use league_run::write_league;
 use verify_run::{verify, VerifyRequest};
 
 /// The arguments of `signorini verify`.

@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::commands::command_error::CommandError;
 use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::verify::fine_mesh::ReferenceSource;
@@ -18,7 +19,6 @@ use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::study::budget::{self, Estimate, Limits};
 use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
-use crate::studies::command_error::CommandError;
 use crate::studies::elastic_study::external::{judged, render};
 use crate::studies::error::Error;
 use crate::studies::reports_index::REPORT_REFERENCES;

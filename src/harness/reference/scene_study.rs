@@ -24,6 +24,7 @@ use crate::harness::study::budget::{self, Estimate};
 use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executed, Executor};
 use crate::harness::study::scene::Scene;
+use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::{run_study_on, Case, Study, StudyConfig};
 
 /// What a user chooses over a scene's study; each empty list or `None` keeps the scene's.
@@ -238,20 +239,34 @@ impl SceneStudy {
 
     /// The estimate of what `executor` computes of the study here ([`budget`]).
     pub fn estimate(&self, executor: &Executor) -> Estimate {
+        self.estimate_with(executor, None)
+    }
+
+    /// [`SceneStudy::estimate`] with every job also running the members of `ensemble` (a
+    /// box's own `discretisation.sensitivity` when `None`).
+    pub(super) fn estimate_with(
+        &self,
+        executor: &Executor,
+        ensemble: Option<EnsembleConfig>,
+    ) -> Estimate {
         match self {
             Self::Exact {
                 problem,
                 cases,
                 config,
                 ..
-            } => budget::bar_study(
-                problem,
-                &config.levels,
-                config.ratio,
-                &budget::jobs_per_level(&config.levels, cases.len(), executor),
-            ),
+            } => {
+                let runs_per_job = ensemble.map_or(0, |e| e.perturbed_members()) as f64 + 1.0;
+                let runs: Vec<f64> = budget::jobs_per_level(&config.levels, cases.len(), executor)
+                    .iter()
+                    .map(|jobs| jobs * runs_per_job)
+                    .collect();
+                budget::bar_study(problem, &config.levels, config.ratio, &runs)
+            }
             Self::FineMesh { problem, config } => {
-                let members = config.sensitivity.map_or(0, |e| e.perturbed_members());
+                let members = ensemble
+                    .or(config.sensitivity)
+                    .map_or(0, |e| e.perturbed_members());
                 budget::box_study(
                     problem,
                     &config.settings,

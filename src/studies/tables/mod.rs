@@ -21,7 +21,9 @@ use crate::harness::problem::Settings;
 use crate::harness::reference::exact::run_study;
 use crate::harness::render::report::convergence_tables;
 use crate::harness::run::norms::Norm;
-use crate::harness::study::sensitivity::{run_sensitivity, EnsembleConfig, Sensitivity};
+use crate::harness::study::sensitivity::{
+    run_sensitivity, EnsembleConfig, InitialNoise, Sensitivity,
+};
 use crate::harness::study::verdicts::oscillation_word;
 use crate::harness::study::{Case, Study, StudyConfig};
 use crate::studies::benchmark::dirichlet;
@@ -52,7 +54,8 @@ pub const SENSITIVITY_JSON: &str = "sensitivity.json";
 /// the horizon: three periods.
 pub const LONGER_HORIZON: f64 = 9.0;
 
-/// The level whose predictability horizon and separation growth `sensitivity.md` shows.
+/// The level whose predictability horizon and separation growth `sensitivity.md` shows (the
+/// paper's NX = 80); a study without it shows its finest level.
 const SENSITIVITY_SHOWN_LEVEL: usize = 80;
 
 /// The Tables 1–2 study with the default levels, ratio and horizon: the paper's cases and the
@@ -268,11 +271,21 @@ pub fn tables_sensitivity_under(
     )?)
 }
 
-/// Writes `sensitivity.md` and `sensitivity.json` of `s` into `out_dir`.
-pub fn write_sensitivity_files(s: &Sensitivity, out_dir: &Path) -> Result<(), Error> {
+/// Writes `sensitivity.md` and `sensitivity.json` of `s`, whose members' initial noise is on
+/// `noise`, into `out_dir`.
+pub fn write_sensitivity_files(
+    s: &Sensitivity,
+    noise: InitialNoise,
+    out_dir: &Path,
+) -> Result<(), Error> {
+    let levels = &s.config.levels;
+    let shown = match levels.last() {
+        Some(&finest) if !levels.contains(&SENSITIVITY_SHOWN_LEVEL) => finest,
+        _ => SENSITIVITY_SHOWN_LEVEL,
+    };
     write_atomic(
         &out_dir.join(SENSITIVITY_MD),
-        crate::harness::study::sensitivity::render(s, SENSITIVITY_SHOWN_LEVEL).as_bytes(),
+        crate::harness::study::sensitivity::render(s, shown, noise).as_bytes(),
     )?;
     write_json(&out_dir.join(SENSITIVITY_JSON), s)?;
     Ok(())

@@ -1,0 +1,73 @@
+//! `signorini league` below the command line: every `<dir>/<entry>/verify.json` read (as
+//! `signorini verify --out <dir>/<entry>` writes it), the league of them built by its report
+//! section ([`League::of`]) and written, `league.md` and `league.json`, into a staged `--out`.
+
+use std::path::{Path, PathBuf};
+
+use crate::commands::command_error::CommandError;
+use crate::harness::external::ExternalError;
+use crate::harness::files::artifacts::{write_atomic, write_json};
+use crate::harness::files::input::{read_json, Limit};
+use crate::harness::files::output_dir::{Replace, StagedDir};
+use crate::studies::elastic_study::external::JudgedVerification;
+use crate::studies::league::{render, League};
+
+/// The file each entry directory holds.
+const VERIFY_JSON: &str = "verify.json";
+
+/// A verify.json, as read (64 MiB at most).
+const VERIFY_FILE: Limit = Limit {
+    what: "verification",
+    max_bytes: 64 << 20,
+};
+
+/// Reads every `<dir>/<entry>/verify.json` (entries by name); a directory that cannot be read
+/// or holds none is refused, saying how to write one.
+fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, CommandError> {
+    let listing = std::fs::read_dir(dir).map_err(|e| {
+        CommandError::Refused(format!(
+            "cannot read the league's directory {}: {e}",
+            dir.display()
+        ))
+    })?;
+    let mut files: Vec<(String, PathBuf)> = listing
+        .filter_map(Result::ok)
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .map(|(name, path)| (name, path.join(VERIFY_JSON)))
+        .filter(|(_, file)| file.is_file())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(CommandError::Refused(format!(
+            "{} holds no <entry>/{VERIFY_JSON}: write one with `signorini verify SCENE RUN... \
+             --out {}/<entry>`",
+            dir.display(),
+            dir.display()
+        )));
+    }
+    files
+        .into_iter()
+        .map(|(name, file)| {
+            let v: JudgedVerification = read_json(&file, VERIFY_FILE)
+                .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
+            Ok((name, v))
+        })
+        .collect()
+}
+
+/// Reads the league under `dir` and writes `league.md` and `league.json` into `out`; tells
+/// `say` what it wrote.
+pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result<(), CommandError> {
+    let league = League::of(&read_entries(dir)?);
+    let staged = StagedDir::begin("--out", out, Replace::Files)?;
+    write_json(&staged.path().join("league.json"), &league)?;
+    write_atomic(&staged.path().join("league.md"), render(&league).as_bytes())?;
+    staged.commit()?;
+    let rows: usize = league.entries.iter().map(|e| e.rows.len()).sum();
+    say(&format!(
+        "wrote {}/league.md and league.json ({} entries, {rows} series)",
+        out.display(),
+        league.entries.len()
+    ));
+    Ok(())
+}
