@@ -336,5 +336,31 @@ fn the_sensitivity_command_on_a_box_scene_is_the_ensemble_of_its_study() {
     );
     let md = std::fs::read_to_string(Path::new(&out).join("sensitivity.md")).unwrap();
     assert!(md.contains("parting step at NX = 8"), "{md}");
+
+    // Its two shards, merged, write the same classes and numbers.
+    let shards: Vec<String> = (1..=2)
+        .map(|k| {
+            let (spec, shard_out) = (format!("{k}/2"), text(dir.join(format!("s{k}"))));
+            run(&[
+                "sensitivity",
+                &scene,
+                "--members",
+                "2",
+                "--cache",
+                &refs,
+                "--shard",
+                &spec,
+                "--out",
+                &shard_out,
+            ]);
+            text(Path::new(&shard_out).join(format!("shard-sensitivity-{k}-of-2.json")))
+        })
+        .collect();
+    let merged = text(dir.join("merged"));
+    run(&["merge", "--out", &merged, &shards[0], &shards[1]]);
+    assert_eq!(
+        without_wall_seconds(read(Path::new(&merged).join("sensitivity.json"))),
+        without_wall_seconds(read(Path::new(&out).join("sensitivity.json")))
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
