@@ -1,0 +1,288 @@
+#!/usr/bin/python3
+"""DOLFINx's matrices of the 2D bar (``scenes/bar2d.json``), stepped with an exact nodal contact
+solve and written every step with ``dolfinx.io.VTKFile``, as external runs.
+
+Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
+
+    apt-get install -y python3-dolfinx
+    /usr/bin/python3 scripts/dolfinx_bar2d.py --level 10 20 --scheme crank-nicolson \
+        --mass standard --out target/dolfinx-runs
+
+For each LEVEL it writes the ParaView collection
+``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, for
+``signorini verify scenes/bar2d.json RUN.pvd --code dolfinx --code-version 0.5.2 --scheme
+<scheme> --mass <mass> --velocity velocity --multiplier contact_multiplier``. It prints one line
+per run: the steps, the energy at t = 0 and t = T, the largest total contact force and the
+largest complementarity product.
+
+**The discrete problem** is the harness's ``signorini run scenes/bar2d.json --scheme <scheme>
+--mass <mass> --nx LEVEL`` and GetFEM's (/work/shared/validation/getfem2d/README.md):
+
+- the bar [0, 0.1] × [0, 1], ``dolfinx.mesh.create_rectangle`` with ``CellType.quadrilateral``,
+  LEVEL elements along x2 and round(0.1 LEVEL) across; the space Q1 (``VectorFunctionSpace``
+  ("Lagrange", 1)), plane strain σ = 2μ ε(u) + λ tr ε(u) I with λ = 0.25, μ = 0.5, density 1;
+  the forms integrated with 2 × 2 Gauss points (``quadrature_degree`` 2) and assembled by
+  ``dolfinx.fem.petsc.assemble_matrix`` without boundary conditions, then read into scipy;
+- the mass ``standard`` (consistent, over every cell) or ``redistributed`` (the paper's M^mod:
+  over the cells that do not touch x2 = 0, so both components of every contact node are
+  massless), the stiffness S;
+- the face x2 = 1 clamped: its dofs are removed from the unknowns (kept at 0 in the files);
+- the rigid obstacle 0.2 below the face x2 = 0: one constraint per node of that face on its
+  u2 dof, u2 + 0.2 ≥ 0, nodal force −λ e2 with λ ≤ 0, u2 + 0.2 = 0 where λ < 0;
+- Δt = 1/(2 LEVEL) (ratio Δx/Δt = 2), 4 LEVEL steps to T = 2; U⁰ = 0, V⁰ = −0.5 e2 on every
+  node off the clamped face (0 on it), A⁰ from M_RR A_R = −(S U⁰)_R (so A⁰ = 0).
+
+**The schemes** are the harness's one-step form (src/engine/schemes/one_step.rs):
+
+    U^{n+1} = U^n + Δt V^n + Δt² (a A^n + b A^{n+1})
+    V^{n+1} = V^n + Δt (c A^n + d A^{n+1})
+    M A^{n+1} + S U^{n+1} = −Bᵀλ^{n+1},   0 ≤ B U^{n+1} + g ⟂ λ^{n+1} ≤ 0
+
+with (a, b, c, d) = (¼, ¼, ½, ½) for ``crank-nicolson`` (Newmark β = ¼, γ = ½) and (0, 1, 0, 1)
+for ``backward-euler`` (θ = 1). Each step solves (M / (bΔt²) + S) U^{n+1} = M P / (bΔt²) −
+Bᵀλ^{n+1}, P = U^n + ΔtV^n + aΔt²A^n, by one sparse LU of the step matrix: the free solve
+U_free, the Delassus matrix W = B (M / (bΔt²) + S)⁻¹ Bᵀ, and the linear complementarity
+problem μ = −λ ≥ 0, y = B U_free + g + W μ ≥ 0, μᵀy = 0 on the contact dofs, solved exactly
+by Murty's least-index principal pivoting (finite for the positive definite W). Then
+A^{n+1} = (U^{n+1} − P) / (bΔt²) and V^{n+1} from the second line, on every dof (massless
+ones included). The multiplier at t = 0 is 0 (the bar starts 0.2 above the obstacle).
+
+**What DOLFINx 0.5.2 writes** (``VTKFile(comm, path, "w").write_function([u, v, lam], t)`` at
+every t_n = n Δt, n = 0 … 4 LEVEL, on one process; the files are left as DOLFINx wrote them):
+
+- ``<stem>.pvd``: ``<VTKFile type="Collection" version="1.0">`` with no ``byte_order``; one
+  ``<DataSet timestep="…" part="0" file="<stem>NNNNNN.pvtu" />`` per write, the time printed
+  with 17 significant digits (``0.050000000000000003``);
+- ``<stem>NNNNNN.pvtu``: a ``PUnstructuredGrid`` (version 1.0, no ``byte_order``,
+  ``GhostLevel="1"``) even on one process, whose ``Piece Source="<stem>_p0_NNNNNN.vtu"`` is
+  listed three times (once per function written) for the same piece; its ``PPointData``
+  declares ``vtkOriginalPointIds`` (Int64), ``vtkGhostType`` (UInt8), ``displacement`` and
+  ``velocity`` (Float64, ``NumberOfComponents="3"``) and ``contact_multiplier`` (Float64,
+  ``NumberOfComponents="0"``);
+- ``<stem>_p0_NNNNNN.vtu``: an ``UnstructuredGrid`` of version ``2.2`` with no ``byte_order``
+  and no ``header_type``, every array inline ASCII (``format="ascii"``), doubles printed to
+  round-trip; the points in DOLFINx's own order (not x1-fastest), Float64 with three
+  components (x3 = 0) and coordinates off by up to 1.1e-17 (``1.110223024625157e-17`` for
+  0); cells of VTK type 70 (Lagrange quadrilateral) with Int32 connectivity and offsets;
+  cell data ``vtkGhostType`` and ``vtkOriginalCellIds``; point data ``vtkOriginalPointIds``,
+  ``vtkGhostType``, then the functions by their names: ``displacement`` and ``velocity``
+  padded to three components (the third 0), ``contact_multiplier`` one component with no
+  ``NumberOfComponents`` attribute (λ_i ≤ 0 on the contact nodes, 0 elsewhere).
+"""
+
+import argparse
+import logging
+import pathlib
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+import ufl
+from mpi4py import MPI
+
+import dolfinx
+import dolfinx.fem
+import dolfinx.fem.petsc
+import dolfinx.io
+import dolfinx.mesh
+
+LENGTHS = (0.1, 1.0)
+DENSITY = 1.0
+LAME_LAMBDA = 0.25
+LAME_MU = 0.5
+GAP = 0.2
+INITIAL_VELOCITY = -0.5
+HORIZON = 2.0
+RATIO = 2.0
+QUADRATURE = {"quadrature_degree": 2}
+SCHEMES = {
+    "crank-nicolson": (0.25, 0.25, 0.5, 0.5),
+    "backward-euler": (0.0, 1.0, 0.0, 1.0),
+}
+MASSES = ("standard", "redistributed")
+COORDINATE_TOLERANCE = 1e-9
+
+
+def to_scipy(form):
+    """The matrix of a bilinear form assembled by DOLFINx (PETSc AIJ), as a scipy CSR matrix."""
+    matrix = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(form))
+    matrix.assemble()
+    indptr, indices, values = matrix.getValuesCSR()
+    return scipy.sparse.csr_matrix((values, indices, indptr), shape=matrix.getSize())
+
+
+def solve_lcp(w, q):
+    """μ ≥ 0 with y = q + W μ ≥ 0 and μᵀy = 0, by Murty's least-index principal pivoting.
+
+    W is positive definite (a Delassus matrix), so the method ends after finitely many pivots
+    with the unique solution; the active set's μ solves W_JJ μ_J = −q_J exactly and the other
+    μ_i are 0, so μ_i y_i is 0 up to the round-off of that solve.
+    """
+    n = q.size
+    scale = max(np.abs(q).max(), 1.0)
+    active = np.zeros(n, dtype=bool)
+    for _ in range(2**n + n + 1):
+        mu = np.zeros(n)
+        if active.any():
+            mu[active] = np.linalg.solve(w[np.ix_(active, active)], -q[active])
+        y = q + w @ mu
+        violated = np.flatnonzero(
+            (active & (mu < -1e-15 * scale)) | (~active & (y < -1e-15 * scale))
+        )
+        if violated.size == 0:
+            mu[~active] = 0.0
+            return mu
+        active[violated[0]] = not active[violated[0]]
+    raise RuntimeError("the contact LCP did not converge")
+
+
+class Bar:
+    """The bar at one level: DOLFINx's mesh, spaces and matrices, with the clamped dofs removed."""
+
+    def __init__(self, level, mass):
+        self.level = level
+        n1 = round(LENGTHS[0] * level)
+        self.mesh = dolfinx.mesh.create_rectangle(
+            MPI.COMM_WORLD,
+            [np.array([0.0, 0.0]), np.array(LENGTHS)],
+            [n1, level],
+            dolfinx.mesh.CellType.quadrilateral,
+        )
+        self.vector_space = dolfinx.fem.VectorFunctionSpace(self.mesh, ("Lagrange", 1))
+        self.scalar_space = dolfinx.fem.FunctionSpace(self.mesh, ("Lagrange", 1))
+        h = LENGTHS[1] / level
+
+        u = ufl.TrialFunction(self.vector_space)
+        w = ufl.TestFunction(self.vector_space)
+        gdim = self.mesh.geometry.dim
+
+        def strain(f):
+            return ufl.sym(ufl.grad(f))
+
+        def stress(f):
+            return 2.0 * LAME_MU * strain(f) + LAME_LAMBDA * ufl.tr(strain(f)) * ufl.Identity(gdim)
+
+        dx = ufl.Measure("dx", domain=self.mesh, metadata=QUADRATURE)
+        stiffness = to_scipy(ufl.inner(stress(u), strain(w)) * dx)
+        if mass == "standard":
+            mass_dx = dx
+        else:
+            tdim = self.mesh.topology.dim
+            away = dolfinx.mesh.locate_entities(self.mesh, tdim, lambda x: x[1] > 0.5 * h)
+            tags = dolfinx.mesh.meshtags(
+                self.mesh, tdim, away, np.ones(away.size, dtype=np.int32)
+            )
+            mass_dx = ufl.Measure(
+                "dx", domain=self.mesh, subdomain_data=tags, metadata=QUADRATURE
+            )(1)
+        mass_matrix = to_scipy(DENSITY * ufl.inner(u, w) * mass_dx)
+
+        nodes = self.scalar_space.tabulate_dof_coordinates()
+        block = self.vector_space.dofmap.index_map_bs
+        clamped_nodes = np.flatnonzero(np.abs(nodes[:, 1] - LENGTHS[1]) < COORDINATE_TOLERANCE)
+        self.contact_nodes = np.flatnonzero(np.abs(nodes[:, 1]) < COORDINATE_TOLERANCE)
+        self.contact_nodes = self.contact_nodes[np.argsort(nodes[self.contact_nodes, 0])]
+        n_dofs = nodes.shape[0] * block
+        clamped = np.zeros(n_dofs, dtype=bool)
+        for k in range(block):
+            clamped[block * clamped_nodes + k] = True
+        self.free = np.flatnonzero(~clamped)
+        position = np.full(n_dofs, -1)
+        position[self.free] = np.arange(self.free.size)
+        self.contact = position[block * self.contact_nodes + 1]
+        self.mass = mass_matrix[self.free][:, self.free].tocsc()
+        self.stiffness = stiffness[self.free][:, self.free].tocsc()
+        self.dofs_with_mass = np.flatnonzero(np.abs(self.mass).sum(axis=1).A1 > 0.0)
+        velocity = np.zeros(n_dofs)
+        velocity[1::block] = INITIAL_VELOCITY
+        self.initial_velocity = velocity[self.free]
+
+    def initial_acceleration(self, displacement):
+        """A⁰ from M_RR A_R = −(S U⁰)_R on the dofs with mass, 0 on the massless ones."""
+        r = self.dofs_with_mass
+        acceleration = np.zeros(self.free.size)
+        m_rr = self.mass[r][:, r].tocsc()
+        acceleration[r] = scipy.sparse.linalg.spsolve(m_rr, -(self.stiffness @ displacement)[r])
+        return acceleration
+
+    def energy(self, displacement, velocity):
+        """½ VᵀMV + ½ UᵀSU with this run's mass."""
+        return 0.5 * velocity @ (self.mass @ velocity) + 0.5 * displacement @ (
+            self.stiffness @ displacement
+        )
+
+
+def run(level, scheme, mass, out):
+    """Steps the bar at LEVEL and writes every t_n with VTKFile; returns a one-line summary."""
+    a, b, c, d = SCHEMES[scheme]
+    bar = Bar(level, mass)
+    dt = LENGTHS[1] / level / RATIO
+    steps = round(HORIZON / dt)
+    step_matrix = (bar.mass / (b * dt * dt) + bar.stiffness).tocsc()
+    solve = scipy.sparse.linalg.factorized(step_matrix)
+    unit = np.zeros((bar.free.size, bar.contact.size))
+    unit[bar.contact, np.arange(bar.contact.size)] = 1.0
+    response = np.column_stack([solve(unit[:, k]) for k in range(bar.contact.size)])
+    delassus = response[bar.contact]
+
+    u_field = dolfinx.fem.Function(bar.vector_space)
+    u_field.name = "displacement"
+    v_field = dolfinx.fem.Function(bar.vector_space)
+    v_field.name = "velocity"
+    lam_field = dolfinx.fem.Function(bar.scalar_space)
+    lam_field.name = "contact_multiplier"
+
+    displacement = np.zeros(bar.free.size)
+    velocity = bar.initial_velocity.copy()
+    acceleration = bar.initial_acceleration(displacement)
+    multipliers = np.zeros(bar.contact.size)
+    energies = [bar.energy(displacement, velocity)]
+    largest_force = 0.0
+    complementarity = 0.0
+
+    stem = f"dolfinx-bar2d-{scheme}-{mass}-level{level}"
+    path = out / f"{stem}.pvd"
+    with dolfinx.io.VTKFile(bar.mesh.comm, str(path), "w") as vtk:
+        for n in range(steps + 1):
+            if n > 0:
+                predictor = displacement + dt * velocity + a * dt * dt * acceleration
+                free = solve(bar.mass @ predictor / (b * dt * dt))
+                mu = solve_lcp(delassus, free[bar.contact] + GAP)
+                new_displacement = free + response @ mu
+                new_acceleration = (new_displacement - predictor) / (b * dt * dt)
+                velocity = velocity + dt * (c * acceleration + d * new_acceleration)
+                displacement, acceleration, multipliers = new_displacement, new_acceleration, -mu
+                gaps = displacement[bar.contact] + GAP
+                complementarity = max(complementarity, np.abs(gaps * multipliers).max())
+                largest_force = max(largest_force, abs(multipliers.sum()))
+                energies.append(bar.energy(displacement, velocity))
+            u_field.x.array[:] = 0.0
+            u_field.x.array[bar.free] = displacement
+            v_field.x.array[:] = 0.0
+            v_field.x.array[bar.free] = velocity
+            lam_field.x.array[:] = 0.0
+            lam_field.x.array[bar.contact_nodes] = multipliers
+            vtk.write_function([u_field, v_field, lam_field], n * dt)
+    return (
+        f"{path}: {steps} steps, energy {energies[0]:.6e} → {energies[-1]:.6e}, "
+        f"largest total contact force {largest_force:.4e}, complementarity {complementarity:.1e}"
+    )
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--level", type=int, nargs="+", default=[10, 20])
+    parser.add_argument("--scheme", choices=sorted(SCHEMES), default="crank-nicolson")
+    parser.add_argument("--mass", choices=MASSES, default="standard")
+    parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("target/dolfinx-runs"))
+    args = parser.parse_args()
+    if MPI.COMM_WORLD.size != 1:
+        parser.error("runs on one process (the contact solve uses the whole matrices)")
+    logging.getLogger().setLevel(logging.WARNING)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for level in args.level:
+        print(run(level, args.scheme, args.mass, args.out), flush=True)
+
+
+if __name__ == "__main__":
+    main()
