@@ -9,11 +9,24 @@ Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
         --mass standard --out target/dolfinx-runs
 
 For each LEVEL it writes the ParaView collection
-``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, for
-``signorini verify scenes/bar2d.json RUN.pvd --code dolfinx --code-version 0.5.2 --scheme
+``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, meant
+(issue 52) for ``signorini verify scenes/bar2d.json RUN.pvd --code dolfinx --code-version 0.5.2 --scheme
 <scheme> --mass <mass> --velocity velocity --multiplier contact_multiplier``. It prints one line
 per run: the steps, the energy at t = 0 and t = T, the largest total contact force and the
-largest complementarity product.
+largest complementarity product; with ``--getfem DIR`` (GetFEM's runs of the same problem,
+/work/shared/validation/getfem2d) also the largest differences from GetFEM's run of the same
+scheme, mass and level: the contact nodes' u2 and multipliers and the total force at every
+step, every node's displacement and velocity at T.
+
+**Checked** at levels 10 and 20, both schemes, both masses (largest differences over every
+step, all in Crank–Nicolson with the standard mass at level 20, which amplifies round-off; the
+largest of the other seven runs in brackets). Against GetFEM (``--getfem``): contact u2
+2.8e-13 (2.9e-14), multipliers 5.5e-13 (1.4e-14), total force 1.2e-12 (2.4e-14),
+displacement at T 1.7e-13 (1.1e-14), velocity at T 6.1e-12 (5.6e-13). Against ``signorini run
+scenes/bar2d.json --scheme S --mass M --nx LEVEL --fields-every-step`` (its .vtu and the files
+written here read back, the latter through .pvd → .pvtu → _p0_ .vtu, nodes matched by
+coordinates): displacement of every node 1.8e-13 (2.2e-14), velocity 7.6e-12 (3.1e-13), total
+force 6.5e-13 (4.5e-15).
 
 **The discrete problem** is the harness's ``signorini run scenes/bar2d.json --scheme <scheme>
 --mass <mass> --nx LEVEL`` and GetFEM's (/work/shared/validation/getfem2d/README.md):
@@ -55,22 +68,26 @@ every t_n = n Δt, n = 0 … 4 LEVEL, on one process; the files are left as DOLF
   with 17 significant digits (``0.050000000000000003``);
 - ``<stem>NNNNNN.pvtu``: a ``PUnstructuredGrid`` (version 1.0, no ``byte_order``,
   ``GhostLevel="1"``) even on one process, whose ``Piece Source="<stem>_p0_NNNNNN.vtu"`` is
-  listed three times (once per function written) for the same piece; its ``PPointData``
+  listed once per function written (three times here) for the same piece; its ``PPointData``
   declares ``vtkOriginalPointIds`` (Int64), ``vtkGhostType`` (UInt8), ``displacement`` and
   ``velocity`` (Float64, ``NumberOfComponents="3"``) and ``contact_multiplier`` (Float64,
   ``NumberOfComponents="0"``);
 - ``<stem>_p0_NNNNNN.vtu``: an ``UnstructuredGrid`` of version ``2.2`` with no ``byte_order``
-  and no ``header_type``, every array inline ASCII (``format="ascii"``), doubles printed to
-  round-trip; the points in DOLFINx's own order (not x1-fastest), Float64 with three
-  components (x3 = 0) and coordinates off by up to 1.1e-17 (``1.110223024625157e-17`` for
-  0); cells of VTK type 70 (Lagrange quadrilateral) with Int32 connectivity and offsets;
-  cell data ``vtkGhostType`` and ``vtkOriginalCellIds``; point data ``vtkOriginalPointIds``,
-  ``vtkGhostType``, then the functions by their names: ``displacement`` and ``velocity``
-  padded to three components (the third 0), ``contact_multiplier`` one component with no
-  ``NumberOfComponents`` attribute (λ_i ≤ 0 on the contact nodes, 0 elsewhere).
+  and no ``header_type``, every array inline ASCII (``format="ascii"``), the doubles printed
+  with 16 significant digits (not always the bits DOLFINx held); the points in DOLFINx's own
+  order (not x1-fastest), Float64 with three components (x3 = 0), off the grid by up to
+  1.1e-16 (``0.2000000000000001``, ``1.110223024625157e-17`` for 0); cells of VTK type 70
+  (Lagrange quadrilateral) with Int32 connectivity and offsets; cell data ``vtkGhostType``
+  and ``vtkOriginalCellIds``; ``<PointData Vectors="velocity"
+  Scalars="contact_multiplier">`` with ``vtkOriginalPointIds``, ``vtkGhostType``, then the
+  functions by their names: ``displacement`` and ``velocity`` padded to three components (the
+  third 0), ``contact_multiplier`` one component with no ``NumberOfComponents`` attribute
+  (λ_i ≤ 0 on the contact nodes, 0 elsewhere).
 """
 
 import argparse
+import gzip
+import json
 import logging
 import pathlib
 
@@ -178,6 +195,8 @@ class Bar:
         mass_matrix = to_scipy(DENSITY * ufl.inner(u, w) * mass_dx)
 
         nodes = self.scalar_space.tabulate_dof_coordinates()
+        if not np.array_equal(self.vector_space.tabulate_dof_coordinates(), nodes):
+            raise RuntimeError("the vector and scalar Q1 spaces number the nodes differently")
         block = self.vector_space.dofmap.index_map_bs
         clamped_nodes = np.flatnonzero(np.abs(nodes[:, 1] - LENGTHS[1]) < COORDINATE_TOLERANCE)
         self.contact_nodes = np.flatnonzero(np.abs(nodes[:, 1]) < COORDINATE_TOLERANCE)
@@ -212,8 +231,9 @@ class Bar:
         )
 
 
-def run(level, scheme, mass, out):
-    """Steps the bar at LEVEL and writes every t_n with VTKFile; returns a one-line summary."""
+def run(level, scheme, mass, out, getfem):
+    """Steps the bar at LEVEL and writes every t_n with VTKFile; returns a summary (and the
+    differences from GetFEM's run in the directory GETFEM unless it is None)."""
     a, b, c, d = SCHEMES[scheme]
     bar = Bar(level, mass)
     dt = LENGTHS[1] / level / RATIO
@@ -237,6 +257,7 @@ def run(level, scheme, mass, out):
     acceleration = bar.initial_acceleration(displacement)
     multipliers = np.zeros(bar.contact.size)
     energies = [bar.energy(displacement, velocity)]
+    history = [(displacement[bar.contact].copy(), multipliers.copy())]
     largest_force = 0.0
     complementarity = 0.0
 
@@ -256,6 +277,7 @@ def run(level, scheme, mass, out):
                 complementarity = max(complementarity, np.abs(gaps * multipliers).max())
                 largest_force = max(largest_force, abs(multipliers.sum()))
                 energies.append(bar.energy(displacement, velocity))
+                history.append((displacement[bar.contact].copy(), multipliers.copy()))
             u_field.x.array[:] = 0.0
             u_field.x.array[bar.free] = displacement
             v_field.x.array[:] = 0.0
@@ -263,9 +285,48 @@ def run(level, scheme, mass, out):
             lam_field.x.array[:] = 0.0
             lam_field.x.array[bar.contact_nodes] = multipliers
             vtk.write_function([u_field, v_field, lam_field], n * dt)
-    return (
+    summary = (
         f"{path}: {steps} steps, energy {energies[0]:.6e} → {energies[-1]:.6e}, "
         f"largest total contact force {largest_force:.4e}, complementarity {complementarity:.1e}"
+    )
+    if getfem is None:
+        return summary
+    final = (u_field, v_field)
+    return summary + "\n  " + compare_with_getfem(bar, scheme, mass, history, final, getfem)
+
+
+def compare_with_getfem(bar, scheme, mass, history, final, directory):
+    """The largest differences from GetFEM's run of the same configuration (its README's format):
+    the contact nodes' u2 and multipliers and the total force at every step, the displacement
+    and velocity of every node at T."""
+    path = directory / f"getfem2d_{scheme}_{mass}_nx{bar.level}.json.gz"
+    with gzip.open(path, "rt") as file:
+        getfem = json.load(file)
+    rows = getfem["history"]
+    if len(rows["time"]) != len(history):
+        raise SystemExit(f"{path}: {len(rows['time'])} samples, this run {len(history)}")
+    u2 = max(
+        np.abs(ours - np.array(theirs)).max()
+        for (ours, _), theirs in zip(history, rows["contact_u2"])
+    )
+    multiplier = max(
+        np.abs(ours - np.array(theirs)).max()
+        for (_, ours), theirs in zip(history, rows["multipliers"])
+    )
+    force = max(
+        abs(ours.sum() - theirs) for (_, ours), theirs in zip(history, rows["total_force"])
+    )
+    nodes = bar.scalar_space.tabulate_dof_coordinates()[:, :2]
+    h = np.array([LENGTHS[0] / round(LENGTHS[0] * bar.level), LENGTHS[1] / bar.level])
+    grid = np.rint(nodes / h).astype(int)
+    order = np.lexsort((grid[:, 0], grid[:, 1]))
+    fields = []
+    for field, name in zip(final, ("displacement", "velocity")):
+        ours = field.x.array.reshape(-1, 2)[order]
+        fields.append(np.abs(ours - np.array(getfem["final"][name])).max())
+    return (
+        f"vs {path.name}: contact u2 {u2:.2e}, multipliers {multiplier:.2e}, total force "
+        f"{force:.2e} (every step); displacement {fields[0]:.2e}, velocity {fields[1]:.2e} (at T)"
     )
 
 
@@ -275,13 +336,18 @@ def main():
     parser.add_argument("--scheme", choices=sorted(SCHEMES), default="crank-nicolson")
     parser.add_argument("--mass", choices=MASSES, default="standard")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("target/dolfinx-runs"))
+    parser.add_argument(
+        "--getfem",
+        type=pathlib.Path,
+        help="compare with GetFEM's runs there (getfem2d_<scheme>_<mass>_nx<LEVEL>.json.gz)",
+    )
     args = parser.parse_args()
     if MPI.COMM_WORLD.size != 1:
         parser.error("runs on one process (the contact solve uses the whole matrices)")
     logging.getLogger().setLevel(logging.WARNING)
     args.out.mkdir(parents=True, exist_ok=True)
     for level in args.level:
-        print(run(level, args.scheme, args.mass, args.out), flush=True)
+        print(run(level, args.scheme, args.mass, args.out, args.getfem), flush=True)
 
 
 if __name__ == "__main__":
