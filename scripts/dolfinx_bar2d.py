@@ -6,7 +6,7 @@ Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
 
     apt-get install -y python3-dolfinx
     /usr/bin/python3 scripts/dolfinx_bar2d.py --level 10 20 --scheme crank-nicolson \
-        --mass standard --out target/dolfinx-runs
+        --mass standard --out target/dolfinx-runs --getfem tests/data/getfem2d
 
 For each LEVEL it writes the ParaView collection
 ``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, meant
@@ -14,7 +14,7 @@ For each LEVEL it writes the ParaView collection
 <scheme> --mass <mass> --velocity velocity --multiplier contact_multiplier``. It prints one line
 per run: the steps, the energy at t = 0 and t = T, the largest total contact force and the
 largest complementarity product; with ``--getfem DIR`` (GetFEM's runs of the same problem,
-/work/shared/validation/getfem2d) also the largest differences from GetFEM's run of the same
+tests/data/getfem2d) also the largest differences from GetFEM's run of the same
 scheme, mass and level: the contact nodes' u2 and multipliers and the total force at every
 step, every node's displacement and velocity at T.
 
@@ -29,7 +29,7 @@ coordinates): displacement of every node 1.8e-13 (2.2e-14), velocity 7.6e-12 (3.
 force 6.5e-13 (4.5e-15).
 
 **The discrete problem** is the harness's ``signorini run scenes/bar2d.json --scheme <scheme>
---mass <mass> --nx LEVEL`` and GetFEM's (/work/shared/validation/getfem2d/README.md):
+--mass <mass> --nx LEVEL`` and GetFEM's (tests/data/getfem2d/README.md):
 
 - the bar [0, 0.1] × [0, 1], ``dolfinx.mesh.create_rectangle`` with ``CellType.quadrilateral``,
   LEVEL elements along x2 and round(0.1 LEVEL) across; the space Q1 (``VectorFunctionSpace``
