@@ -4,7 +4,7 @@
 Run with Debian's Python (``apt-get install -y python3-getfem``, GetFEM 5.4.2 with numpy):
 
     /usr/bin/python3 scripts/getfem_bar2d.py --level 10 20 --scheme crank-nicolson \\
-        --mass standard --out target/getfem-vtu
+        --mass standard --out target/getfem-vtu --check tests/data/getfem2d
 
 For each LEVEL it writes ``getfem-<scheme>-<mass>-nx<LEVEL>.pvd`` in OUT, a ParaView collection
 of the ``4·LEVEL + 1`` snapshots ``getfem-<scheme>-<mass>-nx<LEVEL>/step-<n>.vtu`` (n = 0 … steps,
@@ -17,7 +17,7 @@ problem, ``DIR/getfem2d_<scheme>_<mass>_nx<LEVEL>.json.gz`` (format
 ``signorini-getfem2d-anchor/1``, see that directory's README.md), and prints the largest
 differences.
 
-**The discrete problem** (that of ``/work/shared/validation/getfem2d/README.md``, the harness's
+**The discrete problem** (that of ``tests/data/getfem2d/README.md``, the harness's
 ``scenes/bar2d.json``):
 
 - the bar [0, 0.1] × [0, 1], ``LEVEL`` elements along x2 and ``round(0.1/h)`` across
@@ -68,8 +68,8 @@ the files this script writes and from ``src/getfem/getfem_export.h`` of GetFEM 5
   interface nor in ``libgetfem``); this script writes the collection, one ``DataSet`` per step
   with ``timestep`` = n·Δt (Python's shortest round-trip repr) and ``part="0"``.
 
-**Against GetFEM's earlier solve** of the same problem (``--check
-/work/shared/validation/getfem2d``), levels 10 and 20, all four configurations, the largest
+**Against GetFEM's earlier solve** of the same problem (``--check tests/data/getfem2d``),
+levels 10 and 20, all four configurations, the largest
 differences measured: 1.5e-14 in the contact nodes' u2 at every step, 2.9e-14 in the
 multipliers at every step, 1.2e-14 in the displacement fields at t = 0.5, 1, 1.5, 2, and
 3.5e-13 in the velocity at T (all four at Crank–Nicolson, standard mass, level 20; at most
