@@ -24,6 +24,7 @@ mod outputs;
 mod paraview;
 mod progress;
 mod readme_commands;
+mod real_codes;
 mod reliability;
 mod report_figures;
 mod scenes;

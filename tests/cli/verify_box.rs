@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::common::{expect_error, signorini, success_stdout};
-use signorini::harness::external::pvd::{read_collection, read_snapshot};
+use signorini::harness::external::pvd::{read_collection, read_snapshot, VtuSnapshot};
 
 /// A box scene of the repository made small: study levels 5 and 10, reference on 40 (nested:
 /// one element across at levels 5 and 10, four at 40), no ensemble.
@@ -47,7 +47,7 @@ pub(crate) fn s(p: &Path) -> &str {
 }
 
 /// Crank–Nicolson with the standard mass on `nx` elements, its fields at every step in `out`.
-fn run_every_step(scene: &Path, nx: usize, out: &Path) -> PathBuf {
+pub(crate) fn run_every_step(scene: &Path, nx: usize, out: &Path) -> PathBuf {
     run_case_every_step(scene, "crank-nicolson", "standard", nx, out)
 }
 
@@ -78,7 +78,7 @@ pub(crate) fn run_case_every_step(
 
 /// The errors of every norm of the series `k` of a verify.json, or of the case `(scheme
 /// family, mass)` of an elastic study's JSON.
-fn errors(rates: &Value) -> Vec<(String, Vec<f64>)> {
+pub(crate) fn errors(rates: &Value) -> Vec<(String, Vec<f64>)> {
     rates
         .as_array()
         .unwrap()
@@ -129,18 +129,23 @@ fn study_errors(
 
 /// How a snapshot's arrays are written by [`rewrite`].
 #[derive(Clone, Copy)]
-enum Encoding {
+pub(crate) enum Encoding {
     /// Inline ASCII, every number with the digits that read it back.
     Ascii,
     /// One appended block of raw little-endian bytes, `UInt64` headers.
     AppendedRaw,
 }
 
-/// `src` (a snapshot the harness wrote) written again to `dst` in `encoding`, with its points,
-/// its cells (as vtkio reads them) and its point arrays: another writer than the harness's.
-fn rewrite(src: &Path, dst: &Path, encoding: Encoding) {
+/// An edit of a snapshot before it is written again: its step and the snapshot.
+pub(crate) type Edit<'a> = &'a dyn Fn(usize, &mut VtuSnapshot);
+
+/// `src` (a snapshot the harness wrote, at step `step`) written again to `dst` in `encoding`,
+/// with its points, its cells (as vtkio reads them) and its point arrays, after `edit`: another
+/// writer than the harness's.
+fn rewrite(src: &Path, dst: &Path, encoding: Encoding, step: usize, edit: Edit<'_>) {
     use vtkio::model::{DataSet, Piece, VertexNumbers};
-    let snapshot = read_snapshot(src).unwrap();
+    let mut snapshot = read_snapshot(src).unwrap();
+    edit(step, &mut snapshot);
     let vtk = vtkio::Vtk::import(src).unwrap();
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         panic!("an unstructured grid")
@@ -232,13 +237,23 @@ fn rewrite(src: &Path, dst: &Path, encoding: Encoding) {
 
 /// The collection `pvd` with every body snapshot rewritten in `encoding` into `dir`.
 fn rewrite_collection(pvd: &Path, dir: &Path, encoding: Encoding) -> PathBuf {
+    rewrite_collection_with(pvd, dir, encoding, &|_, _| {})
+}
+
+/// [`rewrite_collection`] with each snapshot edited by `edit` first.
+pub(crate) fn rewrite_collection_with(
+    pvd: &Path,
+    dir: &Path,
+    encoding: Encoding,
+    edit: Edit<'_>,
+) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
     let mut lines = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
     );
     for (k, entry) in read_collection(pvd).unwrap().iter().enumerate() {
         let file = format!("snapshot-{k}.vtu");
-        rewrite(&entry.file, &dir.join(&file), encoding);
+        rewrite(&entry.file, &dir.join(&file), encoding, k, edit);
         lines += &format!(
             "<DataSet timestep=\"{:?}\" part=\"0\" file=\"{file}\"/>\n",
             entry.time
@@ -252,7 +267,7 @@ fn rewrite_collection(pvd: &Path, dir: &Path, encoding: Encoding) -> PathBuf {
 
 /// Verifies `files` (one series of Crank–Nicolson with the standard mass) against `scene`
 /// with the reference cache `cache`, writing verify.json into `out`.
-fn verify(scene: &Path, files: &[&Path], cache: &Path, out: &Path) -> Value {
+pub(crate) fn verify(scene: &Path, files: &[&Path], cache: &Path, out: &Path) -> Value {
     let mut args = vec!["verify", s(scene)];
     args.extend(files.iter().map(|f| s(f)));
     args.extend([

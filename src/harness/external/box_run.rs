@@ -16,7 +16,7 @@ use serde::Deserialize;
 
 use super::error::ExternalError;
 use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_FILE};
-use super::pvd::{read_collection, read_snapshot, CollectionEntry, VtuSnapshot};
+use super::pvd::{read_collection, read_snapshot, CollectionEntry, PointArray, VtuSnapshot};
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::{box_mesh, BoxProblem};
 use crate::harness::files::input;
@@ -26,8 +26,13 @@ use crate::harness::problem::{MassVariant, Scheme};
 pub use super::format::FORMAT_2 as BOX_FORMAT;
 
 /// How far a file's node may be from the scene's mesh node it matches, relative to the box's
-/// largest length.
+/// largest length, for points of double precision.
 pub const NODE_TOLERANCE: f64 = 1e-9;
+
+/// How many units of their type's rounding a file's points may be from the scene's nodes, relative
+/// to the box's largest length: a point rounded to single precision (GetFEM's exporter writes
+/// `Float32` points) is within half of `f32::EPSILON` of its node, relative to its own size.
+pub const NODE_ROUNDINGS: f64 = 4.0;
 
 /// How far a sample's time may be from its step's `n Δt`, relative to `Δt`.
 pub const STEP_TIME_TOLERANCE: f64 = 1e-9;
@@ -150,20 +155,23 @@ impl BoxExternalRun {
                 order,
             } => {
                 let snapshot = read_snapshot(&entries[n].file)?;
-                self.sample_of_snapshot(&snapshot, names, order)
+                self.sample_of_snapshot(&snapshot, names, order, entries[n].time)
             }
         }
     }
 
-    /// The arrays of `snapshot` in the scene's node order (`order`: per file node, the scene's),
-    /// its points first checked to be those of the collection's first snapshot.
+    /// The arrays of `snapshot` (at `time`) in the scene's node order (`order`: per file node,
+    /// the scene's), its points first checked to be those of the collection's first snapshot,
+    /// every value it reads finite ([`first_non_finite`]) and its multipliers on the contact
+    /// face with the harness's sign ([`check_multipliers`]).
     fn sample_of_snapshot(
         &self,
         snapshot: &VtuSnapshot,
         names: &ArrayNames,
         order: &[usize],
+        time: f64,
     ) -> Result<BoxSample, ExternalError> {
-        let checked = node_order(&self.mesh, &snapshot.points, &snapshot.path)?;
+        let checked = node_order(&self.mesh, snapshot)?;
         if checked != order {
             return Err(ExternalError::invalid(
                 &snapshot.path,
@@ -184,6 +192,7 @@ impl BoxExternalRun {
                     format!("the arrays {:?}", array_names(snapshot)),
                 )
             })?;
+            first_non_finite(snapshot, array, time)?;
             if array.components < d {
                 return Err(ExternalError::invalid(
                     &snapshot.path,
@@ -214,11 +223,33 @@ impl BoxExternalRun {
                         format!("the arrays {:?}", array_names(snapshot)),
                     )
                 })?;
+                first_non_finite(snapshot, array, time)?;
                 let mut by_node = vec![0.0; self.mesh.n_nodes()];
                 for (file_node, &node) in order.iter().enumerate() {
                     by_node[node] = array.values[file_node];
                 }
-                Ok::<_, ExternalError>(
+                let mut on_face = vec![false; self.mesh.n_nodes()];
+                for n in self.mesh.contact_nodes() {
+                    on_face[n] = true;
+                }
+                let off_face = order.iter().enumerate().filter(|&(_, &n)| !on_face[n]);
+                let scale = multiplier_scale(&array.values);
+                if let Some((k, _)) = off_face
+                    .clone()
+                    .find(|&(k, _)| array.values[k].abs() > scale)
+                {
+                    return Err(ExternalError::invalid(
+                        &snapshot.path,
+                        format!("PointData {name:?}"),
+                        Some(at_point(snapshot, k, time)),
+                        array.values[k],
+                        format!(
+                            "0 within {scale:e} off the contact face x{d} = 0: a multiplier \
+                             acts on a contact node only"
+                        ),
+                    ));
+                }
+                Ok::<Vec<f64>, ExternalError>(
                     self.mesh
                         .contact_nodes()
                         .iter()
@@ -227,6 +258,9 @@ impl BoxExternalRun {
                 )
             })
             .transpose()?;
+        if let Some(m) = &multipliers {
+            check_multipliers(m, &snapshot.path, Some(format!("t = {time}")))?;
+        }
         let sample = BoxSample {
             displacement: Some(nodal(&names.displacement)?),
             velocity: names.velocity.as_deref().map(nodal).transpose()?,
@@ -236,6 +270,66 @@ impl BoxExternalRun {
         };
         check_clamped(&self.mesh, &sample, &snapshot.path, None)?;
         Ok(sample)
+    }
+}
+
+/// Where point `k` of `snapshot` is, at `time`, as the errors say it.
+fn at_point(snapshot: &VtuSnapshot, k: usize, time: f64) -> String {
+    format!("point {k} {:?} at t = {time}", snapshot.points[k])
+}
+
+/// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite, naming the
+/// point: a run that went NaN or infinite is broken, whatever the steps before it.
+fn first_non_finite(
+    snapshot: &VtuSnapshot,
+    array: &PointArray,
+    time: f64,
+) -> Result<(), ExternalError> {
+    let components = array.components.max(1);
+    match array.values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(ExternalError::invalid(
+            &snapshot.path,
+            format!("PointData {:?}", array.name),
+            Some(at_point(snapshot, i / components, time)),
+            array.values[i],
+            "finite numbers (a run that went non-finite is not verified)",
+        )),
+    }
+}
+
+/// How far a multiplier may stray to the wrong side of 0 (or off the contact face), relative to
+/// the largest multiplier of its sample or 1, whichever is larger: a contact solver's round-off
+/// (GetFEM's Newton leaves about 1e-16 on a step without contact).
+pub const MULTIPLIER_TOLERANCE: f64 = 1e-9;
+
+/// [`MULTIPLIER_TOLERANCE`] for the multipliers `values` of one sample.
+fn multiplier_scale(values: &[f64]) -> f64 {
+    MULTIPLIER_TOLERANCE * values.iter().fold(1.0f64, |m, v| m.max(v.abs()))
+}
+
+/// Refuses contact multipliers of the wrong sign: the harness's convention is `λ_i ≤ 0` (the
+/// obstacle pushes the body, the nodal force is `−λ_i e_d`), within [`multiplier_scale`].
+fn check_multipliers(
+    multipliers: &[f64],
+    path: &Path,
+    at: Option<String>,
+) -> Result<(), ExternalError> {
+    let scale = multiplier_scale(multipliers);
+    match multipliers.iter().position(|&l| l > scale) {
+        None => Ok(()),
+        Some(i) => Err(ExternalError::invalid(
+            path,
+            "multipliers",
+            at.map(|a| format!("{a}, contact node {i}"))
+                .or(Some(format!("contact node {i}"))),
+            multipliers[i],
+            format!(
+                "λ ≤ 0 within {scale:e}: the obstacle pushes, so a contact force −λ e_d points \
+                 into the body (a code whose multipliers are ≥ 0 uses the opposite sign: negate \
+                 them)"
+            ),
+        )),
     }
 }
 
@@ -342,7 +436,7 @@ impl BoxScene<'_> {
         let entries = read_collection(path)?;
         let first = read_snapshot(&entries[0].file)?;
         let (level, mesh) = self.level_with(first.points.len(), &first.path)?;
-        let order = node_order(&mesh, &first.points, &first.path)?;
+        let order = node_order(&mesh, &first)?;
         let times: Vec<f64> = entries.iter().map(|e| e.time).collect();
         let time = self.check_times(level, &times, path, "timestep")?;
         let names = ArrayNames {
@@ -422,16 +516,15 @@ fn displacement_array(
     }
 }
 
-/// Per point of `points`, the node of `mesh` it is (within [`NODE_TOLERANCE`] of the box's
-/// largest length, coordinates past the mesh's dimension 0), every node once.
-fn node_order(
-    mesh: &BoxMesh,
-    points: &[[f64; 3]],
-    path: &Path,
-) -> Result<Vec<usize>, ExternalError> {
+/// Per point of `snapshot`, the node of `mesh` it is (within [`NODE_TOLERANCE`] of the box's
+/// largest length, or [`NODE_ROUNDINGS`] times its points' machine epsilon when that is larger;
+/// coordinates past the mesh's dimension 0), every node once.
+fn node_order(mesh: &BoxMesh, snapshot: &VtuSnapshot) -> Result<Vec<usize>, ExternalError> {
+    let (points, path) = (&snapshot.points, snapshot.path.as_path());
     let d = mesh.dim();
     let scale = mesh.lengths().iter().fold(0.0f64, |a, &b| a.max(b));
-    let tolerance = NODE_TOLERANCE * scale;
+    let relative = NODE_TOLERANCE.max(NODE_ROUNDINGS * snapshot.point_epsilon);
+    let tolerance = relative * scale;
     let sizes = mesh.element_sizes();
     let counts = mesh.counts();
     let by_index: HashMap<[usize; 3], usize> = (0..mesh.n_nodes())
@@ -464,7 +557,7 @@ fn node_order(
                     format!("{:?}", &p[..]),
                     format!(
                         "the nodes of the scene's Q1 mesh of {counts:?} elements on {:?}, each \
-                         once, within {tolerance:e} ({NODE_TOLERANCE:e} of the box's size){}",
+                         once, within {tolerance:e} ({relative:e} of the box's size){}",
                         mesh.lengths(),
                         if node.is_some() {
                             ": this node is listed twice"
@@ -737,6 +830,9 @@ impl BoxFile {
                     bad.to_string(),
                     "finite numbers".into(),
                 ));
+            }
+            if let Some(m) = &sample.multipliers {
+                check_multipliers(m, path, at())?;
             }
             check_clamped(&mesh, &sample, path, at())?;
             samples.push(sample);

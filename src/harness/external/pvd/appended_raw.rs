@@ -78,6 +78,7 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
         .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
         .ok_or_else(|| invalid("Points", "missing".into(), "the points' DataArray"))?;
     let (_, _, coordinates) = array_of(points)?;
+    let single = points.attribute("type") == Some("Float32");
     let mut arrays = Vec::new();
     if let Some(data) = piece.children().find(|n| n.has_tag_name("PointData")) {
         for node in data.children().filter(|n| n.has_tag_name("DataArray")) {
@@ -89,7 +90,7 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
             });
         }
     }
-    VtuSnapshot::new(path, coordinates, arrays)
+    VtuSnapshot::new(path, coordinates, super::epsilon_of(single), arrays)
 }
 /// How the block is laid out.
 struct Layout<'a> {

@@ -1,18 +1,31 @@
 //! Another code's box run as ParaView reads it: a collection (`.pvd`, VTK's `Collection`) that
 //! lists one unstructured grid (`.vtu`) per time, each with the mesh's points and nodal arrays
-//! (point data). GetFEM, FEniCSx/dolfinx, deal.II, MOOSE and the harness itself write them.
+//! (point data). The harness writes them, and so do other codes; those whose own files were tried
+//! are committed in `tests/data/external/` (DOLFINx 0.5.2's `VTKFile`, GetFEM 5.4.2's
+//! `export_to_vtu`).
 //!
 //! The snapshots are read by `vtkio`: inline ASCII, inline binary (base64) and appended data
-//! (raw or base64), with `UInt32` or `UInt64` headers, uncompressed or zlib-compressed. A
-//! collection with several parts at a time (the harness writes the obstacle as part 1) is read
-//! through its part 0: the body.
+//! (raw or base64), with `UInt32` or `UInt64` headers, uncompressed or zlib-compressed, `Float32`
+//! or `Float64`. A collection with several parts at a time (the harness writes the obstacle as
+//! part 1) is read through its part 0: the body.
+//!
+//! What real writers do beyond that:
+//! - **a parallel grid** (`.pvtu`, VTK's `PUnstructuredGrid`: DOLFINx's `VTKFile` writes one even
+//!   on one process) lists its pieces' files (`_p0_*.vtu`, …); they are read and joined into one
+//!   snapshot ([`joined`]), a node that two pieces share (a ghost) kept once, and refused where
+//!   the pieces disagree on it;
+//! - **no `byte_order`** (DOLFINx): the attribute is optional for VTK; little-endian is taken, the
+//!   order of the machines these codes run on (for ASCII data it means nothing);
+//! - **`Float32` points** (GetFEM's exporter): the points keep the precision of their type
+//!   ([`VtuSnapshot::point_epsilon`]), which the node match allows for.
 
 mod appended_raw;
 
+use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use vtkio::model::{Attribute, DataSet, Piece};
+use vtkio::model::{Attribute, DataSet, Piece, ScalarType};
 use vtkio::Vtk;
 
 use super::error::ExternalError;
@@ -47,16 +60,32 @@ pub struct VtuSnapshot {
     pub path: PathBuf,
     /// The points, `[x, y, z]` (`z = 0` in 2D).
     pub points: Vec<[f64; 3]>,
+    /// The machine epsilon of the points' type in the file: `f64::EPSILON` for `Float64` (or
+    /// integers), `f32::EPSILON` for `Float32`; a point is its node within this relative
+    /// rounding.
+    pub point_epsilon: f64,
     /// The point data.
     pub arrays: Vec<PointArray>,
 }
 
+/// The machine epsilon of a VTK points type: single precision's for `Float32`, double's
+/// otherwise.
+fn epsilon_of(single: bool) -> f64 {
+    if single {
+        f64::from(f32::EPSILON)
+    } else {
+        f64::EPSILON
+    }
+}
+
 impl VtuSnapshot {
-    /// The snapshot of `path` from its points' coordinates (three per point) and its point
-    /// arrays, each checked to hold `NumberOfComponents` values per point.
+    /// The snapshot of `path` from its points' coordinates (three per point, of a type whose
+    /// machine epsilon is `point_epsilon`) and its point arrays, each checked to hold
+    /// `NumberOfComponents` values per point.
     fn new(
         path: &Path,
         coordinates: Vec<f64>,
+        point_epsilon: f64,
         arrays: Vec<PointArray>,
     ) -> Result<Self, ExternalError> {
         let invalid = |field: &str, value: String, allowed: String| {
@@ -89,6 +118,7 @@ impl VtuSnapshot {
         Ok(Self {
             path: path.to_path_buf(),
             points,
+            point_epsilon,
             arrays,
         })
     }
@@ -215,32 +245,94 @@ fn find(bytes: &[u8], needle: &[u8], from: usize) -> Option<usize> {
         .map(|p| p + from)
 }
 
-/// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, its points and its
-/// point data as `f64` (field data and cell data are not read).
-pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
-    const ALLOWED: &str = "a VTK XML unstructured grid (.vtu) of one piece: ASCII, binary or \
-                           appended data, uncompressed or zlib-compressed";
-    let invalid = |field: &str, value: String, allowed: &str| {
-        ExternalError::invalid(path, field, None, value, allowed)
+/// `bytes` with `byte_order="LittleEndian"` on its `VTKFile` element when the file leaves the
+/// attribute out (VTK takes it as optional; `vtkio` requires it).
+fn with_byte_order(mut bytes: Vec<u8>) -> Vec<u8> {
+    const TAG: &[u8] = b"<VTKFile";
+    let Some(tag) = find(&bytes, TAG, 0) else {
+        return bytes;
     };
+    let Some(end) = find(&bytes, b">", tag) else {
+        return bytes;
+    };
+    if find(&bytes[..end], b"byte_order", tag).is_none() {
+        let at = tag + TAG.len();
+        bytes.splice(at..at, b" byte_order=\"LittleEndian\"".iter().copied());
+    }
+    bytes
+}
+
+/// What [`read_snapshot`] reads, as its errors say it.
+const SNAPSHOT: &str =
+    "a VTK XML unstructured grid (.vtu) of one piece, or a parallel one (.pvtu) \
+                        whose pieces are such files: ASCII, binary or appended data, \
+                        uncompressed or zlib-compressed";
+
+/// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, or a parallel grid
+/// whose pieces are in files of their own (joined, [`joined`]); its points and its point data
+/// as `f64` (field data and cell data are not read).
+pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
+    match read_grid(path)? {
+        Grid::Inline(snapshot) => Ok(snapshot),
+        Grid::Pieces(files) => {
+            let directory = path.parent().unwrap_or(Path::new("."));
+            let pieces = files
+                .iter()
+                .map(|file| match read_grid(&directory.join(file))? {
+                    Grid::Inline(piece) => Ok(piece),
+                    Grid::Pieces(_) => Err(ExternalError::invalid(
+                        &directory.join(file),
+                        "Piece",
+                        None,
+                        "a piece in another file",
+                        SNAPSHOT,
+                    )),
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            joined(path, pieces)
+        }
+    }
+}
+
+/// A grid file as read: one piece inline, or the files of its pieces (a parallel grid).
+enum Grid {
+    Inline(VtuSnapshot),
+    Pieces(Vec<String>),
+}
+
+/// Reads the grid file `path`.
+fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
+    let invalid =
+        |field: &str, value: String| ExternalError::invalid(path, field, None, value, SNAPSHOT);
     let bytes = read_bytes(path, RUN_FILE)?;
     if let Some(start) = raw_appended_start(&bytes) {
-        return appended_raw::read(path, &bytes, start);
+        return appended_raw::read(path, &bytes, start).map(Grid::Inline);
     }
-    let vtk = Vtk::parse_xml(Cursor::new(bytes))
-        .map_err(|e| invalid("file", format!("unreadable ({e})"), ALLOWED))?;
+    let vtk = Vtk::parse_xml(Cursor::new(with_byte_order(bytes)))
+        .map_err(|e| invalid("file", format!("unreadable ({e})")))?;
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        return Err(invalid("VTKFile.type", "another dataset".into(), ALLOWED));
+        return Err(invalid("VTKFile.type", "another dataset".into()));
     };
+    let sources: Option<Vec<String>> = pieces
+        .iter()
+        .map(|p| match p {
+            Piece::Source(file, _) => Some(file.clone()),
+            _ => None,
+        })
+        .collect();
+    if let Some(files) = sources.filter(|f| !f.is_empty()) {
+        return Ok(Grid::Pieces(files));
+    }
     let [Piece::Inline(piece)] = <[_; 1]>::try_from(pieces)
-        .map_err(|p: Vec<_>| invalid("Piece", format!("{} pieces", p.len()), ALLOWED))?
+        .map_err(|p: Vec<_>| invalid("Piece", format!("{} pieces", p.len())))?
     else {
-        return Err(invalid("Piece", "a piece in another file".into(), ALLOWED));
+        return Err(invalid("Piece", "a piece of another kind".into()));
     };
+    let single = piece.points.scalar_type() == ScalarType::F32;
     let coordinates: Vec<f64> = piece
         .points
         .cast_into()
-        .ok_or_else(|| invalid("Points", "not numbers".into(), ALLOWED))?;
+        .ok_or_else(|| invalid("Points", "not numbers".into()))?;
     let mut arrays = Vec::new();
     for attribute in piece.data.point {
         let Attribute::DataArray(array) = attribute else {
@@ -255,5 +347,79 @@ pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
             values,
         });
     }
-    VtuSnapshot::new(path, coordinates, arrays)
+    VtuSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)
+}
+
+/// The pieces of the parallel grid `path` as one snapshot: their points in order, a point two
+/// pieces share (the same coordinates, bit for bit: a ghost node) kept once. The pieces must
+/// carry the same arrays, and agree on every value at a shared point.
+fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, ExternalError> {
+    let mut pieces = pieces.into_iter();
+    let Some(first) = pieces.next() else {
+        return Err(ExternalError::invalid(
+            path, "Piece", None, "none", SNAPSHOT,
+        ));
+    };
+    let mut at: HashMap<[u64; 3], usize> = first
+        .points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.map(f64::to_bits), k))
+        .collect();
+    let mut whole = VtuSnapshot {
+        path: path.to_path_buf(),
+        ..first
+    };
+    for piece in pieces {
+        let names = |s: &VtuSnapshot| -> Vec<(String, usize)> {
+            s.arrays
+                .iter()
+                .map(|a| (a.name.clone(), a.components))
+                .collect()
+        };
+        if names(&piece) != names(&whole) {
+            return Err(ExternalError::invalid(
+                &piece.path,
+                "PointData",
+                None,
+                format!("the arrays {:?}", names(&piece)),
+                format!("those of the grid's first piece, {:?}", names(&whole)),
+            ));
+        }
+        whole.point_epsilon = whole.point_epsilon.max(piece.point_epsilon);
+        for (k, p) in piece.points.iter().enumerate() {
+            let values = |s: &VtuSnapshot, a: usize, node: usize| -> Vec<f64> {
+                let c = s.arrays[a].components;
+                s.arrays[a].values[node * c..(node + 1) * c].to_vec()
+            };
+            match at.get(&p.map(f64::to_bits)) {
+                Some(&shared) => {
+                    let differing = (0..whole.arrays.len())
+                        .find(|&a| values(&piece, a, k) != values(&whole, a, shared));
+                    if let Some(a) = differing {
+                        return Err(ExternalError::invalid(
+                            &piece.path,
+                            format!("PointData {:?}", whole.arrays[a].name),
+                            Some(format!("point {k}")),
+                            format!("{:?}", values(&piece, a, k)),
+                            format!(
+                                "the value of the piece that also holds this point ({p:?}): \
+                                 {:?}",
+                                values(&whole, a, shared)
+                            ),
+                        ));
+                    }
+                }
+                None => {
+                    at.insert(p.map(f64::to_bits), whole.points.len());
+                    whole.points.push(*p);
+                    for a in 0..whole.arrays.len() {
+                        let row = values(&piece, a, k);
+                        whole.arrays[a].values.extend(row);
+                    }
+                }
+            }
+        }
+    }
+    Ok(whole)
 }

@@ -1,0 +1,380 @@
+//! Other codes' box runs as those codes write them, and runs that must not pass.
+//!
+//! - **DOLFINx 0.5.2** (`dolfinx.io.VTKFile`: a `.pvd` of `.pvtu` files, each pointing to one
+//!   `_p0_*.vtu` piece, no `byte_order`, ASCII with 16 significant digits) and **GetFEM 5.4.2**
+//!   (`MeshFem.export_to_vtu`: `Float32` points and data, ASCII with 6 significant digits or base64
+//!   with GetFEM's own headers; the `.pvd` written by the script), committed as they wrote them
+//!   (`tests/data/external/dolfinx/`, `getfem-vtu/`, by `scripts/dolfinx_bar2d.py` and
+//!   `scripts/getfem_bar2d.py`), verify with the errors of the harness's own run of the same case
+//!   to the precision of their files.
+//! - A series that went NaN or infinite, multipliers of the wrong sign or off the contact face
+//!   are refused naming the file, the array, the point and the time.
+//! - A parallel grid's pieces are joined, a ghost node kept once, and refused where the pieces
+//!   disagree on it.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use crate::common::{expect_error, signorini, success_stdout};
+use crate::verify_box::{
+    errors, read_json, rewrite_collection_with, run_case_every_step, run_every_step, s,
+    scene_at_levels, scratch, Encoding,
+};
+use signorini::harness::external::pvd::{read_collection, read_snapshot, PointArray};
+
+/// The fixtures' directory.
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/external")
+}
+
+/// `signorini verify scene file --code code` of one case, the velocity and multiplier arrays
+/// named, into `out`: its verify.json.
+fn verify_as(
+    scene: &Path,
+    file: &Path,
+    code: &str,
+    (scheme, multiplier): (&str, &str),
+    cache: &Path,
+    out: &Path,
+) -> Value {
+    success_stdout(&signorini(&[
+        "verify",
+        s(scene),
+        s(file),
+        "--code",
+        code,
+        "--code-version",
+        "as-written",
+        "--scheme",
+        scheme,
+        "--mass",
+        "standard",
+        "--velocity",
+        "velocity",
+        "--multiplier",
+        multiplier,
+        "--cache",
+        s(cache),
+        "--out",
+        s(out),
+    ]));
+    read_json(&out.join("verify.json"))
+}
+
+/// The largest relative difference between two lists of per-norm errors (the same norms).
+fn largest_relative_difference(a: &[(String, Vec<f64>)], b: &[(String, Vec<f64>)]) -> f64 {
+    assert_eq!(
+        a.iter().map(|(n, _)| n).collect::<Vec<_>>(),
+        b.iter().map(|(n, _)| n).collect::<Vec<_>>()
+    );
+    a.iter()
+        .zip(b)
+        .flat_map(|((_, x), (_, y))| x.iter().zip(y))
+        .map(|(x, y)| (x - y).abs() / y.abs())
+        .fold(0.0, f64::max)
+}
+
+/// Each fixture, the scheme it solved, the name of its multiplier array and how close its
+/// errors must be to the harness's: the precision of its numbers times 20, the ratio of the
+/// displacement (0.2) to its errors (1e-2) at level 10, for the files that round the solution
+/// (GetFEM's 6 digits in ASCII, its `Float32` in base64); 1e-10 for DOLFINx's 16 digits, where
+/// two double-precision solves of the same problem part by round-off first.
+const FIXTURES: [(&str, &str, &str, f64); 5] = [
+    (
+        "dolfinx/dolfinx-bar2d-crank-nicolson-standard-level10.pvd",
+        "crank-nicolson",
+        "contact_multiplier",
+        1e-10,
+    ),
+    (
+        "dolfinx/dolfinx-bar2d-backward-euler-standard-level10.pvd",
+        "backward-euler",
+        "contact_multiplier",
+        1e-10,
+    ),
+    (
+        "getfem-vtu/getfem-crank-nicolson-standard-nx10.pvd",
+        "crank-nicolson",
+        "multiplier",
+        20.0 * 5e-6,
+    ),
+    (
+        "getfem-vtu/getfem-backward-euler-standard-nx10.pvd",
+        "backward-euler",
+        "multiplier",
+        20.0 * 5e-6,
+    ),
+    (
+        "getfem-vtu/getfem-crank-nicolson-standard-nx10-binary.pvd",
+        "crank-nicolson",
+        "multiplier",
+        20.0 * 6e-8,
+    ),
+];
+
+#[test]
+fn dolfinx_and_getfem_files_as_written_verify_with_the_harness_errors() {
+    let dir = scratch("real-codes");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    for scheme in ["crank-nicolson", "backward-euler"] {
+        let own = run_case_every_step(&scene, scheme, "standard", 10, &dir.join(scheme));
+        let harness = verify_as(
+            &scene,
+            &own,
+            "signorini",
+            (scheme, "contact_multiplier"),
+            &cache,
+            &dir.join(format!("verify-{scheme}")),
+        );
+        let expected = errors(&harness["series"][0]["rates"]);
+        for (k, (file, _, multiplier, tolerance)) in
+            FIXTURES.iter().enumerate().filter(|(_, f)| f.1 == scheme)
+        {
+            let code = file.split('/').next().unwrap();
+            let verified = verify_as(
+                &scene,
+                &fixtures().join(file),
+                code,
+                (scheme, multiplier),
+                &cache,
+                &dir.join(format!("verify-{k}")),
+            );
+            let series = &verified["series"][0];
+            let found = errors(&series["rates"]);
+            let difference = largest_relative_difference(&found, &expected);
+            assert!(
+                difference <= *tolerance,
+                "{file}: errors {difference:e} from the harness's, above {tolerance:e}"
+            );
+            assert!(series["not_computed"].as_array().is_none_or(Vec::is_empty));
+        }
+    }
+}
+
+/// The verify command of the harness's Crank–Nicolson run `pvd` of `scene`.
+fn verify_args<'a>(scene: &'a Path, pvd: &'a Path, cache: &'a Path) -> Vec<&'a str> {
+    vec![
+        "verify",
+        s(scene),
+        s(pvd),
+        "--code",
+        "edited",
+        "--code-version",
+        "1",
+        "--velocity",
+        "velocity",
+        "--multiplier",
+        "contact_multiplier",
+        "--cache",
+        s(cache),
+    ]
+}
+
+/// The array `name` of a snapshot.
+fn array<'a>(arrays: &'a mut [PointArray], name: &str) -> &'a mut PointArray {
+    arrays.iter_mut().find(|a| a.name == name).unwrap()
+}
+
+#[test]
+fn a_broken_series_is_refused_naming_file_array_point_and_time() {
+    let dir = scratch("broken");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    let pvd = run_every_step(&scene, 10, &dir.join("run"));
+    let edited = |name: &str, edit: &dyn Fn(usize, &mut Vec<PointArray>)| {
+        rewrite_collection_with(&pvd, &dir.join(name), Encoding::Ascii, &|step, snapshot| {
+            edit(step, &mut snapshot.arrays)
+        })
+    };
+    // NaN in the displacement from t = 1 on (step 20 of level 10): the run blew up.
+    let nan = edited("nan", &|step, arrays| {
+        if step >= 20 {
+            array(arrays, "displacement").values[3 * 5 + 1] = f64::NAN;
+        }
+    });
+    expect_error(
+        &verify_args(&scene, &nan, &cache),
+        2,
+        &[
+            "snapshot-20.vtu",
+            "PointData \"displacement\"",
+            "point 5",
+            "t = 1",
+            "NaN",
+            "finite numbers",
+        ],
+    );
+    // An infinite velocity at one step.
+    let inf = edited("inf", &|step, arrays| {
+        if step == 30 {
+            array(arrays, "velocity").values[0] = f64::INFINITY;
+        }
+    });
+    expect_error(
+        &verify_args(&scene, &inf, &cache),
+        2,
+        &[
+            "snapshot-30.vtu",
+            "PointData \"velocity\"",
+            "point 0",
+            "inf",
+        ],
+    );
+    // Multipliers of the other sign convention (λ ≥ 0).
+    let flipped = edited("flipped", &|_, arrays| {
+        for l in &mut array(arrays, "contact_multiplier").values {
+            *l = -*l;
+        }
+    });
+    expect_error(
+        &verify_args(&scene, &flipped, &cache),
+        2,
+        &["multipliers", "λ ≤ 0", "opposite sign"],
+    );
+    // A multiplier on a node of the clamped face, not a contact node.
+    let off_face = edited("off-face", &|step, arrays| {
+        if step == 5 {
+            let multipliers = &mut array(arrays, "contact_multiplier").values;
+            let last = multipliers.len() - 1;
+            multipliers[last] = -0.5;
+        }
+    });
+    expect_error(
+        &verify_args(&scene, &off_face, &cache),
+        2,
+        &[
+            "snapshot-5.vtu",
+            "contact_multiplier",
+            "off the contact face",
+        ],
+    );
+}
+
+/// A `.vtu` of one piece with `points` and the point arrays `arrays`, no cells, ASCII, without
+/// `byte_order` (as DOLFINx writes its pieces).
+fn ascii_piece(points: &[[f64; 3]], arrays: &[PointArray]) -> String {
+    let numbers = |v: &mut dyn Iterator<Item = f64>| {
+        v.map(|x| format!("{x:?}")).collect::<Vec<_>>().join(" ")
+    };
+    let mut data = String::new();
+    for a in arrays {
+        data += &format!(
+            "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" \
+             format=\"ascii\">{}</DataArray>\n",
+            a.name,
+            a.components,
+            numbers(&mut a.values.iter().copied())
+        );
+    }
+    format!(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\">\n\
+         <UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"0\">\n<PointData>\n\
+         {data}</PointData>\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" \
+         format=\"ascii\">{}</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" \
+         Name=\"connectivity\" format=\"ascii\"></DataArray>\n<DataArray type=\"Int64\" \
+         Name=\"offsets\" format=\"ascii\"></DataArray>\n<DataArray type=\"UInt8\" \
+         Name=\"types\" format=\"ascii\"></DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n\
+         </VTKFile>\n",
+        points.len(),
+        numbers(&mut points.iter().flatten().copied())
+    )
+}
+
+/// The harness's run `pvd` written as a parallel grid per step into `dir`: two pieces, the
+/// points with x2 ≤ ½ and those with x2 ≥ ½ (the row x2 = ½ in both, as a ghost), each step a
+/// `.pvtu` without `byte_order` naming its pieces; `edit` changes the second piece's arrays.
+/// Returns the collection.
+fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut collection = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
+    );
+    for (step, entry) in read_collection(pvd).unwrap().iter().enumerate() {
+        let snapshot = read_snapshot(&entry.file).unwrap();
+        let mut names = Vec::new();
+        for (k, keep) in [|y: f64| y <= 0.5, |y: f64| y >= 0.5].iter().enumerate() {
+            let kept: Vec<usize> = (0..snapshot.points.len())
+                .filter(|&i| keep(snapshot.points[i][1]))
+                .collect();
+            let points: Vec<[f64; 3]> = kept.iter().map(|&i| snapshot.points[i]).collect();
+            let mut arrays: Vec<PointArray> = snapshot
+                .arrays
+                .iter()
+                .map(|a| PointArray {
+                    name: a.name.clone(),
+                    components: a.components,
+                    values: kept
+                        .iter()
+                        .flat_map(|&i| &a.values[i * a.components..(i + 1) * a.components])
+                        .copied()
+                        .collect(),
+                })
+                .collect();
+            if k == 1 {
+                edit(&mut arrays);
+            }
+            let name = format!("grid_p{k}_{step:06}.vtu");
+            std::fs::write(dir.join(&name), ascii_piece(&points, &arrays)).unwrap();
+            names.push(name);
+        }
+        let pvtu = format!("grid{step:06}.pvtu");
+        let pieces: String = names
+            .iter()
+            .map(|n| format!("<Piece Source=\"{n}\"/>\n"))
+            .collect();
+        std::fs::write(
+            dir.join(&pvtu),
+            format!(
+                "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\">\n\
+                 <PUnstructuredGrid GhostLevel=\"1\">\n<PPoints>\n<PDataArray type=\"Float64\" \
+                 NumberOfComponents=\"3\"/>\n</PPoints>\n{pieces}</PUnstructuredGrid>\n\
+                 </VTKFile>\n"
+            ),
+        )
+        .unwrap();
+        collection += &format!(
+            "<DataSet timestep=\"{:?}\" part=\"0\" file=\"{pvtu}\"/>\n",
+            entry.time
+        );
+    }
+    collection += "</Collection>\n</VTKFile>\n";
+    let path = dir.join("grid.pvd");
+    std::fs::write(&path, collection).unwrap();
+    path
+}
+
+#[test]
+fn a_parallel_grids_pieces_are_joined_and_a_disagreeing_ghost_is_refused() {
+    let dir = scratch("pieces");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    let pvd = run_every_step(&scene, 10, &dir.join("run"));
+    let ascii = rewrite_collection_with(&pvd, &dir.join("ascii"), Encoding::Ascii, &|_, _| {});
+    let split = split_collection(&pvd, &dir.join("split"), &|_| {});
+    let verified = |file: &Path, out: &str| {
+        let out = dir.join(out);
+        let mut args = verify_args(&scene, file, &cache);
+        args.extend(["--out", s(&out)]);
+        success_stdout(&signorini(&args));
+        errors(&read_json(&out.join("verify.json"))["series"][0]["rates"])
+    };
+    assert_eq!(
+        verified(&split, "verify-split"),
+        verified(&ascii, "verify-ascii"),
+        "the joined pieces are not the whole grid"
+    );
+    let disagreeing = split_collection(&pvd, &dir.join("disagreeing"), &|arrays| {
+        array(arrays, "displacement").values[1] += 1e-3;
+    });
+    expect_error(
+        &verify_args(&scene, &disagreeing, &cache),
+        2,
+        &[
+            "grid_p1_000000.vtu",
+            "PointData \"displacement\"",
+            "the piece that also holds this point",
+        ],
+    );
+}
