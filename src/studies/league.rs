@@ -269,8 +269,9 @@ fn rate_cell(row: &LeagueRow, norm: Norm) -> String {
     }
 }
 
-/// `league.md`.
-pub fn render(league: &League) -> String {
+/// `league.md`, each row linked to its entry's `verify.md` under `entries` (the entries'
+/// directory as a link from where `league.md` is written).
+pub fn render(league: &League, entries: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -306,8 +307,8 @@ pub fn render(league: &League) -> String {
             };
             let _ = writeln!(
                 out,
-                "| [{}]({}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | {oscillation} | \
-                 {energy} |",
+                "| [{}]({entries}/{}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | \
+                 {oscillation} | {energy} |",
                 e.entry,
                 e.entry,
                 r.code.name,

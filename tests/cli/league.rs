@@ -107,8 +107,9 @@ fn the_league_puts_every_verification_under_a_directory_side_by_side() {
         assert_eq!(rate["bias"], 0.0, "an exact solution has no bias");
     }
     let md = std::fs::read_to_string(reports.join("league.md")).unwrap();
-    assert!(md.contains("| [getfem-2d](getfem-2d/verify.md) | GetFEM 5.4.2"));
-    assert!(md.contains("| [traces](traces/verify.md) | hand-copied 1 |"));
+    // Each row links to its entry's verify.md from where league.md is.
+    assert!(md.contains("| [getfem-2d](../entries/getfem-2d/verify.md) | GetFEM 5.4.2"));
+    assert!(md.contains("| [traces](../entries/traces/verify.md) | hand-copied 1 |"));
     assert!(md.contains("## The note's findings: GetFEM 5.4.2"));
 }
 
@@ -129,14 +130,44 @@ fn a_league_without_entries_is_refused() {
 fn the_committed_league_is_rendered_from_its_entries() {
     let dir = scratch("league-committed");
     success_stdout(&signorini(&["league", "reports/league", "--out", s(&dir)]));
+    // The rows link to the entries from where league.md is: reports/league/… from reports/.
+    let away = std::fs::read_to_string(dir.join("league.md")).unwrap();
+    let entries = away
+        .split("](")
+        .nth(1)
+        .and_then(|link| link.split("/getfem-1d/").next())
+        .unwrap()
+        .to_string();
     for file in ["league.md", "league.json"] {
         let committed = std::fs::read_to_string(Path::new("reports").join(file)).unwrap();
-        let written = std::fs::read_to_string(dir.join(file)).unwrap();
+        let written = std::fs::read_to_string(dir.join(file))
+            .unwrap()
+            .replace(&format!("]({entries}/"), "](league/");
         assert!(
             committed == written,
             "reports/{file} is not what make league writes"
         );
     }
+}
+
+#[test]
+fn every_link_of_the_committed_league_resolves() {
+    let md = std::fs::read_to_string("reports/league.md").unwrap();
+    let links: Vec<&str> = md
+        .split("](")
+        .skip(1)
+        .filter_map(|rest| rest.split(')').next())
+        .filter(|link| !link.starts_with("http"))
+        .collect();
+    assert!(links.len() >= 43, "{} links", links.len());
+    let broken: Vec<&&str> = links
+        .iter()
+        .filter(|link| !Path::new("reports").join(link).exists())
+        .collect();
+    assert!(
+        broken.is_empty(),
+        "links of reports/league.md that resolve to nothing: {broken:?}"
+    );
 }
 
 /// The harness's own runs in the committed league, exported through `.pvd` and verified, have

@@ -2,7 +2,7 @@
 //! `signorini verify --out <dir>/<entry>` writes it), the league of them built by its report
 //! section ([`League::of`]) and written, `league.md` and `league.json`, into a staged `--out`.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use crate::commands::command_error::CommandError;
 use crate::harness::external::ExternalError;
@@ -59,9 +59,13 @@ fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, Command
 /// `say` what it wrote.
 pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result<(), CommandError> {
     let league = League::of(&read_entries(dir)?);
+    let entries = link_from(out, dir);
     let staged = StagedDir::begin("--out", out, Replace::Files)?;
     write_json(&staged.path().join("league.json"), &league)?;
-    write_atomic(&staged.path().join("league.md"), render(&league).as_bytes())?;
+    write_atomic(
+        &staged.path().join("league.md"),
+        render(&league, &entries).as_bytes(),
+    )?;
     staged.commit()?;
     let rows: usize = league.entries.iter().map(|e| e.rows.len()).sum();
     say(&format!(
@@ -70,4 +74,33 @@ pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result
         league.entries.len()
     ));
     Ok(())
+}
+
+/// The directory `to` as a link from a page in the directory `from`: the relative path between
+/// the two once both are absolute and resolved (`from` need not exist yet: its nearest existing
+/// ancestor is resolved), `to` as given when one cannot be resolved.
+fn link_from(from: &Path, to: &Path) -> String {
+    let resolved = |p: &Path| -> Option<PathBuf> {
+        let absolute = std::path::absolute(p).ok()?;
+        let existing = absolute.ancestors().find(|a| a.exists())?;
+        let rest = absolute.strip_prefix(existing).ok()?;
+        Some(existing.canonicalize().ok()?.join(rest))
+    };
+    let (Some(from), Some(to_resolved)) = (resolved(from), resolved(to)) else {
+        return to.display().to_string();
+    };
+    let common = from
+        .components()
+        .zip(to_resolved.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let up = from.components().count() - common;
+    let link: PathBuf = std::iter::repeat_n(Component::ParentDir, up)
+        .chain(to_resolved.components().skip(common))
+        .collect();
+    if link.as_os_str().is_empty() {
+        ".".into()
+    } else {
+        link.display().to_string()
+    }
 }
