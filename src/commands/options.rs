@@ -1,17 +1,35 @@
 //! The options and parsers that several subcommands share: schemes, masses, norms, contact
 //! treatments, the schemes' conventions and the step solver.
 
+use std::path::PathBuf;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::error::ParameterError;
 use crate::harness::problem::{Conventions, LinearSolver, Start};
+use crate::harness::reference::fine_mesh::cache::user_cache;
 use crate::harness::reference::scene_study::ConventionChoice;
 
 /// The reports directory of `make report`, relative to the repository root: the default
 /// `--out` of the commands that write reports.
 pub(crate) const REPORTS: &str = "reports";
+
+/// Where a command looks up and keeps the fine-mesh references: `--cache DIR` when given, else
+/// the user's cache ([`user_cache`]: `$SIGNORINI_CACHE`, its `CACHE_VARIABLE`, else the
+/// platform's cache directory),
+/// which every command shares, so that a reference is computed once per user and scene; a
+/// machine where neither is known is refused naming `--cache`.
+pub(crate) fn cache_dir(given: Option<PathBuf>) -> Result<PathBuf, ParameterError> {
+    given.or_else(user_cache).ok_or_else(|| {
+        ParameterError::new(
+            "--cache",
+            "none",
+            "a directory for the fine-mesh references: --cache DIR, or SIGNORINI_CACHE, or a \
+             home directory with a cache directory",
+        )
+    })
+}
 
 /// A value of an option read with its type's parser (a scheme, a mass, a norm, a contact
 /// treatment, …): a refused value names what is allowed.

@@ -270,7 +270,8 @@ fn rate_cell(row: &LeagueRow, norm: Norm) -> String {
 }
 
 /// `league.md`, each row linked to its entry's `verify.md` under `entries` (the entries'
-/// directory as a link from where `league.md` is written).
+/// directory as the prefix of a link from where `league.md` is written: empty, or ending in
+/// `/`).
 pub fn render(league: &League, entries: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -307,7 +308,7 @@ pub fn render(league: &League, entries: &str) -> String {
             };
             let _ = writeln!(
                 out,
-                "| [{}]({entries}/{}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | \
+                "| [{}]({entries}{}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | \
                  {oscillation} | {energy} |",
                 e.entry,
                 e.entry,

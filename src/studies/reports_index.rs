@@ -26,11 +26,6 @@ use crate::studies::tables::{OscillationRecord, RatesFile, RATES_JSON, SENSITIVI
 /// The index of a reports directory ([`reports_index`]).
 pub const REPORTS_INDEX: &str = "README.md";
 
-/// Where the committed reports directory caches the fine-mesh references of its 2D/3D studies
-/// (`reports/` and [`elastic_files::REFERENCE_CACHE`]): what a study or a verification without
-/// its own cache reads.
-pub const REPORT_REFERENCES: &str = "reports/data/references";
-
 /// One study's part of the index: the report that must exist for it to be listed, its title,
 /// the other files it links, the figures drawn inline and the figure families it owns
 /// (file-name prefix and what to look for).

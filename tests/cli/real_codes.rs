@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::common::{expect_error, signorini, success_stdout};
+use crate::common::{expect_error, signorini, success_stdout, test_cache};
 use crate::verify_box::{
     errors, read_json, rewrite_collection_with, run_case_every_step, run_every_step, s,
     scene_at_levels, scratch, Encoding,
@@ -377,4 +377,30 @@ fn a_parallel_grids_pieces_are_joined_and_a_disagreeing_ghost_is_refused() {
             "the piece that also holds this point",
         ],
     );
+}
+
+#[test]
+fn a_second_verify_of_a_scene_reads_the_reference_the_first_kept() {
+    let dir = scratch("second-verify");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let file = fixtures().join(FIXTURES[0].0);
+    let args = [
+        "verify",
+        s(&scene),
+        s(&file),
+        "--code",
+        "dolfinx",
+        "--code-version",
+        "0.5.2",
+    ];
+    let said = success_stdout(&signorini(&args));
+    let kept = format!("kept the reference in {}", test_cache().display());
+    assert!(
+        said.contains("computing it") && said.contains(&kept),
+        "{said}"
+    );
+    let said = success_stdout(&signorini(&args));
+    assert!(!said.contains("computing it"), "{said}");
+    assert!(said.contains("read from the cache"), "{said}");
+    let _ = std::fs::remove_dir_all(test_cache());
 }

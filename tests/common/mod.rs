@@ -2,12 +2,20 @@
 
 use std::process::{Command, Output};
 
-/// Runs the binary from the repository root, as CI would (`CI=true`: no progress bar).
+/// The reference cache of this test's process (`SIGNORINI_CACHE`): the commands' default
+/// cache is the user's, which a test must neither read nor fill.
+pub fn test_cache() -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("signorini-test-cache-{}", std::process::id()))
+}
+
+/// Runs the binary from the repository root, as CI would (`CI=true`: no progress bar), with
+/// this test's own reference cache ([`test_cache`]).
 pub fn signorini(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_signorini"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("CI", "true")
+        .env("SIGNORINI_CACHE", test_cache())
         .output()
         .expect("the binary runs")
 }

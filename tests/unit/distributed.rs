@@ -452,7 +452,7 @@ fn a_reference_whose_rank_does_not_fit_its_machine_is_refused_on_every_rank() {
     let said = ThreadRanks::run(2, |r| {
         let request = ReferenceRequest {
             scenes: vec![path.clone()],
-            cache: cache.clone(),
+            cache: Some(cache.clone()),
             out: None,
             linear_solver: LinearSolver::Cg,
             limits: Limits::or_defaults(Some(limit), None, None),

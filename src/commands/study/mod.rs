@@ -21,7 +21,6 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::executor::Executor;
 use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::shard::Invocation;
-use crate::studies::reports_index::REPORT_REFERENCES;
 use reference_run::{references, ReferenceRequest};
 use study_run::{SensitivityRequest, StudyRequest};
 
@@ -64,9 +63,8 @@ pub struct StudyArgs {
     /// reports directory instead of printing.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Box scenes: where the fine-mesh reference is looked up and kept. Default: with --out,
-    /// OUT/data/references (read and written); without, reports/data/references, read only (a
-    /// study without --out or --cache writes nothing).
+    /// Box scenes: where the fine-mesh reference is looked up and kept (default: the user's
+    /// cache, shared by every command: $SIGNORINI_CACHE, else ~/.cache/signorini/references).
     #[arg(long)]
     pub cache: Option<PathBuf>,
     /// Contact treatment of every case: multiplier, penalty(gamma0=G),
@@ -182,8 +180,8 @@ pub struct SensitivityArgs {
     /// Output directory.
     #[arg(long, default_value = REPORTS)]
     pub out: PathBuf,
-    /// Box scenes: where the fine-mesh reference is looked up and kept (default:
-    /// OUT/data/references, read and written).
+    /// Box scenes: where the fine-mesh reference is looked up and kept (default: the user's
+    /// cache, as `study --cache`).
     #[arg(long)]
     pub cache: Option<PathBuf>,
     /// The shard to run.
@@ -242,9 +240,9 @@ pub struct ReferenceArgs {
     /// Box scene files.
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
-    /// Where the references are cached.
-    #[arg(long, default_value = REPORT_REFERENCES)]
-    pub cache: PathBuf,
+    /// Where the references are cached (default: the user's cache, as `study --cache`).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
     /// With --shard: the directory the shard's partial result file goes into (the references
     /// themselves go into --cache).
     #[arg(long)]

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::command_error::CommandError;
+use crate::commands::options::cache_dir;
 use crate::commands::sharding::outputs::{complete_or_write, shard_output, Received};
 use crate::harness::files::input::Shown;
 use crate::harness::problem::{BoxProblem, LinearSolver};
@@ -46,8 +47,8 @@ struct ReferenceJob {
 pub struct ReferenceRequest<'a> {
     /// The box scene files.
     pub scenes: Vec<PathBuf>,
-    /// Where the references are cached.
-    pub cache: PathBuf,
+    /// Where the references are cached, when given (default: the user's, `cache_dir`).
+    pub cache: Option<PathBuf>,
     /// A shard's output directory.
     pub out: Option<PathBuf>,
     /// The step solver.
@@ -83,6 +84,7 @@ pub fn references(
         ranks,
         measure,
     } = request;
+    let cache = cache_dir(cache)?;
     let (cache, out) = (cache.as_path(), out.as_deref());
     if out.is_some() && !matches!(executor, Executor::Shard(_)) {
         return Err(CommandError::Refused(

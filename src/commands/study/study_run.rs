@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use super::reference_run::cache_is_a_directory;
 use crate::commands::command_error::CommandError;
+use crate::commands::options::cache_dir;
 use crate::commands::sharding::outputs::{complete_or_write, shard_output, Destination, Received};
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
@@ -19,10 +20,8 @@ use crate::harness::study::progress;
 use crate::harness::study::scene::Scene;
 use crate::harness::study::sensitivity::EnsembleConfig;
 use crate::harness::study::shard::Invocation;
-use crate::studies::elastic_study::files::REFERENCE_CACHE;
 use crate::studies::elastic_study::rejudge;
 use crate::studies::error::Error;
-use crate::studies::reports_index::REPORT_REFERENCES;
 use crate::studies::scene_study::JudgedStudy;
 use crate::studies::tables::write_sensitivity_files;
 
@@ -61,11 +60,7 @@ pub fn study(
     } = request;
     let shard = shard_output(executor, out.as_deref())?;
     let study = SceneStudy::of(&Scene::load(&scene)?, choices)?;
-    let cache = match (cache, &out) {
-        (Some(dir), _) => ReferenceCache::ReadWrite(dir),
-        (None, Some(out)) => ReferenceCache::ReadWrite(out.join(REFERENCE_CACHE)),
-        (None, None) => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
-    };
+    let cache = ReferenceCache::ReadWrite(cache_dir(cache)?);
     if study.has_reference() {
         cache_is_a_directory(cache.dir())?;
     }
@@ -127,7 +122,7 @@ pub struct SensitivityRequest {
     pub ensemble: EnsembleConfig,
     /// Where sensitivity.md and sensitivity.json go (or a shard's file).
     pub out: PathBuf,
-    /// A box's reference cache, when given (default: OUT/data/references).
+    /// A box's reference cache, when given (default: the user's, `cache_dir`).
     pub cache: Option<PathBuf>,
     /// The limits it is held to.
     pub limits: Limits,
@@ -153,7 +148,7 @@ pub fn sensitivity(
         ..StudyChoices::default()
     };
     let sensitivity = SceneSensitivity::of(SceneStudy::of(&scene, choices)?, ensemble)?;
-    let cache = ReferenceCache::ReadWrite(cache.unwrap_or_else(|| out.join(REFERENCE_CACHE)));
+    let cache = ReferenceCache::ReadWrite(cache_dir(cache)?);
     if sensitivity.study().has_reference() {
         cache_is_a_directory(cache.dir())?;
     }

@@ -76,9 +76,10 @@ pub fn write_league(dir: &Path, out: &Path, say: &mut dyn FnMut(&str)) -> Result
     Ok(())
 }
 
-/// The directory `to` as a link from a page in the directory `from`: the relative path between
-/// the two once both are absolute and resolved (`from` need not exist yet: its nearest existing
-/// ancestor is resolved), `to` as given when one cannot be resolved.
+/// The directory `to` as the prefix of a link from a page in the directory `from`: the relative
+/// path between the two once both are absolute and resolved (`from` need not exist yet: its
+/// nearest existing ancestor is resolved), with a trailing `/`, empty when they are one
+/// directory; `to` as given when one cannot be resolved.
 fn link_from(from: &Path, to: &Path) -> String {
     let resolved = |p: &Path| -> Option<PathBuf> {
         let absolute = std::path::absolute(p).ok()?;
@@ -87,7 +88,7 @@ fn link_from(from: &Path, to: &Path) -> String {
         Some(existing.canonicalize().ok()?.join(rest))
     };
     let (Some(from), Some(to_resolved)) = (resolved(from), resolved(to)) else {
-        return to.display().to_string();
+        return format!("{}/", to.display());
     };
     let common = from
         .components()
@@ -99,8 +100,8 @@ fn link_from(from: &Path, to: &Path) -> String {
         .chain(to_resolved.components().skip(common))
         .collect();
     if link.as_os_str().is_empty() {
-        ".".into()
+        String::new()
     } else {
-        link.display().to_string()
+        format!("{}/", link.display())
     }
 }

@@ -44,8 +44,8 @@ pub struct VerifyArgs {
     #[command(flatten)]
     pub pvd: PvdArgs,
     /// Box scenes: where the fine-mesh reference is looked up and kept, as `study --cache`
-    /// (default: reports/data/references, read only: a reference computed for want of one
-    /// there is not saved).
+    /// (default: the user's cache, shared by every command: $SIGNORINI_CACHE, else
+    /// ~/.cache/signorini/references).
     #[arg(long)]
     pub cache: Option<PathBuf>,
 }

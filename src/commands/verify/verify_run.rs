@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::commands::command_error::CommandError;
+use crate::commands::options::cache_dir;
 use crate::harness::external::box_run::PvdOptions;
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::verify::fine_mesh::ReferenceSource;
@@ -21,7 +22,6 @@ use crate::harness::study::golden::{check_values, render_drifts};
 use crate::harness::study::scene::Scene;
 use crate::studies::elastic_study::external::{judged, render};
 use crate::studies::error::Error;
-use crate::studies::reports_index::REPORT_REFERENCES;
 
 /// `verify.json` under `--out`: the judged [`Verification`].
 pub const VERIFY_JSON: &str = "verify.json";
@@ -45,8 +45,8 @@ pub struct VerifyRequest {
     pub limits: Limits,
     /// What a box scene's `.pvd` files are (their code, label, scheme, mass and arrays).
     pub box_options: PvdOptions,
-    /// Where a box scene's reference is read from and saved to (default: read from
-    /// `reports/data/references/`, computed when absent there and not saved).
+    /// Where a box scene's reference is read from and saved to (default: the user's cache,
+    /// `cache_dir`).
     pub references: Option<PathBuf>,
 }
 
@@ -101,10 +101,7 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         .as_deref()
         .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
         .transpose()?;
-    let cache = match references {
-        Some(dir) => ReferenceCache::ReadWrite(dir),
-        None => ReferenceCache::ReadOnly(PathBuf::from(REPORT_REFERENCES)),
-    };
+    let cache = ReferenceCache::ReadWrite(cache_dir(references)?);
     let sources = VerifySources {
         pvd: &box_options,
         reference: ReferenceSource {

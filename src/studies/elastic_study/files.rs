@@ -1,7 +1,8 @@
 //! The files of a 2D/3D study under a reports directory: `elastic-<d>d.md`, `elastic-<d>d.json`
 //! ([`ElasticStudy`]: the study, the reference check and the findings) and
 //! `data/elastic-<d>d-histories.json` ([`super::ElasticHistories`], the figure data), which
-//! `make figures` reads back; the fine-mesh references are cached under [`REFERENCE_CACHE`].
+//! `make figures` reads back (the fine-mesh references are in the user's cache,
+//! [`crate::harness::reference::fine_mesh::cache::user_cache`]).
 //! The render step builds `work-precision.md` from the studies' data, this one's included
 //! ([`crate::studies::render`]).
 
@@ -11,9 +12,6 @@ use super::ElasticStudy;
 use crate::harness::files::artifacts::{write_atomic, write_json, write_json_compact};
 use crate::harness::reference::fine_mesh::ElasticHistories;
 use crate::studies::error::Error;
-
-/// Where the fine-mesh references of the 2D/3D studies are cached, under a reports directory.
-pub const REFERENCE_CACHE: &str = "data/references";
 
 /// The report of the `dimension`-D study, under a reports directory.
 pub fn report_file(dimension: usize) -> String {

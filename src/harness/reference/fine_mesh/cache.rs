@@ -385,13 +385,27 @@ pub fn load(dir: &Path, stem: &str, key: &ReferenceKey) -> Result<CacheLookup, E
     })))
 }
 
+/// The environment variable that names the reference cache the commands use when they are not
+/// given `--cache` ([`user_cache`]).
+pub const CACHE_VARIABLE: &str = "SIGNORINI_CACHE";
+
+/// The reference cache of this user, which every command shares when it is not given
+/// `--cache`: `$SIGNORINI_CACHE` when set (and not empty), else `signorini/references` under
+/// the platform's cache directory (`dirs::cache_dir`: `$XDG_CACHE_HOME` or `~/.cache` on Linux,
+/// `~/Library/Caches` on macOS); `None` when neither is known.
+pub fn user_cache() -> Option<PathBuf> {
+    std::env::var_os(CACHE_VARIABLE)
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| dirs::cache_dir().map(|d| d.join("signorini").join("references")))
+}
+
 /// Where a study's reference is looked up, and whether it is kept there.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ReferenceCache {
     /// Read the directory, and save a reference computed for want of a cache into it.
     ReadWrite(PathBuf),
-    /// Read the directory; a reference computed for want of a cache is not saved (a study
-    /// without `--out` writes nothing).
+    /// Read the directory; a reference computed for want of a cache is not saved.
     ReadOnly(PathBuf),
 }
 

@@ -207,10 +207,10 @@ impl FineReference {
         let reference = Self::compute(problem, settings, key, ranks)?;
         if let ReferenceCache::ReadWrite(dir) = cache {
             cache::save((&reference.histories, &reference.projections), dir, &stem)?;
+            note(format!("kept the reference in {}", dir.display()));
         } else {
             note(format!(
-                "the reference is not cached: the study writes nothing without --out or \
-                 --cache DIR (it looked in {})",
+                "the reference is not kept (the cache {} is read only)",
                 dir.display()
             ));
         }
