@@ -2,7 +2,7 @@
 CARGO ?= cargo
 BIN := target/release/signorini
 
-.PHONY: report report-fine report-finest rejudge league test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check mpi-install cluster-plan
+.PHONY: report report-fine report-finest rejudge league league-codes test test-report-shards golden build lint fmt experiment bench bench-fine stability figures reference verify-getfem verify-siconos docs mpi-check mpi-install cluster-plan
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index). Each command writes its own study's data and
@@ -18,8 +18,8 @@ report: build
 
 ## The finer 2D/3D studies into reports/fine/: 2D levels 10–160 against a reference on
 ## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
-## references are cached in reports/fine/data/references/ (computing them takes most of the time:
-## see docs/src/convergence-2d-3d.md).
+## references are kept in the user's cache ($SIGNORINI_CACHE, else ~/.cache/signorini/references;
+## computing them takes most of the time: see docs/src/convergence-2d-3d.md).
 report-fine: build
 	$(BIN) study scenes/bar2d-fine.json --out reports/fine
 	$(BIN) study scenes/bar3d-fine.json --out reports/fine
@@ -28,7 +28,7 @@ report-fine: build
 ## The finest 3D study into reports/finest/: levels 10–160 against a reference on 640 elements
 ## along the axis (8.1 M unknowns, 2 560 steps), with the round-off ensembles and figures. The
 ## reference takes most of the time and memory (reports/finest/elastic-3d.md gives its run time;
-## docs/src/make-targets.md); it is cached in reports/finest/data/references/.
+## docs/src/make-targets.md); it is kept in the user's cache.
 report-finest: build
 	$(BIN) study scenes/bar3d-finest.json --out reports/finest
 	$(BIN) figures --out reports/finest
@@ -46,7 +46,8 @@ rejudge: build
 	$(BIN) figures --out reports/finest
 	$(BIN) figures --out reports
 
-## The fine-mesh references of the 2D/3D studies (reports/data/references/): the cache is kept
+## The fine-mesh references of the 2D/3D studies, into the user's cache ($SIGNORINI_CACHE, else
+## ~/.cache/signorini/references), which study, verify and the league share: the cache is kept
 ## when its parameters match the scenes', recomputed otherwise (make report does the same).
 reference: build
 	$(BIN) reference scenes/bar2d.json scenes/bar3d.json
@@ -115,14 +116,46 @@ verify-siconos: build
 
 ## The league table, reports/league.md and league.json: every external run set verified side by side
 ## into reports/league/<entry>/ (GetFEM's 1D demo runs; GetFEM's own 2D and 3D runs, written in the
-## box form by `signorini getfem-box`; the harness's own 2D and 3D runs, exported at every step as
-## ParaView collections), then any other entry already there (your code's: docs/src/external-runs.md).
-## The 2D/3D entries use the committed references (reports/data/references, `make reference`).
+## box form by `signorini getfem-box`; GetFEM's and DOLFINx's own solves of the 2D bar at every
+## level of LEAGUE_2D_LEVELS, every step written by each code's own writer (`league-codes`); the
+## harness's own 2D and 3D runs, exported at every step as ParaView collections), then any other
+## entry already there (your code's: docs/src/external-runs.md). The 2D/3D entries use the
+## references in the user's cache (computed there by the first command that needs one).
 LEAGUE_RUNS := target/league
 LEAGUE_2D_LEVELS := 10 20 40 80
 LEAGUE_3D_LEVELS := 10 20 40
-league: build
-	rm -rf $(LEAGUE_RUNS)
+LEAGUE_SCHEMES := crank-nicolson backward-euler
+LEAGUE_MASSES := standard redistributed
+
+## Two other codes solve the 2D bar as the harness does and write it their own way, verified as
+## they wrote it: GetFEM 5.4.2 (scripts/getfem_bar2d.py: its model bricks, Newmark or θ = 1, its
+## nodal contact brick; `MeshFem.export_to_vtu` in base64, Float32) and DOLFINx 0.5.2
+## (scripts/dolfinx_bar2d.py: its Q1 matrices, the harness's one-step schemes, an exact nodal LCP;
+## `dolfinx.io.VTKFile`, .pvd -> .pvtu -> .vtu). Debian's python3-getfem and python3-dolfinx are
+## installed if /usr/bin/python3 cannot import them.
+league-codes: build
+	@/usr/bin/python3 -c 'import getfem' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-getfem)
+	@/usr/bin/python3 -c 'import dolfinx' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-dolfinx)
+	rm -rf $(LEAGUE_RUNS)/getfem-vtu $(LEAGUE_RUNS)/dolfinx
+	for scheme in $(LEAGUE_SCHEMES); do for mass in $(LEAGUE_MASSES); do \
+	  /usr/bin/python3 scripts/getfem_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
+	    --binary --out $(LEAGUE_RUNS)/getfem-vtu 2>/dev/null >/dev/null || exit 1; \
+	  $(BIN) verify scenes/bar2d.json $(LEAGUE_RUNS)/getfem-vtu/getfem-$$scheme-$$mass-nx*-binary.pvd \
+	    --code getfem --code-version 5.4.2 --label "GetFEM $$scheme, $$mass (its VTU exporter)" \
+	    --scheme $$scheme --mass $$mass --contact "nodal contact brick, Alart-Curnier (Newton)" \
+	    --velocity velocity --multiplier multiplier \
+	    --out reports/league/getfem-vtu-2d-$$scheme-$$mass >/dev/null || exit 1; \
+	  /usr/bin/python3 scripts/dolfinx_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
+	    --out $(LEAGUE_RUNS)/dolfinx >/dev/null || exit 1; \
+	  $(BIN) verify scenes/bar2d.json $(LEAGUE_RUNS)/dolfinx/dolfinx-bar2d-$$scheme-$$mass-level*.pvd \
+	    --code dolfinx --code-version 0.5.2 --label "DOLFINx $$scheme, $$mass (VTKFile)" \
+	    --scheme $$scheme --mass $$mass --contact "exact nodal complementarity (LCP)" \
+	    --velocity velocity --multiplier contact_multiplier \
+	    --out reports/league/dolfinx-2d-$$scheme-$$mass >/dev/null || exit 1; \
+	done; done
+
+league: build league-codes
+	rm -rf $(LEAGUE_RUNS)/getfem-1d* $(LEAGUE_RUNS)/getfem-2d $(LEAGUE_RUNS)/getfem-3d $(LEAGUE_RUNS)/signorini-*
 	$(BIN) getfem --out $(LEAGUE_RUNS)/getfem-1d-report --export $(LEAGUE_RUNS)/getfem-1d
 	$(BIN) verify scenes/bar1d-dirichlet.json $(LEAGUE_RUNS)/getfem-1d/*.csv --out reports/league/getfem-1d
 	$(BIN) getfem-box tests/data/getfem2d/*.json.gz --out $(LEAGUE_RUNS)/getfem-2d
