@@ -404,3 +404,33 @@ fn a_second_verify_of_a_scene_reads_the_reference_the_first_kept() {
     assert!(said.contains("read from the cache"), "{said}");
     let _ = std::fs::remove_dir_all(test_cache());
 }
+
+#[test]
+fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_shows() {
+    let dir = scratch("declared");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    let file = fixtures().join(FIXTURES[0].0);
+    let largest = |declared: &str| -> f64 {
+        let verified = verify_as(
+            &scene,
+            &file,
+            "dolfinx",
+            (declared, "contact_multiplier"),
+            &cache,
+            &dir.join(declared),
+        );
+        let differences = &verified["series"][0]["step_differences"][0];
+        assert_eq!(differences["samples"], 41, "{differences}");
+        ["displacement", "velocity", "multiplier"]
+            .iter()
+            .map(|q| differences[q].as_f64().unwrap())
+            .fold(0.0, f64::max)
+    };
+    // DOLFINx's Crank–Nicolson is the harness's to round-off (its file has 16 digits) ...
+    let as_run = largest("crank-nicolson");
+    assert!(as_run <= 1e-12, "{as_run:e}");
+    // ... and declared as backward Euler it is not.
+    let misdeclared = largest("backward-euler");
+    assert!(misdeclared >= 1e-2, "{misdeclared:e}");
+}

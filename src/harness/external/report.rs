@@ -86,8 +86,8 @@ fn step_differences<J>(v: &Verification<J>) -> String {
             out.push_str(
                 "\n## The harness's run of each file's declared scheme and mass\n\nThe \
                  harness runs the scheme and mass a file declares (with the scene's contact \
-                 treatment) on the scene's bar with the file's NX, from the file's first \
-                 sample, at its time step. Each cell: the largest difference over the samples, \
+                 treatment) on the scene's mesh at the file's level (a box series: at its \
+                 coarsest level), from the file's first sample, at its time step. Each cell: the largest difference over the samples, \
                  relative to the harness's largest value (`λ` at the samples where both report \
                  it at the same time). Round-off (10⁻¹⁰ or less) says both codes solve the same \
                  discrete problem.\n\n| file | scheme | samples | u | v | λ |\n\

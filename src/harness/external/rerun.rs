@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::format::ExternalRun;
 use crate::engine::contact::ContactTreatment;
 use crate::engine::model::Model;
-use crate::engine::schemes::{integrator, Conventions, Scheme};
+use crate::engine::schemes::{integrator, Conventions, Scheme, SchemeState, Timed};
 
 /// The relative tolerance within which a file's sample times must be `t_0 + k Δt` for one `Δt`
 /// for the harness to step to them.
@@ -62,13 +62,100 @@ impl Largest {
     }
 }
 
+/// One sample of a file as a rerun compares it: its displacement and (when the file has it) its
+/// velocity on the model's unknowns, and (when it has them) its multipliers with the time they
+/// approximate, from the file's first sample.
+pub struct FileSample {
+    /// `U` on the model's unknowns.
+    pub displacement: Vec<f64>,
+    /// `V` on the model's unknowns.
+    pub velocity: Option<Vec<f64>>,
+    /// `λ`, as many as the file gives (the first of the harness's are compared with them).
+    pub multipliers: Option<Timed<Vec<f64>>>,
+}
+
+/// The harness's run of `scheme` with `conventions` on `model`, from the file's first sample,
+/// stepped by the file's time step to each of its `times` (one step apart), compared with the
+/// file's samples (`sample(k)`, `Err` saying why one cannot be compared): the largest
+/// differences of `file` ([`StepDifferences`]).
+pub fn compare_with_harness(
+    file: &str,
+    (model, scheme, conventions): (&Model, Scheme, &Conventions),
+    times: &[f64],
+    sample: &mut dyn FnMut(usize) -> Result<FileSample, String>,
+) -> Result<StepDifferences, String> {
+    let samples = times.len();
+    if samples < 2 {
+        return Err("it has fewer than two samples".to_string());
+    }
+    let (t0, span) = (times[0], times[samples - 1] - times[0]);
+    let dt = span / (samples - 1) as f64;
+    if (0..samples).any(|k| (times[k] - (t0 + k as f64 * dt)).abs() > UNIFORM_TIMES * span) {
+        return Err("its samples are not every step of one time step".to_string());
+    }
+    let first = sample(0)?;
+    let zero = vec![0.0; first.displacement.len()];
+    let v0 = first.velocity.as_deref().unwrap_or(&zero);
+    let (mut harness, mut state) =
+        integrator(model, scheme, dt, &first.displacement, v0, conventions)
+            .map_err(|e| format!("the harness refuses it: {e}"))?;
+    let mut seen = Seen::default();
+    seen.add(&first, &state, (t0, span));
+    for k in 1..samples {
+        harness
+            .advance(&mut state)
+            .map_err(|e| format!("the harness's run fails: {e}"))?;
+        seen.add(&sample(k)?, &state, (t0, span));
+    }
+    Ok(StepDifferences {
+        file: file.to_string(),
+        scheme: scheme.name(),
+        samples,
+        displacement: seen.displacement.relative(),
+        velocity: (seen.velocities == samples).then(|| seen.velocity.relative()),
+        multiplier: (seen.multipliers > 0).then(|| seen.multiplier.relative()),
+    })
+}
+
+/// The largest differences seen so far, and how many samples had a velocity and multipliers
+/// to compare.
+#[derive(Default)]
+struct Seen {
+    displacement: Largest,
+    velocity: Largest,
+    multiplier: Largest,
+    velocities: usize,
+    multipliers: usize,
+}
+
+impl Seen {
+    /// Adds the file's sample `s` against the harness's `state`, the file's samples starting at
+    /// `t0` and spanning `span`: its multipliers where they approximate the harness's time.
+    fn add(&mut self, s: &FileSample, state: &SchemeState, (t0, span): (f64, f64)) {
+        self.displacement.add(&s.displacement, state.displacement());
+        if let Some(v) = &s.velocity {
+            self.velocity.add(v, state.velocity());
+            self.velocities += 1;
+        }
+        let reported = state.multiplier();
+        if let Some(l) = &s.multipliers {
+            let same_time = (l.time - (t0 + reported.time)).abs() <= UNIFORM_TIMES * span;
+            if same_time && reported.value.len() >= l.value.len() {
+                self.multiplier
+                    .add(&l.value, &reported.value[..l.value.len()]);
+                self.multipliers += 1;
+            }
+        }
+    }
+}
+
 /// The harness's run of `run`'s declared `scheme` on `model` (the scene's bar with the file's
 /// `NX`, its declared mass and the scene's contact treatment `contact`; `dofs` its unknowns, the
-/// nodes less a clamped end), compared with the file at every sample; `Err` says why it is not
-/// compared (a declared contact treatment other than the scene's, no displacement field at
-/// every sample, sample times that are not one time step apart, or a run the harness refuses
-/// or that fails). A `contact` text that names no treatment is the code's own words: the
-/// scene's treatment is run.
+/// nodes less a clamped end), compared with the file at every sample
+/// ([`compare_with_harness`]); `Err` says why it is not compared (a declared contact treatment
+/// other than the scene's, no displacement field at every sample, sample times that are not one
+/// time step apart, or a run the harness refuses or that fails). A `contact` text that names no
+/// treatment is the code's own words: the scene's treatment is run.
 pub fn rerun_declared(
     run: &ExternalRun,
     scheme: Scheme,
@@ -86,47 +173,23 @@ pub fn rerun_declared(
     }
     let samples = run.samples();
     let u = |k| run.row(&run.displacement, k).map(|r| &r[..dofs]);
-    let v = |k| run.row(&run.velocity, k).map(|r| &r[..dofs]);
     if samples < 2 || (0..samples).any(|k| u(k).is_none()) {
         return Err("it has no displacement field at every sample".to_string());
     }
-    let (t0, span) = (run.time[0], run.time[samples - 1] - run.time[0]);
-    let dt = span / (samples - 1) as f64;
-    if (0..samples).any(|k| (run.time[k] - (t0 + k as f64 * dt)).abs() > UNIFORM_TIMES * span) {
-        return Err("its samples are not every step of one time step".to_string());
-    }
-    let u0 = u(0).expect("checked above");
-    let zero = vec![0.0; dofs];
-    let v0 = v(0).unwrap_or(&zero);
-    let (mut harness, mut state) = integrator(model, scheme, dt, u0, v0, &Conventions::HARNESS)
-        .map_err(|e| format!("the harness refuses it: {e}"))?;
-    let (mut du, mut dv, mut dl) = (Largest::default(), Largest::default(), Largest::default());
-    let (mut velocities, mut multipliers) = (0, 0);
     let lambda_time = |k: usize| run.lambda_time.as_ref().map_or(run.time[k], |t| t[k]);
-    for k in 0..samples {
-        if k > 0 {
-            harness
-                .advance(&mut state)
-                .map_err(|e| format!("the harness's run fails: {e}"))?;
-        }
-        du.add(u(k).expect("checked above"), state.displacement());
-        if let Some(vk) = v(k) {
-            dv.add(vk, state.velocity());
-            velocities += 1;
-        }
-        let reported = state.multiplier();
-        let same_time = (lambda_time(k) - (t0 + reported.time)).abs() <= UNIFORM_TIMES * span;
-        if let (Some(l), Some(&h), true) = (run.lambda_at(k), reported.value.first(), same_time) {
-            dl.add(&[l], &[h]);
-            multipliers += 1;
-        }
-    }
-    Ok(StepDifferences {
-        file: run.path.display().to_string(),
-        scheme: scheme.name(),
-        samples,
-        displacement: du.relative(),
-        velocity: (velocities == samples).then(|| dv.relative()),
-        multiplier: (multipliers > 0).then(|| dl.relative()),
-    })
+    compare_with_harness(
+        &run.path.display().to_string(),
+        (model, scheme, &Conventions::HARNESS),
+        &run.time,
+        &mut |k| {
+            Ok(FileSample {
+                displacement: u(k).expect("checked above").to_vec(),
+                velocity: run.row(&run.velocity, k).map(|r| r[..dofs].to_vec()),
+                multipliers: run.lambda_at(k).map(|l| Timed {
+                    time: lambda_time(k),
+                    value: vec![l],
+                }),
+            })
+        },
+    )
 }

@@ -13,6 +13,11 @@
 //!   step. An energy the code reports itself is never used for these norms: its distance to the
 //!   reference is shown beside them, under its declared definition.
 //!
+//! A series that declares its scheme and mass is also run by the harness at its coarsest level,
+//! from the file's first sample, and compared with the file at every step
+//! ([`compare_with_harness`]): round-off differences say both codes solve the same discrete
+//! problem.
+//!
 //! Every file is read and checked before the reference is obtained; a reference that is not in
 //! the cache is computed only when its estimated work and memory fit the limits (`--max-*`), as
 //! `signorini reference` checks them.
@@ -22,8 +27,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::{Declared, ReportedEnergy, RunRecord, VerifiedFile};
+use crate::engine::schemes::Timed;
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
 use crate::harness::external::error::ExternalError;
+use crate::harness::external::rerun::{compare_with_harness, FileSample};
 use crate::harness::reference::declared::FineMeshDeclared;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::comparison::ComparedSample;
@@ -128,15 +135,15 @@ impl AgainstFineMesh {
         let clock = Instant::now();
         let mesh = &run.mesh;
         let d = mesh.dim();
-        let model = run
+        let discretisation = run
             .mass
             .map(|mass| {
                 let settings = &self.declared.config.settings;
                 self.declared.problem.discretise(run.level, mass, settings)
             })
             .transpose()
-            .map_err(Error::from)?
-            .map(|discretisation| discretisation.model);
+            .map_err(Error::from)?;
+        let model = discretisation.as_ref().map(|d| &d.model);
         let dofs = |nodal: &[f64]| -> Vec<f64> {
             let mut u = vec![0.0; mesh.n_dofs()];
             for node in 0..mesh.n_nodes() {
@@ -161,7 +168,7 @@ impl AgainstFineMesh {
             if v.is_none() {
                 without_velocity += 1;
             }
-            let energy = match (&model, &u, &v) {
+            let energy = match (model, &u, &v) {
                 (Some(model), Some(u), Some(v)) => Some(model.energy(u, v)),
                 _ => None,
             };
@@ -218,6 +225,39 @@ impl AgainstFineMesh {
         let dt_max = spacing.clone().fold(0.0, f64::max);
         let h = mesh.lengths()[d - 1] / run.level as f64;
         let file = run.path.display().to_string();
+        let coarsest = self
+            .runs
+            .iter()
+            .filter(|r| r.label == run.label)
+            .all(|r| r.level >= run.level);
+        let rerun = run
+            .scheme
+            .zip(discretisation.as_ref())
+            .filter(|_| coarsest)
+            .map(|(scheme, discretised)| {
+                let declared = (&discretised.model, scheme, &discretised.conventions);
+                compare_with_harness(&file, declared, &run.time, &mut |n| {
+                    let s = run.sample(n).map_err(|e| e.to_string())?;
+                    let displacement = s.displacement.as_deref().map(dofs).ok_or_else(|| {
+                        "it has no displacement field at every sample".to_string()
+                    })?;
+                    Ok(FileSample {
+                        displacement,
+                        velocity: s.velocity.as_deref().map(dofs),
+                        multipliers: s.multipliers.map(|value| Timed {
+                            time: run.time[n],
+                            value,
+                        }),
+                    })
+                })
+            });
+        let notes = match &rerun {
+            Some(Err(why)) => vec![format!(
+                "{file}: not compared with the harness's run of its declared scheme and mass: \
+                 {why}"
+            )],
+            _ => Vec::new(),
+        };
         let reported_energy = run
             .energy_definition
             .filter(|_| reported_samples > 0)
@@ -255,9 +295,9 @@ impl AgainstFineMesh {
             },
             errors: comparison.errors(),
             lacks,
-            notes: Vec::new(),
+            notes,
             reported_energy,
-            step_differences: None,
+            step_differences: rerun.and_then(Result::ok),
         })
     }
 }
