@@ -3,7 +3,8 @@
 //! block; at the offset, a header (`UInt32`, or `UInt64` when `header_type` says so) and the
 //! array's bytes in the file's byte order. A zlib-compressed array
 //! (`compressor="vtkZLibDataCompressor"`) has the header `[blocks, block size, last block's
-//! size, compressed size of each block]` and its blocks one after another.
+//! size, compressed size of each block]` and its blocks one after another; an LZ4-compressed one
+//! (`compressor="vtkLZ4DataCompressor"`) the same header, its blocks LZ4 blocks without a frame.
 
 use std::io::Read;
 use std::path::Path;
@@ -12,6 +13,7 @@ use flate2::read::ZlibDecoder;
 
 use super::{PointArray, VtuSnapshot};
 use crate::harness::external::error::ExternalError;
+use crate::harness::external::format::MAX_FILE_BYTES;
 
 /// The snapshot `path` whose bytes are `bytes` and whose raw block starts at `start`.
 pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, ExternalError> {
@@ -28,14 +30,15 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
     let layout = Layout {
         header_u64: root.attribute("header_type") == Some("UInt64"),
         big_endian: root.attribute("byte_order") == Some("BigEndian"),
-        zlib: match root.attribute("compressor") {
-            None | Some("") => false,
-            Some("vtkZLibDataCompressor") => true,
+        compressor: match root.attribute("compressor") {
+            None | Some("") => None,
+            Some("vtkZLibDataCompressor") => Some(Compressor::Zlib),
+            Some("vtkLZ4DataCompressor") => Some(Compressor::Lz4),
             Some(other) => {
                 return Err(invalid(
                     "compressor",
                     format!("{other:?}"),
-                    "none or vtkZLibDataCompressor",
+                    "none, vtkZLibDataCompressor or vtkLZ4DataCompressor",
                 ))
             }
         },
@@ -96,8 +99,17 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
 struct Layout<'a> {
     header_u64: bool,
     big_endian: bool,
-    zlib: bool,
+    compressor: Option<Compressor>,
     block: &'a [u8],
+}
+
+/// How a compressed file's blocks are compressed: VTK's two block compressors.
+#[derive(Clone, Copy)]
+enum Compressor {
+    /// `vtkZLibDataCompressor`: zlib streams.
+    Zlib,
+    /// `vtkLZ4DataCompressor`: LZ4 blocks (no frame), each of its header's uncompressed size.
+    Lz4,
 }
 
 impl Layout<'_> {
@@ -118,10 +130,12 @@ impl Layout<'_> {
         }
     }
 
-    /// The bytes of the array at `offset` (decompressed when the file is compressed).
+    /// The bytes of the array at `offset` (decompressed when the file is compressed: the header
+    /// `[blocks, block size, last block's size (0: a whole block), compressed size of each
+    /// block]`, then the blocks).
     fn bytes(&self, offset: usize) -> Result<Vec<u8>, String> {
         let width = if self.header_u64 { 8 } else { 4 };
-        if !self.zlib {
+        let Some(compressor) = self.compressor else {
             let length = self.header(offset)?;
             let from = offset + width;
             return self
@@ -129,22 +143,40 @@ impl Layout<'_> {
                 .get(from..from.saturating_add(length))
                 .map(<[u8]>::to_vec)
                 .ok_or_else(|| format!("{length} bytes at {from} past the block's end"));
-        }
+        };
         let blocks = self.header(offset)?;
+        let (block_size, last_size) = (
+            self.header(offset + width)?,
+            self.header(offset + 2 * width)?,
+        );
         let sizes: Vec<usize> = (0..blocks)
             .map(|k| self.header(offset + (3 + k) * width))
             .collect::<Result<_, _>>()?;
         let mut at = offset + (3 + blocks) * width;
         let mut out = Vec::new();
-        for size in sizes {
+        for (k, size) in sizes.into_iter().enumerate() {
             let compressed = self
                 .block
                 .get(at..at.saturating_add(size))
                 .ok_or_else(|| format!("a compressed block at {at} past the block's end"))?;
-            ZlibDecoder::new(compressed)
-                .take(crate::harness::external::format::MAX_FILE_BYTES)
-                .read_to_end(&mut out)
-                .map_err(|e| format!("a zlib block that does not inflate ({e})"))?;
+            match compressor {
+                Compressor::Zlib => {
+                    ZlibDecoder::new(compressed)
+                        .take(MAX_FILE_BYTES)
+                        .read_to_end(&mut out)
+                        .map_err(|e| format!("a zlib block that does not inflate ({e})"))?;
+                }
+                Compressor::Lz4 => {
+                    let whole = k + 1 < blocks || last_size == 0;
+                    let length = if whole { block_size } else { last_size };
+                    if out.len().saturating_add(length) > MAX_FILE_BYTES as usize {
+                        return Err(format!("blocks of more than {MAX_FILE_BYTES} bytes"));
+                    }
+                    let block = lz4_flex::block::decompress(compressed, length)
+                        .map_err(|e| format!("an LZ4 block that does not decompress ({e})"))?;
+                    out.extend(block);
+                }
+            }
             at += size;
         }
         Ok(out)
