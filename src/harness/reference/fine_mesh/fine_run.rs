@@ -175,6 +175,7 @@ impl FineReference {
                     histories,
                     projections,
                 } = *cached;
+                note(format!("read the reference from {}", dir.display()));
                 return Ok(Self {
                     mesh: box_mesh(problem, histories.key.n_axis)?,
                     histories,
