@@ -32,7 +32,19 @@ here: the script re-encodes that snapshot.
 named ``MODE[-COMPRESSOR-HEADER]-PRECISION.vtu``, e.g. ``ascii-f64.vtu``,
 ``binary-zlib-uint32-f32.vtu``, ``appended-raw-lz4-uint64-f64.vtu`` (38 files). The writer's
 other settings are its defaults (byte order: the machine's, little-endian here; ``IdType``
-64: the connectivity and offsets as Int64).
+64: the connectivity and offsets as Int64). Its default encoding is one of them:
+``appended-base64-zlib-uint32-f64.vtu``.
+
+With the default block size every array here fits in one block, so 6 more files are written
+with a small ``BlockSize``, their compressed arrays in several blocks (suffix ``-block<BYTES>``):
+4 with 64-byte blocks (``binary-zlib-uint64-f32``, ``appended-raw-zlib-uint32-f64``,
+``appended-raw-lz4-uint64-f64``, ``appended-base64-lz4-uint32-f32``), whose point arrays end
+with a shorter block, and 2 with 88-byte blocks (``appended-raw-lz4-uint32-f64``,
+``appended-base64-zlib-uint64-f64``), where every Float64 point array and the points are a whole
+number of blocks (528 bytes = 6 × 88, 176 = 2 × 88). The compression header is ``[blocks, block
+size, last block's size, compressed size of each block]``; when the data fill the last block VTK
+writes its size as 0, not the block size (the 88-byte files' point arrays, and in the 64-byte
+files the Int64 connectivity, 320 bytes = 5 × 64).
 
 Then one parallel grid, ``parallel.pvtu``, by ``vtkXMLPUnstructuredGridWriter`` with its default
 encoding: the grid in 2 pieces, cells 0–4 (y ≤ 0.5) and cells 5–9 (y ≥ 0.5), each a
@@ -96,6 +108,14 @@ MODES = ["ascii", "binary", "appended-raw", "appended-base64"]
 COMPRESSORS = ["none", "zlib", "lz4"]
 HEADERS = ["uint32", "uint64"]
 PRECISIONS = ["f64", "f32"]
+SMALL_BLOCKS = [
+    ("binary", "zlib", "uint64", "f32", 64),
+    ("appended-raw", "zlib", "uint32", "f64", 64),
+    ("appended-raw", "lz4", "uint64", "f64", 64),
+    ("appended-base64", "lz4", "uint32", "f32", 64),
+    ("appended-raw", "lz4", "uint32", "f64", 88),
+    ("appended-base64", "zlib", "uint64", "f64", 88),
+]
 
 
 def read(path, reader_class=vtk.vtkXMLUnstructuredGridReader):
@@ -151,12 +171,15 @@ def configure(writer, mode, compressor, header):
     {"uint32": writer.SetHeaderTypeToUInt32, "uint64": writer.SetHeaderTypeToUInt64}[header]()
 
 
-def write(grid, path, mode, compressor, header):
-    """Writes ``grid`` to ``path`` with ``vtkXMLUnstructuredGridWriter``."""
+def write(grid, path, mode, compressor, header, block_size=None):
+    """Writes ``grid`` to ``path`` with ``vtkXMLUnstructuredGridWriter``; ``block_size``, if
+    given, is the writer's ``BlockSize`` (the bytes of data per compressed block)."""
     writer = vtk.vtkXMLUnstructuredGridWriter()
     writer.SetInputData(grid)
     writer.SetFileName(str(path))
     configure(writer, mode, compressor, header)
+    if block_size is not None:
+        writer.SetBlockSize(block_size)
     if writer.Write() != 1:
         raise RuntimeError(f"VTK could not write {path}")
 
@@ -351,13 +374,22 @@ def main():
         write(grids[precision], path, mode, compressor, header)
         check(path, source, precision)
         print(f"{name} {path.stat().st_size} B: {attributes(path)}; read back")
+    for mode, compressor, header, precision, block_size in SMALL_BLOCKS:
+        name = f"{mode}-{compressor}-{header}-{precision}-block{block_size}.vtu"
+        path = args.out / name
+        write(grids[precision], path, mode, compressor, header, block_size)
+        check(path, source, precision)
+        print(f"{name} {path.stat().st_size} B: {attributes(path)}; read back")
 
     points, shared = write_parallel(source, args.out)
     for name in ["parallel.pvtu", "parallel_0.vtu", "parallel_1.vtu"]:
         path = args.out / name
         print(f"{name} {path.stat().st_size} B: {attributes(path)}")
     print(f"parallel.pvtu read back: {points} points ({shared} shared nodes marked in piece 1)")
-    print(f"{len(combinations)} files and the parallel grid read back as the source")
+    print(
+        f"{len(combinations) + len(SMALL_BLOCKS)} files and the parallel grid read back as the "
+        "source"
+    )
 
 
 if __name__ == "__main__":
