@@ -66,10 +66,11 @@ files this script wrote:
   defaults) although their data are ASCII, neither compressed nor headed;
 - ``format="ascii"``, ``"binary"`` (inline base64), or ``"appended"`` with an ``offset`` and an
   ``<AppendedData encoding="raw">`` or ``encoding="base64"`` element; the appended raw files
-  have no ``<?xml version="1.0"?>`` declaration (the others do), and in appended mode the
-  attributes the writer fills in afterwards are padded with spaces (``NumberOfPoints="22"
-  ``, ``offset="0"                   ``) and ``RangeMin``/``RangeMax`` have 11 significant
-  digits;
+  have no ``<?xml version="1.0"?>`` declaration (the others do); in appended mode (raw and
+  base64) the attributes the writer fills in afterwards (``NumberOfPoints``,
+  ``NumberOfCells``, ``RangeMin``, ``RangeMax``, ``offset``) are followed by padding spaces
+  outside their quotes (``offset="0"`` then 19 spaces), and ``RangeMin``/``RangeMax`` have 11
+  significant digits (as many as a double needs, up to 17, in the other modes);
 - each array's ``RangeMin``/``RangeMax``; for the 3-component arrays (``displacement``,
   ``velocity``, ``Points``) they are the range of the vectors' norm, also written as an
   ``<InformationKey name="L2_NORM_RANGE" location="vtkDataArray">`` child of the array;
@@ -90,7 +91,8 @@ its type: the Float64 files bit for bit; the Float32 files as the source's value
 Float32, bit for bit (so within 2⁻²⁴ relative of the source), their arrays of type Float32; the
 cells and the cell array bit for bit in every file. The parallel grid reads back as 24 points
 (the 2 shared nodes twice) and 10 cells, every point with the source's coordinates and values,
-its ``vtkGhostType`` 1 on exactly the 2 copies in piece 1.
+every cell on the points of the source's cell its ``vtkOriginalCellIds`` names, and
+``vtkGhostType`` 1 on exactly the 2 copies in piece 1.
 """
 
 import argparse
@@ -314,6 +316,13 @@ def piece_grid(grid, ranges, piece):
     return part
 
 
+def points_of(grid, cell):
+    """The coordinates of the points of ``cell`` of ``grid``, in the cell's order."""
+    ids = grid.GetCell(cell).GetPointIds()
+    coordinates = values(grid.GetPoints().GetData())
+    return coordinates[[ids.GetId(i) for i in range(ids.GetNumberOfIds())]]
+
+
 def write_parallel(source, out):
     """Writes ``parallel.pvtu`` and its 2 pieces, and checks that VTK reads them back."""
     cells = source.GetNumberOfCells()
@@ -337,6 +346,10 @@ def write_parallel(source, out):
     ) - len(source_points)
     assert len(points) == len(source_points) + shared, f"parallel: {len(points)} points"
     assert got.GetNumberOfCells() == cells, f"parallel: {got.GetNumberOfCells()} cells"
+    original = values(got.GetCellData().GetArray("vtkOriginalCellIds"))
+    assert sorted(original) == list(range(cells)), f"parallel: cells {original}"
+    for k, cell in enumerate(original):
+        assert_same(f"parallel cell {k}", points_of(got, k), points_of(source, cell))
     order = np.array([at[tuple(p)] for p in points])
     have = point_arrays(got)
     for array_name, array in point_arrays(source).items():
