@@ -46,6 +46,11 @@ size, last block's size, compressed size of each block]``; when the data fill th
 writes its size as 0, not the block size (the 88-byte files' point arrays, and in the 64-byte
 files the Int64 connectivity, 320 bytes = 5 × 64).
 
+Every file so far is little-endian, this machine's order; 3 more are written big-endian
+(``SetByteOrderToBigEndian``: ``byte_order="BigEndian"``, the data and the headers swapped),
+suffix ``-bigendian``: ``binary-zlib-uint64-f64``, ``appended-raw-none-uint64-f64``,
+``appended-raw-zlib-uint32-f32``.
+
 Then one parallel grid, ``parallel.pvtu``, by ``vtkXMLPUnstructuredGridWriter`` with its default
 encoding: the grid in 2 pieces, cells 0–4 (y ≤ 0.5) and cells 5–9 (y ≥ 0.5), each a
 ``vtkExtractCells`` of the snapshot, so the row of nodes at y = 0.5 is in both pieces, as a
@@ -58,8 +63,8 @@ through the pipeline (``UPDATE_PIECE_NUMBER``), so the pieces come from a small
 **What VTK 9.1.0 writes** (Debian bookworm's 9.1.0+really9.1.0+dfsg2-5+deb12u1), read off the
 files this script wrote:
 
-- ``byte_order="LittleEndian"`` in every file; ``header_type`` as set, with ``version="0.1"``
-  for ``UInt32`` and ``version="1.0"`` for ``UInt64``;
+- ``byte_order="LittleEndian"`` in every file but the ``-bigendian`` ones; ``header_type`` as
+  set, with ``version="0.1"`` for ``UInt32`` and ``version="1.0"`` for ``UInt64``;
 - ``compressor="vtkZLibDataCompressor"`` for zlib, ``"vtkLZ4DataCompressor"`` for LZ4, no
   attribute for none;
 - the ASCII files say ``header_type="UInt32" compressor="vtkZLibDataCompressor"`` (the writer's
@@ -118,6 +123,11 @@ SMALL_BLOCKS = [
     ("appended-raw", "lz4", "uint32", "f64", 88),
     ("appended-base64", "zlib", "uint64", "f64", 88),
 ]
+BIG_ENDIAN = [
+    ("binary", "zlib", "uint64", "f64"),
+    ("appended-raw", "none", "uint64", "f64"),
+    ("appended-raw", "zlib", "uint32", "f32"),
+]
 
 
 def read(path, reader_class=vtk.vtkXMLUnstructuredGridReader):
@@ -173,15 +183,18 @@ def configure(writer, mode, compressor, header):
     {"uint32": writer.SetHeaderTypeToUInt32, "uint64": writer.SetHeaderTypeToUInt64}[header]()
 
 
-def write(grid, path, mode, compressor, header, block_size=None):
+def write(grid, path, mode, compressor, header, block_size=None, big_endian=False):
     """Writes ``grid`` to ``path`` with ``vtkXMLUnstructuredGridWriter``; ``block_size``, if
-    given, is the writer's ``BlockSize`` (the bytes of data per compressed block)."""
+    given, is the writer's ``BlockSize`` (the bytes of data per compressed block); with
+    ``big_endian`` the data and headers are big-endian (``SetByteOrderToBigEndian``)."""
     writer = vtk.vtkXMLUnstructuredGridWriter()
     writer.SetInputData(grid)
     writer.SetFileName(str(path))
     configure(writer, mode, compressor, header)
     if block_size is not None:
         writer.SetBlockSize(block_size)
+    if big_endian:
+        writer.SetByteOrderToBigEndian()
     if writer.Write() != 1:
         raise RuntimeError(f"VTK could not write {path}")
 
@@ -393,6 +406,12 @@ def main():
         write(grids[precision], path, mode, compressor, header, block_size)
         check(path, source, precision)
         print(f"{name} {path.stat().st_size} B: {attributes(path)}; read back")
+    for mode, compressor, header, precision in BIG_ENDIAN:
+        name = f"{mode}-{compressor}-{header}-{precision}-bigendian.vtu"
+        path = args.out / name
+        write(grids[precision], path, mode, compressor, header, big_endian=True)
+        check(path, source, precision)
+        print(f"{name} {path.stat().st_size} B: {attributes(path)}; read back")
 
     points, shared = write_parallel(source, args.out)
     for name in ["parallel.pvtu", "parallel_0.vtu", "parallel_1.vtu"]:
@@ -400,8 +419,8 @@ def main():
         print(f"{name} {path.stat().st_size} B: {attributes(path)}")
     print(f"parallel.pvtu read back: {points} points ({shared} shared nodes marked in piece 1)")
     print(
-        f"{len(combinations) + len(SMALL_BLOCKS)} files and the parallel grid read back as the "
-        "source"
+        f"{len(combinations) + len(SMALL_BLOCKS) + len(BIG_ENDIAN)} files and the parallel grid "
+        "read back as the source"
     )
 
 
