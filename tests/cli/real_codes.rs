@@ -435,3 +435,71 @@ fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_shows() {
     let misdeclared = largest("backward-euler");
     assert!(misdeclared >= 1e-2, "{misdeclared:e}");
 }
+
+/// Every encoding VTK 9.1's own writers produce (`tests/data/external/vtk-encodings/`, by
+/// `scripts/vtk_encodings.py` from `source.vtu`, a snapshot the harness wrote) reads back as the
+/// source: the same points and arrays, bit for bit in `Float64`, the source rounded to `Float32`
+/// (within half a unit of `f32` rounding) in `Float32`; the parallel grid's two pieces joined
+/// into the source's points, its ghost nodes kept once.
+#[test]
+fn every_encoding_vtk_writes_reads_back_as_the_source() {
+    let dir = fixtures().join("vtk-encodings");
+    let source = read_snapshot(&dir.join("source.vtu")).unwrap();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy();
+            (name.ends_with(".vtu") && !name.starts_with("parallel_") && name != "source.vtu")
+                || name.ends_with(".pvtu")
+        })
+        .collect();
+    files.sort();
+    assert!(files.len() >= 48, "{} files", files.len());
+    let mut failures = Vec::new();
+    for file in &files {
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        let read = match read_snapshot(file) {
+            Ok(read) => read,
+            Err(e) => {
+                failures.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        let single = name.contains("f32");
+        let close = |a: f64, b: f64| {
+            if single {
+                (a - b).abs() <= 0.5 * f64::from(f32::EPSILON) * b.abs().max(f64::MIN_POSITIVE)
+            } else {
+                a.to_bits() == b.to_bits()
+            }
+        };
+        // The source's points and arrays, in the file's point order.
+        let position = |p: &[f64; 3]| {
+            source
+                .points
+                .iter()
+                .position(|q| q.iter().zip(p).all(|(&a, &b)| close(b, a)))
+        };
+        let order: Vec<Option<usize>> = read.points.iter().map(position).collect();
+        if read.points.len() != source.points.len() || order.iter().any(Option::is_none) {
+            failures.push(format!("{name}: points {:?}", read.points));
+            continue;
+        }
+        for array in &source.arrays {
+            let Some(found) = read.array(&array.name) else {
+                failures.push(format!("{name}: no array {:?}", array.name));
+                continue;
+            };
+            let c = array.components;
+            let differs = order.iter().enumerate().any(|(k, at)| {
+                let at = at.unwrap();
+                (0..c).any(|i| !close(found.values[k * c + i], array.values[at * c + i]))
+            });
+            if found.components != c || differs {
+                failures.push(format!("{name}: array {:?} differs", array.name));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -20,6 +20,7 @@
 //!   ([`VtuSnapshot::point_epsilon`]), which the node match allows for.
 
 mod appended_raw;
+mod full_last_block;
 
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -308,8 +309,10 @@ fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
     if let Some(start) = raw_appended_start(&bytes) {
         return appended_raw::read(path, &bytes, start).map(Grid::Inline);
     }
-    let vtk = Vtk::parse_xml(Cursor::new(with_byte_order(bytes)))
-        .map_err(|e| invalid("file", format!("unreadable ({e})")))?;
+    let vtk = Vtk::parse_xml(Cursor::new(full_last_block::with_full_last_blocks(
+        with_byte_order(bytes),
+    )))
+    .map_err(|e| invalid("file", format!("unreadable ({e})")))?;
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         return Err(invalid("VTKFile.type", "another dataset".into()));
     };
@@ -350,9 +353,14 @@ fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
     VtuSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)
 }
 
+/// The prefix of VTK's bookkeeping arrays (`vtkGhostType`, `vtkOriginalPointIds`, …), which
+/// pieces may set apart at a shared point (a ghost is marked in the piece that does not own it).
+const BOOKKEEPING: &str = "vtk";
+
 /// The pieces of the parallel grid `path` as one snapshot: their points in order, a point two
-/// pieces share (the same coordinates, bit for bit: a ghost node) kept once. The pieces must
-/// carry the same arrays, and agree on every value at a shared point.
+/// pieces share (the same coordinates, bit for bit: a ghost node) kept once, with the first
+/// piece's values. The pieces must carry the same arrays, and agree on every value at a shared
+/// point but VTK's bookkeeping ([`BOOKKEEPING`]).
 fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, ExternalError> {
     let mut pieces = pieces.into_iter();
     let Some(first) = pieces.next() else {
@@ -395,6 +403,7 @@ fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, External
             match at.get(&p.map(f64::to_bits)) {
                 Some(&shared) => {
                     let differing = (0..whole.arrays.len())
+                        .filter(|&a| !whole.arrays[a].name.starts_with(BOOKKEEPING))
                         .find(|&a| values(&piece, a, k) != values(&whole, a, shared));
                     if let Some(a) = differing {
                         return Err(ExternalError::invalid(

@@ -27,10 +27,12 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::{Declared, ReportedEnergy, RunRecord, VerifiedFile};
+use crate::engine::fem::box_mesh::BoxMesh;
+use crate::engine::problem::Discretisation;
 use crate::engine::schemes::Timed;
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
 use crate::harness::external::error::ExternalError;
-use crate::harness::external::rerun::{compare_with_harness, FileSample};
+use crate::harness::external::rerun::{compare_with_harness, FileSample, StepDifferences};
 use crate::harness::reference::declared::FineMeshDeclared;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::comparison::ComparedSample;
@@ -144,17 +146,7 @@ impl AgainstFineMesh {
             .transpose()
             .map_err(Error::from)?;
         let model = discretisation.as_ref().map(|d| &d.model);
-        let dofs = |nodal: &[f64]| -> Vec<f64> {
-            let mut u = vec![0.0; mesh.n_dofs()];
-            for node in 0..mesh.n_nodes() {
-                for c in 0..d {
-                    if let Some(dof) = mesh.dof_of(node, c) {
-                        u[dof] = nodal[node * d + c];
-                    }
-                }
-            }
-            u
-        };
+        let dofs = |nodal: &[f64]| on_unknowns(mesh, nodal);
         let mut comparison = comparator.comparison(run.level);
         let stride = comparator.finest / run.level;
         let reference_energy = &comparator.reference.histories.energy;
@@ -225,32 +217,7 @@ impl AgainstFineMesh {
         let dt_max = spacing.clone().fold(0.0, f64::max);
         let h = mesh.lengths()[d - 1] / run.level as f64;
         let file = run.path.display().to_string();
-        let coarsest = self
-            .runs
-            .iter()
-            .filter(|r| r.label == run.label)
-            .all(|r| r.level >= run.level);
-        let rerun = run
-            .scheme
-            .zip(discretisation.as_ref())
-            .filter(|_| coarsest)
-            .map(|(scheme, discretised)| {
-                let declared = (&discretised.model, scheme, &discretised.conventions);
-                compare_with_harness(&file, declared, &run.time, &mut |n| {
-                    let s = run.sample(n).map_err(|e| e.to_string())?;
-                    let displacement = s.displacement.as_deref().map(dofs).ok_or_else(|| {
-                        "it has no displacement field at every sample".to_string()
-                    })?;
-                    Ok(FileSample {
-                        displacement,
-                        velocity: s.velocity.as_deref().map(dofs),
-                        multipliers: s.multipliers.map(|value| Timed {
-                            time: run.time[n],
-                            value,
-                        }),
-                    })
-                })
-            });
+        let rerun = self.rerun_declared(run, discretisation.as_ref(), &file);
         let notes = match &rerun {
             Some(Err(why)) => vec![format!(
                 "{file}: not compared with the harness's run of its declared scheme and mass: \
@@ -300,6 +267,56 @@ impl AgainstFineMesh {
             step_differences: rerun.and_then(Result::ok),
         })
     }
+
+    /// The harness's run of the scheme and mass `run` declares (`discretised` at its level,
+    /// when it declares a mass) compared with it at every step ([`compare_with_harness`]),
+    /// when `run` is the coarsest level of its series and declares a scheme; `Err` says why it
+    /// could not be compared.
+    fn rerun_declared(
+        &self,
+        run: &BoxExternalRun,
+        discretised: Option<&Discretisation<BoxMesh>>,
+        file: &str,
+    ) -> Option<Result<StepDifferences, String>> {
+        let coarsest = self
+            .runs
+            .iter()
+            .filter(|r| r.label == run.label)
+            .all(|r| r.level >= run.level);
+        let (scheme, discretised) = run.scheme.zip(discretised).filter(|_| coarsest)?;
+        let dofs = |nodal: &[f64]| on_unknowns(&run.mesh, nodal);
+        let declared = (&discretised.model, scheme, &discretised.conventions);
+        Some(compare_with_harness(file, declared, &run.time, &mut |n| {
+            let s = run.sample(n).map_err(|e| e.to_string())?;
+            let displacement = s
+                .displacement
+                .as_deref()
+                .map(dofs)
+                .ok_or_else(|| "it has no displacement field at every sample".to_string())?;
+            Ok(FileSample {
+                displacement,
+                velocity: s.velocity.as_deref().map(dofs),
+                multipliers: s.multipliers.map(|value| Timed {
+                    time: run.time[n],
+                    value,
+                }),
+            })
+        }))
+    }
+}
+
+/// The nodal values `nodal` (d per node) on `mesh`'s unknowns: the clamped nodes' left out.
+fn on_unknowns(mesh: &BoxMesh, nodal: &[f64]) -> Vec<f64> {
+    let d = mesh.dim();
+    let mut u = vec![0.0; mesh.n_dofs()];
+    for node in 0..mesh.n_nodes() {
+        for c in 0..d {
+            if let Some(dof) = mesh.dof_of(node, c) {
+                u[dof] = nodal[node * d + c];
+            }
+        }
+    }
+    u
 }
 
 /// Reads the run file `path` of `scene`: a `.pvd` collection (its arrays as `options` name
