@@ -19,7 +19,7 @@ use serde_json::Value;
 use crate::common::{expect_error, signorini, success_stdout, test_cache};
 use crate::verify_box::{
     errors, read_json, rewrite_collection_with, run_case_every_step, run_every_step, s,
-    scene_at_levels, scratch, Encoding,
+    scene_at_levels, scratch, write_collection, Encoding,
 };
 use signorini::harness::external::pvd::{read_collection, read_snapshot, PointArray};
 
@@ -288,9 +288,7 @@ fn ascii_piece(points: &[[f64; 3]], arrays: &[PointArray]) -> String {
 /// Returns the collection.
 fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
-    let mut collection = String::from(
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
-    );
+    let mut datasets = Vec::new();
     for (step, entry) in read_collection(pvd).unwrap().iter().enumerate() {
         let snapshot = read_snapshot(&entry.file).unwrap();
         let mut names = Vec::new();
@@ -334,15 +332,9 @@ fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) ->
             ),
         )
         .unwrap();
-        collection += &format!(
-            "<DataSet timestep=\"{:?}\" part=\"0\" file=\"{pvtu}\"/>\n",
-            entry.time
-        );
+        datasets.push((entry.time, pvtu));
     }
-    collection += "</Collection>\n</VTKFile>\n";
-    let path = dir.join("grid.pvd");
-    std::fs::write(&path, collection).unwrap();
-    path
+    write_collection(&dir.join("grid.pvd"), &datasets)
 }
 
 #[test]

@@ -248,21 +248,26 @@ pub(crate) fn rewrite_collection_with(
     edit: Edit<'_>,
 ) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
-    let mut lines = String::from(
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
-    );
+    let mut datasets = Vec::new();
     for (k, entry) in read_collection(pvd).unwrap().iter().enumerate() {
         let file = format!("snapshot-{k}.vtu");
         rewrite(&entry.file, &dir.join(&file), encoding, k, edit);
-        lines += &format!(
-            "<DataSet timestep=\"{:?}\" part=\"0\" file=\"{file}\"/>\n",
-            entry.time
-        );
+        datasets.push((entry.time, file));
+    }
+    write_collection(&dir.join("fields.pvd"), &datasets)
+}
+
+/// A collection (`.pvd`) at `path` listing `datasets` (time, file) as part 0: its path.
+pub(crate) fn write_collection(path: &Path, datasets: &[(f64, String)]) -> PathBuf {
+    let mut lines = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
+    );
+    for (time, file) in datasets {
+        lines += &format!("<DataSet timestep=\"{time:?}\" part=\"0\" file=\"{file}\"/>\n");
     }
     lines += "</Collection>\n</VTKFile>\n";
-    let path = dir.join("fields.pvd");
-    std::fs::write(&path, lines).unwrap();
-    path
+    std::fs::write(path, lines).unwrap();
+    path.to_path_buf()
 }
 
 /// Verifies `files` (one series of Crank–Nicolson with the standard mass) against `scene`

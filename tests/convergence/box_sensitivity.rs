@@ -313,16 +313,12 @@ fn the_sensitivity_command_on_a_box_scene_is_the_ensemble_of_its_study() {
     );
     let run = |args: &[&str]| success_stdout(&signorini(args));
     run(&["study", &scene, "--cache", &refs, "--out", &study_out]);
-    let said = run(&[
-        "sensitivity",
-        &scene,
-        "--members",
-        "2",
-        "--cache",
-        &refs,
-        "--out",
-        &out,
-    ]);
+    let sensitivity = |extra: &[&str]| {
+        let mut args = vec!["sensitivity", &scene, "--members", "2", "--cache", &refs];
+        args.extend(extra);
+        run(&args)
+    };
+    let said = sensitivity(&["--out", &out]);
     assert!(said.contains("crank-nicolson/standard"), "{said}");
     let read = |p: PathBuf| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
@@ -341,18 +337,7 @@ fn the_sensitivity_command_on_a_box_scene_is_the_ensemble_of_its_study() {
     let shards: Vec<String> = (1..=2)
         .map(|k| {
             let (spec, shard_out) = (format!("{k}/2"), text(dir.join(format!("s{k}"))));
-            run(&[
-                "sensitivity",
-                &scene,
-                "--members",
-                "2",
-                "--cache",
-                &refs,
-                "--shard",
-                &spec,
-                "--out",
-                &shard_out,
-            ]);
+            sensitivity(&["--shard", &spec, "--out", &shard_out]);
             text(Path::new(&shard_out).join(format!("shard-sensitivity-{k}-of-2.json")))
         })
         .collect();
