@@ -49,6 +49,7 @@ fn spawn(args: &[String]) -> Child {
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("CI", "true")
+        .env("SIGNORINI_CACHE", crate::common::test_cache())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

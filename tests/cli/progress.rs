@@ -56,6 +56,7 @@ fn on_a_terminal(args: &[&str], ci: bool) -> String {
             "/dev/null",
         ])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("SIGNORINI_CACHE", crate::common::test_cache())
         .env_remove("CI");
     if ci {
         command.env("CI", "true");
@@ -140,6 +141,7 @@ fn a_box_study_and_a_reference_show_progress_on_a_terminal_and_none_through_a_pi
         let out = Command::new(env!("CARGO_BIN_EXE_signorini"))
             .args(args)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("SIGNORINI_CACHE", crate::common::test_cache())
             .env_remove("CI")
             .output()
             .unwrap();

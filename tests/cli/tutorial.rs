@@ -155,6 +155,7 @@ fn run_chapter(name: &str) {
                     .current_dir(&dir)
                     .env("PATH", &search_path)
                     .env("CI", "true")
+                    .env("SIGNORINI_CACHE", crate::common::test_cache())
                     .output()
                     .expect("sh runs");
                 let stdout = String::from_utf8_lossy(&out.stdout);
