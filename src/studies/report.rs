@@ -99,7 +99,11 @@ pub fn write_report(report: &TablesReport, out_dir: &Path) -> Result<(), Error> 
         implicit,
         histories,
     } = report;
-    write_sensitivity_files(sensitivity, InitialNoise::Displacement, out_dir)?;
+    write_sensitivity_files(
+        sensitivity,
+        (InitialNoise::Displacement, "make report"),
+        out_dir,
+    )?;
     write_tables(study, sensitivity, longer, implicit, out_dir)?;
     write_work_precision_json(study, out_dir)?;
     write_histories(histories, out_dir)?;

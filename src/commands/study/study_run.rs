@@ -162,7 +162,8 @@ pub fn sensitivity(
         Received::Complete(value) => value,
         Received::ShardWritten(line) => return Ok(line),
     };
-    write_sensitivity_files(&s, sensitivity.initial_noise(), staged.path())?;
+    let made_by = (sensitivity.initial_noise(), "signorini sensitivity");
+    write_sensitivity_files(&s, made_by, staged.path())?;
     staged.commit()?;
     let mut said = s.class_lines();
     let o = out.display();

@@ -272,10 +272,10 @@ pub fn tables_sensitivity_under(
 }
 
 /// Writes `sensitivity.md` and `sensitivity.json` of `s`, whose members' initial noise is on
-/// `noise`, into `out_dir`.
+/// `noise` and which `made_by` made, into `out_dir`.
 pub fn write_sensitivity_files(
     s: &Sensitivity,
-    noise: InitialNoise,
+    (noise, made_by): (InitialNoise, &str),
     out_dir: &Path,
 ) -> Result<(), Error> {
     let levels = &s.config.levels;
@@ -285,7 +285,7 @@ pub fn write_sensitivity_files(
     };
     write_atomic(
         &out_dir.join(SENSITIVITY_MD),
-        crate::harness::study::sensitivity::render(s, shown, noise).as_bytes(),
+        crate::harness::study::sensitivity::render(s, shown, noise, made_by).as_bytes(),
     )?;
     write_json(&out_dir.join(SENSITIVITY_JSON), s)?;
     Ok(())
