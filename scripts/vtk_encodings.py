@@ -11,7 +11,7 @@ snapshot at t = 0.5 of
     signorini run scenes/bar2d.json --scheme crank-nicolson --mass standard --nx 10 \\
         --fields-every-step --out /tmp/src
 
-(``/tmp/src/field-t0.5.vtu``: 22 points, 10 quads, the point arrays ``displacement``,
+(``/tmp/src/field-t0.500.vtu``, named ``field-t0.5.vtu`` when it was written: 22 points, 10 quads, the point arrays ``displacement``,
 ``velocity`` (3 components), ``von_mises``, ``contact_multiplier`` and the cell array
 ``von_mises``, all Float64), copied into DIR as ``source.vtu``. No discrete problem is solved
 here: the script re-encodes that snapshot.

@@ -131,7 +131,32 @@ fn run_scene_of(
     }
     staged.commit()?;
     written.extend(outcome.vtk_files().iter().cloned());
-    let named: Vec<String> = written.iter().map(|f| f.display().to_string()).collect();
-    say(&format!("wrote {}", named.join(", ")));
+    say(&wrote(dir, &written));
     Ok(())
+}
+
+/// What a run wrote into `dir`, in one line: how many files, and their names, the field
+/// snapshots (`field-t<T>.vtu`) as their count with the first and the last.
+fn wrote(dir: &Path, files: &[PathBuf]) -> String {
+    let name = |f: &PathBuf| {
+        f.file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+    };
+    let is_snapshot = |n: &str| n.starts_with("field-t") && n.ends_with(".vtu");
+    let snapshots: Vec<String> = files.iter().map(name).filter(|n| is_snapshot(n)).collect();
+    let mut named: Vec<String> = files.iter().map(name).filter(|n| !is_snapshot(n)).collect();
+    match snapshots.as_slice() {
+        [] => {}
+        [only] => named.push(only.clone()),
+        [first, .., last] => named.push(format!(
+            "{} field snapshots ({first} … {last})",
+            snapshots.len()
+        )),
+    }
+    format!(
+        "wrote {} files into {}: {}",
+        files.len(),
+        dir.display(),
+        named.join(", ")
+    )
 }

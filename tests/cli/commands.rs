@@ -157,7 +157,6 @@ fn help_and_list_document_the_commands() {
     for needle in [
         "crank-nicolson",
         "paoli-schatzman-e0.5",
-        "moreau-jean            Moreau–Jean θ = 0.5, e = 0",
         "Laursen–Chawla, energy-conserving [rival]",
         "redistributed",
         "lambda_L2",
@@ -165,6 +164,27 @@ fn help_and_list_document_the_commands() {
     ] {
         assert!(text.contains(needle), "list lacks {needle}");
     }
+    // The schemes are a table: every row's parameters start in one column.
+    let rows: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("Schemes"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("  any parameters"))
+        .collect();
+    let column = |row: &str| {
+        let name_end = 2 + row[2..].find(' ').unwrap();
+        row[..name_end].chars().count() + row[name_end..].len() - row[name_end..].trim_start().len()
+    };
+    assert!(rows.len() >= 14, "{rows:?}");
+    assert!(
+        rows.iter().all(|r| column(r) == column(rows[0])),
+        "{rows:#?}"
+    );
+    let moreau = rows
+        .iter()
+        .find(|r| r.starts_with("  moreau-jean "))
+        .unwrap();
+    assert!(moreau.contains("Moreau–Jean θ = 0.5, e = 0"), "{moreau}");
 }
 
 #[test]

@@ -26,7 +26,7 @@ fn a_2d_box_scene_runs_and_writes_vtk_files() {
         &out_str,
     ]);
     success_stdout(&o);
-    for t in ["0.5", "1", "1.5", "2"] {
+    for t in ["0.500", "1.000", "1.500", "2.000"] {
         let text = std::fs::read_to_string(out.join(format!("field-t{t}.vtu"))).unwrap();
         let doc = roxmltree::Document::parse(&text).unwrap();
         let piece = doc.descendants().find(|n| n.has_tag_name("Piece")).unwrap();

@@ -98,7 +98,8 @@ fn snapshot_files(dir: &Path) -> Vec<String> {
 }
 
 /// Checks the collection of the run in `out`: the snapshots as part 0, each time once and in
-/// increasing order, named after their time, exactly the snapshot files of `out`, at `times`;
+/// increasing order, named after their time rounded to the step (`field-t0.500.vtu`) so that
+/// their names sort in time order, exactly the snapshot files of `out`, at `times`;
 /// with `obstacle`, `obstacle.vtu` as part 1 at every time; every file listed exists.
 fn check_collection(out: &Path, times: &[f64], obstacle: bool) {
     let entries = collection(&out.join("fields.pvd"));
@@ -106,10 +107,25 @@ fn check_collection(out: &Path, times: &[f64], obstacle: bool) {
     let listed: Vec<f64> = snapshots.iter().map(|e| e.time).collect();
     assert_eq!(listed, times);
     for s in &snapshots {
-        assert_eq!(s.file, format!("field-t{}.vtu", s.time));
+        let named = s
+            .file
+            .strip_prefix("field-t")
+            .and_then(|n| n.strip_suffix(".vtu"));
+        let named = named.unwrap_or_else(|| panic!("{}", s.file));
+        let decimals = named.split_once('.').map_or(0, |(_, d)| d.len());
+        let time: f64 = named.parse().unwrap();
+        assert!(decimals >= 1, "{}", s.file);
+        assert!(
+            (time - s.time).abs() <= 0.5 * 10f64.powi(-(decimals as i32)),
+            "{} at t = {}",
+            s.file,
+            s.time
+        );
     }
-    let mut files: Vec<String> = snapshots.iter().map(|e| e.file.clone()).collect();
+    let in_time_order: Vec<String> = snapshots.iter().map(|e| e.file.clone()).collect();
+    let mut files = in_time_order.clone();
     files.sort();
+    assert_eq!(files, in_time_order, "the names do not sort in time order");
     assert_eq!(files, snapshot_files(out));
     let obstacles: Vec<&DataSetEntry> = entries.iter().filter(|e| e.part == "1").collect();
     if obstacle {

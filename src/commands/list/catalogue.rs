@@ -12,13 +12,12 @@ use crate::harness::study::scene::{scene_files, Scene};
 /// The schemes with their parameters, the mass variants, the contact treatments, the norms
 /// and the scenes found in `dir`, as `signorini list` prints them.
 pub fn catalogue(dir: &Path) -> String {
-    let mut said: Vec<String> = Vec::new();
-    let mut out = |line: String| said.push(line);
-    out(
+    let mut said: Vec<String> = vec![
         "Schemes (preset name, parameters, the paper's name; [rival]: not in the paper, see \
          docs/src/schemes-and-balances.md):"
             .into(),
-    );
+    ];
+    let mut rows = Vec::new();
     for (name, scheme, label) in Scheme::presets() {
         let params = match scheme {
             Scheme::Newmark { beta, gamma } => format!("Newmark β = {beta}, γ = {gamma}"),
@@ -49,41 +48,92 @@ pub fn catalogue(dir: &Path) -> String {
         } else {
             ""
         };
-        out(format!("  {name:22} {params:44} {label}{rival}"));
+        rows.push(vec![name.to_string(), params, format!("{label}{rival}")]);
     }
-    out(
+    said.extend(aligned(&rows));
+    said.push(
         "  any parameters: newmark(beta=B,gamma=G), theta(theta=T), paoli-schatzman(beta=B,e=E),\n  \
          generalised-alpha(rho_inf=R), hht(alpha=A), \
          generalised-alpha(alpha_m=AM,alpha_f=AF,beta=B,gamma=G), moreau-jean(theta=T,e=E)"
             .into(),
     );
-    out("\nMass variants:".into());
-    for m in MassVariant::ALL {
-        out(format!(
-            "  {:25} {:5} {}",
-            m.name(),
-            m.paper_label(),
-            m.description()
-        ));
-    }
-    out("\nContact treatments (E the Young modulus, ρc² for a bar; h the mesh size at the contact):".into());
-    for (name, params, description) in TREATMENT_LIST {
-        out(format!("  {name:27} {params:22} {description}"));
-    }
-    out("\nNorms:".into());
-    for n in Norm::ALL {
-        out(format!("  {:12} {}", n.key(), n.label()));
-    }
-    out(format!("\nScenes in {}:", dir.display()));
+    said.push("\nMass variants:".into());
+    let masses: Vec<Vec<String>> = MassVariant::ALL
+        .iter()
+        .map(|m| {
+            vec![
+                m.name().to_string(),
+                m.paper_label().to_string(),
+                m.description().to_string(),
+            ]
+        })
+        .collect();
+    said.extend(aligned(&masses));
+    said.push(
+        "\nContact treatments (E the Young modulus, ρc² for a bar; h the mesh size at the contact):"
+            .into(),
+    );
+    let treatments: Vec<Vec<String>> = TREATMENT_LIST
+        .iter()
+        .map(|(name, params, description)| {
+            vec![
+                name.to_string(),
+                params.to_string(),
+                description.to_string(),
+            ]
+        })
+        .collect();
+    said.extend(aligned(&treatments));
+    said.push("\nNorms:".into());
+    let norms: Vec<Vec<String>> = Norm::ALL
+        .iter()
+        .map(|n| vec![n.key().to_string(), n.label().to_string()])
+        .collect();
+    said.extend(aligned(&norms));
+    said.push(format!("\nScenes in {}:", dir.display()));
     let files = scene_files(dir);
     if files.is_empty() {
-        out("  (none)".into());
+        said.push("  (none)".into());
     }
-    for f in files {
-        match Scene::load(&f) {
-            Ok(s) => out(format!("  {:40} {}", f.display(), s.description)),
-            Err(e) => out(format!("  {:40} INVALID: {e}", f.display())),
-        }
-    }
+    let scenes: Vec<Vec<String>> = files
+        .iter()
+        .map(|f| {
+            let what = match Scene::load(f) {
+                Ok(s) => s.description,
+                Err(e) => format!("INVALID: {e}"),
+            };
+            vec![f.display().to_string(), what]
+        })
+        .collect();
+    said.extend(aligned(&scenes));
     said.join("\n")
+}
+
+/// `rows` as lines indented by two spaces, each column but the last padded to its widest cell
+/// (in characters) and two spaces apart.
+fn aligned(rows: &[Vec<String>]) -> Vec<String> {
+    let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| {
+            rows.iter()
+                .filter_map(|r| r.get(c))
+                .map(|cell| cell.chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    rows.iter()
+        .map(|row| {
+            let mut line = String::from(" ");
+            for (c, cell) in row.iter().enumerate() {
+                line.push(' ');
+                line.push_str(cell);
+                if c + 1 < row.len() {
+                    let pad = widths[c] - cell.chars().count() + 1;
+                    line.extend(std::iter::repeat_n(' ', pad));
+                }
+            }
+            line
+        })
+        .collect()
 }

@@ -184,6 +184,22 @@ pub struct Stepped {
     pub timings: Timings,
 }
 
+/// The name of a snapshot `<prefix>-t<time>.<extension>` of a run of time step `dt` and horizon
+/// `horizon`: the time with as many decimals as tell its steps apart (one past the place of
+/// `Δt`'s first significant digit: `field-t0.150.vtu` for `Δt = 0.05`), its integer part padded
+/// with zeros to the horizon's width, so that the names sort in time order.
+pub fn snapshot_name(
+    prefix: &str,
+    time: f64,
+    (dt, horizon): (f64, f64),
+    extension: &str,
+) -> String {
+    let decimals = (-dt.log10()).ceil().max(0.0) as usize + 1;
+    let integer_digits = horizon.max(1.0).log10().floor() as usize + 1;
+    let width = integer_digits + 1 + decimals;
+    format!("{prefix}-t{time:0width$.decimals$}.{extension}")
+}
+
 /// Requested snapshot times, each due at the step nearest to it.
 #[derive(Debug, Clone, Default)]
 pub struct SnapshotTimes {

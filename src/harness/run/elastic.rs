@@ -28,7 +28,8 @@ use crate::engine::schemes::Integration;
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
 use crate::harness::run::{
-    drive_with, finite, paraview, IntegratorFactory, Observer, RunConfig, RunResult, SnapshotTimes,
+    drive_with, finite, paraview, snapshot_name, IntegratorFactory, Observer, RunConfig, RunResult,
+    SnapshotTimes,
 };
 
 /// The contact history of a box run.
@@ -150,6 +151,8 @@ struct VtkSnapshots<'a> {
     elasticity: &'a Elasticity,
     dir: &'a Path,
     pending: SnapshotTimes,
+    /// The run's horizon, whose width the snapshots' names pad their times to.
+    horizon: f64,
     /// The snapshots written in `dir`, each with its requested time, in increasing time.
     written: Vec<paraview::Snapshot>,
 }
@@ -157,7 +160,7 @@ struct VtkSnapshots<'a> {
 impl Observer for VtkSnapshots<'_> {
     fn observe(&mut self, state: &Integration<'_>) -> Result<(), Error> {
         while let Some(wanted) = self.pending.next_due(state) {
-            let file = format!("field-t{wanted}.vtu");
+            let file = snapshot_name("field", wanted, (state.dt(), self.horizon), "vtu");
             if self.written.last().is_some_and(|last| last.file == file) {
                 continue;
             }
@@ -229,6 +232,7 @@ pub fn run_box<'r>(
             .as_deref()
             .unwrap_or(Path::new(".")),
         pending: SnapshotTimes::new(&config.observables.fields_at),
+        horizon: problem.horizon,
         written: Vec::new(),
     };
     let mut own: Vec<&mut dyn Observer> = vec![&mut energy];

@@ -34,8 +34,8 @@ pub mod paraview;
 pub mod run_files;
 
 pub use driver::{
-    drive, drive_by, finite, time_grid, IntegratorFactory, Observer, RunStatus, SnapshotTimes,
-    Stepped, Timings,
+    drive, drive_by, finite, snapshot_name, time_grid, IntegratorFactory, Observer, RunStatus,
+    SnapshotTimes, Stepped, Timings,
 };
 
 use crate::engine::contact::ContactTreatment;
