@@ -11,7 +11,7 @@ use std::path::Path;
 
 use flate2::read::ZlibDecoder;
 
-use super::{PointArray, VtuSnapshot};
+use super::{HeaderWord, PointArray, VtuSnapshot};
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::format::MAX_FILE_BYTES;
 
@@ -28,8 +28,7 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
         .map_err(|e| invalid("file", format!("malformed XML ({e})"), "XML text"))?;
     let root = document.root_element();
     let layout = Layout {
-        header_u64: root.attribute("header_type") == Some("UInt64"),
-        big_endian: root.attribute("byte_order") == Some("BigEndian"),
+        word: HeaderWord::of(root),
         compressor: match root.attribute("compressor") {
             None | Some("") => None,
             Some("vtkZLibDataCompressor") => Some(Compressor::Zlib),
@@ -97,8 +96,7 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
 }
 /// How the block is laid out.
 struct Layout<'a> {
-    header_u64: bool,
-    big_endian: bool,
+    word: HeaderWord,
     compressor: Option<Compressor>,
     block: &'a [u8],
 }
@@ -115,26 +113,18 @@ enum Compressor {
 impl Layout<'_> {
     /// The unsigned integer of the header's width at `at`.
     fn header(&self, at: usize) -> Result<usize, String> {
-        let width = if self.header_u64 { 8 } else { 4 };
         let bytes = self
             .block
-            .get(at..at + width)
+            .get(at..at + self.word.width)
             .ok_or_else(|| format!("header at byte {at} past the block's end"))?;
-        let mut word = [0u8; 8];
-        if self.big_endian {
-            word[8 - width..].copy_from_slice(bytes);
-            Ok(u64::from_be_bytes(word) as usize)
-        } else {
-            word[..width].copy_from_slice(bytes);
-            Ok(u64::from_le_bytes(word) as usize)
-        }
+        Ok(self.word.read(bytes) as usize)
     }
 
     /// The bytes of the array at `offset` (decompressed when the file is compressed: the header
     /// `[blocks, block size, last block's size (0: a whole block), compressed size of each
     /// block]`, then the blocks).
     fn bytes(&self, offset: usize) -> Result<Vec<u8>, String> {
-        let width = if self.header_u64 { 8 } else { 4 };
+        let width = self.word.width;
         let Some(compressor) = self.compressor else {
             let length = self.header(offset)?;
             let from = offset + width;
@@ -185,7 +175,7 @@ impl Layout<'_> {
     /// The array at `offset` of the VTK type `kind`, as `f64`.
     fn values(&self, offset: usize, kind: &str) -> Result<Vec<f64>, String> {
         let bytes = self.bytes(offset)?;
-        let be = self.big_endian;
+        let be = self.word.big_endian;
         macro_rules! decode {
             ($t:ty) => {{
                 const N: usize = std::mem::size_of::<$t>();

@@ -13,14 +13,15 @@
 use base64::engine::general_purpose::STANDARD;
 use base64::Engine as _;
 
+use super::HeaderWord;
+
 /// `bytes` (a `.vtu` read whole, parsed as XML text) with every compressed base64 header whose
 /// last block is full given that block's size as its last size; unchanged when it has none, is
 /// not compressed, or is not XML text.
 pub(super) fn with_full_last_blocks(mut bytes: Vec<u8>) -> Vec<u8> {
-    let Some((starts, width, big_endian)) = header_starts(&bytes) else {
+    let Some((starts, word)) = header_starts(&bytes) else {
         return bytes;
     };
-    let word = Word { width, big_endian };
     for start in starts {
         if let Some((at, encoded)) = fixed_header(&bytes, start, word) {
             bytes[at..at + encoded.len()].copy_from_slice(&encoded);
@@ -29,47 +30,13 @@ pub(super) fn with_full_last_blocks(mut bytes: Vec<u8>) -> Vec<u8> {
     bytes
 }
 
-/// How a header's words are stored.
-#[derive(Clone, Copy)]
-struct Word {
-    width: usize,
-    big_endian: bool,
-}
-
-impl Word {
-    fn read(self, b: &[u8]) -> u64 {
-        let mut w = [0u8; 8];
-        if self.big_endian {
-            w[8 - self.width..].copy_from_slice(&b[..self.width]);
-            u64::from_be_bytes(w)
-        } else {
-            w[..self.width].copy_from_slice(&b[..self.width]);
-            u64::from_le_bytes(w)
-        }
-    }
-
-    fn write(self, value: u64, b: &mut [u8]) {
-        if self.big_endian {
-            b[..self.width].copy_from_slice(&value.to_be_bytes()[8 - self.width..]);
-        } else {
-            b[..self.width].copy_from_slice(&value.to_le_bytes()[..self.width]);
-        }
-    }
-}
-
-/// Where each compressed base64 array's header starts in `bytes`, with the header's word width
-/// and byte order; `None` when the file is not compressed XML text.
-fn header_starts(bytes: &[u8]) -> Option<(Vec<usize>, usize, bool)> {
+/// Where each compressed base64 array's header starts in `bytes`, with how its words are
+/// stored; `None` when the file is not compressed XML text.
+fn header_starts(bytes: &[u8]) -> Option<(Vec<usize>, HeaderWord)> {
     let text = std::str::from_utf8(bytes).ok()?;
     let document = roxmltree::Document::parse(text).ok()?;
     let root = document.root_element();
     root.attribute("compressor").filter(|c| !c.is_empty())?;
-    let width = if root.attribute("header_type") == Some("UInt64") {
-        8
-    } else {
-        4
-    };
-    let big_endian = root.attribute("byte_order") == Some("BigEndian");
     let skip_space = |at: usize| at + text[at..].len() - text[at..].trim_start().len();
     let appended = root
         .descendants()
@@ -98,12 +65,12 @@ fn header_starts(bytes: &[u8]) -> Option<(Vec<usize>, usize, bool)> {
             _ => {}
         }
     }
-    Some((starts, width, big_endian))
+    Some((starts, HeaderWord::of(root)))
 }
 
 /// The header at `start` re-encoded with its last size set to its block size, when its last
 /// block is full (`np = 0` with at least one block): where it starts and its characters.
-fn fixed_header(bytes: &[u8], start: usize, word: Word) -> Option<(usize, Vec<u8>)> {
+fn fixed_header(bytes: &[u8], start: usize, word: HeaderWord) -> Option<(usize, Vec<u8>)> {
     let fixed_chars = 4 * word.width;
     let head = STANDARD
         .decode(bytes.get(start..start + fixed_chars)?)

@@ -69,6 +69,51 @@ pub struct VtuSnapshot {
     pub arrays: Vec<PointArray>,
 }
 
+/// How a binary array's header words are stored: `UInt32` or `UInt64` (the file's
+/// `header_type`), in the file's byte order.
+#[derive(Clone, Copy)]
+struct HeaderWord {
+    /// Bytes per word: 4 or 8.
+    width: usize,
+    /// `byte_order="BigEndian"`.
+    big_endian: bool,
+}
+
+impl HeaderWord {
+    /// The words of a file whose `VTKFile` element has these `header_type` and `byte_order`.
+    fn of(root: roxmltree::Node<'_, '_>) -> Self {
+        Self {
+            width: if root.attribute("header_type") == Some("UInt64") {
+                8
+            } else {
+                4
+            },
+            big_endian: root.attribute("byte_order") == Some("BigEndian"),
+        }
+    }
+
+    /// The word at the start of `bytes` (at least [`HeaderWord::width`] of them).
+    fn read(self, bytes: &[u8]) -> u64 {
+        let mut word = [0u8; 8];
+        if self.big_endian {
+            word[8 - self.width..].copy_from_slice(&bytes[..self.width]);
+            u64::from_be_bytes(word)
+        } else {
+            word[..self.width].copy_from_slice(&bytes[..self.width]);
+            u64::from_le_bytes(word)
+        }
+    }
+
+    /// `value` written as the word at the start of `bytes`.
+    fn write(self, value: u64, bytes: &mut [u8]) {
+        if self.big_endian {
+            bytes[..self.width].copy_from_slice(&value.to_be_bytes()[8 - self.width..]);
+        } else {
+            bytes[..self.width].copy_from_slice(&value.to_le_bytes()[..self.width]);
+        }
+    }
+}
+
 /// The machine epsilon of a VTK points type: single precision's for `Float32`, double's
 /// otherwise.
 fn epsilon_of(single: bool) -> f64 {
