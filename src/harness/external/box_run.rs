@@ -204,7 +204,7 @@ impl BoxExternalRun {
             }
             let mut values = vec![0.0; self.mesh.n_nodes() * d];
             for (file_node, &node) in order.iter().enumerate() {
-                let row = &array.values[file_node * array.components..][..d];
+                let row = &array.row(file_node)[..d];
                 values[node * d..(node + 1) * d].copy_from_slice(row);
             }
             Ok(values)
@@ -228,16 +228,11 @@ impl BoxExternalRun {
                 for (file_node, &node) in order.iter().enumerate() {
                     by_node[node] = array.values[file_node];
                 }
-                let mut on_face = vec![false; self.mesh.n_nodes()];
-                for n in self.mesh.contact_nodes() {
-                    on_face[n] = true;
-                }
-                let off_face = order.iter().enumerate().filter(|&(_, &n)| !on_face[n]);
                 let scale = multiplier_scale(&array.values);
-                if let Some((k, _)) = off_face
-                    .clone()
-                    .find(|&(k, _)| array.values[k].abs() > scale)
-                {
+                let off_face = order.iter().enumerate().find(|&(k, &node)| {
+                    !self.mesh.on_contact_boundary(node) && array.values[k].abs() > scale
+                });
+                if let Some((k, _)) = off_face {
                     return Err(ExternalError::invalid(
                         &snapshot.path,
                         format!("PointData {name:?}"),

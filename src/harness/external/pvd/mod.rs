@@ -54,6 +54,13 @@ pub struct PointArray {
     pub values: Vec<f64>,
 }
 
+impl PointArray {
+    /// The values of point `k`: its `components`.
+    pub fn row(&self, k: usize) -> &[f64] {
+        &self.values[k * self.components..(k + 1) * self.components]
+    }
+}
+
 /// One snapshot: the mesh's points and its nodal arrays.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VtuSnapshot {
@@ -309,10 +316,9 @@ fn with_byte_order(mut bytes: Vec<u8>) -> Vec<u8> {
 }
 
 /// What [`read_snapshot`] reads, as its errors say it.
-const SNAPSHOT: &str =
-    "a VTK XML unstructured grid (.vtu) of one piece, or a parallel one (.pvtu) \
-                        whose pieces are such files: ASCII, binary or appended data, \
-                        uncompressed or zlib-compressed";
+const SNAPSHOT: &str = "a VTK XML unstructured grid (.vtu) of one piece, or a parallel one \
+                        (.pvtu) whose pieces are such files: ASCII, binary or appended data, \
+                        uncompressed, zlib- or LZ4-compressed";
 
 /// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, or a parallel grid
 /// whose pieces are in files of their own (joined, [`joined`]); its points and its point data
@@ -441,25 +447,21 @@ fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, External
         }
         whole.point_epsilon = whole.point_epsilon.max(piece.point_epsilon);
         for (k, p) in piece.points.iter().enumerate() {
-            let values = |s: &VtuSnapshot, a: usize, node: usize| -> Vec<f64> {
-                let c = s.arrays[a].components;
-                s.arrays[a].values[node * c..(node + 1) * c].to_vec()
-            };
             match at.get(&p.map(f64::to_bits)) {
                 Some(&shared) => {
                     let differing = (0..whole.arrays.len())
                         .filter(|&a| !whole.arrays[a].name.starts_with(BOOKKEEPING))
-                        .find(|&a| values(&piece, a, k) != values(&whole, a, shared));
+                        .find(|&a| piece.arrays[a].row(k) != whole.arrays[a].row(shared));
                     if let Some(a) = differing {
                         return Err(ExternalError::invalid(
                             &piece.path,
                             format!("PointData {:?}", whole.arrays[a].name),
                             Some(format!("point {k}")),
-                            format!("{:?}", values(&piece, a, k)),
+                            format!("{:?}", piece.arrays[a].row(k)),
                             format!(
                                 "the value of the piece that also holds this point ({p:?}): \
                                  {:?}",
-                                values(&whole, a, shared)
+                                whole.arrays[a].row(shared)
                             ),
                         ));
                     }
@@ -467,9 +469,8 @@ fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, External
                 None => {
                     at.insert(p.map(f64::to_bits), whole.points.len());
                     whole.points.push(*p);
-                    for a in 0..whole.arrays.len() {
-                        let row = values(&piece, a, k);
-                        whole.arrays[a].values.extend(row);
+                    for (kept, added) in whole.arrays.iter_mut().zip(&piece.arrays) {
+                        kept.values.extend_from_slice(added.row(k));
                     }
                 }
             }
