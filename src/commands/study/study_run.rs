@@ -60,10 +60,7 @@ pub fn study(
     } = request;
     let shard = shard_output(executor, out.as_deref())?;
     let study = SceneStudy::of(&Scene::load(&scene)?, choices)?;
-    let cache = ReferenceCache::ReadWrite(cache_dir(cache)?);
-    if study.has_reference() {
-        cache_is_a_directory(cache.dir())?;
-    }
+    let cache = study_cache(&study, cache)?;
     for w in study.schemes().iter().filter_map(|s| s.warning()) {
         progress::note(&format!("warning: {w}"));
     }
@@ -148,10 +145,7 @@ pub fn sensitivity(
         ..StudyChoices::default()
     };
     let sensitivity = SceneSensitivity::of(SceneStudy::of(&scene, choices)?, ensemble)?;
-    let cache = ReferenceCache::ReadWrite(cache_dir(cache)?);
-    if sensitivity.study().has_reference() {
-        cache_is_a_directory(cache.dir())?;
-    }
+    let cache = study_cache(sensitivity.study(), cache)?;
     sensitivity
         .estimate(executor)
         .check(&limits)
@@ -175,6 +169,16 @@ pub fn sensitivity(
         s.wall_seconds
     ));
     Ok(said.join("\n"))
+}
+
+/// The reference cache of `study`: `given`, else the user's ([`cache_dir`]), read and written;
+/// a path that is not a directory is refused when the study has a reference to keep there.
+fn study_cache(study: &SceneStudy, given: Option<PathBuf>) -> Result<ReferenceCache, CommandError> {
+    let cache = ReferenceCache::ReadWrite(cache_dir(given)?);
+    if study.has_reference() {
+        cache_is_a_directory(cache.dir())?;
+    }
+    Ok(cache)
 }
 
 /// `n` and `noun`, in the plural unless `n` is 1.
