@@ -172,6 +172,16 @@ fn verify_args<'a>(scene: &'a Path, pvd: &'a Path, cache: &'a Path) -> Vec<&'a s
     ]
 }
 
+/// A scratch directory `name`, the 2D scene at level 10 in it, its reference cache, and the
+/// harness's Crank–Nicolson run at every step (its collection).
+fn level_10_run(name: &str) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
+    let dir = scratch(name);
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    let pvd = run_every_step(&scene, 10, &dir.join("run"));
+    (dir, scene, cache, pvd)
+}
+
 /// The array `name` of a snapshot.
 fn array<'a>(arrays: &'a mut [PointArray], name: &str) -> &'a mut PointArray {
     arrays.iter_mut().find(|a| a.name == name).unwrap()
@@ -179,10 +189,7 @@ fn array<'a>(arrays: &'a mut [PointArray], name: &str) -> &'a mut PointArray {
 
 #[test]
 fn a_broken_series_is_refused_naming_file_array_point_and_time() {
-    let dir = scratch("broken");
-    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
-    let cache = dir.join("references");
-    let pvd = run_every_step(&scene, 10, &dir.join("run"));
+    let (dir, scene, cache, pvd) = level_10_run("broken");
     let edited = |name: &str, edit: &dyn Fn(usize, &mut Vec<PointArray>)| {
         rewrite_collection_with(&pvd, &dir.join(name), Encoding::Ascii, &|step, snapshot| {
             edit(step, &mut snapshot.arrays)
@@ -339,10 +346,7 @@ fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) ->
 
 #[test]
 fn a_parallel_grids_pieces_are_joined_and_a_disagreeing_ghost_is_refused() {
-    let dir = scratch("pieces");
-    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
-    let cache = dir.join("references");
-    let pvd = run_every_step(&scene, 10, &dir.join("run"));
+    let (dir, scene, cache, pvd) = level_10_run("pieces");
     let ascii = rewrite_collection_with(&pvd, &dir.join("ascii"), Encoding::Ascii, &|_, _| {});
     let split = split_collection(&pvd, &dir.join("split"), &|_| {});
     let verified = |file: &Path, out: &str| {
