@@ -39,7 +39,8 @@ pub fn note_expectation(scheme: &str, mass: &str, norm: Norm) -> Option<&'static
 }
 
 /// The rate of `norm` in case `c` (a chaotic case's ensemble median and range), with what the
-/// note shows for it.
+/// note shows for it, marked as the note's (`0.26 (note: converges)`): a bare rate decides
+/// nothing, the findings decide by its interval.
 fn rate_cell(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> String {
     let rate = match chaotic_spread(c, norm, sensitivity) {
         Some(spread) => chaotic_rate(&spread),
@@ -49,7 +50,7 @@ fn rate_cell(c: &CaseStudy, norm: Norm, sensitivity: Option<&Sensitivity>) -> St
         },
     };
     match note_expectation(&c.case.scheme.name(), c.case.mass.name(), norm) {
-        Some(word) => format!("{rate} ({word})"),
+        Some(word) => format!("{rate} (note: {word})"),
         None => rate,
     }
 }
@@ -296,8 +297,9 @@ pub fn render(study: &ElasticStudy, command: &str) -> String {
     let _ = writeln!(
         md,
         "## Rates (least squares over all levels)\n\n\
-         Each cell: our rate (what the note's Figure 3 for Crank–Nicolson, Figure 8 for backward \
-         Euler, shows for that curve; the note prints curves, not numbers). The contact force is \
+         Each cell: our rate, a bare fit that decides nothing (the findings below decide by its \
+         interval), then, marked `note:`, what the note's Figure 3 for Crank–Nicolson, Figure 8 \
+         for backward Euler, shows for that curve (the note prints curves, not numbers). The contact force is \
          the total normal force Σλᵢ on Γ_Sig; V is the energy norm (‖e‖²_H + a(e, e))^½; the \
          energy error is |E_h − E_ref|. The last column is the oscillation indicator \
          TV(Σλ_h)/TV(Σλ_ref) on the finest level.\n"
