@@ -11,12 +11,12 @@ use std::path::Path;
 
 use flate2::read::ZlibDecoder;
 
-use super::{HeaderWord, PointArray, VtuSnapshot};
+use super::{HeaderWord, NodalSnapshot, PointArray};
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::format::MAX_FILE_BYTES;
 
 /// The snapshot `path` whose bytes are `bytes` and whose raw block starts at `start`.
-pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, ExternalError> {
+pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<NodalSnapshot, ExternalError> {
     let invalid = |field: &str, value: String, allowed: &str| {
         ExternalError::invalid(path, field, None, value, allowed)
     };
@@ -92,7 +92,7 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
             });
         }
     }
-    VtuSnapshot::new(path, coordinates, super::epsilon_of(single), arrays)
+    NodalSnapshot::new(path, coordinates, super::epsilon_of(single), arrays)
 }
 /// How the block is laid out.
 struct Layout<'a> {

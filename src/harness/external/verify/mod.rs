@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-use super::box_run::PvdOptions;
+use super::box_run::SeriesOptions;
 use super::error::ExternalError;
 use super::format::{Code, EnergyDefinition};
 use super::replay::TimeNorms;
@@ -277,7 +277,7 @@ enum Against<'a> {
 /// scene's reference comes from.
 pub struct VerifySources<'a> {
     /// The `.pvd` files' code, label, scheme, mass and arrays.
-    pub pvd: &'a PvdOptions,
+    pub pvd: &'a SeriesOptions,
     /// The fine-mesh reference's cache and the limits of computing one.
     pub reference: ReferenceSource<'a>,
 }
