@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """DOLFINx's matrices of the 2D bar (``scenes/bar2d.json``), stepped with an exact nodal contact
-solve and written every step with ``dolfinx.io.VTKFile``, as external runs.
+solve and written every step with ``dolfinx.io.VTKFile`` (or ``XDMFFile``), as external runs.
 
 Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
 
@@ -9,7 +9,8 @@ Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
         --mass standard --out target/dolfinx-runs --getfem tests/data/getfem2d
 
 For each LEVEL it writes the ParaView collection
-``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, meant
+``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT (with
+``--writer xdmf``: ``….xdmf`` and its ``….h5``), meant
 (issue 52) for ``signorini verify scenes/bar2d.json RUN.pvd --code dolfinx --code-version 0.5.2 --scheme
 <scheme> --mass <mass> --velocity velocity --multiplier contact_multiplier``. It prints one line
 per run: the steps, the energy at t = 0 and t = T, the largest total contact force and the
@@ -83,6 +84,15 @@ every t_n = n Δt, n = 0 … 4 LEVEL, on one process; the files are left as DOLF
   functions by their names: ``displacement`` and ``velocity`` padded to three components (the
   third 0), ``contact_multiplier`` one component with no ``NumberOfComponents`` attribute
   (λ_i ≤ 0 on the contact nodes, 0 elsewhere).
+
+**What DOLFINx 0.5.2's XDMFFile writes** (``--writer xdmf``: ``write_mesh`` once, then
+``write_function(f, t)`` for each of the three functions at every t_n): ``<stem>.xdmf``, XDMF 3
+with an empty ``DOCTYPE``; a grid ``mesh`` (``Quadrilateral`` topology, ``XY`` geometry at
+``/Mesh/mesh/geometry``), then one temporal collection per function, named by it, whose grids
+``xi:include`` the mesh's topology and geometry, carry ``<Time Value="…"/>`` (17 significant
+digits) and the function as a nodal ``Attribute`` at ``/Function/<name>/<time with _ for .>``
+in ``<stem>.h5``: ``Float64``, vectors padded to three components, the values at the
+geometry's nodes in its order.
 """
 
 import argparse

@@ -326,6 +326,7 @@ fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) ->
                 .map(|a| PointArray {
                     name: a.name.clone(),
                     components: a.components,
+                    epsilon: a.epsilon,
                     values: kept
                         .iter()
                         .flat_map(|&i| &a.values[i * a.components..(i + 1) * a.components])
@@ -419,33 +420,55 @@ fn a_second_verify_of_a_scene_reads_the_reference_the_first_kept() {
 }
 
 #[test]
-fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_shows() {
+fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_marks_it() {
     let dir = scratch("declared");
     let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
     let cache = dir.join("references");
-    let file = fixtures().join(FIXTURES[0].0);
-    let largest = |declared: &str| -> f64 {
+    let check = |file: &str, multiplier: &str, declared: &str| -> (Value, String) {
+        let out = dir.join(format!("{declared}-{}", file.replace('/', "-")));
         let verified = verify_as(
             &scene,
-            &file,
-            "dolfinx",
-            (declared, "contact_multiplier"),
+            &fixtures().join(file),
+            file.split('/').next().unwrap(),
+            (declared, multiplier),
             &cache,
-            &dir.join(declared),
+            &out,
         );
-        let differences = &verified["series"][0]["step_differences"][0];
+        let differences = verified["series"][0]["step_differences"][0].clone();
         assert_eq!(differences["samples"], 41, "{differences}");
+        let markdown = std::fs::read_to_string(out.join("verify.md")).unwrap();
+        (differences, markdown)
+    };
+    let largest = |differences: &Value| -> f64 {
         ["displacement", "velocity", "multiplier"]
             .iter()
             .map(|q| differences[q].as_f64().unwrap())
             .fold(0.0, f64::max)
     };
+    let dolfinx = "dolfinx/dolfinx-bar2d-crank-nicolson-standard-level10.pvd";
     // DOLFINx's Crank–Nicolson is the harness's to round-off (its file has 16 digits) ...
-    let as_run = largest("crank-nicolson");
-    assert!(as_run <= 1e-12, "{as_run:e}");
-    // ... and declared as backward Euler it is not.
-    let misdeclared = largest("backward-euler");
-    assert!(misdeclared >= 1e-2, "{misdeclared:e}");
+    let (as_run, markdown) = check(dolfinx, "contact_multiplier", "crank-nicolson");
+    assert!(largest(&as_run) <= 1e-12, "{as_run}");
+    assert_eq!(as_run["tolerance"].as_f64(), Some(1e-10));
+    assert!(markdown.contains("| yes (bound 1e-10) |"), "{markdown}");
+    assert!(
+        !markdown.contains("differs from its declared"),
+        "{markdown}"
+    );
+    // ... GetFEM's Float32 file is, to a thousand of its epsilons ...
+    let getfem = "getfem-vtu/getfem-crank-nicolson-standard-nx10-binary.pvd";
+    let (single, markdown) = check(getfem, "multiplier", "crank-nicolson");
+    let bound = 1e3 * f64::from(f32::EPSILON);
+    assert_eq!(single["tolerance"].as_f64(), Some(bound));
+    assert!(largest(&single) <= bound, "{single}");
+    assert!(markdown.contains("| yes (bound 1e-4) |"), "{markdown}");
+    // ... and DOLFINx's Crank–Nicolson declared as backward Euler is not: the series is marked
+    // in both tables and its rerun row.
+    let (misdeclared, markdown) = check(dolfinx, "contact_multiplier", "backward-euler");
+    assert!(largest(&misdeclared) >= 1e-2, "{misdeclared}");
+    assert!(markdown.contains("| **no** (bound 1e-10) |"), "{markdown}");
+    let marked = "(**differs from its declared scheme and mass: ";
+    assert!(markdown.matches(marked).count() >= 3, "{markdown}");
 }
 
 /// Every encoding VTK 9.1's own writers produce (`tests/data/external/vtk-encodings/`, by

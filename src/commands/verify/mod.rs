@@ -24,7 +24,8 @@ pub struct VerifyArgs {
     /// (bar2d, bar3d), verified against its fine-mesh reference.
     pub scene: PathBuf,
     /// Run files of another code (see docs/src/external-runs.md): `.json` or `.csv` for a bar,
-    /// `.pvd` (ParaView collections) or `.json` (the box form) for a box; files with one label
+    /// `.pvd` (ParaView collections), `.xdmf` (XDMF with HDF5) or `.json` (the box form) for a
+    /// box; files with one label
     /// form one refinement series.
     #[arg(required = true)]
     pub runs: Vec<PathBuf>,

@@ -137,6 +137,9 @@ pub struct BoxExternalRun {
     pub time: Vec<f64>,
     /// What the code's reported energy is, when it reports one.
     pub energy_definition: Option<EnergyDefinition>,
+    /// The machine epsilon of the file's numbers: the largest of its displacement's, velocity's
+    /// and multipliers' arrays (`f64::EPSILON` for the JSON form, whose numbers are doubles).
+    pub value_epsilon: f64,
     source: Source,
 }
 
@@ -440,6 +443,15 @@ impl BoxScene<'_> {
             velocity: options.velocity.clone(),
             multiplier: options.multiplier.clone(),
         };
+        let value_epsilon = [
+            Some(&names.displacement),
+            names.velocity.as_ref(),
+            names.multiplier.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .filter_map(|name| first.array(name))
+        .fold(f64::EPSILON, |e, a| e.max(a.epsilon));
         let code = options.code.clone().ok_or_else(|| {
             ExternalError::invalid(
                 path,
@@ -465,6 +477,7 @@ impl BoxScene<'_> {
             mesh,
             time,
             energy_definition: None,
+            value_epsilon,
             source: Source::Snapshots {
                 series,
                 names,
@@ -855,6 +868,7 @@ impl BoxFile {
             mesh,
             time,
             energy_definition: self.energy_definition,
+            value_epsilon: f64::EPSILON,
             source: Source::Json(samples),
         })
     }

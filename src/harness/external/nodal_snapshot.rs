@@ -14,6 +14,9 @@ pub struct PointArray {
     pub components: usize,
     /// Its values, node by node (`components` per node).
     pub values: Vec<f64>,
+    /// The machine epsilon of its type in the file ([`epsilon_of`]): how finely the file could
+    /// write its values.
+    pub epsilon: f64,
 }
 
 impl PointArray {

@@ -182,7 +182,7 @@ impl XdmfSeries {
         let mut arrays = Vec::with_capacity(attributes.len());
         for attribute in attributes {
             let field = format!("Attribute {:?}", attribute.name);
-            let (values, _) = self.values(&attribute.item, &field)?;
+            let (values, single) = self.values(&attribute.item, &field)?;
             if attribute.item.nodes() != self.geometry.nodes() {
                 return Err(ExternalError::invalid(
                     &self.path,
@@ -199,6 +199,7 @@ impl XdmfSeries {
                 name: attribute.name.clone(),
                 components: attribute.item.components(),
                 values,
+                epsilon: epsilon_of(single),
             });
         }
         NodalSnapshot::new(&self.path, coordinates, epsilon_of(single), arrays)

@@ -299,13 +299,18 @@ fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
         let Attribute::DataArray(array) = attribute else {
             continue;
         };
-        let Some(values) = array.data.cast_into::<f64>() else {
-            continue;
-        };
+        let epsilon = epsilon_of(array.data.scalar_type() == ScalarType::F32);
+        let values = array.data.cast_into::<f64>().ok_or_else(|| {
+            invalid(
+                &format!("PointData {:?}", array.name),
+                "values that are not numbers".into(),
+            )
+        })?;
         arrays.push(PointArray {
             components: array.elem.num_comp() as usize,
             name: array.name,
             values,
+            epsilon,
         });
     }
     NodalSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)

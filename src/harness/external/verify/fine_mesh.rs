@@ -287,6 +287,7 @@ impl AgainstFineMesh {
         let (scheme, discretised) = run.scheme.zip(discretised).filter(|_| coarsest)?;
         let dofs = |nodal: &[f64]| on_unknowns(&run.mesh, nodal);
         let declared = (&discretised.model, scheme, &discretised.conventions);
+        let file = (file, run.value_epsilon);
         Some(compare_with_harness(file, declared, &run.time, &mut |n| {
             let s = run.sample(n).map_err(|e| e.to_string())?;
             let displacement = s
