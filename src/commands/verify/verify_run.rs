@@ -84,6 +84,9 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         box_options,
         references,
     } = request;
+    let inputs: Vec<&Path> = (runs.iter().chain([&scene]).chain(&golden))
+        .map(PathBuf::as_path)
+        .collect();
     let scene = Scene::load(&scene)?;
     let files = [(out.is_some(), 2.0), (write_golden.is_some(), 1.0)]
         .iter()
@@ -99,7 +102,7 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
     }
     let staged = out
         .as_deref()
-        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole)?.reading(&inputs))
         .transpose()?;
     let cache = ReferenceCache::ReadWrite(cache_dir(references)?);
     let sources = VerifySources {
