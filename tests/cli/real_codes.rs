@@ -619,3 +619,48 @@ fn a_broken_xdmf_series_is_refused_naming_what_is_off() {
         &["Geometry", "one mesh for every time"],
     );
 }
+
+#[test]
+fn a_file_a_series_points_to_is_never_quoted() {
+    let dir = scratch("pointed-to");
+    let secret = "TOKEN=never-echo-this";
+    std::fs::write(
+        dir.join("secret.txt"),
+        format!("{secret}\npassword: hunter2\n"),
+    )
+    .unwrap();
+    std::fs::create_dir_all(dir.join("runs")).unwrap();
+    let pvd = dir.join("runs/series.pvd");
+    std::fs::write(
+        &pvd,
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\"><Collection>\
+         <DataSet timestep=\"0\" part=\"0\" file=\"../secret.txt\"/></Collection></VTKFile>\n",
+    )
+    .unwrap();
+    let xdmf = dir.join("runs/series.xdmf");
+    std::fs::write(
+        &xdmf,
+        "<Xdmf Version=\"3.0\"><Domain><Grid Name=\"m\"><Geometry GeometryType=\"XY\">\
+         <DataItem Dimensions=\"22 2\" Format=\"HDF\">../secret.txt:/g</DataItem></Geometry>\
+         <Time Value=\"0\"/></Grid></Domain></Xdmf>\n",
+    )
+    .unwrap();
+    for file in [&pvd, &xdmf] {
+        let out = signorini(&[
+            "verify",
+            "scenes/bar2d.json",
+            s(file),
+            "--code",
+            "x",
+            "--code-version",
+            "1",
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("secret.txt"), "{stderr}");
+        assert!(
+            !stderr.contains("never-echo") && !stderr.contains("hunter2"),
+            "{stderr}"
+        );
+    }
+}

@@ -94,6 +94,38 @@ impl ExternalError {
     }
 }
 
+/// The longest parser message an error repeats ([`unquoted`]).
+const LONGEST_PARSER_MESSAGE: usize = 160;
+
+/// A parser's message about a file, without what it quotes of the file: every quoted run
+/// (`"…"`, escapes inside it skipped) becomes `"…"`, and the message is cut at
+/// [`LONGEST_PARSER_MESSAGE`] characters. The file may be one a run file pointed to (a `.pvd`'s
+/// `file=`, an XDMF item's HDF5 file), not one the user wrote: its content is never repeated.
+pub fn unquoted(message: impl std::fmt::Display) -> String {
+    let message = message.to_string();
+    let mut out = String::new();
+    let mut chars = message.chars();
+    while let Some(c) = chars.next() {
+        out.push(c);
+        if c == '"' {
+            while let Some(q) = chars.next() {
+                match q {
+                    '\\' => {
+                        chars.next();
+                    }
+                    '"' => break,
+                    _ => {}
+                }
+            }
+            out.push_str("…\"");
+        }
+    }
+    match out.char_indices().nth(LONGEST_PARSER_MESSAGE) {
+        Some((cut, _)) => format!("{}…", &out[..cut]),
+        None => out,
+    }
+}
+
 /// A run's or a file's error lifts through the study's, so that `?` takes it.
 impl From<files::Error> for ExternalError {
     fn from(e: files::Error) -> Self {

@@ -106,11 +106,16 @@ fn step_differences<J>(v: &Verification<J>) -> String {
                  treatment) on the scene's mesh at the file's level (a box series: at its \
                  coarsest level), from the file's first sample, at its time step. Each cell: the largest difference over the samples, \
                  relative to the harness's largest value (`λ` at the samples where both report \
-                 it at the same time). Within round-off (the bound: 10⁻¹⁰ for double \
-                 precision, 1000 machine epsilons of the file's numbers when larger) both codes \
-                 solve the same discrete problem; beyond it the file does not solve the scheme \
-                 and mass it declares, its series is marked so and the note's findings do not \
-                 judge it as that case.\n\n| file | scheme | samples | u | v | λ | within \
+                 it at the same time). With `u` within round-off (the bound: 10⁻¹⁰ for \
+                 double precision, 1000 machine epsilons of the file's numbers when larger) both \
+                 codes solve the same discrete problem (`v` and `λ`, recovered from differences \
+                 over a step, carry round-off amplified by 1/Δt); beyond it the file does not \
+                 solve the scheme and mass it declares: when it is its series' coarsest file, \
+                 the series is marked so and the note's findings do not judge it as that case. \
+                 The bound is at least 100 times the parting of the harness's own twin run, \
+                 started from the file's first sample perturbed by the file's rounding: on a \
+                 round-off chaotic case the twin parts by the size of the solution and nothing \
+                 is decided.\n\n| file | scheme | samples | u | v | λ | within \
                  round-off |\n|---|---|---|---|---|---|---|\n",
             );
         }
@@ -125,6 +130,11 @@ fn step_differences<J>(v: &Verification<J>) -> String {
             opt(d.multiplier),
             if d.differs() {
                 format!("**no** (bound {:.0e})", d.tolerance)
+            } else if d.tolerance >= 1.0 {
+                format!(
+                    "*undecided*: round-off chaotic (its twin parts by {:.0e})",
+                    d.self_parting
+                )
             } else {
                 format!("yes (bound {:.0e})", d.tolerance)
             }

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 
-use super::error::ExternalError;
+use super::error::{unquoted, ExternalError};
 use super::format::{MAX_VALUES, RUN_FILE};
 use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use crate::harness::files::input::read_bytes;
@@ -104,7 +104,7 @@ impl XdmfSeries {
             ..roxmltree::ParsingOptions::default()
         };
         let document = roxmltree::Document::parse_with_options(&text, options)
-            .map_err(|e| invalid("file", format!("malformed XML ({e})")))?;
+            .map_err(|e| invalid("file", format!("malformed XML ({})", unquoted(e))))?;
         let root = document.root_element();
         if root.tag_name().name() != "Xdmf" {
             return Err(invalid(
@@ -233,11 +233,11 @@ fn read_dataset(
     dimensions: &[usize],
 ) -> Result<(Vec<f64>, bool), String> {
     let options = OpenOptions::default().with_max_read_bytes(MAX_VALUES * 8);
-    let hdf5 =
-        Hdf5File::open_with_options(file, options).map_err(|e| format!("unreadable ({e})"))?;
+    let hdf5 = Hdf5File::open_with_options(file, options)
+        .map_err(|e| format!("unreadable ({})", unquoted(e)))?;
     let data = hdf5
         .dataset(dataset)
-        .map_err(|e| format!("not found ({e})"))?;
+        .map_err(|e| format!("not found ({})", unquoted(e)))?;
     let shape: Vec<usize> = data.shape().iter().map(|&s| s as usize).collect();
     if shape != dimensions {
         return Err(format!(
@@ -252,11 +252,11 @@ fn read_dataset(
         Datatype::FloatingPoint { size: 8, .. } => data
             .read_array::<f64>()
             .map(|a| (a.iter().copied().collect(), false))
-            .map_err(|e| format!("unreadable ({e})")),
+            .map_err(|e| format!("unreadable ({})", unquoted(e))),
         Datatype::FloatingPoint { size: 4, .. } => data
             .read_array::<f32>()
             .map(|a| (a.iter().map(|&x| f64::from(x)).collect(), true))
-            .map_err(|e| format!("unreadable ({e})")),
+            .map_err(|e| format!("unreadable ({})", unquoted(e))),
         other => Err(format!("of type {other:?}")),
     }
 }

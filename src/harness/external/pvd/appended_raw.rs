@@ -12,7 +12,7 @@ use std::path::Path;
 use flate2::read::ZlibDecoder;
 
 use super::{HeaderWord, NodalSnapshot, PointArray};
-use crate::harness::external::error::ExternalError;
+use crate::harness::external::error::{unquoted, ExternalError};
 use crate::harness::external::format::MAX_FILE_BYTES;
 
 /// The snapshot `path` whose bytes are `bytes` and whose raw block starts at `start`.
@@ -24,8 +24,13 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<NodalSnapshot, Ex
     let head = std::str::from_utf8(&bytes[..tag])
         .map_err(|_| invalid("file", "not UTF-8 before <AppendedData>".into(), "XML text"))?;
     let xml = format!("{head}</VTKFile>");
-    let document = roxmltree::Document::parse(&xml)
-        .map_err(|e| invalid("file", format!("malformed XML ({e})"), "XML text"))?;
+    let document = roxmltree::Document::parse(&xml).map_err(|e| {
+        invalid(
+            "file",
+            format!("malformed XML ({})", unquoted(e)),
+            "XML text",
+        )
+    })?;
     let root = document.root_element();
     let layout = Layout {
         word: HeaderWord::of(root),
@@ -153,7 +158,9 @@ impl Layout<'_> {
                     ZlibDecoder::new(compressed)
                         .take(MAX_FILE_BYTES)
                         .read_to_end(&mut out)
-                        .map_err(|e| format!("a zlib block that does not inflate ({e})"))?;
+                        .map_err(|e| {
+                            format!("a zlib block that does not inflate ({})", unquoted(e))
+                        })?;
                 }
                 Compressor::Lz4 => {
                     let whole = k + 1 < blocks || last_size == 0;
@@ -161,8 +168,9 @@ impl Layout<'_> {
                     if out.len().saturating_add(length) > MAX_FILE_BYTES as usize {
                         return Err(format!("blocks of more than {MAX_FILE_BYTES} bytes"));
                     }
-                    let block = lz4_flex::block::decompress(compressed, length)
-                        .map_err(|e| format!("an LZ4 block that does not decompress ({e})"))?;
+                    let block = lz4_flex::block::decompress(compressed, length).map_err(|e| {
+                        format!("an LZ4 block that does not decompress ({})", unquoted(e))
+                    })?;
                     out.extend(block);
                 }
             }

@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use vtkio::model::{Attribute, DataSet, Piece, ScalarType};
 use vtkio::Vtk;
 
-use super::error::ExternalError;
+use super::error::{unquoted, ExternalError};
 use super::format::RUN_FILE;
 use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use crate::harness::files::input::read_bytes;
@@ -113,7 +113,7 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
         invalid(
             "file",
             None,
-            format!("malformed XML ({e})"),
+            format!("malformed XML ({})", unquoted(e)),
             "a ParaView collection (.pvd): XML text",
         )
     })?;
@@ -270,7 +270,7 @@ fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
     let vtk = Vtk::parse_xml(Cursor::new(full_last_block::with_full_last_blocks(
         with_byte_order(bytes),
     )))
-    .map_err(|e| invalid("file", format!("unreadable ({e})")))?;
+    .map_err(|e| invalid("file", format!("unreadable ({})", unquoted(e))))?;
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         return Err(invalid("VTKFile.type", "another dataset".into()));
     };

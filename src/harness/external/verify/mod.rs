@@ -155,11 +155,13 @@ impl Series {
         self.levels.last()?.multiplier_variation_ratio
     }
 
-    /// The first of its files whose harness run of the declared scheme and mass parts from it
-    /// by more than round-off ([`StepDifferences::differs`]): the series does not solve the
-    /// discrete problem it declares, and is not judged as that case.
+    /// The coarsest of its files compared with the harness's run of the declared scheme and
+    /// mass, when they part by more than round-off ([`StepDifferences::differs`]): the series
+    /// does not solve the discrete problem it declares, and is not judged as that case. Only the
+    /// coarsest decides (a box series' only comparison): on the finer levels of a round-off
+    /// chaotic case two correct codes part by more.
     pub fn differs_from_declared(&self) -> Option<&StepDifferences> {
-        self.step_differences.iter().find(|d| d.differs())
+        self.step_differences.first().filter(|d| d.differs())
     }
 
     /// The rates of `norm`, if it was computed.
