@@ -1,6 +1,8 @@
 //! The documentation: README.md is a first screen, and every relative link of the README and of
 //! the book (`docs/src/`, mdBook) leads to a file that exists, and so does every file a chapter
-//! includes (`{{#include PATH}}`); every chapter is in the book's table of contents
+//! includes (`{{#include PATH}}`), and so does every relative link of the committed reports'
+//! pages (`reports/**/*.md`: the index, its gallery, the league and the finer studies' indexes);
+//! every chapter is in the book's table of contents
 //! (`docs/src/SUMMARY.md`) and every entry of it is a chapter. The commands the tutorials show
 //! are run by `tutorial.rs`, those of the README by `readme_commands.rs`.
 
@@ -127,6 +129,49 @@ fn every_relative_link_in_the_readme_and_the_book_resolves() {
         "no chapters found in {}",
         book_src().display()
     );
+    let broken = broken_links(&files);
+    assert!(
+        broken.is_empty(),
+        "{} broken link(s):\n{}",
+        broken.len(),
+        broken.join("\n")
+    );
+}
+
+/// The markdown files under `dir`, recursively, sorted.
+fn markdown_under(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files.extend(markdown_under(&path));
+        } else if path.extension().is_some_and(|e| e == "md") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    files
+}
+
+/// Every page of the committed reports: the index (`reports/README.md`), its gallery, the
+/// finer studies' indexes (`reports/fine/README.md`, `reports/finest/README.md`), the league
+/// (`reports/league.md`) and each report and verification page.
+#[test]
+fn every_relative_link_in_the_reports_resolves() {
+    let reports = root().join("reports");
+    let files = markdown_under(&reports);
+    for page in [
+        "README.md",
+        "gallery.md",
+        "league.md",
+        "fine/README.md",
+        "finest/README.md",
+    ] {
+        assert!(
+            files.contains(&reports.join(page)),
+            "reports/{page} is not committed"
+        );
+    }
     let broken = broken_links(&files);
     assert!(
         broken.is_empty(),
