@@ -25,6 +25,7 @@ use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON}
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
 use crate::studies::gravity;
+use crate::studies::league::League;
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
 use crate::studies::tables::{OscillationRecord, RatesFile, RATES_JSON, SENSITIVITY_JSON};
 
@@ -145,6 +146,14 @@ const SECTIONS: &[Section] = &[
         headline: extended_headline,
     },
     Section {
+        report: "league.md",
+        title: "Other codes' runs, verified side by side",
+        data: &["league.json"],
+        shown: None,
+        families: &[],
+        headline: league_headline,
+    },
+    Section {
         report: "defaults-experiment.md",
         title: "How the rates move with the horizon and the levels",
         data: &[],
@@ -171,10 +180,6 @@ const ELSEWHERE: &[(&str, &str)] = &[
     (
         "finest/README.md",
         "the 3D study against a reference on 640 elements (`make report-finest`)",
-    ),
-    (
-        "league.md",
-        "every external run set verified side by side (`make league`)",
     ),
     (
         "cluster/cluster-plan.md",
@@ -704,6 +709,42 @@ fn elastic_headline(reports: &Path, dimension: usize) -> Option<String> {
         let _ = write!(text, "\n\n{table}");
     }
     Some(text)
+}
+
+fn league_headline(reports: &Path) -> Option<String> {
+    let league: League = data(reports, "league.json")?;
+    let rows: Vec<_> = league.entries.iter().flat_map(|e| &e.rows).collect();
+    let mut codes: Vec<String> = Vec::new();
+    for row in &rows {
+        let name = format!("{} {}", row.code.name, row.code.version);
+        if !codes.contains(&name) {
+            codes.push(name);
+        }
+    }
+    let energy = |v: FindingVerdict| rows.iter().filter(|r| r.energy_verdict == v).count();
+    let calm = rows
+        .iter()
+        .filter(|r| r.oscillation.as_deref() == Some("No"))
+        .count();
+    let findings: Vec<_> = league.findings.iter().flat_map(|c| &c.findings).collect();
+    let judged = |v: FindingVerdict| findings.iter().filter(|f| f.verdict == v).count();
+    Some(format!(
+        "{} refinement series in {} run sets, from {}: the energy error converges in {} series, \
+         does not in {} and is undecided in {}; {calm} show no contact-force oscillation. Of the \
+         papers' findings judged on each code's series of a scene ({} code × scene pairs): {} \
+         hold, {} fail, {} are undecided; `league.md` gives every rate and verdict with its \
+         reason.",
+        rows.len(),
+        league.entries.len(),
+        codes.join(", "),
+        energy(FindingVerdict::Holds),
+        energy(FindingVerdict::Fails),
+        energy(FindingVerdict::Undecided),
+        league.findings.len(),
+        judged(FindingVerdict::Holds),
+        judged(FindingVerdict::Fails),
+        judged(FindingVerdict::Undecided)
+    ))
 }
 
 fn extended_headline(reports: &Path) -> Option<String> {

@@ -405,9 +405,10 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
 
 /// The index of the committed reports: each study's headline computed from its data (the count
 /// of disagreements is the one `rates.json` lists; the smallest error is the least of
-/// `work-precision.json`; each gravity rate named with its scheme), one figure drawn inline per
-/// study and no list of figures (the gallery links every figure), and the witness, the finer
-/// studies, the league, the cluster plan and the benchmarks linked because they are present.
+/// `work-precision.json`; the league's series those of `league.json`; each gravity rate named
+/// with its scheme), one figure drawn inline per study and no list of figures (the gallery links
+/// every figure), and the witness, the finer studies, the league, the cluster plan and the
+/// benchmarks linked because they are present.
 #[test]
 fn the_index_says_what_each_study_found_and_the_gallery_links_every_figure() {
     let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
@@ -459,6 +460,17 @@ fn the_index_says_what_each_study_found_and_the_gallery_links_every_figure() {
     assert!(
         index.contains(&format!("measured is {smallest:.2e} (")),
         "the smallest error {smallest:.2e} is not the headline's:\n{index}"
+    );
+    let league = read("league.json");
+    let series: usize = league["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["rows"].as_array().unwrap().len())
+        .sum();
+    assert!(
+        index.contains(&format!("{series} refinement series in ")),
+        "the league's {series} series are not the headline's:\n{index}"
     );
     let gravity = index
         .lines()
