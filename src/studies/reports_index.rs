@@ -653,8 +653,12 @@ fn committed_studies(reports: &Path, dimension: usize) -> Vec<(&'static str, Ela
 }
 
 /// Each finding of the `dimension`-D studies: the strongest study's verdict, then every
-/// study's, one column per directory.
+/// study's, one column per directory; `None` for fewer than two studies (the headline gives
+/// one study's counts).
 fn findings_table(studies: &[(&str, ElasticStudy)], dimension: usize) -> Option<String> {
+    if studies.len() < 2 {
+        return None;
+    }
     let (best_dir, best) = strongest(studies)?;
     let mut md = format!(
         "Each finding of the note with the verdict of the strongest study that tested it (finest \
