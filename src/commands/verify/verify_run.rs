@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::commands::command_error::CommandError;
 use crate::commands::options::cache_dir;
-use crate::harness::external::box_run::PvdOptions;
+use crate::harness::external::box_run::SeriesOptions;
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::verify::fine_mesh::ReferenceSource;
 use crate::harness::external::{
@@ -44,7 +44,7 @@ pub struct VerifyRequest {
     /// The limits it is held to.
     pub limits: Limits,
     /// What a box scene's `.pvd` files are (their code, label, scheme, mass and arrays).
-    pub box_options: PvdOptions,
+    pub box_options: SeriesOptions,
     /// Where a box scene's reference is read from and saved to (default: the user's cache,
     /// `cache_dir`).
     pub references: Option<PathBuf>,
