@@ -8,7 +8,7 @@
 //! | `schemes.md` | `rates.json`, `sensitivity.json`, `rates-longer-horizon.json` (`report`), `stability.json` (`stability`, when there) |
 //! | `work-precision.md` | `rates.json` (`report`), `elastic-2d.json`, `elastic-3d.json` (`study`), each where it exists |
 //! | `figures/*.svg` | [`crate::studies::figures::from_reports`] |
-//! | `README.md` | [`crate::studies::reports_index`] |
+//! | `README.md`, `gallery.md` | [`crate::studies::reports_index`] |
 //!
 //! A page whose data is missing is not written (a page already there is kept) and its missing
 //! inputs are listed; a data file that is there but does not read is an error.
@@ -25,7 +25,7 @@ use crate::studies::cost::{work_precision_page, BoxCosts, WORK_PRECISION_MD};
 use crate::studies::elastic_study::files::study_file;
 use crate::studies::error::Error;
 use crate::studies::figures::from_reports::write_figures;
-use crate::studies::reports_index::{reports_index, REPORTS_INDEX};
+use crate::studies::reports_index::{figure_gallery, reports_index, FIGURE_GALLERY, REPORTS_INDEX};
 use crate::studies::schemes::{self, SCHEMES_MD};
 use crate::studies::stability::{StabilityRecord, STABILITY_JSON};
 use crate::studies::tables::{
@@ -34,7 +34,8 @@ use crate::studies::tables::{
 
 /// What the render step wrote, and what it could not.
 pub struct Rendered {
-    /// The pages written, by file name ([`SCHEMES_MD`], [`WORK_PRECISION_MD`]).
+    /// The pages written, by file name ([`SCHEMES_MD`], [`WORK_PRECISION_MD`],
+    /// [`FIGURE_GALLERY`]).
     pub pages: Vec<&'static str>,
     /// The figures drawn, by file name under `figures/`.
     pub figures: Vec<String>,
@@ -53,7 +54,8 @@ pub struct Pages {
 
 /// Renders the reports directory `reports` from its data: writes into `into` (`reports` or
 /// where its new files are staged) the cross-section pages ([`cross_section_pages`]), the
-/// figures and the index ([`REPORTS_INDEX`], listing the pages and figures just written too).
+/// figures, the gallery of the figures ([`FIGURE_GALLERY`], when there are some) and the index
+/// ([`REPORTS_INDEX`], listing the pages and figures just written too).
 pub fn render_reports(reports: &Path, into: &Path) -> Result<Rendered, Error> {
     let (figures, mut missing) = write_figures(reports, into)?;
     let pages = cross_section_pages(reports)?;
@@ -61,7 +63,11 @@ pub fn render_reports(reports: &Path, into: &Path) -> Result<Rendered, Error> {
         write_atomic(&into.join(name), text.as_bytes())?;
     }
     missing.extend(pages.missing);
-    let pages: Vec<&'static str> = pages.rendered.iter().map(|(name, _)| *name).collect();
+    let mut pages: Vec<&'static str> = pages.rendered.iter().map(|(name, _)| *name).collect();
+    if let Some(gallery) = figure_gallery(reports, &figures, &pages) {
+        write_atomic(&into.join(FIGURE_GALLERY), gallery.as_bytes())?;
+        pages.push(FIGURE_GALLERY);
+    }
     let index = reports_index(reports, &figures, &pages);
     write_atomic(&into.join(REPORTS_INDEX), index.as_bytes())?;
     Ok(Rendered {

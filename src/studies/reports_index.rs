@@ -1,9 +1,14 @@
-//! `reports/README.md`, the index a person reads: one section per study with what it found, in a
-//! sentence or two computed from the study's own data file, the one or two figures that show it
-//! drawn inline, then links to its report, its data and every figure of its families. Built from
-//! what exists under the reports directory: a study whose report is absent is left out, a report
-//! or a figure is listed when its file is there (or was just written), and the finer studies, GetFEM's witness
-//! and the benchmarks are linked when their directories or files are present.
+//! `reports/README.md`, the index a person reads, and `reports/gallery.md`, every figure.
+//!
+//! The index gives each study one section: what it found, in a sentence computed from the
+//! study's own data file, the one figure that shows it drawn inline, and links to its report and
+//! data; the figures of its families are listed in the gallery, not in the index. Both are built
+//! from what exists under the reports directory: a study whose report is absent is left out, a
+//! report or a figure is listed when its file is there (or was just written), and the finer
+//! studies, GetFEM's witness, the league, the cluster plan and the benchmarks are linked when
+//! their files are present. A directory that holds 2D/3D studies only (`make report-fine`'s
+//! `reports/fine/`, `make report-finest`'s `reports/finest/`) is titled after its studies and
+//! points to the top index instead of repeating its preamble.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -20,22 +25,34 @@ use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON}
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
 use crate::studies::gravity;
+use crate::studies::league::League;
 use crate::studies::stability::{StabilityRecord, Verdict, STABILITY_JSON};
 use crate::studies::tables::{OscillationRecord, RatesFile, RATES_JSON, SENSITIVITY_JSON};
 
 /// The index of a reports directory ([`reports_index`]).
 pub const REPORTS_INDEX: &str = "README.md";
 
+/// The figure gallery of a reports directory ([`figure_gallery`]).
+pub const FIGURE_GALLERY: &str = "gallery.md";
+
 /// One study's part of the index: the report that must exist for it to be listed, its title,
-/// the other files it links, the figures drawn inline and the figure families it owns
-/// (file-name prefix and what to look for).
+/// the other files it links, the figure drawn inline and the figure families it owns
+/// (file-name prefix and what they show).
 struct Section {
     report: &'static str,
     title: &'static str,
     data: &'static [&'static str],
-    shown: &'static [&'static str],
+    shown: Option<&'static str>,
     families: &'static [(&'static str, &'static str)],
     headline: fn(&Path) -> Option<String>,
+}
+
+impl Section {
+    /// Whether the study is a 2D/3D bar's (the only kind a finer study's directory holds,
+    /// beside the cost page built from it).
+    fn is_elastic(&self) -> bool {
+        self.report.starts_with("elastic-") || self.report == "work-precision.md"
+    }
 }
 
 const SECTIONS: &[Section] = &[
@@ -43,11 +60,11 @@ const SECTIONS: &[Section] = &[
         report: "tables.md",
         title: "Tables 1–2 of the 1D paper (Signorini–Dirichlet)",
         data: &["rates.json", "sensitivity.md", "sensitivity.json"],
-        shown: &["contact-crank-nicolson.svg", "energy-crank-nicolson.svg"],
+        shown: Some("contact-crank-nicolson.svg"),
         families: &[
-            ("contact-", "the contact node's displacement and force at NX = 10, 20, 40 against the exact solution, the standard mass left, the redistributed right"),
-            ("energy-", "the discrete energy against the exact 1/8"),
-            ("convergence-", "errors against h (log–log) for both masses with the fitted slope; a round-off chaotic case is drawn as its ensemble's median with the min–max band"),
+            ("contact-", "The contact node's displacement and force at NX = 10, 20, 40 against the exact solution, the standard mass left, the redistributed right, one figure per scheme"),
+            ("energy-", "The discrete energy against the exact 1/8, one figure per scheme"),
+            ("convergence-", "Errors against h (log–log) for both masses, one figure per scheme and norm; a round-off chaotic case is drawn as its ensemble's median with the min–max band"),
         ],
         headline: tables_headline,
     },
@@ -55,7 +72,7 @@ const SECTIONS: &[Section] = &[
         report: "schemes.md",
         title: "Which scheme to trust: the paper's schemes and their rivals",
         data: &["rates.json", "sensitivity.json"],
-        shown: &[],
+        shown: None,
         families: &[],
         headline: schemes_headline,
     },
@@ -63,11 +80,11 @@ const SECTIONS: &[Section] = &[
         report: "gravity.md",
         title: "The bouncing bar under gravity (§4)",
         data: &["gravity/study.json", "gravity/sensitivity.json"],
-        shown: &["gravity-points-redistributed.svg"],
+        shown: Some("gravity-points-redistributed.svg"),
         families: &[
-            ("gravity-points-", "u at x = 0, ½, 1 computed and exact (Figure 2)"),
-            ("gravity-convergence-", "the four displacement errors against h with fitted slopes (Figure 3)"),
-            ("gravity-strain-", "∂x u along the bar at two times, computed and exact (Figure 4)"),
+            ("gravity-points-", "The displacement u at x = 0, ½, 1 computed and exact (Figure 2), one figure per mass"),
+            ("gravity-convergence-", "The four displacement errors against h (Figure 3), one figure per mass"),
+            ("gravity-strain-", "The strain ∂x u along the bar at two times, computed and exact (Figure 4), one figure per mass"),
         ],
         headline: gravity_headline,
     },
@@ -75,10 +92,10 @@ const SECTIONS: &[Section] = &[
         report: "work-precision.md",
         title: "What accuracy costs",
         data: &["work-precision.json"],
-        shown: &["work-precision.svg"],
+        shown: Some("work-precision.svg"),
         families: &[
-            ("work-precision.svg", "error in L∞(0,T;H) against wall time for the paper's 14 cases: lower-left is better"),
-            ("work-precision-rivals", "the same for the rivals"),
+            ("work-precision.svg", "The error in L∞(0,T;H) against wall time for the paper's 14 cases: lower-left is better"),
+            ("work-precision-rivals", "The same for the rivals"),
         ],
         headline: cost_headline,
     },
@@ -86,11 +103,11 @@ const SECTIONS: &[Section] = &[
         report: "stability.md",
         title: "Stability over long horizons",
         data: &["stability.json"],
-        shown: &["stability-standard.svg", "stability-redistributed.svg"],
+        shown: Some("stability-standard.svg"),
         families: &[
-            ("stability-standard", "E/E₀ over 100 periods of the paper's schemes with the standard mass, one curve per scheme"),
-            ("stability-redistributed", "the same with the redistributed mass"),
-            ("stability-rivals-", "the same for the rivals, standard and redistributed mass"),
+            ("stability-standard", "The energy ratio E/E₀ over 100 periods of the paper's schemes with the standard mass, one curve per scheme"),
+            ("stability-redistributed", "The same with the redistributed mass"),
+            ("stability-rivals-", "The same for the rivals, one figure per mass"),
         ],
         headline: stability_headline,
     },
@@ -98,12 +115,12 @@ const SECTIONS: &[Section] = &[
         report: "elastic-2d.md",
         title: "The note's 2D bar against a fine-mesh reference",
         data: &["elastic-2d.json", "data/elastic-2d-histories.json"],
-        shown: &["elastic-2d-contact-crank-nicolson.svg", "elastic-2d-energy-crank-nicolson.svg"],
+        shown: Some("elastic-2d-contact-crank-nicolson.svg"),
         families: &[
-            ("elastic-2d-contact-", "the centre contact node's displacement and force at the finest level beside the reference (the note's Figures 1, 6)"),
-            ("elastic-2d-energy-", "the energy (Figures 2, 7)"),
-            ("elastic-2d-convergence-", "errors against h with fitted slopes, both masses (Figures 3, 8)"),
-            ("elastic-2d-von-mises-", "the von Mises stress along the axis over time (Figures 4–5)"),
+            ("elastic-2d-contact-", "The centre contact node's displacement and force at the finest level beside the reference (the note's Figures 1, 6), one figure per scheme"),
+            ("elastic-2d-energy-", "The energy (Figures 2, 7), one figure per scheme"),
+            ("elastic-2d-convergence-", "Errors against h, both masses (Figures 3, 8), one figure per scheme and norm"),
+            ("elastic-2d-von-mises-", "The von Mises stress along the axis over time (Figures 4–5), one figure per scheme"),
         ],
         headline: |reports| elastic_headline(reports, 2),
     },
@@ -111,12 +128,12 @@ const SECTIONS: &[Section] = &[
         report: "elastic-3d.md",
         title: "The note's 3D bar against a fine-mesh reference",
         data: &["elastic-3d.json", "data/elastic-3d-histories.json"],
-        shown: &["elastic-3d-contact-crank-nicolson.svg"],
+        shown: Some("elastic-3d-contact-crank-nicolson.svg"),
         families: &[
-            ("elastic-3d-contact-", "the centre contact node against the reference (Figures 1, 6)"),
-            ("elastic-3d-energy-", "the energy (Figures 2, 7)"),
-            ("elastic-3d-convergence-", "errors against h with fitted slopes (Figures 3, 8)"),
-            ("elastic-3d-von-mises-", "the von Mises stress along the axis over time"),
+            ("elastic-3d-contact-", "The centre contact node against the reference (Figures 1, 6), one figure per scheme"),
+            ("elastic-3d-energy-", "The energy (Figures 2, 7), one figure per scheme"),
+            ("elastic-3d-convergence-", "Errors against h (Figures 3, 8), one figure per scheme and norm"),
+            ("elastic-3d-von-mises-", "The von Mises stress along the axis over time, one figure per scheme"),
         ],
         headline: |reports| elastic_headline(reports, 3),
     },
@@ -124,15 +141,23 @@ const SECTIONS: &[Section] = &[
         report: "extended.md",
         title: "Every mass variant and contact treatment",
         data: &["extended.json"],
-        shown: &[],
+        shown: None,
         families: &[],
         headline: extended_headline,
+    },
+    Section {
+        report: "league.md",
+        title: "Other codes' runs, verified side by side",
+        data: &["league.json"],
+        shown: None,
+        families: &[],
+        headline: league_headline,
     },
     Section {
         report: "defaults-experiment.md",
         title: "How the rates move with the horizon and the levels",
         data: &[],
-        shown: &[],
+        shown: None,
         families: &[],
         headline: |_| None,
     },
@@ -157,15 +182,14 @@ const ELSEWHERE: &[(&str, &str)] = &[
         "the 3D study against a reference on 640 elements (`make report-finest`)",
     ),
     (
-        "league.md",
-        "every external run set verified side by side (`make league`)",
+        "cluster/cluster-plan.md",
+        "how many MPI ranks and nodes the largest 3D reference needs (`make cluster-plan`)",
     ),
     ("bench.md", "the speed and memory figures (`make bench`)"),
 ];
 
-/// The index of `reports`; `drawn`: the figures just drawn into it, and `pages`: the pages just
-/// written into it (each listed whether or not the directory already holds it).
-pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String {
+/// The figures of `reports`: those under its figures directory and those just `drawn`.
+fn figures_of(reports: &Path, drawn: &[String]) -> BTreeSet<String> {
     let mut figures: BTreeSet<String> = drawn.iter().cloned().collect();
     if let Ok(entries) = std::fs::read_dir(reports.join(FIGURES_DIR)) {
         figures.extend(entries.filter_map(|e| {
@@ -173,19 +197,91 @@ pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String
             name.ends_with(".svg").then_some(name)
         }));
     }
-    let mut md = String::from(
-        "# Reports\n\nWhat each study found, the figure that shows it, and every file it wrote. \
-         `make report` regenerates the tables, the 2D/3D studies and the figures; `make \
-         stability`, `make report-fine`, `make report-finest`, `make verify-getfem` and `make \
-         bench` the rest.\n",
-    );
-    let listed = |s: &&Section| pages.contains(&s.report) || reports.join(s.report).is_file();
-    for s in SECTIONS.iter().filter(listed) {
+    figures
+}
+
+/// The sections of `reports` whose report is there or among the `pages` just written.
+fn listed_sections<'a>(
+    reports: &'a Path,
+    pages: &'a [&str],
+) -> impl Iterator<Item = &'static Section> + 'a {
+    SECTIONS
+        .iter()
+        .filter(move |s| pages.contains(&s.report) || reports.join(s.report).is_file())
+}
+
+/// The members of the figure family `prefix` among `figures`.
+fn family<'f>(figures: &'f BTreeSet<String>, prefix: &'f str) -> impl Iterator<Item = &'f String> {
+    figures.iter().filter(move |f| f.starts_with(prefix))
+}
+
+/// The title and preamble of the index: the top one's, or for a directory of 2D/3D studies
+/// only, a title naming its bars and references and a pointer to the top index when its
+/// parent has one.
+fn heading(reports: &Path, sections: &[&Section], gallery: bool) -> String {
+    let gallery_note = if gallery {
+        format!(" Every figure, by study, is in [{FIGURE_GALLERY}]({FIGURE_GALLERY}).")
+    } else {
+        String::new()
+    };
+    let studies: Vec<(usize, ElasticStudy)> = [2, 3]
+        .into_iter()
+        .filter_map(|d| Some((d, data(reports, &elastic_files::study_file(d))?)))
+        .collect();
+    if studies.is_empty() || !sections.iter().all(|s| s.is_elastic()) {
+        return format!(
+            "# Reports\n\nWhat each study found, in a sentence computed from its data, with the \
+             figure that shows it and a link to its report.{gallery_note} `make report` \
+             regenerates the tables, the 2D/3D studies and the figures; `make stability`, `make \
+             report-fine`, `make report-finest`, `make verify-getfem` and `make bench` the \
+             rest.\n"
+        );
+    }
+    let title = match studies.as_slice() {
+        [(d, study)] => format!(
+            "The {d}D bar against a reference on {} elements",
+            study.config.reference_level
+        ),
+        _ => {
+            let bars: Vec<String> = studies.iter().map(|(d, _)| format!("{d}D")).collect();
+            let references: Vec<String> = studies
+                .iter()
+                .map(|(d, s)| format!("{} ({d}D)", s.config.reference_level))
+                .collect();
+            format!(
+                "The {} bars against references on {} elements",
+                bars.join(" and "),
+                references.join(" and ")
+            )
+        }
+    };
+    let top = match reports.parent() {
+        Some(parent) if parent.join(REPORTS_INDEX).is_file() => format!(
+            " The [top index](../{REPORTS_INDEX}) gives every study and sets these verdicts \
+             beside the other studies' of the same bar."
+        ),
+        _ => String::new(),
+    };
+    format!(
+        "# {title}\n\nWhat each study of this directory found, with the figure that shows it and \
+         a link to its report.{gallery_note}{top}\n"
+    )
+}
+
+/// The index of `reports`; `drawn`: the figures just drawn into it, and `pages`: the pages just
+/// written into it (each listed whether or not the directory already holds it; the gallery is
+/// linked when it is among them or there).
+pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String {
+    let figures = figures_of(reports, drawn);
+    let sections: Vec<&Section> = listed_sections(reports, pages).collect();
+    let gallery = pages.contains(&FIGURE_GALLERY) || reports.join(FIGURE_GALLERY).is_file();
+    let mut md = heading(reports, &sections, gallery);
+    for s in &sections {
         let _ = write!(md, "\n## {}\n\n", s.title);
         if let Some(headline) = (s.headline)(reports) {
             let _ = writeln!(md, "{headline}\n");
         }
-        for shown in s.shown.iter().filter(|f| figures.contains(**f)) {
+        if let Some(shown) = s.shown.filter(|f| figures.contains(*f)) {
             let _ = writeln!(
                 md,
                 "![{}]({FIGURES_DIR}/{shown})\n",
@@ -199,22 +295,20 @@ pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String
                 .filter(|d| reports.join(d).is_file())
                 .map(|d| link(d)),
         );
-        let _ = writeln!(md, "Report and data: {}.", files.join(", "));
-        let families: Vec<String> = s
+        let _ = write!(md, "Report and data: {}.", files.join(", "));
+        let owned: usize = s
             .families
             .iter()
-            .filter_map(|(prefix, caption)| {
-                let mine: Vec<String> = figures
-                    .iter()
-                    .filter(|f| f.starts_with(prefix))
-                    .map(|f| format!("[{}]({FIGURES_DIR}/{f})", f.trim_end_matches(".svg")))
-                    .collect();
-                (!mine.is_empty()).then(|| format!("- {caption}: {}\n", mine.join(" ")))
-            })
-            .collect();
-        if !families.is_empty() {
-            let _ = write!(md, "\n{}", families.concat());
+            .map(|(prefix, _)| family(&figures, prefix).count())
+            .sum();
+        if gallery && owned > 0 {
+            let _ = write!(
+                md,
+                " Its {owned} figure{}: [{FIGURE_GALLERY}]({FIGURE_GALLERY}).",
+                if owned == 1 { "" } else { "s" }
+            );
         }
+        md.push('\n');
     }
     let present: Vec<&(&str, &str)> = ELSEWHERE
         .iter()
@@ -224,6 +318,104 @@ pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String
         md.push_str("\n## Elsewhere in this directory\n\n");
         for (path, what) in present {
             let _ = writeln!(md, "- {}: {what}", link(path));
+        }
+    }
+    md
+}
+
+/// The gallery of `reports`: every figure of each listed study's families, under the study's
+/// title, one line per figure, or a table of scheme × norm for a family drawn per norm;
+/// `None` when no study has a figure. `drawn` and `pages` as for [`reports_index`].
+pub fn figure_gallery(reports: &Path, drawn: &[String], pages: &[&str]) -> Option<String> {
+    let figures = figures_of(reports, drawn);
+    let mut md = format!(
+        "# Figure gallery\n\nEvery figure of this directory, by study; [{REPORTS_INDEX}]({REPORTS_INDEX}) \
+         says what each study found.\n"
+    );
+    let mut any = false;
+    for s in listed_sections(reports, pages) {
+        let families: Vec<String> = s
+            .families
+            .iter()
+            .filter_map(|(prefix, caption)| {
+                let members: Vec<&String> = family(&figures, prefix).collect();
+                (!members.is_empty()).then(|| family_block(prefix, caption, &members))
+            })
+            .collect();
+        if families.is_empty() {
+            continue;
+        }
+        any = true;
+        let _ = write!(
+            md,
+            "\n## {}\n\nReport: {}.\n\n{}",
+            s.title,
+            link(s.report),
+            families.join("\n")
+        );
+    }
+    any.then_some(md)
+}
+
+/// A figure family in the gallery: its caption, then a scheme × norm table when every member's
+/// name ends in a norm (`PREFIX<scheme>-<norm>.svg`), else one line per figure, named by what
+/// follows the prefix.
+fn family_block(prefix: &str, caption: &str, members: &[&String]) -> String {
+    let figure = |f: &str| {
+        let stem = f.trim_end_matches(".svg");
+        let label = stem
+            .strip_prefix(prefix)
+            .filter(|l| !l.is_empty())
+            .unwrap_or(stem);
+        format!("[{label}]({FIGURES_DIR}/{f})")
+    };
+    let split: Option<Vec<(&str, Norm, &String)>> = members
+        .iter()
+        .map(|f| {
+            let stem = f.strip_prefix(prefix)?.strip_suffix(".svg")?;
+            let (scheme, norm) = stem.rsplit_once('-')?;
+            Some((scheme, norm.parse().ok()?, *f))
+        })
+        .collect();
+    let mut md = format!("{caption}:\n\n");
+    match split {
+        Some(cells) => {
+            let norms: Vec<Norm> = Norm::ALL
+                .into_iter()
+                .filter(|n| cells.iter().any(|c| c.1 == *n))
+                .collect();
+            let mut schemes: Vec<&str> = Vec::new();
+            for (scheme, _, _) in &cells {
+                if !schemes.contains(scheme) {
+                    schemes.push(scheme);
+                }
+            }
+            let header: Vec<String> = norms.iter().map(|n| n.to_string()).collect();
+            let _ = writeln!(
+                md,
+                "| scheme | {} |\n|---|{}",
+                header.join(" | "),
+                "---|".repeat(norms.len())
+            );
+            for scheme in schemes {
+                let row: Vec<String> = norms
+                    .iter()
+                    .map(|n| {
+                        cells
+                            .iter()
+                            .find(|c| c.0 == scheme && c.1 == *n)
+                            .map_or("—".to_string(), |c| {
+                                format!("[svg]({FIGURES_DIR}/{})", c.2)
+                            })
+                    })
+                    .collect();
+                let _ = writeln!(md, "| {scheme} | {} |", row.join(" | "));
+            }
+        }
+        None => {
+            for f in members {
+                let _ = writeln!(md, "- {}", figure(f));
+            }
         }
     }
     md
@@ -297,20 +489,25 @@ fn gravity_headline(reports: &Path) -> Option<String> {
         reports,
         &format!("{}/{}", gravity::GRAVITY_DIR, gravity::STUDY_JSON),
     )?;
-    let rates: Vec<String> = study
-        .cases
+    let mut schemes: Vec<(String, Vec<String>)> = Vec::new();
+    for case in &study.cases {
+        let Some(rate) = rate_with_interval(case, Norm::DisplacementLinfH) else {
+            continue;
+        };
+        let label = case.case.scheme.label();
+        let entry = format!("{} {rate}", case.case.mass);
+        match schemes.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, rates)) => rates.push(entry),
+            None => schemes.push((label, vec![entry])),
+        }
+    }
+    let rates: Vec<String> = schemes
         .iter()
-        .filter_map(|c| {
-            let rate = rate_with_interval(c, Norm::DisplacementLinfH)?;
-            Some(format!("{} {rate}", c.case.mass))
-        })
+        .map(|(label, rates)| format!("{label}: {}", rates.join(", ")))
         .collect();
     Some(format!(
-        "The displacement's rate in L∞(0,T;H) with its 95 % interval, {}: {}.",
-        study
-            .cases
-            .first()
-            .map_or(String::new(), |c| c.case.scheme.to_string()),
+        "The displacement's rate in L∞(0,T;H) against the exact solution, with its 95 % \
+         interval, per scheme and mass: {}.",
         rates.join("; ")
     ))
 }
@@ -335,6 +532,21 @@ fn schemes_headline(reports: &Path) -> Option<String> {
 
 fn cost_headline(reports: &Path) -> Option<String> {
     let file: WorkPrecisionFile = data(reports, WORK_PRECISION_JSON)?;
+    let norm = file.cost_to_target_norm;
+    let (smallest, smallest_case, smallest_seconds) = file
+        .work_precision
+        .iter()
+        .filter(|w| w.norm == norm)
+        .flat_map(|w| {
+            w.errors
+                .iter()
+                .zip(&w.seconds)
+                .map(move |(e, s)| (*e, w.case.as_str(), *s))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let mut targets: Vec<f64> = file.cost_to_target.iter().map(|c| c.target).collect();
+    targets.sort_by(|a, b| b.total_cmp(a));
+    targets.dedup();
     let measured = |c: &&CostToTarget| !c.extrapolated && c.seconds.is_some();
     let target = file
         .cost_to_target
@@ -349,11 +561,14 @@ fn cost_headline(reports: &Path) -> Option<String> {
         .filter(|c| c.target == target)
         .filter_map(|c| Some((c.seconds?, c.case.as_str())))
         .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let targets: Vec<String> = targets.iter().map(|t| format!("{t:.0e}")).collect();
     Some(format!(
-        "The smallest error in {} that a case reaches within its measured levels is {target:.0e}; \
-         the cheapest to reach it is {} ({:.3} s of wall time on the machine that wrote the \
-         report).",
-        file.cost_to_target_norm.label(),
+        "The smallest error in {} measured is {smallest:.2e} ({smallest_case}, \
+         {smallest_seconds:.2} s); of the error targets {}, the smallest that a case \
+         reaches within its measured levels is {target:.0e}, and the cheapest to reach it is {} \
+         ({:.3} s; wall times of the machine that wrote the report).",
+        norm.label(),
+        targets.join(", "),
         cheapest.1,
         cheapest.0
     ))
@@ -438,8 +653,12 @@ fn committed_studies(reports: &Path, dimension: usize) -> Vec<(&'static str, Ela
 }
 
 /// Each finding of the `dimension`-D studies: the strongest study's verdict, then every
-/// study's, one column per directory.
+/// study's, one column per directory; `None` for fewer than two studies (the headline gives
+/// one study's counts).
 fn findings_table(studies: &[(&str, ElasticStudy)], dimension: usize) -> Option<String> {
+    if studies.len() < 2 {
+        return None;
+    }
     let (best_dir, best) = strongest(studies)?;
     let mut md = format!(
         "Each finding of the note with the verdict of the strongest study that tested it (finest \
@@ -494,6 +713,42 @@ fn elastic_headline(reports: &Path, dimension: usize) -> Option<String> {
         let _ = write!(text, "\n\n{table}");
     }
     Some(text)
+}
+
+fn league_headline(reports: &Path) -> Option<String> {
+    let league: League = data(reports, "league.json")?;
+    let rows: Vec<_> = league.entries.iter().flat_map(|e| &e.rows).collect();
+    let mut codes: Vec<String> = Vec::new();
+    for row in &rows {
+        let name = format!("{} {}", row.code.name, row.code.version);
+        if !codes.contains(&name) {
+            codes.push(name);
+        }
+    }
+    let energy = |v: FindingVerdict| rows.iter().filter(|r| r.energy_verdict == v).count();
+    let calm = rows
+        .iter()
+        .filter(|r| r.oscillation.as_deref() == Some("No"))
+        .count();
+    let findings: Vec<_> = league.findings.iter().flat_map(|c| &c.findings).collect();
+    let judged = |v: FindingVerdict| findings.iter().filter(|f| f.verdict == v).count();
+    Some(format!(
+        "{} refinement series in {} run sets, from {}: the energy error converges in {} series, \
+         does not in {} and is undecided in {}; {calm} show no contact-force oscillation. Of the \
+         papers' findings judged on each code's series of a scene ({} code × scene pairs): {} \
+         hold, {} fail, {} are undecided; `league.md` gives every rate and verdict with its \
+         reason.",
+        rows.len(),
+        league.entries.len(),
+        codes.join(", "),
+        energy(FindingVerdict::Holds),
+        energy(FindingVerdict::Fails),
+        energy(FindingVerdict::Undecided),
+        league.findings.len(),
+        judged(FindingVerdict::Holds),
+        judged(FindingVerdict::Fails),
+        judged(FindingVerdict::Undecided)
+    ))
 }
 
 fn extended_headline(reports: &Path) -> Option<String> {

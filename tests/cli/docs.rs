@@ -1,8 +1,10 @@
-//! The documentation: README.md is a first screen, and every relative link of the README and of
-//! the book (`docs/src/`, mdBook) leads to a file that exists, and so does every file a chapter
-//! includes (`{{#include PATH}}`); every chapter is in the book's table of contents
-//! (`docs/src/SUMMARY.md`) and every entry of it is a chapter. The commands the tutorials show
-//! are run by `tutorial.rs`, those of the README by `readme_commands.rs`.
+//! The documentation: README.md is a first screen, and every relative link of the README, of the
+//! book (`docs/src/`, mdBook) and of the committed reports' pages (`reports/**/*.md`: the index,
+//! its gallery, the league and the finer studies' indexes) leads to a file that exists inside
+//! the clone; so does every file a chapter includes (`{{#include PATH}}`); every chapter is in
+//! the book's table of contents (`docs/src/SUMMARY.md`) and every entry of it is a chapter. The
+//! commands the tutorials show are run by `tutorial.rs`, those of the README by
+//! `readme_commands.rs`.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -101,21 +103,45 @@ fn local_target(file: &Path, target: &str) -> Option<PathBuf> {
     Some(file.parent().unwrap().join(path))
 }
 
-/// Every relative link of `files` that leads nowhere, as `file:line: target`.
-fn broken_links(files: &[PathBuf]) -> Vec<String> {
-    let mut broken = Vec::new();
-    for file in files {
-        let text = fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-        for (line, target) in link_targets(&text) {
-            if let Some(path) = local_target(file, &target) {
-                if !path.exists() {
-                    let shown = file.strip_prefix(root()).unwrap_or(file);
-                    broken.push(format!("{}:{line}: {target}", shown.display()));
-                }
+/// `path` with its `.` and `..` components resolved without the file system.
+fn normalised(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for part in path.components() {
+        match part {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                out.pop();
             }
+            other => out.push(other),
         }
     }
-    broken
+    out
+}
+
+/// Every relative link of `text`, the page `file`, that leads nowhere or out of the clone (a
+/// file beside the repository exists on one machine only), as `file:line: target`.
+fn broken_links_in(file: &Path, text: &str) -> Vec<String> {
+    let shown = file.strip_prefix(root()).unwrap_or(file);
+    link_targets(text)
+        .into_iter()
+        .filter(|(_, target)| {
+            local_target(file, target)
+                .is_some_and(|path| !path.exists() || !normalised(&path).starts_with(root()))
+        })
+        .map(|(line, target)| format!("{}:{line}: {target}", shown.display()))
+        .collect()
+}
+
+/// [`broken_links_in`] of every page of `files`.
+fn broken_links(files: &[PathBuf]) -> Vec<String> {
+    files
+        .iter()
+        .flat_map(|file| {
+            let text =
+                fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            broken_links_in(file, &text)
+        })
+        .collect()
 }
 
 #[test]
@@ -127,6 +153,49 @@ fn every_relative_link_in_the_readme_and_the_book_resolves() {
         "no chapters found in {}",
         book_src().display()
     );
+    let broken = broken_links(&files);
+    assert!(
+        broken.is_empty(),
+        "{} broken link(s):\n{}",
+        broken.len(),
+        broken.join("\n")
+    );
+}
+
+/// The markdown files under `dir`, recursively, sorted.
+fn markdown_under(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files.extend(markdown_under(&path));
+        } else if path.extension().is_some_and(|e| e == "md") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    files
+}
+
+/// Every page of the committed reports: the index (`reports/README.md`), its gallery, the
+/// finer studies' indexes (`reports/fine/README.md`, `reports/finest/README.md`), the league
+/// (`reports/league.md`) and each report and verification page.
+#[test]
+fn every_relative_link_in_the_reports_resolves() {
+    let reports = root().join("reports");
+    let files = markdown_under(&reports);
+    for page in [
+        "README.md",
+        "gallery.md",
+        "league.md",
+        "fine/README.md",
+        "finest/README.md",
+    ] {
+        assert!(
+            files.contains(&reports.join(page)),
+            "reports/{page} is not committed"
+        );
+    }
     let broken = broken_links(&files);
     assert!(
         broken.is_empty(),
@@ -242,4 +311,20 @@ fn link_extraction_finds_file_links_and_skips_code() {
     assert_eq!(local_target(file, "#top"), None);
     assert_eq!(local_target(file, "HTTPS://example.org"), None);
     assert_eq!(local_target(file, "mailto:someone@example.org"), None);
+    assert_eq!(
+        normalised(Path::new("/book/src/../../shared/DEPENDENCIES.md")),
+        PathBuf::from("/shared/DEPENDENCIES.md")
+    );
+    let outside = std::env::temp_dir().join(format!("signorini-docs-{}", std::process::id()));
+    fs::create_dir_all(&outside).unwrap();
+    let page = root().join("docs").join("src").join("introduction.md");
+    let relative = format!(
+        "{}{}/page.md",
+        "../".repeat(root().join("docs/src").components().count() - 1),
+        outside.strip_prefix("/").unwrap().display()
+    );
+    fs::write(outside.join("page.md"), "").unwrap();
+    let found = broken_links_in(&page, &format!("[out]({relative}) [in](first-steps.md)"));
+    fs::remove_dir_all(&outside).unwrap();
+    assert_eq!(found, [format!("docs/src/introduction.md:1: {relative}")]);
 }

@@ -1,6 +1,6 @@
 //! The figures drawn from run data: every SVG is well-formed XML with the expected number of
-//! data series, a round-off chaotic case is drawn as its ensemble, and the index links every
-//! figure.
+//! data series, a round-off chaotic case is drawn as its ensemble, the index draws one figure
+//! per study and the gallery links every figure.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -19,7 +19,7 @@ use signorini::studies::benchmark;
 use signorini::studies::figures::convergence::convergence_figures;
 use signorini::studies::figures::from_reports::{scheme_figures, stability_figures, write_figures};
 use signorini::studies::histories::SchemeHistories;
-use signorini::studies::reports_index::reports_index;
+use signorini::studies::reports_index::{figure_gallery, reports_index};
 use signorini::studies::stability::{hard_cases, judge};
 
 /// The Signorini–Dirichlet benchmark of `scenes/bar1d-dirichlet.json`, to `horizon`.
@@ -403,14 +403,17 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
     assert!(rivals.contains("the rivals, standard mass"));
 }
 
-/// The index of the committed reports: every figure there linked under its study with a
-/// sentence, the headline figures drawn inline, each study's headline computed from its data
-/// (the count of disagreements is the one `rates.json` lists), and the witness, the finer
-/// studies and the benchmarks linked because they are present.
+/// The index of the committed reports: each study's headline computed from its data (the count
+/// of disagreements is the one `rates.json` lists; the smallest error is the least of
+/// `work-precision.json`; the league's series those of `league.json`; each gravity rate named
+/// with its scheme), one figure drawn inline per study and no list of figures (the gallery links
+/// every figure), and the witness, the finer studies, the league, the cluster plan and the
+/// benchmarks linked because they are present.
 #[test]
-fn the_index_says_what_each_study_found_and_links_every_figure() {
+fn the_index_says_what_each_study_found_and_the_gallery_links_every_figure() {
     let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
     let index = reports_index(&reports, &[], &[]);
+    let gallery = figure_gallery(&reports, &[], &[]).expect("the committed figures");
     let on_disk: Vec<String> = std::fs::read_dir(reports.join("figures"))
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
@@ -418,28 +421,107 @@ fn the_index_says_what_each_study_found_and_links_every_figure() {
         .collect();
     assert!(on_disk.len() > 50, "{} figures committed", on_disk.len());
     for n in &on_disk {
-        assert!(index.contains(&format!("(figures/{n})")), "{n} not linked");
+        assert!(
+            gallery.contains(&format!("(figures/{n})")),
+            "{n} not in the gallery"
+        );
     }
+    let figure_links = index.matches("](figures/").count();
+    let drawn = index.matches("![").count();
+    assert_eq!(
+        figure_links, drawn,
+        "the index links figures besides those it draws"
+    );
+    assert!(drawn <= 8, "{drawn} figures drawn in the index");
     assert!(index.contains("![contact-crank-nicolson](figures/contact-crank-nicolson.svg)"));
-    let rates: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(reports.join("rates.json")).unwrap())
-            .unwrap();
-    let disagreements = rates["longer_horizon_rates"].as_array().unwrap().len();
+    let read = |file: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(reports.join(file)).unwrap()).unwrap()
+    };
+    let disagreements = read("rates.json")["longer_horizon_rates"]
+        .as_array()
+        .unwrap()
+        .len();
     assert!(
         index.contains(&format!(
             "{disagreements} of the 98 rates (case × norm) are not shown to agree"
         )),
         "{index}"
     );
+    let costs = read("work-precision.json");
+    let norm = costs["cost_to_target_norm"].as_str().unwrap();
+    let smallest = costs["work_precision"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["norm"] == norm)
+        .flat_map(|w| w["errors"].as_array().unwrap().iter())
+        .map(|e| e.as_f64().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        index.contains(&format!("measured is {smallest:.2e} (")),
+        "the smallest error {smallest:.2e} is not the headline's:\n{index}"
+    );
+    let league = read("league.json");
+    let series: usize = league["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["rows"].as_array().unwrap().len())
+        .sum();
+    assert!(
+        index.contains(&format!("{series} refinement series in ")),
+        "the league's {series} series are not the headline's:\n{index}"
+    );
+    let gravity = index
+        .lines()
+        .find(|l| l.starts_with("The displacement's rate in L∞(0,T;H)"))
+        .expect("the gravity headline");
+    for label in [
+        "Crank–Nicolson: standard",
+        "Generalised-α ρ∞ = 0.8 (Chung–Hulbert): standard",
+        "Moreau–Jean θ = 1/2, e = 0 (Jean): standard",
+        "Laursen–Chawla, energy-conserving: standard",
+    ] {
+        assert!(gravity.contains(label), "{label} not in: {gravity}");
+    }
     for linked in [
+        "[gallery.md](gallery.md)",
         "[getfem.md](getfem.md)",
         "[getfem-verify/verify.md](getfem-verify/verify.md)",
         "[fine/README.md](fine/README.md)",
         "[finest/README.md](finest/README.md)",
+        "[league.md](league.md)",
+        "[cluster/cluster-plan.md](cluster/cluster-plan.md)",
         "[stability.json](stability.json)",
     ] {
         assert!(index.contains(linked), "{linked} not linked");
     }
+}
+
+/// The finer studies' indexes are titled after their bars and references, point to the top
+/// index and do not repeat its preamble.
+#[test]
+fn the_finer_studies_indexes_are_titled_after_their_studies() {
+    let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
+    let top = reports_index(&reports, &[], &[]);
+    let preamble = top.lines().nth(2).unwrap();
+    let mut titles = Vec::new();
+    for dir in ["fine", "finest"] {
+        let index = reports_index(&reports.join(dir), &[], &[]);
+        let title = index.lines().next().unwrap().to_string();
+        assert!(
+            title.starts_with("# The ") && title.contains(" elements"),
+            "{title}"
+        );
+        assert!(
+            !index.contains(preamble),
+            "{dir}: the top preamble repeated"
+        );
+        assert!(index.contains("[top index](../README.md)"), "{index}");
+        titles.push(title);
+    }
+    assert_ne!(titles[0], titles[1]);
+    assert_eq!(top.lines().next(), Some("# Reports"));
 }
 
 /// A directory with one study (as `reports/finest/`) lists only what it has, and a figure just
@@ -460,5 +542,30 @@ fn the_index_of_a_partial_directory_lists_only_what_it_holds() {
     assert!(index.contains("findings tested"), "{index}");
     for absent in ["tables.md", "stability.md", "getfem.md", "elastic-2d"] {
         assert!(!index.contains(absent), "{absent} listed: {index}");
+    }
+}
+
+/// The committed indexes and galleries (`reports/`, `reports/fine/`, `reports/finest/`) are
+/// what the render step writes from the committed data and figures: regenerated by `signorini
+/// figures --out DIR` (`make rejudge`'s last three commands), not edited by hand.
+#[test]
+fn the_committed_indexes_and_galleries_are_the_rendered_ones() {
+    let reports = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports");
+    for dir in [
+        reports.clone(),
+        reports.join("fine"),
+        reports.join("finest"),
+    ] {
+        let committed = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(
+            committed("README.md") == reports_index(&dir, &[], &[]),
+            "{}/README.md differs from its rendering: run signorini figures --out {0}",
+            dir.display()
+        );
+        assert!(
+            Some(committed("gallery.md")) == figure_gallery(&dir, &[], &[]),
+            "{}/gallery.md differs from its rendering: run signorini figures --out {0}",
+            dir.display()
+        );
     }
 }
