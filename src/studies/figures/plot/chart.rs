@@ -395,11 +395,7 @@ impl ChartSpec<'_> {
                 range: Some([y0, y1]),
             },
             legend: legend_at,
-            series: if spec.legend == Legend::None {
-                Vec::new()
-            } else {
-                spec.curves.iter().map(series_layout).collect()
-            },
+            series: spec.curves.iter().map(series_layout).collect(),
             colour_bar: None,
             scale_group: spec.scale_group.clone(),
         })
@@ -441,11 +437,17 @@ fn round_log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     }
 }
 
-/// The layout of one curve: its style, kind, band and the extent of its values.
+/// The layout of one curve: its style, kind, band and the extent of its values (its band's
+/// included).
 fn series_layout(c: &Curve) -> SeriesLayout {
     let RGBColor(r, g, b) = c.look.colour;
-    let extent = c.points.iter().fold(None, |acc: Option<[f64; 2]>, p| {
-        Some(acc.map_or([p.1, p.1], |[lo, hi]| [lo.min(p.1), hi.max(p.1)]))
+    let values = c
+        .points
+        .iter()
+        .map(|p| p.1)
+        .chain(c.band.iter().flat_map(|b| [b.1, b.2]));
+    let extent = values.fold(None, |acc: Option<[f64; 2]>, v| {
+        Some(acc.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
     });
     SeriesLayout {
         label: c.label.clone(),

@@ -105,6 +105,9 @@ fn empty(what: impl Into<String>) -> FigureError {
     FigureError::EmptyData { what: what.into() }
 }
 
+/// The computed and exact values of one row of a contact figure, from a run's history.
+type RowValues = dyn Fn(&crate::harness::run::ContactHistory) -> (Vec<f64>, Vec<f64>);
+
 /// The descriptions of a contact figure's y axes (displacement, multiplier).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ContactAxes<'a> {
@@ -373,7 +376,7 @@ fn slope(v: f64) -> String {
 
 /// Errors against the mesh size on log–log axes (the paper's Figures 9–10): one line with a
 /// marker at each level per series, `h` on a base-2 axis ticked at every level (`1/N`), and for
-/// each series with a fit, its fitted slope `e = e^c h^p` drawn dotted in the series' colour over
+/// each series with a fit, its fitted slope `e = e^c h^p` drawn broken (dashed, dotted, …) in the series' colour over
 /// its levels, its legend `"fit: slope 0.95, 95 % CI [0.87, 1.03]"`. Against a fine-mesh
 /// reference (`bias`) the legend adds the reference's bias bound and the interval it widens to
 /// (`"; reference bias ±0.40 → [−0.94, 0.04]"`, or `"; reference bias unbounded"`): what
@@ -460,7 +463,7 @@ pub fn convergence_figure(
             .map(|h| (fit.intercept + fit.rate * h.ln()).exp())
             .collect();
         curves.push(
-            Curve::new(what, &label, &levels, &fitted, Look::fit_of(look))?
+            Curve::new(what, &label, &levels, &fitted, Look::fit_of(i, look))?
                 .of_kind(SeriesKind::Fit),
         );
     }
@@ -539,7 +542,8 @@ pub enum Colouring {
     /// One colour, dash and marker per series, in order.
     OnePerSeries,
     /// The series come in pairs, a computed curve then its exact counterpart: each pair takes
-    /// one colour, the computed curve solid with markers, the exact one dashed and drawn over it.
+    /// one colour, the computed curve solid with markers, the exact one broken (dashed, dotted,
+    /// … by pair) and drawn over it.
     ComputedAndExact,
 }
 
@@ -612,11 +616,7 @@ fn lines(
                 label,
                 x,
                 y,
-                Look {
-                    dash: Dash::Dashed,
-                    marker: None,
-                    ..Look::marked(i / 2, Dash::Dashed)
-                },
+                Look::fit_of(i / 2, Look::marked(i / 2, Dash::Solid)),
             )?
             .of_kind(SeriesKind::Exact)),
         })

@@ -133,7 +133,7 @@ pub struct ChartLayout {
     /// The legend box, if the chart has a legend; everything drawn before it in the SVG is
     /// data or axes, everything inside it after it is the legend.
     pub legend: Option<Rect>,
-    /// The series, in legend order.
+    /// The series, in legend order (those of a chart without a legend too).
     pub series: Vec<SeriesLayout>,
     /// The colour bar of a map: its box and its axis.
     pub colour_bar: Option<(Rect, AxisLayout)>,

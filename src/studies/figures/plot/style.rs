@@ -64,6 +64,8 @@ pub enum Dash {
     Dotted,
     /// Dashes of 20 px, gaps of 6 px.
     LongDashed,
+    /// Dots of 2 px, gaps of 9 px.
+    LooselyDotted,
 }
 
 impl Dash {
@@ -77,6 +79,7 @@ impl Dash {
             Dash::Dashed => Some((10, 5)),
             Dash::Dotted => Some((2, 4)),
             Dash::LongDashed => Some((20, 6)),
+            Dash::LooselyDotted => Some((2, 9)),
         }
     }
 
@@ -87,6 +90,7 @@ impl Dash {
             Dash::Dashed => "dashed",
             Dash::Dotted => "dotted",
             Dash::LongDashed => "long-dashed",
+            Dash::LooselyDotted => "loosely-dotted",
         }
     }
 }
@@ -186,11 +190,18 @@ impl Look {
         }
     }
 
-    /// A fitted slope in the colour of the curve it fits: dotted, no marker.
-    pub fn fit_of(curve: Look) -> Self {
+    /// The fitted slope of the `index`-th curve, `curve`: in its colour, no marker, broken by
+    /// the `index`-th of the four broken dashes (so that two fits differ in dash too).
+    pub fn fit_of(index: usize, curve: Look) -> Self {
+        const FITS: [Dash; 4] = [
+            Dash::Dashed,
+            Dash::Dotted,
+            Dash::LongDashed,
+            Dash::LooselyDotted,
+        ];
         Self {
             colour: curve.colour,
-            dash: Dash::Dotted,
+            dash: FITS[index % FITS.len()],
             marker: None,
             width: EXACT_WIDTH,
         }
