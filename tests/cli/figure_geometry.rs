@@ -9,8 +9,8 @@
 //! - **legends clear of the data**: no data element drawn before a legend's box (a curve, a
 //!   marker, a band) reaches into that box, and the legend's labels lie inside it;
 //! - **distinct, colour-blind-safe styles**: every series' colour is one of the Okabe–Ito
-//!   palette's (or the exact solution's black), and two series with different labels differ in
-//!   dash or marker, never by colour alone;
+//!   palette's (or the exact solution's black), and two series of one chart with different
+//!   labels differ in dash or marker, never by colour alone;
 //! - **fitted slopes drawn**: every convergence chart (log `h` axis) draws a fitted slope for
 //!   each series that is not an ensemble, its legend giving the 95 % interval; against a
 //!   fine-mesh reference (a title naming `u_ref`) also the reference's bias bound;
@@ -23,7 +23,7 @@
 //!   elastic figure's title names its reference (`u_ref` or "reference");
 //! - **axes fitted to their data**: a log y axis spans at most a fifth of a decade more than
 //!   its series; a contact force axis with an exact force gives it at least a tenth of its
-//!   height; no tick label is written `0.00…` (scientific notation below 0.01);
+//!   height; no tick label is written `0.00…` (scientific notation below 0.1);
 //! - **distinct tick labels** along every axis and colour bar;
 //! - **a tick at every level** of a logarithmic axis that has levels, and every `h` axis of a
 //!   convergence plot has them.
@@ -271,15 +271,22 @@ fn style_problems(name: &str, layout: &FigureLayout) -> Vec<String> {
             ));
         }
     }
-    let drawn_series: Vec<&&SeriesLayout> = series.iter().filter(drawn).collect();
-    for (i, a) in drawn_series.iter().enumerate() {
-        for b in &drawn_series[i + 1..] {
-            if a.label != b.label && a.dash == b.dash && a.marker == b.marker {
-                out.push(format!(
+    // Within a chart: a run keeps its style from panel to panel, whatever its label says there.
+    for c in &layout.charts {
+        let drawn_series: Vec<&SeriesLayout> = c
+            .series
+            .iter()
+            .filter(|s| s.kind != SeriesKind::Note)
+            .collect();
+        for (i, a) in drawn_series.iter().enumerate() {
+            for b in &drawn_series[i + 1..] {
+                if a.label != b.label && a.dash == b.dash && a.marker == b.marker {
+                    out.push(format!(
                     "{name}: series {:?} and {:?} have the same dash ({}) and marker ({:?}): told \
                      apart by colour alone",
                     a.label, b.label, a.dash, a.marker
                 ));
+                }
             }
         }
     }
@@ -377,7 +384,7 @@ fn style_problems(name: &str, layout: &FigureLayout) -> Vec<String> {
                 l.starts_with("0.00")
             }) {
                 out.push(format!(
-                    "{name}: chart {k}: the tick label {:?} on {:?} is hard to read (scientific below 0.01)",
+                    "{name}: chart {k}: the tick label {:?} on {:?} is hard to read (scientific below 0.1)",
                     t.label, axis.label
                 ));
             }

@@ -116,6 +116,10 @@ pub fn elastic_figures(
         let mut levels: Vec<usize> = mine.iter().map(|(_, h)| h.level).collect();
         levels.dedup();
         let levels: Vec<String> = levels.iter().map(|l| l.to_string()).collect();
+        let masses = match mine.as_slice() {
+            [(one, _)] => format!("{} mass", one.name()),
+            _ => "standard (left) and redistributed (right) mass".to_owned(),
+        };
         let contact: Vec<ContactPanel> = mine
             .iter()
             .map(|(mass, h)| ContactPanel {
@@ -128,8 +132,7 @@ pub fn elastic_figures(
             .collect();
         let title = |what: &str| {
             format!(
-                "{}D bar, {}, {} elements along the axis (reference {}), standard (left) and \
-                 redistributed (right) mass: {what}",
+                "{}D bar, {}, {} elements (reference {}), {masses}: {what}",
                 study.dimension,
                 scheme.label(),
                 levels.join(", "),

@@ -9,6 +9,7 @@ use super::style::{Dash, Look};
 use super::{
     style, ContactPanel, ConvergenceSeries, EnergyPanel, FigureError, WorkPrecisionSeries,
 };
+use crate::harness::run::ContactHistory;
 
 const TIME: &str = "t";
 const ERROR: &str = "error";
@@ -105,8 +106,21 @@ fn empty(what: impl Into<String>) -> FigureError {
     FigureError::EmptyData { what: what.into() }
 }
 
-/// The computed and exact values of one row of a contact figure, from a run's history.
-type RowValues = dyn Fn(&crate::harness::run::ContactHistory) -> (Vec<f64>, Vec<f64>);
+/// The y range shared by one row of a contact figure, whose computed and exact values `values`
+/// takes from a run's history: all runs' values (and the exact ones), cut relative to the exact
+/// values of the panels' first runs or, without any, to those runs' values (see
+/// [`shared_range`]).
+fn row_range(
+    panels: &[ContactPanel],
+    values: fn(&ContactHistory) -> (&Vec<f64>, &Vec<f64>),
+) -> Option<(f64, f64)> {
+    let runs = || panels.iter().flat_map(|p| p.runs.iter().map(|(_, r)| r));
+    let firsts = || panels.iter().filter_map(|p| p.runs.first().map(|(_, r)| r));
+    let data = finite_range(runs().flat_map(|r| values(r).0.iter().chain(values(r).1)))?;
+    let anchor = finite_range(firsts().flat_map(|r| values(r).1))
+        .or_else(|| finite_range(firsts().flat_map(|r| values(r).0)));
+    Some(shared_range(data, anchor))
+}
 
 /// The descriptions of a contact figure's y axes (displacement, multiplier).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -130,32 +144,34 @@ fn finite_range<'v>(y: impl IntoIterator<Item = &'v f64>) -> Option<(f64, f64)> 
 /// The y range shared by compared charts whose values span `data` and whose anchor (the exact
 /// curve, or the reference) spans `anchor`: the data's range, cut to the anchor's range widened
 /// by twice its span each side (so that spikes far beyond the anchor do not flatten it), padded
-/// by 5 %. Returns the range and whether it cuts the data.
-fn shared_range(data: (f64, f64), anchor: Option<(f64, f64)>) -> ((f64, f64), bool) {
+/// by 5 %.
+fn shared_range(data: (f64, f64), anchor: Option<(f64, f64)>) -> (f64, f64) {
     let (mut lo, mut hi) = data;
-    let mut cut = false;
     if let Some((a, b)) = anchor {
         let reach = 2.0 * (b - a).max(1e-3 * a.abs().max(b.abs()));
         if reach > 0.0 {
-            if lo < a - reach {
-                lo = a - reach;
-                cut = true;
-            }
-            if hi > b + reach {
-                hi = b + reach;
-                cut = true;
-            }
+            lo = lo.max(a - reach);
+            hi = hi.min(b + reach);
         }
     }
-    (axis_range([lo, hi].into_iter(), Scale::Linear, true), cut)
+    axis_range([lo, hi].into_iter(), Scale::Linear, true)
 }
 
-/// The legend of a run whose values reach `min` and `max`, shown on an axis `range` that may cut
-/// them: `label` and, when cut, what was cut (`"NX = 40 (cut at −1.6; reaches −21)"`).
+/// The legend of a run whose `values` are shown on an axis `(lo, hi)` that may cut them:
+/// `label` and, when cut, where and how far the run goes (`"NX = 40 (axis cut at −1.57;
+/// reaches −21.2)"`).
 fn clipped_label(label: &str, values: &[f64], (lo, hi): (f64, f64)) -> String {
     match finite_range(values) {
-        Some((min, _)) if min < lo => format!("{label} (cut at {lo:.2}; reaches {min:.3})"),
-        Some((_, max)) if max > hi => format!("{label} (cut at {hi:.2}; reaches {max:.3})"),
+        Some((min, _)) if min < lo => format!(
+            "{label} (axis cut at {}; reaches {})",
+            signed(lo, 2),
+            signed(min, 1)
+        ),
+        Some((_, max)) if max > hi => format!(
+            "{label} (axis cut at {}; reaches {})",
+            signed(hi, 2),
+            signed(max, 1)
+        ),
         _ => label.to_owned(),
     }
 }
@@ -170,8 +186,8 @@ fn clipped_label(label: &str, values: &[f64], (lo, hi): (f64, f64)) -> String {
 /// finite values. The charts of a row share their y axis. That axis spans the runs' values cut
 /// to the exact curve's range (the first run's, without an exact curve) widened by twice its
 /// span each side, so that force spikes of one panel do not flatten the exact force: a run
-/// whose values are cut says so in the legend, with the value it reaches. The legend is in the
-/// bottom chart of each panel. The style of a run is its position in its panel, so list the
+/// whose values are cut says so in the legend, with the value it reaches. The legend stands
+/// beneath the bottom chart of each panel. The style of a run is its position in its panel, so list the
 /// runs in the same order in every panel.
 ///
 /// Errors: `EmptyData` without panels, for a panel without runs, or when a chart has no
@@ -192,43 +208,8 @@ pub fn contact_node_figure(
             .ok_or_else(|| empty(format!("contact panel '{}': no run", panel.label)))?;
         firsts.push(first);
     }
-    // The shared range of each row: all runs' values, cut relative to the anchor.
-    let row_range =
-        |values: &dyn Fn(&crate::harness::run::ContactHistory) -> (Vec<f64>, Vec<f64>)| {
-            let data = finite_range(
-                panels
-                    .iter()
-                    .flat_map(|p| p.runs.iter().flat_map(|(_, r)| values(r).0))
-                    .collect::<Vec<_>>()
-                    .iter()
-                    .chain(
-                        firsts
-                            .iter()
-                            .flat_map(|f| values(f).1)
-                            .collect::<Vec<_>>()
-                            .iter(),
-                    ),
-            );
-            let exact = finite_range(
-                firsts
-                    .iter()
-                    .flat_map(|f| values(f).1)
-                    .collect::<Vec<_>>()
-                    .iter(),
-            );
-            let anchor = exact.or_else(|| {
-                finite_range(
-                    firsts
-                        .iter()
-                        .flat_map(|f| values(f).0)
-                        .collect::<Vec<_>>()
-                        .iter(),
-                )
-            });
-            data.map(|d| shared_range(d, anchor).0)
-        };
-    let u_range = row_range(&|r| (r.displacement.clone(), r.displacement_exact.clone()));
-    let l_range = row_range(&|r| (r.multiplier.clone(), r.multiplier_exact.clone()));
+    let u_range = row_range(panels, |r| (&r.displacement, &r.displacement_exact));
+    let l_range = row_range(panels, |r| (&r.multiplier, &r.multiplier_exact));
     let mut columns = Vec::with_capacity(panels.len());
     for (panel, first) in panels.iter().zip(&firsts) {
         let what_u = format!("contact panel '{}': displacement", panel.label);
@@ -287,7 +268,7 @@ pub fn contact_node_figure(
                 x: (TIME, Scale::Linear),
                 y: (axes.multiplier, Scale::Linear),
                 curves: bottom,
-                legend: Legend::Inside,
+                legend: Legend::Below,
                 x_at_levels: false,
                 y_range: l_range,
                 scale_group: Some("multiplier".into()),
@@ -300,7 +281,8 @@ pub fn contact_node_figure(
 /// The energy of each run against time, one column per panel (the paper's Figures 8, 12): the
 /// energy `E_h(t)` of every run and the exact energy (black, dashed, over the runs) taken from
 /// the panel's first run, when it has finite values. The panels share their y axis, fitted to
-/// all of them. The style of a run is its position in its panel.
+/// all of them, and each has its legend beneath it. The style of a run is its position in its
+/// panel.
 ///
 /// Errors: `EmptyData` without panels, for a panel without runs, or when a panel has no finite
 /// point; `LengthMismatch` when a run's times and energies differ in length.
@@ -317,7 +299,7 @@ pub fn energy_figure(title: &str, panels: &[EnergyPanel]) -> Result<String, Figu
         })
         .copied()
         .collect();
-    let y_range = finite_range(&all).map(|d| shared_range(d, None).0);
+    let y_range = finite_range(&all).map(|d| shared_range(d, None));
     let mut columns = Vec::with_capacity(panels.len());
     for panel in panels {
         let (_, first) = panel
@@ -347,7 +329,7 @@ pub fn energy_figure(title: &str, panels: &[EnergyPanel]) -> Result<String, Figu
             x: (TIME, Scale::Linear),
             y: ("E(t)", Scale::Linear),
             curves,
-            legend: Legend::Inside,
+            legend: Legend::Below,
             x_at_levels: false,
             y_range,
             scale_group: Some("energy".into()),
@@ -371,7 +353,12 @@ pub enum ConvergenceFit {
 
 /// A slope to two decimals with a true minus sign.
 fn slope(v: f64) -> String {
-    format!("{v:.2}").replace('-', "−")
+    signed(v, 2)
+}
+
+/// `v` with `decimals` decimals and a true minus sign.
+fn signed(v: f64, decimals: usize) -> String {
+    format!("{v:.decimals$}").replace('-', "−")
 }
 
 /// Errors against the mesh size on log–log axes (the paper's Figures 9–10): one line with a

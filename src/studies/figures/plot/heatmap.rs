@@ -42,7 +42,7 @@ fn colour_of(fraction: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
-/// Panels side by side (600 px each, 500 px high), time on the x axis, position on the y axis,
+/// Panels side by side (600 px each, 800 px for a lone one, 500 px high), time on the x axis, position on the y axis,
 /// each cell coloured by its value on one scale shared by all panels, from 0 to the largest
 /// finite value of any, which one colour bar right of the last panel shows with its ticks.
 /// Non-finite values are left white. The figure's layout is embedded as in every figure.
@@ -86,7 +86,8 @@ pub fn space_time_map(title: &str, panels: &[SpaceTimePanel]) -> Result<String, 
         }
         tops.push(top);
     }
-    let (width, height) = (style::PANEL_WIDTH * panels.len() as u32, style::HEIGHT);
+    let width = (style::PANEL_WIDTH * panels.len() as u32).max(style::SINGLE.0);
+    let height = style::HEIGHT;
     let mut svg = String::new();
     let mut charts = Vec::new();
     let title_box;

@@ -10,7 +10,7 @@
 //! when a legend stands right of its chart), a title shrunk to fit the canvas, labelled axes,
 //! a legend where it covers no data (inside the chart, in headroom above the data, or on its
 //! right), log–log axes wherever errors are shown with a tick at every level of a convergence
-//! plot, tick labels with as many decimals as their spacing needs (scientific below 0.01), and
+//! plot, tick labels with as many decimals as their spacing needs (scientific below 0.1), and
 //! every series told apart by colour and by line style or marker: colours from the Okabe–Ito
 //! palette (safe for the common colour-vision deficiencies), dash patterns and marker shapes
 //! (see [`style`]). An exact solution is black and dashed, drawn over the computed curves.

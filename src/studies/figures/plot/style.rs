@@ -232,14 +232,14 @@ fn decimals_for(step: f64) -> usize {
 /// A tick label on a linear axis whose labels are at least `step` apart and whose largest
 /// value in magnitude is `magnitude`: as many decimals as the step needs to keep neighbours
 /// distinct, trailing zeros removed; scientific notation on an axis whose values are all
-/// below 0.01 or reach 10⁵ (`1.246e-3`, never `0.001246`), with as many digits as the step
-/// needs.
+/// below 0.1 in magnitude or reach 10⁵ (`1.246e-3`, never `0.001246`), with as many digits as
+/// the step needs.
 pub(super) fn linear_tick(v: f64, step: f64, magnitude: f64) -> String {
     let a = v.abs();
     if a < 1e-9 * step.abs().max(1e-300) || a < 1e-300 {
         return "0".into();
     }
-    if !(1e-2..1e5).contains(&magnitude) {
+    if !(1e-1..1e5).contains(&magnitude) {
         let digits = if step > 0.0 && step.is_finite() {
             (a.log10().floor() - step.log10().floor()).max(1.0) as usize
         } else {
@@ -296,13 +296,14 @@ mod tests {
         assert_eq!(linear_tick(2.0, 0.5, 2.0), "2");
         assert_eq!(linear_tick(2.5e-5, 1e-5, 3e-5), "2.5e-5");
         assert_eq!(linear_tick(0.001246, 2e-6, 0.00125), "1.246e-3");
-        assert_eq!(linear_tick(0.008, 0.002, 0.012), "0.008");
-        // Close values around 0.0123: the step sets the decimals, so the labels differ.
+        assert_eq!(linear_tick(0.0095, 0.0005, 0.0105), "9.5e-3");
+        assert_eq!(linear_tick(0.05, 0.01, 0.12), "0.05");
+        // Close values around 0.0123: the step sets the digits, so the labels differ.
         let labels: Vec<String> = [0.012301, 0.012302, 0.012303]
             .iter()
             .map(|&v| linear_tick(v, 1e-6, 0.0124))
             .collect();
-        assert_eq!(labels, ["0.012301", "0.012302", "0.012303"]);
+        assert_eq!(labels, ["1.2301e-2", "1.2302e-2", "1.2303e-2"]);
         assert_eq!(nice_step(0.3), 0.5);
         assert_eq!(nice_step(0.2), 0.2);
         assert_eq!(nice_step(0.7), 1.0);
