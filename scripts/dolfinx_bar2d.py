@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """DOLFINx's matrices of the 2D bar (``scenes/bar2d.json``), stepped with an exact nodal contact
-solve and written every step with ``dolfinx.io.VTKFile``, as external runs.
+solve and written every step with ``dolfinx.io.VTKFile`` (or ``XDMFFile``), as external runs.
 
 Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
 
@@ -9,7 +9,8 @@ Run with Debian's Python (python3-dolfinx 0.5.2, numpy, scipy):
         --mass standard --out target/dolfinx-runs --getfem tests/data/getfem2d
 
 For each LEVEL it writes the ParaView collection
-``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT, meant
+``dolfinx-bar2d-<scheme>-<mass>-level<LEVEL>.pvd`` (and the files it points to) in OUT (with
+``--writer xdmf``: ``….xdmf`` and its ``….h5``), meant
 (issue 52) for ``signorini verify scenes/bar2d.json RUN.pvd --code dolfinx --code-version 0.5.2 --scheme
 <scheme> --mass <mass> --velocity velocity --multiplier contact_multiplier``. It prints one line
 per run: the steps, the energy at t = 0 and t = T, the largest total contact force and the
@@ -83,6 +84,15 @@ every t_n = n Δt, n = 0 … 4 LEVEL, on one process; the files are left as DOLF
   functions by their names: ``displacement`` and ``velocity`` padded to three components (the
   third 0), ``contact_multiplier`` one component with no ``NumberOfComponents`` attribute
   (λ_i ≤ 0 on the contact nodes, 0 elsewhere).
+
+**What DOLFINx 0.5.2's XDMFFile writes** (``--writer xdmf``: ``write_mesh`` once, then
+``write_function(f, t)`` for each of the three functions at every t_n): ``<stem>.xdmf``, XDMF 3
+with an empty ``DOCTYPE``; a grid ``mesh`` (``Quadrilateral`` topology, ``XY`` geometry at
+``/Mesh/mesh/geometry``), then one temporal collection per function, named by it, whose grids
+``xi:include`` the mesh's topology and geometry, carry ``<Time Value="…"/>`` (17 significant
+digits) and the function as a nodal ``Attribute`` at ``/Function/<name>/<time with _ for .>``
+in ``<stem>.h5``: ``Float64``, vectors padded to three components, the values at the
+geometry's nodes in its order.
 """
 
 import argparse
@@ -93,7 +103,6 @@ import pathlib
 
 import numpy as np
 import scipy.sparse
-import scipy.sparse.linalg
 import ufl
 from mpi4py import MPI
 
@@ -102,22 +111,21 @@ import dolfinx.fem
 import dolfinx.fem.petsc
 import dolfinx.io
 import dolfinx.mesh
+from bar2d_contact import (
+    DENSITY,
+    LAME_LAMBDA,
+    LAME_MU,
+    LENGTHS,
+    MASSES,
+    SCHEMES,
+    BarMatrices,
+    Summary,
+    stepped,
+    time_step,
+)
 
-LENGTHS = (0.1, 1.0)
-DENSITY = 1.0
-LAME_LAMBDA = 0.25
-LAME_MU = 0.5
-GAP = 0.2
-INITIAL_VELOCITY = -0.5
-HORIZON = 2.0
-RATIO = 2.0
 QUADRATURE = {"quadrature_degree": 2}
-SCHEMES = {
-    "crank-nicolson": (0.25, 0.25, 0.5, 0.5),
-    "backward-euler": (0.0, 1.0, 0.0, 1.0),
-}
-MASSES = ("standard", "redistributed")
-COORDINATE_TOLERANCE = 1e-9
+WRITERS = {"vtk": "pvd", "xdmf": "xdmf"}
 
 
 def to_scipy(form):
@@ -128,36 +136,10 @@ def to_scipy(form):
     return scipy.sparse.csr_matrix((values, indices, indptr), shape=matrix.getSize())
 
 
-def solve_lcp(w, q):
-    """μ ≥ 0 with y = q + W μ ≥ 0 and μᵀy = 0, by Murty's least-index principal pivoting.
-
-    W is positive definite (a Delassus matrix), so the method ends after finitely many pivots
-    with the unique solution; the active set's μ solves W_JJ μ_J = −q_J exactly and the other
-    μ_i are 0, so μ_i y_i is 0 up to the round-off of that solve.
-    """
-    n = q.size
-    scale = max(np.abs(q).max(), 1.0)
-    active = np.zeros(n, dtype=bool)
-    for _ in range(2**n + n + 1):
-        mu = np.zeros(n)
-        if active.any():
-            mu[active] = np.linalg.solve(w[np.ix_(active, active)], -q[active])
-        y = q + w @ mu
-        violated = np.flatnonzero(
-            (active & (mu < -1e-15 * scale)) | (~active & (y < -1e-15 * scale))
-        )
-        if violated.size == 0:
-            mu[~active] = 0.0
-            return mu
-        active[violated[0]] = not active[violated[0]]
-    raise RuntimeError("the contact LCP did not converge")
-
-
-class Bar:
+class Bar(BarMatrices):
     """The bar at one level: DOLFINx's mesh, spaces and matrices, with the clamped dofs removed."""
 
     def __init__(self, level, mass):
-        self.level = level
         n1 = round(LENGTHS[0] * level)
         self.mesh = dolfinx.mesh.create_rectangle(
             MPI.COMM_WORLD,
@@ -198,101 +180,58 @@ class Bar:
         if not np.array_equal(self.vector_space.tabulate_dof_coordinates(), nodes):
             raise RuntimeError("the vector and scalar Q1 spaces number the nodes differently")
         block = self.vector_space.dofmap.index_map_bs
-        clamped_nodes = np.flatnonzero(np.abs(nodes[:, 1] - LENGTHS[1]) < COORDINATE_TOLERANCE)
-        self.contact_nodes = np.flatnonzero(np.abs(nodes[:, 1]) < COORDINATE_TOLERANCE)
-        self.contact_nodes = self.contact_nodes[np.argsort(nodes[self.contact_nodes, 0])]
-        n_dofs = nodes.shape[0] * block
-        clamped = np.zeros(n_dofs, dtype=bool)
-        for k in range(block):
-            clamped[block * clamped_nodes + k] = True
-        self.free = np.flatnonzero(~clamped)
-        position = np.full(n_dofs, -1)
-        position[self.free] = np.arange(self.free.size)
-        self.contact = position[block * self.contact_nodes + 1]
-        self.mass = mass_matrix[self.free][:, self.free].tocsc()
-        self.stiffness = stiffness[self.free][:, self.free].tocsc()
-        self.dofs_with_mass = np.flatnonzero(np.abs(self.mass).sum(axis=1).A1 > 0.0)
-        velocity = np.zeros(n_dofs)
-        velocity[1::block] = INITIAL_VELOCITY
-        self.initial_velocity = velocity[self.free]
-
-    def initial_acceleration(self, displacement):
-        """A⁰ from M_RR A_R = −(S U⁰)_R on the dofs with mass, 0 on the massless ones."""
-        r = self.dofs_with_mass
-        acceleration = np.zeros(self.free.size)
-        m_rr = self.mass[r][:, r].tocsc()
-        acceleration[r] = scipy.sparse.linalg.spsolve(m_rr, -(self.stiffness @ displacement)[r])
-        return acceleration
-
-    def energy(self, displacement, velocity):
-        """½ VᵀMV + ½ UᵀSU with this run's mass."""
-        return 0.5 * velocity @ (self.mass @ velocity) + 0.5 * displacement @ (
-            self.stiffness @ displacement
-        )
+        super().__init__(level, mass_matrix, stiffness, nodes, block)
 
 
-def run(level, scheme, mass, out, getfem):
-    """Steps the bar at LEVEL and writes every t_n with VTKFile; returns a summary (and the
+def run(level, scheme, mass, out, getfem, writer):
+    """Steps the bar at LEVEL and writes every t_n with WRITER; returns a summary (and the
     differences from GetFEM's run in the directory GETFEM unless it is None)."""
-    a, b, c, d = SCHEMES[scheme]
     bar = Bar(level, mass)
-    dt = LENGTHS[1] / level / RATIO
-    steps = round(HORIZON / dt)
-    step_matrix = (bar.mass / (b * dt * dt) + bar.stiffness).tocsc()
-    solve = scipy.sparse.linalg.factorized(step_matrix)
-    unit = np.zeros((bar.free.size, bar.contact.size))
-    unit[bar.contact, np.arange(bar.contact.size)] = 1.0
-    response = np.column_stack([solve(unit[:, k]) for k in range(bar.contact.size)])
-    delassus = response[bar.contact]
-
+    dt, _ = time_step(level)
     u_field = dolfinx.fem.Function(bar.vector_space)
     u_field.name = "displacement"
     v_field = dolfinx.fem.Function(bar.vector_space)
     v_field.name = "velocity"
     lam_field = dolfinx.fem.Function(bar.scalar_space)
     lam_field.name = "contact_multiplier"
-
-    displacement = np.zeros(bar.free.size)
-    velocity = bar.initial_velocity.copy()
-    acceleration = bar.initial_acceleration(displacement)
-    multipliers = np.zeros(bar.contact.size)
-    energies = [bar.energy(displacement, velocity)]
-    history = [(displacement[bar.contact].copy(), multipliers.copy())]
-    largest_force = 0.0
-    complementarity = 0.0
-
+    summary = Summary(bar)
+    history = []
     stem = f"dolfinx-bar2d-{scheme}-{mass}-level{level}"
-    path = out / f"{stem}.pvd"
-    with dolfinx.io.VTKFile(bar.mesh.comm, str(path), "w") as vtk:
-        for n in range(steps + 1):
-            if n > 0:
-                predictor = displacement + dt * velocity + a * dt * dt * acceleration
-                free = solve(bar.mass @ predictor / (b * dt * dt))
-                mu = solve_lcp(delassus, free[bar.contact] + GAP)
-                new_displacement = free + response @ mu
-                new_acceleration = (new_displacement - predictor) / (b * dt * dt)
-                velocity = velocity + dt * (c * acceleration + d * new_acceleration)
-                displacement, acceleration, multipliers = new_displacement, new_acceleration, -mu
-                gaps = displacement[bar.contact] + GAP
-                complementarity = max(complementarity, np.abs(gaps * multipliers).max())
-                largest_force = max(largest_force, abs(multipliers.sum()))
-                energies.append(bar.energy(displacement, velocity))
-                history.append((displacement[bar.contact].copy(), multipliers.copy()))
+    path = out / f"{stem}.{WRITERS[writer]}"
+    with open_writer(writer, bar.mesh, path) as file:
+        for n, displacement, velocity, multipliers in stepped(bar, scheme):
+            summary.add(displacement, velocity, multipliers)
+            history.append((displacement[bar.contact].copy(), multipliers.copy()))
             u_field.x.array[:] = 0.0
             u_field.x.array[bar.free] = displacement
             v_field.x.array[:] = 0.0
             v_field.x.array[bar.free] = velocity
             lam_field.x.array[:] = 0.0
             lam_field.x.array[bar.contact_nodes] = multipliers
-            vtk.write_function([u_field, v_field, lam_field], n * dt)
-    summary = (
-        f"{path}: {steps} steps, energy {energies[0]:.6e} → {energies[-1]:.6e}, "
-        f"largest total contact force {largest_force:.4e}, complementarity {complementarity:.1e}"
-    )
+            write_fields(writer, file, [u_field, v_field, lam_field], n * dt)
     if getfem is None:
-        return summary
+        return summary.line(path)
     final = (u_field, v_field)
-    return summary + "\n  " + compare_with_getfem(bar, scheme, mass, history, final, getfem)
+    return summary.line(path) + "\n  " + compare_with_getfem(bar, scheme, mass, history, final, getfem)
+
+
+def open_writer(writer, mesh, path):
+    """DOLFINx's file for WRITER (``vtk``: ``VTKFile``; ``xdmf``: ``XDMFFile`` with the mesh
+    written first, as DOLFINx's demos do)."""
+    if writer == "vtk":
+        return dolfinx.io.VTKFile(mesh.comm, str(path), "w")
+    file = dolfinx.io.XDMFFile(mesh.comm, str(path), "w")
+    file.write_mesh(mesh)
+    return file
+
+
+def write_fields(writer, file, fields, time):
+    """One time's FIELDS: VTKFile takes them in one call, XDMFFile one function per call."""
+    if writer == "vtk":
+        file.write_function(fields, time)
+        return
+    for field in fields:
+        file.write_function(field, time)
 
 
 def compare_with_getfem(bar, scheme, mass, history, final, directory):
@@ -341,13 +280,19 @@ def main():
         type=pathlib.Path,
         help="compare with GetFEM's runs there (getfem2d_<scheme>_<mass>_nx<LEVEL>.json.gz)",
     )
+    parser.add_argument(
+        "--writer",
+        choices=sorted(WRITERS),
+        default="vtk",
+        help="dolfinx.io.VTKFile (a .pvd series) or dolfinx.io.XDMFFile (.xdmf with .h5)",
+    )
     args = parser.parse_args()
     if MPI.COMM_WORLD.size != 1:
         parser.error("runs on one process (the contact solve uses the whole matrices)")
     logging.getLogger().setLevel(logging.WARNING)
     args.out.mkdir(parents=True, exist_ok=True)
     for level in args.level:
-        print(run(level, args.scheme, args.mass, args.out, args.getfem), flush=True)
+        print(run(level, args.scheme, args.mass, args.out, args.getfem, args.writer), flush=True)
 
 
 if __name__ == "__main__":

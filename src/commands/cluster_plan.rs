@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::failure::Failure;
+use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::study::budget::parse_bytes;
 use crate::harness::study::scene::Scene;
 use crate::studies::cluster_plan::fit::Node;
@@ -76,6 +77,10 @@ pub fn cluster_plan(args: ClusterPlanArgs) -> Result<(), Failure> {
     };
     let nodes: Vec<usize> = args.nodes.iter().map(|&n| n as usize).collect();
     let checks: Vec<&std::path::Path> = args.check.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&PathBuf> = (args.measured.iter().chain(&args.check))
+        .chain([&args.scene])
+        .collect();
+    let staged = StagedDir::begin("--out", &args.out, Replace::Files)?.reading(&inputs)?;
     let plan = Plan::new(
         (&scene.name, &problem, args.level as usize),
         (&measured, args.measured_cores as usize),
@@ -83,7 +88,8 @@ pub fn cluster_plan(args: ClusterPlanArgs) -> Result<(), Failure> {
         &nodes,
         &checks,
     )?;
-    plan.write(&args.out)?;
+    plan.write(staged.path())?;
+    staged.commit()?;
     out!("the plan is in {}", args.out.join(PLAN_MD).display());
     Ok(())
 }

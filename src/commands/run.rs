@@ -104,6 +104,7 @@ fn run_scene_of(
     limits: &Limits,
     say: &mut dyn FnMut(&str),
 ) -> Result<(), CommandError> {
+    let scene_file = scene;
     let scene = Scene::load(scene)?;
     if let Some(w) = choices.scheme.warning() {
         progress::note(&format!("warning: {w}"));
@@ -112,7 +113,7 @@ fn run_scene_of(
     let run = SceneRun::of(&scene, choices)?;
     run.estimate().check(limits).map_err(Error::from)?;
     let staged = out
-        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole)?.reading(&[scene_file]))
         .transpose()?;
     if let Some(advice) = run.advice() {
         say(&advice);

@@ -19,7 +19,9 @@
 //! omitted when not declared), `levels` (NX), `rates` (per computed norm: `norm`, `rate`,
 //! `ci_low`, `ci_high` (null with fewer than three levels), `levels`, `bias`), `not_computed`
 //! (norm keys), `oscillation_indicator` and `oscillation` (the word, null without λ),
-//! `energy_verdict` (`holds`, `fails`, `undecided`) and `energy_reason`.
+//! `energy_verdict` (`holds`, `fails`, `undecided`), `energy_reason`, and
+//! `differs_from_declared` (present only when its files part from the harness's run of their
+//! declared scheme and mass beyond round-off: the largest difference).
 
 use std::fmt::Write as _;
 
@@ -29,6 +31,7 @@ use super::elastic_study::external::JudgedVerification;
 use super::elastic_study::findings::{findings_of_cases, Finding};
 use super::elastic_study::report::findings_table;
 use crate::harness::external::format::Code;
+use crate::harness::external::rerun::StepDifferences;
 use crate::harness::external::verify::{declared_cases, Declared, Series};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
@@ -86,6 +89,10 @@ pub struct LeagueRow {
     pub energy_verdict: Verdict,
     /// Why.
     pub energy_reason: String,
+    /// The largest difference between its files and the harness's run of what they declare,
+    /// when that is beyond round-off: the series does not solve its declared scheme and mass.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub differs_from_declared: Option<f64>,
 }
 
 /// One directory's verification.
@@ -254,6 +261,7 @@ fn row(s: &Series, bias: &dyn Fn(Norm) -> Option<f64>) -> LeagueRow {
         oscillation: indicator.map(|r| oscillation_word(r).to_string()),
         energy_verdict: energy.verdict,
         energy_reason: energy.reason,
+        differs_from_declared: s.differs_from_declared().map(StepDifferences::largest),
     }
 }
 
@@ -315,7 +323,10 @@ pub fn render(league: &League, entries: &str) -> String {
                 r.code.name,
                 r.code.version,
                 r.label,
-                declared(&r.declared.scheme),
+                declared(&r.declared.scheme)
+                    + &r.differs_from_declared.map_or(String::new(), |d| {
+                        format!(" (**its files differ from it: {d:.1e}**)")
+                    }),
                 declared(&r.declared.mass),
                 declared(&r.declared.contact),
                 levels.join(", "),

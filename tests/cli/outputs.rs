@@ -288,3 +288,98 @@ fn a_shared_directory_keeps_its_other_files() {
     assert_eq!(names(&dir), ["reports"]);
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every file under `dir` (relative name, content), sorted.
+fn listing(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let rel = path.strip_prefix(dir).unwrap().to_path_buf();
+                files.push((rel, fs::read(&path).unwrap()));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn an_output_directory_holding_the_commands_inputs_is_refused_and_kept() {
+    let dir = scratch("holds-inputs");
+    // The harness's own run of the 2D bar at level 10, every step, into r10 ...
+    let r10 = dir.join("r10");
+    let r10s = r10.to_string_lossy().to_string();
+    success_stdout(&signorini(&[
+        "run",
+        "scenes/bar2d.json",
+        "--scheme",
+        "crank-nicolson",
+        "--mass",
+        "standard",
+        "--nx",
+        "10",
+        "--fields-every-step",
+        "--out",
+        &r10s,
+    ]));
+    let before = listing(&r10);
+    assert!(before.len() > 40, "{} files", before.len());
+    let pvd = before
+        .iter()
+        .find(|(name, _)| name.extension().is_some_and(|e| e == "pvd"))
+        .map(|(name, _)| r10.join(name))
+        .unwrap();
+    // ... verified with `--out r10`: refused before the reference is computed, r10 untouched.
+    expect_error(
+        &[
+            "verify",
+            "scenes/bar2d.json",
+            &pvd.to_string_lossy(),
+            "--code",
+            "mine",
+            "--code-version",
+            "1",
+            "--out",
+            &r10s,
+        ],
+        2,
+        &[
+            "--out",
+            "which this command reads",
+            "choose another directory",
+        ],
+    );
+    assert!(listing(&r10) == before, "r10 changed");
+    // `cluster-plan --out` into a directory holding the user's own cluster-plan.md: refused,
+    // the user's file kept.
+    let plan = dir.join("plan");
+    fs::create_dir_all(&plan).unwrap();
+    fs::write(plan.join("cluster-plan.md"), "my own notes\n").unwrap();
+    let measured: Vec<String> = fs::read_dir("reports/cluster/measured")
+        .unwrap()
+        .map(|e| e.unwrap().path().to_string_lossy().to_string())
+        .collect();
+    let mut args = vec![
+        "cluster-plan",
+        "scenes/bar3d.json",
+        "--level",
+        "320",
+        "--measured-cores",
+        "2",
+        "--out",
+    ];
+    let plans = plan.to_string_lossy().to_string();
+    args.push(&plans);
+    args.push("--measured");
+    args.extend(measured.iter().map(String::as_str));
+    expect_error(&args, 2, &["cluster-plan.md", "signorini did not write"]);
+    assert_eq!(
+        fs::read_to_string(plan.join("cluster-plan.md")).unwrap(),
+        "my own notes\n"
+    );
+}

@@ -6,7 +6,10 @@
 //!   with GetFEM's own headers; the `.pvd` written by the script), committed as they wrote them
 //!   (`tests/data/external/dolfinx/`, `getfem-vtu/`, by `scripts/dolfinx_bar2d.py` and
 //!   `scripts/getfem_bar2d.py`), verify with the errors of the harness's own run of the same case
-//!   to the precision of their files.
+//!   to the precision of their files. So do DOLFINx's and legacy FEniCS 2019.2's `XDMFFile`
+//!   (`tests/data/external/dolfinx-xdmf/`, `fenics-xdmf/`, by `scripts/dolfinx_bar2d.py --writer
+//!   xdmf` and `scripts/fenics_bar2d.py`: XDMF 3 with HDF5 heavy data, the mesh included by
+//!   `xi:include`); a broken one is refused naming the file and what is off.
 //! - A series that went NaN or infinite, multipliers of the wrong sign or off the contact face
 //!   are refused naming the file, the array, the point and the time.
 //! - A parallel grid's pieces are joined, a ghost node kept once, and refused where the pieces
@@ -21,7 +24,8 @@ use crate::verify_box::{
     errors, read_json, rewrite_collection_with, run_case_every_step, run_every_step, s,
     scene_at_levels, scratch, write_collection, Encoding,
 };
-use signorini::harness::external::pvd::{read_collection, read_snapshot, PointArray};
+use signorini::harness::external::nodal_snapshot::PointArray;
+use signorini::harness::external::pvd::{read_collection, read_snapshot};
 
 /// The fixtures' directory.
 fn fixtures() -> PathBuf {
@@ -80,7 +84,19 @@ fn largest_relative_difference(a: &[(String, Vec<f64>)], b: &[(String, Vec<f64>)
 /// displacement (0.2) to its errors (1e-2) at level 10, for the files that round the solution
 /// (GetFEM's 6 digits in ASCII, its `Float32` in base64); 1e-10 for DOLFINx's 16 digits, where
 /// two double-precision solves of the same problem part by round-off first.
-const FIXTURES: [(&str, &str, &str, f64); 5] = [
+const FIXTURES: [(&str, &str, &str, f64); 7] = [
+    (
+        "dolfinx-xdmf/dolfinx-bar2d-crank-nicolson-standard-level10.xdmf",
+        "crank-nicolson",
+        "contact_multiplier",
+        1e-10,
+    ),
+    (
+        "fenics-xdmf/fenics-bar2d-crank-nicolson-standard-level10.xdmf",
+        "crank-nicolson",
+        "contact_multiplier",
+        1e-10,
+    ),
     (
         "dolfinx/dolfinx-bar2d-crank-nicolson-standard-level10.pvd",
         "crank-nicolson",
@@ -310,6 +326,7 @@ fn split_collection(pvd: &Path, dir: &Path, edit: &dyn Fn(&mut [PointArray])) ->
                 .map(|a| PointArray {
                     name: a.name.clone(),
                     components: a.components,
+                    epsilon: a.epsilon,
                     values: kept
                         .iter()
                         .flat_map(|&i| &a.values[i * a.components..(i + 1) * a.components])
@@ -403,33 +420,55 @@ fn a_second_verify_of_a_scene_reads_the_reference_the_first_kept() {
 }
 
 #[test]
-fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_shows() {
+fn a_box_series_is_rerun_as_declared_and_a_wrong_declaration_marks_it() {
     let dir = scratch("declared");
     let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
     let cache = dir.join("references");
-    let file = fixtures().join(FIXTURES[0].0);
-    let largest = |declared: &str| -> f64 {
+    let check = |file: &str, multiplier: &str, declared: &str| -> (Value, String) {
+        let out = dir.join(format!("{declared}-{}", file.replace('/', "-")));
         let verified = verify_as(
             &scene,
-            &file,
-            "dolfinx",
-            (declared, "contact_multiplier"),
+            &fixtures().join(file),
+            file.split('/').next().unwrap(),
+            (declared, multiplier),
             &cache,
-            &dir.join(declared),
+            &out,
         );
-        let differences = &verified["series"][0]["step_differences"][0];
+        let differences = verified["series"][0]["step_differences"][0].clone();
         assert_eq!(differences["samples"], 41, "{differences}");
+        let markdown = std::fs::read_to_string(out.join("verify.md")).unwrap();
+        (differences, markdown)
+    };
+    let largest = |differences: &Value| -> f64 {
         ["displacement", "velocity", "multiplier"]
             .iter()
             .map(|q| differences[q].as_f64().unwrap())
             .fold(0.0, f64::max)
     };
+    let dolfinx = "dolfinx/dolfinx-bar2d-crank-nicolson-standard-level10.pvd";
     // DOLFINx's Crank–Nicolson is the harness's to round-off (its file has 16 digits) ...
-    let as_run = largest("crank-nicolson");
-    assert!(as_run <= 1e-12, "{as_run:e}");
-    // ... and declared as backward Euler it is not.
-    let misdeclared = largest("backward-euler");
-    assert!(misdeclared >= 1e-2, "{misdeclared:e}");
+    let (as_run, markdown) = check(dolfinx, "contact_multiplier", "crank-nicolson");
+    assert!(largest(&as_run) <= 1e-12, "{as_run}");
+    assert_eq!(as_run["tolerance"].as_f64(), Some(1e-10));
+    assert!(markdown.contains("| yes (bound 1e-10) |"), "{markdown}");
+    assert!(
+        !markdown.contains("differs from its declared"),
+        "{markdown}"
+    );
+    // ... GetFEM's Float32 file is, to a thousand of its epsilons ...
+    let getfem = "getfem-vtu/getfem-crank-nicolson-standard-nx10-binary.pvd";
+    let (single, markdown) = check(getfem, "multiplier", "crank-nicolson");
+    let bound = 1e3 * f64::from(f32::EPSILON);
+    assert_eq!(single["tolerance"].as_f64(), Some(bound));
+    assert!(largest(&single) <= bound, "{single}");
+    assert!(markdown.contains("| yes (bound 1e-4) |"), "{markdown}");
+    // ... and DOLFINx's Crank–Nicolson declared as backward Euler is not: the series is marked
+    // in both tables and its rerun row.
+    let (misdeclared, markdown) = check(dolfinx, "contact_multiplier", "backward-euler");
+    assert!(largest(&misdeclared) >= 1e-2, "{misdeclared}");
+    assert!(markdown.contains("| **no** (bound 1e-10) |"), "{markdown}");
+    let marked = "(**differs from its declared scheme and mass: ";
+    assert!(markdown.matches(marked).count() >= 3, "{markdown}");
 }
 
 /// Every encoding VTK 9.1's own writers produce (`tests/data/external/vtk-encodings/`, by
@@ -498,4 +537,85 @@ fn every_encoding_vtk_writes_reads_back_as_the_source() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The DOLFINx XDMF fixture copied into `dir` (its `.xdmf` text edited by `edit`, its `.h5`
+/// as written): the copy's `.xdmf`.
+fn edited_xdmf(dir: &Path, name: &str, edit: &dyn Fn(String) -> String) -> PathBuf {
+    let stem = "dolfinx-bar2d-crank-nicolson-standard-level10";
+    let source = fixtures().join("dolfinx-xdmf");
+    let target = dir.join(name);
+    std::fs::create_dir_all(&target).unwrap();
+    std::fs::copy(
+        source.join(format!("{stem}.h5")),
+        target.join(format!("{stem}.h5")),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(source.join(format!("{stem}.xdmf"))).unwrap();
+    let xdmf = target.join(format!("{stem}.xdmf"));
+    std::fs::write(&xdmf, edit(text)).unwrap();
+    xdmf
+}
+
+#[test]
+fn a_broken_xdmf_series_is_refused_naming_what_is_off() {
+    let dir = scratch("broken-xdmf");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    let stem = "dolfinx-bar2d-crank-nicolson-standard-level10";
+    let at_one = format!("{stem}.h5:/Function/velocity/1</DataItem>");
+    // The velocity at t = 1 written inline, one value NaN: the non-finite check names it.
+    let nan = edited_xdmf(&dir, "nan", &|text| {
+        let values = vec!["0"; 22 * 3].join(" ").replacen('0', "NaN", 1);
+        let inline = text.replace(
+            &format!("Format=\"HDF\">{at_one}"),
+            &format!("Format=\"XML\">{values}</DataItem>"),
+        );
+        assert_ne!(inline, text, "the fixture writes the velocity at t = 1");
+        inline
+    });
+    expect_error(
+        &verify_args(&scene, &nan, &cache),
+        2,
+        &[&format!("{stem}.xdmf"), "\"velocity\"", "t = 1", "NaN"],
+    );
+    // Heavy data in a file that is not there.
+    let missing = edited_xdmf(&dir, "missing", &|text| {
+        text.replace(&at_one, &format!("gone.h5:/Function/velocity/1</DataItem>"))
+    });
+    expect_error(
+        &verify_args(&scene, &missing, &cache),
+        2,
+        &["gone.h5", "\"/Function/velocity/1\"", "unreadable"],
+    );
+    // A dataset whose shape is not the DataItem's.
+    let shape = edited_xdmf(&dir, "shape", &|text| {
+        text.replacen(
+            "Dimensions=\"22 3\" Format=\"HDF\">",
+            "Dimensions=\"22 2\" Format=\"HDF\">",
+            1,
+        )
+    });
+    expect_error(
+        &verify_args(&scene, &shape, &cache),
+        2,
+        &["of shape [22, 3] where the DataItem says [22, 2]"],
+    );
+    // A grid with a geometry of its own, other than the mesh's: a moving mesh is not read.
+    let moving = edited_xdmf(&dir, "moving", &|text| {
+        let include = "<xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid[@GridType='Uniform'][1]/*[self::Topology or self::Geometry])\" />\n        <Time Value=\"1\" />";
+        assert!(text.contains(include));
+        text.replacen(
+            include,
+            &format!(
+                "<Geometry GeometryType=\"XY\"><DataItem Dimensions=\"22 2\" Format=\"HDF\">{stem}.h5:/Function/velocity/0</DataItem></Geometry>\n        <Time Value=\"1\" />"
+            ),
+            1,
+        )
+    });
+    expect_error(
+        &verify_args(&scene, &moving, &cache),
+        2,
+        &["Geometry", "one mesh for every time"],
+    );
 }

@@ -202,7 +202,10 @@ fn broken_run_files_exit_2_naming_the_field() {
     expect_error(
         &["verify", "scenes/bar2d.json", TRACE4],
         2,
-        &["extension \"csv\"", ".pvd (a ParaView collection) or .json"],
+        &[
+            "extension \"csv\"",
+            ".pvd (a ParaView collection), .xdmf (XDMF with HDF5 heavy data) or .json",
+        ],
     );
 }
 

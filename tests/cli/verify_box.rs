@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::common::{expect_error, signorini, success_stdout};
-use signorini::harness::external::pvd::{read_collection, read_snapshot, VtuSnapshot};
+use signorini::harness::external::nodal_snapshot::NodalSnapshot;
+use signorini::harness::external::pvd::{read_collection, read_snapshot};
 
 /// A box scene of the repository made small: study levels 5 and 10, reference on 40 (nested:
 /// one element across at levels 5 and 10, four at 40), no ensemble.
@@ -137,7 +138,7 @@ pub(crate) enum Encoding {
 }
 
 /// An edit of a snapshot before it is written again: its step and the snapshot.
-pub(crate) type Edit<'a> = &'a dyn Fn(usize, &mut VtuSnapshot);
+pub(crate) type Edit<'a> = &'a dyn Fn(usize, &mut NodalSnapshot);
 
 /// `src` (a snapshot the harness wrote, at step `step`) written again to `dst` in `encoding`,
 /// with its points, its cells (as vtkio reads them) and its point arrays, after `edit`: another

@@ -10,7 +10,7 @@ use crate::benchmarks;
 use crate::external_runs::{export_run, write_csv, write_json, SCENE};
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
-use signorini::harness::external::box_run::PvdOptions;
+use signorini::harness::external::box_run::SeriesOptions;
 use signorini::harness::external::load::load;
 use signorini::harness::external::verify::fine_mesh::ReferenceSource;
 use signorini::harness::external::{
@@ -39,7 +39,7 @@ fn scene() -> Scene {
 fn verify(scene: &Scene, files: &[PathBuf]) -> Result<Verification, ExternalError> {
     let cache = ReferenceCache::ReadOnly(std::env::temp_dir().join("signorini-ext-no-references"));
     let sources = VerifySources {
-        pvd: &PvdOptions::default(),
+        pvd: &SeriesOptions::default(),
         reference: ReferenceSource {
             cache: &cache,
             limits: &Limits::or_defaults(None, None, None),

@@ -24,7 +24,7 @@ pub fn getfem(
 ) -> Result<(), CommandError> {
     let staged_out = StagedDir::begin("--out", out, Replace::Files)?;
     if let Some(dir) = export {
-        let staged = StagedDir::begin("--export", dir, Replace::Whole)?;
+        let staged = StagedDir::begin("--export", dir, Replace::Whole)?.reading(&[runs])?;
         let written = export_runs(runs, staged.path(), limits)?;
         staged.commit()?;
         let n = written.len();
@@ -58,7 +58,7 @@ pub fn getfem_box(
         .iter()
         .map(|path| convert_anchor(path))
         .collect::<Result<Vec<_>, _>>()?;
-    let staged = StagedDir::begin("--out", out, Replace::Whole)?;
+    let staged = StagedDir::begin("--out", out, Replace::Whole)?.reading(runs)?;
     for c in &converted {
         write_json(&staged.path().join(&c.file_name), &c.run)?;
     }

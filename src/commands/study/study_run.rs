@@ -71,7 +71,8 @@ pub fn study(
     let reports = match (&shard, out) {
         (None, Some(dir)) => {
             study.check_reports_dir(&dir)?;
-            Some((StagedDir::begin("--out", &dir, Replace::Files)?, dir))
+            let staged = StagedDir::begin("--out", &dir, Replace::Files)?.reading(&[&scene])?;
+            Some((staged, dir))
         }
         _ => None,
     };

@@ -11,7 +11,7 @@ use clap::Args;
 use super::failure::Failure;
 use super::limits::LimitArgs;
 use super::options::{parsed, REPORTS};
-use crate::harness::external::box_run::PvdOptions;
+use crate::harness::external::box_run::SeriesOptions;
 use crate::harness::external::format::Code;
 use crate::harness::problem::{MassVariant, Scheme};
 use league_run::write_league;
@@ -24,7 +24,8 @@ pub struct VerifyArgs {
     /// (bar2d, bar3d), verified against its fine-mesh reference.
     pub scene: PathBuf,
     /// Run files of another code (see docs/src/external-runs.md): `.json` or `.csv` for a bar,
-    /// `.pvd` (ParaView collections) or `.json` (the box form) for a box; files with one label
+    /// `.pvd` (ParaView collections), `.xdmf` (XDMF with HDF5) or `.json` (the box form) for a
+    /// box; files with one label
     /// form one refinement series.
     #[arg(required = true)]
     pub runs: Vec<PathBuf>,
@@ -42,7 +43,7 @@ pub struct VerifyArgs {
     pub limits: LimitArgs,
     /// A box scene's `.pvd` files: what they are and how their arrays are named.
     #[command(flatten)]
-    pub pvd: PvdArgs,
+    pub pvd: SeriesArgs,
     /// Box scenes: where the fine-mesh reference is looked up and kept, as `study --cache`
     /// (default: the user's cache, shared by every command: $SIGNORINI_CACHE, else
     /// ~/.cache/signorini/references).
@@ -53,7 +54,7 @@ pub struct VerifyArgs {
 /// What a `.pvd` does not say: which code wrote it, the series it belongs to, its scheme and
 /// mass, and the names of its arrays.
 #[derive(Debug, Args)]
-pub struct PvdArgs {
+pub struct SeriesArgs {
     /// The code that wrote the `.pvd` files (required with them).
     #[arg(long, requires = "code_version")]
     pub code: Option<String>,
@@ -86,10 +87,10 @@ pub struct PvdArgs {
     pub multiplier: Option<String>,
 }
 
-impl PvdArgs {
+impl SeriesArgs {
     /// The options of the box reader.
-    fn options(self) -> PvdOptions {
-        PvdOptions {
+    fn options(self) -> SeriesOptions {
+        SeriesOptions {
             code: self
                 .code
                 .zip(self.code_version)

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::commands::command_error::CommandError;
 use crate::commands::options::cache_dir;
-use crate::harness::external::box_run::PvdOptions;
+use crate::harness::external::box_run::SeriesOptions;
 use crate::harness::external::format::MAX_VALUES;
 use crate::harness::external::verify::fine_mesh::ReferenceSource;
 use crate::harness::external::{
@@ -44,7 +44,7 @@ pub struct VerifyRequest {
     /// The limits it is held to.
     pub limits: Limits,
     /// What a box scene's `.pvd` files are (their code, label, scheme, mass and arrays).
-    pub box_options: PvdOptions,
+    pub box_options: SeriesOptions,
     /// Where a box scene's reference is read from and saved to (default: the user's cache,
     /// `cache_dir`).
     pub references: Option<PathBuf>,
@@ -84,6 +84,9 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
         box_options,
         references,
     } = request;
+    let inputs: Vec<&Path> = (runs.iter().chain([&scene]).chain(&golden))
+        .map(PathBuf::as_path)
+        .collect();
     let scene = Scene::load(&scene)?;
     let files = [(out.is_some(), 2.0), (write_golden.is_some(), 1.0)]
         .iter()
@@ -99,7 +102,7 @@ pub fn verify(request: VerifyRequest, say: &mut dyn FnMut(&str)) -> Result<(), C
     }
     let staged = out
         .as_deref()
-        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole))
+        .map(|dir| StagedDir::begin("--out", dir, Replace::Whole)?.reading(&inputs))
         .transpose()?;
     let cache = ReferenceCache::ReadWrite(cache_dir(references)?);
     let sources = VerifySources {

@@ -16,7 +16,8 @@ use serde::Deserialize;
 
 use super::error::ExternalError;
 use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_FILE};
-use super::pvd::{read_collection, read_snapshot, CollectionEntry, PointArray, VtuSnapshot};
+use super::nodal_snapshot::{NodalSnapshot, PointArray};
+use super::snapshot_series::SnapshotSeries;
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::{box_mesh, BoxProblem};
 use crate::harness::files::input;
@@ -45,7 +46,7 @@ pub use super::format::EnergyDefinition;
 
 /// How a `.pvd`'s point arrays are named and what its runs are: what the command line gives.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct PvdOptions {
+pub struct SeriesOptions {
     /// The code and its version.
     pub code: Option<Code>,
     /// The series' label (default: the collection's file stem).
@@ -94,9 +95,9 @@ impl BoxSample {
 /// Where the samples come from.
 #[derive(Debug, Clone)]
 enum Source {
-    /// One snapshot per step, read when its step is asked for.
-    Pvd {
-        entries: Vec<CollectionEntry>,
+    /// One snapshot per step (a `.pvd` or an `.xdmf`), read when its step is asked for.
+    Snapshots {
+        series: SnapshotSeries,
         names: ArrayNames,
         /// Per file node, the scene's node.
         order: Vec<usize>,
@@ -136,6 +137,9 @@ pub struct BoxExternalRun {
     pub time: Vec<f64>,
     /// What the code's reported energy is, when it reports one.
     pub energy_definition: Option<EnergyDefinition>,
+    /// The machine epsilon of the file's numbers: the largest of its displacement's, velocity's
+    /// and multipliers' arrays (`f64::EPSILON` for the JSON form, whose numbers are doubles).
+    pub value_epsilon: f64,
     source: Source,
 }
 
@@ -149,13 +153,13 @@ impl BoxExternalRun {
     pub fn sample(&self, n: usize) -> Result<BoxSample, ExternalError> {
         match &self.source {
             Source::Json(samples) => Ok(samples[n].clone()),
-            Source::Pvd {
-                entries,
+            Source::Snapshots {
+                series,
                 names,
                 order,
             } => {
-                let snapshot = read_snapshot(&entries[n].file)?;
-                self.sample_of_snapshot(&snapshot, names, order, entries[n].time)
+                let snapshot = series.snapshot(n)?;
+                self.sample_of_snapshot(&snapshot, names, order, self.time[n])
             }
         }
     }
@@ -166,7 +170,7 @@ impl BoxExternalRun {
     /// face with the harness's sign ([`check_multipliers`]).
     fn sample_of_snapshot(
         &self,
-        snapshot: &VtuSnapshot,
+        snapshot: &NodalSnapshot,
         names: &ArrayNames,
         order: &[usize],
         time: f64,
@@ -269,14 +273,14 @@ impl BoxExternalRun {
 }
 
 /// Where point `k` of `snapshot` is, at `time`, as the errors say it.
-fn at_point(snapshot: &VtuSnapshot, k: usize, time: f64) -> String {
+fn at_point(snapshot: &NodalSnapshot, k: usize, time: f64) -> String {
     format!("point {k} {:?} at t = {time}", snapshot.points[k])
 }
 
 /// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite, naming the
 /// point: a run that went NaN or infinite is broken, whatever the steps before it.
 fn first_non_finite(
-    snapshot: &VtuSnapshot,
+    snapshot: &NodalSnapshot,
     array: &PointArray,
     time: f64,
 ) -> Result<(), ExternalError> {
@@ -328,7 +332,7 @@ fn check_multipliers(
     }
 }
 
-fn array_names(snapshot: &VtuSnapshot) -> Vec<&str> {
+fn array_names(snapshot: &NodalSnapshot) -> Vec<&str> {
     snapshot.arrays.iter().map(|a| a.name.as_str()).collect()
 }
 
@@ -422,30 +426,39 @@ impl BoxScene<'_> {
         Ok(grid)
     }
 
-    /// Reads the collection `path` as a run of this scene, its arrays named by `options`.
-    pub fn read_pvd(
+    /// Reads the series `series` of the file `path` (a `.pvd` or an `.xdmf`) as a run of this
+    /// scene, its arrays named by `options`.
+    pub fn read_series(
         &self,
         path: &Path,
-        options: &PvdOptions,
+        series: SnapshotSeries,
+        options: &SeriesOptions,
     ) -> Result<BoxExternalRun, ExternalError> {
-        let entries = read_collection(path)?;
-        let first = read_snapshot(&entries[0].file)?;
+        let first = series.snapshot(0)?;
         let (level, mesh) = self.level_with(first.points.len(), &first.path)?;
         let order = node_order(&mesh, &first)?;
-        let times: Vec<f64> = entries.iter().map(|e| e.time).collect();
-        let time = self.check_times(level, &times, path, "timestep")?;
+        let time = self.check_times(level, &series.times(), path, "timestep")?;
         let names = ArrayNames {
             displacement: displacement_array(&first, options, mesh.dim())?,
             velocity: options.velocity.clone(),
             multiplier: options.multiplier.clone(),
         };
+        let value_epsilon = [
+            Some(&names.displacement),
+            names.velocity.as_ref(),
+            names.multiplier.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .filter_map(|name| first.array(name))
+        .fold(f64::EPSILON, |e, a| e.max(a.epsilon));
         let code = options.code.clone().ok_or_else(|| {
             ExternalError::invalid(
                 path,
                 "--code",
                 None,
                 "missing",
-                "the code's name and version (--code NAME --code-version VERSION): a .pvd \
+                "the code's name and version (--code NAME --code-version VERSION): a .pvd or .xdmf \
                  does not say which code wrote it",
             )
         })?;
@@ -464,8 +477,9 @@ impl BoxScene<'_> {
             mesh,
             time,
             energy_definition: None,
-            source: Source::Pvd {
-                entries,
+            value_epsilon,
+            source: Source::Snapshots {
+                series,
                 names,
                 order,
             },
@@ -485,8 +499,8 @@ impl BoxScene<'_> {
 /// The displacement's array of `snapshot`: the one `options` names, else the only array of `d`
 /// or 3 components, else one named `displacement`.
 fn displacement_array(
-    snapshot: &VtuSnapshot,
-    options: &PvdOptions,
+    snapshot: &NodalSnapshot,
+    options: &SeriesOptions,
     d: usize,
 ) -> Result<String, ExternalError> {
     if let Some(name) = &options.displacement {
@@ -514,7 +528,7 @@ fn displacement_array(
 /// Per point of `snapshot`, the node of `mesh` it is (within [`NODE_TOLERANCE`] of the box's
 /// largest length, or [`NODE_ROUNDINGS`] times its points' machine epsilon when that is larger;
 /// coordinates past the mesh's dimension 0), every node once.
-fn node_order(mesh: &BoxMesh, snapshot: &VtuSnapshot) -> Result<Vec<usize>, ExternalError> {
+fn node_order(mesh: &BoxMesh, snapshot: &NodalSnapshot) -> Result<Vec<usize>, ExternalError> {
     let (points, path) = (&snapshot.points, snapshot.path.as_path());
     let d = mesh.dim();
     let scale = mesh.lengths().iter().fold(0.0f64, |a, &b| a.max(b));
@@ -854,6 +868,7 @@ impl BoxFile {
             mesh,
             time,
             energy_definition: self.energy_definition,
+            value_epsilon: f64::EPSILON,
             source: Source::Json(samples),
         })
     }

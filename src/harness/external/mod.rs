@@ -23,11 +23,14 @@ pub mod format;
 pub mod golden;
 pub mod json;
 pub mod load;
+pub mod nodal_snapshot;
 pub mod pvd;
 pub mod replay;
 pub mod report;
 pub mod rerun;
+pub mod snapshot_series;
 pub mod verify;
+pub mod xdmf;
 
 pub use error::ExternalError;
 pub use format::ExternalRun;

@@ -27,9 +27,26 @@ fn cell(s: &Series, norm: Norm) -> String {
     }
 }
 
-/// `label | code version`.
+/// `label | code version`, the label marked when the series does not solve what it declares.
 fn row_head(s: &Series) -> String {
-    format!("{} | {} {}", s.label, s.code.name, s.code.version)
+    format!(
+        "{}{} | {} {}",
+        s.label,
+        differs_mark(s),
+        s.code.name,
+        s.code.version
+    )
+}
+
+/// ` (**differs from its declared scheme and mass: 6.2e-1**)` when the harness's run of what the
+/// series declares parts from its files by more than round-off; empty otherwise.
+fn differs_mark(s: &Series) -> String {
+    s.differs_from_declared().map_or(String::new(), |d| {
+        format!(
+            " (**differs from its declared scheme and mass: {:.1e}**)",
+            d.largest()
+        )
+    })
 }
 
 /// The whole markdown of `v`: what its errors are measured against, Tables 1–2, the harness's
@@ -89,20 +106,28 @@ fn step_differences<J>(v: &Verification<J>) -> String {
                  treatment) on the scene's mesh at the file's level (a box series: at its \
                  coarsest level), from the file's first sample, at its time step. Each cell: the largest difference over the samples, \
                  relative to the harness's largest value (`λ` at the samples where both report \
-                 it at the same time). Round-off (10⁻¹⁰ or less) says both codes solve the same \
-                 discrete problem.\n\n| file | scheme | samples | u | v | λ |\n\
-                 |---|---|---|---|---|---|\n",
+                 it at the same time). Within round-off (the bound: 10⁻¹⁰ for double \
+                 precision, 1000 machine epsilons of the file's numbers when larger) both codes \
+                 solve the same discrete problem; beyond it the file does not solve the scheme \
+                 and mass it declares, its series is marked so and the note's findings do not \
+                 judge it as that case.\n\n| file | scheme | samples | u | v | λ | within \
+                 round-off |\n|---|---|---|---|---|---|---|\n",
             );
         }
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.1e} | {} | {} |",
+            "| {} | {} | {} | {:.1e} | {} | {} | {} |",
             d.file,
             d.scheme,
             d.samples,
             d.displacement,
             opt(d.velocity),
-            opt(d.multiplier)
+            opt(d.multiplier),
+            if d.differs() {
+                format!("**no** (bound {:.0e})", d.tolerance)
+            } else {
+                format!("yes (bound {:.0e})", d.tolerance)
+            }
         );
     }
     out
@@ -229,7 +254,13 @@ fn tables<J>(v: &Verification<J>) -> String {
     }
     let _ = writeln!(out, "\n## Per-level errors and observed orders\n");
     for s in &v.series {
-        let heading = format!("{} — {} {}", s.label, s.code.name, s.code.version);
+        let heading = format!(
+            "{}{} — {} {}",
+            s.label,
+            differs_mark(s),
+            s.code.name,
+            s.code.version
+        );
         out.push_str(&convergence_table(&heading, &s.levels, &s.rates));
     }
     out

@@ -17,6 +17,29 @@ use crate::engine::schemes::{integrator, Conventions, Scheme, SchemeState, Timed
 /// for the harness to step to them.
 const UNIFORM_TIMES: f64 = 1e-9;
 
+/// The largest relative difference between a file and the harness's run of its declared scheme
+/// and mass that round-off explains when the file's numbers are doubles: two double-precision
+/// solves of one discrete problem part by less (measured: DOLFINx's and Siconos's runs, 2e-13 at
+/// most; GetFEM's shared 2D runs 3.5e-11 of the harness's study).
+pub const RERUN_ROUNDOFF: f64 = 1e-10;
+
+/// How many machine epsilons of its numbers' type a file may be from the harness's run when
+/// that is more than [`RERUN_ROUNDOFF`]: a file rounds each value to its type (single precision:
+/// GetFEM's `Float32` files, 3.8e-8 = 0.3 ε measured) or to fewer digits than its type holds
+/// (GetFEM's ASCII, 6 significant digits: 3.3e-6 = 28 ε).
+pub const RERUN_ROUNDINGS: f64 = 1e3;
+
+/// The round-off bound of a file whose numbers have the machine epsilon `value_epsilon`:
+/// [`RERUN_ROUNDOFF`], or [`RERUN_ROUNDINGS`] × `value_epsilon` when larger.
+pub fn rerun_tolerance(value_epsilon: f64) -> f64 {
+    RERUN_ROUNDOFF.max(RERUN_ROUNDINGS * value_epsilon)
+}
+
+/// The bound of a `verify.json` written before the bound was recorded: its files were doubles.
+fn double_precision_tolerance() -> f64 {
+    rerun_tolerance(f64::EPSILON)
+}
+
 /// The largest differences between a file and the harness's run of its declared scheme and mass,
 /// each relative to the largest value of the harness's run (`verify.json`, `step_differences`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -34,6 +57,30 @@ pub struct StepDifferences {
     /// The same of the multipliers, over the samples where the file has `λ` at the time the
     /// harness reports its own (`None` at none).
     pub multiplier: Option<f64>,
+    /// The largest difference round-off explains for this file ([`rerun_tolerance`] of the
+    /// precision of its numbers).
+    #[serde(default = "double_precision_tolerance")]
+    pub tolerance: f64,
+}
+
+impl StepDifferences {
+    /// Whether the file and the harness's run part by more than round-off (a difference that is
+    /// not a number counts): the file does not solve the discrete problem of the scheme and mass
+    /// it declares.
+    pub fn differs(&self) -> bool {
+        [Some(self.displacement), self.velocity, self.multiplier]
+            .into_iter()
+            .flatten()
+            .any(|x| !(x <= self.tolerance))
+    }
+
+    /// The largest of the differences.
+    pub fn largest(&self) -> f64 {
+        [Some(self.displacement), self.velocity, self.multiplier]
+            .into_iter()
+            .flatten()
+            .fold(0.0, f64::max)
+    }
 }
 
 /// The largest `|a − b|` and `|b|` seen, for a relative difference.
@@ -77,9 +124,10 @@ pub struct FileSample {
 /// The harness's run of `scheme` with `conventions` on `model`, from the file's first sample,
 /// stepped by the file's time step to each of its `times` (one step apart), compared with the
 /// file's samples (`sample(k)`, `Err` saying why one cannot be compared): the largest
-/// differences of `file` ([`StepDifferences`]).
+/// differences of `file` ([`StepDifferences`]), whose numbers have the machine epsilon
+/// `value_epsilon`.
 pub fn compare_with_harness(
-    file: &str,
+    (file, value_epsilon): (&str, f64),
     (model, scheme, conventions): (&Model, Scheme, &Conventions),
     times: &[f64],
     sample: &mut dyn FnMut(usize) -> Result<FileSample, String>,
@@ -114,6 +162,7 @@ pub fn compare_with_harness(
         displacement: seen.displacement.relative(),
         velocity: (seen.velocities == samples).then(|| seen.velocity.relative()),
         multiplier: (seen.multipliers > 0).then(|| seen.multiplier.relative()),
+        tolerance: rerun_tolerance(value_epsilon),
     })
 }
 
@@ -178,7 +227,7 @@ pub fn rerun_declared(
     }
     let lambda_time = |k: usize| run.lambda_time.as_ref().map_or(run.time[k], |t| t[k]);
     compare_with_harness(
-        &run.path.display().to_string(),
+        (&run.path.display().to_string(), f64::EPSILON),
         (model, scheme, &Conventions::HARNESS),
         &run.time,
         &mut |k| {

@@ -123,6 +123,24 @@ pub enum OutputDirError {
         #[source]
         source: io::Error,
     },
+    /// The directory holds a file the command reads, which its outputs would remove or replace.
+    #[error(
+        "{option} {}: holds {}, which this command reads: its outputs would {} it; choose \
+         another directory",
+        Shown(dir),
+        Shown(input),
+        if *whole { "remove or replace" } else { "replace" }
+    )]
+    HoldsInput {
+        /// The command-line option naming the directory.
+        option: &'static str,
+        /// The directory.
+        dir: PathBuf,
+        /// The input file.
+        input: PathBuf,
+        /// Whether the directory is a per-run one ([`Replace::Whole`]).
+        whole: bool,
+    },
     /// The staged files could not be moved into place.
     #[error("cannot write {option} {}: {source}", Shown(dir))]
     Commit {
@@ -140,7 +158,10 @@ impl OutputDirError {
     /// Whether the error is the user's to fix in the arguments (exit code 2): a file named as
     /// the directory, or a directory holding files the command would delete.
     pub fn is_usage(&self) -> bool {
-        matches!(self, Self::NotADirectory { .. } | Self::Foreign { .. })
+        matches!(
+            self,
+            Self::NotADirectory { .. } | Self::Foreign { .. } | Self::HoldsInput { .. }
+        )
     }
 }
 
@@ -205,6 +226,8 @@ pub struct StagedDir {
     replace: Replace,
     in_place: bool,
     id: u64,
+    /// The files the command reads ([`StagedDir::reading`]), resolved.
+    inputs: Vec<PathBuf>,
     _lock: File,
 }
 
@@ -304,6 +327,7 @@ impl StagedDir {
                     replace,
                     in_place,
                     id,
+                    inputs: Vec::new(),
                     _lock: lock,
                 })
             }
@@ -312,6 +336,28 @@ impl StagedDir {
                 Err(e)
             }
         }
+    }
+
+    /// Declares the files the command reads: a per-run directory ([`Replace::Whole`]) that
+    /// holds one of them (at any depth) is refused now, before anything is computed; a shared
+    /// one ([`Replace::Files`]) refuses at the commit a staged file that would replace one.
+    pub fn reading<P: AsRef<Path>>(mut self, inputs: &[P]) -> Result<Self, OutputDirError> {
+        self.inputs = inputs
+            .iter()
+            .filter_map(|p| fs::canonicalize(p).ok())
+            .collect();
+        if self.replace == Replace::Whole {
+            let dir = fs::canonicalize(&self.dir).unwrap_or_else(|_| self.dir.clone());
+            if let Some(k) = self.inputs.iter().position(|i| i.starts_with(&dir)) {
+                return Err(OutputDirError::HoldsInput {
+                    option: self.option,
+                    dir: self.target.clone(),
+                    input: inputs[k].as_ref().to_path_buf(),
+                    whole: true,
+                });
+            }
+        }
+        Ok(self)
     }
 
     /// The staging directory, where the command writes its files.
@@ -374,6 +420,20 @@ impl StagedDir {
                 return Ok(staged.write(&self.staging).and_then(|()| self.swap()));
             }
         } else {
+            let dir = fs::canonicalize(&self.dir).unwrap_or_else(|_| self.dir.clone());
+            if let Some(input) = staged
+                .files
+                .keys()
+                .map(|rel| dir.join(rel))
+                .find(|path| self.inputs.contains(path))
+            {
+                return Err(OutputDirError::HoldsInput {
+                    option: self.option,
+                    dir: self.target.clone(),
+                    input,
+                    whole: false,
+                });
+            }
             let foreign: Vec<String> = staged
                 .files
                 .keys()

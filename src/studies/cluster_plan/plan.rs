@@ -9,7 +9,6 @@ use serde::Serialize;
 use super::fit::{CostModel, Node};
 use super::Measurement;
 use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
-use crate::harness::files::error as files;
 use crate::harness::files::error::ParameterError;
 use crate::harness::files::input::Limit;
 use crate::harness::run::elastic::BoxProblem;
@@ -258,9 +257,8 @@ impl Plan {
         }
     }
 
-    /// Writes `cluster-plan.json` and `cluster-plan.md` into `out`.
+    /// Writes `cluster-plan.json` and `cluster-plan.md` into `out` (a staged output directory).
     pub fn write(&self, out: &Path) -> Result<(), Error> {
-        std::fs::create_dir_all(out).map_err(files::Error::write(out))?;
         write_json(&out.join(PLAN_JSON), self)?;
         Ok(write_atomic(&out.join(PLAN_MD), self.render().as_bytes())?)
     }

@@ -11,12 +11,12 @@ use std::path::Path;
 
 use flate2::read::ZlibDecoder;
 
-use super::{HeaderWord, PointArray, VtuSnapshot};
+use super::{HeaderWord, NodalSnapshot, PointArray};
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::format::MAX_FILE_BYTES;
 
 /// The snapshot `path` whose bytes are `bytes` and whose raw block starts at `start`.
-pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, ExternalError> {
+pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<NodalSnapshot, ExternalError> {
     let invalid = |field: &str, value: String, allowed: &str| {
         ExternalError::invalid(path, field, None, value, allowed)
     };
@@ -47,52 +47,51 @@ pub fn read(path: &Path, bytes: &[u8], start: usize) -> Result<VtuSnapshot, Exte
         .descendants()
         .find(|n| n.has_tag_name("Piece"))
         .ok_or_else(|| invalid("Piece", "missing".into(), "one Piece"))?;
-    let array_of =
-        |node: roxmltree::Node<'_, '_>| -> Result<(String, usize, Vec<f64>), ExternalError> {
-            let name = node.attribute("Name").unwrap_or("").to_string();
-            let field = format!("DataArray {name:?}");
-            let components: usize = node
-                .attribute("NumberOfComponents")
-                .unwrap_or("1")
-                .parse()
-                .map_err(|_| invalid(&field, "NumberOfComponents".into(), "a positive integer"))?;
-            if node.attribute("format") != Some("appended") {
-                return Err(invalid(
-                    &field,
-                    format!("format {:?}", node.attribute("format").unwrap_or("")),
-                    "appended, as every array of a file with raw appended data",
-                ));
-            }
-            let offset: usize = node
-                .attribute("offset")
-                .unwrap_or("")
-                .parse()
-                .map_err(|_| invalid(&field, "offset".into(), "a byte offset into the block"))?;
-            let kind = node.attribute("type").unwrap_or("");
-            let values = layout
-                .values(offset, kind)
-                .map_err(|why| invalid(&field, why, "an array of the block"))?;
-            Ok((name, components.max(1), values))
-        };
+    let array_of = |node: roxmltree::Node<'_, '_>| -> Result<PointArray, ExternalError> {
+        let name = node.attribute("Name").unwrap_or("").to_string();
+        let field = format!("DataArray {name:?}");
+        let components: usize = node
+            .attribute("NumberOfComponents")
+            .unwrap_or("1")
+            .parse()
+            .map_err(|_| invalid(&field, "NumberOfComponents".into(), "a positive integer"))?;
+        if node.attribute("format") != Some("appended") {
+            return Err(invalid(
+                &field,
+                format!("format {:?}", node.attribute("format").unwrap_or("")),
+                "appended, as every array of a file with raw appended data",
+            ));
+        }
+        let offset: usize = node
+            .attribute("offset")
+            .unwrap_or("")
+            .parse()
+            .map_err(|_| invalid(&field, "offset".into(), "a byte offset into the block"))?;
+        let kind = node.attribute("type").unwrap_or("");
+        let values = layout
+            .values(offset, kind)
+            .map_err(|why| invalid(&field, why, "an array of the block"))?;
+        Ok(PointArray {
+            name,
+            components: components.max(1),
+            values,
+            epsilon: super::epsilon_of(kind == "Float32"),
+        })
+    };
     let points = piece
         .descendants()
         .find(|n| n.has_tag_name("Points"))
         .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
         .ok_or_else(|| invalid("Points", "missing".into(), "the points' DataArray"))?;
-    let (_, _, coordinates) = array_of(points)?;
+    let coordinates = array_of(points)?.values;
     let single = points.attribute("type") == Some("Float32");
     let mut arrays = Vec::new();
     if let Some(data) = piece.children().find(|n| n.has_tag_name("PointData")) {
         for node in data.children().filter(|n| n.has_tag_name("DataArray")) {
-            let (name, components, values) = array_of(node)?;
-            arrays.push(PointArray {
-                name,
-                components,
-                values,
-            });
+            arrays.push(array_of(node)?);
         }
     }
-    VtuSnapshot::new(path, coordinates, super::epsilon_of(single), arrays)
+    NodalSnapshot::new(path, coordinates, super::epsilon_of(single), arrays)
 }
 /// How the block is laid out.
 struct Layout<'a> {

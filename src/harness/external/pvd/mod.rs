@@ -17,7 +17,7 @@
 //! - **no `byte_order`** (DOLFINx): the attribute is optional for VTK; little-endian is taken, the
 //!   order of the machines these codes run on (for ASCII data it means nothing);
 //! - **`Float32` points** (GetFEM's exporter): the points keep the precision of their type
-//!   ([`VtuSnapshot::point_epsilon`]), which the node match allows for.
+//!   ([`NodalSnapshot::point_epsilon`]), which the node match allows for.
 
 mod appended_raw;
 mod full_last_block;
@@ -31,6 +31,7 @@ use vtkio::Vtk;
 
 use super::error::ExternalError;
 use super::format::RUN_FILE;
+use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use crate::harness::files::input::read_bytes;
 
 /// One dataset of a collection: its time and its file (relative to the collection's directory
@@ -41,39 +42,6 @@ pub struct CollectionEntry {
     pub time: f64,
     /// Its file.
     pub file: PathBuf,
-}
-
-/// A nodal array of a snapshot.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointArray {
-    /// Its `Name`.
-    pub name: String,
-    /// Its `NumberOfComponents`.
-    pub components: usize,
-    /// Its values, node by node (`components` per node).
-    pub values: Vec<f64>,
-}
-
-impl PointArray {
-    /// The values of point `k`: its `components`.
-    pub fn row(&self, k: usize) -> &[f64] {
-        &self.values[k * self.components..(k + 1) * self.components]
-    }
-}
-
-/// One snapshot: the mesh's points and its nodal arrays.
-#[derive(Debug, Clone, PartialEq)]
-pub struct VtuSnapshot {
-    /// The file it was read from.
-    pub path: PathBuf,
-    /// The points, `[x, y, z]` (`z = 0` in 2D).
-    pub points: Vec<[f64; 3]>,
-    /// The machine epsilon of the points' type in the file: `f64::EPSILON` for `Float64` (or
-    /// integers), `f32::EPSILON` for `Float32`; a point is its node within this relative
-    /// rounding.
-    pub point_epsilon: f64,
-    /// The point data.
-    pub arrays: Vec<PointArray>,
 }
 
 /// How a binary array's header words are stored: `UInt32` or `UInt64` (the file's
@@ -118,67 +86,6 @@ impl HeaderWord {
         } else {
             bytes[..self.width].copy_from_slice(&value.to_le_bytes()[..self.width]);
         }
-    }
-}
-
-/// The machine epsilon of a VTK points type: single precision's for `Float32`, double's
-/// otherwise.
-fn epsilon_of(single: bool) -> f64 {
-    if single {
-        f64::from(f32::EPSILON)
-    } else {
-        f64::EPSILON
-    }
-}
-
-impl VtuSnapshot {
-    /// The snapshot of `path` from its points' coordinates (three per point, of a type whose
-    /// machine epsilon is `point_epsilon`) and its point arrays, each checked to hold
-    /// `NumberOfComponents` values per point.
-    fn new(
-        path: &Path,
-        coordinates: Vec<f64>,
-        point_epsilon: f64,
-        arrays: Vec<PointArray>,
-    ) -> Result<Self, ExternalError> {
-        let invalid = |field: &str, value: String, allowed: String| {
-            ExternalError::invalid(path, field, None, value, allowed)
-        };
-        if coordinates.len() % 3 != 0 {
-            return Err(invalid(
-                "Points",
-                format!("{} coordinates", coordinates.len()),
-                "three coordinates per point".into(),
-            ));
-        }
-        let points: Vec<[f64; 3]> = coordinates
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        for a in &arrays {
-            if a.components == 0 || a.values.len() != a.components * points.len() {
-                return Err(invalid(
-                    &format!("PointData {:?}", a.name),
-                    format!("{} values", a.values.len()),
-                    format!(
-                        "NumberOfComponents × points = {} × {}",
-                        a.components,
-                        points.len()
-                    ),
-                ));
-            }
-        }
-        Ok(Self {
-            path: path.to_path_buf(),
-            points,
-            point_epsilon,
-            arrays,
-        })
-    }
-
-    /// The point array named `name`.
-    pub fn array(&self, name: &str) -> Option<&PointArray> {
-        self.arrays.iter().find(|a| a.name == name)
     }
 }
 
@@ -323,7 +230,7 @@ const SNAPSHOT: &str = "a VTK XML unstructured grid (.vtu) of one piece, or a pa
 /// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, or a parallel grid
 /// whose pieces are in files of their own (joined, [`joined`]); its points and its point data
 /// as `f64` (field data and cell data are not read).
-pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
+pub fn read_snapshot(path: &Path) -> Result<NodalSnapshot, ExternalError> {
     match read_grid(path)? {
         Grid::Inline(snapshot) => Ok(snapshot),
         Grid::Pieces(files) => {
@@ -348,7 +255,7 @@ pub fn read_snapshot(path: &Path) -> Result<VtuSnapshot, ExternalError> {
 
 /// A grid file as read: one piece inline, or the files of its pieces (a parallel grid).
 enum Grid {
-    Inline(VtuSnapshot),
+    Inline(NodalSnapshot),
     Pieces(Vec<String>),
 }
 
@@ -392,16 +299,21 @@ fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
         let Attribute::DataArray(array) = attribute else {
             continue;
         };
-        let Some(values) = array.data.cast_into::<f64>() else {
-            continue;
-        };
+        let epsilon = epsilon_of(array.data.scalar_type() == ScalarType::F32);
+        let values = array.data.cast_into::<f64>().ok_or_else(|| {
+            invalid(
+                &format!("PointData {:?}", array.name),
+                "values that are not numbers".into(),
+            )
+        })?;
         arrays.push(PointArray {
             components: array.elem.num_comp() as usize,
             name: array.name,
             values,
+            epsilon,
         });
     }
-    VtuSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)
+    NodalSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)
 }
 
 /// The prefix of VTK's bookkeeping arrays (`vtkGhostType`, `vtkOriginalPointIds`, …), which
@@ -412,7 +324,7 @@ const BOOKKEEPING: &str = "vtk";
 /// pieces share (the same coordinates, bit for bit: a ghost node) kept once, with the first
 /// piece's values. The pieces must carry the same arrays, and agree on every value at a shared
 /// point but VTK's bookkeeping ([`BOOKKEEPING`]).
-fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, ExternalError> {
+fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, ExternalError> {
     let mut pieces = pieces.into_iter();
     let Some(first) = pieces.next() else {
         return Err(ExternalError::invalid(
@@ -425,12 +337,12 @@ fn joined(path: &Path, pieces: Vec<VtuSnapshot>) -> Result<VtuSnapshot, External
         .enumerate()
         .map(|(k, p)| (p.map(f64::to_bits), k))
         .collect();
-    let mut whole = VtuSnapshot {
+    let mut whole = NodalSnapshot {
         path: path.to_path_buf(),
         ..first
     };
     for piece in pieces {
-        let names = |s: &VtuSnapshot| -> Vec<(String, usize)> {
+        let names = |s: &NodalSnapshot| -> Vec<(String, usize)> {
             s.arrays
                 .iter()
                 .map(|a| (a.name.clone(), a.components))

@@ -30,9 +30,10 @@ use super::{Declared, ReportedEnergy, RunRecord, VerifiedFile};
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::Discretisation;
 use crate::engine::schemes::Timed;
-use crate::harness::external::box_run::{BoxExternalRun, BoxScene, PvdOptions};
+use crate::harness::external::box_run::{BoxExternalRun, BoxScene, SeriesOptions};
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::rerun::{compare_with_harness, FileSample, StepDifferences};
+use crate::harness::external::snapshot_series::{SnapshotSeries, SERIES_FILES};
 use crate::harness::reference::declared::FineMeshDeclared;
 use crate::harness::reference::fine_mesh::cache::ReferenceCache;
 use crate::harness::reference::fine_mesh::comparison::ComparedSample;
@@ -71,7 +72,7 @@ impl AgainstFineMesh {
         name: &str,
         declared: FineMeshDeclared,
         files: &[impl AsRef<Path>],
-        options: &PvdOptions,
+        options: &SeriesOptions,
         source: &ReferenceSource<'_>,
         note: &mut dyn FnMut(String),
     ) -> Result<Self, ExternalError> {
@@ -286,6 +287,7 @@ impl AgainstFineMesh {
         let (scheme, discretised) = run.scheme.zip(discretised).filter(|_| coarsest)?;
         let dofs = |nodal: &[f64]| on_unknowns(&run.mesh, nodal);
         let declared = (&discretised.model, scheme, &discretised.conventions);
+        let file = (file, run.value_epsilon);
         Some(compare_with_harness(file, declared, &run.time, &mut |n| {
             let s = run.sample(n).map_err(|e| e.to_string())?;
             let displacement = s
@@ -319,25 +321,28 @@ fn on_unknowns(mesh: &BoxMesh, nodal: &[f64]) -> Vec<f64> {
     u
 }
 
-/// Reads the run file `path` of `scene`: a `.pvd` collection (its arrays as `options` name
-/// them) or the JSON format's box form, checked against the scene's mesh and time grid.
+/// Reads the run file `path` of `scene`: a `.pvd` collection or an `.xdmf` file (their arrays
+/// as `options` name them), or the JSON format's box form, checked against the scene's mesh and
+/// time grid.
 fn read_run(
     scene: &BoxScene<'_>,
     path: &Path,
-    options: &PvdOptions,
+    options: &SeriesOptions,
 ) -> Result<BoxExternalRun, ExternalError> {
+    if let Some(series) = SnapshotSeries::read(path) {
+        return scene.read_series(path, series?, options);
+    }
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match extension.as_deref() {
-        Some("pvd") => scene.read_pvd(path, options),
         Some("json") => scene.read_json(path),
         other => Err(ExternalError::invalid(
             path,
             "file name",
             None,
             format!("extension {:?}", other.unwrap_or("")),
-            ".pvd (a ParaView collection) or .json (the format's box form) for a box scene",
+            SERIES_FILES,
         )),
     }
 }

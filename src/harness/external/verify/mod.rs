@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-use super::box_run::PvdOptions;
+use super::box_run::SeriesOptions;
 use super::error::ExternalError;
 use super::format::{Code, EnergyDefinition};
 use super::replay::TimeNorms;
@@ -155,6 +155,13 @@ impl Series {
         self.levels.last()?.multiplier_variation_ratio
     }
 
+    /// The first of its files whose harness run of the declared scheme and mass parts from it
+    /// by more than round-off ([`StepDifferences::differs`]): the series does not solve the
+    /// discrete problem it declares, and is not judged as that case.
+    pub fn differs_from_declared(&self) -> Option<&StepDifferences> {
+        self.step_differences.iter().find(|d| d.differs())
+    }
+
     /// The rates of `norm`, if it was computed.
     pub fn norm(&self, norm: Norm) -> Option<&NormRates> {
         self.rates.iter().find(|r| r.norm == norm)
@@ -277,7 +284,7 @@ enum Against<'a> {
 /// scene's reference comes from.
 pub struct VerifySources<'a> {
     /// The `.pvd` files' code, label, scheme, mass and arrays.
-    pub pvd: &'a PvdOptions,
+    pub pvd: &'a SeriesOptions,
     /// The fine-mesh reference's cache and the limits of computing one.
     pub reference: ReferenceSource<'a>,
 }
@@ -378,10 +385,15 @@ pub fn verify(
 }
 
 /// The cases of the series that declare a scheme and a mass the harness names (the first
-/// series of each case), with their levels and rates: what the note's findings are judged on.
+/// series of each case), with their levels and rates: what the note's findings are judged on. A
+/// series whose files part from the harness's run of what they declare
+/// ([`Series::differs_from_declared`]) is left out: it is not that case.
 pub fn declared_cases(series: &[Series]) -> Vec<CaseStudy> {
     let mut cases: Vec<CaseStudy> = Vec::new();
-    for s in series {
+    for s in series
+        .iter()
+        .filter(|s| s.differs_from_declared().is_none())
+    {
         let scheme = s
             .declared
             .scheme
