@@ -1,5 +1,5 @@
 //! Every committed figure checked against its own geometry: the layout the drawing code embeds
-//! in each SVG (`signorini::harness::render::figures::layout`) and the SVG as resvg lays it
+//! in each SVG (`signorini::studies::figures::plot::layout`) and the SVG as resvg lays it
 //! out with a real font.
 //!
 //! What a figure must satisfy:
@@ -8,24 +8,55 @@
 //!   descriptions and legend labels of the layout are among them;
 //! - **legends clear of the data**: no data element drawn before a legend's box (a curve, a
 //!   marker, a band) reaches into that box, and the legend's labels lie inside it;
-//! - **distinct colours**: two series with different labels differ by at least
-//!   [`MIN_COLOUR_DISTANCE`] in RGB;
+//! - **distinct, colour-blind-safe styles**: every series' colour is one of the Okabe–Ito
+//!   palette's (or the exact solution's black), and two series of one chart with different
+//!   labels differ in dash or marker, never by colour alone;
+//! - **fitted slopes drawn**: every convergence chart (log `h` axis) draws a fitted slope for
+//!   each series that is not an ensemble, its legend giving the 95 % interval; against a
+//!   fine-mesh reference (a title naming `u_ref`) also the reference's bias bound;
+//! - **one kind of band per legend, named**: at most one band name per chart, and no legend
+//!   writes an interval as a bare `± x`;
+//! - **compared panels on one scale**: charts of one scale group have the same y range (a map's
+//!   panels, one colour bar);
+//! - **titles that say what is drawn**: every title names the mass (or both masses) and the
+//!   level (`NX = …`, `… elements`) unless its x axis carries the levels (`h`, wall time); an
+//!   elastic figure's title names its reference (`u_ref` or "reference");
+//! - **axes fitted to their data**: a log y axis spans at most a fifth of a decade more than
+//!   its series; a contact force axis with an exact force gives it at least a tenth of its
+//!   height; no tick label is written `0.00…` (scientific notation below 0.1);
 //! - **distinct tick labels** along every axis and colour bar;
 //! - **a tick at every level** of a logarithmic axis that has levels, and every `h` axis of a
 //!   convergence plot has them.
 //!
-//! The `deliberate_*` tests feed a clipped title and a legend over the data and see each
-//! reported, so that the checks are known to bite.
+//! The `deliberate_*` tests feed a clipped title, a legend over the data, alike styles, a
+//! missing fit, mixed bands and unshared scales and see each reported, so that the checks are
+//! known to bite.
+//!
+//! The figures drawn from the histories `make report` writes (`data/histories/`,
+//! `data/elastic-<d>d-histories.json`, not committed) are redrawn only by `make report`; until
+//! then those of them drawn before the styles were recorded get the checks of their time (text,
+//! legends, ticks), and [`LEGACY_FAMILIES`] names them.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
 use resvg::usvg;
-use signorini::harness::render::figures::layout::{FigureLayout, Rect, METADATA_ID};
-use signorini::harness::render::figures::{convergence_figure, ConvergenceSeries};
+use signorini::harness::study::rates::RateFit;
+use signorini::studies::figures::plot::layout::{
+    FigureLayout, Rect, SeriesKind, SeriesLayout, METADATA_ID,
+};
+use signorini::studies::figures::plot::style::{EXACT, PALETTE};
+use signorini::studies::figures::plot::{convergence_figure, ConvergenceFit, ConvergenceSeries};
 
-/// The smallest RGB distance between the colours of two series of one figure.
-const MIN_COLOUR_DISTANCE: f64 = 40.0;
+/// The families of figures drawn from histories only `make report` writes: a committed figure of
+/// these drawn before its layout recorded series styles is left to the checks of its time.
+const LEGACY_FAMILIES: [&str; 5] = [
+    "figures/contact-",
+    "figures/energy-",
+    "-contact-",
+    "-energy-",
+    "-von-mises-",
+];
 
 /// The directories whose figures are committed (those present).
 const FIGURE_DIRS: [&str; 3] = [
@@ -213,12 +244,195 @@ fn ink_before_legend(doc: &roxmltree::Document, at: (i32, i32)) -> Option<Vec<In
     None
 }
 
-fn rgb_distance(a: [u8; 3], b: [u8; 3]) -> f64 {
-    a.iter()
-        .zip(&b)
-        .map(|(&x, &y)| (f64::from(x) - f64::from(y)).powi(2))
-        .sum::<f64>()
-        .sqrt()
+/// Whether a figure's layout records its series' styles and axis ranges (drawn by the drawing
+/// code that checks below rely on).
+fn styled(layout: &FigureLayout) -> bool {
+    layout
+        .charts
+        .iter()
+        .all(|c| c.y.range.is_some() && c.series.iter().all(|s| !s.dash.is_empty()))
+}
+
+/// The problems of styles, fits, bands, scales, titles and axes (see the module's doc).
+fn style_problems(name: &str, layout: &FigureLayout) -> Vec<String> {
+    let mut out = Vec::new();
+    let safe: Vec<[u8; 3]> = PALETTE
+        .iter()
+        .chain([&EXACT])
+        .map(|c| [c.0, c.1, c.2])
+        .collect();
+    let series: Vec<&SeriesLayout> = layout.charts.iter().flat_map(|c| &c.series).collect();
+    let drawn = |s: &&&SeriesLayout| s.kind != SeriesKind::Note;
+    for s in series.iter().filter(drawn) {
+        if !safe.contains(&s.colour) {
+            out.push(format!(
+                "{name}: series {:?} has colour {:?}, not one of the colour-blind-safe palette",
+                s.label, s.colour
+            ));
+        }
+    }
+    // Within a chart: a run keeps its style from panel to panel, whatever its label says there.
+    for c in &layout.charts {
+        let drawn_series: Vec<&SeriesLayout> = c
+            .series
+            .iter()
+            .filter(|s| s.kind != SeriesKind::Note)
+            .collect();
+        for (i, a) in drawn_series.iter().enumerate() {
+            for b in &drawn_series[i + 1..] {
+                if a.label != b.label && a.dash == b.dash && a.marker == b.marker {
+                    out.push(format!(
+                    "{name}: series {:?} and {:?} have the same dash ({}) and marker ({:?}): told \
+                     apart by colour alone",
+                    a.label, b.label, a.dash, a.marker
+                ));
+                }
+            }
+        }
+    }
+    let title = &layout.title.text;
+    for (k, c) in layout.charts.iter().enumerate() {
+        // Fitted slopes and bias bounds on convergence charts.
+        if c.x.log && c.x.label == "h" {
+            let data = c
+                .series
+                .iter()
+                .filter(|s| s.kind == SeriesKind::Data && s.band.is_none())
+                .count();
+            let fits: Vec<&SeriesLayout> = c
+                .series
+                .iter()
+                .filter(|s| s.kind == SeriesKind::Fit)
+                .collect();
+            if fits.len() < data {
+                out.push(format!(
+                    "{name}: chart {k}: {data} series without a band but {} fitted slopes drawn",
+                    fits.len()
+                ));
+            }
+            for f in &fits {
+                if !(f.label.contains("95 % CI") || f.label.contains("no interval")) {
+                    out.push(format!(
+                        "{name}: chart {k}: the fit {:?} gives no interval",
+                        f.label
+                    ));
+                }
+                if title.contains("u_ref") && !f.label.contains("reference bias") {
+                    out.push(format!(
+                        "{name}: chart {k}: the fit {:?} against a reference gives no bias bound",
+                        f.label
+                    ));
+                }
+            }
+        }
+        // One kind of band, named; no bare ± interval.
+        let mut bands: Vec<&str> = c.series.iter().filter_map(|s| s.band.as_deref()).collect();
+        bands.dedup();
+        if bands.len() > 1 {
+            out.push(format!(
+                "{name}: chart {k}: the legend mixes kinds of band {bands:?}"
+            ));
+        }
+        for s in c
+            .series
+            .iter()
+            .filter(|s| s.label.contains('±') && !s.label.contains("bias"))
+        {
+            out.push(format!(
+                "{name}: chart {k}: {:?} writes an interval as a bare ±, unnamed",
+                s.label
+            ));
+        }
+        // Axes fitted to the data.
+        let extent = c
+            .series
+            .iter()
+            .filter_map(|s| s.extent)
+            .fold(None, |acc: Option<[f64; 2]>, e| {
+                Some(acc.map_or(e, |a| [a[0].min(e[0]), a[1].max(e[1])]))
+            });
+        if let (true, Some([lo, hi]), Some([a, b])) = (c.y.log, c.y.range, extent) {
+            let slack = (b / a).log10().max(0.0) * 0.1 + 0.2;
+            if (hi / lo).log10() > (b / a).log10() + slack {
+                out.push(format!(
+                    "{name}: chart {k}: the log y axis spans [{lo:.2e}, {hi:.2e}] for data in [{a:.2e}, {b:.2e}]"
+                ));
+            }
+        }
+        if c.y.label.contains('λ') {
+            let exact = c
+                .series
+                .iter()
+                .find(|s| s.kind == SeriesKind::Exact)
+                .and_then(|s| s.extent);
+            if let (Some([a, b]), Some([lo, hi])) = (exact, c.y.range) {
+                if (b - a) < 0.1 * (hi - lo) {
+                    out.push(format!(
+                        "{name}: chart {k}: the exact force spans {:.2} of an axis of {:.2}: flattened",
+                        b - a,
+                        hi - lo
+                    ));
+                }
+            }
+        }
+        let axes = [&c.x, &c.y]
+            .into_iter()
+            .chain(c.colour_bar.as_ref().map(|(_, a)| a));
+        for axis in axes {
+            for t in axis.ticks.iter().filter(|t| {
+                let l = t.label.trim_start_matches('-');
+                l.starts_with("0.00")
+            }) {
+                out.push(format!(
+                    "{name}: chart {k}: the tick label {:?} on {:?} is hard to read (scientific below 0.1)",
+                    t.label, axis.label
+                ));
+            }
+        }
+    }
+    // Compared panels share their scale.
+    for (i, a) in layout.charts.iter().enumerate() {
+        for b in &layout.charts[i + 1..] {
+            if a.scale_group.is_some()
+                && a.scale_group == b.scale_group
+                && a.colour_bar.is_none()
+                && b.colour_bar.is_none()
+                && a.y.range != b.y.range
+            {
+                out.push(format!(
+                    "{name}: the charts of scale group {:?} have y ranges {:?} and {:?}",
+                    a.scale_group, a.y.range, b.y.range
+                ));
+            }
+        }
+    }
+    let bars = layout
+        .charts
+        .iter()
+        .filter(|c| c.colour_bar.is_some())
+        .count();
+    if bars > 1 {
+        out.push(format!(
+            "{name}: {bars} colour bars where the panels share one scale"
+        ));
+    }
+    // Titles: mass, level, reference.
+    if !title.contains("mass") {
+        out.push(format!("{name}: the title {title:?} names no mass"));
+    }
+    let levels_on_axis = layout
+        .charts
+        .iter()
+        .any(|c| c.x.label == "h" || c.x.label.starts_with("wall time"));
+    if !(levels_on_axis || title.contains("NX =") || title.contains("elements")) {
+        out.push(format!("{name}: the title {title:?} names no level"));
+    }
+    if name.contains("elastic-") && !(title.contains("u_ref") || title.contains("reference")) {
+        out.push(format!(
+            "{name}: the title {title:?} does not name the reference"
+        ));
+    }
+    out
 }
 
 /// The `width` and `height` attributes of the root of `svg`.
@@ -326,18 +540,8 @@ fn problems(name: &str, svg: &str) -> Vec<String> {
         }
     }
 
-    // Distinct colours: series with different labels, across the whole figure.
-    let series: Vec<_> = layout.charts.iter().flat_map(|c| &c.series).collect();
-    for (i, a) in series.iter().enumerate() {
-        for b in &series[i + 1..] {
-            let d = rgb_distance(a.colour, b.colour);
-            if a.label != b.label && d < MIN_COLOUR_DISTANCE {
-                out.push(format!(
-                    "{name}: series {:?} and {:?} have colours {:?} and {:?}, {d:.0} apart",
-                    a.label, b.label, a.colour, b.colour
-                ));
-            }
-        }
+    if styled(&layout) {
+        out.extend(style_problems(name, &layout));
     }
 
     // Tick labels distinct along each axis; a tick at every level of a log axis.
@@ -397,7 +601,7 @@ fn committed_figures() -> Vec<(PathBuf, String)> {
 }
 
 #[test]
-fn every_committed_figure_keeps_its_text_legends_colours_and_ticks_in_order() {
+fn every_committed_figure_keeps_its_text_legends_styles_scales_and_ticks_in_order() {
     let figures = committed_figures();
     assert!(
         figures.len() >= 100,
@@ -406,7 +610,15 @@ fn every_committed_figure_keeps_its_text_legends_colours_and_ticks_in_order() {
     );
     let mut all = Vec::new();
     for (path, svg) in &figures {
-        all.extend(problems(&path.display().to_string(), svg));
+        let name = path.display().to_string();
+        all.extend(problems(&name, svg));
+        let layout = FigureLayout::from_svg(svg).and_then(Result::ok);
+        if layout.is_some_and(|l| !styled(&l)) && !LEGACY_FAMILIES.iter().any(|f| name.contains(f))
+        {
+            all.push(format!(
+                "{name}: its layout records no series styles or axis ranges (redraw it with `make figures`)"
+            ));
+        }
     }
     assert!(
         all.is_empty(),
@@ -419,14 +631,27 @@ fn every_committed_figure_keeps_its_text_legends_colours_and_ticks_in_order() {
 /// A convergence figure of two series over seven levels, for the deliberate violations.
 fn sample_figure() -> String {
     let h: Vec<f64> = (0..7).map(|k| 0.1 / 2f64.powi(k)).collect();
-    let series =
-        [("first", 1.0, 0.5), ("second", 2.0, 1.0)].map(|(label, rate, c)| ConvergenceSeries {
+    let series = [("first mass", 1.0, 0.5), ("second mass", 2.0, 1.0)].map(|(label, rate, c)| {
+        ConvergenceSeries {
             label: label.into(),
             errors: h.iter().map(|x| c * x.powf(rate)).collect(),
             h: h.clone(),
-            ..ConvergenceSeries::default()
-        });
-    convergence_figure("A convergence figure", &series).unwrap()
+            fit: Some(RateFit {
+                rate,
+                intercept: f64::ln(c),
+                ci_low: Some(rate - 0.01),
+                ci_high: Some(rate + 0.01),
+                levels: 7,
+            }),
+            band: None,
+        }
+    });
+    convergence_figure(
+        "A convergence figure, both masses",
+        &series,
+        &ConvergenceFit::Exact,
+    )
+    .unwrap()
 }
 
 /// `svg` with its embedded layout replaced by `layout`.
@@ -460,7 +685,10 @@ fn deliberate_clipped_title_is_reported_by_the_layout_and_by_the_rendered_text()
     layout.title.text = long.into();
     layout.title.rect.x0 = -150;
     layout.title.rect.x1 = 950;
-    let clipped = with_layout(&svg.replace("A convergence figure", long), &layout);
+    let clipped = with_layout(
+        &svg.replace("A convergence figure, both masses", long),
+        &layout,
+    );
     let found = problems("clipped", &clipped);
     println!("{}", found.join("\n"));
     assert!(
@@ -508,19 +736,64 @@ fn deliberate_legend_over_the_data_is_reported() {
 }
 
 #[test]
-fn deliberate_repeated_ticks_missing_levels_and_alike_colours_are_reported() {
+fn deliberate_repeated_ticks_missing_levels_alike_styles_and_missing_fits_are_reported() {
     let svg = sample_figure();
     let mut layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
     let chart = &mut layout.charts[0];
     chart.y.ticks[1].label = chart.y.ticks[0].label.clone();
     chart.x.ticks.remove(2);
-    chart.series[1].colour = chart.series[0].colour;
+    // The second series styled as the first (series: first, its fit, second, its fit).
+    chart.series[2].marker = chart.series[0].marker.clone();
+    chart.series[2].colour = [255, 255, 0];
+    chart.series.retain(|s| s.kind != SeriesKind::Fit);
+    chart.series[0].label.push_str(" (slope 0.95 ± 0.08)");
+    chart.y.range = Some([1e-9, 1.0]);
+    chart.y.ticks[2].label = "0.00125".into();
+    layout.title.text = "A convergence figure".into();
     let found = problems("broken", &with_layout(&svg, &layout));
     println!("{}", found.join("\n"));
     for needle in [
         "repeats the tick label",
         "has no tick at the level",
-        "apart",
+        "told apart by colour alone",
+        "not one of the colour-blind-safe palette",
+        "fitted slopes drawn",
+        "bare ±",
+        "the log y axis spans",
+        "hard to read",
+        "names no mass",
+    ] {
+        assert!(
+            found.iter().any(|p| p.contains(needle)),
+            "{needle}: {found:?}"
+        );
+    }
+}
+
+#[test]
+fn deliberate_unshared_scales_two_colour_bars_and_a_flattened_force_are_reported() {
+    let svg = sample_figure();
+    let mut layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
+    let mut second = layout.charts[0].clone();
+    layout.charts[0].scale_group = Some("energy".into());
+    second.scale_group = Some("energy".into());
+    second.y.range = Some([1e-3, 1.0]);
+    second.y.label = "λ(t)".into();
+    second.series[0].kind = SeriesKind::Exact;
+    second.series[0].extent = Some([0.0, 1e-3]);
+    let mut bar = second.clone();
+    bar.scale_group = None;
+    bar.colour_bar = Some((layout.charts[0].plot, second.y.clone()));
+    layout.charts.extend([second, bar.clone(), bar]);
+    layout.charts[0].series[0].band = Some("round-off min–max".into());
+    layout.charts[0].series[2].band = Some("95 % interval".into());
+    let found = style_problems("unshared", &layout);
+    println!("{}", found.join("\n"));
+    for needle in [
+        "of scale group",
+        "colour bars",
+        "flattened",
+        "mixes kinds of band",
     ] {
         assert!(
             found.iter().any(|p| p.contains(needle)),

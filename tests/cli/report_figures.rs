@@ -17,7 +17,10 @@ use signorini::harness::study::sensitivity::{
 use signorini::harness::study::{Case, Study, StudyConfig};
 use signorini::studies::benchmark;
 use signorini::studies::figures::convergence::convergence_figures;
-use signorini::studies::figures::from_reports::{scheme_figures, stability_figures, write_figures};
+use signorini::studies::figures::from_reports::{
+    scheme_figures, stability_figures, write_figures, LONG_HORIZON_NX,
+};
+use signorini::studies::figures::plot::layout::{FigureLayout, SeriesKind};
 use signorini::studies::histories::SchemeHistories;
 use signorini::studies::reports_index::{figure_gallery, reports_index};
 use signorini::studies::stability::{hard_cases, judge};
@@ -27,22 +30,17 @@ fn dirichlet(horizon: f64) -> Problem1d {
     benchmark::dirichlet(Path::new(env!("CARGO_MANIFEST_DIR")), horizon).unwrap()
 }
 
-/// Data polylines: plotters draws each line series as one `<polyline>` with a stroke width of
-/// at least 2 and more than two points (legend swatches have exactly two).
+/// The curves drawn in a figure, over all its charts, as its embedded layout records them
+/// (a dashed curve is many `<polyline>`s in the SVG; legend entries with nothing drawn, such
+/// as a diverged run's, are not curves).
 fn data_lines(svg: &str) -> usize {
-    let doc = roxmltree::Document::parse(svg).expect("well-formed SVG");
-    doc.descendants()
-        .filter(|n| n.has_tag_name("polyline"))
-        .filter(|n| {
-            let wide = n
-                .attribute("stroke-width")
-                .and_then(|w| w.parse::<f64>().ok())
-                .is_some_and(|w| w >= 2.0);
-            let points = n
-                .attribute("points")
-                .map_or(0, |p| p.split_whitespace().count());
-            wide && points > 2
-        })
+    FigureLayout::from_svg(svg)
+        .expect("an embedded layout")
+        .expect("a layout that parses")
+        .charts
+        .iter()
+        .flat_map(|c| &c.series)
+        .filter(|s| s.kind != SeriesKind::Note && s.extent.is_some())
         .count()
 }
 
@@ -214,7 +212,7 @@ fn convergence_figures_show_both_masses_with_slopes() {
     assert_eq!(figures.len(), 2);
     for (name, svg) in &figures {
         assert!(name.starts_with("convergence-crank-nicolson-"));
-        assert_eq!(data_lines(svg), 2, "{name}");
+        assert_eq!(data_lines(svg), 4, "{name}: two masses and their fits");
         let slope = study.cases[1]
             .norm(Norm::DisplacementLinfH)
             .unwrap()
@@ -254,12 +252,12 @@ fn a_chaotic_case_is_drawn_as_its_ensemble_median_with_a_band_and_the_others_as_
         // The standard mass (first colour) only: one band, in its colour.
         let shaded = bands(svg);
         assert_eq!(shaded.len(), 1, "{name}");
-        assert_eq!(shaded[0].0, "#1F77B4", "{name}");
+        assert_eq!(shaded[0].0, "#0072B2", "{name}");
         assert!(bands(plain).is_empty(), "{name}");
         // The line is the ensemble median: halfway between the band's edges (min = median/2,
         // max = 2 median on the log axis), where the unperturbed run (median/4) is not.
         let band = &shaded[0].1;
-        let line = data_line(svg, "#1F77B4");
+        let line = data_line(svg, "#0072B2");
         assert_eq!(band.len(), 2 * line.len(), "{name}");
         for (k, &(x, y)) in line.iter().enumerate() {
             let (upper, lower) = (band[k], band[band.len() - 1 - k]);
@@ -269,17 +267,18 @@ fn a_chaotic_case_is_drawn_as_its_ensemble_median_with_a_band_and_the_others_as_
                 "{name}, level {k}: line at {y}, band {upper:?}..{lower:?}"
             );
         }
-        // The legend: the ensemble and its median rate with the range, not the unperturbed fit;
-        // the redistributed mass keeps its fitted slope.
+        // The legend: the ensemble, its band named, its members' rates with their range and
+        // median, and no fit of the unperturbed run; the redistributed mass's fit drawn.
         assert!(
             svg.contains(
-                "standard mass, chaotic: median and min–max of 16 (slope 0.22 [0.11, 0.33])"
+                "standard mass: median of 16 round-off runs (chaotic), round-off min–max \
+                 shaded; their slopes 0.11 to 0.33 (median 0.22)"
             ),
             "{name}"
         );
         if name.ends_with("u_Linf_H.svg") {
-            assert!(!svg.contains(&format!("standard mass (slope {standard_fit:.2}")));
-            assert!(svg.contains(&format!("redistributed mass (slope {redistributed_fit:.2}")));
+            assert!(!svg.contains(&format!("fit: slope {standard_fit:.2}")));
+            assert!(svg.contains(&format!("fit: slope {redistributed_fit:.2}")));
         }
     }
 }
@@ -391,7 +390,12 @@ fn stability_figures_leave_out_diverged_runs_and_say_so() {
         1,
         "the diverged Crank–Nicolson run is not drawn"
     );
-    assert!(standard.contains("not drawn: crank-nicolson"));
+    assert!(standard.contains("crank-nicolson: diverged (not drawn)"));
+    assert!(standard.contains(&format!("NX = {}", hard[0].nx)));
+    assert_eq!(
+        hard[0].nx, LONG_HORIZON_NX,
+        "the figures' title says the suite's NX"
+    );
     let redistributed = &figures
         .iter()
         .find(|f| f.0 == "stability-redistributed.svg")

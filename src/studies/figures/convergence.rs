@@ -1,10 +1,11 @@
 //! The convergence figures (1D paper Figures 9–10, the note's Figures 3 and 8): error
-//! against `Δx` per scheme and norm, one series per mass, with the fitted slopes.
+//! against `Δx` per scheme and norm, one series per mass, with the fitted slopes drawn and,
+//! against a fine-mesh reference, the reference's bias bound in their legends.
 
-use crate::harness::problem::MassVariant;
-use crate::harness::render::figures::{
-    convergence_figure, ConvergenceSeries, ErrorBand, Figure, FigureError,
+use super::plot::{
+    convergence_figure, ConvergenceFit, ConvergenceSeries, ErrorBand, Figure, FigureError,
 };
+use crate::harness::problem::MassVariant;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};
@@ -39,17 +40,46 @@ pub fn convergence_figures(
             });
         }
     }
-    convergence_figures_of(study, sensitivity, "convergence", "")
+    convergence_figures_of(
+        study,
+        sensitivity,
+        "convergence",
+        "1D bar, ",
+        &Against::Exact,
+    )
 }
 
-/// [`convergence_figures`] without a sensitivity study, with files named
+/// What the errors of a study are measured against.
+pub enum Against<'a> {
+    /// The exact solution: titles say `‖u_h − u‖`, no bias.
+    Exact,
+    /// A fine-mesh reference, named in titles (`‖u_h − u_ref‖`, `u_ref` at `level` elements
+    /// along the axis), with the bound on how far its bias moves a case's rate in a norm.
+    Reference {
+        /// Elements along the axis of the reference.
+        level: usize,
+        /// The rate-bias bound of a case in a norm (`None`: unbounded).
+        bias: &'a dyn Fn(&CaseStudy, Norm) -> Option<f64>,
+    },
+}
+
+/// [`convergence_figures`] without a sensitivity study, against `against`, with files named
 /// `<prefix>-<scheme>-<norm>.svg` and titles starting with `title_prefix`.
 pub fn convergence_figures_named(
     study: &Study,
     prefix: &str,
     title_prefix: &str,
+    against: &Against<'_>,
 ) -> Result<Vec<Figure>, FigureError> {
-    convergence_figures_of(study, None, prefix, title_prefix)
+    convergence_figures_of(study, None, prefix, title_prefix, against)
+}
+
+/// A norm's label with the reference named as one: `‖u_h − u_ref‖ …` for `‖u_h − u‖ …`.
+pub(super) fn reference_label(norm: Norm) -> String {
+    norm.label()
+        .replace("− u‖", "− u_ref‖")
+        .replace("− λ‖", "− λ_ref‖")
+        .replace("− E‖", "− E_ref‖")
 }
 
 fn convergence_figures_of(
@@ -57,6 +87,7 @@ fn convergence_figures_of(
     sensitivity: Option<&Sensitivity>,
     prefix: &str,
     title_prefix: &str,
+    against: &Against<'_>,
 ) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
     let mut schemes: Vec<_> = study.cases.iter().map(|c| c.case.scheme).collect();
@@ -64,22 +95,34 @@ fn convergence_figures_of(
     for scheme in schemes {
         for &norm in &study.norms {
             let mut series = Vec::new();
+            let mut bias = Vec::new();
             for c in study.cases.iter().filter(|c| c.case.scheme == scheme) {
                 let chaotic = sensitivity
                     .and_then(|s| s.case(&c.case.id()))
                     .filter(|e| e.chaotic);
-                series.extend(convergence_series(
-                    c,
-                    norm,
-                    chaotic,
-                    &panel_label(c.case.mass),
-                )?);
+                if let Some(s) = convergence_series(c, norm, chaotic, &panel_label(c.case.mass))? {
+                    series.push(s);
+                    if let Against::Reference { bias: b, .. } = against {
+                        bias.push(b(c, norm));
+                    }
+                }
             }
+            let (what, fit) = match against {
+                Against::Exact => (norm.label().to_owned(), ConvergenceFit::Exact),
+                Against::Reference { level, .. } => (
+                    format!(
+                        "{}, u_ref on {level} elements along the axis",
+                        reference_label(norm)
+                    ),
+                    ConvergenceFit::Reference(bias),
+                ),
+            };
             out.push((
                 format!("{prefix}-{}-{}.svg", scheme.name(), norm.key()),
                 convergence_figure(
-                    &format!("{title_prefix}{}: {}", scheme.label(), norm.label()),
+                    &format!("{title_prefix}{}, both masses: {what}", scheme.label()),
                     &series,
+                    &fit,
                 )?,
             ));
         }
@@ -124,7 +167,7 @@ pub(super) fn convergence_series(
         })?;
     Ok(Some(ConvergenceSeries {
         label: format!(
-            "{label}, chaotic: median and min–max of {}",
+            "{label}: median of {} round-off runs (chaotic)",
             ensemble.members
         ),
         h,

@@ -1,16 +1,17 @@
 //! The note's Figures 1–8 from a 2D/3D study's data (`elastic-<d>d.json` and
 //! `data/elastic-<d>d-histories.json`), for each scheme: the contact face's centre node
-//! (Figures 1, 6), the energy (2, 7), the convergence curves with fitted slopes (3, 8) and the
-//! von Mises stress along the bar over time (4–5), standard mass left, redistributed right,
-//! always with the fine-mesh reference where the figure has one.
+//! (Figures 1, 6), the energy (2, 7), the von Mises stress along the bar over time (4–5), from
+//! both; the convergence curves with fitted slopes and the reference's bias bounds (3, 8), from
+//! the study alone. Standard mass left, redistributed right, always with the fine-mesh
+//! reference where the figure has one.
 
-use super::convergence::convergence_figures_named;
+use super::convergence::{convergence_figures_named, Against};
+use super::plot::heatmap::{space_time_map, SpaceTimePanel};
+use super::plot::{
+    contact_node_figure, energy_figure, ContactAxes, ContactPanel, EnergyPanel, Figure, FigureError,
+};
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::reference::fine_mesh::{CaseHistories, ElasticHistories, ReferenceCurves};
-use crate::harness::render::figures::heatmap::{space_time_map, SpaceTimePanel};
-use crate::harness::render::figures::{
-    contact_node_figure_labelled, energy_figure, ContactPanel, EnergyPanel, Figure, FigureError,
-};
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::studies::elastic_study::ElasticStudy;
 
@@ -68,7 +69,23 @@ fn energy_of(time: Vec<f64>, energy: Vec<f64>) -> EnergyHistory {
     }
 }
 
-/// Every figure of one study.
+/// The convergence figures of one study (`elastic-<d>d-convergence-<scheme>-<norm>.svg`),
+/// against its fine-mesh reference, with each case's rate-bias bound.
+pub fn elastic_convergence_figures(study: &ElasticStudy) -> Result<Vec<Figure>, FigureError> {
+    let bias = |c: &crate::harness::study::CaseStudy, n| study.reference.case_bias(c, n);
+    convergence_figures_named(
+        &study.study,
+        &format!("elastic-{}d-convergence", study.dimension),
+        &format!("{}D bar, ", study.dimension),
+        &Against::Reference {
+            level: study.config.reference_level,
+            bias: &bias,
+        },
+    )
+}
+
+/// The figures of one study drawn from its histories: contact node, energy and von Mises
+/// stress per scheme.
 pub fn elastic_figures(
     study: &ElasticStudy,
     histories: &ElasticHistories,
@@ -96,6 +113,13 @@ pub fn elastic_figures(
             continue;
         }
         let level = |h: &CaseHistories| format!("{} elements along the axis", h.level);
+        let mut levels: Vec<usize> = mine.iter().map(|(_, h)| h.level).collect();
+        levels.dedup();
+        let levels: Vec<String> = levels.iter().map(|l| l.to_string()).collect();
+        let masses = match mine.as_slice() {
+            [(one, _)] => format!("{} mass", one.name()),
+            _ => "standard (left) and redistributed (right) mass".to_owned(),
+        };
         let contact: Vec<ContactPanel> = mine
             .iter()
             .map(|(mass, h)| ContactPanel {
@@ -106,19 +130,27 @@ pub fn elastic_figures(
                 ],
             })
             .collect();
-        let title = |what: &str| format!("{}D bar, {}: {what}", study.dimension, scheme.label());
+        let title = |what: &str| {
+            format!(
+                "{}D bar, {}, {} elements (reference {}), {masses}: {what}",
+                study.dimension,
+                scheme.label(),
+                levels.join(", "),
+                reference.level
+            )
+        };
         out.push((
             format!("{prefix}-contact-{}.svg", scheme.name()),
-            contact_node_figure_labelled(
+            contact_node_figure(
                 &title("centre contact node"),
-                (
-                    "u_n(centre, t)",
-                    if d == 2 {
+                ContactAxes {
+                    displacement: "u_n(centre, t)",
+                    multiplier: if d == 2 {
                         "λ/h (pressure)"
                     } else {
                         "λ/h² (pressure)"
                     },
-                ),
+                },
                 &contact,
             )?,
         ));
@@ -159,10 +191,5 @@ pub fn elastic_figures(
             space_time_map(&title("von Mises stress along the axis"), &stress)?,
         ));
     }
-    out.extend(convergence_figures_named(
-        &study.study,
-        &format!("{prefix}-convergence"),
-        &format!("{}D bar, ", study.dimension),
-    )?);
     Ok(out)
 }

@@ -13,17 +13,17 @@
 use std::path::Path;
 
 use super::convergence::{convergence_figures, convergence_series, panel_label};
-use super::elastic::elastic_figures;
+use super::elastic::{elastic_convergence_figures, elastic_figures};
+use super::plot::{
+    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
+    work_precision_figure, Colouring, ContactAxes, ContactPanel, ConvergenceFit, EnergyPanel,
+    Figure, FigureError, WorkPrecisionSeries,
+};
 use crate::harness::files::artifacts::{read_json, write_atomic};
 use crate::harness::files::error as files;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::reference::fine_mesh::ElasticHistories;
-use crate::harness::render::figures::{
-    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
-    work_precision_figure, Colouring, ContactPanel, EnergyPanel, Figure, FigureError,
-    WorkPrecisionSeries,
-};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::BarRun;
 use crate::harness::study::sensitivity::Sensitivity;
@@ -39,6 +39,21 @@ use crate::studies::tables::{RatesFile, RATES_JSON, SENSITIVITY_JSON};
 /// The directory of the figures, under a reports directory.
 pub const FIGURES_DIR: &str = "figures";
 
+/// The levels of `runs` as a title says them: `NX = 10, 20, 40`.
+fn levels_of(runs: &[(MassVariant, usize, BarRun)]) -> String {
+    let mut nx: Vec<usize> = runs.iter().map(|r| r.1).collect();
+    nx.sort_unstable();
+    nx.dedup();
+    let nx: Vec<String> = nx.iter().map(|n| n.to_string()).collect();
+    format!("NX = {}", nx.join(", "))
+}
+
+/// The caption of a contact figure's redistributed-mass panel: its runs start at `u_h(0, 0) =
+/// u⁰(Δx) = ½ − Δx/2` (0.45 at NX = 10), not at the exact ½, because the redistributed mass
+/// puts no mass on the contact node, whose displacement then follows statically from its
+/// neighbour's.
+const REDISTRIBUTED_START: &str = "starts at u⁰(Δx): massless contact node";
+
 /// The contact-node and energy figures of one scheme (standard mass left, redistributed right).
 pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
     let mut contact = Vec::new();
@@ -46,7 +61,11 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
     for mass in MassVariant::PAPER {
         let runs = h.runs.iter().filter(|r| r.0 == mass);
         contact.push(ContactPanel {
-            label: panel_label(mass),
+            label: if mass == MassVariant::Redistributed {
+                format!("{} ({REDISTRIBUTED_START})", panel_label(mass))
+            } else {
+                panel_label(mass)
+            },
             runs: runs
                 .clone()
                 .filter_map(|(_, nx, r)| {
@@ -69,25 +88,37 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
                 .collect(),
         });
     }
+    let title = |what: &str| {
+        format!(
+            "1D bar, {}, {}, standard (left) and redistributed (right) mass: {what}",
+            h.label,
+            levels_of(&h.runs)
+        )
+    };
     Ok(vec![
         (
             format!("contact-{}.svg", h.scheme),
             contact_node_figure(
-                &format!("{}: contact node u(0, t) and λ(t)", h.label),
+                &title("contact node u(0, t) and λ(t)"),
+                ContactAxes {
+                    displacement: "u(0, t)",
+                    multiplier: "λ(t)",
+                },
                 &contact,
             )?,
         ),
         (
             format!("energy-{}.svg", h.scheme),
-            energy_figure(&format!("{}: energy", h.label), &energy)?,
+            energy_figure(&title("energy"), &energy)?,
         ),
     ])
 }
 
 /// The gravity benchmark's Figures 2–4 from its study, its round-off sensitivity (a chaotic
-/// case is drawn as its ensemble, as in [`convergence_figures`]) and its NX = 160 runs (one per
-/// mass). In Figures 2 and 4 a computed curve and its exact counterpart share a hue, the exact
-/// one lighter and beneath.
+/// case is drawn as its ensemble, as in [`convergence_figures`]) and its runs at
+/// [`gravity::FIGURE_LEVEL`] (one per mass, of the study's first scheme). In Figures 2 and 4 a
+/// computed curve and its exact counterpart share a colour, the computed one solid with
+/// markers, the exact one dashed over it.
 ///
 /// Errors: `Inconsistent` when `sensitivity` was run at other levels, ratio or horizon than
 /// `study`, or lacks a norm's errors for a chaotic case; the errors of the figures.
@@ -107,6 +138,17 @@ pub fn gravity_figures(
         }
     }
     let mut out = Vec::new();
+    let scheme = study
+        .cases
+        .first()
+        .map_or(String::new(), |c| c.case.scheme.label());
+    let title = |mass: MassVariant, what: &str| {
+        format!(
+            "Gravity, {scheme}, NX = {}, {}: {what}",
+            gravity::FIGURE_LEVEL,
+            panel_label(mass)
+        )
+    };
     for (mass, r) in runs {
         if let Some(p) = &r.observed.point_history {
             let mut series = Vec::new();
@@ -125,10 +167,7 @@ pub fn gravity_figures(
             out.push((
                 format!("gravity-points-{}.svg", mass.name()),
                 line_figure(
-                    &format!(
-                        "Gravity, {}: displacement at points (Figure 2)",
-                        panel_label(*mass)
-                    ),
+                    &title(*mass, "displacement at points (Figure 2)"),
                     ("t", "u"),
                     &series,
                     Colouring::ComputedAndExact,
@@ -152,10 +191,7 @@ pub fn gravity_figures(
             out.push((
                 format!("gravity-strain-{}.svg", mass.name()),
                 line_figure(
-                    &format!(
-                        "Gravity, {}: strain along the bar (Figure 4)",
-                        panel_label(*mass)
-                    ),
+                    &title(*mass, "strain along the bar (Figure 4)"),
                     ("x", "∂x u"),
                     &strain,
                     Colouring::ComputedAndExact,
@@ -185,44 +221,59 @@ pub fn gravity_figures(
             format!("gravity-convergence-{}.svg", c.case.mass.name()),
             convergence_figure(
                 &format!(
-                    "Gravity, {}: errors in H and V (Figure 3)",
+                    "Gravity, {}, {}: errors ‖u_h − u‖ in H and V (Figure 3)",
+                    c.case.scheme.label(),
                     panel_label(c.case.mass)
                 ),
                 &series,
+                &ConvergenceFit::Exact,
             )?,
         ));
     }
     Ok(out)
 }
 
-/// Error in `L∞(0,T;H)` against wall time, one curve per case: the paper's cases in
+/// Error in `L∞(0,T;H)` against wall time, one curve per case (a colour and marker per scheme,
+/// solid for the standard mass and dashed for the redistributed one): the paper's cases in
 /// `work-precision.svg`, the rivals' (when the data hold them) in `work-precision-rivals.svg`.
 pub fn work_precision_figures(data: &[WorkPrecision]) -> Result<Vec<Figure>, FigureError> {
-    let series = |paper: bool| -> Vec<WorkPrecisionSeries> {
+    let series = |paper: bool| -> Vec<(String, String, WorkPrecisionSeries)> {
         data.iter()
             .filter(|w| w.norm == Norm::DisplacementLinfH && in_the_paper(&w.case) == paper)
-            .map(|w| WorkPrecisionSeries {
-                label: w.case.clone(),
-                seconds: w.seconds.clone(),
-                errors: w.errors.clone(),
+            .map(|w| {
+                let (scheme, mass) = w.case.split_once('/').unwrap_or((&w.case, ""));
+                let label = match scheme.parse::<Scheme>() {
+                    Ok(s) => format!("{}, {mass}", s.label()),
+                    Err(_) => w.case.clone(),
+                };
+                (
+                    scheme.to_owned(),
+                    mass.to_owned(),
+                    WorkPrecisionSeries {
+                        label,
+                        seconds: w.seconds.clone(),
+                        errors: w.errors.clone(),
+                    },
+                )
             })
             .collect()
     };
+    let title = |who: &str, cases: usize| {
+        format!(
+            "Work–precision, {who} ({cases} cases, scheme × mass): ‖u_h − u‖ L∞(0,T;H) against \
+             wall time"
+        )
+    };
+    let paper = series(true);
     let mut out = vec![(
         "work-precision.svg".to_string(),
-        work_precision_figure(
-            "Work–precision: ‖u_h − u‖ L∞(0,T;H) against wall time",
-            &series(true),
-        )?,
+        work_precision_figure(&title("the paper's schemes", paper.len()), &paper)?,
     )];
     let rivals = series(false);
     if !rivals.is_empty() {
         out.push((
             "work-precision-rivals.svg".to_string(),
-            work_precision_figure(
-                "Work–precision of the rivals: ‖u_h − u‖ L∞(0,T;H) against wall time",
-                &rivals,
-            )?,
+            work_precision_figure(&title("the rivals", rivals.len()), &rivals)?,
         ));
     }
     Ok(out)
@@ -236,14 +287,21 @@ fn in_the_paper(case: &str) -> bool {
         .is_some_and(|s| Scheme::paper_schemes().contains(&s))
 }
 
+/// Elements of the stability suite's long-horizon case (`studies::stability::hard_cases`; a
+/// test holds them equal), which its records do not store.
+pub const LONG_HORIZON_NX: usize = 80;
+
 /// The long-horizon energy histories, `E/E_0`, one figure per mass for the paper's schemes
 /// (`stability-<mass>.svg`) and one per mass for the rivals when the records hold them
-/// (`stability-rivals-<mass>.svg`); diverged runs are left out and named in the title. Each
+/// (`stability-rivals-<mass>.svg`); diverged runs are not drawn and named in the legend. Each
 /// curve's legend gives the study's verdict and its largest energy drift `max |E − E₀|/E₀` as a
 /// percentage, so that a "stable" run that lost energy says how much.
 pub fn stability_figures(records: &[StabilityRecord]) -> Result<Vec<Figure>, FigureError> {
     let mut out = Vec::new();
-    for (paper, group, name) in [(true, "", ""), (false, "the rivals, ", "-rivals")] {
+    for (paper, group, name) in [
+        (true, "the paper's schemes, ", ""),
+        (false, "the rivals, ", "-rivals"),
+    ] {
         for mass in MassVariant::PAPER {
             let mine: Vec<&StabilityRecord> = records
                 .iter()
@@ -290,18 +348,17 @@ fn stability_figure(
             )
         })
         .collect();
-    let title = if left_out.is_empty() {
-        format!("E/E₀ (T = 300, {group}{} mass)", mass.name())
-    } else {
-        format!(
-            "E/E₀ (T = 300, {group}{} mass); diverged, not drawn: {}",
-            mass.name(),
-            left_out.join(", ")
-        )
-    };
+    let title = format!(
+        "Stability, long horizon (T = 300, NX = {LONG_HORIZON_NX}), {group}{} mass: E/E₀",
+        mass.name()
+    );
+    let notes: Vec<String> = left_out
+        .iter()
+        .map(|s| format!("{s}: diverged (not drawn)"))
+        .collect();
     Ok((
         format!("stability{name}-{}.svg", mass.name()),
-        time_series_figure(&title, "E/E₀", &series)?,
+        time_series_figure(&title, "E/E₀", &series, &notes)?,
     ))
 }
 
@@ -397,9 +454,15 @@ pub fn write_figures(reports: &Path, into: &Path) -> Result<(Vec<String>, Vec<St
             &reports.join(elastic_files::histories_file(d)),
             REPORT_DATA,
         );
-        match (study, data) {
-            (Ok(study), Ok(data)) => figures.extend(elastic_figures(&study, &data)?),
-            (Err(e), _) | (_, Err(e)) => missing.push(unreadable(&e)),
+        match study {
+            Ok(study) => {
+                figures.extend(elastic_convergence_figures(&study)?);
+                match data {
+                    Ok(data) => figures.extend(elastic_figures(&study, &data)?),
+                    Err(e) => missing.push(unreadable(&e)),
+                }
+            }
+            Err(e) => missing.push(unreadable(&e)),
         }
     }
     match read_json::<Vec<StabilityRecord>>(&reports.join(STABILITY_JSON), REPORT_DATA) {

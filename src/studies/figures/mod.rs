@@ -3,3 +3,4 @@
 pub mod convergence;
 pub mod elastic;
 pub mod from_reports;
+pub mod plot;
