@@ -1,5 +1,5 @@
 //! Every committed figure checked against its own geometry: the layout the drawing code embeds
-//! in each SVG (`signorini::studies::figures::plot::layout`) and the SVG as resvg lays it
+//! in each SVG (`signorini::harness::render::figures::layout`) and the SVG as resvg lays it
 //! out with a real font.
 //!
 //! What a figure must satisfy:
@@ -41,12 +41,12 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
 use resvg::usvg;
-use signorini::harness::study::rates::RateFit;
-use signorini::studies::figures::plot::layout::{
+use signorini::harness::render::figures::layout::{
     FigureLayout, Rect, SeriesKind, SeriesLayout, METADATA_ID,
 };
-use signorini::studies::figures::plot::style::{EXACT, PALETTE};
-use signorini::studies::figures::plot::{convergence_figure, ConvergenceFit, ConvergenceSeries};
+use signorini::harness::render::figures::style::{EXACT, PALETTE};
+use signorini::harness::render::figures::{convergence_figure, ConvergenceFit, ConvergenceSeries};
+use signorini::harness::study::rates::RateFit;
 
 /// The families of figures drawn from histories only `make report` writes: a committed figure of
 /// these drawn before its layout recorded series styles is left to the checks of its time.

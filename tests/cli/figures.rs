@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 
 use signorini::harness::render::figures::{
     contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactPanel, ConvergenceSeries, EnergyPanel, ErrorBand, FigureError,
-    WorkPrecisionSeries,
+    work_precision_figure, ContactAxes, ContactPanel, ConvergenceFit, ConvergenceSeries,
+    EnergyPanel, ErrorBand, FigureError, WorkPrecisionSeries,
 };
 use signorini::harness::run::{ContactHistory, EnergyHistory};
 use signorini::harness::study::rates::RateFit;
@@ -320,6 +320,24 @@ fn work_series() -> Vec<WorkPrecisionSeries> {
     ]
 }
 
+/// The contact figure's axes in these tests.
+const AXES: ContactAxes<'static> = ContactAxes {
+    displacement: "u(0, t)",
+    multiplier: "λ(t)",
+};
+
+/// Work–precision series as the figure takes them: each with its scheme and mass, read from its
+/// `scheme/mass` label.
+fn grouped(series: &[WorkPrecisionSeries]) -> Vec<(String, String, WorkPrecisionSeries)> {
+    series
+        .iter()
+        .map(|s| {
+            let (scheme, mass) = s.label.split_once('/').unwrap_or((&s.label, ""));
+            (scheme.to_string(), mass.to_string(), s.clone())
+        })
+        .collect()
+}
+
 fn time_series() -> Vec<(String, Vec<f64>, Vec<f64>)> {
     let t: Vec<f64> = (0..=300).map(|k| k as f64 / 100.0).collect();
     (0..3)
@@ -334,7 +352,7 @@ fn time_series() -> Vec<(String, Vec<f64>, Vec<f64>)> {
 
 #[test]
 fn contact_figure_has_two_panels_of_two_charts_with_runs_and_exact() {
-    let svg = Svg::parse(&contact_node_figure("Crank–Nicolson", &contact_panels()).unwrap());
+    let svg = Svg::parse(&contact_node_figure("Crank–Nicolson", AXES, &contact_panels()).unwrap());
     assert_eq!((svg.width, svg.height), (1200.0, 500.0));
     // 2 panels × 2 charts × (2 runs + exact).
     assert_eq!(svg.data().len(), 12);
@@ -375,7 +393,8 @@ fn energy_figure_has_one_chart_per_panel() {
 #[test]
 fn convergence_legend_shows_the_fitted_slope_to_two_decimals() {
     let series = convergence_series();
-    let svg = Svg::parse(&convergence_figure("Convergence", &series).unwrap());
+    let svg =
+        Svg::parse(&convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap());
     assert_eq!((svg.width, svg.height), (800.0, 500.0));
     assert_eq!(svg.data().len(), 3);
     assert_eq!(svg.legend_symbols().len(), 3);
@@ -408,7 +427,7 @@ fn convergence_skips_non_positive_and_non_finite_errors() {
     series[0].errors[4] = -1.0;
     series[1].errors[3] = f64::NAN;
     series[1].h[5] = f64::INFINITY;
-    let text = convergence_figure("Convergence", &series).unwrap();
+    let text = convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap();
     assert!(!text.contains("NaN") && !text.contains("inf"));
     let svg = Svg::parse(&text);
     let lens: Vec<usize> = svg.data().iter().map(|p| p.points.len()).collect();
@@ -449,7 +468,9 @@ fn y_axis(svg: &Svg) -> (f64, f64) {
 
 #[test]
 fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
-    let svg = Svg::parse(&convergence_figure("Convergence", &banded_series()).unwrap());
+    let svg = Svg::parse(
+        &convergence_figure("Convergence", &banded_series(), &ConvergenceFit::Exact).unwrap(),
+    );
     let bands = svg.bands();
     assert_eq!(bands.len(), 1, "{:?}", svg.polygons);
     let (band, lines_before) = bands[0];
@@ -492,9 +513,11 @@ fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
 
 #[test]
 fn series_without_a_band_draw_no_polygon() {
-    let svg = Svg::parse(&convergence_figure("Convergence", &convergence_series()).unwrap());
+    let svg = Svg::parse(
+        &convergence_figure("Convergence", &convergence_series(), &ConvergenceFit::Exact).unwrap(),
+    );
     assert!(svg.polygons.is_empty(), "{:?}", svg.polygons);
-    let svg = Svg::parse(&work_precision_figure("W", &work_series()).unwrap());
+    let svg = Svg::parse(&work_precision_figure("W", &grouped(&work_series())).unwrap());
     assert!(svg.polygons.is_empty());
 }
 
@@ -506,7 +529,7 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
     band.upper[4] = f64::NAN;
     // Without the ensemble's rates the legend falls back to the fit.
     band.rate = None;
-    let text = convergence_figure("Convergence", &series).unwrap();
+    let text = convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap();
     assert!(!text.contains("NaN"));
     let svg = Svg::parse(&text);
     assert_eq!(svg.bands()[0].0.points.len(), 2 * 5);
@@ -514,7 +537,7 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
 
     let mut series = banded_series();
     series[0].band.as_mut().unwrap().upper.pop();
-    match convergence_figure("Convergence", &series) {
+    match convergence_figure("Convergence", &series, &ConvergenceFit::Exact) {
         Err(FigureError::LengthMismatch { what, left, right }) => {
             assert!(
                 what.contains("standard") && what.contains("band upper"),
@@ -528,7 +551,8 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
 
 #[test]
 fn work_precision_has_one_marked_curve_per_case() {
-    let svg = Svg::parse(&work_precision_figure("Work–precision", &work_series()).unwrap());
+    let svg =
+        Svg::parse(&work_precision_figure("Work–precision", &grouped(&work_series())).unwrap());
     assert_eq!(svg.data().len(), 2);
     assert_eq!(svg.data_of(FIRST), 1);
     assert_eq!(svg.data_of(SECOND), 1);
@@ -543,7 +567,7 @@ fn time_series_skips_nan_and_infinite_points() {
     series[0].2[10] = f64::NAN;
     series[0].2[11] = f64::INFINITY;
     series[2].1[0] = f64::NEG_INFINITY;
-    let text = time_series_figure("Stability", "E_h(t)", &series).unwrap();
+    let text = time_series_figure("Stability", "E_h(t)", &series, &[]).unwrap();
     assert!(!text.contains("NaN") && !text.contains("inf"));
     let svg = Svg::parse(&text);
     assert_eq!(svg.data().len(), 3);
@@ -557,7 +581,7 @@ fn time_series_skips_nan_and_infinite_points() {
 fn a_series_with_nothing_finite_is_dropped_and_an_all_nan_chart_is_empty() {
     let mut series = time_series();
     series[1].2.iter_mut().for_each(|y| *y = f64::NAN);
-    let svg = Svg::parse(&time_series_figure("S", "y", &series).unwrap());
+    let svg = Svg::parse(&time_series_figure("S", "y", &series, &[]).unwrap());
     assert_eq!(svg.data().len(), 2);
     assert_eq!(svg.legend_symbols().len(), 2);
     assert_eq!(svg.data_of(SECOND), 0);
@@ -566,7 +590,7 @@ fn a_series_with_nothing_finite_is_dropped_and_an_all_nan_chart_is_empty() {
         s.2.iter_mut().for_each(|y| *y = f64::NAN);
     }
     assert!(matches!(
-        time_series_figure("S", "y", &series),
+        time_series_figure("S", "y", &series, &[]),
         Err(FigureError::EmptyData { .. })
     ));
     let mut panels = contact_panels();
@@ -574,7 +598,7 @@ fn a_series_with_nothing_finite_is_dropped_and_an_all_nan_chart_is_empty() {
         run.multiplier.iter_mut().for_each(|y| *y = f64::NAN);
         run.multiplier_exact.iter_mut().for_each(|y| *y = f64::NAN);
     }
-    match contact_node_figure("C", &panels) {
+    match contact_node_figure("C", AXES, &panels) {
         Err(FigureError::EmptyData { what }) => {
             assert!(what.contains("redistributed mass") && what.contains("multiplier"))
         }
@@ -585,9 +609,10 @@ fn a_series_with_nothing_finite_is_dropped_and_an_all_nan_chart_is_empty() {
 #[test]
 fn empty_input_gives_empty_data() {
     let empty = |r: Result<String, FigureError>| matches!(r, Err(FigureError::EmptyData { .. }));
-    assert!(empty(contact_node_figure("C", &[])));
+    assert!(empty(contact_node_figure("C", AXES, &[])));
     assert!(empty(contact_node_figure(
         "C",
+        AXES,
         &[ContactPanel {
             label: "standard mass".into(),
             runs: vec![]
@@ -595,6 +620,7 @@ fn empty_input_gives_empty_data() {
     )));
     assert!(empty(contact_node_figure(
         "C",
+        AXES,
         &[ContactPanel {
             label: "standard mass".into(),
             runs: vec![("NX = 10".into(), ContactHistory::default())]
@@ -608,7 +634,7 @@ fn empty_input_gives_empty_data() {
             runs: vec![("NX = 10".into(), EnergyHistory::default())]
         }]
     )));
-    assert!(empty(convergence_figure("C", &[])));
+    assert!(empty(convergence_figure("C", &[], &ConvergenceFit::Exact)));
     assert!(empty(convergence_figure(
         "C",
         &[ConvergenceSeries {
@@ -617,11 +643,12 @@ fn empty_input_gives_empty_data() {
             errors: vec![0.0, 0.0],
             fit: None,
             band: None,
-        }]
+        }],
+        &ConvergenceFit::Exact
     )));
-    assert!(empty(work_precision_figure("W", &[])));
-    assert!(empty(time_series_figure("T", "y", &[])));
-    let err = convergence_figure("C", &[]).unwrap_err();
+    assert!(empty(work_precision_figure("W", &grouped(&[]))));
+    assert!(empty(time_series_figure("T", "y", &[], &[])));
+    let err = convergence_figure("C", &[], &ConvergenceFit::Exact).unwrap_err();
     assert!(err.to_string().contains("nothing to plot"), "{err}");
 }
 
@@ -629,7 +656,7 @@ fn empty_input_gives_empty_data() {
 fn mismatched_lengths_are_reported() {
     let mut series = convergence_series();
     series[1].errors.pop();
-    match convergence_figure("C", &series) {
+    match convergence_figure("C", &series, &ConvergenceFit::Exact) {
         Err(FigureError::LengthMismatch { what, left, right }) => {
             assert!(what.contains("redistributed"));
             assert_eq!((left, right), (7, 6));
@@ -639,29 +666,38 @@ fn mismatched_lengths_are_reported() {
     let mut panels = contact_panels();
     panels[0].runs[1].1.multiplier.pop();
     assert!(matches!(
-        contact_node_figure("C", &panels),
+        contact_node_figure("C", AXES, &panels),
         Err(FigureError::LengthMismatch { .. })
     ));
 }
 
 #[test]
 fn identical_input_gives_identical_bytes() {
-    let a = contact_node_figure("C", &contact_panels()).unwrap();
-    let b = contact_node_figure("C", &contact_panels()).unwrap();
+    let a = contact_node_figure("C", AXES, &contact_panels()).unwrap();
+    let b = contact_node_figure("C", AXES, &contact_panels()).unwrap();
     assert_eq!(a, b);
-    let a = convergence_figure("C", &convergence_series()).unwrap();
-    let b = convergence_figure("C", &convergence_series()).unwrap();
+    let a = convergence_figure("C", &convergence_series(), &ConvergenceFit::Exact).unwrap();
+    let b = convergence_figure("C", &convergence_series(), &ConvergenceFit::Exact).unwrap();
     assert_eq!(a, b);
     let a = energy_figure("E", &energy_panels()).unwrap();
     assert_eq!(a, energy_figure("E", &energy_panels()).unwrap());
-    let a = work_precision_figure("W", &work_series()).unwrap();
-    assert_eq!(a, work_precision_figure("W", &work_series()).unwrap());
-    let a = time_series_figure("T", "y", &time_series()).unwrap();
-    assert_eq!(a, time_series_figure("T", "y", &time_series()).unwrap());
+    let a = work_precision_figure("W", &grouped(&work_series())).unwrap();
+    assert_eq!(
+        a,
+        work_precision_figure("W", &grouped(&work_series())).unwrap()
+    );
+    let a = time_series_figure("T", "y", &time_series(), &[]).unwrap();
+    assert_eq!(
+        a,
+        time_series_figure("T", "y", &time_series(), &[]).unwrap()
+    );
     // And a different input does change the output.
     let mut other = convergence_series();
     other[0].errors[0] *= 2.0;
-    assert_ne!(convergence_figure("C", &other).unwrap(), b);
+    assert_ne!(
+        convergence_figure("C", &other, &ConvergenceFit::Exact).unwrap(),
+        b
+    );
 }
 
 #[test]
@@ -696,16 +732,16 @@ fn constant_series_get_a_padded_axis() {
         fit: None,
         band: None,
     };
-    let svg = Svg::parse(&convergence_figure("C", &[single]).unwrap());
+    let svg = Svg::parse(&convergence_figure("C", &[single], &ConvergenceFit::Exact).unwrap());
     assert_eq!(svg.circles, 2);
 }
 
 #[test]
 fn the_legend_is_inside_the_figure_and_covers_no_data_vertex() {
     for text in [
-        convergence_figure("C", &convergence_series()).unwrap(),
-        work_precision_figure("W", &work_series()).unwrap(),
-        time_series_figure("T", "y", &time_series()).unwrap(),
+        convergence_figure("C", &convergence_series(), &ConvergenceFit::Exact).unwrap(),
+        work_precision_figure("W", &grouped(&work_series())).unwrap(),
+        time_series_figure("T", "y", &time_series(), &[]).unwrap(),
     ] {
         let svg = Svg::parse(&text);
         // Background and border of the one legend box.
@@ -748,7 +784,7 @@ fn demo_figures_are_written_whole_and_well_formed() {
         (
             "contact.svg",
             contact,
-            contact_node_figure(contact, &contact_panels()),
+            contact_node_figure(contact, AXES, &contact_panels()),
             // 2 panels × 2 charts × (2 runs + exact)
             12,
             0,
@@ -764,35 +800,39 @@ fn demo_figures_are_written_whole_and_well_formed() {
         (
             "convergence.svg",
             "Convergence",
-            convergence_figure("Convergence", &convergence_series()),
+            convergence_figure("Convergence", &convergence_series(), &ConvergenceFit::Exact),
             3,
             0,
         ),
         (
             "convergence-band.svg",
             "Convergence with a band",
-            convergence_figure("Convergence with a band", &banded_series()),
+            convergence_figure(
+                "Convergence with a band",
+                &banded_series(),
+                &ConvergenceFit::Exact,
+            ),
             3,
             1,
         ),
         (
             "work.svg",
             "Work–precision",
-            work_precision_figure("Work–precision", &work_series()),
+            work_precision_figure("Work–precision", &grouped(&work_series())),
             2,
             0,
         ),
         (
             "narrow.svg",
             "Under two decades",
-            convergence_figure("Under two decades", &[narrow]),
+            convergence_figure("Under two decades", &[narrow], &ConvergenceFit::Exact),
             1,
             0,
         ),
         (
             "series.svg",
             "Energy histories",
-            time_series_figure("Energy histories", "E_h(t)", &time_series()),
+            time_series_figure("Energy histories", "E_h(t)", &time_series(), &[]),
             3,
             0,
         ),

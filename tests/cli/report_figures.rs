@@ -8,6 +8,7 @@ use std::path::Path;
 use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::reference::exact::run_study;
+use signorini::harness::render::figures::layout::{FigureLayout, SeriesKind};
 use signorini::harness::render::figures::FigureError;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::run::{run, Observables, Problem1d, RunConfig};
@@ -20,7 +21,6 @@ use signorini::studies::figures::convergence::convergence_figures;
 use signorini::studies::figures::from_reports::{
     scheme_figures, stability_figures, write_figures, LONG_HORIZON_NX,
 };
-use signorini::studies::figures::plot::layout::{FigureLayout, SeriesKind};
 use signorini::studies::histories::SchemeHistories;
 use signorini::studies::reports_index::{figure_gallery, reports_index};
 use signorini::studies::stability::{hard_cases, judge};

@@ -2,10 +2,10 @@
 //! against `Δx` per scheme and norm, one series per mass, with the fitted slopes drawn and,
 //! against a fine-mesh reference, the reference's bias bound in their legends.
 
-use super::plot::{
+use crate::harness::problem::MassVariant;
+use crate::harness::render::figures::{
     convergence_figure, ConvergenceFit, ConvergenceSeries, ErrorBand, Figure, FigureError,
 };
-use crate::harness::problem::MassVariant;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::sensitivity::{CaseSensitivity, Sensitivity};
 use crate::harness::study::{CaseStudy, Study};

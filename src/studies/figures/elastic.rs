@@ -6,12 +6,12 @@
 //! reference where the figure has one.
 
 use super::convergence::{convergence_figures_named, Against};
-use super::plot::heatmap::{space_time_map, SpaceTimePanel};
-use super::plot::{
-    contact_node_figure, energy_figure, ContactAxes, ContactPanel, EnergyPanel, Figure, FigureError,
-};
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::reference::fine_mesh::{CaseHistories, ElasticHistories, ReferenceCurves};
+use crate::harness::render::figures::heatmap::{space_time_map, SpaceTimePanel};
+use crate::harness::render::figures::{
+    contact_node_figure, energy_figure, ContactAxes, ContactPanel, EnergyPanel, Figure, FigureError,
+};
 use crate::harness::run::{ContactHistory, EnergyHistory};
 use crate::studies::elastic_study::ElasticStudy;
 

@@ -14,16 +14,16 @@ use std::path::Path;
 
 use super::convergence::{convergence_figures, convergence_series, panel_label};
 use super::elastic::{elastic_convergence_figures, elastic_figures};
-use super::plot::{
-    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
-    work_precision_figure, Colouring, ContactAxes, ContactPanel, ConvergenceFit, EnergyPanel,
-    Figure, FigureError, WorkPrecisionSeries,
-};
 use crate::harness::files::artifacts::{read_json, write_atomic};
 use crate::harness::files::error as files;
 use crate::harness::files::input::REPORT_DATA;
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::reference::fine_mesh::ElasticHistories;
+use crate::harness::render::figures::{
+    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
+    work_precision_figure, Colouring, ContactAxes, ContactPanel, ConvergenceFit, EnergyPanel,
+    Figure, FigureError, WorkPrecisionSeries,
+};
 use crate::harness::run::norms::Norm;
 use crate::harness::run::BarRun;
 use crate::harness::study::sensitivity::Sensitivity;

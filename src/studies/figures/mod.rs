@@ -3,4 +3,3 @@
 pub mod convergence;
 pub mod elastic;
 pub mod from_reports;
-pub mod plot;

@@ -4,16 +4,21 @@
 //! free corner or edge middle; failing that, above the data in headroom added to the y axis;
 //! failing that, outside the plotting area on its right. Drawing it returns its
 //! [`ChartLayout`]: where everything went, for the figure's embedded layout.
+//!
+//! Bands are drawn first, then the computed curves and fitted slopes, then the exact curves on
+//! top of them (dashed, so that the computed curves show through).
 
 use std::cell::RefCell;
 
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::layout::{centred_text, text_height, text_width, AxisLayout, ChartLayout, Rect};
-use super::layout::{SeriesLayout, Tick};
+use super::layout::{SeriesKind, SeriesLayout, Tick};
+use super::style::{Look, Marker};
 use super::{style, FigureError};
 
 /// The drawing area every chart is drawn on.
@@ -39,44 +44,8 @@ impl Scale {
     }
 }
 
-/// How a curve is drawn.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Look {
-    /// The exact solution: black, thick.
-    Exact,
-    /// The exact counterpart of the computed curve `Line(i)`: the lighter shade of its colour,
-    /// thick (drawn beneath it when listed first).
-    ExactOf(usize),
-    /// A computed curve: the palette colour of this index, no markers.
-    Line(usize),
-    /// A computed curve with a marker at every point: the palette colour of this index, its
-    /// lighter shade when the flag is set.
-    Marked(usize, bool),
-}
-
-impl Look {
-    fn colour(self) -> RGBColor {
-        match self {
-            Look::Exact => style::EXACT,
-            Look::ExactOf(i) => style::colour(i, true),
-            Look::Line(i) => style::colour(i, false),
-            Look::Marked(i, light) => style::colour(i, light),
-        }
-    }
-
-    fn width(self) -> u32 {
-        match self {
-            Look::Exact | Look::ExactOf(_) => style::EXACT_WIDTH,
-            Look::Line(_) | Look::Marked(..) => style::RUN_WIDTH,
-        }
-    }
-
-    fn marked(self) -> bool {
-        matches!(self, Look::Marked(..))
-    }
-}
-
-/// One curve: legend text, its points as given, the band shaded around it, and how it is drawn.
+/// One curve: legend text, its points as given, the band shaded around it, how it is drawn
+/// and what it is.
 #[derive(Debug, Clone)]
 pub(super) struct Curve {
     pub label: String,
@@ -84,7 +53,10 @@ pub(super) struct Curve {
     /// `(x, lower, upper)` of a band shaded in the curve's colour beneath every line; empty for
     /// none.
     pub band: Vec<(f64, f64, f64)>,
+    /// What the band shows, named in the layout.
+    pub band_name: Option<String>,
     pub look: Look,
+    pub kind: SeriesKind,
 }
 
 impl Curve {
@@ -107,8 +79,35 @@ impl Curve {
             label: label.to_owned(),
             points: x.iter().copied().zip(y.iter().copied()).collect(),
             band: Vec::new(),
+            band_name: None,
             look,
+            kind: SeriesKind::Data,
         })
+    }
+
+    /// The exact solution `y` at `x` (black, dashed, drawn over the computed curves).
+    pub fn exact(what: &str, label: &str, x: &[f64], y: &[f64]) -> Result<Self, FigureError> {
+        Ok(Self {
+            kind: SeriesKind::Exact,
+            ..Self::new(what, label, x, y, Look::exact())?
+        })
+    }
+
+    /// A legend entry with nothing drawn (in the legend's text colour, without a symbol).
+    pub fn note(label: &str) -> Self {
+        Self {
+            label: label.to_owned(),
+            points: Vec::new(),
+            band: Vec::new(),
+            band_name: None,
+            look: Look::exact(),
+            kind: SeriesKind::Note,
+        }
+    }
+
+    /// This curve as another kind.
+    pub fn of_kind(self, kind: SeriesKind) -> Self {
+        Self { kind, ..self }
     }
 
     /// Adds a band between `lower` and `upper` at the curve's abscissae; both must have as
@@ -116,9 +115,11 @@ impl Curve {
     pub fn with_band(
         mut self,
         what: &str,
+        name: &str,
         lower: &[f64],
         upper: &[f64],
     ) -> Result<Self, FigureError> {
+        self.band_name = Some(name.to_owned());
         for (side, values) in [("band lower", lower), ("band upper", upper)] {
             if values.len() != self.points.len() {
                 return Err(FigureError::LengthMismatch {
@@ -153,7 +154,12 @@ pub(super) enum Legend {
     Inside,
     /// Outside the plotting area on its right, whatever the data (for long legends).
     Right,
+    /// In a panel of its own beneath the chart (for long legends of many series).
+    Below,
 }
+
+/// Room between a chart and a legend beneath it, and under that legend.
+pub(super) const BELOW_GAP: i32 = 10;
 
 /// Everything one chart needs.
 pub(super) struct ChartSpec<'s> {
@@ -172,6 +178,12 @@ pub(super) struct ChartSpec<'s> {
     /// Whether a logarithmic x axis is ticked at the abscissae of the data (the levels of a
     /// convergence plot, labelled `1/N`) rather than at 1, 2 and 5 times the powers of ten.
     pub x_at_levels: bool,
+    /// The y axis' range when the caller sets it (panels that share a scale, an axis that
+    /// clips outliers); fitted to the data otherwise. A linear axis set so clips the curves at
+    /// its ends.
+    pub y_range: Option<(f64, f64)>,
+    /// The group of compared charts this one belongs to (recorded in the layout).
+    pub scale_group: Option<String>,
 }
 
 /// Margin right of the plotting area when the legend is not there.
@@ -193,8 +205,9 @@ impl ChartSpec<'_> {
             c.band
                 .retain(|&(x, lo, hi)| sx.accepts(x) && sy.accepts(lo) && sy.accepts(hi));
         }
-        self.curves.retain(|c| !c.points.is_empty());
-        if self.curves.is_empty() {
+        self.curves
+            .retain(|c| !c.points.is_empty() || c.kind == SeriesKind::Note);
+        if self.curves.iter().all(|c| c.kind == SeriesKind::Note) {
             return Err(FigureError::EmptyData { what: self.what });
         }
         Ok(self)
@@ -206,19 +219,30 @@ impl ChartSpec<'_> {
     }
 
     /// The legend box's width and height in pixels.
-    fn legend_size(&self) -> (i32, i32) {
+    pub fn legend_size(&self) -> (i32, i32) {
         let text = self
             .curves
             .iter()
             .map(|c| text_width(&c.label, style::LEGEND_SIZE as f64))
             .max()
             .unwrap_or(0);
-        (text + 50, self.curves.len() as i32 * legend_row() + 12)
+        (text + 56, self.curves.len() as i32 * legend_row() + 12)
     }
 
     /// Draws the chart on `area` and returns where everything went.
-    pub fn draw(self, area: &Area<'_>) -> Result<ChartLayout, FigureError> {
+    pub fn draw(self, whole: &Area<'_>) -> Result<ChartLayout, FigureError> {
         let spec = self.into_drawable()?;
+        let (lw, lh) = spec.legend_size();
+        let (_, whole_height) = whole.dim_in_pixel();
+        let upper;
+        let area = if spec.legend == Legend::Below {
+            upper = whole
+                .split_vertically(whole_height as i32 - lh - 2 * BELOW_GAP)
+                .0;
+            &upper
+        } else {
+            whole
+        };
         let xs = spec
             .curves
             .iter()
@@ -230,7 +254,14 @@ impl ChartSpec<'_> {
                 .chain(c.band.iter().flat_map(|b| [b.1, b.2]))
         });
         let (x0, x1) = axis_range(xs, spec.x.1, false);
-        let (mut y0, mut y1) = axis_range(ys, spec.y.1, true);
+        let (mut y0, mut y1) = spec
+            .y_range
+            .unwrap_or_else(|| axis_range(ys, spec.y.1, true));
+        let runs: Vec<Vec<Vec<(f64, f64)>>> = spec
+            .curves
+            .iter()
+            .map(|c| clipped_runs(&c.points, (y0, y1)))
+            .collect();
         let mut levels: Vec<f64> = if spec.x_at_levels {
             spec.curves
                 .iter()
@@ -242,20 +273,19 @@ impl ChartSpec<'_> {
         levels.sort_by(f64::total_cmp);
         levels.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
 
-        let (lw, lh) = spec.legend_size();
         let mut right = RIGHT_MARGIN;
         let mut legend_at = None;
         if spec.legend == Legend::Inside {
             let plot = plot_rect(area, spec.caption, right)?;
             let free = |y0: f64, y1: f64, upper_only: bool| {
                 let map = Mapping::new(plot, (x0, x1, spec.x.1), (y0, y1, spec.y.1));
-                let shapes = map.shapes(&spec.curves);
+                let shapes = map.shapes(&spec.curves, &runs);
                 candidates(plot, (lw, lh), upper_only)
                     .into_iter()
                     .find(|r| !shapes.iter().any(|s| s.hits(r)))
             };
             legend_at = free(y0, y1, false);
-            if legend_at.is_none() {
+            if legend_at.is_none() && spec.y_range.is_none() {
                 // Headroom: widen the y axis upwards until the legend's height is free of data.
                 let f = f64::from(lh + 2 * INSET) / f64::from(plot.y1 - plot.y0);
                 if f < 0.5 {
@@ -270,6 +300,19 @@ impl ChartSpec<'_> {
                 }
             }
         }
+        if spec.legend == Legend::Below {
+            let plot = plot_rect(area, spec.caption, right)?;
+            let (wx, wy) = whole.get_base_pixel();
+            let (ww, _) = whole.dim_in_pixel();
+            let x0 = plot.x0.min(wx + ww as i32 - lw - 10).max(wx + 10);
+            let y0 = wy + whole_height as i32 - lh - BELOW_GAP;
+            legend_at = Some(Rect {
+                x0,
+                y0,
+                x1: x0 + lw,
+                y1: y0 + lh,
+            });
+        }
         if spec.legend != Legend::None && legend_at.is_none() {
             right = lw + RIGHT_MARGIN + 10;
             let plot = plot_rect(area, spec.caption, right)?;
@@ -283,16 +326,19 @@ impl ChartSpec<'_> {
 
         let x_step = (x1 - x0) / LINEAR_LABELS as f64;
         let y_step = (y1 - y0) / LINEAR_LABELS as f64;
+        let (x_mag, y_mag) = (x0.abs().max(x1.abs()), y0.abs().max(y1.abs()));
         let drawn = match (spec.x.1, spec.y.1) {
             (Scale::Linear, Scale::Linear) => draw_on(
                 area,
                 &spec,
+                &runs,
+                (y0, y1),
                 x0..x1,
                 y0..y1,
                 right,
                 Labels {
-                    x: (LINEAR_LABELS, &|v| style::linear_tick(v, x_step)),
-                    y: (LINEAR_LABELS, &|v| style::linear_tick(v, y_step)),
+                    x: (LINEAR_LABELS, &|v| style::linear_tick(v, x_step, x_mag)),
+                    y: (LINEAR_LABELS, &|v| style::linear_tick(v, y_step, y_mag)),
                 },
             )?,
             (Scale::Log(bx), Scale::Log(by)) => {
@@ -306,15 +352,18 @@ impl ChartSpec<'_> {
                 } else {
                     &style::log10_tick
                 };
+                let y_ticks = round_log_ticks(y0, y1);
                 draw_on(
                     area,
                     &spec,
+                    &runs,
+                    (y0, y1),
                     (x0..x1).log_scale().base(bx).with_key_points(ticks),
-                    (y0..y1).log_scale().base(by),
+                    (y0..y1).log_scale().base(by).with_key_points(y_ticks),
                     right,
                     Labels {
                         x: (LINEAR_LABELS, x_label),
-                        y: (log_labels(y0, y1, by), &style::log10_tick),
+                        y: (LINEAR_LABELS, &style::log10_tick),
                     },
                 )?
             }
@@ -322,7 +371,7 @@ impl ChartSpec<'_> {
         };
         let (plot, x_ticks, y_ticks) = drawn;
         if let Some(at) = legend_at {
-            draw_legend(area, at, &spec.curves)?;
+            draw_legend(whole, at, &spec.curves)?;
         }
         let (ax, ay) = area.get_base_pixel();
         let (aw, _) = area.dim_in_pixel();
@@ -336,29 +385,19 @@ impl ChartSpec<'_> {
                 log: matches!(spec.x.1, Scale::Log(_)),
                 ticks: x_ticks,
                 levels,
+                range: Some([x0, x1]),
             },
             y: AxisLayout {
                 label: spec.y.0.to_owned(),
                 log: matches!(spec.y.1, Scale::Log(_)),
                 ticks: y_ticks,
                 levels: Vec::new(),
+                range: Some([y0, y1]),
             },
             legend: legend_at,
-            series: if spec.legend == Legend::None {
-                Vec::new()
-            } else {
-                spec.curves
-                    .iter()
-                    .map(|c| {
-                        let RGBColor(r, g, b) = c.look.colour();
-                        SeriesLayout {
-                            label: c.label.clone(),
-                            colour: [r, g, b],
-                        }
-                    })
-                    .collect()
-            },
+            series: spec.curves.iter().map(series_layout).collect(),
             colour_bar: None,
+            scale_group: spec.scale_group.clone(),
         })
     }
 }
@@ -372,44 +411,94 @@ struct Labels<'f> {
     y: (usize, &'f dyn Fn(f64) -> String),
 }
 
-/// 1, 2 and 5 times the powers of ten within `[lo, hi]`: the ticks of a logarithmic x axis
-/// that is not ticked at levels.
+/// 1, 2 and 5 times the powers of ten within `[lo, hi]`: the ticks of a logarithmic axis
+/// that is not ticked at levels; 1, 2, …, 9 times them when that gives fewer than three (an
+/// axis fitted to data spanning less than a decade).
 fn round_log_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut k = lo.log10().floor() as i32;
-    while 10f64.powi(k) <= hi {
-        for m in [1.0, 2.0, 5.0] {
-            let v = m * 10f64.powi(k);
-            if v >= lo && v <= hi {
-                out.push(v);
+    let ticks = |multiples: &[f64]| {
+        let mut out = Vec::new();
+        let mut k = lo.log10().floor() as i32;
+        while 10f64.powi(k) <= hi {
+            for m in multiples {
+                let v = m * 10f64.powi(k);
+                if v >= lo && v <= hi {
+                    out.push(v);
+                }
             }
+            k += 1;
         }
-        k += 1;
+        out
+    };
+    let round = ticks(&[1.0, 2.0, 5.0]);
+    if round.len() >= 3 {
+        round
+    } else {
+        ticks(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
     }
-    out
 }
 
-/// How many labels to ask of a log axis over `[lo, hi]`. Plotters puts a label at each power
-/// of the base and, when asked for many more labels than there are powers, at 2, 3, …, 9
-/// times each power. Those intermediate labels are wanted only on a base-10 axis spanning
-/// less than two decades (otherwise it would show one or two labels); `axis_range` starts such
-/// an axis at a power of ten.
-fn log_labels(lo: f64, hi: f64, base: f64) -> usize {
-    let decades = (hi / lo).ln() / base.ln();
-    if base == 10.0 && decades < 2.0 + 1e-9 {
-        12
-    } else {
-        8
+/// The layout of one curve: its style, kind, band and the extent of its values (its band's
+/// included).
+fn series_layout(c: &Curve) -> SeriesLayout {
+    let RGBColor(r, g, b) = c.look.colour;
+    let values = c
+        .points
+        .iter()
+        .map(|p| p.1)
+        .chain(c.band.iter().flat_map(|b| [b.1, b.2]));
+    let extent = values.fold(None, |acc: Option<[f64; 2]>, v| {
+        Some(acc.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
+    });
+    SeriesLayout {
+        label: c.label.clone(),
+        colour: [r, g, b],
+        dash: c.look.dash.name().to_owned(),
+        marker: c.look.marker.map(|m| m.name().to_owned()),
+        kind: c.kind,
+        band: c.band_name.clone().filter(|_| c.has_band()),
+        extent,
     }
+}
+
+/// The stretches of `points` inside `[y0, y1]`, each ending where the curve leaves the range
+/// (at the crossing, interpolated linearly) and starting where it comes back: a curve clipped
+/// by an axis the caller set. A segment whose two ends are both outside is left out.
+fn clipped_runs(points: &[(f64, f64)], (y0, y1): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let inside = |y: f64| y >= y0 && y <= y1;
+    // Where the segment a–b, one end inside, crosses the end of the range the other is beyond.
+    let edge = |a: (f64, f64), b: (f64, f64)| {
+        let outside = if inside(a.1) { b.1 } else { a.1 };
+        let y = if outside < y0 { y0 } else { y1 };
+        let t = (y - a.1) / (b.1 - a.1);
+        (a.0 + t * (b.0 - a.0), y)
+    };
+    let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    for (k, &p) in points.iter().enumerate() {
+        let prev = k.checked_sub(1).map(|j| points[j]);
+        if inside(p.1) {
+            if let Some(a) = prev.filter(|a| !inside(a.1)) {
+                run.push(edge(a, p));
+            }
+            run.push(p);
+        } else if let Some(a) = prev.filter(|a| inside(a.1)) {
+            run.push(edge(a, p));
+            out.push(std::mem::take(&mut run));
+        }
+    }
+    if !run.is_empty() {
+        out.push(run);
+    }
+    out
 }
 
 /// The axis range of `values` (all drawable on `scale`, at least one).
 ///
 /// A linear axis spans the data exactly (`pad`: plus 5 % of the span each side); a log axis
-/// is padded by 5 % of its span in log space each side and widened to contain a power of its
-/// base so that it has a labelled tick; a base-10 axis spanning less than two decades starts
-/// at a power of ten, so that its labels at 1, 2, …, 9 times that power cover it. All values equal: the range is widened around them
-/// (±10 % of the value, ±1 at zero; a factor of the base on a log axis).
+/// is padded by 5 % of its span in log space each side (its ticks, [`round_log_ticks`], need
+/// no power of ten inside); a base-2 axis without a power of two inside is widened to the
+/// nearer one. All values equal: the range is widened around them (±10 % of the value, ±1 at
+/// zero; a factor of the base on a log axis).
 pub(super) fn axis_range(values: impl Iterator<Item = f64>, scale: Scale, pad: bool) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
@@ -440,12 +529,7 @@ pub(super) fn axis_range(values: impl Iterator<Item = f64>, scale: Scale, pad: b
             };
             let log = |v: f64| v.ln() / base.ln();
             let (below, above) = (log(lo).ceil(), log(hi).floor());
-            if base == 10.0 && log(hi) - log(lo) < 2.0 {
-                // Labels go at each power and at 2…9 times it (see `log_labels`): start at a
-                // power so that they cover the whole axis.
-                // (Slightly below the power: plotters finds the first tick by rounding up.)
-                lo = base.powf(log(lo).floor()) * (1.0 - 1e-9);
-            } else if below > above {
+            if base != 10.0 && below > above {
                 // No power of the base inside: extend to the nearer one.
                 let down = base.powf(above);
                 let up = base.powf(below);
@@ -521,19 +605,22 @@ impl Mapping {
         )
     }
 
-    /// What each curve puts on the canvas: its line (or dots), and its band as a polygon.
-    fn shapes(&self, curves: &[Curve]) -> Vec<Shape> {
+    /// What each curve puts on the canvas: its line (the stretches `runs` inside the y axis)
+    /// or dots, and its band as a polygon.
+    fn shapes(&self, curves: &[Curve], runs: &[Vec<Vec<(f64, f64)>>]) -> Vec<Shape> {
         let mut out = Vec::new();
-        for c in curves {
-            let reach = if c.look.marked() {
-                f64::from(style::MARKER_RADIUS)
+        for (c, runs) in curves.iter().zip(runs) {
+            let reach = if c.look.marker.is_some() {
+                f64::from(style::MARKER_RADIUS + 1)
             } else {
-                f64::from(c.look.width())
+                f64::from(c.look.width)
             };
-            out.push(Shape::Line {
-                points: c.points.iter().map(|&p| self.px(p)).collect(),
-                reach,
-            });
+            for run in runs {
+                out.push(Shape::Line {
+                    points: run.iter().map(|&p| self.px(p)).collect(),
+                    reach,
+                });
+            }
             if c.has_band() {
                 let outline = c
                     .band
@@ -663,7 +750,7 @@ fn candidates(plot: Rect, (w, h): (i32, i32), upper_only: bool) -> Vec<Rect> {
 }
 
 /// Draws the legend box `at` (canvas pixels) on `area`: a white box with a grey border, then
-/// per curve its symbol (line, marker, band swatch) and its label.
+/// per curve its symbol (line in its dash, marker, band swatch; none for a note) and its label.
 fn draw_legend(area: &Area<'_>, at: Rect, curves: &[Curve]) -> Result<(), FigureError> {
     let (bx, by) = area.get_base_pixel();
     let (x0, y0, x1, y1) = (at.x0 - bx, at.y0 - by, at.x1 - bx, at.y1 - by);
@@ -680,42 +767,101 @@ fn draw_legend(area: &Area<'_>, at: Rect, curves: &[Curve]) -> Result<(), Figure
         .pos(Pos::new(HPos::Left, VPos::Center));
     for (i, c) in curves.iter().enumerate() {
         let y = y0 + 6 + i as i32 * legend_row() + legend_row() / 2;
-        let x = x0 + 10;
-        let colour = c.look.colour();
-        let line = colour.stroke_width(c.look.width());
-        if c.has_band() {
-            area.draw(&Polygon::new(
-                vec![
-                    (x + 2, y - 7),
-                    (x + 18, y - 7),
-                    (x + 18, y + 7),
-                    (x + 2, y + 7),
-                ],
-                colour.mix(style::BAND_OPACITY).filled(),
-            ))
-            .map_err(drawing)?;
+        let x = x0 + 6;
+        if c.kind != SeriesKind::Note {
+            let colour = c.look.colour;
+            if c.has_band() {
+                area.draw(&Polygon::new(
+                    vec![
+                        (x + 4, y - 7),
+                        (x + 30, y - 7),
+                        (x + 30, y + 7),
+                        (x + 4, y + 7),
+                    ],
+                    colour.mix(style::BAND_OPACITY).filled(),
+                ))
+                .map_err(drawing)?;
+            }
+            stroke(area, &[(x, y), (x + 34, y)], c.look)?;
+            if let Some(m) = c.look.marker {
+                mark(area, (x + 17, y), m, colour)?;
+            }
         }
-        area.draw(&PathElement::new(vec![(x, y), (x + 20, y)], line))
-            .map_err(drawing)?;
-        if c.look.marked() {
-            area.draw(&Circle::new(
-                (x + 10, y),
-                style::MARKER_RADIUS,
-                colour.filled(),
-            ))
-            .map_err(drawing)?;
-        }
-        area.draw(&Text::new(c.label.as_str(), (x + 30, y), font.clone()))
+        area.draw(&Text::new(c.label.as_str(), (x + 42, y), font.clone()))
             .map_err(drawing)?;
     }
     Ok(())
 }
 
-/// Draws the axes, bands and curves of `spec` on `area` with these coordinates; returns the
-/// plotting area (canvas pixels) and the labelled ticks of each axis.
+/// Strokes the polyline `points` (pixels of `area`) in `look`'s colour, width and dash.
+fn stroke(area: &Area<'_>, points: &[(i32, i32)], look: Look) -> Result<(), FigureError> {
+    let line = look.colour.stroke_width(look.width);
+    match look.dash.pattern() {
+        None => area.draw(&PathElement::new(points.to_vec(), line)),
+        Some((dash, gap)) => area.draw(&DashedPathElement::new(
+            points.iter().copied(),
+            dash,
+            gap,
+            line,
+        )),
+    }
+    .map_err(drawing)
+}
+
+/// The outline of `marker` around `(0, 0)` in pixels, for the shapes drawn as polygons.
+fn marker_outline(marker: Marker) -> Vec<(i32, i32)> {
+    let r = style::MARKER_RADIUS as i32;
+    match marker {
+        Marker::Square | Marker::OpenSquare => vec![(-r, -r), (r, -r), (r, r), (-r, r)],
+        Marker::TriangleUp => vec![(0, -r - 1), (r + 1, r), (-r - 1, r)],
+        Marker::TriangleDown => vec![(0, r + 1), (r + 1, -r), (-r - 1, -r)],
+        Marker::Diamond => vec![(0, -r - 1), (r + 1, 0), (0, r + 1), (-r - 1, 0)],
+        Marker::Circle | Marker::Ring => Vec::new(),
+    }
+}
+
+/// Draws `marker` at the pixel `at` of `area`.
+fn mark(
+    area: &Area<'_>,
+    at: (i32, i32),
+    marker: Marker,
+    colour: RGBColor,
+) -> Result<(), FigureError> {
+    let r = style::MARKER_RADIUS as i32;
+    let shifted = |v: Vec<(i32, i32)>| {
+        v.into_iter()
+            .map(|(x, y)| (at.0 + x, at.1 + y))
+            .collect::<Vec<_>>()
+    };
+    match marker {
+        Marker::Circle => area.draw(&Circle::new(at, r, colour.filled())),
+        Marker::Ring => area.draw(&Circle::new(at, r, colour.stroke_width(2))),
+        Marker::OpenSquare => {
+            let mut outline = shifted(marker_outline(marker));
+            outline.push(outline[0]);
+            area.draw(&PathElement::new(outline, colour.stroke_width(2)))
+        }
+        _ => area.draw(&Polygon::new(
+            shifted(marker_outline(marker)),
+            colour.filled(),
+        )),
+    }
+    .map_err(drawing)
+}
+
+/// The most markers along one curve: a dense curve (a time series) is marked at every k-th
+/// point so that it has at most this many.
+const MARKERS_ALONG_A_CURVE: usize = 14;
+
+/// Draws the axes, bands and curves of `spec` on `area` with these coordinates, each curve
+/// along its stretches `runs` inside the y axis (`y_bounds`), the exact curves last; returns
+/// the plotting area (canvas pixels) and the labelled ticks of each axis.
+#[allow(clippy::too_many_arguments)]
 fn draw_on<X, Y>(
     area: &Area<'_>,
     spec: &ChartSpec<'_>,
+    runs: &[Vec<Vec<(f64, f64)>>],
+    y_bounds: (f64, f64),
     xr: X,
     yr: Y,
     right: i32,
@@ -770,26 +916,53 @@ where
         chart
             .draw_series(std::iter::once(Polygon::new(
                 outline,
-                curve.look.colour().mix(style::BAND_OPACITY).filled(),
+                curve.look.colour.mix(style::BAND_OPACITY).filled(),
             )))
             .map_err(drawing)?;
     }
 
-    for curve in &spec.curves {
-        let colour = curve.look.colour();
-        let line = colour.stroke_width(curve.look.width());
-        chart
-            .draw_series(LineSeries::new(curve.points.iter().copied(), line))
+    // The computed curves and fits, then the exact ones on top.
+    let order = spec
+        .curves
+        .iter()
+        .zip(runs)
+        .filter(|(c, _)| c.kind != SeriesKind::Exact)
+        .chain(
+            spec.curves
+                .iter()
+                .zip(runs)
+                .filter(|(c, _)| c.kind == SeriesKind::Exact),
+        );
+    for (k, (curve, runs)) in order.enumerate() {
+        let look = curve.look;
+        let line = look.colour.stroke_width(look.width);
+        for run in runs {
+            match look.dash.pattern() {
+                None => chart
+                    .draw_series(LineSeries::new(run.iter().copied(), line))
+                    .map(|_| ()),
+                Some((dash, gap)) => chart
+                    .draw_series(DashedLineSeries::new(run.iter().copied(), dash, gap, line))
+                    .map(|_| ()),
+            }
             .map_err(drawing)?;
-        if curve.look.marked() {
-            chart
-                .draw_series(
-                    curve
-                        .points
-                        .iter()
-                        .map(|&p| Circle::new(p, style::MARKER_RADIUS, colour.filled())),
-                )
-                .map_err(drawing)?;
+        }
+        if let Some(m) = look.marker {
+            let (bx, by) = area.get_base_pixel();
+            let (y0, y1) = y_bounds;
+            let every = curve.points.len().div_ceil(MARKERS_ALONG_A_CURVE).max(1);
+            // Staggered by the curve's position, so that coinciding curves show each marker.
+            let offset = (k * every / 3) % every;
+            for p in curve
+                .points
+                .iter()
+                .skip(offset)
+                .step_by(every)
+                .filter(|p| p.1 >= y0 && p.1 <= y1)
+            {
+                let (x, y) = chart.backend_coord(p);
+                mark(area, (x - bx, y - by), m, look.colour)?;
+            }
         }
     }
     let plot = Rect::spanning(chart.plotting_area().get_pixel_range());
@@ -814,12 +987,13 @@ mod tests {
             axis_range([0.0, 3.0].into_iter(), Scale::Linear, false),
             (0.0, 3.0)
         );
-        // Under two decades on base 10: starts just below a power of ten.
+        // Base 10: fitted to the data, 5 % of the span in log space each side.
         let (lo, hi) = axis_range([0.02, 0.08].into_iter(), Scale::Log(10.0), true);
         assert!(
-            lo < 0.01 && lo > 0.0099 && hi > 0.08 && hi < 0.1,
+            lo > 0.018 && lo < 0.02 && hi > 0.08 && hi < 0.09,
             "{lo} {hi}"
         );
+        assert_eq!(round_log_ticks(0.018, 0.09).len(), 8, "2e-2 … 9e-2");
         // No power of two inside: extended to the nearer one.
         let (lo, hi) = axis_range([0.45, 0.48].into_iter(), Scale::Log(2.0), true);
         assert!(lo > 0.25 && hi > 0.5 && hi < 0.5001, "{lo} {hi}");

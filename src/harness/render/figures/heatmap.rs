@@ -42,10 +42,10 @@ fn colour_of(fraction: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
-/// Panels side by side (600 px each, 500 px high), time on the x axis, position on the y axis,
-/// each cell coloured by its value on its panel's own scale, from 0 to the panel's largest
-/// finite value, which a colour bar right of the panel shows with its ticks. Non-finite values
-/// are left white. The figure's layout is embedded as in every figure.
+/// Panels side by side (600 px each, 800 px for a lone one, 500 px high), time on the x axis, position on the y axis,
+/// each cell coloured by its value on one scale shared by all panels, from 0 to the largest
+/// finite value of any, which one colour bar right of the last panel shows with its ticks.
+/// Non-finite values are left white. The figure's layout is embedded as in every figure.
 ///
 /// Errors: `EmptyData` without panels or when a panel has no positive finite value;
 /// `LengthMismatch` when a panel has not one row per time or not one value per position.
@@ -86,7 +86,8 @@ pub fn space_time_map(title: &str, panels: &[SpaceTimePanel]) -> Result<String, 
         }
         tops.push(top);
     }
-    let (width, height) = (style::PANEL_WIDTH * panels.len() as u32, style::HEIGHT);
+    let width = (style::PANEL_WIDTH * panels.len() as u32).max(style::SINGLE.0);
+    let height = style::HEIGHT;
     let mut svg = String::new();
     let mut charts = Vec::new();
     let title_box;
@@ -95,12 +96,14 @@ pub fn space_time_map(title: &str, panels: &[SpaceTimePanel]) -> Result<String, 
         root.fill(&WHITE).map_err(drawing)?;
         let (text, body) = draw_title(&root, title)?;
         title_box = text;
-        for ((panel, area), &top) in panels
+        let top = tops.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let last = panels.len() - 1;
+        for (k, (panel, area)) in panels
             .iter()
             .zip(body.split_evenly((1, panels.len())))
-            .zip(&tops)
+            .enumerate()
         {
-            charts.push(draw_panel(panel, &area, top)?);
+            charts.push(draw_panel(panel, &area, top, k == last)?);
         }
         root.present().map_err(drawing)?;
     }
@@ -132,11 +135,13 @@ const BAR_STEPS: i32 = 64;
 /// times a power of ten).
 const BAR_INTERVALS: usize = 4;
 
-/// Draws one panel, coloured from 0 to `top`, and its colour bar; returns its layout.
+/// Draws one panel, coloured from 0 to `top`, and the colour bar when `bar`; returns its
+/// layout.
 fn draw_panel(
     panel: &SpaceTimePanel,
     area: &Area<'_>,
     top: f64,
+    bar: bool,
 ) -> Result<ChartLayout, FigureError> {
     let (Some(&t0), Some(&t1)) = (panel.time.first(), panel.time.last()) else {
         return Err(FigureError::EmptyData {
@@ -161,8 +166,8 @@ fn draw_panel(
     let x_ticks = RefCell::new(Vec::new());
     let y_ticks = RefCell::new(Vec::new());
     let (x_step, y_step) = ((t_hi - t0) / 10.0, (x_hi - x_lo) / 10.0);
-    let record = |ticks: &RefCell<Vec<Tick>>, v: f64, step: f64| {
-        let label = style::linear_tick(v, step);
+    let record = |ticks: &RefCell<Vec<Tick>>, v: f64, step: f64, magnitude: f64| {
+        let label = style::linear_tick(v, step, magnitude);
         ticks.borrow_mut().push(Tick {
             value: v,
             label: label.clone(),
@@ -176,8 +181,8 @@ fn draw_panel(
         .y_desc("height above the contact face")
         .axis_desc_style((style::FONT, style::AXIS_DESC_SIZE))
         .label_style((style::FONT, style::TICK_SIZE))
-        .x_label_formatter(&|v| record(&x_ticks, *v, x_step))
-        .y_label_formatter(&|v| record(&y_ticks, *v, y_step))
+        .x_label_formatter(&|v| record(&x_ticks, *v, x_step, t0.abs().max(t_hi.abs())))
+        .y_label_formatter(&|v| record(&y_ticks, *v, y_step, x_lo.abs().max(x_hi.abs())))
         .draw()
         .map_err(drawing)?;
     let cells = panel.time.iter().enumerate().flat_map(|(k, &t)| {
@@ -199,7 +204,11 @@ fn draw_panel(
     });
     chart.draw_series(cells).map_err(drawing)?;
     let plot = Rect::spanning(chart.plotting_area().get_pixel_range());
-    let bar = colour_bar(area, plot, top)?;
+    let bar = if bar {
+        Some(colour_bar(area, plot, top)?)
+    } else {
+        None
+    };
     let (ax, ay) = area.get_base_pixel();
     let (aw, _) = area.dim_in_pixel();
     Ok(ChartLayout {
@@ -213,16 +222,19 @@ fn draw_panel(
         x: AxisLayout {
             label: "t".into(),
             ticks: x_ticks.into_inner(),
+            range: Some([t0, t_hi]),
             ..AxisLayout::default()
         },
         y: AxisLayout {
             label: "height above the contact face".into(),
             ticks: y_ticks.into_inner(),
+            range: Some([x_lo, x_hi]),
             ..AxisLayout::default()
         },
         legend: None,
         series: Vec::new(),
-        colour_bar: Some(bar),
+        colour_bar: bar,
+        scale_group: Some(format!("von Mises stress, 0 to {top}")),
     })
 }
 
@@ -260,7 +272,7 @@ fn colour_bar(area: &Area<'_>, plot: Rect, top: f64) -> Result<(Rect, AxisLayout
         let y = bar.y1 - by - (f64::from(bar.y1 - bar.y0) * value / top).round() as i32;
         area.draw(&PathElement::new(vec![(x1, y), (x1 + 4, y)], BLACK))
             .map_err(drawing)?;
-        let label = style::linear_tick(value, step);
+        let label = style::linear_tick(value, step, top);
         area.draw(&Text::new(label.clone(), (x1 + 7, y), font.clone()))
             .map_err(drawing)?;
         ticks.push(Tick { value, label });
@@ -270,6 +282,7 @@ fn colour_bar(area: &Area<'_>, plot: Rect, top: f64) -> Result<(Rect, AxisLayout
         AxisLayout {
             label: "von Mises stress".into(),
             ticks,
+            range: Some([0.0, top]),
             ..AxisLayout::default()
         },
     ))
@@ -293,32 +306,32 @@ mod tests {
     }
 
     #[test]
-    fn each_panel_has_its_own_scale_and_colour_bar() {
+    fn the_panels_share_one_scale_and_one_colour_bar() {
         let svg = space_time_map("t", &[panel("a", 1.0), panel("b", 2.0)]).unwrap();
-        // The largest value of each panel is yellow on its own scale (the bars' top steps stop
-        // half a step short of it).
-        let yellow = svg.matches("#FDE725").count();
-        assert_eq!(yellow, 4, "the largest value of each panel, twice in each");
+        // Only the second panel's largest value is yellow (twice: the cell and the map's
+        // value in the second panel at two times), and the bar's top step is just short of it.
         let layout = FigureLayout::from_svg(&svg).unwrap().unwrap();
-        let tops: Vec<String> = layout
+        let bars: Vec<_> = layout
             .charts
             .iter()
-            .map(|c| {
-                c.colour_bar
-                    .as_ref()
-                    .unwrap()
-                    .1
-                    .ticks
-                    .last()
-                    .unwrap()
-                    .label
-                    .clone()
-            })
+            .map(|c| c.colour_bar.is_some())
             .collect();
         assert_eq!(
-            tops,
-            ["1", "2"],
-            "ticks at 0.2, 0.4, … up to each panel's top"
+            bars,
+            [false, true],
+            "one colour bar, right of the last panel"
+        );
+        let top = &layout.charts[1].colour_bar.as_ref().unwrap().1.ticks;
+        assert_eq!(
+            top.last().unwrap().label,
+            "2",
+            "ticks up to the largest of both panels"
+        );
+        assert_eq!(layout.charts[0].scale_group, layout.charts[1].scale_group);
+        assert_eq!(
+            svg.matches("#FDE725").count(),
+            2,
+            "the largest value, in panel b only"
         );
     }
 

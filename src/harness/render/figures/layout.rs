@@ -1,10 +1,12 @@
 //! The geometry of a drawn figure, as the drawing code laid it out: canvas, title, and per
-//! chart its plotting area, legend box, series colours, axis descriptions and tick labels.
+//! chart its plotting area, legend box, series styles and extents, axis descriptions, ranges
+//! and tick labels.
 //!
 //! Every figure carries its layout inside its SVG, as JSON in a `<metadata>` element (which
 //! renderers ignore), so that a test can check any committed figure against its own geometry
 //! without the data it was drawn from: titles inside the canvas, legends clear of the data,
-//! distinct colours and tick labels, a tick at every level of a log axis.
+//! distinct styles and tick labels, a tick at every level of a log axis, fitted slopes drawn,
+//! compared panels on one scale.
 
 use serde::{Deserialize, Serialize};
 
@@ -73,6 +75,24 @@ pub struct AxisLayout {
     /// The levels the data sit at along this axis (the mesh sizes of a convergence plot), each
     /// of which must carry a tick; empty when the axis has none.
     pub levels: Vec<f64>,
+    /// The axis' range `[low, high]` as drawn; `None` in a figure drawn before it was recorded.
+    #[serde(default)]
+    pub range: Option<[f64; 2]>,
+}
+
+/// What a series of a chart is.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeriesKind {
+    /// Computed values (or a reference's).
+    #[default]
+    Data,
+    /// The exact solution.
+    Exact,
+    /// A fitted slope, `C·h^p` over the levels of the series it fits.
+    Fit,
+    /// A legend entry with nothing drawn (a run left out, e.g. a diverged one).
+    Note,
 }
 
 /// One series as the legend names it.
@@ -82,6 +102,21 @@ pub struct SeriesLayout {
     pub label: String,
     /// Its stroke colour, `[r, g, b]`.
     pub colour: [u8; 3],
+    /// Its dash ([`super::style::Dash::name`]).
+    #[serde(default)]
+    pub dash: String,
+    /// Its marker ([`super::style::Marker::name`]), if any.
+    #[serde(default)]
+    pub marker: Option<String>,
+    /// What it is.
+    #[serde(default)]
+    pub kind: SeriesKind,
+    /// What its shaded band shows (e.g. `"round-off min–max of 16 runs"`), if it has one.
+    #[serde(default)]
+    pub band: Option<String>,
+    /// The smallest and largest of its values drawn (y), if any is.
+    #[serde(default)]
+    pub extent: Option<[f64; 2]>,
 }
 
 /// One chart (or one panel of a map).
@@ -98,10 +133,14 @@ pub struct ChartLayout {
     /// The legend box, if the chart has a legend; everything drawn before it in the SVG is
     /// data or axes, everything inside it after it is the legend.
     pub legend: Option<Rect>,
-    /// The series, in legend order.
+    /// The series, in legend order (those of a chart without a legend too).
     pub series: Vec<SeriesLayout>,
     /// The colour bar of a map: its box and its axis.
     pub colour_bar: Option<(Rect, AxisLayout)>,
+    /// Charts of a figure with the same group are compared and share their y axis (a map's
+    /// panels, their colour scale).
+    #[serde(default)]
+    pub scale_group: Option<String>,
 }
 
 /// A whole figure.

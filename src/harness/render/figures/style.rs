@@ -1,4 +1,4 @@
-//! The shared look of every figure: sizes, fonts, palette and tick labels.
+//! The shared look of every figure: sizes, fonts, palette, dashes, markers and tick labels.
 
 use plotters::style::RGBColor;
 
@@ -24,51 +24,187 @@ pub(super) const LEGEND_SIZE: u32 = 16;
 
 /// Stroke width of computed curves.
 pub(super) const RUN_WIDTH: u32 = 2;
-/// Stroke width of the exact solution, drawn beneath the computed curves.
-pub(super) const EXACT_WIDTH: u32 = 4;
+/// Stroke width of an exact solution (dashed, drawn over the computed curves) and of a fitted
+/// slope.
+pub(super) const EXACT_WIDTH: u32 = 2;
 /// Radius of the markers of convergence and work–precision curves.
 pub(super) const MARKER_RADIUS: u32 = 4;
 /// Opacity of an ensemble's shaded band (and of its legend swatch) in its curve's colour.
 pub(super) const BAND_OPACITY: f64 = 0.2;
 
 /// The exact solution's colour.
-pub(super) const EXACT: RGBColor = RGBColor(0, 0, 0);
+pub const EXACT: RGBColor = RGBColor(0, 0, 0);
 
-/// Colours of the computed curves, taken in order, each with a lighter partner of the same
-/// hue (the two columns of the "tab20" palette): the light one draws an exact curve beside its
-/// computed one, or the second mass of a scheme when a figure has more series than hues.
-const PALETTE: [(RGBColor, RGBColor); 10] = [
-    (RGBColor(31, 119, 180), RGBColor(174, 199, 232)), // blue
-    (RGBColor(214, 39, 40), RGBColor(255, 152, 150)),  // red
-    (RGBColor(44, 160, 44), RGBColor(152, 223, 138)),  // green
-    (RGBColor(255, 127, 14), RGBColor(255, 187, 120)), // orange
-    (RGBColor(148, 103, 189), RGBColor(197, 176, 213)), // purple
-    (RGBColor(140, 86, 75), RGBColor(196, 156, 148)),  // brown
-    (RGBColor(227, 119, 194), RGBColor(247, 182, 210)), // pink
-    (RGBColor(23, 190, 207), RGBColor(158, 218, 229)), // cyan
-    (RGBColor(188, 189, 34), RGBColor(219, 219, 141)), // olive
-    (RGBColor(127, 127, 127), RGBColor(199, 199, 199)), // grey
+/// Colours of the computed curves, taken in order: the Okabe–Ito palette (Okabe and Ito 2008,
+/// "Color Universal Design"), told apart with the common colour-vision deficiencies, without its
+/// black (the exact solution's) and with its yellow, too pale on white, replaced by a grey.
+pub const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),   // blue
+    RGBColor(213, 94, 0),    // vermillion
+    RGBColor(0, 158, 115),   // bluish green
+    RGBColor(204, 121, 167), // reddish purple
+    RGBColor(230, 159, 0),   // orange
+    RGBColor(86, 180, 233),  // sky blue
+    RGBColor(102, 102, 102), // grey
 ];
 
-/// Number of hues: a figure with more series than this repeats colours.
-pub(super) const HUES: usize = PALETTE.len();
-
-/// The palette's hues whose dark and light shades are all at least 50 apart in RGB (red,
-/// green, purple, brown, pink, cyan, olive; then the rest): the hues of series taken in pairs.
-const PAIR_HUES: [usize; 10] = [1, 2, 4, 5, 6, 7, 8, 0, 3, 9];
-
-/// The palette index of the `k`-th pair of series that share a hue (dark and light).
-pub(super) fn pair_hue(k: usize) -> usize {
-    PAIR_HUES[k % PAIR_HUES.len()]
+/// The `index`-th colour of the palette (cyclically past the seventh).
+pub(super) fn colour(index: usize) -> RGBColor {
+    PALETTE[index % PALETTE.len()]
 }
 
-/// The `index`-th colour of the palette (cyclically past the tenth), dark or `light`.
-pub(super) fn colour(index: usize, light: bool) -> RGBColor {
-    let (dark, pale) = PALETTE[index % PALETTE.len()];
-    if light {
-        pale
-    } else {
-        dark
+/// How a line is stroked: its dash and gap lengths in pixels, `None` for a solid line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dash {
+    /// Solid.
+    Solid,
+    /// Dashes of 10 px, gaps of 5 px.
+    Dashed,
+    /// Dots of 2 px, gaps of 4 px.
+    Dotted,
+    /// Dashes of 20 px, gaps of 6 px.
+    LongDashed,
+    /// Dots of 2 px, gaps of 9 px.
+    LooselyDotted,
+}
+
+impl Dash {
+    /// The dashes taken in order by the series of a chart without markers.
+    pub const ORDER: [Dash; 4] = [Dash::Solid, Dash::Dashed, Dash::Dotted, Dash::LongDashed];
+
+    /// Dash and gap in pixels, `None` when solid.
+    pub(super) fn pattern(self) -> Option<(u32, u32)> {
+        match self {
+            Dash::Solid => None,
+            Dash::Dashed => Some((10, 5)),
+            Dash::Dotted => Some((2, 4)),
+            Dash::LongDashed => Some((20, 6)),
+            Dash::LooselyDotted => Some((2, 9)),
+        }
+    }
+
+    /// Its name in a figure's layout.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dash::Solid => "solid",
+            Dash::Dashed => "dashed",
+            Dash::Dotted => "dotted",
+            Dash::LongDashed => "long-dashed",
+            Dash::LooselyDotted => "loosely-dotted",
+        }
+    }
+}
+
+/// The shape of a curve's markers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    /// A filled disc.
+    Circle,
+    /// A filled square.
+    Square,
+    /// A filled triangle pointing up.
+    TriangleUp,
+    /// A filled diamond.
+    Diamond,
+    /// A filled triangle pointing down.
+    TriangleDown,
+    /// A ring.
+    Ring,
+    /// An open square.
+    OpenSquare,
+}
+
+impl Marker {
+    /// The markers taken in order by the series (or groups of series) of a chart.
+    pub const ORDER: [Marker; 7] = [
+        Marker::Circle,
+        Marker::Square,
+        Marker::TriangleUp,
+        Marker::Diamond,
+        Marker::TriangleDown,
+        Marker::Ring,
+        Marker::OpenSquare,
+    ];
+
+    /// The `index`-th marker (cyclically).
+    pub(super) fn nth(index: usize) -> Marker {
+        Self::ORDER[index % Self::ORDER.len()]
+    }
+
+    /// Its name in a figure's layout.
+    pub fn name(self) -> &'static str {
+        match self {
+            Marker::Circle => "circle",
+            Marker::Square => "square",
+            Marker::TriangleUp => "triangle-up",
+            Marker::Diamond => "diamond",
+            Marker::TriangleDown => "triangle-down",
+            Marker::Ring => "ring",
+            Marker::OpenSquare => "open-square",
+        }
+    }
+}
+
+/// How one curve is drawn: its colour, dash, marker (if any) and stroke width.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Look {
+    /// The stroke (and marker) colour.
+    pub colour: RGBColor,
+    /// The stroke's dash.
+    pub dash: Dash,
+    /// The marker at every point, if any.
+    pub marker: Option<Marker>,
+    /// The stroke width.
+    pub width: u32,
+}
+
+impl Look {
+    /// The exact solution: black, dashed, drawn over the computed curves.
+    pub fn exact() -> Self {
+        Self {
+            colour: EXACT,
+            dash: Dash::Dashed,
+            marker: None,
+            width: EXACT_WIDTH,
+        }
+    }
+
+    /// The `index`-th curve of a time series: the `index`-th colour, dash and marker (the
+    /// markers sparse along a dense curve), so that two curves differ in all three.
+    pub fn line(index: usize) -> Self {
+        Self {
+            colour: colour(index),
+            dash: Dash::ORDER[index % Dash::ORDER.len()],
+            marker: Some(Marker::nth(index)),
+            width: RUN_WIDTH,
+        }
+    }
+
+    /// A computed curve with a marker at every point: colour and marker of `index`, `dash`.
+    pub fn marked(index: usize, dash: Dash) -> Self {
+        Self {
+            colour: colour(index),
+            dash,
+            marker: Some(Marker::nth(index)),
+            width: RUN_WIDTH,
+        }
+    }
+
+    /// The fitted slope of the `index`-th curve, `curve`: in its colour, no marker, broken by
+    /// the `index`-th of the four broken dashes (so that two fits differ in dash too).
+    pub fn fit_of(index: usize, curve: Look) -> Self {
+        const FITS: [Dash; 4] = [
+            Dash::Dashed,
+            Dash::Dotted,
+            Dash::LongDashed,
+            Dash::LooselyDotted,
+        ];
+        Self {
+            colour: curve.colour,
+            dash: FITS[index % FITS.len()],
+            marker: None,
+            width: EXACT_WIDTH,
+        }
     }
 }
 
@@ -93,15 +229,17 @@ fn decimals_for(step: f64) -> usize {
     }
 }
 
-/// A tick label on a linear axis whose labels are at least `step` apart: as many decimals as
-/// the step needs to keep neighbours distinct, trailing zeros removed; scientific notation for
-/// very large or very small magnitudes, with as many digits as the step needs.
-pub(super) fn linear_tick(v: f64, step: f64) -> String {
+/// A tick label on a linear axis whose labels are at least `step` apart and whose largest
+/// value in magnitude is `magnitude`: as many decimals as the step needs to keep neighbours
+/// distinct, trailing zeros removed; scientific notation on an axis whose values are all
+/// below 0.1 in magnitude or reach 10⁵ (`1.246e-3`, never `0.001246`), with as many digits as
+/// the step needs.
+pub(super) fn linear_tick(v: f64, step: f64, magnitude: f64) -> String {
     let a = v.abs();
     if a < 1e-9 * step.abs().max(1e-300) || a < 1e-300 {
         return "0".into();
     }
-    if !(1e-3..1e5).contains(&a) {
+    if !(1e-1..1e5).contains(&magnitude) {
         let digits = if step > 0.0 && step.is_finite() {
             (a.log10().floor() - step.log10().floor()).max(1.0) as usize
         } else {
@@ -152,17 +290,20 @@ mod tests {
 
     #[test]
     fn tick_labels_are_short() {
-        assert_eq!(linear_tick(0.5, 0.1), "0.5");
-        assert_eq!(linear_tick(0.30000000000000004, 0.1), "0.3");
-        assert_eq!(linear_tick(-1e-17, 0.1), "0");
-        assert_eq!(linear_tick(2.0, 0.5), "2");
-        assert_eq!(linear_tick(2.5e-5, 1e-5), "2.5e-5");
-        // Close values around 0.0123: the step sets the decimals, so the labels differ.
+        assert_eq!(linear_tick(0.5, 0.1, 1.0), "0.5");
+        assert_eq!(linear_tick(0.30000000000000004, 0.1, 1.0), "0.3");
+        assert_eq!(linear_tick(-1e-17, 0.1, 1.0), "0");
+        assert_eq!(linear_tick(2.0, 0.5, 2.0), "2");
+        assert_eq!(linear_tick(2.5e-5, 1e-5, 3e-5), "2.5e-5");
+        assert_eq!(linear_tick(0.001246, 2e-6, 0.00125), "1.246e-3");
+        assert_eq!(linear_tick(0.0095, 0.0005, 0.0105), "9.5e-3");
+        assert_eq!(linear_tick(0.05, 0.01, 0.12), "0.05");
+        // Close values around 0.0123: the step sets the digits, so the labels differ.
         let labels: Vec<String> = [0.012301, 0.012302, 0.012303]
             .iter()
-            .map(|&v| linear_tick(v, 1e-6))
+            .map(|&v| linear_tick(v, 1e-6, 0.0124))
             .collect();
-        assert_eq!(labels, ["0.012301", "0.012302", "0.012303"]);
+        assert_eq!(labels, ["1.2301e-2", "1.2302e-2", "1.2303e-2"]);
         assert_eq!(nice_step(0.3), 0.5);
         assert_eq!(nice_step(0.2), 0.2);
         assert_eq!(nice_step(0.7), 1.0);
