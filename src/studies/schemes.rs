@@ -24,6 +24,7 @@ use std::fmt::Write as _;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::chaotic_spread;
 use crate::harness::run::norms::Norm;
+use crate::harness::run::physics::Physics;
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
@@ -283,9 +284,13 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
          `max |E − E₀|/E₀` and round-off class, and on how many of the {} hard cases the case \
          stays numerically stable (every run of its round-off ensemble stable or dissipative, \
          and not chaotic), fails to, or cannot be decided. A drift is one run's: it has no \
-         interval, and the verdict is given only where the ensemble's runs share it.\n\n\
-         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Round-off, T = 300 | Stays \
-         stable: holds / fails / undecided |\n|---|---|---|---|---|",
+         interval, and the verdict is given only where the ensemble's runs share it. Physics, \
+         T = 300: what the time loop measured of the unperturbed run: its largest energy \
+         E_max/E₀ and its largest penetration p relative to the contact face's displacement \
+         scale D (the contact node's largest distance from the obstacle); **flagged** beyond \
+         5 % energy gain or 1 % penetration, and then never called stable.\n\n\
+         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Physics, T = 300 | Round-off, \
+         T = 300 | Stays stable: holds / fails / undecided |\n|---|---|---|---|---|---|",
         hard.len()
     );
     let mut everywhere = Vec::new();
@@ -293,7 +298,7 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         let id = c.case.id();
         let mine: Vec<&StabilityRecord> = records.iter().filter(|r| r.case == id).collect();
         if mine.is_empty() {
-            let _ = writeln!(md, "| {} | not in the suite | — | — | — |", label(c));
+            let _ = writeln!(md, "| {} | not in the suite | — | — | — | — |", label(c));
             continue;
         }
         let long = mine.iter().find(|r| r.hard_case == "long-horizon");
@@ -312,10 +317,12 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         }
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {holds} / {fails} / {undecided} |",
+            "| {} | {} | {} | {} | {} | {holds} / {fails} / {undecided} |",
             label(c),
             long.map_or("—".to_string(), |r| r.verdict_text()),
             long.map_or("—".to_string(), |r| format!("{:.2e}", r.max_energy_drift)),
+            long.and_then(|r| r.physics)
+                .map_or("—".to_string(), |p| physics_cell(&p)),
             long.and_then(|r| r.sensitivity)
                 .map_or("—", |s| s.class.name()),
         );
@@ -325,6 +332,23 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         "\n**Stays numerically stable on every hard case**: {}.\n",
         list_or_none(&everywhere)
     );
+}
+
+/// A run's physics in a cell: `E_max/E₀ 1.0000, p/D 3.5e-18`, with what fails its tolerance
+/// flagged with its figures ([`Physics::flags`]).
+fn physics_cell(p: &Physics) -> String {
+    let ratio = p
+        .energy_ratio
+        .map_or("—".to_string(), |r| format!("{r:.4}"));
+    let penetration = p
+        .relative_penetration
+        .map_or(format!("p {:.1e} (D = 0)", p.penetration), |r| {
+            format!("p/D {r:.1e}")
+        });
+    match p.flags() {
+        Some(flags) => format!("**flagged**: {flags}"),
+        None => format!("E_max/E₀ {ratio}, {penetration}"),
+    }
 }
 
 /// The work to reach a target error in `L∞(0,T;H)`: the loosest error every case reaches.
