@@ -327,11 +327,14 @@ fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &RunResult, body: &Bo
 /// The physics lines of a run's summary: its penetration, its energy above the start and its
 /// contact-force sign ([`Physics`]), then what fails its tolerance, with the figures.
 fn physics_lines(lines: &mut Vec<String>, p: &Physics) {
+    let tolerance = match p.relative_penetration {
+        Some(_) => format!("{} % of D", 100.0 * PENETRATION_TOLERANCE),
+        None => format!("{PENETRATION_TOLERANCE:e} with D = 0"),
+    };
     lines.push(format!(
-        "  penetration {} (tolerance {} % of D); energy {}; contact force: largest pulling \
+        "  penetration {} (tolerance {tolerance}); energy {}; contact force: largest pulling \
          {:.3e} of largest |λ| {:.3e}",
         p.penetration_text(),
-        100.0 * PENETRATION_TOLERANCE,
         p.energy_text(),
         p.wrong_sign_force,
         p.max_force

@@ -163,9 +163,9 @@ impl Physics {
             Some(r) => format!("E_max/E_0 = {r:.4}"),
             None => format!("E_max − E_0 = {:.3e}", self.energy_max - self.energy_start),
         };
-        let work = self
-            .external_work
-            .map_or(String::new(), |w| format!(", largest work of the load {w:.3e}"));
+        let work = self.external_work.map_or(String::new(), |w| {
+            format!(", largest work of the load {w:.3e}")
+        });
         format!(
             "{ratio} (E_0 = {:.4e}, E_max = {:.4e}{work})",
             self.energy_start, self.energy_max
