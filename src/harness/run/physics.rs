@@ -68,7 +68,8 @@ pub struct Physics {
     pub energy_start: f64,
     /// `E_max`, the largest energy of any step.
     pub energy_max: f64,
-    /// The time of `E_max`.
+    /// The first time the energy came within round-off (10⁻¹² relative) of `E_max`: where a
+    /// run that gains energy and then conserves it reached its plateau.
     pub energy_max_time: f64,
     /// `E_max / E_0`; `None` when `E_0 ≤ 0`.
     pub energy_ratio: Option<f64>,
@@ -173,6 +174,10 @@ impl Physics {
     }
 }
 
+/// A rise of the largest energy by less than this fraction of it is round-off: it does not
+/// move the time of the maximum.
+const ROUND_OFF: f64 = 1e-12;
+
 /// Whether `value` is above `bound` or NaN (a figure that cannot be judged fails its check).
 fn exceeds(value: f64, bound: f64) -> bool {
     value > bound || value.is_nan()
@@ -246,8 +251,10 @@ impl<'m> PhysicsMonitor<'m> {
             p.energy_start = energy;
         }
         if energy > p.energy_max {
+            if energy > p.energy_max + ROUND_OFF * p.energy_max.abs() {
+                p.energy_max_time = time;
+            }
             p.energy_max = energy;
-            p.energy_max_time = time;
         }
         if let Some(f) = self.load {
             let work: f64 = f.iter().zip(u).map(|(a, b)| a * b).sum();
