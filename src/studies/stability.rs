@@ -795,6 +795,31 @@ mod tests {
         )
     }
 
+    /// Moreau–Jean with the redistributed mass over the long horizon (NX = 80, T = 300): its
+    /// massless contact node sinks to 97 % of the face's displacement scale while its energy
+    /// stays at E₀. The suite called it stable before the time loop measured penetration; it
+    /// is penetrating now, and does not stay numerically stable.
+    #[test]
+    fn a_penetrating_run_is_never_stable() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let hard = hard_cases(root, true)
+            .unwrap()
+            .into_iter()
+            .find(|h| h.name == "long-horizon")
+            .unwrap();
+        let case = Case {
+            scheme: "moreau-jean".parse().unwrap(),
+            mass: crate::harness::problem::MassVariant::Redistributed,
+        };
+        let r = judge(&hard, case).unwrap();
+        let p = r.physics.expect("measured");
+        assert!(p.relative_penetration.unwrap() > 0.9, "{p:?}");
+        assert!(p.energy_ratio.unwrap() < 1.0 + 1e-6, "{p:?}");
+        assert_eq!(r.verdict, Verdict::Penetrating);
+        assert_eq!(r.verdict_text(), "penetrating");
+        assert_eq!(r.stays_stable().verdict, Decided::Fails);
+    }
+
     #[test]
     fn runs_that_agree_decide_the_verdict() {
         let r = reproducible(Verdict::Stable, &[Verdict::Stable; 4]);
