@@ -122,8 +122,9 @@ impl Physics {
         self.penetrates() || self.gains_energy() || self.wrong_sign()
     }
 
-    /// The failed checks with their figures (`penetrates 0.477 (95 % of D = 0.5) at t = 8.34;
-    /// gains energy: E_max/E_0 = 50.8 at t = 8.98`); `None` when none failed.
+    /// The failed checks with their figures (`penetrates 4.767e-1 (95.647 % of D = 4.984e-1) at
+    /// t = 8.3406; gains energy: E_max/E_0 = 50.8397 (…) at t = 4.3897`); `None` when none
+    /// failed.
     pub fn flags(&self) -> Option<String> {
         let mut flags = Vec::new();
         if self.penetrates() {
@@ -149,15 +150,19 @@ impl Physics {
         (!flags.is_empty()).then(|| flags.join("; "))
     }
 
-    /// `4.77e-1 (95.4 % of D = 5.00e-1)`, or the absolute figure alone when `D = 0`.
+    /// `4.767e-1 (95.647 % of D = 4.984e-1)`; `2.776e-17 (p/D = 4.9e-17, D = 5.639e-1)` below
+    /// 10⁻⁴ of `D`; the absolute figure alone when `D = 0`.
     pub fn penetration_text(&self) -> String {
+        let d = self.face_displacement_scale;
         match self.relative_penetration {
-            Some(r) => format!(
-                "{:.3e} ({:.3} % of D = {:.3e})",
-                self.penetration,
-                100.0 * r,
-                self.face_displacement_scale
-            ),
+            Some(r) if r >= 1e-4 => {
+                format!(
+                    "{:.3e} ({:.3} % of D = {d:.3e})",
+                    self.penetration,
+                    100.0 * r
+                )
+            }
+            Some(r) => format!("{:.3e} (p/D = {r:.1e}, D = {d:.3e})", self.penetration),
             None => format!("{:.3e} (D = 0)", self.penetration),
         }
     }
