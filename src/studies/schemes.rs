@@ -24,6 +24,7 @@ use std::fmt::Write as _;
 use crate::harness::problem::MassVariant;
 use crate::harness::render::report::chaotic_spread;
 use crate::harness::run::norms::Norm;
+use crate::harness::run::physics::Physics;
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
@@ -206,11 +207,20 @@ fn behaviour_section(md: &mut String, study: &Study, sensitivity: &Sensitivity, 
          Oscillation: `TV(λ_h)/TV(λ)` at NX = {finest} with the tables' word (No < 5 ≤ Small < \
          100 ≤ Yes < 2000 ≤ Big). Energy: `‖E_h − E‖_L∞(0,T)` at NX = {finest} over T = {} \
          (three periods of the benchmark) with its rate. Round-off: the class of \
-         `sensitivity.md`.\n\n\
-         | Scheme / mass | Oscillation | Energy error, T = {} | Energy rate, T = {} | Round-off |\n\
-         |---|---|---|---|---|",
-        longer.config.horizon, longer.config.horizon, longer.config.horizon
+         `sensitivity.md`. Physics: what the time loop measured of every level's run over \
+         T = {}: the largest energy E_max/E₀ and the largest penetration p relative to the \
+         contact face's displacement scale D (the contact node's largest distance from the \
+         obstacle), over the levels; a level beyond 5 % energy gain or 1 % penetration is \
+         **flagged** with its figures, and its case is not ranked by energy rate.\n\n\
+         | Scheme / mass | Oscillation | Energy error, T = {} | Energy rate, T = {} | Physics, T = {} | Round-off |\n\
+         |---|---|---|---|---|---|",
+        longer.config.horizon,
+        longer.config.horizon,
+        longer.config.horizon,
+        longer.config.horizon,
+        longer.config.horizon
     );
+    let mut flagged = Vec::new();
     let mut energy_ranges = Vec::new();
     let mut conserving = Vec::new();
     let mut calm = Vec::new();
@@ -235,16 +245,24 @@ fn behaviour_section(md: &mut String, study: &Study, sensitivity: &Sensitivity, 
         if conserves {
             conserving.push(label(c));
         }
-        energy_ranges.push(energy_rate.filter(|_| !conserves));
+        let physics = longer.physics.get(&c.case.id());
+        let gains = physics.is_some_and(|levels| levels.iter().any(|p| p.flagged()));
+        if gains {
+            flagged.push(label(c));
+        }
+        energy_ranges.push(energy_rate.filter(|_| !conserves && !gains));
         let class = sensitivity
             .case(&c.case.id())
             .map_or("—", |s| s.class.name());
         let _ = writeln!(
             md,
-            "| {} | {oscillation} | {} | {} | {class} |",
+            "| {} | {oscillation} | {} | {} | {} | {class} |",
             label(c),
             energy.map_or("—".to_string(), |e| format!("{e:.3e}")),
-            fmt_range(energy_rate)
+            fmt_range(energy_rate),
+            physics.map_or("—".to_string(), |levels| {
+                physics_over_levels(&longer.config.levels, levels)
+            })
         );
     }
     let _ = writeln!(
@@ -260,10 +278,18 @@ fn behaviour_section(md: &mut String, study: &Study, sensitivity: &Sensitivity, 
         md,
         "**Energy conserved to round-off over T = {}** (error below {CONSERVED_BELOW:e} at every \
          level; its rate measures round-off, so it is not ranked by rate): {}.\n\n\
+         **Flagged by the physics check over T = {}** (a level beyond 5 % energy gain or 1 % \
+         penetration; not ranked by energy rate): {}.\n\n\
          **Best energy rate over T = {}** among the others (no case decidedly faster; the \
          ensembles ran over the tables' horizon, so every case is judged by its fit here): {}.\n",
         longer.config.horizon,
         list_or_none(&conserving),
+        longer.config.horizon,
+        if longer.physics.is_empty() {
+            "not measured (the study predates the check)".to_string()
+        } else {
+            list_or_none(&flagged)
+        },
         longer.config.horizon,
         names.join("; ")
     );
@@ -283,9 +309,13 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
          `max |E − E₀|/E₀` and round-off class, and on how many of the {} hard cases the case \
          stays numerically stable (every run of its round-off ensemble stable or dissipative, \
          and not chaotic), fails to, or cannot be decided. A drift is one run's: it has no \
-         interval, and the verdict is given only where the ensemble's runs share it.\n\n\
-         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Round-off, T = 300 | Stays \
-         stable: holds / fails / undecided |\n|---|---|---|---|---|",
+         interval, and the verdict is given only where the ensemble's runs share it. Physics, \
+         T = 300: what the time loop measured of the unperturbed run: its largest energy \
+         E_max/E₀ and its largest penetration p relative to the contact face's displacement \
+         scale D (the contact node's largest distance from the obstacle); **flagged** beyond \
+         5 % energy gain or 1 % penetration, and then never called stable.\n\n\
+         | Scheme / mass | T = 300 verdict | max abs(E − E₀)/E₀ | Physics, T = 300 | Round-off, \
+         T = 300 | Stays stable: holds / fails / undecided |\n|---|---|---|---|---|---|",
         hard.len()
     );
     let mut everywhere = Vec::new();
@@ -293,7 +323,7 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         let id = c.case.id();
         let mine: Vec<&StabilityRecord> = records.iter().filter(|r| r.case == id).collect();
         if mine.is_empty() {
-            let _ = writeln!(md, "| {} | not in the suite | — | — | — |", label(c));
+            let _ = writeln!(md, "| {} | not in the suite | — | — | — | — |", label(c));
             continue;
         }
         let long = mine.iter().find(|r| r.hard_case == "long-horizon");
@@ -312,10 +342,12 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         }
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {holds} / {fails} / {undecided} |",
+            "| {} | {} | {} | {} | {} | {holds} / {fails} / {undecided} |",
             label(c),
             long.map_or("—".to_string(), |r| r.verdict_text()),
             long.map_or("—".to_string(), |r| format!("{:.2e}", r.max_energy_drift)),
+            long.and_then(|r| r.physics)
+                .map_or("—".to_string(), |p| physics_cell(&p)),
             long.and_then(|r| r.sensitivity)
                 .map_or("—", |s| s.class.name()),
         );
@@ -325,6 +357,45 @@ fn stability_section(md: &mut String, study: &Study, records: &[StabilityRecord]
         "\n**Stays numerically stable on every hard case**: {}.\n",
         list_or_none(&everywhere)
     );
+}
+
+/// The physics of a case's runs at `levels` in a cell: every flagged level with its figures
+/// ([`Physics::flags`]), or the largest `E_max/E₀` and `p/D` over the levels.
+fn physics_over_levels(levels: &[usize], physics: &[Physics]) -> String {
+    let flagged: Vec<String> = levels
+        .iter()
+        .zip(physics)
+        .filter_map(|(nx, p)| p.flags().map(|f| format!("NX = {nx}: {f}")))
+        .collect();
+    if !flagged.is_empty() {
+        return format!("**flagged**: {}", flagged.join("; "));
+    }
+    let ratio = physics
+        .iter()
+        .filter_map(|p| p.energy_ratio)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let penetration = physics
+        .iter()
+        .map(Physics::judged_penetration)
+        .fold(0.0, f64::max);
+    format!("E_max/E₀ ≤ {ratio:.4}, p/D ≤ {penetration:.1e}")
+}
+
+/// A run's physics in a cell: `E_max/E₀ 1.0000, p/D 3.5e-18`, with what fails its tolerance
+/// flagged with its figures ([`Physics::flags`]).
+fn physics_cell(p: &Physics) -> String {
+    let ratio = p
+        .energy_ratio
+        .map_or("—".to_string(), |r| format!("{r:.4}"));
+    let penetration = p
+        .relative_penetration
+        .map_or(format!("p {:.1e} (D = 0)", p.penetration), |r| {
+            format!("p/D {r:.1e}")
+        });
+    match p.flags() {
+        Some(flags) => format!("**flagged**: {flags}"),
+        None => format!("E_max/E₀ {ratio}, {penetration}"),
+    }
 }
 
 /// The work to reach a target error in `L∞(0,T;H)`: the loosest error every case reaches.

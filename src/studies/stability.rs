@@ -4,15 +4,23 @@
 //!
 //! Verdict rules, in order (the first that applies):
 //! 1. `diverged`: the run stopped on a non-finite value, or `max E / E_0 > 10⁶`;
-//! 2. `energy growth`: `max E / E_0 − 1 > 5 %` and the least-squares slope of `E(t)` gains more
-//!    than 5 % of `E_0` over the horizon;
-//! 3. `oscillating`: the contact force's total variation is at least 100 times the exact one's
+//! 2. `energy growth`: the energy rises above its start by more than the physics check's
+//!    allowance, `E_max / E_0 − 1 >` [`ENERGY_GAIN_TOLERANCE`](crate::harness::run::physics::ENERGY_GAIN_TOLERANCE) = 5 %, over every step of the run
+//!    ([`Physics::gains_energy`]), or the least-squares slope of `E(t)` gains more than 5 % of
+//!    `E_0` over the horizon with `max E / E_0 − 1 > 5 %` on the recorded history;
+//! 3. `penetrating`: a contact node went into the obstacle by more than
+//!    [`PENETRATION_TOLERANCE`](crate::harness::run::physics::PENETRATION_TOLERANCE) = 1 % of the face's displacement scale
+//!    ([`Physics::penetrates`]), or a contact force pulled ([`Physics::wrong_sign`]);
+//! 4. `oscillating`: the contact force's total variation is at least 100 times the exact one's
 //!    (the threshold of "Yes" in the tables,
 //!    `crate::harness::study::verdicts::OSCILLATION_YES_FROM`), or, when the exact force is
 //!    constant, above 1e-9;
-//! 4. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
+//! 5. `dissipative`: the energy ends more than 1 % below `E_0` and no step raised it by more
 //!    than `1e-12 E_0`;
-//! 5. `stable`: none of the above.
+//! 6. `stable`: none of the above.
+//!
+//! A run that penetrates or gains energy is therefore never `stable` nor `dissipative`, and its
+//! record carries the time loop's figures ([`StabilityRecord::physics`]).
 //!
 //! Every run is also an ensemble ([`STABILITY_ENSEMBLE`],
 //! `crate::harness::study::sensitivity::run_ensemble`): its members carry round-off-size noise on
@@ -36,6 +44,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::error as files;
 use crate::harness::problem::{AtRest, InitialData, Perturbation, Problem1d, Profile, Settings};
+use crate::harness::run::physics::Physics;
 use crate::harness::run::{BarRun, Observables, RunConfig};
 use crate::harness::study::decision::{self, Decision};
 use crate::harness::study::executor::{run_local, Executed, Executor, Jobs};
@@ -178,6 +187,8 @@ pub enum Verdict {
     Dissipative,
     /// Energy grows.
     EnergyGrowth,
+    /// A contact node went into the obstacle, or a contact force pulled.
+    Penetrating,
     /// The contact force oscillates.
     Oscillating,
     /// Non-finite values or unbounded energy.
@@ -191,6 +202,7 @@ impl Verdict {
             Verdict::Stable => "stable",
             Verdict::Dissipative => "dissipative",
             Verdict::EnergyGrowth => "energy growth",
+            Verdict::Penetrating => "penetrating",
             Verdict::Oscillating => "oscillating",
             Verdict::Diverged => "diverged",
         }
@@ -236,6 +248,10 @@ pub struct StabilityRecord {
     /// unperturbed run; `null` when that run stopped.
     #[serde(default)]
     pub max_balance_residual: Option<f64>,
+    /// The unperturbed run's penetration, largest energy above the start and contact-force
+    /// sign, as the time loop measured them ([`Physics`]); `null` when that run stopped.
+    #[serde(default)]
+    pub physics: Option<Physics>,
 }
 
 impl StabilityRecord {
@@ -400,6 +416,7 @@ pub fn judge(hard: &HardCase, case: Case) -> Result<StabilityRecord, files::Erro
                 member_verdicts,
                 sensitivity: Some(RunSensitivity::of(&separations, r.dt, STABILITY_ENSEMBLE)),
                 max_balance_residual: r.max_balance_residual,
+                physics: r.physics,
                 ..assess(hard, case, &r)
             }),
             Err(stopped) => Ok(StabilityRecord {
@@ -433,6 +450,7 @@ fn unmeasured(hard: &HardCase, case: Case) -> StabilityRecord {
         member_verdicts: Vec::new(),
         sensitivity: None,
         max_balance_residual: None,
+        physics: None,
     }
 }
 
@@ -460,10 +478,14 @@ fn assess(hard: &HardCase, case: Case, result: &BarRun) -> StabilityRecord {
         None => (variation.discrete, false),
     };
     let last = *energy.energy.last().expect("at least the initial sample");
+    let physics = result.physics;
     let verdict = if !max_ratio.is_finite() || max_ratio > 1e6 {
         Verdict::Diverged
-    } else if max_ratio - 1.0 > 0.05 && trend > 0.05 {
+    } else if (max_ratio - 1.0 > 0.05 && trend > 0.05) || physics.is_some_and(|p| p.gains_energy())
+    {
         Verdict::EnergyGrowth
+    } else if physics.is_some_and(|p| p.penetrates() || p.wrong_sign()) {
+        Verdict::Penetrating
     } else if (is_ratio && indicator >= OSCILLATION_YES_FROM) || (!is_ratio && indicator > 1e-9) {
         Verdict::Oscillating
     } else if (last - e0) / scale < -0.01 && step_increase <= 1e-12 {
@@ -572,13 +594,52 @@ fn round_off_cell(r: &StabilityRecord) -> String {
     cell
 }
 
+/// `E_max/E₀` of a run's physics, bold beyond the allowance; `—` unmeasured.
+fn energy_ratio_cell(p: Option<&Physics>) -> String {
+    let Some(p) = p else {
+        return "—".to_string();
+    };
+    let text = match p.energy_ratio {
+        Some(r) if r < 1e3 => format!("{r:.4}"),
+        Some(r) => format!("{r:.3e}"),
+        None => format!("E_max − E₀ = {:.2e}", p.energy_max - p.energy_start),
+    };
+    if p.gains_energy() {
+        format!("**{text}**")
+    } else {
+        text
+    }
+}
+
+/// The largest penetration relative to the face's displacement scale (absolute with `D = 0`),
+/// bold beyond its tolerance, with a pulling force when there was one; `—` unmeasured.
+fn penetration_cell(p: Option<&Physics>) -> String {
+    let Some(p) = p else {
+        return "—".to_string();
+    };
+    let mut text = match p.relative_penetration {
+        Some(r) => format!("{r:.1e}"),
+        None => format!("{:.1e} (D = 0)", p.penetration),
+    };
+    if p.penetrates() {
+        text = format!("**{text}**");
+    }
+    if p.wrong_sign() {
+        text.push_str(&format!("; **pulls** {:.1e}", p.wrong_sign_force));
+    }
+    text
+}
+
 /// The markdown report: the parameters of each hard case, then one table per hard case.
 pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
     let mut md = String::from("# Stability of the schemes on hard cases\n\n");
     md.push_str(
         "Verdicts, first rule that applies: **diverged** (non-finite value or E/E₀ > 10⁶); \
-         **energy growth** (max E/E₀ − 1 > 5 % and the fitted trend of E gains > 5 % of E₀ over \
-         the horizon); **oscillating** (TV(λ_h)/TV(λ) ≥ 100, or TV(λ_h) > 1e-9 when the exact \
+         **energy growth** (the largest energy of any step E_max/E₀ − 1 > 5 %, the physics \
+         check every run makes, or the fitted trend of E gains > 5 % of E₀ over the horizon); \
+         **penetrating** (a contact node inside the obstacle by more than 1 % of the face's \
+         displacement scale D, its largest distance from the obstacle, or a pulling contact \
+         force); **oscillating** (TV(λ_h)/TV(λ) ≥ 100, or TV(λ_h) > 1e-9 when the exact \
          force is constant); **dissipative** (E ends > 1 % below E₀ and no step raises it by \
          more than 1e-12 E₀); **stable** otherwise. The verdict shown is the one the \
          unperturbed run and every member of its round-off ensemble share; where a threshold \
@@ -610,13 +671,13 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
     }
     for h in hard {
         md.push_str(&format!(
-            "\n## {}\n\n| case | verdict | round-off | max abs(E − E₀)/E₀ | trend over T | max step gain | max abs(λ) | complementarity | oscillation |\n|---|---|---|---|---|---|---|---|---|\n",
+            "\n## {}\n\n| case | verdict | round-off | max abs(E − E₀)/E₀ | E_max/E₀ | penetration p/D | trend over T | max step gain | max abs(λ) | complementarity | oscillation |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
             h.name
         ));
         for r in records.iter().filter(|r| r.hard_case == h.name) {
             if let Some(f) = &r.failure {
                 md.push_str(&format!(
-                    "| {} | **{}** | — | — | — | — | — | — | {} |\n",
+                    "| {} | **{}** | — | — | — | — | — | — | — | — | {} |\n",
                     r.case,
                     r.verdict.word(),
                     f
@@ -629,11 +690,13 @@ pub fn render(hard: &[HardCase], records: &[StabilityRecord]) -> String {
                 format!("{:.2e} (TV)", r.oscillation_indicator)
             };
             md.push_str(&format!(
-                "| {} | {} | {} | {:.2e} | {:+.2e} | {:.1e} | {:.3} | {:.1e} | {} |\n",
+                "| {} | {} | {} | {:.2e} | {} | {} | {:+.2e} | {:.1e} | {:.3} | {:.1e} | {} |\n",
                 r.case,
                 r.verdict_text(),
                 round_off_cell(r),
                 r.max_energy_drift,
+                energy_ratio_cell(r.physics.as_ref()),
+                penetration_cell(r.physics.as_ref()),
                 r.energy_trend,
                 r.max_energy_step_increase,
                 r.max_multiplier,
@@ -718,6 +781,7 @@ mod tests {
                 largest_separation: largest,
             }),
             max_balance_residual: None,
+            physics: None,
         }
     }
 
@@ -729,6 +793,31 @@ mod tests {
             None,
             1e-12,
         )
+    }
+
+    /// Moreau–Jean with the redistributed mass over the long horizon (NX = 80, T = 300): its
+    /// massless contact node sinks to 97 % of the face's displacement scale while its energy
+    /// stays at E₀. The suite called it stable before the time loop measured penetration; it
+    /// is penetrating now, and does not stay numerically stable.
+    #[test]
+    fn a_penetrating_run_is_never_stable() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let hard = hard_cases(root, true)
+            .unwrap()
+            .into_iter()
+            .find(|h| h.name == "long-horizon")
+            .unwrap();
+        let case = Case {
+            scheme: "moreau-jean".parse().unwrap(),
+            mass: crate::harness::problem::MassVariant::Redistributed,
+        };
+        let r = judge(&hard, case).unwrap();
+        let p = r.physics.expect("measured");
+        assert!(p.relative_penetration.unwrap() > 0.9, "{p:?}");
+        assert!(p.energy_ratio.unwrap() < 1.0 + 1e-6, "{p:?}");
+        assert_eq!(r.verdict, Verdict::Penetrating);
+        assert_eq!(r.verdict_text(), "penetrating");
+        assert_eq!(r.stays_stable().verdict, Decided::Fails);
     }
 
     #[test]

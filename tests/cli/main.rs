@@ -22,6 +22,7 @@ mod hostile;
 mod league;
 mod outputs;
 mod paraview;
+mod physics;
 mod progress;
 mod readme_commands;
 mod real_codes;

@@ -849,6 +849,8 @@ pub struct BalanceMonitor<'m> {
     workspace: Workspace,
     /// `E_h` of the last observed level (the next step's `E^n`), once computed.
     energy: Option<f64>,
+    /// The step index of the level `energy` belongs to.
+    energy_step: Option<usize>,
 }
 
 impl<'m> BalanceMonitor<'m> {
@@ -870,6 +872,7 @@ impl<'m> BalanceMonitor<'m> {
             last: 0.0,
             workspace: Workspace::default(),
             energy: None,
+            energy_step: None,
         }
     }
 
@@ -1005,6 +1008,7 @@ impl<'m> BalanceMonitor<'m> {
         // without the products that computing it afresh would take.
         let balance = sides.with_energies(energy_before, energy_before + sides.change);
         self.energy = Some(balance.energy_after);
+        self.energy_step = Some(step);
         Some(balance)
     }
 
@@ -1017,6 +1021,14 @@ impl<'m> BalanceMonitor<'m> {
     /// The relative residual of the last step balanced (0 before any; NaN when it was NaN).
     pub fn last_residual(&self) -> f64 {
         self.last
+    }
+
+    /// The energy without contact energy (`½VᵀMV + ½UᵀSU − FᵀU`; the half-step energy of
+    /// Paoli–Schatzman, `E_h(U^n, V^n)` for every other scheme) of the state of step `step`,
+    /// when it is the state last observed and its step was balanced: `E^n + ΔE`, without the
+    /// products that computing it afresh would take. `None` otherwise.
+    pub fn energy_of(&self, step: usize) -> Option<f64> {
+        self.energy.filter(|_| self.energy_step == Some(step))
     }
 
     /// How many steps were balanced.

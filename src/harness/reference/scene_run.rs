@@ -13,6 +13,7 @@ use crate::harness::problem::{
 use crate::harness::reference::scene_study::{chosen_settings, ConventionChoice};
 use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
+use crate::harness::run::physics::{Physics, ENERGY_GAIN_TOLERANCE, PENETRATION_TOLERANCE};
 use crate::harness::run::run_files::{box_history_csv, history_csv};
 use crate::harness::run::{run, time_grid, Observables, Observed, RunConfig, RunResult};
 use crate::harness::study::budget::{self, Estimate};
@@ -225,6 +226,9 @@ impl RunOutcome {
             }
             Observed::Box(body) => box_summary(&mut lines, run, r, body),
         }
+        if let Some(physics) = &r.physics {
+            physics_lines(&mut lines, physics);
+        }
         if check_balance {
             lines.push(balance_line(c.scheme, r.max_balance_residual));
         }
@@ -320,14 +324,45 @@ fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &RunResult, body: &Bo
     ));
 }
 
+/// The physics lines of a run's summary: its penetration, its energy above the start and its
+/// contact-force sign ([`Physics`]), then what fails its tolerance, with the figures.
+fn physics_lines(lines: &mut Vec<String>, p: &Physics) {
+    let tolerance = match p.relative_penetration {
+        Some(_) => format!("{} % of D", 100.0 * PENETRATION_TOLERANCE),
+        None => format!("{PENETRATION_TOLERANCE:e} with D = 0"),
+    };
+    lines.push(format!(
+        "  penetration {} (tolerance {tolerance}); energy {}; contact force: largest pulling \
+         {:.3e} of largest |λ| {:.3e}",
+        p.penetration_text(),
+        p.energy_text(),
+        p.wrong_sign_force,
+        p.max_force
+    ));
+    lines.push(match p.flags() {
+        Some(flags) => format!("  physics FLAGGED: {flags}"),
+        None => format!(
+            "  physics: no penetration beyond {} % of D, no energy gain beyond {} % of E_0, \
+             no pulling contact force",
+            100.0 * PENETRATION_TOLERANCE,
+            100.0 * ENERGY_GAIN_TOLERANCE
+        ),
+    });
+}
+
 /// The `--check-balance` line of a completed run: its largest per-step balance residual
-/// (every run checks it against [`BALANCE_TOLERANCE`]; one above it ends solver-inaccurate).
+/// (every run checks it against [`BALANCE_TOLERANCE`]; one above it ends solver-inaccurate),
+/// and what that residual covers and what it does not.
 fn balance_line(scheme: Scheme, residual: Option<f64>) -> String {
     let equation = energy_balance::equation(scheme);
     match residual {
         Some(r) => format!(
             "  energy balance eq. {equation}: largest per-step residual {r:.3e} of its scale \
-             (the energy, or the size of the products it sums; tolerance {BALANCE_TOLERANCE:e})"
+             (the energy, or the size of the products it sums; tolerance {BALANCE_TOLERANCE:e}). \
+             It covers each step's energy change against the change the scheme's equations \
+             predict (the solves' accuracy); it does not cover whether that change is physical: \
+             contact work that raises the energy, or a node inside the obstacle, balance too \
+             (the physics line judges them)"
         ),
         None => format!(
             "  energy balance eq. {equation}: not checked (the run's conventions change the \

@@ -1,6 +1,7 @@
 //! The one time loop of every run, bar or box: the problem discretised at a level is stepped
 //! to its horizon by a scheme, every state `t_n`, `n = 0..=N`, is checked for non-finite
-//! values and handed to the run's observers.
+//! values, measured for penetration, energy above the start and contact-force sign
+//! ([`PhysicsMonitor`]) and handed to the run's observers.
 
 use std::time::Instant;
 
@@ -16,6 +17,7 @@ use crate::engine::schemes::{
     integrator, Conventions, Integration, Integrator, Scheme, SchemeState,
 };
 use crate::harness::files::error::Error;
+use crate::harness::run::physics::{Physics, PhysicsMonitor};
 
 /// What a run does with each state of the scheme: accumulate a norm, record a history, write
 /// a snapshot. Observers see the state at `t_0` (the initial data) and after every step.
@@ -180,6 +182,9 @@ pub struct Stepped {
     /// scale ([`BalanceMonitor::largest_residual`]) over the steps taken; `None` where the
     /// balances are not identities of the run ([`energy_balance::holds_under`]).
     pub max_balance_residual: Option<f64>,
+    /// Penetration, energy above the start and contact-force sign over the states that were
+    /// taken ([`PhysicsMonitor`]).
+    pub physics: Physics,
     /// Wall-clock split; `setup` counts from `started`.
     pub timings: Timings,
 }
@@ -391,6 +396,7 @@ pub fn drive_by<'r, M: AxialMesh>(
     let mut balance = energy_balance::holds_under(&discretisation.conventions, model)
         .then(|| BalanceMonitor::new(model, scheme, dt));
     let mut violation = None;
+    let mut physics = PhysicsMonitor::new(model);
     let mut step_noise = discretisation.step_perturbation.map(|p| p.stream());
     'steps: for step in 0..=steps {
         let clock = Instant::now();
@@ -413,6 +419,10 @@ pub fn drive_by<'r, M: AxialMesh>(
         };
         if let (Ok(()), Some(monitor), None) = (&stepped, balance.as_mut(), &violation) {
             violation = balance_violation(monitor, &observed, scheme);
+        }
+        if stepped.is_ok() {
+            let balanced = balance.as_ref().and_then(|m| m.energy_of(step));
+            physics.observe(&observed, balanced);
         }
         stepping += clock.elapsed().as_secs_f64();
         if let Err(e) = stepped {
@@ -448,6 +458,7 @@ pub fn drive_by<'r, M: AxialMesh>(
         step_solves: statistics.step_solves,
         contact_truncation: statistics.contact_truncation,
         max_balance_residual: balance.as_ref().map(BalanceMonitor::largest_residual),
+        physics: physics.physics(),
         timings: Timings {
             setup,
             stepping: stepping - statistics.contact_seconds,

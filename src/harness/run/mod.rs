@@ -13,6 +13,7 @@
 //! | [`norms`] | [`norms::Norm`], the seven norms; the space and time quadratures |
 //! | `bar` | a bar's run against its exact solution |
 //! | [`elastic`] | a box's run and what it observes, [`elastic::BoxObservations`]; VTK snapshots |
+//! | [`physics`] | what the loop measures of every run's physics: [`physics::Physics`] (penetration, energy above the start, contact-force sign) |
 //! | [`paraview`] | a box run for ParaView: [`paraview::write_collection`], [`paraview::write_obstacle`] |
 //! | [`run_files`] | the files of a run: [`run_files::RUN_JSON`], [`run_files::history_csv`], [`run_files::box_history_csv`] |
 //! | [`nested_comparison`] | a box run against a finer one on nested meshes: [`nested_comparison::projection::ProjectionRecorder`], [`nested_comparison::check`], [`nested_comparison::error_series::ErrorSeries`] |
@@ -31,6 +32,7 @@ pub mod exact;
 pub mod nested_comparison;
 pub mod norms;
 pub mod paraview;
+pub mod physics;
 pub mod run_files;
 
 pub use driver::{
@@ -213,6 +215,11 @@ pub struct RunResult<O = Observed> {
     /// identities of the run's conventions; absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_balance_residual: Option<f64>,
+    /// Penetration, energy above the start and contact-force sign, measured by the time loop
+    /// on every state it took ([`physics::Physics`]); absent only from a file written before
+    /// the loop measured them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physics: Option<physics::Physics>,
     /// What the run's geometry observes.
     #[serde(flatten)]
     pub observed: O,
@@ -290,6 +297,7 @@ impl<O> RunResult<O> {
             timings: stepped.timings,
             contact_treatment,
             max_balance_residual,
+            physics: Some(stepped.physics),
             observed,
         }
     }
@@ -306,6 +314,7 @@ impl<O> RunResult<O> {
             timings: self.timings,
             contact_treatment: self.contact_treatment,
             max_balance_residual: self.max_balance_residual,
+            physics: self.physics,
             observed: f(self.observed),
         }
     }

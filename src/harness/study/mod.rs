@@ -45,6 +45,7 @@ use crate::engine::problem::Settings;
 use crate::engine::schemes::Scheme;
 use crate::harness::files::error as files;
 use crate::harness::run::norms::Norm;
+use crate::harness::run::physics::Physics;
 use crate::harness::run::{BarRun, RunStatus, Timings};
 use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executed, Executor, JobList, ListResults};
@@ -282,6 +283,10 @@ pub struct LevelOutcome {
     pub record: LevelRecord,
     /// The error of each norm measured.
     pub errors: BTreeMap<Norm, f64>,
+    /// The run's penetration, energy above the start and contact-force sign, as its time loop
+    /// measured them ([`crate::harness::run::physics::Physics`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physics: Option<Physics>,
 }
 
 impl LevelOutcome {
@@ -300,6 +305,7 @@ impl LevelOutcome {
                 multiplier_variation_ratio: bar.multiplier_variation.and_then(|v| v.ratio()),
             },
             errors: bar.errors,
+            physics: run.physics,
         }
     }
 }
@@ -326,6 +332,11 @@ pub struct Study {
     pub not_run: Vec<NotRun>,
     /// Wall-clock time of the whole study (parallel), seconds.
     pub wall_seconds: f64,
+    /// What the time loop measured of each fitted case's runs, by case id, one entry per level
+    /// in level order ([`crate::harness::run::physics::Physics`]); absent from a study written
+    /// before the loop measured them.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub physics: BTreeMap<String, Vec<Physics>>,
 }
 
 impl Study {
@@ -341,6 +352,7 @@ impl Study {
     ) -> Self {
         let mut cases = Vec::new();
         let mut not_run = Vec::new();
+        let mut physics = BTreeMap::new();
         for (case, outcomes) in by_case {
             let statuses: Vec<&RunStatus> = outcomes.iter().map(|o| &o.status).collect();
             if let Some(stopped) = NotRun::first(case, &config.levels, &statuses) {
@@ -349,6 +361,10 @@ impl Study {
             }
             let mut records = Vec::with_capacity(outcomes.len());
             let mut errors: BTreeMap<Norm, Vec<f64>> = BTreeMap::new();
+            let measured: Option<Vec<Physics>> = outcomes.iter().map(|o| o.physics).collect();
+            if let Some(levels) = measured {
+                physics.insert(case.id(), levels);
+            }
             for outcome in outcomes {
                 for (norm, e) in outcome.errors {
                     errors.entry(norm).or_default().push(e);
@@ -363,6 +379,7 @@ impl Study {
             cases,
             not_run,
             wall_seconds,
+            physics,
         }
     }
 

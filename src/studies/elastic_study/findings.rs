@@ -18,10 +18,13 @@
 //! A finding combines its decisions: it holds when all are made and satisfied, fails when one
 //! is made and contradicted, and is undecided otherwise, with what would decide it.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::harness::problem::{MassVariant, Scheme};
 use crate::harness::run::norms::Norm;
+use crate::harness::run::physics::Physics;
 use crate::harness::study::decision::{all_of, any_of, Decision, Estimate, Verdict};
 use crate::harness::study::{verdicts, Case, CaseStudy, Study};
 
@@ -170,13 +173,51 @@ fn indicator_text(c: Labelled<'_>) -> String {
 /// The note's findings for Crank–Nicolson and backward Euler with both masses, every rate
 /// decided by its interval widened by `rate_bias` of its case and norm (`None`: unbounded); a
 /// finding whose cases are not in the study is undecided, with the reason.
+///
+/// The evidence of a finding whose cases have a run the time loop flagged (a penetration beyond
+/// 1 % of the face's displacement scale, an energy gain beyond 5 %, a pulling force:
+/// [`Physics::flags`]) ends with those runs and their figures, so that no finding rests on such
+/// a run unmarked.
 pub fn note_findings(study: &Study, rate_bias: &RateBias<'_>) -> Vec<Finding> {
-    findings_of_cases(&study.cases, rate_bias)
+    marked_findings(&study.cases, rate_bias, &study.physics)
 }
 
 /// [`note_findings`] on the cases `cases` (a study's, or the series of other codes' runs that
-/// declare their scheme and mass).
+/// declare their scheme and mass), whose runs' physics is not known here.
 pub fn findings_of_cases(cases: &[CaseStudy], rate_bias: &RateBias<'_>) -> Vec<Finding> {
+    marked_findings(cases, rate_bias, &BTreeMap::new())
+}
+
+/// `; physics: STD NX = 10: gains energy: …` for every level of the cases `pair` whose run
+/// `physics` (by case id, one per level) flags; empty when none does.
+fn physics_marks(pair: [Labelled<'_>; 2], physics: &BTreeMap<String, Vec<Physics>>) -> String {
+    let marks: Vec<String> = pair
+        .iter()
+        .flat_map(|c| {
+            let levels = physics.get(&c.case.case.id());
+            c.case
+                .levels
+                .iter()
+                .zip(levels.into_iter().flatten())
+                .filter_map(move |(level, p)| {
+                    p.flags()
+                        .map(|f| format!("{} NX = {}: {f}", c.label, level.nx))
+                })
+        })
+        .collect();
+    if marks.is_empty() {
+        String::new()
+    } else {
+        format!("; physics: {}", marks.join("; "))
+    }
+}
+
+/// The findings of `cases`, their evidence marked by `physics` ([`note_findings`]).
+fn marked_findings(
+    cases: &[CaseStudy],
+    rate_bias: &RateBias<'_>,
+    physics: &BTreeMap<String, Vec<Physics>>,
+) -> Vec<Finding> {
     let judge = Judge { rate_bias };
     let cn = Scheme::CRANK_NICOLSON;
     let be = Scheme::BACKWARD_EULER;
@@ -207,6 +248,8 @@ pub fn findings_of_cases(cases: &[CaseStudy], rate_bias: &RateBias<'_>) -> Vec<F
     let mut out = Vec::new();
     match labelled(cn) {
         Some((s, m)) => {
+            let marks = physics_marks([s, m], physics);
+            let first = out.len();
             out.push(Finding::new(
                 "Crank–Nicolson: the redistributed mass removes the contact oscillations that \
                  the standard mass shows",
@@ -254,6 +297,9 @@ pub fn findings_of_cases(cases: &[CaseStudy], rate_bias: &RateBias<'_>) -> Vec<F
                 ),
                 format!("{}; {}", rates_text(m, &h), rates_text(s, &h)),
             ));
+            for f in &mut out[first..] {
+                f.evidence.push_str(&marks);
+            }
         }
         None => out.push(missing("Crank–Nicolson findings", "§3.1")),
     }
@@ -271,11 +317,12 @@ pub fn findings_of_cases(cases: &[CaseStudy], rate_bias: &RateBias<'_>) -> Vec<F
                 "§3.1.1, Figures 6–8",
                 all_of(decisions),
                 format!(
-                    "{}; {}; {}; {}",
+                    "{}; {}; {}; {}{}",
                     rates_text(s, &Norm::ALL),
                     rates_text(m, &Norm::ALL),
                     indicator_text(s),
-                    indicator_text(m)
+                    indicator_text(m),
+                    physics_marks([s, m], physics)
                 ),
             ));
         }
@@ -344,6 +391,7 @@ mod tests {
             ],
             not_run: Vec::new(),
             wall_seconds: 0.0,
+            physics: Default::default(),
         }
     }
 
@@ -358,6 +406,56 @@ mod tests {
         for f in &findings {
             assert_eq!(f.verdict, Verdict::Holds, "{f:?}");
         }
+    }
+
+    /// A run of CN-STD whose energy rose 74 % above its start (the box's CN-STD at level 10
+    /// does) marks the evidence of every Crank–Nicolson finding with its level and figures; the
+    /// backward-Euler finding, whose runs are not flagged, is not marked; the verdicts stay
+    /// the rates'.
+    #[test]
+    fn a_flagged_run_marks_the_evidence_of_the_findings_that_rest_on_it() {
+        let calm = Physics {
+            penetration: 0.0,
+            penetration_time: 0.0,
+            face_displacement_scale: 0.2,
+            relative_penetration: Some(0.0),
+            energy_start: 1.0,
+            energy_max: 1.0,
+            energy_max_time: 0.0,
+            energy_ratio: Some(1.0),
+            external_work: None,
+            wrong_sign_force: 0.0,
+            max_force: 1.0,
+        };
+        let gaining = Physics {
+            energy_max: 1.74,
+            energy_max_time: 1.25,
+            energy_ratio: Some(1.74),
+            ..calm
+        };
+        let mut study = note_like(1.0);
+        for c in &study.cases {
+            let mut levels = vec![calm; c.levels.len()];
+            if c.case.scheme == Scheme::CRANK_NICOLSON && c.case.mass == MassVariant::Standard {
+                levels[0] = gaining;
+            }
+            study.physics.insert(c.case.id(), levels);
+        }
+        let findings = note_findings(&study, &|_, _| Some(0.01));
+        for f in &findings[..5] {
+            assert!(
+                f.evidence
+                    .ends_with("; physics: STD NX = 10: gains energy: E_max/E_0 = 1.7400 (E_0 = 1.0000e0, E_max = 1.7400e0) at t = 1.2500"),
+                "{}",
+                f.evidence
+            );
+            assert_eq!(f.verdict, Verdict::Holds, "{f:?}");
+        }
+        assert!(
+            !findings[5].evidence.contains("physics"),
+            "{}",
+            findings[5].evidence
+        );
     }
 
     #[test]

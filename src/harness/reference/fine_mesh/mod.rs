@@ -755,6 +755,7 @@ fn run_level(
             } else {
                 BTreeMap::new()
             },
+            physics: result.physics,
         },
         kept: BoxKept {
             histories: (keep_histories && completed).then(|| CaseHistories {
