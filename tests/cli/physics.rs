@@ -87,7 +87,7 @@ fn moreau_jean_with_a_massless_contact_node_is_flagged_for_penetration_and_energ
 
 /// A synthetic penetration on a 2D box: the bar of `bar2d.json` started 0.25 down, 0.05
 /// inside the obstacle 0.2 below it. Its face never leaves the obstacle (D = 0), so the
-/// absolute penetration 0.05 is judged, and flagged.
+/// penetration 0.05 is judged against the floor of the displacement scale, and flagged.
 #[test]
 fn a_box_started_inside_the_obstacle_is_flagged_as_penetrating() {
     let dir = scratch("box");

@@ -13,7 +13,9 @@ use crate::harness::problem::{
 use crate::harness::reference::scene_study::{chosen_settings, ConventionChoice};
 use crate::harness::run::elastic::BoxObservations;
 use crate::harness::run::energy_balance::{self, BALANCE_TOLERANCE};
-use crate::harness::run::physics::{Physics, ENERGY_GAIN_TOLERANCE, PENETRATION_TOLERANCE};
+use crate::harness::run::physics::{
+    Physics, ENERGY_GAIN_TOLERANCE, FACE_SCALE_FLOOR, PENETRATION_TOLERANCE,
+};
 use crate::harness::run::run_files::{box_history_csv, history_csv};
 use crate::harness::run::{run, time_grid, Observables, Observed, RunConfig, RunResult};
 use crate::harness::study::budget::{self, Estimate};
@@ -327,10 +329,10 @@ fn box_summary(lines: &mut Vec<String>, run: &SceneRun, r: &RunResult, body: &Bo
 /// The physics lines of a run's summary: its penetration, its energy above the start and its
 /// contact-force sign ([`Physics`]), then what fails its tolerance, with the figures.
 fn physics_lines(lines: &mut Vec<String>, p: &Physics) {
-    let tolerance = match p.relative_penetration {
-        Some(_) => format!("{} % of D", 100.0 * PENETRATION_TOLERANCE),
-        None => format!("{PENETRATION_TOLERANCE:e} with D = 0"),
-    };
+    let tolerance = format!(
+        "{} % of max(D, {FACE_SCALE_FLOOR:e})",
+        100.0 * PENETRATION_TOLERANCE
+    );
     lines.push(format!(
         "  penetration {} (tolerance {tolerance}); energy {}; contact force: largest pulling \
          {:.3e} of largest |λ| {:.3e}",

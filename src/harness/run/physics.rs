@@ -9,8 +9,10 @@
 //!   on the 1D benchmarks (the contact node starts 0.5 above the obstacle) and 0.2 on the 2D/3D
 //!   bars (their gap). `p / D` is not bounded by 1: Moreau–Jean with the redistributed mass on
 //!   the gravity benchmark at NX = 160 sinks 0.733 below the obstacle, 147 % of `D = 0.5`. When
-//!   the face never left the obstacle (`D = 0`) there is no relative figure, and the absolute
-//!   one is judged against [`PENETRATION_TOLERANCE`] itself.
+//!   the face never left the obstacle (`D = 0`) there is no relative figure. The judged figure
+//!   is `p / max(D, D_min)` with [`FACE_SCALE_FLOOR`] as `D_min`: where the face barely leaves
+//!   the obstacle (a grazing contact: `D` and `p` both of round-off size) the ratio of two
+//!   round-off numbers decides nothing.
 //! * **Energy**: the discrete energy `E^n = E_h = ½VᵀMV + ½UᵀSU − FᵀU` (eq. 31) plus a
 //!   penalty's or Nitsche's contact energy, half-step for Paoli–Schatzman, its start `E_0` and
 //!   its largest value `E_max`, with the time `t_n` of the state it was taken at. Where the
@@ -22,7 +24,7 @@
 //! * **Contact-force sign**: the multipliers are forces `λ_i ≤ 0` (compression, 1D paper
 //!   eq. 30); the largest `λ_i > 0` of any step (a pulling force) and the largest `|λ_i|`.
 //!
-//! A run **penetrates** when `p / D` (`p` when `D = 0`) exceeds [`PENETRATION_TOLERANCE`],
+//! A run **penetrates** when `p / max(D, D_min)` exceeds [`PENETRATION_TOLERANCE`],
 //! **gains energy** when `(E_max − E_0) / |E_0|` (`E_max − E_0` when `E_0 = 0`) exceeds
 //! [`ENERGY_GAIN_TOLERANCE`], and has a **wrong-sign force** when its largest positive
 //! multiplier exceeds [`FORCE_SIGN_TOLERANCE`] times its largest `|λ|`. The tolerances are
@@ -45,6 +47,11 @@ use crate::engine::schemes::Integration;
 /// deep. A node that stays inside the obstacle goes far beyond it (97 % for Moreau–Jean with a
 /// massless contact node).
 pub const PENETRATION_TOLERANCE: f64 = 1e-2;
+
+/// The smallest displacement scale a penetration is judged against, in the scenes' length unit
+/// (their bodies are of unit length): 10⁻³. A penetration is then flagged only above 10⁻⁵, a
+/// hundred times the multiplier treatments' complementarity round-off (10⁻⁷), whatever `D`.
+pub const FACE_SCALE_FLOOR: f64 = 1e-3;
 
 /// The largest rise of the energy above its start a run may have, relative to `|E_0|`: 5 %,
 /// the stability suite's energy-growth threshold. The exact energy (with the load's potential)
@@ -97,9 +104,10 @@ impl Physics {
         }
     }
 
-    /// `p / D`, or `p` when `D = 0`: the figure judged against [`PENETRATION_TOLERANCE`].
+    /// `p / max(D, D_min)` ([`FACE_SCALE_FLOOR`]): the figure judged against
+    /// [`PENETRATION_TOLERANCE`].
     pub fn judged_penetration(&self) -> f64 {
-        self.relative_penetration.unwrap_or(self.penetration)
+        self.penetration / self.face_displacement_scale.max(FACE_SCALE_FLOOR)
     }
 
     /// Whether the run went into the obstacle beyond [`PENETRATION_TOLERANCE`].
