@@ -581,7 +581,7 @@ fn a_broken_xdmf_series_is_refused_naming_what_is_off() {
     );
     // Heavy data in a file that is not there.
     let missing = edited_xdmf(&dir, "missing", &|text| {
-        text.replace(&at_one, &format!("gone.h5:/Function/velocity/1</DataItem>"))
+        text.replace(&at_one, "gone.h5:/Function/velocity/1</DataItem>")
     });
     expect_error(
         &verify_args(&scene, &missing, &cache),
