@@ -1,20 +1,30 @@
-//! The SVG figures: well-formed, the expected series, legends, empty and non-finite input,
-//! determinism.
+//! The SVG figures: well-formed, the expected series in their styles, legends, bands, empty and
+//! non-finite input, determinism.
 //!
-//! What plotters emits (inspected on its output): every line series is one `<polyline>` with
-//! the series' stroke width (2 for runs, 4 for the exact curve); every legend entry adds one
-//! two-point, 20 px long horizontal `<polyline>` of the same style; axes and ticks are
-//! `<polyline>`s of width 1 and grid lines are `<line>`s; markers are `<circle>`s; the legend
-//! box is two `<rect>`s (background, then border); an ensemble's band is one `<polygon>` with
-//! the series' fill and an opacity below 1, and its legend swatch a four-point one. The demo
-//! figures are written to `target/tmp/figures-demo/`, or to `$FIGURES_DEMO_DIR` when it is set,
-//! for a person to look at.
+//! The tests read the [`FigureLayout`] each figure embeds (its charts, plotting areas, legend
+//! boxes, series with their kind, colour, dash, marker and extent, axis ranges and ticks) and
+//! check the drawn SVG against it. What the drawing emits (inspected on its output): a solid
+//! curve is one `<polyline>` through all its points, a broken one (dashed, dotted) one short
+//! `<polyline>` per dash; computed curves, exact curves and fitted slopes have stroke width 2,
+//! axes 1, grid lines are `<line>`s; a circle marker is a `<circle>`, a square, triangle or
+//! diamond marker an opaque `<polygon>` of at most four corners; an ensemble's band is a
+//! translucent `<polygon>` of two vertices per level and its legend swatch a translucent
+//! four-corner one; a legend is a translucent white `<rect>` and its border, followed by its
+//! symbols and labels. The demo figures are written to `target/tmp/figures-demo/`, or to
+//! `$FIGURES_DEMO_DIR` when it is set, for a person to look at.
+//!
+//! What `figure_geometry.rs` checks on every committed figure (text inside the canvas, legend
+//! labels inside their box, colour-blind-safe and distinct styles, a fitted slope per series,
+//! shared scales, a tick at every level) is not repeated here.
 
 use std::path::{Path, PathBuf};
 
+use plotters::style::RGBColor;
+use signorini::harness::render::figures::layout::{FigureLayout, Rect, SeriesKind};
+use signorini::harness::render::figures::style::{EXACT, PALETTE};
 use signorini::harness::render::figures::{
-    contact_node_figure, convergence_figure, energy_figure, time_series_figure,
-    work_precision_figure, ContactAxes, ContactPanel, ConvergenceFit, ConvergenceSeries,
+    contact_node_figure, convergence_figure, energy_figure, line_figure, time_series_figure,
+    work_precision_figure, Colouring, ContactAxes, ContactPanel, ConvergenceFit, ConvergenceSeries,
     EnergyPanel, ErrorBand, FigureError, WorkPrecisionSeries,
 };
 use signorini::harness::run::{ContactHistory, EnergyHistory};
@@ -24,45 +34,104 @@ use signorini::harness::study::sensitivity::Spread;
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG back.
 
+/// A `<polyline>`: a solid curve, one dash of a broken curve, an axis or a legend symbol.
 #[derive(Debug, Clone)]
 struct Polyline {
     stroke: String,
     width: u32,
     points: Vec<(f64, f64)>,
+    /// Its position among the SVG's elements.
+    order: usize,
 }
 
-impl Polyline {
-    /// A legend symbol: two points, 20 px apart horizontally.
-    fn is_legend(&self) -> bool {
-        self.points.len() == 2
-            && self.points[0].1 == self.points[1].1
-            && self.points[1].0 - self.points[0].0 == 20.0
-    }
-}
-
-/// A filled `<polygon>`: a band (or a band's legend swatch).
+/// A filled `<polygon>`: a band or its legend swatch (translucent), or a marker (opaque).
 #[derive(Debug, Clone)]
 struct Shade {
     fill: String,
     opacity: f64,
     points: Vec<(f64, f64)>,
+    order: usize,
 }
 
+/// A marker: a `<circle>`, or an opaque `<polygon>` of at most four corners, by its centre.
+#[derive(Debug, Clone)]
+struct Marker {
+    fill: String,
+    centre: (f64, f64),
+}
+
+/// One series of a chart's layout: `(label, kind, colour, dash, marker)`.
+type Entry = (String, SeriesKind, [u8; 3], String, Option<String>);
+
+/// A figure as drawn: its embedded layout and the SVG elements the tests look at.
 struct Svg {
-    width: f64,
-    height: f64,
+    layout: FigureLayout,
     polylines: Vec<Polyline>,
-    /// The `<polygon>`s, and how many `<polyline>`s came before each.
-    polygons: Vec<(Shade, usize)>,
-    circles: usize,
+    polygons: Vec<Shade>,
+    markers: Vec<Marker>,
     texts: Vec<String>,
-    /// `(x, y, w, h)` of every `<rect>` after the background.
-    rects: Vec<(f64, f64, f64, f64)>,
+    /// `(rect, order)` of every filled `<rect>` after the background (the legends' boxes).
+    boxes: Vec<(Rect, usize)>,
+}
+
+/// The SVG spelling of a colour, `#RRGGBB`.
+fn hex(c: RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+}
+
+/// The `[r, g, b]` of a colour, as the layout records it.
+fn rgb(c: RGBColor) -> [u8; 3] {
+    [c.0, c.1, c.2]
+}
+
+/// Whether `p` lies in `r` (edges included).
+fn within(r: &Rect, p: (f64, f64)) -> bool {
+    p.0 >= f64::from(r.x0)
+        && p.0 <= f64::from(r.x1)
+        && p.1 >= f64::from(r.y0)
+        && p.1 <= f64::from(r.y1)
+}
+
+/// Whether the segment `a`–`b` meets the inside of `r` shrunk by one pixel (Liang–Barsky).
+fn segment_meets(a: (f64, f64), b: (f64, f64), r: &Rect) -> bool {
+    let (x0, y0, x1, y1) = (
+        f64::from(r.x0) + 1.0,
+        f64::from(r.y0) + 1.0,
+        f64::from(r.x1) - 1.0,
+        f64::from(r.y1) - 1.0,
+    );
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 - x0),
+        (dx, x1 - a.0),
+        (-dy, a.1 - y0),
+        (dy, y1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    t0 <= t1
 }
 
 impl Svg {
-    /// Parses `svg` (panics if it is not well-formed XML).
+    /// Parses `svg` (panics if it is not well-formed XML, has no layout or one that does not
+    /// parse, or holds a non-finite number).
     fn parse(svg: &str) -> Self {
+        assert!(
+            !svg.contains("NaN") && !svg.contains("inf"),
+            "a non-finite number in the figure"
+        );
+        let layout = FigureLayout::from_svg(svg)
+            .expect("an embedded layout")
+            .expect("a layout that parses");
         let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
         let root = doc.root_element();
         assert_eq!(root.tag_name().name(), "svg");
@@ -82,81 +151,174 @@ impl Svg {
                 })
                 .collect()
         };
-        let mut polylines = Vec::new();
-        let mut polygons = Vec::new();
-        let mut circles = 0;
-        let mut texts = Vec::new();
-        let mut rects = Vec::new();
-        for n in root.descendants().filter(|n| n.is_element()) {
+        assert_eq!(
+            (num(root, "width"), num(root, "height")),
+            (f64::from(layout.width), f64::from(layout.height)),
+            "the canvas is the layout's"
+        );
+        let mut out = Self {
+            layout,
+            polylines: Vec::new(),
+            polygons: Vec::new(),
+            markers: Vec::new(),
+            texts: Vec::new(),
+            boxes: Vec::new(),
+        };
+        for (order, n) in root.descendants().filter(|n| n.is_element()).enumerate() {
             match n.tag_name().name() {
-                "polyline" => polylines.push(Polyline {
+                "polyline" => out.polylines.push(Polyline {
                     stroke: n.attribute("stroke").unwrap().to_owned(),
                     width: n.attribute("stroke-width").unwrap().parse().unwrap(),
                     points: points(n),
+                    order,
                 }),
-                "polygon" => polygons.push((
-                    Shade {
+                "polygon" => {
+                    let shade = Shade {
                         fill: n.attribute("fill").unwrap().to_owned(),
                         opacity: num(n, "opacity"),
                         points: points(n),
-                    },
-                    polylines.len(),
-                )),
-                "circle" => circles += 1,
-                "text" => texts.push(n.text().unwrap_or("").trim().to_owned()),
-                "rect" => rects.push((num(n, "x"), num(n, "y"), num(n, "width"), num(n, "height"))),
+                        order,
+                    };
+                    if shade.opacity == 1.0 && shade.points.len() <= 4 {
+                        let k = shade.points.len() as f64;
+                        let (sx, sy) = shade
+                            .points
+                            .iter()
+                            .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
+                        out.markers.push(Marker {
+                            fill: shade.fill.clone(),
+                            centre: (sx / k, sy / k),
+                        });
+                    }
+                    out.polygons.push(shade);
+                }
+                "circle" => out.markers.push(Marker {
+                    fill: n.attribute("fill").unwrap().to_owned(),
+                    centre: (num(n, "cx"), num(n, "cy")),
+                }),
+                "text" => out.texts.push(n.text().unwrap_or("").trim().to_owned()),
+                "rect" if n.attribute("fill") != Some("none") => {
+                    let (x, y) = (num(n, "x") as i32, num(n, "y") as i32);
+                    let rect = Rect {
+                        x0: x,
+                        y0: y,
+                        x1: x + num(n, "width") as i32,
+                        y1: y + num(n, "height") as i32,
+                    };
+                    out.boxes.push((rect, order));
+                }
                 _ => {}
             }
         }
-        rects.remove(0); // the white background
-        Self {
-            width: num(root, "width"),
-            height: num(root, "height"),
-            polylines,
-            polygons,
-            circles,
-            texts,
-            rects,
-        }
+        out.boxes.remove(0); // the white background
+        out
     }
 
-    /// The data lines: wider than the axes and not legend symbols.
-    fn data(&self) -> Vec<&Polyline> {
+    /// The legend boxes of the layout.
+    fn legends(&self) -> Vec<Rect> {
+        self.layout.charts.iter().filter_map(|c| c.legend).collect()
+    }
+
+    /// Whether `p` lies in a legend box.
+    fn in_legend(&self, p: (f64, f64)) -> bool {
+        self.legends().iter().any(|r| within(r, p))
+    }
+
+    /// The strokes of curves (width 2) in `colour` that are not legend symbols: a solid curve's
+    /// one polyline, a broken curve's dashes.
+    fn strokes(&self, colour: RGBColor) -> Vec<&Polyline> {
         self.polylines
             .iter()
-            .filter(|p| p.width > 1 && !p.is_legend())
+            .filter(|p| p.width == 2 && p.stroke == hex(colour))
+            .filter(|p| !p.points.iter().all(|&q| self.in_legend(q)))
             .collect()
     }
 
-    fn legend_symbols(&self) -> Vec<&Polyline> {
-        self.polylines
+    /// The number of points of each stroke in `colour` (in drawing order).
+    fn stroke_lengths(&self, colour: RGBColor) -> Vec<usize> {
+        self.strokes(colour)
             .iter()
-            .filter(|p| p.width > 1 && p.is_legend())
+            .map(|p| p.points.len())
             .collect()
     }
 
-    fn data_of(&self, stroke: &str) -> usize {
-        self.data().iter().filter(|p| p.stroke == stroke).count()
+    /// The markers in `colour`: `(on the chart, in a legend)`.
+    fn markers_of(&self, colour: RGBColor) -> (usize, usize) {
+        let (legend, chart): (Vec<&Marker>, Vec<&Marker>) = self
+            .markers
+            .iter()
+            .filter(|m| m.fill == hex(colour))
+            .partition(|m| self.in_legend(m.centre));
+        (chart.len(), legend.len())
     }
 
-    /// The shaded bands (more than the four corners of a legend swatch) with the `<polyline>`s
-    /// drawn before each.
-    fn bands(&self) -> Vec<&(Shade, usize)> {
+    /// The translucent polygons with more than four corners: the shaded bands.
+    fn bands(&self) -> Vec<&Shade> {
         self.polygons
             .iter()
-            .filter(|(p, _)| p.points.len() > 4)
+            .filter(|p| p.opacity < 1.0 && p.points.len() > 4)
             .collect()
     }
 
-    fn has_text(&self, needle: &str) -> bool {
-        self.texts.iter().any(|t| t.contains(needle))
+    /// The translucent four-corner polygons: the bands' legend swatches.
+    fn swatches(&self) -> Vec<&Shade> {
+        self.polygons
+            .iter()
+            .filter(|p| p.opacity < 1.0 && p.points.len() == 4)
+            .collect()
+    }
+
+    /// Whether some text element is exactly `text`.
+    fn has_text(&self, text: &str) -> bool {
+        self.texts.iter().any(|t| t == text)
+    }
+
+    /// `(label, kind, colour, dash, marker)` of every series of chart `k`, in legend order.
+    fn series(&self, k: usize) -> Vec<Entry> {
+        self.layout.charts[k]
+            .series
+            .iter()
+            .map(|s| {
+                (
+                    s.label.clone(),
+                    s.kind,
+                    s.colour,
+                    s.dash.clone(),
+                    s.marker.clone(),
+                )
+            })
+            .collect()
+    }
+
+    /// The series of the whole figure drawn as curves (computed, exact or fit), and how many of
+    /// them have a band.
+    fn curves_and_bands(&self) -> (usize, usize) {
+        let all = self.layout.charts.iter().flat_map(|c| &c.series);
+        let curves = all.clone().filter(|s| s.kind != SeriesKind::Note).count();
+        (curves, all.filter(|s| s.band.is_some()).count())
     }
 }
 
-const EXACT: &str = "#000000";
-const FIRST: &str = "#1F77B4";
-const SECOND: &str = "#D62728";
-const THIRD: &str = "#2CA02C";
+/// `(label, kind, colour, dash, marker)` as [`Svg::series`] gives it.
+fn entry(
+    label: &str,
+    kind: SeriesKind,
+    colour: RGBColor,
+    dash: &str,
+    marker: Option<&str>,
+) -> Entry {
+    (
+        label.to_owned(),
+        kind,
+        rgb(colour),
+        dash.to_owned(),
+        marker.map(str::to_owned),
+    )
+}
+
+const FIRST: RGBColor = PALETTE[0];
+const SECOND: RGBColor = PALETTE[1];
+const THIRD: RGBColor = PALETTE[2];
 
 // ---------------------------------------------------------------------------------------------
 // Synthetic input shaped like the Signorini–Dirichlet benchmark (T = 3, contact on [1, 2]).
@@ -353,22 +515,64 @@ fn time_series() -> Vec<(String, Vec<f64>, Vec<f64>)> {
 #[test]
 fn contact_figure_has_two_panels_of_two_charts_with_runs_and_exact() {
     let svg = Svg::parse(&contact_node_figure("Crank–Nicolson", AXES, &contact_panels()).unwrap());
-    assert_eq!((svg.width, svg.height), (1200.0, 500.0));
-    // 2 panels × 2 charts × (2 runs + exact).
-    assert_eq!(svg.data().len(), 12);
-    assert_eq!(svg.data_of(EXACT), 4);
-    assert_eq!(svg.data_of(FIRST), 4);
-    assert_eq!(svg.data_of(SECOND), 4);
-    // Every run's line keeps all its samples (NX = 40: 1201).
-    let longest = svg.data().iter().map(|p| p.points.len()).max().unwrap();
-    assert_eq!(longest, 1201);
-    // The exact curve is thicker than the runs.
-    assert!(svg
-        .data()
-        .iter()
-        .all(|p| (p.stroke == EXACT) == (p.width > 2)));
-    // One legend per panel (in the displacement chart): exact + 2 runs.
-    assert_eq!(svg.legend_symbols().len(), 6);
+    let layout = &svg.layout;
+    // Two panels of 600 px, the legend panel beneath each adding to the 500 px.
+    assert_eq!(layout.width, 1200);
+    assert!(layout.height > 500, "{}", layout.height);
+    // Per panel: displacement on top (caption, no legend), multiplier below (legend beneath).
+    assert_eq!(layout.charts.len(), 4);
+    for (k, c) in layout.charts.iter().enumerate() {
+        assert!(layout.canvas().contains(&c.plot), "chart {k}");
+        let top = k % 2 == 0;
+        assert_eq!(c.y.label, if top { "u(0, t)" } else { "λ(t)" });
+        assert_eq!(c.legend.is_some(), !top, "chart {k}");
+        if let Some(legend) = c.legend {
+            assert!(layout.canvas().contains(&legend) && legend.y0 >= c.plot.y1);
+        }
+        // Two runs and the exact curve, each run in the style of its position in the panel.
+        assert_eq!(
+            svg.series(k),
+            vec![
+                entry("NX = 20", SeriesKind::Data, FIRST, "solid", Some("circle")),
+                entry(
+                    "NX = 40",
+                    SeriesKind::Data,
+                    SECOND,
+                    "dashed",
+                    Some("square")
+                ),
+                entry("exact", SeriesKind::Exact, EXACT, "dashed", None),
+            ],
+            "chart {k}"
+        );
+        // The exact curve is drawn over the runs.
+        let inside = |p: &&Polyline| p.points.iter().all(|&q| within(&c.plot, q));
+        let last_run = [FIRST, SECOND]
+            .iter()
+            .flat_map(|&colour| svg.strokes(colour))
+            .filter(inside)
+            .map(|p| p.order)
+            .max()
+            .unwrap();
+        let first_exact = svg
+            .strokes(EXACT)
+            .into_iter()
+            .filter(inside)
+            .map(|p| p.order)
+            .min()
+            .unwrap();
+        assert!(last_run < first_exact, "chart {k}");
+    }
+    assert_eq!(
+        layout.charts[0].caption.as_ref().unwrap().text,
+        "standard mass"
+    );
+    assert_eq!(
+        layout.charts[2].caption.as_ref().unwrap().text,
+        "redistributed mass"
+    );
+    // The solid run (NX = 20) keeps all its 601 samples in each chart, in one line.
+    assert_eq!(svg.stroke_lengths(FIRST), vec![601; 4]);
     assert!(svg.has_text("standard mass") && svg.has_text("redistributed mass"));
     assert!(svg.has_text("NX = 40") && svg.has_text("exact"));
     assert!(svg.has_text("u(0, t)") && svg.has_text("λ(t)"));
@@ -378,46 +582,105 @@ fn contact_figure_has_two_panels_of_two_charts_with_runs_and_exact() {
 #[test]
 fn energy_figure_has_one_chart_per_panel() {
     let svg = Svg::parse(&energy_figure("Energy", &energy_panels()).unwrap());
-    assert_eq!((svg.width, svg.height), (1200.0, 500.0));
-    assert_eq!(svg.data().len(), 6);
-    assert_eq!(svg.data_of(EXACT), 2);
-    assert_eq!(svg.legend_symbols().len(), 6);
+    assert_eq!(svg.layout.width, 1200);
+    assert_eq!(svg.layout.charts.len(), 2);
+    for k in 0..2 {
+        assert_eq!(
+            svg.series(k),
+            vec![
+                entry("NX = 20", SeriesKind::Data, FIRST, "solid", Some("circle")),
+                entry(
+                    "NX = 40",
+                    SeriesKind::Data,
+                    SECOND,
+                    "dashed",
+                    Some("square")
+                ),
+                entry("exact", SeriesKind::Exact, EXACT, "dashed", None),
+            ]
+        );
+        assert!(svg.layout.charts[k].legend.is_some());
+    }
+    assert_eq!(svg.stroke_lengths(FIRST), vec![601; 2]);
     assert!(svg.has_text("E(t)"));
 
-    let one = energy_figure("Energy", &energy_panels()[..1]).unwrap();
-    let one = Svg::parse(&one);
-    assert_eq!((one.width, one.height), (800.0, 500.0));
-    assert_eq!(one.data().len(), 3);
+    let one = Svg::parse(&energy_figure("Energy", &energy_panels()[..1]).unwrap());
+    assert_eq!(one.layout.width, 800);
+    assert_eq!(one.layout.charts.len(), 1);
+    assert_eq!(one.series(0).len(), 3);
+    assert_eq!(one.stroke_lengths(FIRST), vec![601]);
 }
 
 #[test]
-fn convergence_legend_shows_the_fitted_slope_to_two_decimals() {
+fn convergence_draws_each_fit_with_its_slope_and_interval() {
     let series = convergence_series();
     let svg =
         Svg::parse(&convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap());
-    assert_eq!((svg.width, svg.height), (800.0, 500.0));
-    assert_eq!(svg.data().len(), 3);
-    assert_eq!(svg.legend_symbols().len(), 3);
-    // One marker per level and one per legend entry.
-    assert_eq!(svg.circles, 3 * 7 + 3);
-    // The rate with the half-width of its 95 % interval.
-    assert!(svg.has_text("u L∞(H), standard (slope 0.50 ± 0.10)"));
-    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00 ± 0.10)"));
-    let plain = svg
-        .texts
-        .iter()
-        .find(|t| t.starts_with("energy L2"))
-        .unwrap();
-    assert_eq!(plain, "energy L2, redistributed");
+    assert_eq!(svg.layout.width, 800);
+    assert_eq!(svg.layout.charts.len(), 1);
+    // Each series with a marker at every level, followed by its fitted slope (broken, in its
+    // colour) with the rate and its 95 % interval to two decimals; the third has no fit.
+    assert_eq!(
+        svg.series(0),
+        vec![
+            entry(
+                "u L∞(H), standard",
+                SeriesKind::Data,
+                FIRST,
+                "solid",
+                Some("circle")
+            ),
+            entry(
+                "fit: slope 0.50, 95 % CI [0.40, 0.60]",
+                SeriesKind::Fit,
+                FIRST,
+                "dashed",
+                None
+            ),
+            entry(
+                "u L∞(H), redistributed",
+                SeriesKind::Data,
+                SECOND,
+                "solid",
+                Some("square")
+            ),
+            entry(
+                "fit: slope 1.00, 95 % CI [0.90, 1.10]",
+                SeriesKind::Fit,
+                SECOND,
+                "dotted",
+                None
+            ),
+            entry(
+                "energy L2, redistributed",
+                SeriesKind::Data,
+                THIRD,
+                "solid",
+                Some("triangle-up")
+            ),
+        ]
+    );
+    for label in svg.series(0).iter().map(|s| &s.0) {
+        assert!(svg.has_text(label), "{label}");
+    }
+    // One marker per level and one per legend entry; each series one line through its levels,
+    // and the fits drawn as dashes besides.
+    for colour in [FIRST, SECOND, THIRD] {
+        assert_eq!(svg.markers_of(colour), (7, 1));
+        assert_eq!(svg.stroke_lengths(colour).iter().max(), Some(&7));
+    }
+    assert!(svg.strokes(FIRST).len() > 2 && svg.strokes(SECOND).len() > 2);
+    assert_eq!(svg.strokes(THIRD).len(), 1);
     // The h axis is labelled at every level, not at powers of two.
-    assert!(
-        ["1/10", "1/20", "1/40", "1/80", "1/160", "1/320", "1/640"]
-            .iter()
-            .all(|l| svg.has_text(l))
-            && !svg.texts.iter().any(|t| t == "1/16"),
+    let x = &svg.layout.charts[0].x;
+    let labels: Vec<&str> = x.ticks.iter().map(|t| t.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        ["1/640", "1/320", "1/160", "1/80", "1/40", "1/20", "1/10"],
         "{:?}",
         svg.texts
     );
+    assert!(labels.iter().all(|l| svg.has_text(l)) && !svg.has_text("1/16"));
 }
 
 #[test]
@@ -427,12 +690,19 @@ fn convergence_skips_non_positive_and_non_finite_errors() {
     series[0].errors[4] = -1.0;
     series[1].errors[3] = f64::NAN;
     series[1].h[5] = f64::INFINITY;
-    let text = convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap();
-    assert!(!text.contains("NaN") && !text.contains("inf"));
-    let svg = Svg::parse(&text);
-    let lens: Vec<usize> = svg.data().iter().map(|p| p.points.len()).collect();
-    assert_eq!(lens, vec![5, 5, 7]);
-    assert_eq!(svg.circles, 5 + 5 + 7 + 3);
+    let svg =
+        Svg::parse(&convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap());
+    for (colour, levels) in [(FIRST, 5), (SECOND, 5), (THIRD, 7)] {
+        assert_eq!(svg.markers_of(colour), (levels, 1));
+        assert_eq!(svg.stroke_lengths(colour).iter().max(), Some(&levels));
+    }
+    // The extents recorded are those of the drawable levels.
+    let extent = svg.layout.charts[0].series[0].extent.unwrap();
+    let kept: Vec<f64> = [0, 1, 3, 5, 6]
+        .iter()
+        .map(|&k| series[0].errors[k])
+        .collect();
+    assert_eq!(extent, [kept[4], kept[0]]);
 }
 
 /// [`convergence_series`] with a band around the first series: a factor 3 either side of its
@@ -452,20 +722,6 @@ fn banded_series() -> Vec<ConvergenceSeries> {
     series
 }
 
-/// `(top, bottom)` pixel rows of the y axis: the longest vertical axis line.
-fn y_axis(svg: &Svg) -> (f64, f64) {
-    let axis = svg
-        .polylines
-        .iter()
-        .filter(|p| p.width == 1 && p.points.len() == 2 && p.points[0].0 == p.points[1].0)
-        .max_by(|a, b| {
-            let len = |p: &Polyline| (p.points[1].1 - p.points[0].1).abs();
-            len(a).total_cmp(&len(b))
-        })
-        .unwrap();
-    (axis.points[0].1, axis.points[1].1)
-}
-
 #[test]
 fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
     let svg = Svg::parse(
@@ -473,21 +729,26 @@ fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
     );
     let bands = svg.bands();
     assert_eq!(bands.len(), 1, "{:?}", svg.polygons);
-    let (band, lines_before) = bands[0];
-    assert_eq!(band.fill, FIRST);
+    let band = bands[0];
+    assert_eq!(band.fill, hex(FIRST));
     assert!(band.opacity > 0.0 && band.opacity < 0.5, "{}", band.opacity);
     // The upper edge left to right, then the lower edge back: two vertices per level.
     assert_eq!(band.points.len(), 2 * 7);
-    // Beneath every line: drawn before the first data line.
+    // Beneath every line: drawn before the first curve.
     let first_line = svg
         .polylines
         .iter()
-        .position(|p| p.width > 1 && !p.is_legend())
+        .filter(|p| p.width == 2)
+        .map(|p| p.order)
+        .min()
         .unwrap();
-    assert!(*lines_before <= first_line);
+    assert!(band.order < first_line);
     // The series runs through the band, halfway between its edges on the log axis.
-    let line = svg.data()[0];
-    assert_eq!(line.stroke, FIRST);
+    let line = svg
+        .strokes(FIRST)
+        .into_iter()
+        .find(|p| p.points.len() == 7)
+        .expect("the banded series' line");
     for (k, &(x, y)) in line.points.iter().enumerate() {
         let (upper, lower) = (band.points[k], band.points[2 * 7 - 1 - k]);
         assert_eq!((upper.0, lower.0), (x, x));
@@ -495,30 +756,38 @@ fn a_band_is_shaded_in_its_series_colour_beneath_every_line_and_on_the_axes() {
         assert!((y - 0.5 * (upper.1 + lower.1)).abs() <= 1.0, "level {k}");
     }
     // The y axis spans the band, not just the lines.
-    let (top, bottom) = y_axis(&svg);
-    assert!(band.points.iter().all(|p| p.1 >= top && p.1 <= bottom));
-    // The legend: one shaded swatch, and the ensemble's slope with its range instead of the fit.
-    let swatches: Vec<&Shade> = svg
-        .polygons
-        .iter()
-        .map(|(p, _)| p)
-        .filter(|p| p.points.len() == 4)
-        .collect();
+    let chart = &svg.layout.charts[0];
+    assert!(band.points.iter().all(|&p| within(&chart.plot, p)));
+    // The legend: one shaded swatch in the series' colour, the band named with the ensemble's
+    // slopes; an ensemble gets no fitted slope, the other series keep theirs.
+    let swatches = svg.swatches();
     assert_eq!(swatches.len(), 1);
-    assert_eq!(swatches[0].fill, FIRST);
-    assert!(svg.has_text("u L∞(H), standard (slope 0.52 [0.41, 0.63])"));
-    assert!(!svg.has_text("slope 0.50"));
-    assert!(svg.has_text("u L∞(H), redistributed (slope 1.00 ± 0.10)"));
+    assert_eq!(swatches[0].fill, hex(FIRST));
+    assert!(swatches[0].points.iter().all(|&p| svg.in_legend(p)));
+    let banded =
+        "u L∞(H), standard, round-off min–max shaded; their slopes 0.41 to 0.63 (median 0.52)";
+    assert!(svg.has_text(banded));
+    assert_eq!(chart.series[0].label, banded);
+    assert_eq!(chart.series[0].band.as_deref(), Some("round-off min–max"));
+    assert_eq!(chart.series[1].kind, SeriesKind::Data);
+    assert!(!svg.texts.iter().any(|t| t.contains("slope 0.50")));
+    assert!(svg.has_text("fit: slope 1.00, 95 % CI [0.90, 1.10]"));
 }
 
 #[test]
-fn series_without_a_band_draw_no_polygon() {
-    let svg = Svg::parse(
-        &convergence_figure("Convergence", &convergence_series(), &ConvergenceFit::Exact).unwrap(),
-    );
-    assert!(svg.polygons.is_empty(), "{:?}", svg.polygons);
-    let svg = Svg::parse(&work_precision_figure("W", &grouped(&work_series())).unwrap());
-    assert!(svg.polygons.is_empty());
+fn series_without_a_band_draw_no_shaded_polygon() {
+    for text in [
+        convergence_figure("Convergence", &convergence_series(), &ConvergenceFit::Exact).unwrap(),
+        work_precision_figure("W", &grouped(&work_series())).unwrap(),
+    ] {
+        let svg = Svg::parse(&text);
+        assert!(
+            svg.polygons.iter().all(|p| p.opacity == 1.0),
+            "{:?}",
+            svg.polygons
+        );
+        assert_eq!(svg.curves_and_bands().1, 0);
+    }
 }
 
 #[test]
@@ -527,13 +796,14 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
     let band = series[0].band.as_mut().unwrap();
     band.lower[2] = 0.0;
     band.upper[4] = f64::NAN;
-    // Without the ensemble's rates the legend falls back to the fit.
+    // Without the ensemble's rates the legend names the band alone.
     band.rate = None;
-    let text = convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap();
-    assert!(!text.contains("NaN"));
-    let svg = Svg::parse(&text);
-    assert_eq!(svg.bands()[0].0.points.len(), 2 * 5);
-    assert!(svg.has_text("u L∞(H), standard (slope 0.50 ± 0.10)"));
+    let svg =
+        Svg::parse(&convergence_figure("Convergence", &series, &ConvergenceFit::Exact).unwrap());
+    assert_eq!(svg.bands()[0].points.len(), 2 * 5);
+    assert!(svg.has_text("u L∞(H), standard, round-off min–max shaded"));
+    // The line keeps all its levels.
+    assert_eq!(svg.markers_of(FIRST), (7, 1));
 
     let mut series = banded_series();
     series[0].band.as_mut().unwrap().upper.pop();
@@ -553,10 +823,31 @@ fn band_levels_off_the_log_axis_are_skipped_and_mismatched_bounds_reported() {
 fn work_precision_has_one_marked_curve_per_case() {
     let svg =
         Svg::parse(&work_precision_figure("Work–precision", &grouped(&work_series())).unwrap());
-    assert_eq!(svg.data().len(), 2);
-    assert_eq!(svg.data_of(FIRST), 1);
-    assert_eq!(svg.data_of(SECOND), 1);
-    assert_eq!(svg.circles, 2 * 7 + 2);
+    // One scheme: one colour and marker; its two masses told apart by dash.
+    assert_eq!(
+        svg.series(0),
+        vec![
+            entry(
+                "crank-nicolson/standard",
+                SeriesKind::Data,
+                FIRST,
+                "solid",
+                Some("circle")
+            ),
+            entry(
+                "crank-nicolson/redistributed",
+                SeriesKind::Data,
+                FIRST,
+                "dashed",
+                Some("circle")
+            ),
+        ]
+    );
+    assert_eq!(svg.markers_of(FIRST), (2 * 7, 2));
+    assert_eq!(svg.stroke_lengths(FIRST).iter().max(), Some(&7));
+    // The legend stands right of the chart.
+    let chart = &svg.layout.charts[0];
+    assert!(chart.legend.unwrap().x0 >= chart.plot.x1);
     assert!(svg.has_text("wall time (s)"));
     assert!(svg.has_text("crank-nicolson/redistributed"));
 }
@@ -567,13 +858,19 @@ fn time_series_skips_nan_and_infinite_points() {
     series[0].2[10] = f64::NAN;
     series[0].2[11] = f64::INFINITY;
     series[2].1[0] = f64::NEG_INFINITY;
-    let text = time_series_figure("Stability", "E_h(t)", &series, &[]).unwrap();
-    assert!(!text.contains("NaN") && !text.contains("inf"));
-    let svg = Svg::parse(&text);
-    assert_eq!(svg.data().len(), 3);
-    assert_eq!(svg.data_of(THIRD), 1);
-    let lens: Vec<usize> = svg.data().iter().map(|p| p.points.len()).collect();
-    assert_eq!(lens, vec![299, 301, 300]);
+    let svg = Svg::parse(&time_series_figure("Stability", "E_h(t)", &series, &[]).unwrap());
+    let chart = &svg.layout.charts[0];
+    let labels: Vec<&str> = chart.series.iter().map(|s| s.label.as_str()).collect();
+    assert_eq!(labels, ["case 0", "case 1", "case 2"]);
+    // The first (solid) curve is one line through its 299 finite points.
+    assert_eq!(svg.stroke_lengths(FIRST), vec![299]);
+    // The extents are those of the finite points: the third lost its first (0.125 at t = 0).
+    let extents: Vec<[f64; 2]> = chart.series.iter().map(|s| s.extent.unwrap()).collect();
+    assert_eq!(extents[0], [0.125, 0.125]);
+    assert_eq!(extents[1], [0.125, 0.125 + 0.01 * 3.0]);
+    assert_eq!(extents[2], [series[2].2[1], series[2].2[300]]);
+    assert_eq!(chart.x.range, Some([0.0, 3.0]));
+    assert!(!svg.strokes(THIRD).is_empty());
     assert!(svg.has_text("E_h(t)"));
 }
 
@@ -582,9 +879,13 @@ fn a_series_with_nothing_finite_is_dropped_and_an_all_nan_chart_is_empty() {
     let mut series = time_series();
     series[1].2.iter_mut().for_each(|y| *y = f64::NAN);
     let svg = Svg::parse(&time_series_figure("S", "y", &series, &[]).unwrap());
-    assert_eq!(svg.data().len(), 2);
-    assert_eq!(svg.legend_symbols().len(), 2);
-    assert_eq!(svg.data_of(SECOND), 0);
+    let labels: Vec<String> = svg.series(0).into_iter().map(|s| s.0).collect();
+    assert_eq!(labels, ["case 0", "case 2"]);
+    assert!(!svg.has_text("case 1"));
+    // Nothing in the dropped series' colour, neither curve nor marker nor legend symbol.
+    assert!(!svg.polylines.iter().any(|p| p.stroke == hex(SECOND)));
+    assert!(!svg.markers.iter().any(|m| m.fill == hex(SECOND)));
+    assert!(!svg.strokes(FIRST).is_empty() && !svg.strokes(THIRD).is_empty());
 
     for s in &mut series {
         s.2.iter_mut().for_each(|y| *y = f64::NAN);
@@ -714,17 +1015,22 @@ fn constant_series_get_a_padded_axis() {
         runs: vec![("NX = 10".into(), flat)],
     };
     let svg = Svg::parse(&energy_figure("E", &[panel]).unwrap());
-    assert_eq!(svg.data().len(), 2);
-    let (top, bottom) = y_axis(&svg);
-    for line in svg.data() {
-        let y = line.points[0].1;
-        assert!(line.points.iter().all(|p| p.1 == y));
-        assert!(
-            y > top + 20.0 && y < bottom - 20.0,
-            "{y} in {top}..{bottom}"
-        );
+    let chart = &svg.layout.charts[0];
+    let [lo, hi] = chart.y.range.unwrap();
+    assert!(lo < 0.125 && 0.125 < hi && hi - lo >= 0.01, "{lo}..{hi}");
+    // The run (one solid line) and the exact curve (dashes) lie flat, well inside the chart.
+    assert_eq!(svg.stroke_lengths(FIRST), vec![31]);
+    assert!(!svg.strokes(EXACT).is_empty());
+    let (top, bottom) = (f64::from(chart.plot.y0), f64::from(chart.plot.y1));
+    let y = svg.strokes(FIRST)[0].points[0].1;
+    for line in svg.strokes(FIRST).into_iter().chain(svg.strokes(EXACT)) {
+        assert!(line.points.iter().all(|p| p.1 == y), "{:?}", line.points);
     }
-    // A single point on log axes works too.
+    assert!(
+        y > top + 20.0 && y < bottom - 20.0,
+        "{y} in {top}..{bottom}"
+    );
+    // A single point on log axes works too: its marker inside the chart, padded axes round it.
     let single = ConvergenceSeries {
         label: "one level".into(),
         h: vec![0.1],
@@ -733,37 +1039,77 @@ fn constant_series_get_a_padded_axis() {
         band: None,
     };
     let svg = Svg::parse(&convergence_figure("C", &[single], &ConvergenceFit::Exact).unwrap());
-    assert_eq!(svg.circles, 2);
+    assert_eq!(svg.markers_of(FIRST), (1, 1));
+    let chart = &svg.layout.charts[0];
+    let ([x0, x1], [y0, y1]) = (chart.x.range.unwrap(), chart.y.range.unwrap());
+    assert!(x0 < 0.1 && 0.1 < x1 && y0 < 0.01 && 0.01 < y1);
+    let marker = svg
+        .markers
+        .iter()
+        .find(|m| !svg.in_legend(m.centre))
+        .unwrap();
+    let plot = chart.plot;
+    assert!(
+        marker.centre.0 > f64::from(plot.x0) + 20.0
+            && marker.centre.0 < f64::from(plot.x1) - 20.0
+            && marker.centre.1 > f64::from(plot.y0) + 20.0
+            && marker.centre.1 < f64::from(plot.y1) - 20.0,
+        "{:?} in {plot:?}",
+        marker.centre
+    );
 }
 
 #[test]
-fn the_legend_is_inside_the_figure_and_covers_no_data_vertex() {
+fn the_legend_is_inside_the_figure_and_covers_no_data() {
     for text in [
         convergence_figure("C", &convergence_series(), &ConvergenceFit::Exact).unwrap(),
         work_precision_figure("W", &grouped(&work_series())).unwrap(),
         time_series_figure("T", "y", &time_series(), &[]).unwrap(),
+        // The legend inside the chart, where it covers no data.
+        line_figure("L", ("t", "y"), &time_series(), Colouring::OnePerSeries).unwrap(),
     ] {
         let svg = Svg::parse(&text);
-        // Background and border of the one legend box.
-        assert_eq!(svg.rects.len(), 2);
-        let (x, y, w, h) = svg.rects[1];
-        assert!(x > 0.0 && y > 0.0 && x + w < svg.width && y + h < svg.height);
-        for line in svg.data() {
-            for &(px, py) in &line.points {
+        let chart = &svg.layout.charts[0];
+        let legend = chart.legend.unwrap();
+        assert!(svg.layout.canvas().contains(&legend), "{legend:?}");
+        // The box the SVG draws is the layout's, and everything drawn before it is data or
+        // axes: no curve segment and no marker of those reaches into it.
+        let drawn_at = svg
+            .boxes
+            .iter()
+            .find(|(r, _)| *r == legend)
+            .map(|&(_, order)| order)
+            .expect("the legend box in the SVG");
+        for line in svg
+            .polylines
+            .iter()
+            .filter(|p| p.order < drawn_at && p.width > 1)
+        {
+            for w in line.points.windows(2) {
                 assert!(
-                    !(px >= x && px <= x + w && py >= y && py <= y + h),
-                    "({px}, {py}) under the legend {:?}",
-                    svg.rects[1]
+                    !segment_meets(w[0], w[1], &legend),
+                    "{w:?} under the legend {legend:?}"
                 );
             }
         }
+        // Each legend entry with a marker holds one; no data marker lies in the box.
+        let chart_markers = svg
+            .markers
+            .iter()
+            .filter(|m| !svg.in_legend(m.centre))
+            .count();
+        let legend_markers = svg.markers.len() - chart_markers;
+        assert_eq!(
+            legend_markers,
+            chart.series.iter().filter(|s| s.marker.is_some()).count()
+        );
     }
 }
 
 /// Writes every demo figure to `$FIGURES_DEMO_DIR`, or without it to `target/tmp/figures-demo/`
 /// (to look at them), reads each file back and checks that it is the whole figure, well-formed
-/// SVG, with its title, one line per series (and the exact curve where there is one) and the
-/// band where one is given.
+/// SVG, with its title, one curve per series (the exact curves and fitted slopes among them) and
+/// the band where one is given.
 #[test]
 fn demo_figures_are_written_whole_and_well_formed() {
     let dir = std::env::var_os("FIGURES_DEMO_DIR")
@@ -777,7 +1123,7 @@ fn demo_figures_are_written_whole_and_well_formed() {
         fit: fit(1.0),
         band: None,
     };
-    // (file, title, figure, data lines, bands)
+    // (file, title, figure, curves, bands)
     let contact = "Crank–Nicolson, contact node";
     let energy = "Crank–Nicolson, energy";
     let figures = [
@@ -801,7 +1147,8 @@ fn demo_figures_are_written_whole_and_well_formed() {
             "convergence.svg",
             "Convergence",
             convergence_figure("Convergence", &convergence_series(), &ConvergenceFit::Exact),
-            3,
+            // 3 series, 2 fits
+            5,
             0,
         ),
         (
@@ -812,7 +1159,8 @@ fn demo_figures_are_written_whole_and_well_formed() {
                 &banded_series(),
                 &ConvergenceFit::Exact,
             ),
-            3,
+            // 3 series, the fit of the one without a band
+            4,
             1,
         ),
         (
@@ -826,7 +1174,8 @@ fn demo_figures_are_written_whole_and_well_formed() {
             "narrow.svg",
             "Under two decades",
             convergence_figure("Under two decades", &[narrow], &ConvergenceFit::Exact),
-            1,
+            // the series and its fit
+            2,
             0,
         ),
         (
@@ -837,7 +1186,7 @@ fn demo_figures_are_written_whole_and_well_formed() {
             0,
         ),
     ];
-    for (name, title, figure, lines, bands) in figures {
+    for (name, title, figure, curves, bands) in figures {
         let figure = figure.unwrap_or_else(|e| panic!("{name}: {e}"));
         let path = dir.join(name);
         std::fs::write(&path, &figure).unwrap();
@@ -850,7 +1199,13 @@ fn demo_figures_are_written_whole_and_well_formed() {
         );
         let svg = Svg::parse(&written);
         assert!(svg.has_text(title), "{name}: no title {title:?}");
-        assert_eq!(svg.data().len(), lines, "{name}: data lines");
-        assert_eq!(svg.bands().len(), bands, "{name}: bands");
+        assert_eq!(svg.layout.title.text, title, "{name}");
+        assert_eq!(
+            svg.curves_and_bands(),
+            (curves, bands),
+            "{name}: curves and bands"
+        );
+        assert_eq!(svg.bands().len(), bands, "{name}: bands drawn");
+        assert_eq!(svg.swatches().len(), bands, "{name}: band swatches");
     }
 }
