@@ -124,6 +124,64 @@ fn a_league_without_entries_is_refused() {
     assert!(!dir.join("out").exists(), "nothing is written");
 }
 
+/// An edit of a verify.json.
+type Edit = dyn Fn(&mut serde_json::Value);
+
+/// An entry edited after `verify` is refused, naming the file and the field: a rate typed in
+/// (9.5 where its own errors fit 0.62), a negative error, a verify.json that is a directory.
+#[test]
+fn a_league_entry_that_is_not_what_verify_wrote_is_refused() {
+    let committed = Path::new("reports/league/dolfinx-2d-backward-euler-standard/verify.json");
+    let text = std::fs::read_to_string(committed).unwrap();
+    let cases: [(&str, &Edit, &[&str]); 2] = [
+        (
+            "typed-rate",
+            &|v| v["series"][0]["rates"][0]["fit"]["rate"] = 9.5.into(),
+            &[
+                "series[0].rates[u_Linf_H].fit",
+                "9.5",
+                "the fit of its own errors",
+            ],
+        ),
+        (
+            "negative-error",
+            &|v| v["series"][0]["rates"][1]["errors"][2] = (-1e-3).into(),
+            &["series[0].rates[", ".errors", "-0.001", "not negative"],
+        ),
+    ];
+    for (name, edit, needles) in cases {
+        let dir = scratch(&format!("league-{name}"));
+        let entry = dir.join("entries/edited");
+        std::fs::create_dir_all(&entry).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        edit(&mut v);
+        std::fs::write(entry.join("verify.json"), v.to_string()).unwrap();
+        expect_error(
+            &[
+                "league",
+                s(&dir.join("entries")),
+                "--out",
+                s(&dir.join("out")),
+            ],
+            2,
+            needles,
+        );
+        assert!(!dir.join("out").exists(), "{name}: nothing is written");
+    }
+    let dir = scratch("league-directory");
+    std::fs::create_dir_all(dir.join("entries/odd/verify.json")).unwrap();
+    expect_error(
+        &[
+            "league",
+            s(&dir.join("entries")),
+            "--out",
+            s(&dir.join("out")),
+        ],
+        2,
+        &["verify.json"],
+    );
+}
+
 /// The committed reports/league.md and league.json are what `signorini league` writes from the
 /// committed entries under reports/league/ (`make league` is their only writer).
 #[test]

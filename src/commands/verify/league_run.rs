@@ -22,7 +22,12 @@ const VERIFY_FILE: Limit = Limit {
 };
 
 /// Reads every `<dir>/<entry>/verify.json` (entries by name); a directory that cannot be read
-/// or holds none is refused, saying how to write one.
+/// or holds none is refused, saying how to write one. An entry whose `verify.json` is not a
+/// regular file, or whose series are not what `verify` wrote ([`Series::inconsistency`]: a rate
+/// that is not the fit of its errors, a negative error, …) is refused, naming the file and the
+/// field.
+///
+/// [`Series::inconsistency`]: crate::harness::external::verify::Series::inconsistency
 fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, CommandError> {
     let listing = std::fs::read_dir(dir).map_err(|e| {
         CommandError::Refused(format!(
@@ -34,7 +39,7 @@ fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, Command
         .filter_map(Result::ok)
         .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
         .map(|(name, path)| (name, path.join(VERIFY_JSON)))
-        .filter(|(_, file)| file.is_file())
+        .filter(|(_, file)| std::fs::symlink_metadata(file).is_ok())
         .collect();
     files.sort();
     if files.is_empty() {
@@ -50,6 +55,12 @@ fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, Command
         .map(|(name, file)| {
             let v: JudgedVerification = read_json(&file, VERIFY_FILE)
                 .map_err(|e| CommandError::from(ExternalError::of_json(&file, e)))?;
+            for (k, series) in v.series.iter().enumerate() {
+                if let Some((field, value, allowed)) = series.inconsistency() {
+                    let field = format!("series[{k}].{field}");
+                    return Err(ExternalError::invalid(&file, field, None, value, allowed).into());
+                }
+            }
             Ok((name, v))
         })
         .collect()
