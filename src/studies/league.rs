@@ -33,6 +33,7 @@ use super::elastic_study::report::findings_table;
 use crate::harness::external::format::Code;
 use crate::harness::external::rerun::StepDifferences;
 use crate::harness::external::verify::{declared_cases, Declared, Series};
+use crate::harness::render::report::table_text;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
@@ -301,7 +302,7 @@ pub fn render(league: &League, entries: &str) -> String {
         names.join(" | "),
         "---|".repeat(SHOWN.len())
     );
-    let declared = |d: &Option<String>| d.clone().unwrap_or_else(|| "not declared".into());
+    let declared = |d: &Option<String>| d.as_deref().map_or("not declared".into(), table_text);
     for e in &league.entries {
         for r in &e.rows {
             let levels: Vec<String> = r.levels.iter().map(usize::to_string).collect();
@@ -318,11 +319,11 @@ pub fn render(league: &League, entries: &str) -> String {
                 out,
                 "| [{}]({entries}{}/verify.md) | {} {} | {} | {} | {} | {} | {} | {} | \
                  {oscillation} | {energy} |",
+                table_text(&e.entry),
                 e.entry,
-                e.entry,
-                r.code.name,
-                r.code.version,
-                r.label,
+                table_text(&r.code.name),
+                table_text(&r.code.version),
+                table_text(&r.label),
                 declared(&r.declared.scheme)
                     + &r.differs_from_declared.map_or(String::new(), |d| {
                         format!(" (**its files differ from it: {d:.1e}**)")
@@ -345,7 +346,7 @@ pub fn render(league: &League, entries: &str) -> String {
                 out,
                 "- `{}` {}: {}: {}",
                 e.entry,
-                r.label,
+                table_text(&r.label),
                 r.energy_verdict.word(),
                 r.energy_reason
             );
@@ -357,8 +358,8 @@ pub fn render(league: &League, entries: &str) -> String {
             out,
             "\n## The note's findings: {} {} on `{}`\n\nJudged on the series of {} together \
              (each rate's interval widened by the largest bias bound among them).\n\n{}",
-            f.code.name,
-            f.code.version,
+            table_text(&f.code.name),
+            table_text(&f.code.version),
             f.scene,
             entries.join(", "),
             findings_table(&f.findings)

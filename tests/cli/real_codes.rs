@@ -664,3 +664,47 @@ fn a_file_a_series_points_to_is_never_quoted() {
         );
     }
 }
+
+#[test]
+fn a_label_cannot_forge_a_row_of_verify_md_or_the_league() {
+    let dir = scratch("forged-label");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let file = fixtures().join("dolfinx-xdmf/dolfinx-bar2d-crank-nicolson-standard-level10.xdmf");
+    let entries = dir.join("entries");
+    let forged = "mine |\n| forged | row |";
+    success_stdout(&signorini(&[
+        "verify",
+        s(&scene),
+        s(&file),
+        "--code",
+        "dolfinx\n| evil",
+        "--code-version",
+        "0.5.2",
+        "--label",
+        forged,
+        "--cache",
+        s(&dir.join("references")),
+        "--out",
+        s(&entries.join("entry")),
+    ]));
+    success_stdout(&signorini(&[
+        "league",
+        s(&entries),
+        "--out",
+        s(&dir.join("league")),
+    ]));
+    for page in [
+        entries.join("entry/verify.md"),
+        dir.join("league/league.md"),
+    ] {
+        let text = std::fs::read_to_string(&page).unwrap();
+        assert!(
+            !text
+                .lines()
+                .any(|l| l.starts_with("| forged") || l.starts_with("| evil")),
+            "{}: {text}",
+            page.display()
+        );
+        assert!(text.contains("mine \\| \\| forged \\| row \\|"), "{text}");
+    }
+}

@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 
 use super::verify::{ReportedEnergy, Series, Verification};
-use crate::harness::render::report::convergence_table;
+use crate::harness::render::report::{convergence_table, table_text};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 
@@ -31,10 +31,10 @@ fn cell(s: &Series, norm: Norm) -> String {
 fn row_head(s: &Series) -> String {
     format!(
         "{}{} | {} {}",
-        s.label,
+        table_text(&s.label),
         differs_mark(s),
-        s.code.name,
-        s.code.version
+        table_text(&s.code.name),
+        table_text(&s.code.version)
     )
 }
 
@@ -246,7 +246,7 @@ fn tables<J>(v: &Verification<J>) -> String {
                 let _ = writeln!(
                     out,
                     "- {}: {} not computed: {}",
-                    s.label,
+                    table_text(&s.label),
                     keys.join(", "),
                     same[0].reason
                 );
@@ -258,7 +258,7 @@ fn tables<J>(v: &Verification<J>) -> String {
         let _ = writeln!(out, "\n### Notes\n");
         for s in noted {
             for note in &s.notes {
-                let _ = writeln!(out, "- {}: {note}", s.label);
+                let _ = writeln!(out, "- {}: {note}", table_text(&s.label));
             }
         }
     }
@@ -266,10 +266,10 @@ fn tables<J>(v: &Verification<J>) -> String {
     for s in &v.series {
         let heading = format!(
             "{}{} — {} {}",
-            s.label,
+            table_text(&s.label),
             differs_mark(s),
-            s.code.name,
-            s.code.version
+            table_text(&s.code.name),
+            table_text(&s.code.version)
         );
         out.push_str(&convergence_table(&heading, &s.levels, &s.rates));
     }

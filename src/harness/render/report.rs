@@ -111,3 +111,15 @@ pub fn convergence_table(heading: &str, levels: &[LevelRecord], rates: &[NormRat
     let _ = writeln!(out, "\n");
     out
 }
+
+/// A user's words (a series' label, a code's name, a contact treatment in its own words) as the
+/// text of a markdown table cell or heading: each `|` escaped and every control character (a
+/// newline among them) shown as a space, so that no text given on the command line can end its
+/// cell or its row and forge another.
+pub fn table_text(words: &str) -> String {
+    words
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect::<String>()
+        .replace('|', "\\|")
+}
