@@ -283,3 +283,60 @@ fn the_harness_league_entries_have_the_committed_studies_rates() {
     }
     assert_eq!(compared, 2 * 4 * 7, "every norm of the 8 entries");
 }
+
+/// `rejudge` of a committed 2D study whose errors were cut shorter than its levels, or made
+/// negative, is refused naming the field (it panicked on the first), and the study is kept; the
+/// study as committed is judged again.
+#[test]
+fn rejudge_refuses_a_study_that_is_not_what_study_wrote() {
+    let committed = std::fs::read_to_string("reports/elastic-2d.json").unwrap();
+    let edits: [(&str, &Edit, &str); 2] = [
+        (
+            "short",
+            &|v| {
+                let errors = v["study"]["cases"][0]["rates"][0]["errors"].as_array_mut();
+                errors.unwrap().truncate(2);
+            },
+            "study.cases[0].rates[u_Linf_H].errors = 2 errors",
+        ),
+        (
+            "negative",
+            &|v| v["study"]["cases"][1]["rates"][2]["errors"][1] = (-0.5).into(),
+            "not negative",
+        ),
+    ];
+    for (name, edit, needle) in edits {
+        let dir = scratch(&format!("rejudge-{name}"));
+        let mut v: serde_json::Value = serde_json::from_str(&committed).unwrap();
+        edit(&mut v);
+        let text = v.to_string();
+        std::fs::write(dir.join("elastic-2d.json"), &text).unwrap();
+        expect_error(
+            &["rejudge", "scenes/bar2d.json", "--out", s(&dir)],
+            2,
+            &["elastic-2d.json", needle],
+        );
+        let kept = std::fs::read_to_string(dir.join("elastic-2d.json")).unwrap();
+        assert_eq!(kept, text, "{name}: the study is kept");
+    }
+    // The study as committed, with the entry of reports/'s manifest that proves it the
+    // harness's (rejudge rewrites it in place, as make rejudge does).
+    let dir = scratch("rejudge-committed");
+    std::fs::write(dir.join("elastic-2d.json"), &committed).unwrap();
+    let manifest = ".signorini-manifest.json";
+    let mut proof: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(Path::new("reports").join(manifest)).unwrap(),
+    )
+    .unwrap();
+    let entry = proof["files"]["elastic-2d.json"].clone();
+    assert!(entry.is_string(), "reports/ records elastic-2d.json");
+    proof["files"] = serde_json::json!({ "elastic-2d.json": entry });
+    proof.as_object_mut().unwrap().remove("created");
+    std::fs::write(dir.join(manifest), proof.to_string()).unwrap();
+    success_stdout(&signorini(&[
+        "rejudge",
+        "scenes/bar2d.json",
+        "--out",
+        s(&dir),
+    ]));
+}

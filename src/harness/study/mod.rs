@@ -174,6 +174,72 @@ pub struct NormRates {
     pub fit_first_three: Option<RateFit>,
 }
 
+/// What the levels and rates of a series read back from a file (a verification's, a study's)
+/// must satisfy, the first violation as `(field, value, what is allowed)`: levels of increasing
+/// `NX` with a finite positive `h`, one error per level in every norm, each finite and not
+/// negative, and every fit the fit of its own errors (its rate and interval within 1e-9 of a
+/// refit).
+pub fn rates_inconsistency(
+    levels: &[LevelRecord],
+    rates: &[NormRates],
+) -> Option<(String, String, String)> {
+    let nx: Vec<usize> = levels.iter().map(|l| l.nx).collect();
+    if nx.windows(2).any(|w| w[0] >= w[1]) || levels.iter().any(|l| !(l.h > 0.0 && l.h.is_finite()))
+    {
+        return Some((
+            "levels".into(),
+            format!("NX {nx:?}"),
+            "increasing NX, each with a finite h > 0".into(),
+        ));
+    }
+    for r in rates {
+        let field = |what: &str| format!("rates[{}].{what}", r.norm.key());
+        if r.errors.len() != levels.len() {
+            return Some((
+                field("errors"),
+                format!("{} errors", r.errors.len()),
+                format!("one per level ({})", levels.len()),
+            ));
+        }
+        if let Some(e) = r.errors.iter().find(|e| !(e.is_finite() && **e >= 0.0)) {
+            return Some((
+                field("errors"),
+                e.to_string(),
+                "finite errors, not negative".into(),
+            ));
+        }
+        let refit = fit_norm_rates(&levels, BTreeMap::from([(r.norm, r.errors.clone())]));
+        let expected = refit.first().and_then(|n| n.fit);
+        let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+            (None, None) => true,
+            _ => false,
+        };
+        let same = match (r.fit, expected) {
+            (Some(f), Some(e)) => {
+                close(Some(f.rate), Some(e.rate))
+                    && close(f.ci_low, e.ci_low)
+                    && close(f.ci_high, e.ci_high)
+            }
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            let shown = |f: Option<RateFit>| {
+                f.map_or("none".to_string(), |f| {
+                    format!("{:.6} [{:?}, {:?}]", f.rate, f.ci_low, f.ci_high)
+                })
+            };
+            return Some((
+                field("fit"),
+                shown(r.fit),
+                format!("the fit of its own errors: {}", shown(expected)),
+            ));
+        }
+    }
+    None
+}
+
 /// The errors of each norm at `levels` with the observed orders and the least-squares rates
 /// (all levels, first three, last three), in the order of `errors`: every series of levels is
 /// fitted here, a study's case ([`CaseStudy::from_levels`]) as another code's runs

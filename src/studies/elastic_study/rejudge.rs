@@ -12,6 +12,7 @@ use crate::harness::files::artifacts::{read_json, write_atomic, write_json};
 use crate::harness::files::error as files;
 use crate::harness::files::error::ParameterError;
 use crate::harness::files::input::REPORT_DATA;
+use crate::harness::study::rates_inconsistency;
 use crate::harness::study::scene::Scene;
 use crate::studies::error::Error;
 
@@ -25,7 +26,9 @@ pub fn study_command(scene: &Path, out: &Path) -> String {
 }
 
 /// Reads the study of `scene` under `reports` (`elastic-<d>d.json`) whatever form its findings
-/// take, and refuses a study whose levels, reference level or ratio are not the scene's.
+/// take, and refuses a study whose levels, reference level or ratio are not the scene's, or whose
+/// cases' errors and rates are not what the study wrote ([`rates_inconsistency`]: errors shorter
+/// than the levels, a negative error, a rate that is not the fit of its errors).
 pub fn read_committed(scene: &Scene, reports: &Path) -> Result<ElasticStudy, Error> {
     let problem = scene.box_problem("a 2D/3D box scene: only its study has findings")?;
     let path = reports.join(study_file(problem.lengths.len()));
@@ -58,6 +61,20 @@ pub fn read_committed(scene: &Scene, reports: &Path) -> Result<ElasticStudy, Err
             "the study of the scene given: its levels, reference level and ratio",
         )
         .into());
+    }
+    for (k, case) in study.study.cases.iter().enumerate() {
+        if let Some((field, value, allowed)) = rates_inconsistency(&case.levels, &case.rates) {
+            return Err(ParameterError::new(
+                "study file",
+                format!(
+                    "{}: study.cases[{k}].{field} = {value} (must be {allowed})",
+                    path.display()
+                ),
+                "a study as `signorini study` wrote it: one finite error not below 0 per \
+                 level, each fit the fit of its errors, levels of increasing NX",
+            )
+            .into());
+        }
     }
     Ok(study)
 }

@@ -27,7 +27,9 @@ use crate::harness::reference::fine_mesh::rate_bias_bound;
 use crate::harness::run::nested_comparison::error_series::DisplacementError;
 use crate::harness::run::norms::Norm;
 use crate::harness::study::scene::Scene;
-use crate::harness::study::{fit_norm_rates, Case, CaseStudy, LevelRecord, NormRates};
+use crate::harness::study::{
+    fit_norm_rates, rates_inconsistency, Case, CaseStudy, LevelRecord, NormRates,
+};
 use exact::AgainstExact;
 use fine_mesh::{AgainstFineMesh, ReferenceSource};
 
@@ -164,68 +166,11 @@ impl Series {
         self.step_differences.first().filter(|d| d.differs())
     }
 
-    /// What a series read back from a file must satisfy, the first violation as `(field, value,
-    /// what is allowed)`: levels of increasing `NX` with a finite positive `h`, one error per
-    /// level in every norm, each finite and not negative, and every fit the fit of its own
-    /// errors (its rate and interval within 1e-9 of a refit). A file edited after `verify` (a
-    /// rate typed in, an error made negative) fails it.
+    /// What a series read back from a file must satisfy ([`rates_inconsistency`] of its
+    /// levels and rates): a file edited after `verify` (a rate typed in, an error made
+    /// negative) fails it.
     pub fn inconsistency(&self) -> Option<(String, String, String)> {
-        let nx: Vec<usize> = self.levels.iter().map(|l| l.nx).collect();
-        if nx.windows(2).any(|w| w[0] >= w[1])
-            || self.levels.iter().any(|l| !(l.h > 0.0 && l.h.is_finite()))
-        {
-            return Some((
-                "levels".into(),
-                format!("NX {nx:?}"),
-                "increasing NX, each with a finite h > 0".into(),
-            ));
-        }
-        for r in &self.rates {
-            let field = |what: &str| format!("rates[{}].{what}", r.norm.key());
-            if r.errors.len() != self.levels.len() {
-                return Some((
-                    field("errors"),
-                    format!("{} errors", r.errors.len()),
-                    format!("one per level ({})", self.levels.len()),
-                ));
-            }
-            if let Some(e) = r.errors.iter().find(|e| !(e.is_finite() && **e >= 0.0)) {
-                return Some((
-                    field("errors"),
-                    e.to_string(),
-                    "finite errors, not negative".into(),
-                ));
-            }
-            let refit = fit_norm_rates(&self.levels, BTreeMap::from([(r.norm, r.errors.clone())]));
-            let expected = refit.first().and_then(|n| n.fit);
-            let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
-                (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * b.abs().max(1.0),
-                (None, None) => true,
-                _ => false,
-            };
-            let same = match (r.fit, expected) {
-                (Some(f), Some(e)) => {
-                    close(Some(f.rate), Some(e.rate))
-                        && close(f.ci_low, e.ci_low)
-                        && close(f.ci_high, e.ci_high)
-                }
-                (None, None) => true,
-                _ => false,
-            };
-            if !same {
-                let shown = |f: Option<crate::harness::study::rates::RateFit>| {
-                    f.map_or("none".to_string(), |f| {
-                        format!("{:.6} [{:?}, {:?}]", f.rate, f.ci_low, f.ci_high)
-                    })
-                };
-                return Some((
-                    field("fit"),
-                    shown(r.fit),
-                    format!("the fit of its own errors: {}", shown(expected)),
-                ));
-            }
-        }
-        None
+        rates_inconsistency(&self.levels, &self.rates)
     }
 
     /// The rates of `norm`, if it was computed.
