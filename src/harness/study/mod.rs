@@ -208,7 +208,7 @@ pub fn rates_inconsistency(
                 "finite errors, not negative".into(),
             ));
         }
-        let refit = fit_norm_rates(&levels, BTreeMap::from([(r.norm, r.errors.clone())]));
+        let refit = fit_norm_rates(levels, BTreeMap::from([(r.norm, r.errors.clone())]));
         let expected = refit.first().and_then(|n| n.fit);
         let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
             (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * b.abs().max(1.0),
