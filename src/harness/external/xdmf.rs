@@ -132,22 +132,7 @@ impl XdmfSeries {
         if walk.by_time.is_empty() {
             return Err(invalid("Time", "no grid with a Time".into()));
         }
-        let times = walk
-            .by_time
-            .into_values()
-            .map(|(time, geometry_of, attributes)| {
-                if geometry_of != geometry {
-                    return Err(ExternalError::invalid(
-                        path,
-                        "Geometry",
-                        Some(format!("Time {time}")),
-                        "a geometry other than the first grid's",
-                        "one mesh for every time (a mesh that moves or changes is not read)",
-                    ));
-                }
-                Ok((time, attributes))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let times = walk.by_time.into_values().collect();
         Ok(Self {
             path: path.to_path_buf(),
             geometry,
@@ -225,8 +210,8 @@ impl XdmfSeries {
     }
 }
 
-/// Reads `dataset` of the HDF5 file `file`, checked to have `dimensions` (at most
-/// [`MAX_VALUES`] values) before it is read; the values as `f64` and whether they were `f32`.
+/// Reads `dataset` of the HDF5 file `file`, checked to have `dimensions` (which
+/// [`Walk::data_item`] bounded by [`MAX_VALUES`] values) before it is read; the values as `f64` and whether they were `f32`.
 fn read_dataset(
     file: &Path,
     dataset: &str,
@@ -243,10 +228,6 @@ fn read_dataset(
         return Err(format!(
             "of shape {shape:?} where the DataItem says {dimensions:?}"
         ));
-    }
-    let count = shape.iter().try_fold(1usize, |a, &b| a.checked_mul(b));
-    if count.is_none_or(|c| c > MAX_VALUES) {
-        return Err(format!("of shape {shape:?}: too many values"));
     }
     match data.dtype() {
         Datatype::FloatingPoint { size: 8, .. } => data
@@ -267,9 +248,9 @@ struct Walk<'a> {
     directory: &'a Path,
     /// The document's first geometry: what a grid without one of its own includes.
     geometry: Option<DataItem>,
-    /// Per time (by its bits, so that equal times meet): the time, the geometry of its grids
-    /// and the nodal attributes they hold.
-    by_time: BTreeMap<TimeKey, (f64, DataItem, Vec<NodalAttribute>)>,
+    /// Per time (by its bits, so that equal times meet): the time and the nodal attributes its
+    /// grids hold.
+    by_time: BTreeMap<TimeKey, (f64, Vec<NodalAttribute>)>,
 }
 
 /// A time as a map key, ordered as the number.
@@ -314,8 +295,8 @@ impl Walk<'_> {
         }
     }
 
-    /// A uniform grid: its geometry (its own, else the document's first), and, when it has a
-    /// `Time`, its nodal attributes at that time.
+    /// A uniform grid: its geometry (its own, else the document's first, which every grid with
+    /// a `Time` must have), and, when it has a `Time`, its nodal attributes at that time.
     fn uniform(&mut self, grid: roxmltree::Node<'_, '_>) -> Result<(), ExternalError> {
         let name = grid.attribute("Name").unwrap_or("");
         let at = || Some(format!("Grid {name:?}"));
@@ -342,9 +323,18 @@ impl Walk<'_> {
             .ok()
             .filter(|t: &f64| t.is_finite())
             .ok_or_else(|| self.invalid("Time.Value", at(), format!("{value:?}")))?;
-        let geometry = own
-            .or_else(|| self.geometry.clone())
-            .ok_or_else(|| self.invalid("Geometry", at(), "none before this grid"))?;
+        if self.geometry.is_none() {
+            return Err(self.invalid("Geometry", at(), "none before this grid"));
+        }
+        if own.is_some() && own != self.geometry {
+            return Err(ExternalError::invalid(
+                self.path,
+                "Geometry",
+                at(),
+                format!("another geometry at Time {t}"),
+                "one mesh for every time (a mesh that moves or changes is not read)",
+            ));
+        }
         let mut attributes = Vec::new();
         for attribute in grid.children().filter(|n| n.has_tag_name("Attribute")) {
             if attribute.attribute("Center").unwrap_or("Node") != "Node" {
@@ -360,25 +350,16 @@ impl Walk<'_> {
         let entry = self
             .by_time
             .entry(TimeKey::of(t))
-            .or_insert_with(|| (t, geometry.clone(), Vec::new()));
-        if entry.1 != geometry {
-            return Err(ExternalError::invalid(
-                self.path,
-                "Geometry",
-                at(),
-                format!("another geometry at Time {t}"),
-                "one mesh for every time (a mesh that moves or changes is not read)",
-            ));
-        }
+            .or_insert_with(|| (t, Vec::new()));
         for attribute in attributes {
-            if entry.2.iter().any(|a| a.name == attribute.name) {
+            if entry.1.iter().any(|a| a.name == attribute.name) {
                 return Err(self.invalid(
                     "Attribute",
                     at(),
                     format!("{:?} twice at Time {t}", attribute.name),
                 ));
             }
-            entry.2.push(attribute);
+            entry.1.push(attribute);
         }
         Ok(())
     }
