@@ -27,6 +27,13 @@ MASSES = ("standard", "redistributed")
 COORDINATE_TOLERANCE = 1e-9
 
 
+def scipy_of(matrix):
+    """An assembled PETSc AIJ matrix (petsc4py, as DOLFINx and legacy FEniCS give it) as a scipy
+    CSR matrix."""
+    indptr, indices, values = matrix.getValuesCSR()
+    return scipy.sparse.csr_matrix((values, indices, indptr), shape=matrix.getSize())
+
+
 def solve_lcp(w, q):
     """μ ≥ 0 with y = q + W μ ≥ 0 and μᵀy = 0, by Murty's least-index principal pivoting.
 

@@ -102,7 +102,6 @@ import logging
 import pathlib
 
 import numpy as np
-import scipy.sparse
 import ufl
 from mpi4py import MPI
 
@@ -121,6 +120,7 @@ from bar2d_contact import (
     BarMatrices,
     Summary,
     stepped,
+    scipy_of,
     time_step,
 )
 
@@ -132,8 +132,7 @@ def to_scipy(form):
     """The matrix of a bilinear form assembled by DOLFINx (PETSc AIJ), as a scipy CSR matrix."""
     matrix = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(form))
     matrix.assemble()
-    indptr, indices, values = matrix.getValuesCSR()
-    return scipy.sparse.csr_matrix((values, indices, indptr), shape=matrix.getSize())
+    return scipy_of(matrix)
 
 
 class Bar(BarMatrices):

@@ -35,7 +35,6 @@ import pathlib
 
 import dolfin as df
 import numpy as np
-import scipy.sparse
 
 from bar2d_contact import (
     DENSITY,
@@ -47,6 +46,7 @@ from bar2d_contact import (
     BarMatrices,
     Summary,
     stepped,
+    scipy_of,
     time_step,
 )
 
@@ -56,8 +56,7 @@ PARAMETERS = {"quadrature_degree": 2}
 def to_scipy(form):
     """The matrix of a bilinear form assembled by legacy FEniCS (PETSc AIJ), as scipy CSR."""
     matrix = df.as_backend_type(df.assemble(form, form_compiler_parameters=PARAMETERS)).mat()
-    indptr, indices, values = matrix.getValuesCSR()
-    return scipy.sparse.csr_matrix((values, indices, indptr), shape=matrix.getSize())
+    return scipy_of(matrix)
 
 
 class Bar(BarMatrices):
