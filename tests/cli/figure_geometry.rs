@@ -160,7 +160,11 @@ fn num(n: roxmltree::Node, a: &str) -> f64 {
 }
 
 /// Whether the segment `a`–`b` meets the box `(x0, y0, x1, y1)`.
-fn segment_meets(a: (f64, f64), b: (f64, f64), (x0, y0, x1, y1): (f64, f64, f64, f64)) -> bool {
+pub(crate) fn segment_meets(
+    a: (f64, f64),
+    b: (f64, f64),
+    (x0, y0, x1, y1): (f64, f64, f64, f64),
+) -> bool {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     for (p, q) in [

@@ -92,33 +92,15 @@ fn within(r: &Rect, p: (f64, f64)) -> bool {
         && p.1 <= f64::from(r.y1)
 }
 
-/// Whether the segment `a`–`b` meets the inside of `r` shrunk by one pixel (Liang–Barsky).
+/// Whether the segment `a`–`b` meets the inside of `r` shrunk by one pixel.
 fn segment_meets(a: (f64, f64), b: (f64, f64), r: &Rect) -> bool {
-    let (x0, y0, x1, y1) = (
+    let inner = (
         f64::from(r.x0) + 1.0,
         f64::from(r.y0) + 1.0,
         f64::from(r.x1) - 1.0,
         f64::from(r.y1) - 1.0,
     );
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [
-        (-dx, a.0 - x0),
-        (dx, x1 - a.0),
-        (-dy, a.1 - y0),
-        (dy, y1 - a.1),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return false;
-            }
-        } else if p < 0.0 {
-            t0 = t0.max(q / p);
-        } else {
-            t1 = t1.min(q / p);
-        }
-    }
-    t0 <= t1
+    crate::figure_geometry::segment_meets(a, b, inner)
 }
 
 impl Svg {
