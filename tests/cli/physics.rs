@@ -127,3 +127,44 @@ fn a_box_started_inside_the_obstacle_is_flagged_as_penetrating() {
     assert_eq!(p["face_displacement_scale"].as_f64(), Some(0.0), "{p}");
     assert!(p["relative_penetration"].is_null(), "{p}");
 }
+
+/// A study's rate tables carry each case's physics: Moreau–Jean with the redistributed mass on
+/// the gravity benchmark is marked flagged in its heading, with every flagged level's figures
+/// (it sinks 147 % of the face's travel at NX = 160); Crank–Nicolson with the same mass states
+/// how far it stayed from the tolerances, and nothing flagged.
+#[test]
+fn a_study_marks_the_runs_whose_physics_is_flagged() {
+    let stdout = success_stdout(&signorini(&[
+        "study",
+        "scenes/bar1d-gravity.json",
+        "--scheme",
+        "moreau-jean",
+        "--scheme",
+        "crank-nicolson",
+        "--mass",
+        "redistributed",
+        "--levels",
+        "20,40,80,160",
+    ]));
+    let heading = |scheme: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with("#### ") && l.contains(scheme))
+            .unwrap_or_else(|| panic!("no table of {scheme}: {stdout}"))
+            .to_string()
+    };
+    assert!(
+        heading("Moreau–Jean").ends_with("— **physics flagged**"),
+        "{stdout}"
+    );
+    assert!(!heading("Crank–Nicolson").contains("flagged"), "{stdout}");
+    assert!(
+        stdout.contains("- **NX = 160**: penetrates 7.330e-1 (146.594 % of D = 5.000e-1)"),
+        "{stdout}"
+    );
+    let calm = stdout
+        .lines()
+        .find(|l| l.starts_with("Physics, every level:"))
+        .unwrap_or_else(|| panic!("no physics line for Crank–Nicolson: {stdout}"));
+    assert!(calm.ends_with("nothing flagged."), "{calm}");
+}

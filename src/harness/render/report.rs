@@ -5,6 +5,9 @@
 use std::fmt::Write as _;
 
 use crate::harness::run::norms::Norm;
+use crate::harness::run::physics::{
+    Physics, ENERGY_GAIN_TOLERANCE, FACE_SCALE_FLOOR, PENETRATION_TOLERANCE,
+};
 use crate::harness::study::rates::RateFit;
 use crate::harness::study::sensitivity::{Sensitivity, Spread};
 use crate::harness::study::{CaseStudy, LevelRecord, NormRates, Study};
@@ -42,17 +45,54 @@ pub(crate) fn fmt_fit(f: Option<RateFit>) -> String {
 }
 
 /// For every case, the errors of every norm per level with the observed order, then the
-/// least-squares rate over all levels (95 % interval) and over the last three.
+/// least-squares rate over all levels (95 % interval) and over the last three, then what the
+/// time loop measured of its runs' physics ([`physics_paragraph`]).
 pub fn convergence_tables(study: &Study) -> String {
     let tables: String = study
         .cases
         .iter()
         .map(|c| {
-            let heading = format!("{} — {}", c.case.scheme.label(), c.case.mass.name());
-            convergence_table(&heading, &c.levels, &c.rates)
+            let mut heading = format!("{} — {}", c.case.scheme.label(), c.case.mass.name());
+            let physics = study.physics.get(&c.case.id());
+            if physics.is_some_and(|levels| levels.iter().any(Physics::flagged)) {
+                heading.push_str(" — **physics flagged**");
+            }
+            let mut table = convergence_table(&heading, &c.levels, &c.rates);
+            if let Some(levels) = physics {
+                table.push_str(&physics_paragraph(&c.levels, levels));
+            }
+            table
         })
         .collect();
     tables + &not_run_section(study)
+}
+
+/// The physics of a case's runs, one per level ([`Physics`]): every flagged level with its
+/// figures (`- **NX = 320**: penetrates 4.767e-1 (95.647 % of D = 4.984e-1) at t = 8.3406`), or,
+/// when none is flagged, the largest judged penetration `p / max(D, D_min)` and the largest
+/// `E_max/E_0` over the levels, so a reader sees how far from its tolerance each stayed.
+pub fn physics_paragraph(levels: &[LevelRecord], physics: &[Physics]) -> String {
+    let flagged: String = levels
+        .iter()
+        .zip(physics)
+        .filter_map(|(level, p)| p.flags().map(|f| format!("- **NX = {}**: {f}\n", level.nx)))
+        .collect();
+    if !flagged.is_empty() {
+        return format!(
+            "Physics flagged (tolerances: penetration {} % of the face's displacement scale, \
+             energy gain {} % of E_0):\n\n{flagged}\n",
+            100.0 * PENETRATION_TOLERANCE,
+            100.0 * ENERGY_GAIN_TOLERANCE
+        );
+    }
+    let worst = |f: fn(&Physics) -> f64| physics.iter().map(f).fold(f64::NAN, f64::max);
+    format!(
+        "Physics, every level: largest p / max(D, {FACE_SCALE_FLOOR:e}) {:.1e} (tolerance {PENETRATION_TOLERANCE:e}), \
+         largest energy gain (E_max − E_0)/|E_0| {:.1e} (tolerance {ENERGY_GAIN_TOLERANCE:e}), \
+         no pulling contact force: nothing flagged.\n\n",
+        worst(Physics::judged_penetration),
+        worst(Physics::energy_gain),
+    )
 }
 
 /// The cases of `study` not run to completion, each with the level and the reason its run
