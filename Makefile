@@ -67,6 +67,15 @@ test-report-shards:
 	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
 	$(CARGO) nextest run --run-ignored only -E 'test(/^report_shards::/) | test(/^shards::the_merge_of_three_(report|experiment)_shards/)'
 
+## The ParaView reader fuzzed for a fixed time (FUZZ_SECONDS, default 120) from a seed taken
+## from the clock and printed (replay one with SIGNORINI_FUZZ_SEED=<seed>): mutated snapshots of
+## every real writer's files, each read or refused, never a panic (tests/unit/paraview_fuzz.rs).
+.PHONY: fuzz-paraview
+FUZZ_SECONDS ?= 120
+fuzz-paraview:
+	@$(CARGO) nextest --version >/dev/null 2>&1 || $(CARGO) install cargo-nextest --locked
+	SIGNORINI_FUZZ_SECONDS=$(FUZZ_SECONDS) $(CARGO) nextest run --run-ignored only --no-capture -E 'test(fuzz_the_paraview_reader_for_a_fixed_time)'
+
 ## Regenerate the golden rates and the table snapshot (the only way they change).
 golden: build
 	$(BIN) golden --out .

@@ -19,6 +19,7 @@ mod figures;
 mod getfem;
 mod getfem_box;
 mod hostile;
+mod hostile_paraview;
 mod league;
 mod outputs;
 mod paraview;

@@ -33,6 +33,7 @@ mod getfem_roundoff;
 mod local_contact;
 mod mass_variants;
 mod paraview;
+mod paraview_fuzz;
 mod pcg;
 mod perturbation;
 mod rival_schemes;

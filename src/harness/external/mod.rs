@@ -31,6 +31,7 @@ pub mod rerun;
 pub mod snapshot_series;
 pub mod verify;
 pub mod xdmf;
+pub mod xml_depth;
 
 pub use error::ExternalError;
 pub use format::ExternalRun;

@@ -28,6 +28,7 @@ use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 use super::error::{unquoted, ExternalError};
 use super::format::{MAX_VALUES, RUN_FILE};
 use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
+use super::xml_depth::check_depth;
 use crate::harness::files::input::read_bytes;
 
 /// What the reader takes, for its errors.
@@ -99,6 +100,7 @@ impl XdmfSeries {
             |field: &str, value: String| ExternalError::invalid(path, field, None, value, XDMF);
         let text =
             String::from_utf8(bytes).map_err(|_| invalid("file", "not UTF-8 text".into()))?;
+        check_depth(path, text.as_bytes())?;
         let options = roxmltree::ParsingOptions {
             allow_dtd: true,
             ..roxmltree::ParsingOptions::default()

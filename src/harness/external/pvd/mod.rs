@@ -4,10 +4,13 @@
 //! are committed in `tests/data/external/` (DOLFINx 0.5.2's `VTKFile`, GetFEM 5.4.2's
 //! `export_to_vtu`).
 //!
-//! The snapshots are read by `vtkio`: inline ASCII, inline binary (base64) and appended data
-//! (raw or base64), with `UInt32` or `UInt64` headers, uncompressed or zlib-compressed, `Float32`
-//! or `Float64`. A collection with several parts at a time (the harness writes the obstacle as
-//! part 1) is read through its part 0: the body.
+//! The snapshots are read by the harness itself ([`vtu`], [`array_data`]), not by a VTK library
+//! (`vtkio` panicked or silently dropped an array on malformed data): inline ASCII, inline binary
+//! (base64) and appended data (raw or base64), with `UInt32` or `UInt64` headers, uncompressed,
+//! zlib- or LZ4-compressed, `Float32`, `Float64` or integer arrays. Every size is checked against
+//! what the grid needs before anything is allocated, and a collection lists at most
+//! [`MAX_DATASETS`] datasets. A collection with several parts at a time (the harness writes the
+//! obstacle as part 1) is read through its part 0: the body.
 //!
 //! What real writers do beyond that:
 //! - **a parallel grid** (`.pvtu`, VTK's `PUnstructuredGrid`: DOLFINx's `VTKFile` writes one even
@@ -19,19 +22,16 @@
 //! - **`Float32` points** (GetFEM's exporter): the points keep the precision of their type
 //!   ([`NodalSnapshot::point_epsilon`]), which the node match allows for.
 
-mod appended_raw;
-mod full_last_block;
+mod array_data;
+mod vtu;
 
 use std::collections::HashMap;
-use std::io::Cursor;
 use std::path::{Path, PathBuf};
-
-use vtkio::model::{Attribute, DataSet, Piece, ScalarType};
-use vtkio::Vtk;
 
 use super::error::{unquoted, ExternalError};
 use super::format::RUN_FILE;
-use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
+use super::nodal_snapshot::NodalSnapshot;
+use super::xml_depth::check_depth;
 use crate::harness::files::input::read_bytes;
 
 /// One dataset of a collection: its time and its file (relative to the collection's directory
@@ -44,53 +44,12 @@ pub struct CollectionEntry {
     pub file: PathBuf,
 }
 
-/// How a binary array's header words are stored: `UInt32` or `UInt64` (the file's
-/// `header_type`), in the file's byte order.
-#[derive(Clone, Copy)]
-struct HeaderWord {
-    /// Bytes per word: 4 or 8.
-    width: usize,
-    /// `byte_order="BigEndian"`.
-    big_endian: bool,
-}
-
-impl HeaderWord {
-    /// The words of a file whose `VTKFile` element has these `header_type` and `byte_order`.
-    fn of(root: roxmltree::Node<'_, '_>) -> Self {
-        Self {
-            width: if root.attribute("header_type") == Some("UInt64") {
-                8
-            } else {
-                4
-            },
-            big_endian: root.attribute("byte_order") == Some("BigEndian"),
-        }
-    }
-
-    /// The word at the start of `bytes` (at least [`HeaderWord::width`] of them).
-    fn read(self, bytes: &[u8]) -> u64 {
-        let mut word = [0u8; 8];
-        if self.big_endian {
-            word[8 - self.width..].copy_from_slice(&bytes[..self.width]);
-            u64::from_be_bytes(word)
-        } else {
-            word[..self.width].copy_from_slice(&bytes[..self.width]);
-            u64::from_le_bytes(word)
-        }
-    }
-
-    /// `value` written as the word at the start of `bytes`.
-    fn write(self, value: u64, bytes: &mut [u8]) {
-        if self.big_endian {
-            bytes[..self.width].copy_from_slice(&value.to_be_bytes()[8 - self.width..]);
-        } else {
-            bytes[..self.width].copy_from_slice(&value.to_le_bytes()[..self.width]);
-        }
-    }
-}
-
 /// The part of a collection read: the body (the harness writes its obstacle as part 1).
 pub const BODY_PART: u32 = 0;
+
+/// The most datasets a collection may list: 2¹⁸ (the finest reference, 2560 steps, written at
+/// every step, lists 2561 of its body).
+pub const MAX_DATASETS: usize = 1 << 18;
 
 /// Reads the collection `path`: the datasets of part [`BODY_PART`] (a dataset without `part`
 /// is part 0) in increasing time, their files resolved against the collection's directory.
@@ -109,6 +68,7 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
             "a ParaView collection (.pvd): XML text",
         )
     })?;
+    check_depth(path, text.as_bytes())?;
     let document = roxmltree::Document::parse(&text).map_err(|e| {
         invalid(
             "file",
@@ -143,6 +103,14 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
         };
         if part != BODY_PART {
             continue;
+        }
+        if entries.len() == MAX_DATASETS {
+            return Err(invalid(
+                "Collection",
+                None,
+                format!("more than {MAX_DATASETS} datasets of part 0"),
+                &format!("at most {MAX_DATASETS}"),
+            ));
         }
         let time = dataset.attribute("timestep").unwrap_or("");
         let time: f64 = time
@@ -184,18 +152,6 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
     Ok(entries)
 }
 
-/// Where the raw bytes of an `<AppendedData encoding="raw">` block begin (after its `_`), if
-/// the file has one: `vtkio` reads inline and base64 data, not raw bytes inside XML.
-fn raw_appended_start(bytes: &[u8]) -> Option<usize> {
-    let tag = find(bytes, b"<AppendedData", 0)?;
-    let end = find(bytes, b">", tag)?;
-    let head = std::str::from_utf8(&bytes[tag..end]).ok()?;
-    if !head.contains("\"raw\"") {
-        return None;
-    }
-    find(bytes, b"_", end).map(|underscore| underscore + 1)
-}
-
 /// The first position of `needle` in `bytes` at or after `from`.
 fn find(bytes: &[u8], needle: &[u8], from: usize) -> Option<usize> {
     bytes
@@ -203,23 +159,6 @@ fn find(bytes: &[u8], needle: &[u8], from: usize) -> Option<usize> {
         .windows(needle.len())
         .position(|w| w == needle)
         .map(|p| p + from)
-}
-
-/// `bytes` with `byte_order="LittleEndian"` on its `VTKFile` element when the file leaves the
-/// attribute out (VTK takes it as optional; `vtkio` requires it).
-fn with_byte_order(mut bytes: Vec<u8>) -> Vec<u8> {
-    const TAG: &[u8] = b"<VTKFile";
-    let Some(tag) = find(&bytes, TAG, 0) else {
-        return bytes;
-    };
-    let Some(end) = find(&bytes, b">", tag) else {
-        return bytes;
-    };
-    if find(&bytes[..end], b"byte_order", tag).is_none() {
-        let at = tag + TAG.len();
-        bytes.splice(at..at, b" byte_order=\"LittleEndian\"".iter().copied());
-    }
-    bytes
 }
 
 /// What [`read_snapshot`] reads, as its errors say it.
@@ -259,61 +198,9 @@ enum Grid {
     Pieces(Vec<String>),
 }
 
-/// Reads the grid file `path`.
+/// Reads the grid file `path` ([`vtu::read`]).
 fn read_grid(path: &Path) -> Result<Grid, ExternalError> {
-    let invalid =
-        |field: &str, value: String| ExternalError::invalid(path, field, None, value, SNAPSHOT);
-    let bytes = read_bytes(path, RUN_FILE)?;
-    if let Some(start) = raw_appended_start(&bytes) {
-        return appended_raw::read(path, &bytes, start).map(Grid::Inline);
-    }
-    let vtk = Vtk::parse_xml(Cursor::new(full_last_block::with_full_last_blocks(
-        with_byte_order(bytes),
-    )))
-    .map_err(|e| invalid("file", format!("unreadable ({})", unquoted(e))))?;
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        return Err(invalid("VTKFile.type", "another dataset".into()));
-    };
-    let sources: Option<Vec<String>> = pieces
-        .iter()
-        .map(|p| match p {
-            Piece::Source(file, _) => Some(file.clone()),
-            _ => None,
-        })
-        .collect();
-    if let Some(files) = sources.filter(|f| !f.is_empty()) {
-        return Ok(Grid::Pieces(files));
-    }
-    let [Piece::Inline(piece)] = <[_; 1]>::try_from(pieces)
-        .map_err(|p: Vec<_>| invalid("Piece", format!("{} pieces", p.len())))?
-    else {
-        return Err(invalid("Piece", "a piece of another kind".into()));
-    };
-    let single = piece.points.scalar_type() == ScalarType::F32;
-    let coordinates: Vec<f64> = piece
-        .points
-        .cast_into()
-        .ok_or_else(|| invalid("Points", "not numbers".into()))?;
-    let mut arrays = Vec::new();
-    for attribute in piece.data.point {
-        let Attribute::DataArray(array) = attribute else {
-            continue;
-        };
-        let epsilon = epsilon_of(array.data.scalar_type() == ScalarType::F32);
-        let values = array.data.cast_into::<f64>().ok_or_else(|| {
-            invalid(
-                &format!("PointData {:?}", array.name),
-                "values that are not numbers".into(),
-            )
-        })?;
-        arrays.push(PointArray {
-            components: array.elem.num_comp() as usize,
-            name: array.name,
-            values,
-            epsilon,
-        });
-    }
-    NodalSnapshot::new(path, coordinates, epsilon_of(single), arrays).map(Grid::Inline)
+    vtu::read(path, &read_bytes(path, RUN_FILE)?)
 }
 
 /// The prefix of VTK's bookkeeping arrays (`vtkGhostType`, `vtkOriginalPointIds`, …), which
