@@ -539,9 +539,11 @@ fn ensembles(md: &mut String, rows: &[Row]) {
                 initial_data,
                 spread,
             } = n;
-            let outside = match beyond(n) {
-                (d, _) if d == 0.0 => "—".to_string(),
-                (d, widths) => format!("{d:.2e} ({widths:.2})"),
+            let outside = if n.inside() {
+                "—".to_string()
+            } else {
+                let (d, widths) = beyond(n);
+                format!("{d:.2e} ({widths:.2})")
             };
             let _ = writeln!(
                 md,
