@@ -924,3 +924,60 @@ pub(crate) fn rate_ranges<'c>(cases: impl IntoIterator<Item = &'c CaseSensitivit
     }
     md
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A case's rate interval joins the members' `[min, max]` with the hull of their own 95 %
+    /// fit intervals (issue 53, item 4).
+    #[test]
+    fn the_rate_interval_joins_the_members_range_with_their_fit_intervals() {
+        let h = [0.1, 0.05, 0.025];
+        let members = [[1.0, 0.55, 0.24], [1.0, 0.45, 0.26]];
+        let norm = Norm::EnergyL2;
+        let level = |l: usize| LevelEnsemble {
+            errors: members
+                .iter()
+                .map(|e| BTreeMap::from([(norm, e[l])]))
+                .collect(),
+            separations: Vec::new(),
+            stopped: None,
+        };
+        let config = StudyConfig::paper_default();
+        let case = Case::tables_matrix()[0];
+        let s = classify_cases(
+            &[case],
+            &config,
+            &h,
+            &BTreeSet::from([norm]),
+            EnsembleConfig::default(),
+            vec![(0..3).map(level).collect()],
+            0.0,
+        );
+        let c = &s.cases[0];
+        let fits: Vec<RateFit> = members.iter().map(|e| fit_rate(&h, e).unwrap()).collect();
+        let low = fits
+            .iter()
+            .map(|f| f.ci_low.unwrap())
+            .fold(f64::INFINITY, f64::min);
+        let high = fits
+            .iter()
+            .map(|f| f.ci_high.unwrap())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(c.rate_fit_intervals[norm.key()], (low, high));
+        let spread = c.rates[norm.key()];
+        assert!(
+            low < spread.min && spread.max < high,
+            "{spread:?} in [{low}, {high}]"
+        );
+        assert_eq!(c.rate_interval(norm.key()), Some((low, high)));
+        let mut without = c.clone();
+        without.rate_fit_intervals.clear();
+        assert_eq!(
+            without.rate_interval(norm.key()),
+            Some((spread.min, spread.max)),
+            "a file written before the intervals were recorded falls back to [min, max]"
+        );
+    }
+}
