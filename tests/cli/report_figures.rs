@@ -157,6 +157,7 @@ fn sensitivity_of(study: &Study, chaotic: Case) -> Sensitivity {
                 step_epsilon: STEP_EPSILON,
                 levels: study.config.levels.clone(),
                 rates,
+                rate_fit_intervals: BTreeMap::new(),
                 errors,
                 predictability_steps: vec![None; levels],
                 separation_growth: vec![None; levels],

@@ -10,11 +10,13 @@ use crate::harness::files::artifacts::write_json;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::harness::getfem::anchor::convert_anchor;
 use crate::harness::study::budget::Limits;
-use crate::studies::getfem::{export_runs, write_getfem_report, Expectation, GETFEM_REPORT};
+use crate::studies::getfem::{
+    export_runs, write_getfem_report, Expectation, GETFEM_JSON, GETFEM_REPORT,
+};
 
-/// Reproduces every demo run under `runs` into `out`'s `getfem.md` (each run's work and memory
-/// held to `limits` as it is read), after exporting them into `export` when given; tells `say`
-/// what it wrote.
+/// Reproduces every demo run under `runs` into `out`'s `getfem.md` and `getfem.json` (each
+/// run's work and memory held to `limits` as it is read), after exporting them into `export`
+/// when given; tells `say` what it wrote and every run outside its class, with its misses.
 pub fn getfem(
     runs: &Path,
     out: &Path,
@@ -37,13 +39,36 @@ pub fn getfem(
     staged_out.commit()?;
     let reproducible = all
         .iter()
-        .filter(|r| r.expectation == Expectation::RoundOff)
+        .filter(|r| r.reproduction.expectation == Expectation::RoundOff)
         .count();
     say(&format!(
-        "wrote {}/{GETFEM_REPORT} ({} runs, {reproducible} expected to agree at every step)",
+        "wrote {0}/{GETFEM_REPORT} and {0}/{GETFEM_JSON} ({1} runs, {reproducible} expected to \
+         agree at every step)",
         out.display(),
         all.len()
     ));
+    let outside: Vec<_> = all.iter().filter(|r| !r.check.within()).collect();
+    if outside.is_empty() {
+        say(&format!(
+            "every run is within its class ({} runs)",
+            all.len()
+        ));
+    } else {
+        say(&format!(
+            "{} of {} runs are outside their class:",
+            outside.len(),
+            all.len()
+        ));
+        for r in outside {
+            let misses: Vec<String> = r.check.misses().map(|c| c.text()).collect();
+            say(&format!(
+                "  {} ({}): {}",
+                r.name,
+                r.check.class,
+                misses.join("; ")
+            ));
+        }
+    }
     Ok(())
 }
 

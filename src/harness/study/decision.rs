@@ -147,9 +147,11 @@ impl Estimate {
         }
     }
 
-    /// An ensemble's spread of a quantity fitted on `levels` levels: its `median`, with the
-    /// members' `[min, max]` (`range`) in the interval's place (the members are the samples
-    /// round-off gives, so no wider interval is claimed) and no bias.
+    /// An ensemble's spread of a quantity fitted on `levels` levels: its `median`, with `range`
+    /// in the interval's place and no bias. `range` holds at least the members' `[min, max]`
+    /// (the samples round-off gives); a caller that has each member's own fit interval joins
+    /// them in (the tables' agreement does:
+    /// [`crate::harness::study::sensitivity::CaseSensitivity::rate_interval`]).
     pub fn of_ensemble(
         what: impl Into<String>,
         median: f64,

@@ -37,7 +37,7 @@ use crate::harness::run::{run, BarRun, Observables, Problem1d, RunConfig, RunSta
 use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::error as study;
 use crate::harness::study::executor::{run_local, Executed, Executor, JobList, ListResults};
-use crate::harness::study::rates::{fit_rate, least_squares_slope};
+use crate::harness::study::rates::{fit_rate, least_squares_slope, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
 use crate::harness::study::shard::InRange;
 use crate::harness::study::{kept_cases, Case, CaseLevels, StudyConfig};
@@ -341,6 +341,10 @@ pub struct CaseSensitivity {
     /// Norm key → the ensemble spread (all members of both sets and levels) of the rate fitted
     /// over all levels, member by member.
     pub rates: BTreeMap<String, Spread>,
+    /// Norm key → the hull `[lowest, highest]` of the members' own 95 % fit intervals of that
+    /// rate (the members whose fit has one); absent in a file written before it was recorded.
+    #[serde(default)]
+    pub rate_fit_intervals: BTreeMap<String, (f64, f64)>,
     /// Norm key → the ensemble spread of the error at each level.
     pub errors: BTreeMap<String, Vec<Spread>>,
     /// Per level: the first step at which some member parts (separation > 1e-8); `null` where
@@ -354,6 +358,17 @@ pub struct CaseSensitivity {
 }
 
 impl CaseSensitivity {
+    /// The interval the ensemble gives the rate of `norm`: the members' `[min, max]` joined with
+    /// their own 95 % fit intervals ([`CaseSensitivity::rate_fit_intervals`]), the smallest
+    /// interval holding every member's rate and every member's interval; `None` without a rate.
+    pub fn rate_interval(&self, norm: &str) -> Option<(f64, f64)> {
+        let spread = self.rates.get(norm)?;
+        Some(match self.rate_fit_intervals.get(norm) {
+            Some(&(low, high)) => (spread.min.min(low), spread.max.max(high)),
+            None => (spread.min, spread.max),
+        })
+    }
+
     /// The largest relative spread `(max − min)/|median|` of any error of `norm` over the levels.
     pub fn relative_error_spread(&self, norm: &str) -> Option<f64> {
         self.errors.get(norm).map(|levels| {
@@ -754,18 +769,23 @@ fn classify(
     levels: &[LevelEnsemble],
 ) -> CaseSensitivity {
     let mut rates = BTreeMap::new();
+    let mut rate_fit_intervals = BTreeMap::new();
     let mut errors = BTreeMap::new();
     let members = levels.first().map_or(0, |l| l.errors.len());
     for &norm in norms {
         let per_member: Vec<Vec<f64>> = (0..members)
             .map(|m| levels.iter().map(|l| l.errors[m][&norm]).collect())
             .collect();
-        let member_rates: Vec<f64> = per_member
-            .iter()
-            .filter_map(|e| fit_rate(h, e).map(|f| f.rate))
-            .collect();
+        let member_fits: Vec<RateFit> = per_member.iter().filter_map(|e| fit_rate(h, e)).collect();
+        let member_rates: Vec<f64> = member_fits.iter().map(|f| f.rate).collect();
         if !member_rates.is_empty() {
             rates.insert(norm.key().to_string(), Spread::of(&member_rates));
+        }
+        let intervals = member_fits
+            .iter()
+            .filter_map(|f| Some((f.ci_low?, f.ci_high?)));
+        if let Some(hull) = intervals.reduce(|(l, h), (a, b)| (l.min(a), h.max(b))) {
+            rate_fit_intervals.insert(norm.key().to_string(), hull);
         }
         let spreads = (0..levels.len())
             .map(|l| Spread::of(&per_member.iter().map(|e| e[l]).collect::<Vec<_>>()))
@@ -803,6 +823,7 @@ fn classify(
         step_epsilon: STEP_EPSILON,
         levels: config.levels.clone(),
         rates,
+        rate_fit_intervals,
         errors,
         predictability_steps,
         separation_growth,
@@ -902,4 +923,61 @@ pub(crate) fn rate_ranges<'c>(cases: impl IntoIterator<Item = &'c CaseSensitivit
         }
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A case's rate interval joins the members' `[min, max]` with the hull of their own 95 %
+    /// fit intervals (issue 53, item 4).
+    #[test]
+    fn the_rate_interval_joins_the_members_range_with_their_fit_intervals() {
+        let h = [0.1, 0.05, 0.025];
+        let members = [[1.0, 0.55, 0.24], [1.0, 0.45, 0.26]];
+        let norm = Norm::EnergyL2;
+        let level = |l: usize| LevelEnsemble {
+            errors: members
+                .iter()
+                .map(|e| BTreeMap::from([(norm, e[l])]))
+                .collect(),
+            separations: Vec::new(),
+            stopped: None,
+        };
+        let config = StudyConfig::paper_default();
+        let case = Case::tables_matrix()[0];
+        let s = classify_cases(
+            &[case],
+            &config,
+            &h,
+            &BTreeSet::from([norm]),
+            EnsembleConfig::default(),
+            vec![(0..3).map(level).collect()],
+            0.0,
+        );
+        let c = &s.cases[0];
+        let fits: Vec<RateFit> = members.iter().map(|e| fit_rate(&h, e).unwrap()).collect();
+        let low = fits
+            .iter()
+            .map(|f| f.ci_low.unwrap())
+            .fold(f64::INFINITY, f64::min);
+        let high = fits
+            .iter()
+            .map(|f| f.ci_high.unwrap())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(c.rate_fit_intervals[norm.key()], (low, high));
+        let spread = c.rates[norm.key()];
+        assert!(
+            low < spread.min && spread.max < high,
+            "{spread:?} in [{low}, {high}]"
+        );
+        assert_eq!(c.rate_interval(norm.key()), Some((low, high)));
+        let mut without = c.clone();
+        without.rate_fit_intervals.clear();
+        assert_eq!(
+            without.rate_interval(norm.key()),
+            Some((spread.min, spread.max)),
+            "a file written before the intervals were recorded falls back to [min, max]"
+        );
+    }
 }

@@ -8,15 +8,20 @@
 //! round-off ensemble ([`ensemble`]); GetFEM's contact traces are measured with the harness's
 //! norms as another code's runs ([`trace`]); [`report`] writes `reports/getfem.md`.
 
+mod class_check;
 mod ensemble;
 mod report;
 mod trace;
 
+pub use class_check::{
+    beyond, Check, ClassCheck, Rule, DEMO_BLOWN_UP_ENERGY, HARNESS_ENERGY_CEILING, STATE_TOLERANCE,
+    STRESS_TOLERANCE,
+};
 pub use ensemble::{
-    ensemble_agreement, initial_data_horizon, EnsembleAgreement, Judgement, NormInEnsemble,
+    ensemble_agreement, initial_data_horizon, EnsembleAgreement, Judgement, NormInEnsemble, Timing,
     AMPLITUDE_DECADES, GETFEM_ENSEMBLE,
 };
-pub use report::{write_getfem_report, GETFEM_REPORT};
+pub use report::{write_getfem_report, CheckedRun, GETFEM_JSON, GETFEM_REPORT};
 pub use trace::{contact_trace, export_runs, label, trace_norms, TRACE_NORMS};
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -62,6 +67,17 @@ pub enum Expectation {
 }
 
 impl Expectation {
+    /// The class's name in the reports: `round-off`, `undamped-stress-round-off`,
+    /// `round-off-chaotic` or `demo-massless-nitsche` (a demo artefact).
+    pub fn name(self) -> &'static str {
+        match self {
+            Expectation::RoundOff => "round-off",
+            Expectation::UndampedStressRoundOff => "undamped-stress-round-off",
+            Expectation::RoundOffChaotic => "round-off-chaotic",
+            Expectation::DemoMasslessNitsche => "demo-massless-nitsche",
+        }
+    }
+
     /// The expectation of a configuration.
     pub fn of(config: &DemoConfig) -> Self {
         let standard = config.mass == DemoMass::Consistent;

@@ -1,16 +1,21 @@
-//! `reports/getfem.md`: every demo run solved again and compared step by step, the harness's
-//! Tables 1–2 norms of GetFEM's runs with their rates, the round-off-chaotic runs against the
-//! harness's ensemble, and the demo's own norms beside the same norms computed with its
-//! conventions.
+//! `reports/getfem.md`: every demo run solved again, checked against its class
+//! ([`ClassCheck`]) and compared step by step, the harness's Tables 1–2 norms of GetFEM's runs
+//! with their rates, the round-off-chaotic runs against the harness's ensemble, and the demo's
+//! own norms beside the same norms computed with its conventions; `reports/getfem.json`: every
+//! run's class checks and, for a chaotic run, its timing and norms against the ensemble.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
+use serde::Serialize;
+
 use super::{
-    ensemble_agreement, initial_data_horizon, label, reproduce, EnsembleAgreement, Expectation,
-    NormInEnsemble, Reproduction, AMPLITUDE_DECADES, GETFEM_ENSEMBLE, TRACE_NORMS,
+    beyond, ensemble_agreement, initial_data_horizon, label, reproduce, ClassCheck,
+    EnsembleAgreement, Expectation, NormInEnsemble, Reproduction, Timing, AMPLITUDE_DECADES,
+    DEMO_BLOWN_UP_ENERGY, GETFEM_ENSEMBLE, HARNESS_ENERGY_CEILING, STATE_TOLERANCE,
+    STRESS_TOLERANCE, TRACE_NORMS,
 };
-use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::getfem::{list_runs, read_run, DemoErrorNorms, DemoRun};
 use crate::harness::run::norms::Norm;
 use crate::harness::study::budget::{self, Estimate, Limits};
@@ -21,6 +26,20 @@ use crate::studies::error::Error;
 
 /// The report's file name.
 pub const GETFEM_REPORT: &str = "getfem.md";
+
+/// The report's data file: every run's class checks and ensemble ([`GetfemFile`]).
+pub const GETFEM_JSON: &str = "getfem.json";
+
+/// One run of the directory, reproduced and checked against its class.
+#[derive(Debug, Clone)]
+pub struct CheckedRun {
+    /// The run file's name.
+    pub name: String,
+    /// The reproduction.
+    pub reproduction: Reproduction,
+    /// Its class's checks.
+    pub check: ClassCheck,
+}
 
 /// One run of the directory, reproduced.
 struct Row {
@@ -37,17 +56,20 @@ struct Row {
     ensemble: Option<EnsembleAgreement>,
     /// The horizons of its ensembles of amplitude [`AMPLITUDE_DECADES`].
     horizons: Vec<Option<usize>>,
+    /// Its class's checks.
+    check: ClassCheck,
 }
 
 /// Reproduces every run of `runs` (a directory of the demo's `.json.gz` files), runs the
 /// harness's round-off ensembles of each round-off-chaotic one ([`GETFEM_ENSEMBLE`], and one per
-/// amplitude of [`AMPLITUDE_DECADES`]), and writes `out`/[`GETFEM_REPORT`]. Returns the reproductions.
+/// amplitude of [`AMPLITUDE_DECADES`]), checks each against its class ([`ClassCheck`]) and writes
+/// `out`/[`GETFEM_REPORT`] and `out`/[`GETFEM_JSON`]. Returns the runs with their checks.
 pub fn write_getfem_report(
     root: &Path,
     runs: &Path,
     out: &Path,
     limits: &Limits,
-) -> Result<Vec<Reproduction>, Error> {
+) -> Result<Vec<CheckedRun>, Error> {
     let mut rows = Vec::new();
     let mut total = Estimate::default().writing(1.0);
     let files = list_runs(runs)?;
@@ -81,7 +103,9 @@ pub fn write_getfem_report(
                 _ => initial_data_horizon(root, &run, config)?,
             });
         }
+        let check = ClassCheck::of(&reproduction, ensemble.as_ref());
         rows.push(Row {
+            check,
             name: file
                 .path
                 .file_name()
@@ -101,7 +125,148 @@ pub fn write_getfem_report(
     ensembles(&mut md, &rows);
     demo_norms(&mut md, &rows);
     write_atomic(&out.join(GETFEM_REPORT), md.as_bytes())?;
-    Ok(rows.into_iter().map(|r| r.reproduction).collect())
+    write_json(&out.join(GETFEM_JSON), &getfem_file(&rows))?;
+    Ok(rows
+        .into_iter()
+        .map(|r| CheckedRun {
+            name: r.name,
+            reproduction: r.reproduction,
+            check: r.check,
+        })
+        .collect())
+}
+
+/// `getfem.json`: the thresholds of the class checks, the ensemble, and every run's checks.
+#[derive(Debug, Serialize)]
+pub struct GetfemFile {
+    /// The crate version that wrote it.
+    pub signorini_version: String,
+    /// The thresholds of the class checks (`src/studies/getfem/class_check.rs`).
+    pub thresholds: Thresholds,
+    /// The ensemble the chaotic runs are judged against ([`GETFEM_ENSEMBLE`]).
+    pub ensemble: crate::harness::study::sensitivity::EnsembleConfig,
+    /// How many runs miss a check of their class.
+    pub outside_class: usize,
+    /// Every run, in the directory's order.
+    pub runs: Vec<RunRecord>,
+}
+
+/// The thresholds of the class checks.
+#[derive(Debug, Serialize)]
+pub struct Thresholds {
+    /// [`STATE_TOLERANCE`].
+    pub state: f64,
+    /// [`STRESS_TOLERANCE`].
+    pub stress: f64,
+    /// [`DEMO_BLOWN_UP_ENERGY`].
+    pub demo_blown_up_energy: f64,
+    /// [`HARNESS_ENERGY_CEILING`].
+    pub harness_energy_ceiling: f64,
+}
+
+/// One run in `getfem.json`.
+#[derive(Debug, Serialize)]
+pub struct RunRecord {
+    /// The run file's name.
+    pub run: String,
+    /// Whether it holds every check of its class.
+    pub within_class: bool,
+    /// Its class and checks.
+    #[serde(flatten)]
+    pub check: ClassCheck,
+    /// Every missed check, as `getfem.md` prints it.
+    pub misses: Vec<String>,
+    /// A chaotic run against the ensemble.
+    pub ensemble: Option<EnsembleRecord>,
+}
+
+/// A chaotic run against the ensemble in `getfem.json`.
+#[derive(Debug, Serialize)]
+pub struct EnsembleRecord {
+    /// The first step where an initial-data member parts (`null`: none).
+    pub horizon: Option<usize>,
+    /// The same for the per-step members.
+    pub step_horizon: Option<usize>,
+    /// The first step where GetFEM's run parts (`null`: never).
+    pub getfem_parting: Option<usize>,
+    /// Whether GetFEM parts no earlier than the ensemble's first member.
+    pub in_time: bool,
+    /// How many steps before the ensemble's first member GetFEM parts (0 in time).
+    pub steps_early: usize,
+    /// `agrees`, `undecided` or `disagrees`.
+    pub judgement: &'static str,
+    /// Every norm both codes report alike.
+    pub norms: Vec<NormRecord>,
+}
+
+/// One norm of a chaotic run against the whole ensemble.
+#[derive(Debug, Serialize)]
+pub struct NormRecord {
+    /// The demo's name of the norm.
+    pub name: &'static str,
+    /// GetFEM's value.
+    pub getfem: f64,
+    /// The whole ensemble's minimum, median and maximum.
+    pub ensemble: Spread,
+    /// Whether GetFEM's value lies in `[min, max]`.
+    pub inside: bool,
+    /// How far outside `[min, max]` it lies (0 inside).
+    pub beyond: f64,
+    /// That distance in widths `max − min` of the range.
+    pub beyond_widths: f64,
+}
+
+fn getfem_file(rows: &[Row]) -> GetfemFile {
+    let runs: Vec<RunRecord> = rows
+        .iter()
+        .map(|row| RunRecord {
+            run: row.name.clone(),
+            within_class: row.check.within(),
+            check: row.check.clone(),
+            misses: row.check.misses().map(|c| c.text()).collect(),
+            ensemble: row.ensemble.as_ref().map(|e| {
+                let steps_early = match e.in_time() {
+                    Timing::InTime => 0,
+                    Timing::Early(n) => n,
+                };
+                EnsembleRecord {
+                    horizon: e.horizon,
+                    step_horizon: e.step_horizon,
+                    getfem_parting: e.getfem_parting,
+                    in_time: e.in_time() == Timing::InTime,
+                    steps_early,
+                    judgement: e.judgement().name(),
+                    norms: e
+                        .norms
+                        .iter()
+                        .map(|n| {
+                            let (beyond, beyond_widths) = beyond(n);
+                            NormRecord {
+                                name: n.name,
+                                getfem: n.getfem,
+                                ensemble: n.spread,
+                                inside: n.inside(),
+                                beyond,
+                                beyond_widths,
+                            }
+                        })
+                        .collect(),
+                }
+            }),
+        })
+        .collect();
+    GetfemFile {
+        signorini_version: env!("CARGO_PKG_VERSION").to_string(),
+        thresholds: Thresholds {
+            state: STATE_TOLERANCE,
+            stress: STRESS_TOLERANCE,
+            demo_blown_up_energy: DEMO_BLOWN_UP_ENERGY,
+            harness_energy_ceiling: HARNESS_ENERGY_CEILING,
+        },
+        ensemble: GETFEM_ENSEMBLE,
+        outside_class: runs.iter().filter(|r| !r.within_class).count(),
+        runs,
+    }
 }
 
 /// What reproducing `run` costs: the run with the demo's series and the harness's trace beside
@@ -118,9 +283,25 @@ pub fn reproduction_cost(run: &DemoRun) -> Estimate {
     }
 }
 
-/// The largest differences from the demo, run by run.
+/// The largest differences from the demo and the class check, run by run.
 fn step_by_step(md: &mut String, rows: &[Row]) {
-    md.push_str(
+    let outside: Vec<String> = rows
+        .iter()
+        .filter(|r| !r.check.within())
+        .map(|r| format!("`{}`", r.name))
+        .collect();
+    let summary = if outside.is_empty() {
+        format!("All {} runs are within their class.", rows.len())
+    } else {
+        format!(
+            "**{} of {} runs are outside their class**: {}.",
+            outside.len(),
+            rows.len(),
+            outside.join(", ")
+        )
+    };
+    let _ = write!(
+        md,
         "# GetFEM's demo solved again by the harness\n\n\
          Every run of `demo_dynamic_contact_1D.py` in the directory given (by default \
          `tests/data/getfem/`, see its README) solved with the demo's discrete problem: its mass \
@@ -130,21 +311,30 @@ fn step_by_step(md: &mut String, rows: &[Row]) {
          `Δs/max|s|` of the contact stress from the first step, `ΔU(T)` of the displacement \
          field at `t = T` (the only field the demo stores) over the nodes; `parts at` is the \
          first step where the displacements differ by more than 1e-8 (`—`: never). What each \
-         expectation holds is in `src/studies/getfem/mod.rs` (`Expectation`); \
-         `tests/unit/getfem_roundoff.rs` asserts it for every run. Written by `make \
-         verify-getfem`.\n\n\
-         | run | expectation | Δu (step) | ΔE (step) | Δs/max\\|s\\| (step) | ΔU(T) (node) | parts at | first impact |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         expectation holds is in `src/studies/getfem/mod.rs` (`Expectation`). `class check`: \
+         every run checked against its class with thresholds fixed before these results \
+         (docs/src/getfem.md): round-off (`RoundOff`, `UndampedStressRoundOff`): Δu, ΔE and \
+         ΔU(T) ≤ {STATE_TOLERANCE:e}, Δs/max|s| ≤ {STRESS_TOLERANCE:e} (up to the first impact \
+         for the undamped stress); round-off chaotic: parts after the first impact and, when it \
+         parts no earlier than the ensemble's first member, no norm unlike any member (below); \
+         demo artefact (`DemoMasslessNitsche`): \
+         θ < 0 parts no earlier than the first impact, θ > 0 the demo's energy above \
+         {DEMO_BLOWN_UP_ENERGY:e} and the harness's at most {HARNESS_ENERGY_CEILING}; and the \
+         harness's run completes. A run that misses one is **outside** its class, with every \
+         miss. {summary} Written by `make verify-getfem` (with `getfem.json`).\n\n\
+         | run | expectation | Δu (step) | ΔE (step) | Δs/max\\|s\\| (step) | ΔU(T) (node) | parts at | first impact | class check |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for Row {
         name,
         reproduction: r,
+        check,
         ..
     } in rows
     {
         let _ = writeln!(
             md,
-            "| `{name}` | {:?} | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {} | {} |",
+            "| `{name}` | {:?} | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {:.1e} ({}) | {} | {} | {} |",
             r.expectation,
             r.displacement.max,
             r.displacement.step,
@@ -156,6 +346,7 @@ fn step_by_step(md: &mut String, rows: &[Row]) {
             r.final_field.step,
             r.parting.map_or("—".to_string(), |n| n.to_string()),
             r.first_impact,
+            check.text().replace('|', "\\|"),
         );
     }
 }
@@ -287,14 +478,17 @@ fn ensembles(md: &mut String, rows: &[Row]) {
          acceleration; Paoli–Schatzman's new level) moves after every step by a seeded relative \
          amount in ±ε, ε = {eps:.3e}, the unit round-off (`StepPerturbation`: the rule and why). \
          The horizon of a set is the first step where one of its members parts from the \
-         unperturbed run by more than 1e-8; `horizons` gives the initial-data set's for `A` = \
-         {decades}, beside the step where GetFEM's run parts: the two codes' round-off acts like \
-         initial noise of the size where GetFEM's step falls among them. The timing is judged \
-         with `A` = {a:.0e}, the smallest of these whose members part no later than GetFEM in \
-         every run (`src/studies/getfem/ensemble.rs`); `Δu` is GetFEM's largest difference up to \
-         that horizon.\n\n\
-         | run | horizons | GetFEM parts | horizon at {a:.0e} | horizon per step | Δu to it | judgement |\n\
-         |---|---|---|---|---|---|---|\n",
+         unperturbed run by more than 1e-8. The ensemble is fixed before the comparison: it is \
+         `sensitivity.md`'s, `A` = {a:.0e} (`EnsembleConfig::default`), with nothing chosen \
+         after seeing GetFEM's runs. **Timing rule**: GetFEM, one more member, is *in time* \
+         when it parts no earlier than the ensemble's first member (of either set); where it \
+         parts earlier the ensemble does not cover GetFEM's round-off, and the row says by how \
+         many steps. `horizons` gives the initial-data set's horizon for `A` = {decades}: where \
+         GetFEM's step falls among them measures the size of initial noise the two codes' \
+         round-off acts like (a measurement, not a verdict). `Δu` is GetFEM's largest \
+         difference up to the initial-data horizon at {a:.0e}.\n\n\
+         | run | horizons | GetFEM parts | first impact | horizon at {a:.0e} | horizon per step | timing | Δu to it | judgement |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
         k = config.ensemble.members,
         eps = STEP_EPSILON,
         decades = decades.join(", "),
@@ -304,12 +498,17 @@ fn ensembles(md: &mut String, rows: &[Row]) {
     for row in rows {
         let Some(e) = &row.ensemble else { continue };
         let horizons: Vec<String> = row.horizons.iter().map(|&h| step(h)).collect();
+        let timing = match e.in_time() {
+            Timing::InTime => "in time".to_string(),
+            Timing::Early(n) => format!("**{n} steps early**"),
+        };
         let _ = writeln!(
             md,
-            "| `{}` | {} | {} | {} | {} | {:.1e} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {timing} | {:.1e} | {} |",
             row.name,
             horizons.join(", "),
             step(e.getfem_parting),
+            e.first_impact,
             step(e.horizon),
             step(e.step_horizon),
             e.before_horizon.max,
@@ -320,15 +519,16 @@ fn ensembles(md: &mut String, rows: &[Row]) {
         "\nEach demo norm that the two codes report alike: GetFEM's value; the range [min, max] \
          of the ensemble before the per-step members (the unperturbed run and the initial-data \
          members) and its width; the range of the whole ensemble and its width; whether GetFEM's \
-         value is inside each. A run *agrees* when it parts no earlier than the horizon and \
-         every norm is inside the whole ensemble's range; it is *undecided* when some norm is \
-         outside that range but within `|GetFEM − median| ≤ max − min` (the ensemble does not \
-         cover it: no verdict either way); it *disagrees* when it parts early or a norm is \
-         farther than that. `tests/unit/getfem_roundoff.rs` asserts that no chaotic run \
-         disagrees, and that the Crank–Nicolson standard-mass run at NX = 20 is inside in every \
-         norm.\n\n\
-         | run | norm | GetFEM | initial data [min, max] | width | inside | with per-step members [min, max] | width | inside |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         value is inside each, and where it is not, how far outside the whole ensemble's range \
+         it lies (and in widths of that range). A run *agrees* when it is in time and every \
+         norm is inside the whole ensemble's range; it *disagrees* (a miss of its class) when \
+         it parts at or before the first impact, or when it is in time and some norm is unlike \
+         any member, `|GetFEM − median| > max − min`; it is *undecided* otherwise: it parts \
+         early (GetFEM's round-off acts like a larger perturbation than the ensemble's, whose \
+         range then is not GetFEM's distribution), or some norm is outside the range but not \
+         unlike the members; the ensemble does not cover it, no verdict either way.\n\n\
+         | run | norm | GetFEM | initial data [min, max] | width | inside | with per-step members [min, max] | width | inside | outside by (widths) |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for row in rows {
         let Some(e) = &row.ensemble else { continue };
@@ -339,9 +539,15 @@ fn ensembles(md: &mut String, rows: &[Row]) {
                 initial_data,
                 spread,
             } = n;
+            let outside = if n.inside() {
+                "—".to_string()
+            } else {
+                let (d, widths) = beyond(n);
+                format!("{d:.2e} ({widths:.2})")
+            };
             let _ = writeln!(
                 md,
-                "| `{}` | {name} | {getfem:.4e} | {} | {:.3e} | {} | {} | {:.3e} | {} |",
+                "| `{}` | {name} | {getfem:.4e} | {} | {:.3e} | {} | {} | {:.3e} | {} | {outside} |",
                 row.name,
                 range(initial_data),
                 initial_data.range(),
@@ -351,6 +557,44 @@ fn ensembles(md: &mut String, rows: &[Row]) {
                 yes(n.inside()),
             );
         }
+    }
+    coverage(md, rows);
+}
+
+/// Whether the ensembles cover GetFEM's chaotic runs: in time, and in every norm, with what
+/// they do not cover.
+fn coverage(md: &mut String, rows: &[Row]) {
+    let chaotic: Vec<(&str, &EnsembleAgreement)> = rows
+        .iter()
+        .filter_map(|r| Some((r.name.as_str(), r.ensemble.as_ref()?)))
+        .collect();
+    let in_time = chaotic
+        .iter()
+        .filter(|(_, e)| e.in_time() == Timing::InTime)
+        .count();
+    let covered = chaotic
+        .iter()
+        .filter(|(_, e)| e.norms.iter().all(NormInEnsemble::inside))
+        .count();
+    let _ = write!(
+        md,
+        "\nCoverage: GetFEM parts in time in {in_time} of {n} chaotic runs, and the whole \
+         ensemble's range holds GetFEM's value in every norm in {covered} of {n}.",
+        n = chaotic.len()
+    );
+    let misses: Vec<String> = chaotic
+        .iter()
+        .flat_map(|(name, e)| {
+            e.norms.iter().filter(|n| !n.inside()).map(move |n| {
+                let (d, widths) = beyond(n);
+                format!("`{name}` {} by {d:.2e} ({widths:.2} widths)", n.name)
+            })
+        })
+        .collect();
+    if misses.is_empty() {
+        md.push('\n');
+    } else {
+        let _ = writeln!(md, " Outside: {}.", misses.join("; "));
     }
 }
 

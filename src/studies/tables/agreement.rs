@@ -5,8 +5,10 @@
 //! `[paper − PAPER_AGREEMENT, paper + PAPER_AGREEMENT]` (the exact solution is the reference:
 //! no bias bound), differs when it lies entirely outside, and is undecided otherwise, a rate
 //! without an interval included ([`crate::harness::study::decision`]). A round-off chaotic
-//! case is judged by its ensemble instead: the median with the members' `[min, max]` in the
-//! interval's place.
+//! case is judged by its ensemble instead ([`EnsembleRate`]): the median, with the members'
+//! `[min, max]` joined with each member's own 95 % fit interval in the interval's place (the
+//! members' rates are samples of what round-off gives, and each of them is itself a fit with its
+//! own uncertainty: the interval must hold both).
 
 use std::fmt::Write as _;
 
@@ -16,6 +18,28 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Decision, Estimate, Verdict};
 use crate::harness::study::rates::RateFit;
 use crate::harness::study::sensitivity::{Sensitivity, Spread};
+
+/// A round-off chaotic case's rate of one norm by its ensemble: the spread of the members'
+/// rates and the interval the agreement is decided on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnsembleRate {
+    /// The members' minimum, median and maximum rate.
+    pub spread: Spread,
+    /// `[min, max]` joined with the members' own 95 % fit intervals
+    /// ([`crate::harness::study::sensitivity::CaseSensitivity::rate_interval`]).
+    pub interval: (f64, f64),
+}
+
+/// The ensemble of `c`'s rate of `norm` when `sensitivity` classes the case round-off chaotic.
+fn chaotic_ensemble(
+    c: &CaseStudy,
+    norm: Norm,
+    sensitivity: Option<&Sensitivity>,
+) -> Option<EnsembleRate> {
+    let spread = chaotic_spread(c, norm, sensitivity)?;
+    let interval = sensitivity?.case(&c.case.id())?.rate_interval(norm.key())?;
+    Some(EnsembleRate { spread, interval })
+}
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
 
@@ -150,8 +174,8 @@ pub struct Disagreement {
     pub longer_horizon: Option<f64>,
     /// The paper's rate.
     pub paper: f64,
-    /// The ensemble spread of our rate when the case is round-off chaotic.
-    pub ensemble: Option<Spread>,
+    /// Our rate by its ensemble when the case is round-off chaotic.
+    pub ensemble: Option<EnsembleRate>,
 }
 
 impl Disagreement {
@@ -159,7 +183,7 @@ impl Disagreement {
     pub fn diagnosis(&self, longer_horizon: f64) -> String {
         let near = |x: Option<f64>| x.is_some_and(|v| (v - self.paper).abs() <= PAPER_AGREEMENT);
         let mut reasons = Vec::new();
-        if let Some(e) = self.ensemble {
+        if let Some(EnsembleRate { spread: e, .. }) = self.ensemble {
             let (verdict, place) = if (e.min..=e.max).contains(&self.paper) {
                 ("round-off noise", "inside")
             } else {
@@ -196,19 +220,20 @@ impl Disagreement {
 }
 
 /// Whether the rate of `norm` agrees with the paper's `paper` (see the module): by `fit`, or
-/// by the ensemble of a chaotic case.
+/// by the ensemble of a chaotic case (its median, and `[min, max]` joined with the members' fit
+/// intervals).
 pub fn agreement(
     norm: Norm,
     fit: Option<RateFit>,
-    ensemble: Option<Spread>,
+    ensemble: Option<EnsembleRate>,
     paper: f64,
 ) -> Decision {
     let what = format!("{} rate", norm.key());
     let estimate = match ensemble {
         Some(e) => Estimate::of_ensemble(
-            format!("{what} (ensemble median, [min, max])"),
-            e.median,
-            (e.min, e.max),
+            format!("{what} (ensemble median, [min, max] ∪ members' 95 % intervals)"),
+            e.spread.median,
+            e.interval,
             fit.map_or(0, |f| f.levels),
         ),
         None => Estimate::rate(what, fit, Some(0.0)),
@@ -231,7 +256,7 @@ pub fn disagreements(
         for r in &c.rates {
             let Some(fit) = r.fit else { continue };
             let p = row.rate(r.norm);
-            let ensemble = chaotic_spread(c, r.norm, sensitivity);
+            let ensemble = chaotic_ensemble(c, r.norm, sensitivity);
             let decision = agreement(r.norm, Some(fit), ensemble, p);
             if decision.verdict != Verdict::Holds {
                 out.push(Disagreement {
@@ -271,7 +296,7 @@ pub fn disagreement_section(list: &[Disagreement], longer_horizon: f64) -> Strin
         out,
         "{} entries are not shown to agree with the paper within {PAPER_AGREEMENT}: an entry \
          agrees when our 95 % interval (for a round-off chaotic case, †: the ensemble's [min, \
-         max]) lies within the paper's value ± {PAPER_AGREEMENT}, *differs* when it lies \
+         max] joined with its members' own 95 % intervals) lies within the paper's value ± {PAPER_AGREEMENT}, *differs* when it lies \
          entirely outside ({differ} entries) and is *undecided* when it overlaps an end ({} \
          entries). For each: our rate over all levels with that interval (†: the ensemble \
          median), over the first and the last three levels, over all levels with T = \
@@ -289,7 +314,15 @@ pub fn disagreement_section(list: &[Disagreement], longer_horizon: f64) -> Strin
     for d in list {
         let ours = d.ensemble.map_or_else(
             || fmt_fit(Some(d.ours)),
-            |e| format!("{:.2}† [{:.2}, {:.2}]", e.median, e.min, e.max),
+            |EnsembleRate {
+                 spread: e,
+                 interval: (low, high),
+             }| {
+                format!(
+                    "{:.2}† [{:.2}, {:.2}] ∪ fits [{low:.2}, {high:.2}]",
+                    e.median, e.min, e.max
+                )
+            },
         );
         let _ = writeln!(
             out,
@@ -335,13 +368,43 @@ mod tests {
         assert_eq!(close_but_no_interval.verdict, Verdict::Undecided);
     }
 
+    fn ensemble(median: f64, min: f64, max: f64, fits: (f64, f64)) -> EnsembleRate {
+        let spread = Spread { median, min, max };
+        EnsembleRate {
+            spread,
+            interval: (min.min(fits.0), max.max(fits.1)),
+        }
+    }
+
     #[test]
-    fn a_chaotic_entry_is_judged_by_its_ensemble_range() {
-        let spread = |median: f64, min: f64, max: f64| Spread { median, min, max };
+    fn a_chaotic_entry_is_judged_by_its_ensemble_range_and_its_members_intervals() {
         let norm = Norm::EnergyL2;
-        let outside = agreement(norm, None, Some(spread(0.82, 0.75, 0.92)), 0.48);
+        let outside = agreement(
+            norm,
+            None,
+            Some(ensemble(0.82, 0.75, 0.92, (0.7, 0.97))),
+            0.48,
+        );
         assert_eq!(outside.verdict, Verdict::Fails, "{}", outside.reason);
-        let inside = agreement(norm, None, Some(spread(0.50, 0.45, 0.55)), 0.48);
+        let inside = agreement(
+            norm,
+            None,
+            Some(ensemble(0.50, 0.45, 0.55, (0.43, 0.57))),
+            0.48,
+        );
         assert_eq!(inside.verdict, Verdict::Holds, "{}", inside.reason);
+        let wide_members = ensemble(0.50, 0.45, 0.55, (0.30, 0.62));
+        let undecided = agreement(norm, None, Some(wide_members), 0.48);
+        assert_eq!(
+            undecided.verdict,
+            Verdict::Undecided,
+            "{}",
+            undecided.reason
+        );
+        assert!(
+            undecided.reason.contains("[0.30, 0.62]"),
+            "{}",
+            undecided.reason
+        );
     }
 }

@@ -173,7 +173,8 @@ pub fn render(
     md.push_str(&format!(
         "\n† round-off chaotic (`sensitivity.md`): the ensemble median rate of {}, and the \
          ensemble [min, max]; the unperturbed run's rate is one sample of that range (its \
-         per-level errors are below).\n",
+         per-level errors are below). The agreement with the paper is decided on that range \
+         joined with the members' own 95 % fit intervals.\n",
         sensitivity.ensemble.describe()
     ));
     md.push_str(
