@@ -233,3 +233,84 @@ fn a_diverged_runs_overflowing_norms_are_not_computed() {
     assert!(!non_finite, "{stdout}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A golden file whose error arrays were emptied, or whose norms were removed, fails the gate
+/// naming each entry, with no number printed for what is missing (issue 55 item 4).
+#[test]
+fn a_golden_file_emptied_of_its_errors_fails_the_gate() {
+    let dir = scratch("golden-emptied");
+    let golden = dir.join("golden.json");
+    let golden_arg = golden.to_string_lossy().into_owned();
+    success_stdout(&signorini(&[
+        "verify",
+        SCENE,
+        TRACE4,
+        TRACE8,
+        "--write-golden",
+        &golden_arg,
+    ]));
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&golden).unwrap()).unwrap();
+    let mut emptied = written.clone();
+    for series in emptied["series"].as_array_mut().unwrap() {
+        for norm in series["norms"].as_object_mut().unwrap().values_mut() {
+            norm["errors"] = serde_json::json!([]);
+        }
+    }
+    let mut without_norms = written;
+    for series in without_norms["series"].as_array_mut().unwrap() {
+        series["norms"] = serde_json::json!({});
+    }
+    for (edited, needle) in [
+        (
+            emptied,
+            "energy_L2 (the golden file has 0 errors for 2 levels)",
+        ),
+        (without_norms, "| energy_L2 | missing | — | — | — | — |"),
+    ] {
+        std::fs::write(&golden, edited.to_string()).unwrap();
+        let out = signorini(&["verify", SCENE, TRACE4, TRACE8, "--golden", &golden_arg]);
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(out.status.code(), Some(1), "{text}");
+        assert!(text.contains(needle), "{needle:?} not in {text}");
+        assert!(
+            !text.contains("NaN") && !text.contains("gate passed"),
+            "{text}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A contact displacement of 1e200 overflows the contact trace's L² norm: the diagnostic is not
+/// computed (`null`, as for a file without the trace), never half a number with its `l2` `null`
+/// (issue 55 item 4).
+#[test]
+fn an_overflowing_contact_trace_is_left_out_not_written_as_null() {
+    let dir = scratch("contact-overflow");
+    let file = broken(
+        &dir,
+        "overflow.csv",
+        TRACE4,
+        "0.75,0.01778,0,0.0372",
+        "0.75,1e200,0,0.0372",
+    );
+    let out = dir.join("out");
+    success_stdout(&signorini(&[
+        "verify",
+        SCENE,
+        &file,
+        "--out",
+        &out.to_string_lossy(),
+    ]));
+    let json = std::fs::read_to_string(out.join("verify.json")).unwrap();
+    assert!(
+        json.contains("\"contact_displacement_error\": null"),
+        "{json}"
+    );
+    assert!(!json.contains("\"l2\": null"), "{json}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

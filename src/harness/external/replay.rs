@@ -150,7 +150,7 @@ pub struct Replayed {
     /// The total variations of `λ_h` and `λ`, when the multiplier's norm was asked for.
     pub multiplier_variation: Option<MultiplierVariation>,
     /// `u_h(0, t) − u(0, t)` over the samples, when the file has the contact node's
-    /// displacement (given, or the fields') at every sample.
+    /// displacement (given, or the fields') at every sample and its norms are finite.
     pub contact_displacement_error: Option<TimeNorms>,
     /// The displacement's errors in `H` (`L²` in space) and `V` (`H¹`) at each sample that has
     /// the field, when some sample lacks it.
@@ -163,12 +163,11 @@ pub struct Replayed {
     pub seconds: f64,
 }
 
-/// `L∞` and `L²` of `norm`.
-fn time_norms(norm: &TimeSeriesNorm) -> TimeNorms {
-    TimeNorms {
-        linf: norm.linf(),
-        l2: norm.l2(),
-    }
+/// `L∞` and `L²` of `norm`; `None` when either overflows (a diagnostic that is not a number is
+/// left out, never written as `null` or `inf`).
+fn time_norms(norm: &TimeSeriesNorm) -> Option<TimeNorms> {
+    let (linf, l2) = (norm.linf(), norm.l2());
+    (linf.is_finite() && l2.is_finite()).then_some(TimeNorms { linf, l2 })
 }
 
 /// Replays `run` on `bar` against `exact` and computes the norms `norms` (which the file must
@@ -237,9 +236,9 @@ pub fn replay(
     Ok(Replayed {
         errors: errors.norms(norms),
         multiplier_variation: errors.multiplier.as_ref().and_then(|m| m.variation()),
-        contact_displacement_error: contact.as_ref().map(time_norms),
+        contact_displacement_error: contact.as_ref().and_then(time_norms),
         displacement_at_samples,
-        reported_energy_error: reported.as_ref().map(time_norms),
+        reported_energy_error: reported.as_ref().and_then(time_norms),
         seconds: clock.elapsed().as_secs_f64(),
     })
 }

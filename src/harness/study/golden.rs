@@ -405,6 +405,17 @@ pub fn compare_rates(
                 });
             }
         }
+        if gn.errors.len() != r.errors.len() {
+            drifts.push(Drift::missing(
+                id,
+                &format!(
+                    "{key} (the golden file has {} errors for {} levels)",
+                    gn.errors.len(),
+                    r.errors.len()
+                ),
+            ));
+            continue;
+        }
         for (k, (&ge, &e)) in gn.errors.iter().zip(&r.errors).enumerate() {
             let rel = (e - ge) / ge.abs();
             let both_zero = e == 0.0 && ge == 0.0;
@@ -487,7 +498,8 @@ pub fn gate<E>(
     Ok(drifts)
 }
 
-/// One row per drifted entry: case, norm, quantity, golden, now, difference, tolerance.
+/// One row per drifted entry: case, norm, quantity, golden, now, difference, tolerance (`—`
+/// where an entry is missing and has no number).
 pub fn render_drifts(drifts: &[Drift]) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -495,11 +507,18 @@ pub fn render_drifts(drifts: &[Drift]) -> String {
         "{} entries drifted from the golden values:\n\n| case | norm | quantity | golden | now | difference | tolerance |\n|---|---|---|---|---|---|---|",
         drifts.len()
     );
+    let value = |v: f64, text: String| if v.is_nan() { "—".to_string() } else { text };
     for d in drifts {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.6e} | {:.6e} | {:+.3e} | {:.3e} |",
-            d.case, d.norm, d.quantity, d.golden, d.now, d.difference, d.tolerance
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            d.case,
+            d.norm,
+            d.quantity,
+            value(d.golden, format!("{:.6e}", d.golden)),
+            value(d.now, format!("{:.6e}", d.now)),
+            value(d.difference, format!("{:+.3e}", d.difference)),
+            value(d.golden, format!("{:.3e}", d.tolerance)),
         );
     }
     out
