@@ -34,3 +34,4 @@ mod tutorial;
 mod verify;
 mod verify_box;
 mod verify_format2;
+mod vocabulary;
