@@ -121,7 +121,13 @@ impl Interval {
     pub fn beyond(&self, threshold: f64, strict: bool) -> Decision {
         let head = self.head();
         let (rel, not) = if strict { (">", "≤") } else { ("≥", "<") };
-        let past = |x: f64| if strict { x > threshold } else { x >= threshold };
+        let past = |x: f64| {
+            if strict {
+                x > threshold
+            } else {
+                x >= threshold
+            }
+        };
         if !(self.low.is_finite() && self.high.is_finite()) {
             return Decision::undecided(format!(
                 "{head} is not finite: a run that completes would decide it"
@@ -212,7 +218,10 @@ fn apart(a: &Interval, b: &Interval, relation: &str, holds: bool, fails: bool) -
     if holds {
         Decision {
             verdict: Verdict::Holds,
-            reason: format!("{ra} lies wholly apart from {rb}: {} {relation} {}", a.what, b.what),
+            reason: format!(
+                "{ra} lies wholly apart from {rb}: {} {relation} {}",
+                a.what, b.what
+            ),
         }
     } else if fails {
         Decision {
@@ -272,7 +281,12 @@ pub fn oscillates_spuriously(indicator: &Interval) -> Decision {
 
 /// "The run is stable": it neither gains energy, penetrates, oscillates spuriously nor
 /// dissipates (each of the four fails).
-pub fn stable(gain: &Interval, penetration: &Interval, indicator: &Interval, loss: &Interval) -> Decision {
+pub fn stable(
+    gain: &Interval,
+    penetration: &Interval,
+    indicator: &Interval,
+    loss: &Interval,
+) -> Decision {
     all_of(vec![
         gains_energy(gain).negated(),
         penetrating(penetration).negated(),
@@ -547,12 +561,18 @@ mod tests {
     #[test]
     fn converges_and_does_not_converge_by_the_interval_about_zero() {
         verdicts(|v| converges(&rate(v, 0.2)), 0.5, -0.5, 0.1);
-        assert_eq!(convergence_word(converges(&rate(0.5, 0.2)).verdict), "converges");
+        assert_eq!(
+            convergence_word(converges(&rate(0.5, 0.2)).verdict),
+            "converges"
+        );
         assert_eq!(
             convergence_word(converges(&rate(-0.5, 0.2)).verdict),
             "does not converge"
         );
-        assert_eq!(convergence_word(converges(&rate(0.1, 0.2)).verdict), "undecided");
+        assert_eq!(
+            convergence_word(converges(&rate(0.1, 0.2)).verdict),
+            "undecided"
+        );
         let extended_old_threshold = converges(&rate(0.2, 0.1));
         assert_eq!(extended_old_threshold.verdict, Verdict::Holds);
     }
@@ -595,7 +615,12 @@ mod tests {
 
     #[test]
     fn ok_and_missed_by_the_repeats_about_the_target() {
-        verdicts(|v| within_target(&runs(v, v - 5.0, v + 5.0), 60.0), 40.0, 80.0, 57.0);
+        verdicts(
+            |v| within_target(&runs(v, v - 5.0, v + 5.0), 60.0),
+            40.0,
+            80.0,
+            57.0,
+        );
         assert_eq!(target_word(Verdict::Holds), "ok");
         assert_eq!(target_word(Verdict::Fails), "missed");
         let one = within_target(&Interval::point("wall", 49.3), 60.0);
@@ -604,9 +629,24 @@ mod tests {
 
     #[test]
     fn the_physics_words_by_the_runs_about_their_tolerances() {
-        verdicts(|v| penetrating(&runs(v, v * 0.9, v * 1.1)), 0.5, 1e-3, 0.0095);
-        verdicts(|v| gains_energy(&runs(v, v * 0.9, v * 1.1)), 0.5, 1e-3, 0.048);
-        verdicts(|v| dissipative(&runs(v, v * 0.9, v * 1.1)), 0.16, 1e-3, 0.0099);
+        verdicts(
+            |v| penetrating(&runs(v, v * 0.9, v * 1.1)),
+            0.5,
+            1e-3,
+            0.0095,
+        );
+        verdicts(
+            |v| gains_energy(&runs(v, v * 0.9, v * 1.1)),
+            0.5,
+            1e-3,
+            0.048,
+        );
+        verdicts(
+            |v| dissipative(&runs(v, v * 0.9, v * 1.1)),
+            0.16,
+            1e-3,
+            0.0099,
+        );
     }
 
     #[test]
@@ -629,8 +669,13 @@ mod tests {
         let indicator = Interval::point("indicator", 8.5);
         verdicts(
             |loss| {
-                stable(&calm, &calm, &indicator, &runs(loss, loss * 0.9, loss * 1.1))
-                    .negated()
+                stable(
+                    &calm,
+                    &calm,
+                    &indicator,
+                    &runs(loss, loss * 0.9, loss * 1.1),
+                )
+                .negated()
             },
             0.16,
             1e-3,
@@ -653,7 +698,12 @@ mod tests {
             assert_eq!(line.replace("\\|", "").matches('|').count(), 6, "{line}");
         }
         for w in words() {
-            assert_eq!(t.matches(&format!("| **{}** |", w.word)).count(), 1, "{}", w.word);
+            assert_eq!(
+                t.matches(&format!("| **{}** |", w.word)).count(),
+                1,
+                "{}",
+                w.word
+            );
             assert!(t.contains(&table_cell(&w.threshold)), "{}", w.word);
         }
     }

@@ -23,8 +23,8 @@ use crate::harness::study::sensitivity::{
     run_sensitivity, EnsembleConfig, Sensitivity, SensitivityClass, SensitivityJobs, Spread,
 };
 use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
-use crate::harness::vocabulary::{self, BOUNDED_RATE_WITHIN, CONVERGES_ABOVE};
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
+use crate::harness::vocabulary::{self, BOUNDED_RATE_WITHIN, CONVERGES_ABOVE};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::error::Error;
 
@@ -234,7 +234,12 @@ pub struct ExtendedRow {
 impl ExtendedRow {
     /// The row of one case of a treatment's study; with its sensitivity, a round-off chaotic
     /// case's rates and finest energy error are the ensemble medians (one run is one sample).
-    pub fn of(contact: &str, study: &Study, case: &CaseStudy, sensitivity: Option<&Sensitivity>) -> Self {
+    pub fn of(
+        contact: &str,
+        study: &Study,
+        case: &CaseStudy,
+        sensitivity: Option<&Sensitivity>,
+    ) -> Self {
         let measured = sensitivity.and_then(|s| s.case(&case.case.id()));
         let chaotic = measured.filter(|s| s.chaotic);
         let rate_ranges: BTreeMap<&'static str, Spread> = Norm::ALL
@@ -814,7 +819,10 @@ mod tests {
         assert!(reason.contains("no 95 % interval"), "{reason}");
         let (v, reason) = EnergyVerdict::decide(&rate(-0.26, Some(0.05)), 1e-3);
         assert_eq!(v, EnergyVerdict::DoesNotConverge);
-        assert!(reason.contains("overlaps an end of [-0.25, 0.25]"), "{reason}");
+        assert!(
+            reason.contains("overlaps an end of [-0.25, 0.25]"),
+            "{reason}"
+        );
     }
 
     #[test]

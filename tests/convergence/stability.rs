@@ -246,7 +246,9 @@ fn stays_stable_needs_every_member_and_no_chaos() {
     let stays = split.stays_stable();
     assert_eq!(stays.verdict, Decided::Undecided);
     assert!(
-        stays.reason.contains("members: 3 stable, 1 oscillates spuriously"),
+        stays
+            .reason
+            .contains("members: 3 stable, 1 oscillates spuriously"),
         "{}",
         stays.reason
     );
