@@ -34,14 +34,15 @@ use std::path::Path;
 const LAYERS: [&str; 4] = ["engine", "harness", "studies", "commands"];
 
 /// The parts of the harness, bottom to top: a part imports only the parts before it. The
-/// engine's vocabulary and the files first, then a run, the studies of runs, the references they
-/// measure runs against, their rendering,
+/// engine's vocabulary and the files first, then a run, the studies of runs, the verdict words
+/// decided on them, the references they measure runs against, their rendering,
 /// and the two witnesses that use all of these, another code's runs and GetFEM's demo.
-const HARNESS_PARTS: [&str; 8] = [
+const HARNESS_PARTS: [&str; 9] = [
     "problem",
     "files",
     "run",
     "study",
+    "vocabulary",
     "reference",
     "render",
     "external",

@@ -24,6 +24,7 @@ use crate::harness::study::sensitivity::{
 };
 use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
+use crate::harness::vocabulary::{self, BOUNDED_RATE_WITHIN, CONVERGES_ABOVE};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::error::Error;
 
@@ -47,12 +48,6 @@ pub const TREATMENTS: [&str; 5] = [
 
 /// The schemes of the table.
 pub const SCHEMES: [Scheme; 2] = [Scheme::CRANK_NICOLSON, Scheme::BACKWARD_EULER];
-
-/// An energy-error rate whose interval lies above this is [`EnergyVerdict::Converges`].
-pub const CONVERGES_ABOVE: f64 = 0.25;
-
-/// An energy-error rate whose interval lies at or below this is [`EnergyVerdict::Grows`].
-pub const GROWS_AT_OR_BELOW: f64 = -0.25;
 
 /// The study of one contact treatment.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,25 +129,30 @@ pub fn extended_sensitivity(
     )?)
 }
 
-/// What the energy error does under refinement, decided by the interval of the least-squares
-/// rate `r` of `‖E_h − E‖_{L∞(0,T)}` over all levels (its 95 % interval; for a round-off
-/// chaotic row, the ensemble's `[min, max]`; the exact solution is the reference, so no bias
-/// bound widens it: [`crate::harness::study::decision`]) and its value `e` on the finest level:
-/// * `converges`: the interval lies above 0.25 ([`CONVERGES_ABOVE`]) and `e` is finite;
-/// * `grows`: the interval lies at or below −0.25 ([`GROWS_AT_OR_BELOW`]), or `e` is not
-///   finite;
-/// * `bounded error`: the interval lies within `[−0.25, 0.25]` and `e` is finite;
-/// * `undecided`: none of these (the interval overlaps a threshold, or there is none).
+/// What the energy error does under refinement, in the words of
+/// [`crate::harness::vocabulary`], decided by the interval of the least-squares rate `r` of
+/// `‖E_h − E‖_{L∞(0,T)}` over all levels (its 95 % interval; for a round-off chaotic row, the
+/// ensemble's `[min, max]`; the exact solution is the reference, so no bias bound widens it:
+/// [`crate::harness::study::decision`]) and its value `e` on the finest level:
+/// * `converges`: the interval lies above [`CONVERGES_ABOVE`] = 0 and `e` is finite;
+/// * `does not converge`: the interval lies at or below 0, or `e` is not finite; then, by the
+///   same interval, *bounded* when it lies within `±`[`BOUNDED_RATE_WITHIN`] (the error stays
+///   about the size it has: the report prints `e / E_0`, so that a bounded error as large as
+///   the energy does not read as good), *grows* when it lies at or below
+///   `−BOUNDED_RATE_WITHIN` (or `e` is not finite), neither when it overlaps that end;
+/// * `undecided`: the interval contains 0, or there is none.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EnergyVerdict {
     /// The energy error decreases with the mesh size.
     Converges,
-    /// The energy error neither decreases nor increases markedly.
-    BoundedError,
-    /// The energy error increases with refinement (or is not finite).
+    /// It does not decrease, and neither decreases nor increases markedly.
+    Bounded,
+    /// It increases with refinement (or is not finite).
     Grows,
-    /// The rate's interval cannot tell.
+    /// It does not decrease; whether it grows is undecided.
+    DoesNotConverge,
+    /// The rate's interval contains 0: whether it converges is undecided.
     Undecided,
 }
 
@@ -166,27 +166,33 @@ impl EnergyVerdict {
                 format!("the finest-level energy error is {finest_error}"),
             );
         }
-        let converges = rate.above(CONVERGES_ABOVE);
-        if converges.verdict == Verdict::Holds {
-            return (Self::Converges, converges.reason);
+        let converges = vocabulary::converges(rate);
+        match converges.verdict {
+            Verdict::Holds => return (Self::Converges, converges.reason),
+            Verdict::Undecided => return (Self::Undecided, converges.reason),
+            Verdict::Fails => {}
         }
-        let grows = rate.above(GROWS_AT_OR_BELOW);
-        if grows.verdict == Verdict::Fails {
+        let grows = vocabulary::grows(rate);
+        if grows.verdict == Verdict::Holds {
             return (Self::Grows, grows.reason);
         }
-        let bounded = rate.within(GROWS_AT_OR_BELOW, CONVERGES_ABOVE);
+        let bounded = vocabulary::bounded(rate);
         match bounded.verdict {
-            Verdict::Holds => (Self::BoundedError, bounded.reason),
-            Verdict::Fails | Verdict::Undecided => (Self::Undecided, bounded.reason),
+            Verdict::Holds => (Self::Bounded, bounded.reason),
+            Verdict::Fails | Verdict::Undecided => (
+                Self::DoesNotConverge,
+                format!("{}; {}", converges.reason, bounded.reason),
+            ),
         }
     }
 
-    /// The word in the markdown table.
+    /// The word in the markdown table (a bounded error's size follows it there).
     pub fn word(self) -> &'static str {
         match self {
             Self::Converges => "converges",
-            Self::BoundedError => "bounded error",
-            Self::Grows => "grows",
+            Self::Bounded => "does not converge (bounded)",
+            Self::Grows => "does not converge (grows)",
+            Self::DoesNotConverge => "does not converge",
             Self::Undecided => "undecided",
         }
     }
@@ -215,6 +221,9 @@ pub struct ExtendedRow {
     pub oscillation_word: Option<&'static str>,
     /// `‖E_h − E‖_{L∞(0,T)}` on the finest level (for a chaotic case, the ensemble median).
     pub energy_error_finest: f64,
+    /// The energy at `t = 0` of the finest level's run (`E_0`, which the exact energy keeps);
+    /// `None` for a study written before the runs measured it.
+    pub energy_start: Option<f64>,
     /// [`EnergyVerdict::decide`] on the `energy_Linf` rate (a chaotic row: its ensemble) and
     /// `energy_error_finest`.
     pub energy_verdict: EnergyVerdict,
@@ -225,7 +234,12 @@ pub struct ExtendedRow {
 impl ExtendedRow {
     /// The row of one case of a treatment's study; with its sensitivity, a round-off chaotic
     /// case's rates and finest energy error are the ensemble medians (one run is one sample).
-    pub fn of(contact: &str, case: &CaseStudy, sensitivity: Option<&Sensitivity>) -> Self {
+    pub fn of(
+        contact: &str,
+        study: &Study,
+        case: &CaseStudy,
+        sensitivity: Option<&Sensitivity>,
+    ) -> Self {
         let measured = sensitivity.and_then(|s| s.case(&case.case.id()));
         let chaotic = measured.filter(|s| s.chaotic);
         let rate_ranges: BTreeMap<&'static str, Spread> = Norm::ALL
@@ -279,6 +293,23 @@ impl ExtendedRow {
             oscillation_indicator: indicator,
             oscillation_word: indicator.map(oscillation_word),
             energy_error_finest,
+            energy_start: study
+                .physics
+                .get(&case.case.id())
+                .and_then(|levels| levels.last())
+                .map(|p| p.energy_start),
+        }
+    }
+
+    /// The energy verdict as the table prints it: its word, and for a bounded error its size
+    /// relative to `E_0` (`does not converge (bounded, e = 2.9 E₀)`).
+    pub fn energy_verdict_text(&self) -> String {
+        match (self.energy_verdict, self.energy_start) {
+            (EnergyVerdict::Bounded, Some(e0)) if e0 != 0.0 => format!(
+                "does not converge (bounded, e = {:.2} E₀)",
+                self.energy_error_finest / e0.abs()
+            ),
+            (v, _) => v.word().to_string(),
         }
     }
 
@@ -301,7 +332,7 @@ pub fn extended_rows(studies: &[ExtendedStudy]) -> Vec<ExtendedRow> {
             s.study
                 .cases
                 .iter()
-                .map(|c| ExtendedRow::of(&s.contact, c, s.sensitivity.as_ref()))
+                .map(|c| ExtendedRow::of(&s.contact, &s.study, c, s.sensitivity.as_ref()))
         })
         .collect()
 }
@@ -386,8 +417,8 @@ pub struct ExtendedFile {
     pub ensemble: Option<EnsembleConfig>,
     /// [`CONVERGES_ABOVE`].
     pub verdict_converges_above: f64,
-    /// [`GROWS_AT_OR_BELOW`].
-    pub verdict_grows_at_or_below: f64,
+    /// [`BOUNDED_RATE_WITHIN`]: a rate at or below its negative grows.
+    pub verdict_bounded_within: f64,
     /// Every row.
     pub rows: Vec<ExtendedRow>,
     /// [`fastest`] of the rows.
@@ -462,15 +493,23 @@ fn sensitivity_section(
     md
 }
 
-/// The rows whose energy verdict is undecided, each with what it has and what would decide it.
+/// The rows whose energy verdict is undecided, or that do not converge and are neither decided
+/// bounded nor growing, each with what it has and what would decide it.
 fn undecided_section(rows: &[ExtendedRow]) -> String {
     let undecided: Vec<&ExtendedRow> = rows
         .iter()
-        .filter(|r| r.energy_verdict == EnergyVerdict::Undecided)
+        .filter(|r| {
+            matches!(
+                r.energy_verdict,
+                EnergyVerdict::Undecided | EnergyVerdict::DoesNotConverge
+            )
+        })
         .collect();
     let mut md = format!(
         "\n## Undecided energy verdicts\n\n{} of {} rows: the interval of the `energy_Linf` \
-         rate overlaps a threshold or there is none.\n",
+         rate contains {CONVERGES_ABOVE} (undecided) or there is none, or it lies at or below \
+         {CONVERGES_ABOVE} and overlaps −{BOUNDED_RATE_WITHIN} (does not converge; bounded or \
+         grows undecided).\n",
         undecided.len(),
         rows.len()
     );
@@ -513,9 +552,11 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
          least-squares rate over all levels. Oscillation: `TV(λ_h)/TV(λ)` on the finest level \
          (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the 95 % interval of the \
          `energy_Linf` rate (a chaotic row: the ensemble's [min, max]) and the finest-level \
-         energy error e: *converges* when it lies above {CONVERGES_ABOVE}, *grows* when at or \
-         below {GROWS_AT_OR_BELOW} (or e not finite), *bounded error* when within \
-         [{GROWS_AT_OR_BELOW}, {CONVERGES_ABOVE}], *undecided* otherwise (the section \
+         energy error e, in the words of docs/src/vocabulary.md: *converges* when it lies above \
+         {CONVERGES_ABOVE}, *does not converge* when at or below it (or e not finite), then \
+         *bounded* when within ±{BOUNDED_RATE_WITHIN}, printed with e / E₀ (bounded is not \
+         small: an error the size of the energy is bounded), *grows* when at or below \
+         −{BOUNDED_RATE_WITHIN}; *undecided* when it contains {CONVERGES_ABOVE} (the section \
          \"Undecided energy verdicts\" gives why). Generated by `make report` (signorini {}); the studies took {:.1} s wall.\n",
         config.levels,
         config.ratio,
@@ -548,7 +589,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
                 md.push_str(&format!(
                     " {osc} | {:.3e} | {} |\n",
                     r.energy_error_finest,
-                    r.energy_verdict.word()
+                    r.energy_verdict_text()
                 ));
             }
         }
@@ -591,7 +632,7 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         wall_seconds,
         ensemble,
         verdict_converges_above: CONVERGES_ABOVE,
-        verdict_grows_at_or_below: GROWS_AT_OR_BELOW,
+        verdict_bounded_within: BOUNDED_RATE_WITHIN,
         rows,
         fastest,
         oscillating,
@@ -755,26 +796,33 @@ mod tests {
     #[test]
     fn an_interval_clear_of_the_thresholds_decides_the_energy_verdict() {
         assert_eq!(verdict(0.9, Some(0.1), 1e-3), EnergyVerdict::Converges);
-        assert_eq!(verdict(0.0, Some(0.1), 1e-3), EnergyVerdict::BoundedError);
+        assert_eq!(verdict(0.2, Some(0.1), 1e-3), EnergyVerdict::Converges);
+        assert_eq!(verdict(-0.1, Some(0.05), 1e-3), EnergyVerdict::Bounded);
         assert_eq!(verdict(-0.9, Some(0.1), 1e-3), EnergyVerdict::Grows);
         assert_eq!(verdict(-0.4, Some(0.1), 1e-3), EnergyVerdict::Grows);
+        assert_eq!(
+            verdict(-0.25, Some(0.05), 1e-3),
+            EnergyVerdict::DoesNotConverge
+        );
         assert_eq!(verdict(0.9, Some(0.1), f64::INFINITY), EnergyVerdict::Grows);
     }
 
     #[test]
-    fn an_interval_straddling_a_threshold_is_undecided_with_what_would_decide_it() {
-        let (v, reason) = EnergyVerdict::decide(&rate(0.26, Some(0.05)), 1e-3);
+    fn an_interval_straddling_zero_is_undecided_with_what_would_decide_it() {
+        let (v, reason) = EnergyVerdict::decide(&rate(0.02, Some(0.05)), 1e-3);
         assert_eq!(v, EnergyVerdict::Undecided);
-        assert!(
-            reason.contains("overlaps an end of [-0.25, 0.25]"),
-            "{reason}"
-        );
+        assert!(reason.contains("contains 0"), "{reason}");
         assert!(reason.contains("would decide it"), "{reason}");
-        assert_eq!(verdict(-0.24, Some(0.05), 1e-3), EnergyVerdict::Undecided);
         assert_eq!(verdict(0.0, Some(1.0), 1e-3), EnergyVerdict::Undecided);
         let (v, reason) = EnergyVerdict::decide(&rate(3.0, None), 1e-3);
         assert_eq!(v, EnergyVerdict::Undecided);
         assert!(reason.contains("no 95 % interval"), "{reason}");
+        let (v, reason) = EnergyVerdict::decide(&rate(-0.26, Some(0.05)), 1e-3);
+        assert_eq!(v, EnergyVerdict::DoesNotConverge);
+        assert!(
+            reason.contains("overlaps an end of [-0.25, 0.25]"),
+            "{reason}"
+        );
     }
 
     #[test]
@@ -784,10 +832,15 @@ mod tests {
             EnergyVerdict::decide(&decided, 1e-3).0,
             EnergyVerdict::Converges
         );
-        let straddling = Estimate::of_ensemble("energy_Linf rate", -0.1, (-0.3, 0.0), 7);
+        let straddling = Estimate::of_ensemble("energy_Linf rate", -0.1, (-0.3, 0.1), 7);
         assert_eq!(
             EnergyVerdict::decide(&straddling, 1e-3).0,
             EnergyVerdict::Undecided
+        );
+        let at_zero = Estimate::of_ensemble("energy_Linf rate", -0.05, (-0.11, -0.0), 7);
+        assert_eq!(
+            EnergyVerdict::decide(&at_zero, 1e-3).0,
+            EnergyVerdict::Bounded
         );
     }
 }

@@ -5,8 +5,8 @@
 //! the oscillation indicator's verdict, the energy verdict; and the note's findings judged on
 //! every series of one code on one scene together, across its entries.
 //!
-//! The energy verdict is "the energy error converges" (`energy_Linf`'s rate above 0), decided
-//! by [`crate::harness::study::decision`]: the rate's interval widened by the reference's
+//! The energy verdict is "the energy error converges" (`energy_Linf`'s rate above 0,
+//! [`vocabulary::converges`]), decided by [`crate::harness::study::decision`]: the rate's interval widened by the reference's
 //! rate-bias bound (0 against an exact solution, the entry's `rate_bias` against a fine-mesh
 //! reference) must lie above 0 to hold, at or below it to fail; otherwise it is undecided and
 //! says what would decide it. The oscillation verdict is the indicator's word as measured (an
@@ -38,6 +38,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::{Estimate, Verdict};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{Case, CaseStudy};
+use crate::harness::vocabulary::{self, convergence_word};
 
 /// `league.json`'s format.
 pub const LEAGUE_FORMAT: &str = "signorini-league/1";
@@ -240,12 +241,11 @@ fn row(s: &Series, bias: &dyn Fn(Norm) -> Option<f64>) -> LeagueRow {
             })
         })
         .collect();
-    let energy = Estimate::rate(
+    let energy = vocabulary::converges(&Estimate::rate(
         format!("{} rate", Norm::EnergyLinf.key()),
         s.norm(Norm::EnergyLinf).and_then(|r| r.fit),
         bias(Norm::EnergyLinf),
-    )
-    .above(0.0);
+    ));
     let indicator = s.oscillation_indicator();
     LeagueRow {
         label: s.label.clone(),
@@ -290,8 +290,10 @@ pub fn render(league: &League, entries: &str) -> String {
          refinement series. Rates: the least-squares rate over the series' levels with its \
          95 % interval (`(n levels)` without one: an interval needs three; `—` not computed). \
          Energy: \"the energy error converges\", decided by the interval of the \
-         `{}` rate widened by the reference's rate-bias bound. Oscillations: \
-         the indicator TV(λ_h)/TV(λ) on the finest level, as measured.\n",
+         `{}` rate widened by the reference's rate-bias bound (*converges* above 0, *does not \
+         converge* at or below, *undecided* when it straddles: docs/src/vocabulary.md). \
+         Oscillations: the indicator's grade (No, Small, Yes, Big) on the finest level, from \
+         one run: as measured.\n",
         Norm::EnergyLinf.key()
     );
     let names: Vec<&str> = SHOWN.iter().map(|n| n.key()).collect();
@@ -310,10 +312,11 @@ pub fn render(league: &League, entries: &str) -> String {
             let oscillation = r.oscillation_indicator.map_or("—".to_string(), |i| {
                 format!("{} ({})", oscillation_word(i), oscillation_ratio_text(i))
             });
+            let word = convergence_word(r.energy_verdict);
             let energy = match r.energy_verdict {
-                Verdict::Holds => "converges".to_string(),
-                Verdict::Fails => "**does not converge**".to_string(),
-                Verdict::Undecided => "*undecided*".to_string(),
+                Verdict::Holds => word.to_string(),
+                Verdict::Fails => format!("**{word}**"),
+                Verdict::Undecided => format!("*{word}*"),
             };
             let _ = writeln!(
                 out,
@@ -347,7 +350,7 @@ pub fn render(league: &League, entries: &str) -> String {
                 "- `{}` {}: {}: {}",
                 e.entry,
                 table_text(&r.label),
-                r.energy_verdict.word(),
+                convergence_word(r.energy_verdict),
                 r.energy_reason
             );
         }

@@ -21,6 +21,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::study::decision::Verdict as FindingVerdict;
 use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass};
 use crate::harness::study::{CaseStudy, Study};
+use crate::harness::vocabulary::AGREES_WITHIN;
 use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
@@ -454,8 +455,8 @@ fn tables_headline(reports: &Path) -> Option<String> {
         .count();
     let mut text = format!(
         "{} of the {compared} rates (case × norm) are not shown to agree with the paper's \
-         within 0.1 (their 95 % interval lies outside the paper's value ± 0.1 or overlaps an \
-         end); `tables.md` gives each verdict and diagnoses it, with its rate over the longer \
+         within {AGREES_WITHIN} (their 95 % interval lies outside the paper's value ± \
+         {AGREES_WITHIN} or overlaps an end); `tables.md` gives each verdict and diagnoses it, with its rate over the longer \
          horizon T = {}. The \
          oscillation column agrees with the paper's in {agreeing_words} of {} cases.",
         rates.longer_horizon_rates.len(),

@@ -35,3 +35,4 @@ mod tutorial;
 mod verify;
 mod verify_box;
 mod verify_format2;
+mod vocabulary;

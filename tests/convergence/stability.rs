@@ -246,11 +246,13 @@ fn stays_stable_needs_every_member_and_no_chaos() {
     let stays = split.stays_stable();
     assert_eq!(stays.verdict, Decided::Undecided);
     assert!(
-        stays.reason.contains("members: 3 stable, 1 oscillating"),
+        stays
+            .reason
+            .contains("members: 3 stable, 1 oscillates spuriously"),
         "{}",
         stays.reason
     );
-    assert_eq!(split.other_member_verdicts(), vec!["oscillating"]);
+    assert_eq!(split.other_member_verdicts(), vec!["oscillates spuriously"]);
     let mut unmeasured = calm;
     unmeasured.sensitivity = None;
     assert_eq!(unmeasured.stays_stable().verdict, Decided::Undecided);

@@ -4,7 +4,10 @@
 //!
 //! The thresholds are decades of the variation ratio, chosen once for every case: `No` for
 //! `r < 5` (the multiplier varies like the exact one up to an overshoot at each impact),
-//! `Small` for `5 ≤ r < 100`, `Yes` for `100 ≤ r < 2000`, `Big` for `r ≥ 2000`.
+//! `Small` for `5 ≤ r < 100`, `Yes` for `100 ≤ r < 2000`, `Big` for `r ≥ 2000`. They are the
+//! thresholds of the words *oscillates* (from `Small`) and *oscillates spuriously* (from `Yes`)
+//! of `crate::harness::vocabulary`, which re-exports them: the indicator is one run's, decided
+//! as measured.
 
 /// The smallest oscillation indicator that counts as oscillating (the boundary between `No`
 /// and `Small` of [`oscillation_word`]).

@@ -1,11 +1,12 @@
 //! The note's statements (§3.1, §3.1.1) as verdicts computed from a study, so that a report
 //! says whether they hold rather than repeating them.
 //!
-//! The criteria are fixed here, once, before looking at any particular study, and every one
-//! that rests on a rate is decided by its 95 % interval widened by the reference's rate-bias
-//! bound of the norm ([`crate::harness::study::decision`]: holds, fails or undecided):
+//! The criteria are the words of [`crate::harness::vocabulary`], fixed before looking at any
+//! particular study, and every one that rests on a rate is decided by its 95 % interval widened
+//! by the reference's rate-bias bound of the norm ([`crate::harness::study::decision`]: holds,
+//! fails or undecided):
 //! * a norm **converges** when its rate's widened interval lies entirely above
-//!   [`CONVERGENCE_RATE`] = 0 (the error decreases as `h` does: the note's "converges to 0"
+//!   [`CONVERGES_ABOVE`](vocabulary::CONVERGES_ABOVE) = 0 (the error decreases as `h` does: the note's "converges to 0"
 //!   against "unfortunately not the case", read from curves), and **does not converge** when it
 //!   lies entirely at or below it;
 //! * two cases **behave alike** in a norm when both converge or both do not, and the interval of
@@ -27,12 +28,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::run::physics::Physics;
 use crate::harness::study::decision::{all_of, any_of, Decision, Estimate, Verdict};
 use crate::harness::study::{verdicts, Case, CaseStudy, Study};
-
-/// The rate above which a norm counts as converging.
-pub const CONVERGENCE_RATE: f64 = 0.0;
-
-/// Largest rate difference of two cases that behave alike.
-pub const ALIKE_RATE_GAP: f64 = 0.25;
+use crate::harness::vocabulary::{self, ALIKE_RATE_GAP};
 
 /// One statement of the note and whether the study supports it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -83,18 +79,35 @@ struct Judge<'b> {
 /// it (`None`: no bound can be formed). Zero against an exact solution.
 pub type RateBias<'b> = dyn Fn(&CaseStudy, Norm) -> Option<f64> + 'b;
 
+/// The rate of `norm` in `case` as the findings decide it, named `what`: the unperturbed run's
+/// fit with its 95 % interval and the rate-bias bound `bias` (`None`: unbounded).
+fn rate_estimate(what: String, case: &CaseStudy, norm: Norm, bias: Option<f64>) -> Estimate {
+    Estimate::rate(what, case.norm(norm).and_then(|r| r.fit), bias)
+}
+
+/// Whether the rate of `norm` in `case` converges, decided as the findings decide it (its 95 %
+/// interval widened by `bias`, [`vocabulary::converges`]).
+pub fn convergence(case: &CaseStudy, norm: Norm, bias: Option<f64>) -> Decision {
+    vocabulary::converges(&rate_estimate(
+        format!("{} rate", norm.key()),
+        case,
+        norm,
+        bias,
+    ))
+}
+
 impl Judge<'_> {
     fn estimate(&self, c: Labelled<'_>, norm: Norm) -> Estimate {
-        let fit = c.case.norm(norm).and_then(|r| r.fit);
-        Estimate::rate(
+        rate_estimate(
             format!("{} {} rate", c.label, norm.key()),
-            fit,
+            c.case,
+            norm,
             (self.rate_bias)(c.case, norm),
         )
     }
 
     fn converges(&self, c: Labelled<'_>, norm: Norm) -> Decision {
-        self.estimate(c, norm).above(CONVERGENCE_RATE)
+        vocabulary::converges(&self.estimate(c, norm))
     }
 
     fn does_not_converge(&self, c: Labelled<'_>, norm: Norm) -> Decision {
@@ -116,7 +129,7 @@ impl Judge<'_> {
             &self.estimate(a, norm),
             &self.estimate(b, norm),
         );
-        all_of(vec![same, gap.within(-ALIKE_RATE_GAP, ALIKE_RATE_GAP)])
+        all_of(vec![same, vocabulary::within_alike_gap(&gap)])
     }
 }
 

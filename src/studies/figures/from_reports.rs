@@ -362,14 +362,17 @@ fn stability_figure(
     ))
 }
 
-/// A relative drift as a percentage with two significant digits (`15 %`, `0.033 %`).
+/// A relative drift as a percentage with two significant digits (`15 %`, `0.033 %`), in
+/// scientific notation below 10⁻⁴ % (`8.4e-10 %`: a round-off drift is not 0.000000 %).
 fn percent(fraction: f64) -> String {
     let p = 100.0 * fraction;
     if p >= 10.0 {
         format!("{p:.0} %")
-    } else {
+    } else if p >= 1e-4 {
         let decimals = (1.0 - p.log10().floor()).clamp(1.0, 6.0) as usize;
         format!("{p:.decimals$} %")
+    } else {
+        format!("{p:.1e} %")
     }
 }
 
