@@ -410,12 +410,13 @@ pub fn fastest(studies: &[ExtendedStudy]) -> Vec<Fastest> {
                 .iter()
                 .flat_map(|s| rates_of(s, &name, norm))
                 .collect();
-            let best = rows.iter().enumerate().fold(None, |best: Option<usize>, (k, r)| {
-                match best {
-                    Some(b) if rows[b].rate >= r.rate => best,
-                    _ => Some(k),
-                }
-            });
+            let best =
+                rows.iter()
+                    .enumerate()
+                    .fold(None, |best: Option<usize>, (k, r)| match best {
+                        Some(b) if rows[b].rate >= r.rate => best,
+                        _ => Some(k),
+                    });
             let Some(best) = best else { continue };
             let leader = &rows[best];
             let uncleared: Vec<&RateOf> = rows
@@ -453,7 +454,11 @@ pub fn fastest(studies: &[ExtendedStudy]) -> Vec<Fastest> {
                         leader.name(),
                         leader.text(),
                         uncleared.len(),
-                        if uncleared.len() == 1 { "row's" } else { "rows'" },
+                        if uncleared.len() == 1 {
+                            "row's"
+                        } else {
+                            "rows'"
+                        },
                         shown.join(", "),
                         if more > 0 {
                             format!(" and {more} more")
@@ -941,6 +946,102 @@ mod tests {
         assert_eq!(
             EnergyVerdict::decide(&straddling, 1e-3).0,
             EnergyVerdict::Undecided
+        );
+    }
+
+    /// A treatment's study of Crank–Nicolson and backward Euler with the standard mass, whose
+    /// `u_Linf_H` errors fall as `h^p` (`p` by scheme) with a fixed wobble of ±`wobble` relative
+    /// (so that each fit has a 95 % interval).
+    fn treatment(contact: &str, rates: [f64; 2], wobble: f64) -> ExtendedStudy {
+        use crate::harness::run::Timings;
+        use crate::harness::study::LevelRecord;
+        let config = StudyConfig {
+            levels: vec![10, 20, 40, 80, 160],
+            ..extended_config()
+        };
+        let cases = SCHEMES
+            .iter()
+            .zip(rates)
+            .map(|(&scheme, p)| {
+                let levels: Vec<LevelRecord> = config
+                    .levels
+                    .iter()
+                    .map(|&nx| LevelRecord {
+                        nx,
+                        h: 1.0 / nx as f64,
+                        dt: 0.1 / nx as f64,
+                        steps: 30 * nx,
+                        dofs: nx,
+                        timings: Timings::default(),
+                        multiplier_variation_ratio: None,
+                    })
+                    .collect();
+                let errors = levels
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| l.h.powf(p) * (1.0 + if k % 2 == 0 { wobble } else { -wobble }))
+                    .collect();
+                CaseStudy::from_levels(
+                    Case {
+                        scheme,
+                        mass: MassVariant::Standard,
+                    },
+                    levels,
+                    BTreeMap::from([(Norm::DisplacementLinfH, errors)]),
+                )
+            })
+            .collect();
+        ExtendedStudy {
+            contact: contact.to_string(),
+            study: Study {
+                config,
+                norms: vec![Norm::DisplacementLinfH],
+                cases,
+                not_run: Vec::new(),
+                wall_seconds: 0.0,
+                physics: BTreeMap::new(),
+            },
+            sensitivity: None,
+        }
+    }
+
+    /// The fastest row is named only when its rate's interval lies wholly above every other
+    /// row's: Crank–Nicolson's penalty row (rate 2 against 1) is; backward Euler's two rows
+    /// (rates 1.00 and 1.01, their intervals overlapping) leave it undecided between them.
+    #[test]
+    fn the_fastest_row_is_named_only_when_its_interval_clears_the_others() {
+        let studies = [
+            treatment("multiplier", [1.0, 1.0], 0.05),
+            treatment("penalty(gamma0=10)", [2.0, 1.01], 0.05),
+        ];
+        let fastest = fastest(&studies);
+        assert_eq!(fastest.len(), 2, "{fastest:?}");
+        let cn = &fastest[0];
+        assert_eq!(
+            (cn.verdict, cn.contact.as_str(), cn.candidates.len()),
+            (Verdict::Holds, "penalty(gamma0=10)", 1),
+            "{}",
+            cn.reason
+        );
+        let be = &fastest[1];
+        assert_eq!(be.verdict, Verdict::Undecided, "{}", be.reason);
+        assert_eq!(
+            be.candidates,
+            ["standard/multiplier", "standard/penalty(gamma0=10)"]
+        );
+        assert!(
+            be.reason
+                .contains("does not lie wholly above 1 other row's"),
+            "{}",
+            be.reason
+        );
+        let (md, _) = render(&studies);
+        assert!(md.contains("Decided for 1 of 2."), "{md}");
+        assert!(
+            md.contains(
+                "| *undecided* between 2 rows: standard/multiplier, standard/penalty(gamma0=10) |"
+            ),
+            "{md}"
         );
     }
 }
