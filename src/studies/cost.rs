@@ -156,9 +156,10 @@ pub fn cost_to_target(
 }
 
 /// The cost of reaching each of [`TARGETS`] in `norm` for every case of `study` (its levels
-/// timed over their runs, [`level_runs`], with `sensitivity`'s): target by target, cases in the
-/// order of their median estimates (no estimate last), each with the places its interval allows
-/// ([`rank_ranges`]).
+/// timed over their runs, [`level_runs`], with `sensitivity`'s): target by target, each case with
+/// the places its interval allows ([`rank_ranges`]), in the order of these places (best, then
+/// worst) and then of the cases' names, no estimate last: an order the intervals decide, not the
+/// medians, so that it is the same in two reports whose intervals decide the same.
 pub fn costs_to_targets(
     study: &Study,
     sensitivity: Option<&Sensitivity>,
@@ -177,21 +178,22 @@ pub fn costs_to_targets(
             .zip(&runs)
             .filter_map(|(c, runs)| cost_to_target(c, runs, norm, target))
             .collect();
-        rows.sort_by(|a, b| {
-            let key = |c: &CostToTarget| c.seconds.unwrap_or(f64::INFINITY);
-            key(a).total_cmp(&key(b))
-        });
         let estimates: Vec<Option<WallCost>> = rows.iter().map(|r| r.estimate).collect();
         for (row, rank) in rows.iter_mut().zip(rank_ranges(&estimates)) {
             row.rank = rank;
         }
+        rows.sort_by(|a, b| {
+            let key =
+                |c: &CostToTarget| (c.rank.unwrap_or((usize::MAX, usize::MAX)), c.case.clone());
+            key(a).cmp(&key(b))
+        });
         all.extend(rows);
     }
     all
 }
 
 /// The sentence that names the cheapest of `rows` (one target's), or says that the intervals
-/// leave it undecided and between which cases.
+/// leave it undecided and between which cases (in the order of their names).
 pub fn cheapest_sentence(rows: &[&CostToTarget]) -> String {
     let names: Vec<&str> = rows.iter().map(|r| r.case.as_str()).collect();
     let estimates: Vec<Option<WallCost>> = rows.iter().map(|r| r.estimate).collect();
@@ -204,18 +206,17 @@ pub fn cheapest_sentence(rows: &[&CostToTarget]) -> String {
             estimates[k].map_or_else(String::new, |e| e.text())
         ),
         Some(_) => {
-            let tied: Vec<String> = rows
+            let mut tied: Vec<(&str, String)> = rows
                 .iter()
                 .zip(&ranks)
                 .filter(|(_, rank)| rank.is_some_and(|(best, _)| best == 1))
                 .map(|(r, _)| {
-                    format!(
-                        "{} {}",
-                        r.case,
-                        r.estimate.map_or_else(String::new, |e| e.text())
-                    )
+                    let cost = r.estimate.map_or_else(String::new, |e| e.text());
+                    (r.case.as_str(), format!("{} {cost}", r.case))
                 })
                 .collect();
+            tied.sort();
+            let tied: Vec<String> = tied.into_iter().map(|(_, text)| text).collect();
             format!(
                 "the cheapest is *undecided* between the {} cases no other case's interval lies \
                  wholly below: {}",
