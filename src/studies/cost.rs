@@ -92,6 +92,14 @@ pub struct CostToTarget {
     pub rank: Option<(usize, usize)>,
 }
 
+impl CostToTarget {
+    /// Its `estimate`; in a file written before the levels were timed more than once, its
+    /// `seconds` as one run's.
+    pub fn estimate(&self) -> Option<WallCost> {
+        self.estimate.or_else(|| WallCost::of(&[self.seconds?]))
+    }
+}
+
 /// Work–precision data of every case and norm of a study, each level's cost timed over its
 /// runs ([`level_costs`]: the study's run and, with `sensitivity`, its ensemble's runs of the
 /// same work).
@@ -196,7 +204,13 @@ pub fn costs_to_targets(
 /// leave it undecided and between which cases (in the order of their names).
 pub fn cheapest_sentence(rows: &[&CostToTarget]) -> String {
     let names: Vec<&str> = rows.iter().map(|r| r.case.as_str()).collect();
-    let estimates: Vec<Option<WallCost>> = rows.iter().map(|r| r.estimate).collect();
+    let estimates: Vec<Option<WallCost>> = rows.iter().map(|r| r.estimate()).collect();
+    if !estimates.is_empty() && estimates.iter().flatten().all(|e| e.interval().is_none()) {
+        return format!(
+            "the cheapest is *undecided*: every estimate is from fewer than {MIN_RUNS} runs, so \
+             no interval orders them"
+        );
+    }
     let ranks = rank_ranges(&estimates);
     match cheapest(&names, &estimates) {
         None => "no case has an estimate".to_string(),
@@ -211,7 +225,7 @@ pub fn cheapest_sentence(rows: &[&CostToTarget]) -> String {
                 .zip(&ranks)
                 .filter(|(_, rank)| rank.is_some_and(|(best, _)| best == 1))
                 .map(|(r, _)| {
-                    let cost = r.estimate.map_or_else(String::new, |e| e.text());
+                    let cost = r.estimate().map_or_else(String::new, |e| e.text());
                     (r.case.as_str(), format!("{} {cost}", r.case))
                 })
                 .collect();

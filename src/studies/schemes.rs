@@ -445,7 +445,7 @@ fn cost_section(md: &mut String, study: &Study, sensitivity: &Sensitivity) {
          the target to the slowest of the level at or below it: wall times move with the \
          machine's load, so only brackets wholly apart decide, and a level timed fewer than \
          {MIN_RUNS} times decides nothing.\n\n\
-         | Scheme / mass | Work bracket (dof-steps) | Wall time bracket |\n|---|---|---|",
+         | Scheme / mass | Work bracket (dof-steps) | Runs a level | Wall time bracket |\n|---|---|---|---|",
         norm.label()
     );
     let not_reached = || "not reached".to_string();
@@ -460,19 +460,22 @@ fn cost_section(md: &mut String, study: &Study, sensitivity: &Sensitivity) {
         .map(|c| wall_bracket(c, norm, target, &level_costs(c, Some(sensitivity))))
         .collect();
     for ((c, b), w) in study.cases.iter().zip(&brackets).zip(&timed) {
+        let runs = w.map_or("—".to_string(), |(_, runs)| {
+            if runs >= MIN_RUNS {
+                runs.to_string()
+            } else {
+                format!("{runs} (no interval)")
+            }
+        });
         let _ = writeln!(
             md,
-            "| {} | {} | {} |",
+            "| {} | {} | {runs} | {} |",
             label(c),
             b.map_or_else(not_reached, |b| format!("[{:.3e}, {:.3e}]", b.low, b.high)),
-            w.map_or_else(not_reached, |(w, runs)| {
-                let runs = if runs >= MIN_RUNS {
-                    format!("{runs} runs a level")
-                } else {
-                    format!("{runs} run a level: no interval")
-                };
-                format!("wall [{:.2e}, {:.2e}] s ({runs})", w.low, w.high)
-            })
+            w.map_or_else(not_reached, |(w, _)| format!(
+                "wall [{:.2e}, {:.2e}] s",
+                w.low, w.high
+            ))
         );
     }
     let walls: Vec<Option<Range>> = timed
@@ -492,6 +495,11 @@ fn cost_section(md: &mut String, study: &Study, sensitivity: &Sensitivity) {
     };
     let in_wall_time = if untimed.is_empty() {
         names(front(&walls, |a, b| a.high < b.low))
+    } else if untimed.len() == study.cases.len() {
+        format!(
+            "*undecided*: every case is timed fewer than {MIN_RUNS} times a level, so no \
+             interval ranks them"
+        )
     } else {
         format!(
             "*undecided*: {} of {} cases are timed fewer than {MIN_RUNS} times a level ({}), so \
