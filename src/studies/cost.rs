@@ -448,8 +448,7 @@ mod tests {
     use std::collections::BTreeMap;
 
     use super::*;
-    use crate::engine::fem::MassVariant;
-    use crate::engine::schemes::Scheme;
+    use crate::harness::problem::{MassVariant, Scheme};
     use crate::harness::run::Timings;
     use crate::harness::study::{Case, LevelRecord};
 
