@@ -337,48 +337,179 @@ pub fn extended_rows(studies: &[ExtendedStudy]) -> Vec<ExtendedRow> {
         .collect()
 }
 
-/// For one scheme and norm, the row with the highest rate.
+/// For one scheme and norm, the row with the highest rate, and whether the rates' intervals
+/// decide that it is the fastest.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Fastest {
     /// The scheme's name.
     pub scheme: String,
     /// The norm key.
     pub norm: &'static str,
-    /// The contact treatment of the fastest row.
+    /// The contact treatment of the row with the highest rate.
     pub contact: String,
-    /// The mass variant of the fastest row.
+    /// The mass variant of the row with the highest rate.
     pub mass: &'static str,
     /// Its rate.
     pub rate: f64,
+    /// Its rate's interval `[low, high]`: the fit's 95 % interval, or a round-off chaotic row's
+    /// ensemble `[min, max]`; `None` without one.
+    pub interval: Option<(f64, f64)>,
+    /// "This row is the fastest": `holds` when its interval lies wholly above every other row's
+    /// of the scheme, `undecided` otherwise.
+    pub verdict: Verdict,
+    /// What decided it, or the rows whose intervals it does not clear.
+    pub reason: String,
+    /// The rows (`mass/contact`) no other row's interval lies wholly above, the fastest among
+    /// them: the row alone when the verdict holds.
+    pub candidates: Vec<String>,
 }
 
-/// For every scheme of [`SCHEMES`] and every norm, the row of `rows` with the highest defined
-/// rate (the first one on ties).
-pub fn fastest(rows: &[ExtendedRow]) -> Vec<Fastest> {
+/// A row's rate of one norm with its interval, for [`fastest`].
+struct RateOf {
+    contact: String,
+    mass: &'static str,
+    rate: f64,
+    interval: Option<(f64, f64)>,
+}
+
+impl RateOf {
+    /// `mass/contact`.
+    fn name(&self) -> String {
+        format!("{}/{}", self.mass, self.contact)
+    }
+
+    /// `0.98 [0.95, 1.01]`, or `0.98 (no interval)`.
+    fn text(&self) -> String {
+        match self.interval {
+            Some((low, high)) => format!("{:.2} [{low:.2}, {high:.2}]", self.rate),
+            None => format!("{:.2} (no interval)", self.rate),
+        }
+    }
+
+    /// Whether `self`'s interval lies wholly above `other`'s.
+    fn above(&self, other: &RateOf) -> bool {
+        match (self.interval, other.interval) {
+            (Some((low, _)), Some((_, high))) => low > high,
+            _ => false,
+        }
+    }
+}
+
+/// The rate of `norm` of every case of `study` of `scheme` with its interval: a round-off
+/// chaotic case's ensemble median and `[min, max]`, else the fit's rate and 95 % interval.
+fn rates_of(study: &ExtendedStudy, scheme: &str, norm: Norm) -> Vec<RateOf> {
+    study
+        .study
+        .cases
+        .iter()
+        .filter(|c| c.case.scheme.name() == scheme)
+        .filter_map(|c| {
+            let chaotic = study
+                .sensitivity
+                .as_ref()
+                .and_then(|s| s.case(&c.case.id()))
+                .filter(|s| s.chaotic);
+            let (rate, interval) = match chaotic {
+                Some(s) => {
+                    let spread = s.rates.get(norm.key())?;
+                    (spread.median, Some((spread.min, spread.max)))
+                }
+                None => {
+                    let fit = c.norm(norm)?.fit?;
+                    (fit.rate, fit.ci_low.zip(fit.ci_high))
+                }
+            };
+            Some(RateOf {
+                contact: study.contact.clone(),
+                mass: c.case.mass.name(),
+                rate,
+                interval,
+            })
+        })
+        .collect()
+}
+
+/// For every scheme of [`SCHEMES`] and every norm, the row of `studies` with the highest defined
+/// rate (the first one on ties) and whether it is decidedly the fastest: its interval wholly
+/// above every other row's (a row without an interval is never cleared).
+pub fn fastest(studies: &[ExtendedStudy]) -> Vec<Fastest> {
     let mut out = Vec::new();
     for scheme in SCHEMES {
         let name = scheme.name();
         for norm in Norm::ALL {
-            let best = rows
+            let rows: Vec<RateOf> = studies
                 .iter()
-                .filter(|r| r.scheme == name)
-                .filter_map(|r| r.rate(norm).map(|rate| (r, rate)))
-                .fold(
-                    None,
-                    |best: Option<(&ExtendedRow, f64)>, (r, rate)| match best {
-                        Some((_, b)) if b >= rate => best,
-                        _ => Some((r, rate)),
-                    },
-                );
-            if let Some((r, rate)) = best {
-                out.push(Fastest {
-                    scheme: name.clone(),
-                    norm: norm.key(),
-                    contact: r.contact.clone(),
-                    mass: r.mass,
-                    rate,
-                });
-            }
+                .flat_map(|s| rates_of(s, &name, norm))
+                .collect();
+            let best =
+                rows.iter()
+                    .enumerate()
+                    .fold(None, |best: Option<usize>, (k, r)| match best {
+                        Some(b) if rows[b].rate >= r.rate => best,
+                        _ => Some(k),
+                    });
+            let Some(best) = best else { continue };
+            let leader = &rows[best];
+            let uncleared: Vec<&RateOf> = rows
+                .iter()
+                .enumerate()
+                .filter(|&(k, r)| k != best && !leader.above(r))
+                .map(|(_, r)| r)
+                .collect();
+            let candidates: Vec<String> = rows
+                .iter()
+                .filter(|r| !rows.iter().any(|o| o.above(r)))
+                .map(RateOf::name)
+                .collect();
+            let (verdict, reason) = if uncleared.is_empty() {
+                (
+                    Verdict::Holds,
+                    format!(
+                        "{} {} lies wholly above the interval of every other row",
+                        leader.name(),
+                        leader.text()
+                    ),
+                )
+            } else {
+                let shown: Vec<String> = uncleared
+                    .iter()
+                    .take(3)
+                    .map(|r| format!("{} {}", r.name(), r.text()))
+                    .collect();
+                let more = uncleared.len().saturating_sub(shown.len());
+                (
+                    Verdict::Undecided,
+                    format!(
+                        "{} {} does not lie wholly above {} other {} intervals ({}{}): \
+                         narrower intervals (more levels) would decide it",
+                        leader.name(),
+                        leader.text(),
+                        uncleared.len(),
+                        if uncleared.len() == 1 {
+                            "row's"
+                        } else {
+                            "rows'"
+                        },
+                        shown.join(", "),
+                        if more > 0 {
+                            format!(" and {more} more")
+                        } else {
+                            String::new()
+                        }
+                    ),
+                )
+            };
+            out.push(Fastest {
+                scheme: name.clone(),
+                norm: norm.key(),
+                contact: leader.contact.clone(),
+                mass: leader.mass,
+                rate: leader.rate,
+                interval: leader.interval,
+                verdict,
+                reason,
+                candidates,
+            });
         }
     }
     out
@@ -421,7 +552,8 @@ pub struct ExtendedFile {
     pub verdict_bounded_within: f64,
     /// Every row.
     pub rows: Vec<ExtendedRow>,
-    /// [`fastest`] of the rows.
+    /// [`fastest`] of the studies: per scheme and norm the row with the highest rate and
+    /// whether its interval decides that it is the fastest.
     pub fastest: Vec<Fastest>,
     /// [`oscillating`] rows as `{contact, scheme, mass, indicator}`.
     pub oscillating: Vec<OscillatingRow>,
@@ -528,7 +660,7 @@ fn undecided_section(rows: &[ExtendedRow]) -> String {
 /// The markdown and the JSON file of the studies.
 pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
     let rows = extended_rows(studies);
-    let fastest = fastest(&rows);
+    let fastest = fastest(studies);
     let oscillating: Vec<OscillatingRow> = oscillating(&rows)
         .into_iter()
         .map(|r| OscillatingRow {
@@ -601,12 +733,38 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
         .map(|s| s.wall_seconds)
         .sum();
     md.push_str(&sensitivity_section(&rows, ensemble, sensitivity_seconds));
-    md.push_str("\n## Fastest per norm\n\nThe row with the highest rate, per scheme and norm.\n\n");
-    md.push_str("| scheme | norm | mass | contact | rate |\n|---|---|---|---|---|\n");
+    let decided = fastest
+        .iter()
+        .filter(|f| f.verdict == Verdict::Holds)
+        .count();
+    md.push_str(&format!(
+        "\n## Fastest per norm\n\nPer scheme and norm, the row with the highest rate and \
+         whether it is the fastest: it is when its rate's interval (its 95 % interval; a \
+         round-off chaotic row's ensemble [min, max]) lies wholly above every other row's of \
+         the scheme; otherwise the fastest is *undecided* between the rows no other row's \
+         interval lies wholly above. Decided for {decided} of {}.\n\n",
+        fastest.len()
+    ));
+    md.push_str(
+        "| scheme | norm | fastest | highest rate [interval] (row) | why |\n|---|---|---|---|---|\n",
+    );
     for f in &fastest {
+        let row = format!("{}/{}", f.mass, f.contact);
+        let rate = match f.interval {
+            Some((low, high)) => format!("{:.2} [{low:.2}, {high:.2}] ({row})", f.rate),
+            None => format!("{:.2} (no interval) ({row})", f.rate),
+        };
+        let which = match f.verdict {
+            Verdict::Holds => row,
+            _ => format!(
+                "*undecided* between {} rows: {}",
+                f.candidates.len(),
+                f.candidates.join(", ")
+            ),
+        };
         md.push_str(&format!(
-            "| {} | {} | {} | {} | {:.2} |\n",
-            f.scheme, f.norm, f.mass, f.contact, f.rate
+            "| {} | {} | {which} | {rate} | {} |\n",
+            f.scheme, f.norm, f.reason
         ));
     }
     md.push_str(&format!(
@@ -841,6 +999,102 @@ mod tests {
         assert_eq!(
             EnergyVerdict::decide(&at_zero, 1e-3).0,
             EnergyVerdict::Bounded
+        );
+    }
+
+    /// A treatment's study of Crank–Nicolson and backward Euler with the standard mass, whose
+    /// `u_Linf_H` errors fall as `h^p` (`p` by scheme) with a fixed wobble of ±`wobble` relative
+    /// (so that each fit has a 95 % interval).
+    fn treatment(contact: &str, rates: [f64; 2], wobble: f64) -> ExtendedStudy {
+        use crate::harness::run::Timings;
+        use crate::harness::study::LevelRecord;
+        let config = StudyConfig {
+            levels: vec![10, 20, 40, 80, 160],
+            ..extended_config()
+        };
+        let cases = SCHEMES
+            .iter()
+            .zip(rates)
+            .map(|(&scheme, p)| {
+                let levels: Vec<LevelRecord> = config
+                    .levels
+                    .iter()
+                    .map(|&nx| LevelRecord {
+                        nx,
+                        h: 1.0 / nx as f64,
+                        dt: 0.1 / nx as f64,
+                        steps: 30 * nx,
+                        dofs: nx,
+                        timings: Timings::default(),
+                        multiplier_variation_ratio: None,
+                    })
+                    .collect();
+                let errors = levels
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| l.h.powf(p) * (1.0 + if k % 2 == 0 { wobble } else { -wobble }))
+                    .collect();
+                CaseStudy::from_levels(
+                    Case {
+                        scheme,
+                        mass: MassVariant::Standard,
+                    },
+                    levels,
+                    BTreeMap::from([(Norm::DisplacementLinfH, errors)]),
+                )
+            })
+            .collect();
+        ExtendedStudy {
+            contact: contact.to_string(),
+            study: Study {
+                config,
+                norms: vec![Norm::DisplacementLinfH],
+                cases,
+                not_run: Vec::new(),
+                wall_seconds: 0.0,
+                physics: BTreeMap::new(),
+            },
+            sensitivity: None,
+        }
+    }
+
+    /// The fastest row is named only when its rate's interval lies wholly above every other
+    /// row's: Crank–Nicolson's penalty row (rate 2 against 1) is; backward Euler's two rows
+    /// (rates 1.00 and 1.01, their intervals overlapping) leave it undecided between them.
+    #[test]
+    fn the_fastest_row_is_named_only_when_its_interval_clears_the_others() {
+        let studies = [
+            treatment("multiplier", [1.0, 1.0], 0.05),
+            treatment("penalty(gamma0=10)", [2.0, 1.01], 0.05),
+        ];
+        let fastest = fastest(&studies);
+        assert_eq!(fastest.len(), 2, "{fastest:?}");
+        let cn = &fastest[0];
+        assert_eq!(
+            (cn.verdict, cn.contact.as_str(), cn.candidates.len()),
+            (Verdict::Holds, "penalty(gamma0=10)", 1),
+            "{}",
+            cn.reason
+        );
+        let be = &fastest[1];
+        assert_eq!(be.verdict, Verdict::Undecided, "{}", be.reason);
+        assert_eq!(
+            be.candidates,
+            ["standard/multiplier", "standard/penalty(gamma0=10)"]
+        );
+        assert!(
+            be.reason
+                .contains("does not lie wholly above 1 other row's"),
+            "{}",
+            be.reason
+        );
+        let (md, _) = render(&studies);
+        assert!(md.contains("Decided for 1 of 2."), "{md}");
+        assert!(
+            md.contains(
+                "| *undecided* between 2 rows: standard/multiplier, standard/penalty(gamma0=10) |"
+            ),
+            "{md}"
         );
     }
 }

@@ -6,7 +6,7 @@
 //! | page | from |
 //! |---|---|
 //! | `schemes.md` | `rates.json`, `sensitivity.json`, `rates-longer-horizon.json` (`report`), `stability.json` (`stability`, when there) |
-//! | `work-precision.md` | `rates.json` (`report`), `elastic-2d.json`, `elastic-3d.json` (`study`), each where it exists |
+//! | `work-precision.md` | `rates.json` with `sensitivity.json` (`report`), `elastic-2d.json`, `elastic-3d.json` (`study`), each where it exists |
 //! | `figures/*.svg` | [`crate::studies::figures::from_reports`] |
 //! | `README.md`, `gallery.md` | [`crate::studies::reports_index`] |
 //!
@@ -144,8 +144,9 @@ fn schemes_page(
 }
 
 /// `work-precision.md` ([`work_precision_page`]) from the Tables study `tables` (of
-/// `rates.json`) and the 2D and 3D studies (`elastic-2d.json`, `elastic-3d.json`), each where it
-/// exists; `None`, listed in `missing`, when none does.
+/// `rates.json`, its levels timed with the runs of `sensitivity.json` where it is there) and
+/// the 2D and 3D studies (`elastic-2d.json`, `elastic-3d.json`), each where it exists; `None`,
+/// listed in `missing`, when none does.
 fn costs_page(
     reports: &Path,
     tables: Option<&Study>,
@@ -164,5 +165,13 @@ fn costs_page(
         ));
         return Ok(None);
     }
-    Ok(Some(work_precision_page(tables, &boxes)))
+    let sensitivity: Option<Sensitivity> = match tables {
+        Some(_) => data(reports, SENSITIVITY_JSON)?,
+        None => None,
+    };
+    Ok(Some(work_precision_page(
+        tables,
+        sensitivity.as_ref(),
+        &boxes,
+    )))
 }

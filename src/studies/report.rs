@@ -105,7 +105,7 @@ pub fn write_report(report: &TablesReport, out_dir: &Path) -> Result<(), Error> 
         out_dir,
     )?;
     write_tables(study, sensitivity, longer, implicit, out_dir)?;
-    write_work_precision_json(study, out_dir)?;
+    write_work_precision_json(study, sensitivity, out_dir)?;
     write_histories(histories, out_dir)?;
     Ok(())
 }

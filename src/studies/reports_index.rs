@@ -22,7 +22,9 @@ use crate::harness::study::decision::Verdict as FindingVerdict;
 use crate::harness::study::sensitivity::{Sensitivity, SensitivityClass};
 use crate::harness::study::{CaseStudy, Study};
 use crate::harness::vocabulary::AGREES_WITHIN;
-use crate::studies::cost::{CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON};
+use crate::studies::cost::{
+    cheapest_sentence, CostToTarget, WorkPrecisionFile, WORK_PRECISION_JSON,
+};
 use crate::studies::elastic_study::{files as elastic_files, ElasticStudy};
 use crate::studies::figures::from_reports::FIGURES_DIR;
 use crate::studies::gravity;
@@ -555,23 +557,24 @@ fn cost_headline(reports: &Path) -> Option<String> {
         .filter(measured)
         .map(|c| c.target)
         .min_by(f64::total_cmp)?;
-    let cheapest = file
+    let reaching: Vec<&CostToTarget> = file
         .cost_to_target
         .iter()
         .filter(measured)
         .filter(|c| c.target == target)
-        .filter_map(|c| Some((c.seconds?, c.case.as_str())))
-        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        .collect();
     let targets: Vec<String> = targets.iter().map(|t| format!("{t:.0e}")).collect();
     Some(format!(
         "The smallest error in {} measured is {smallest:.2e} ({smallest_case}, \
-         {smallest_seconds:.2} s); of the error targets {}, the smallest that a case \
-         reaches within its measured levels is {target:.0e}, and the cheapest to reach it is {} \
-         ({:.3} s; wall times of the machine that wrote the report).",
+         {smallest_seconds:.2} s, the median of its runs); of the error targets {}, the smallest \
+         that a case reaches within its measured levels is {target:.0e}, and of the {} cases \
+         that reach it, {} (`work-precision.md`: the estimated wall time to reach it over the \
+         runs of each level, median [min, max], on the machine that wrote the report; one case \
+         is cheaper than another only when its interval lies wholly below).",
         norm.label(),
         targets.join(", "),
-        cheapest.1,
-        cheapest.0
+        reaching.len(),
+        cheapest_sentence(&reaching)
     ))
 }
 

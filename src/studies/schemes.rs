@@ -14,9 +14,12 @@
 //! The cost to reach a target error is bracketed by the two levels around the target's crossing
 //! (the work, in dof-steps, of the last level above the target and of the first at or below
 //! it): A is decidedly cheaper when its bracket lies wholly below B's. The same two levels'
-//! wall times bracket the cost in seconds, which prices a scheme's dof-step; a wall time is one
-//! run's and not reproducible, so it decides only where the brackets lie wholly apart. The oscillation words and
-//! round-off classes are the tables' and `sensitivity.md`'s, each decided by its own rule.
+//! wall times bracket the cost in seconds, which prices a scheme's dof-step: each level's work
+//! is timed over its runs (the study's and its round-off ensemble's runs of the same work,
+//! [`crate::harness::study::timing`]), and the bracket runs from the fastest run of the level
+//! above the target to the slowest of the level at or below it, so that it decides only where
+//! the runs of two cases lie wholly apart. The oscillation words and round-off classes are the
+//! tables' and `sensitivity.md`'s, each decided by its own rule.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -27,6 +30,7 @@ use crate::harness::run::norms::Norm;
 use crate::harness::run::physics::Physics;
 use crate::harness::study::decision::Verdict;
 use crate::harness::study::sensitivity::Sensitivity;
+use crate::harness::study::timing::{level_costs, WallCost, MIN_RUNS};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
 use crate::studies::stability::StabilityRecord;
@@ -105,11 +109,6 @@ fn work(c: &CaseStudy) -> Vec<f64> {
         .collect()
 }
 
-/// The wall-clock seconds of each level's run of `c` (setup, stepping, contact and observers).
-fn seconds(c: &CaseStudy) -> Vec<f64> {
-    c.levels.iter().map(|l| l.timings.total()).collect()
-}
-
 /// The bracket of a cost `w` (one value per level of `c`) to reach `target` in `norm`: the cost
 /// of the last level above it and of the first at or below it (both the first level's when it
 /// already is). `None` when no level reaches it.
@@ -151,7 +150,7 @@ pub fn render(
     if let Some(records) = stability {
         stability_section(&mut md, study, records);
     }
-    cost_section(&mut md, study);
+    cost_section(&mut md, study, sensitivity);
     literature_section(&mut md, study);
     md
 }
@@ -398,8 +397,32 @@ fn physics_cell(p: &Physics) -> String {
     }
 }
 
+/// The wall time to reach `target` in `norm` of `c`, whose levels cost `costs`: from the fastest
+/// run of the last level above the target to the slowest run of the first at or below it (both
+/// the first level's when it already is), its value the latter's median, with the fewest runs of
+/// the two levels. `None` when no level reaches it.
+fn wall_bracket(
+    c: &CaseStudy,
+    norm: Norm,
+    target: f64,
+    costs: &[WallCost],
+) -> Option<(Range, usize)> {
+    let errors = &c.rates.iter().find(|r| r.norm == norm)?.errors;
+    let k = errors.iter().position(|&e| e <= target)?;
+    let above = if k == 0 { &costs[0] } else { &costs[k - 1] };
+    let at = &costs[k];
+    Some((
+        Range {
+            low: above.min,
+            value: at.median,
+            high: at.max,
+        },
+        above.runs.min(at.runs),
+    ))
+}
+
 /// The work to reach a target error in `L∞(0,T;H)`: the loosest error every case reaches.
-fn cost_section(md: &mut String, study: &Study) {
+fn cost_section(md: &mut String, study: &Study, sensitivity: &Sensitivity) {
     let norm = Norm::DisplacementLinfH;
     let target = study
         .cases
@@ -416,9 +439,13 @@ fn cost_section(md: &mut String, study: &Study) {
          times are not; one level is four times the work of the one before. The wall time is \
          bracketed by the same two levels' runs (setup, stepping, contact solves and \
          observers): it prices what a dof-step costs each scheme (contact-stabilised Newmark \
-         solves two contact problems a step), but it is one run's time on this machine under \
-         the study's load, not reproducible, so only brackets wholly apart decide.\n\n\
-         | Scheme / mass | Work bracket (dof-steps) | Wall time bracket |\n|---|---|---|",
+         solves two contact problems a step). Each level's work is timed over its runs (the \
+         study's run, then its round-off ensemble's unperturbed run and initial-data members, \
+         which do the same work), and the bracket runs from the fastest run of the level above \
+         the target to the slowest of the level at or below it: wall times move with the \
+         machine's load, so only brackets wholly apart decide, and a level timed fewer than \
+         {MIN_RUNS} times decides nothing.\n\n\
+         | Scheme / mass | Work bracket (dof-steps) | Runs a level | Wall time bracket |\n|---|---|---|---|",
         norm.label()
     );
     let not_reached = || "not reached".to_string();
@@ -427,33 +454,67 @@ fn cost_section(md: &mut String, study: &Study) {
         .iter()
         .map(|c| cost_bracket(c, norm, target, &work(c)))
         .collect();
-    let walls: Vec<Option<Range>> = study
+    let timed: Vec<Option<(Range, usize)>> = study
         .cases
         .iter()
-        .map(|c| cost_bracket(c, norm, target, &seconds(c)))
+        .map(|c| wall_bracket(c, norm, target, &level_costs(c, Some(sensitivity))))
         .collect();
-    for ((c, b), w) in study.cases.iter().zip(&brackets).zip(&walls) {
+    for ((c, b), w) in study.cases.iter().zip(&brackets).zip(&timed) {
+        let runs = w.map_or("—".to_string(), |(_, runs)| {
+            if runs >= MIN_RUNS {
+                runs.to_string()
+            } else {
+                format!("{runs} (no interval)")
+            }
+        });
         let _ = writeln!(
             md,
-            "| {} | {} | {} |",
+            "| {} | {} | {runs} | {} |",
             label(c),
             b.map_or_else(not_reached, |b| format!("[{:.3e}, {:.3e}]", b.low, b.high)),
-            w.map_or_else(not_reached, |w| format!(
+            w.map_or_else(not_reached, |(w, _)| format!(
                 "wall [{:.2e}, {:.2e}] s",
                 w.low, w.high
             ))
         );
     }
+    let walls: Vec<Option<Range>> = timed
+        .iter()
+        .map(|t| t.filter(|(_, runs)| *runs >= MIN_RUNS).map(|(w, _)| w))
+        .collect();
+    let untimed: Vec<String> = study
+        .cases
+        .iter()
+        .zip(&timed)
+        .filter(|(_, t)| t.is_some_and(|(_, runs)| runs < MIN_RUNS))
+        .map(|(c, _)| label(c))
+        .collect();
     let names = |best: Vec<usize>| -> String {
         let names: Vec<String> = best.iter().map(|&i| label(&study.cases[i])).collect();
         names.join("; ")
     };
+    let in_wall_time = if untimed.is_empty() {
+        names(front(&walls, |a, b| a.high < b.low))
+    } else if untimed.len() == study.cases.len() {
+        format!(
+            "*undecided*: every case is timed fewer than {MIN_RUNS} times a level, so no \
+             interval ranks them"
+        )
+    } else {
+        format!(
+            "*undecided*: {} of {} cases are timed fewer than {MIN_RUNS} times a level ({}), so \
+             no interval ranks them",
+            untimed.len(),
+            study.cases.len(),
+            untimed.join("; ")
+        )
+    };
     let _ = writeln!(
         md,
         "\n**Cheapest** (no case's bracket wholly below): {}.\n\n\
-         **Cheapest in wall time** (no case's wall time bracket wholly below): {}.\n",
+         **Cheapest in wall time** (no case's wall time bracket wholly below; the order among \
+         them is undecided): {in_wall_time}.\n",
         names(front(&brackets, |a, b| a.high < b.low)),
-        names(front(&walls, |a, b| a.high < b.low)),
     );
 }
 

@@ -162,6 +162,7 @@ fn sensitivity_of(study: &Study, chaotic: Case) -> Sensitivity {
                 predictability_steps: vec![None; levels],
                 separation_growth: vec![None; levels],
                 largest_separation: vec![0.0; levels],
+                wall_seconds: Vec::new(),
             }
         })
         .collect();

@@ -355,6 +355,13 @@ pub struct CaseSensitivity {
     pub separation_growth: Vec<Option<f64>>,
     /// Per level: the largest separation of any member.
     pub largest_separation: Vec<f64>,
+    /// Per level: the wall seconds of the ensemble's runs that do the study's own work, the
+    /// unperturbed run then the initial-data members (the every-step members are left out: they
+    /// draw a perturbation of every carried value after every step); empty in a file written
+    /// before they were kept, and for a box's ensembles. The costs of `work-precision.md` and
+    /// `schemes.md` are timed over them ([`crate::harness::study::timing`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wall_seconds: Vec<Vec<f64>>,
 }
 
 impl CaseSensitivity {
@@ -576,7 +583,7 @@ fn level_ensemble(
     config: &StudyConfig,
     norms: &BTreeSet<Norm>,
     ensemble: EnsembleConfig,
-) -> Result<LevelEnsemble, Error> {
+) -> Result<TimedEnsemble, Error> {
     let config = RunConfig {
         nx,
         ratio: config.ratio,
@@ -591,11 +598,16 @@ fn level_ensemble(
     let members: Vec<Member> = ensemble.members_of_study().collect();
     let mut errors = Vec::with_capacity(members.len());
     let mut separations = Vec::with_capacity(members.len());
+    let mut seconds = Vec::with_capacity(members.len() + 1);
     let mut stopped = None;
+    let same_work = ensemble.members;
     let observe = &mut |member: BarRun, separation| {
         if let Err(e) = member.status.completed() {
             stopped = Some(member.status);
             return Err(e.into());
+        }
+        if errors.len() < same_work {
+            seconds.push(member.timings.total());
         }
         errors.push(member.observed.errors);
         separations.extend(separation);
@@ -604,13 +616,40 @@ fn level_ensemble(
     let outcome = run_members(problem, &config, ensemble.amplitude, &members, observe);
     let stopped = match outcome {
         Err(_) if stopped.is_some() => stopped,
-        outcome => Some(outcome?.status).filter(|s| !s.is_completed()),
+        outcome => {
+            let base = outcome?;
+            seconds.insert(0, base.timings.total());
+            Some(base.status).filter(|s| !s.is_completed())
+        }
     };
-    Ok(LevelEnsemble {
-        errors,
-        separations,
-        stopped,
+    Ok(TimedEnsemble {
+        ensemble: LevelEnsemble {
+            errors,
+            separations,
+            stopped,
+        },
+        seconds,
     })
+}
+
+/// A bar's level ensemble with the wall seconds of its runs that do the study's own work: the
+/// unperturbed run, then the initial-data members ([`CaseSensitivity::wall_seconds`]).
+#[derive(Serialize, Deserialize)]
+pub struct TimedEnsemble {
+    /// What the ensemble measured.
+    ensemble: LevelEnsemble,
+    /// The unperturbed run's wall seconds, then each initial-data member's.
+    seconds: Vec<f64>,
+}
+
+impl InRange for TimedEnsemble {
+    fn out_of_range(&self) -> Option<String> {
+        self.ensemble.out_of_range().or_else(|| {
+            self.seconds
+                .iter()
+                .find_map(|&s| not_negative("wall seconds", s))
+        })
+    }
 }
 
 /// Runs every case at every level as an ensemble of both sets of members
@@ -686,7 +725,7 @@ impl<'a> SensitivityJobs<'a> {
     }
 
     /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
-    pub fn list(&self) -> impl JobList<Output = LevelEnsemble> + '_ {
+    pub fn list(&self) -> impl JobList<Output = TimedEnsemble> + '_ {
         CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
             level_ensemble(
                 self.problem,
@@ -705,7 +744,7 @@ impl<'a> SensitivityJobs<'a> {
     /// stopped is the error of the run that stopped it. Its wall time is the list's.
     pub fn reduce(
         &self,
-        ran: ListResults<LevelEnsemble>,
+        ran: ListResults<TimedEnsemble>,
         kept: &[Case],
     ) -> Result<Sensitivity, study::Error> {
         let h: Vec<f64> = self
@@ -714,16 +753,20 @@ impl<'a> SensitivityJobs<'a> {
             .iter()
             .map(|&nx| self.problem.length / nx as f64)
             .collect();
-        let (cases, per_case): (Vec<Case>, Vec<Vec<LevelEnsemble>>) =
+        let (cases, per_case): (Vec<Case>, Vec<Vec<TimedEnsemble>>) =
             kept_cases(self.cases, ran.results, self.config.levels.len(), kept)
                 .into_iter()
                 .unzip();
         for level in per_case.iter().flatten() {
-            if let Some(status) = &level.stopped {
+            if let Some(status) = &level.ensemble.stopped {
                 status.completed()?;
             }
         }
-        Ok(classify_cases(
+        let (per_case, seconds): (Vec<Vec<LevelEnsemble>>, Vec<Vec<Vec<f64>>>) = per_case
+            .into_iter()
+            .map(|levels| levels.into_iter().map(|l| (l.ensemble, l.seconds)).unzip())
+            .unzip();
+        let mut sensitivity = classify_cases(
             &cases,
             self.config,
             &h,
@@ -731,7 +774,11 @@ impl<'a> SensitivityJobs<'a> {
             self.ensemble,
             per_case,
             ran.wall_seconds,
-        ))
+        );
+        for (case, seconds) in sensitivity.cases.iter_mut().zip(seconds) {
+            case.wall_seconds = seconds;
+        }
+        Ok(sensitivity)
     }
 }
 
@@ -828,6 +875,7 @@ fn classify(
         predictability_steps,
         separation_growth,
         largest_separation,
+        wall_seconds: Vec::new(),
     }
 }
 
