@@ -24,7 +24,7 @@ use crate::harness::study::sensitivity::{
 };
 use crate::harness::study::verdicts::{oscillates, oscillation_word, OSCILLATES_FROM};
 use crate::harness::study::{Case, CaseStudy, Study, StudyConfig};
-use crate::harness::vocabulary::{self, BOUNDED_RATE_WITHIN, CONVERGES_ABOVE};
+use crate::harness::vocabulary::{self, wholly_above, BOUNDED_RATE_WITHIN, CONVERGES_ABOVE};
 use crate::studies::benchmark::dirichlet;
 use crate::studies::error::Error;
 
@@ -389,7 +389,7 @@ impl RateOf {
     /// Whether `self`'s interval lies wholly above `other`'s.
     fn above(&self, other: &RateOf) -> bool {
         match (self.interval, other.interval) {
-            (Some((low, _)), Some((_, high))) => low > high,
+            (Some(a), Some(b)) => wholly_above(a, b),
             _ => false,
         }
     }

@@ -33,6 +33,7 @@ use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::timing::{level_costs, WallCost, MIN_RUNS};
 use crate::harness::study::verdicts::{oscillation_ratio_text, oscillation_word};
 use crate::harness::study::{CaseStudy, Study};
+use crate::harness::vocabulary::wholly_above;
 use crate::studies::stability::StabilityRecord;
 
 /// The report, under a reports directory.
@@ -57,7 +58,7 @@ struct Range {
 impl Range {
     /// `self` is decidedly above `other`.
     fn above(self, other: Range) -> bool {
-        self.low > other.high
+        wholly_above((self.low, self.high), (other.low, other.high))
     }
 }
 

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::CaseStudy;
+use crate::harness::vocabulary::wholly_above;
 
 /// The fewest runs whose `[min, max]` is taken as a cost's interval.
 pub const MIN_RUNS: usize = 3;
@@ -90,7 +91,7 @@ impl WallCost {
 /// Whether `a`'s interval lies wholly below `b`'s; `false` when either has none.
 pub fn below(a: &WallCost, b: &WallCost) -> bool {
     match (a.interval(), b.interval()) {
-        (Some((_, a_high)), Some((b_low, _))) => a_high < b_low,
+        (Some(a), Some(b)) => wholly_above(b, a),
         _ => false,
     }
 }
