@@ -19,6 +19,7 @@
 
 use std::fmt::Write as _;
 
+pub use crate::harness::study::decision::wholly_above;
 use crate::harness::study::decision::{all_of, Decision, Estimate, Verdict};
 
 pub use crate::harness::run::physics::{
@@ -196,13 +197,6 @@ pub fn agreement_word(verdict: Verdict) -> &'static str {
 /// `±ALIKE_RATE_GAP`.
 pub fn within_alike_gap(difference: &Estimate) -> Decision {
     difference.within(-ALIKE_RATE_GAP, ALIKE_RATE_GAP)
-}
-
-/// The one order of two measured intervals every ranking uses (faster, cheaper, the fronts of
-/// the schemes report, the extended table's fastest row, the work-precision ranks): the interval
-/// `[a_low, a_high]` lies wholly above `[b_low, b_high]`, `a_low > b_high`.
-pub fn wholly_above((a_low, _): (f64, f64), (_, b_high): (f64, f64)) -> bool {
-    a_low > b_high
 }
 
 /// "A is faster than B" (`a`, `b`: their rates): A's interval lies wholly above B's

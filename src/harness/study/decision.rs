@@ -314,6 +314,13 @@ impl Estimate {
     }
 }
 
+/// The one order of two measured intervals every ranking uses (the vocabulary's faster and cheaper,
+/// the fronts of the schemes report, the extended table's fastest row, the work-precision ranks): the interval
+/// `[a_low, a_high]` lies wholly above `[b_low, b_high]`, `a_low > b_high`.
+pub fn wholly_above((a_low, _): (f64, f64), (_, b_high): (f64, f64)) -> bool {
+    a_low > b_high
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

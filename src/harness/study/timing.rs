@@ -20,10 +20,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::harness::study::decision::wholly_above;
 use crate::harness::study::decision::{Decision, Verdict};
 use crate::harness::study::sensitivity::Sensitivity;
 use crate::harness::study::CaseStudy;
-use crate::harness::vocabulary::wholly_above;
 
 /// The fewest runs whose `[min, max]` is taken as a cost's interval.
 pub const MIN_RUNS: usize = 3;
