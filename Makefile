@@ -230,7 +230,7 @@ cluster-plan: mpi-install
 ## (main without an origin) or BASELINE=<commit>, is built beside the working tree
 ## (scripts/bench_baseline.sh, into target/bench-baseline/) and both binaries are run in
 ## alternation in one go: the step kernels of every scheme × mass at NX = 640, the Tables 1–2
-## study, a round-off sensitivity study, the 3D runs at levels 80 and 160, each a ratio of CPU
+## study, the 3D runs at levels 80 and 160, each a ratio of CPU
 ## times with its range; and what the per-step checks cost (the same binary with them off).
 ## reports/bench.md and bench.json get the figures; exits non-zero on a regression (a ratio
 ## whose whole range lies above 1.10) or a check above its bound. BENCH_REPEATS pairs per figure.
@@ -240,7 +240,7 @@ bench: build
 	@set -e; found=$$(scripts/bench_baseline.sh $(BASELINE)); set -- $$found; \
 	python3 scripts/bench.py --current $(BIN) --baseline $$1 --baseline-commit $$2 --repeats $(BENCH_REPEATS)
 
-## `make bench` with the 3D level-320 run too (one pair).
+## `make bench` with a round-off sensitivity study (3 pairs) and the 3D level-320 run (one pair).
 bench-fine: build
 	@set -e; found=$$(scripts/bench_baseline.sh $(BASELINE)); set -- $$found; \
 	python3 scripts/bench.py --current $(BIN) --baseline $$1 --baseline-commit $$2 --repeats $(BENCH_REPEATS) --fine

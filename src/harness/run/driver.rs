@@ -310,7 +310,7 @@ fn checks_on() -> bool {
     *ON.get_or_init(|| std::env::var_os(CHECKS_SWITCH).is_none_or(|v| v != "off"))
 }
 
-/// Whether every value is finite: `v − v` is 0 for a finite `v` and NaN for an infinite or NaN
+/// Whether every value is finite: `0 · v` is ±0 for a finite `v` and NaN for an infinite or NaN
 /// one, so their sum is 0 exactly when all are finite. Summed in independent lanes without an
 /// early exit, the loop is vectorised (the per-step check costs a fraction of a pass over the
 /// state).
@@ -318,10 +318,10 @@ fn all_finite(values: &[f64]) -> bool {
     const LANES: usize = 8;
     let mut lanes = [0.0; LANES];
     let blocks = values.chunks_exact(LANES);
-    let rest: f64 = blocks.remainder().iter().map(|v| v - v).sum();
+    let rest: f64 = blocks.remainder().iter().map(|v| 0.0 * v).sum();
     for block in blocks {
         for (lane, v) in lanes.iter_mut().zip(block) {
-            *lane += v - v;
+            *lane += 0.0 * v;
         }
     }
     lanes.iter().sum::<f64>() + rest == 0.0
