@@ -39,9 +39,8 @@ const ROWS_PER_TASK: usize = 4096;
 
 /// Independent partial sums of the reductions that need no particular order of summation
 /// ([`SymmetricMatrix::weighted_form`]): they let the compiler vectorise what a single running
-/// sum would serialise. Eight: two AVX2 registers per sum, so that two additions of one sum are
-/// in flight at a time instead of one (the loop is bound by the addition's latency otherwise).
-const LANES: usize = 8;
+/// sum would serialise.
+const LANES: usize = 4;
 
 /// A bilinear form `xᵀAy` with the weighted squares `Σ r_i x_i²` and `Σ r_i y_i²` of its two
 /// vectors ([`SymmetricMatrix::weighted_form`]).
