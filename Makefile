@@ -8,13 +8,22 @@ BIN := target/release/signorini
 ## (tables, data, figures; README.md is the index). Each command writes its own study's data and
 ## pages; the last, `figures`, builds from those data the pages that gather several studies
 ## (schemes.md, work-precision.md), the figures and the index.
-report: build
-	$(BIN) report --out reports
-	$(BIN) experiment --out reports
-	$(BIN) study scenes/bar2d.json --out reports
-	$(BIN) study scenes/bar3d.json --out reports
-	$(BIN) getfem --out reports
-	$(BIN) figures --out reports
+## Each stage, the release build first, prints its wall time, and the total is printed at the end.
+REPORT_STAGES := "$(CARGO) build --release" \
+	"$(BIN) report --out reports" \
+	"$(BIN) experiment --out reports" \
+	"$(BIN) study scenes/bar2d.json --out reports" \
+	"$(BIN) study scenes/bar3d.json --out reports" \
+	"$(BIN) getfem --out reports" \
+	"$(BIN) figures --out reports"
+report:
+	@started=$$(date +%s.%N); \
+	for stage in $(REPORT_STAGES); do \
+	  echo "$$stage"; begun=$$(date +%s.%N); \
+	  sh -c "$$stage" || exit 1; \
+	  echo "make report: \`$$stage\` took $$(awk "BEGIN { printf \"%.1f\", $$(date +%s.%N) - $$begun }") s wall"; \
+	done; \
+	echo "make report: total $$(awk "BEGIN { printf \"%.1f\", $$(date +%s.%N) - $$started }") s wall"
 
 ## The finer 2D/3D studies into reports/fine/: 2D levels 10–160 against a reference on
 ## 1280 elements, 3D levels 10–80 against 320, with their round-off ensembles and figures. The
@@ -188,9 +197,6 @@ league: build league-codes
 	$(BIN) league reports/league --out reports
 	$(BIN) figures --out reports
 
-## Speed targets: ns per dof-step of every scheme at NX = 640, the Tables study's wall time and
-## peak memory, the 3D level-80 and level-160 runs (/usr/bin/time -v, from Debian's `time`
-## package). Exits non-zero on a miss.
 ## The distributed step solve under MPI (issue 36): installs Open MPI (Debian's openmpi-bin and
 ## libopenmpi-dev, and libclang-dev for the bindings' generator) when they are missing, builds
 ## the `mpi` feature and runs tests/mpi.rs, which runs the solve under mpirun on 1 and 2 ranks
@@ -229,15 +235,24 @@ cluster-plan: mpi-install
 	$(MPI_BIN) cluster-plan scenes/bar3d.json --level 1280 --nodes 1,2,4,8,16,32 --measured $(CLUSTER)/measured/*.json --measured-cores $$(nproc) --check reports/finest/elastic-3d.json --out $(CLUSTER)
 	rm -rf $(CLUSTER)/work
 
-bench:
-	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
-	$(CARGO) bench --bench kernels
+## Speed side by side (scripts/bench.py): the baseline, the merge-base of HEAD with origin/main
+## (main without an origin) or BASELINE=<commit>, is built beside the working tree
+## (scripts/bench_baseline.sh, into target/bench-baseline/) and both binaries are run in
+## alternation in one go: the step kernels of every scheme × mass at NX = 640, the Tables 1–2
+## study, the 3D runs at levels 80 and 160, each a ratio of CPU
+## times with its range; and what the per-step checks cost (the same binary with them off).
+## reports/bench.md and bench.json get the figures; exits non-zero on a regression (a ratio
+## whose whole range lies above 1.10) or a check above its bound. BENCH_REPEATS pairs per figure.
+BASELINE ?=
+BENCH_REPEATS ?= 5
+bench: build
+	@set -e; found=$$(scripts/bench_baseline.sh $(BASELINE)); set -- $$found; \
+	python3 scripts/bench.py --current $(BIN) --baseline $$1 --baseline-commit $$2 --repeats $(BENCH_REPEATS)
 
-## `make bench` and the 3D level-320 run (targets: at most 15 min and 6 GB; reports/bench.md gets
-## what it measured).
-bench-fine:
-	@test -x /usr/bin/time || (apt-get update -qq && apt-get install -y -qq time)
-	$(CARGO) bench --bench kernels -- --fine
+## `make bench` with a round-off sensitivity study (3 pairs) and the 3D level-320 run (one pair).
+bench-fine: build
+	@set -e; found=$$(scripts/bench_baseline.sh $(BASELINE)); set -- $$found; \
+	python3 scripts/bench.py --current $(BIN) --baseline $$1 --baseline-commit $$2 --repeats $(BENCH_REPEATS) --fine
 
 build:
 	$(CARGO) build --release

@@ -287,8 +287,7 @@ impl Workspace {
         .into_iter()
         .enumerate()
         {
-            fill(&mut self.difference[k], a, b, |x, y| x - y);
-            fill(&mut self.sum[k], a, b, |x, y| x + y);
+            difference_and_sum(&mut self.difference[k], &mut self.sum[k], a, b);
         }
         self.prepared()
     }
@@ -301,6 +300,18 @@ impl Workspace {
             difference: &self.difference,
             sum: &self.sum,
         }
+    }
+}
+
+/// Fills `difference` with `a − b` and `sum` with `a + b`, in one pass.
+fn difference_and_sum(difference: &mut Vec<f64>, sum: &mut Vec<f64>, a: &[f64], b: &[f64]) {
+    let n = a.len().min(b.len());
+    difference.resize(n, 0.0);
+    sum.resize(n, 0.0);
+    let outputs = difference.iter_mut().zip(sum.iter_mut());
+    for ((d, s), (&x, &y)) in outputs.zip(a.iter().zip(b)) {
+        *d = x - y;
+        *s = x + y;
     }
 }
 
@@ -906,10 +917,12 @@ impl<'m> BalanceMonitor<'m> {
         copy_into(&mut self.displacement, integrator.displacement());
         copy_into(&mut self.velocity, integrator.velocity());
         copy_into(&mut self.multiplier, integrator.scheme_multiplier());
-        copy_into(
-            &mut self.acceleration,
-            integrator.acceleration().unwrap_or_default(),
-        );
+        if matches!(self.scheme, Scheme::GeneralisedAlpha(_)) {
+            copy_into(
+                &mut self.acceleration,
+                integrator.acceleration().unwrap_or_default(),
+            );
+        }
         self.step = Some(step);
         self.record(balance?)
     }
