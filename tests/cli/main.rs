@@ -12,6 +12,7 @@ mod timings;
 mod watched;
 
 mod commands;
+mod commit_faults;
 mod docs;
 mod elastic;
 mod figure_geometry;

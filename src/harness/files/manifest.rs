@@ -21,10 +21,15 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+use crate::harness::files::commit_journal::step;
 use crate::harness::files::input::{self, Limit};
 
 /// The manifest's file name, in the directory it describes.
 pub const MANIFEST: &str = ".signorini-manifest.json";
+
+/// The name, inside a staging directory, of the manifest the target will have once a commit is
+/// complete ([`crate::harness::files::commit_journal`]): not a file of the run.
+pub const NEXT_MANIFEST: &str = ".signorini-manifest.json.next";
 
 /// The manifest's `format`.
 pub const MANIFEST_FORMAT: &str = "signorini-manifest/1";
@@ -114,12 +119,20 @@ impl Manifest {
 
     /// Writes the manifest into `dir` (through a temporary file and a rename).
     pub fn write(&self, dir: &Path) -> io::Result<()> {
+        self.write_as(dir, MANIFEST)
+    }
+
+    /// Writes the manifest into `dir` as the file `name` (through a temporary file and a
+    /// rename, each a step of a commit: [`crate::harness::files::commit_journal::step`]).
+    pub fn write_as(&self, dir: &Path, name: &str) -> io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(io::Error::other)?;
         let tmp = dir.join(format!("{MANIFEST}.tmp-{}", std::process::id()));
-        fs::write(&tmp, text)?;
-        fs::rename(&tmp, dir.join(MANIFEST)).inspect_err(|_| {
+        let written =
+            step(|| fs::write(&tmp, text)).and_then(|()| step(|| fs::rename(&tmp, dir.join(name))));
+        if written.is_err() {
             let _ = fs::remove_file(&tmp);
-        })
+        }
+        written
     }
 }
 
@@ -154,7 +167,9 @@ fn collect(dir: &Path, prefix: &str, found: &mut Vec<(String, PathBuf, bool)>) -
     for entry in fs::read_dir(dir)? {
         let entry = entry?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        if prefix.is_empty() && (name == MANIFEST || is_manifest_temporary(&name)) {
+        if prefix.is_empty()
+            && (name == MANIFEST || name == NEXT_MANIFEST || is_manifest_temporary(&name))
+        {
             continue;
         }
         let rel = format!("{prefix}{name}");

@@ -10,11 +10,13 @@
 //! | [`input`] | [`input::open`], [`input::read_json`], [`input::Lines`]: every read, refused past its [`input::Limit`]; [`input::InputError`] |
 //! | [`artifacts`] | [`artifacts::write_atomic`], [`artifacts::write_json`], [`artifacts::csv`]: every write, whole or not at all |
 //! | [`output_dir`] | [`output_dir::StagedDir`]: an output directory staged beside its target and moved into place at the end |
+//! | [`commit_journal`] | [`commit_journal::Journal`], [`commit_journal::complete`]: a commit of several renames recorded first, rolled forward by the next command if it was cut |
 //! | [`manifest`] | [`manifest::Manifest`]: the files a command wrote into a directory, with their SHA-256 |
 //! | [`command_error`] | [`command_error::CommandError`]: how a command fails below the command line |
 //! | [`error`] | [`error::Error`], the harness's error, and the errors it wraps ([`error::SceneError`], [`error::ShardError`], [`error::BudgetError`], …) |
 
 pub mod artifacts;
+pub mod commit_journal;
 pub mod error;
 pub mod input;
 pub mod manifest;

@@ -35,9 +35,12 @@
 //! SIGINT and SIGTERM: the first begin installs a handler thread (`signal-hook`) that waits for
 //! the writes and commits in flight ([`crate::harness::files::artifacts::stop_writes`]), removes
 //! every staging directory, lock and created parent of the process, then lets the signal end the
-//! process as it would have. A commit is never cut in the middle by them. Only SIGKILL or a power
-//! loss leaves a staging directory (removed by the next run into `DIR`), and only during the
-//! instant of a commit a shared directory with part of the new files.
+//! process as it would have. A commit is never cut in the middle by them. SIGKILL, a power loss or
+//! a full disk can cut one: a commit of more than one rename is journalled before it changes
+//! `DIR` ([`commit_journal`]), so the old outputs stay whole until the journal exists, and from
+//! then on the next command into `DIR` completes the commit before it looks at `DIR` (a commit
+//! that fails after its journal tries once more at once). A staging directory left before the
+//! journal is removed by the next run into `DIR`.
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
@@ -53,9 +56,12 @@ use signal_hook::low_level::emulate_default_handler;
 use thiserror::Error;
 
 use crate::harness::files::artifacts::{hold_writes, stop_writes};
+use crate::harness::files::commit_journal::{self, journal_path, step, Journal};
 use crate::harness::files::error::printable;
 use crate::harness::files::input::Shown;
-use crate::harness::files::manifest::{entries, DirIdentity, Manifest, MANIFEST_FORMAT};
+use crate::harness::files::manifest::{
+    entries, DirIdentity, Manifest, MANIFEST_FORMAT, NEXT_MANIFEST,
+};
 
 /// How the staged files reach the target directory (see the module's documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -282,9 +288,6 @@ impl StagedDir {
                 dir: target.to_path_buf(),
             });
         }
-        if replace == Replace::Whole {
-            check_owned(&dir, option, target)?;
-        }
         let id = registry.next_id;
         registry.next_id += 1;
         let mut leftovers = Leftovers {
@@ -307,6 +310,15 @@ impl StagedDir {
                 }
             };
             leftovers.lock = Some(lock_path);
+            if commit_journal::complete(&parent, &name, &dir).map_err(create)? {
+                eprintln!(
+                    "{option} {}: completed the commit of an earlier run that was cut",
+                    Shown(target)
+                );
+            }
+            if replace == Replace::Whole {
+                check_owned(&dir, option, target)?;
+            }
             remove_stale(&parent, &name).map_err(create)?;
             let staging = parent.join(hidden(&name, &format!("staging-{}", std::process::id())));
             fs::create_dir(&staging).map_err(create)?;
@@ -411,7 +423,7 @@ impl StagedDir {
         if !self.dir.exists() {
             return Ok(staged
                 .write(&self.staging)
-                .and_then(|()| fs::rename(&self.staging, &self.dir)));
+                .and_then(|()| step(|| fs::rename(&self.staging, &self.dir))));
         }
         let existing = Manifest::of(&self.dir);
         if self.replace == Replace::Whole {
@@ -455,34 +467,46 @@ impl StagedDir {
         Ok(self.move_in(existing, staged))
     }
 
-    /// Moves every staged file onto its namesake in the existing target and records it in the
-    /// target's manifest; for [`Replace::Whole`] the old files not replaced are removed first.
+    /// Moves every staged file onto its namesake in the existing target, with the target's
+    /// manifest completed by the staged files; for [`Replace::Whole`] the old files not
+    /// replaced are removed first. The manifest to be is staged ([`NEXT_MANIFEST`]) and the
+    /// commit journalled before anything in the target changes ([`commit_journal`]).
     fn move_in(&self, mut existing: Manifest, staged: Manifest) -> io::Result<()> {
+        let mut remove = Vec::new();
         if self.replace == Replace::Whole {
-            for rel in existing.files.keys() {
-                if !staged.files.contains_key(rel) && existing.owns(&self.dir, rel) {
-                    fs::remove_file(self.dir.join(rel))?;
-                }
-            }
+            remove = existing
+                .files
+                .keys()
+                .filter(|rel| !staged.files.contains_key(*rel) && existing.owns(&self.dir, rel))
+                .cloned()
+                .collect();
             existing.files.clear();
         }
-        move_tree(&self.staging, &self.dir)?;
         existing.format = MANIFEST_FORMAT.to_string();
         existing.files.extend(staged.files);
-        existing.write(&self.dir)
+        existing.write_as(&self.staging, NEXT_MANIFEST)?;
+        self.journalled(Journal::moving(&self.staging, remove))
     }
 
     /// [`Replace::Whole`] on a directory the harness created: the staging directory becomes the
-    /// target; the old target is renamed aside first and removed after.
+    /// target; the old target is renamed aside first and removed after, the two renames
+    /// journalled ([`commit_journal`]).
     fn swap(&self) -> io::Result<()> {
         let (parent, name) = split(&self.dir)?;
         let old = parent.join(hidden(&name, &format!("old-{}", std::process::id())));
-        fs::rename(&self.dir, &old)?;
-        if let Err(e) = fs::rename(&self.staging, &self.dir) {
-            let _ = fs::rename(&old, &self.dir);
-            return Err(e);
+        self.journalled(Journal::swapping(&self.staging, &old))
+    }
+
+    /// Writes `journal`, then carries it out by [`commit_journal::complete`]; a failure past
+    /// the journal is retried once at once, and otherwise left for the next command into the
+    /// directory to complete.
+    fn journalled(&self, journal: Journal) -> io::Result<()> {
+        let (parent, name) = split(&self.dir)?;
+        journal.write(&journal_path(&parent, &name))?;
+        match commit_journal::complete(&parent, &name, &self.dir) {
+            Ok(_) => Ok(()),
+            Err(_) => commit_journal::complete(&parent, &name, &self.dir).map(|_| ()),
         }
-        fs::remove_dir_all(&old)
     }
 }
 
@@ -638,19 +662,6 @@ fn remove_stale(parent: &Path, name: &OsString) -> io::Result<()> {
         if stale && ours {
             fs::remove_dir_all(path)?;
         }
-    }
-    Ok(())
-}
-
-/// Renames every file under `from` onto the same relative path under `to`, creating the
-/// directories missing there; `from`'s manifest stays where it is.
-fn move_tree(from: &Path, to: &Path) -> io::Result<()> {
-    for (rel, path, _) in entries(from)? {
-        let target = to.join(&rel);
-        if let Some(parent) = target.parent() {
-            fs::create_dir_all(parent)?;
-        }
-        fs::rename(path, &target)?;
     }
     Ok(())
 }
