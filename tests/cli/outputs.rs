@@ -383,3 +383,61 @@ fn an_output_directory_holding_the_commands_inputs_is_refused_and_kept() {
         "my own notes\n"
     );
 }
+
+/// A measurement whose numbers cannot be one run's is refused by `cluster-plan`, naming the file
+/// and the field (issue 55 item 4: negative seconds predicted −14.4 hours, zero steps printed
+/// null).
+#[test]
+fn cluster_plan_refuses_a_measurement_that_cannot_be_a_run() {
+    let dir = scratch("measurement");
+    for (field, value, allowed) in [
+        (
+            "step_seconds",
+            serde_json::json!(-19.4),
+            "a finite number of seconds, at least 0",
+        ),
+        ("steps", serde_json::json!(0), "at least 1"),
+        ("dofs", serde_json::json!(0), "at least 1"),
+        (
+            "contact_seconds",
+            serde_json::json!(1e9),
+            "at most step_seconds",
+        ),
+        ("peak_bytes", serde_json::json!([]), "one peak per rank"),
+    ] {
+        let mut measured: Vec<String> = Vec::new();
+        for entry in fs::read_dir("reports/cluster/measured").unwrap() {
+            let path = entry.unwrap().path();
+            let copy = dir.join(path.file_name().unwrap());
+            let mut json: serde_json::Value =
+                serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+            if path.ends_with("160-ranks1-threads1-run1.json") {
+                json[field] = value.clone();
+            }
+            fs::write(&copy, json.to_string()).unwrap();
+            measured.push(copy.to_string_lossy().into_owned());
+        }
+        let mut args = vec![
+            "cluster-plan",
+            "scenes/bar3d.json",
+            "--level",
+            "320",
+            "--measured-cores",
+            "2",
+            "--measured",
+        ];
+        args.extend(measured.iter().map(String::as_str));
+        let out = dir.join("out");
+        let out = out.to_string_lossy();
+        args.extend(["--out", &out]);
+        expect_error(
+            &args,
+            2,
+            &[
+                "160-ranks1-threads1-run1.json",
+                &format!("{field} = "),
+                allowed,
+            ],
+        );
+    }
+}

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::files::artifacts::write_atomic;
+use crate::harness::files::error as files;
 use crate::harness::files::input::{self, Limit};
 use crate::harness::reference::fine_mesh::fine_run::FineReference;
 use crate::harness::run::distributed::{Ranks, Traffic};
@@ -154,7 +155,66 @@ impl Measurement {
             )
             .into());
         }
+        measured.check(path)?;
         Ok(measured)
+    }
+
+    /// Refuses a measurement whose numbers cannot be one run's, naming the field: a count
+    /// below 1 (level, unknowns, steps, ranks, threads, the check's), seconds that are negative
+    /// or not finite, contact seconds beyond the steps' (they are part of them), or a peak
+    /// memory list whose length is not the ranks'.
+    fn check(&self, path: &Path) -> Result<(), Error> {
+        let out_of_range = |field: &str, value: f64, allowed: &'static str| -> Error {
+            files::Error::OutOfRange {
+                path: path.to_path_buf(),
+                field: field.to_string(),
+                value,
+                allowed,
+            }
+            .into()
+        };
+        for (field, count) in [
+            ("level", self.level),
+            ("dofs", self.dofs),
+            ("steps", self.steps),
+            ("ranks", self.ranks),
+            ("threads", self.threads),
+            ("check_ranks", self.check_ranks),
+            ("check_dofs", self.check_dofs),
+        ] {
+            if count == 0 {
+                return Err(out_of_range(field, 0.0, "at least 1"));
+            }
+        }
+        for (field, seconds) in [
+            ("setup_seconds", self.setup_seconds),
+            ("step_seconds", self.step_seconds),
+            ("contact_seconds", self.contact_seconds),
+            ("observe_seconds", self.observe_seconds),
+        ] {
+            if !(seconds.is_finite() && seconds >= 0.0) {
+                return Err(out_of_range(
+                    field,
+                    seconds,
+                    "a finite number of seconds, at least 0",
+                ));
+            }
+        }
+        if self.contact_seconds > self.step_seconds {
+            return Err(out_of_range(
+                "contact_seconds",
+                self.contact_seconds,
+                "at most step_seconds (the contact solves are part of the steps)",
+            ));
+        }
+        if self.peak_bytes.len() != self.ranks {
+            return Err(out_of_range(
+                "peak_bytes",
+                self.peak_bytes.len() as f64,
+                "one peak per rank (as many entries as ranks)",
+            ));
+        }
+        Ok(())
     }
 }
 
