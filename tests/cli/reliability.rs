@@ -661,6 +661,68 @@ fn a_cached_reference_changed_since_it_was_written_is_recomputed_and_said() {
     fs::remove_dir_all(dir).unwrap();
 }
 
+/// An edit of a cached reference's contents.
+type Forgery<'a> =
+    &'a dyn Fn(&mut signorini::harness::reference::fine_mesh::cache::CachedReference);
+
+/// A cached reference forged with a valid checksum (written through the cache's own `save`) but
+/// numbers no run can have is stale, recomputed and said (issue 55 item 4): times that run
+/// backwards made every error 0, a projection of 1e300 made every error `inf`.
+#[test]
+fn a_forged_cache_whose_numbers_cannot_be_a_runs_is_recomputed_and_said() {
+    use signorini::harness::reference::fine_mesh::cache::{load, save, CacheLookup};
+    let dir = scratch("reliability", "forged-cache");
+    let cache = dir.join("cache");
+    let (fresh, _) = small_box_study(&cache, "1,2");
+    let stem = fs::read_dir(&cache)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .and_then(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .unwrap();
+    let tables = |s: &str| {
+        s.lines()
+            .filter(|l| l.starts_with('|'))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let forge =
+        |edit: &dyn Fn(&mut signorini::harness::reference::fine_mesh::cache::CachedReference)| {
+            let json: Value = serde_json::from_str(
+                &fs::read_to_string(cache.join(format!("{stem}.json"))).unwrap(),
+            )
+            .unwrap();
+            let key = serde_json::from_value(json["key"].clone()).unwrap();
+            let CacheLookup::Hit(mut cached) = load(&cache, &stem, &key).unwrap() else {
+                panic!("the fresh cache is not found");
+            };
+            edit(&mut cached);
+            save((&cached.histories, &cached.projections), &cache, &stem).unwrap();
+        };
+    let forgeries: [(&str, Forgery, &str); 2] = [
+        (
+            "times backwards",
+            &|c| c.histories.time.reverse(),
+            "does not follow",
+        ),
+        (
+            "1e300",
+            &|c| c.projections[0].h_projection[3] = 1e300,
+            "beyond 1e100",
+        ),
+    ];
+    for (what, edit, why) in forgeries {
+        forge(edit);
+        let (again, stderr) = small_box_study(&cache, "1,2");
+        assert!(
+            stderr.contains("is stale") && stderr.contains(why),
+            "{what}: {stderr}"
+        );
+        assert_eq!(tables(&again), tables(&fresh), "{what}: recomputed alike");
+    }
+    fs::remove_dir_all(dir).unwrap();
+}
+
 // Item 5: solves that are checked.
 
 #[test]

@@ -222,6 +222,41 @@ impl ReferenceHistories {
             })
     }
 
+    /// What makes the histories impossible for a run, named; `None` when nothing does: a time
+    /// step that is not positive, times that do not increase, a history whose length is not
+    /// the times', or a value beyond [`LARGEST_VALUE`] in magnitude.
+    fn impossible(&self) -> Option<String> {
+        if self.dt <= 0.0 {
+            return Some(format!("dt = {} is not positive", self.dt));
+        }
+        if let Some(k) = self.time.windows(2).position(|w| w[1] <= w[0]) {
+            return Some(format!(
+                "time[{}] = {} does not follow time[{k}] = {}",
+                k + 1,
+                self.time[k + 1],
+                self.time[k]
+            ));
+        }
+        let series: [(&str, &[f64]); 4] = [
+            ("energy", &self.energy),
+            ("total_force", &self.total_force),
+            ("centre_displacement", &self.centre_displacement),
+            ("centre_multiplier", &self.centre_multiplier),
+        ];
+        if let Some((name, v)) = series.iter().find(|(_, v)| v.len() != self.time.len()) {
+            return Some(format!(
+                "{name} has {} samples where time has {}",
+                v.len(),
+                self.time.len()
+            ));
+        }
+        series.iter().find_map(|(name, v)| {
+            v.iter()
+                .position(|x| x.abs() > LARGEST_VALUE)
+                .map(|k| format!("{name}[{k}] = {:e} is beyond {LARGEST_VALUE:e}", v[k]))
+        })
+    }
+
     /// The SHA-256 state of this file's compact JSON with `checksum` empty, to be completed
     /// with the `.bin` file's bytes.
     fn digest(&self) -> Result<Sha256, serde_json::Error> {
@@ -313,7 +348,7 @@ pub fn load(dir: &Path, stem: &str, key: &ReferenceKey) -> Result<CacheLookup, E
     if !differences.is_empty() {
         return Ok(CacheLookup::Stale(differences));
     }
-    if let Some(why) = histories.non_finite() {
+    if let Some(why) = histories.non_finite().or_else(|| histories.impossible()) {
         return stale(format!("{}: {why}", json.display()));
     }
     let expected = histories.projections.iter().try_fold(0_u64, |sum, l| {
@@ -368,13 +403,15 @@ pub fn load(dir: &Path, stem: &str, key: &ReferenceKey) -> Result<CacheLookup, E
         ));
     }
     let non_finite = projections.iter().find_map(|p| {
-        p.values().position(|x| !x.is_finite()).map(|k| {
-            format!(
-                "{}: value {k} of level {} is not finite",
-                bin.display(),
-                p.level
-            )
-        })
+        p.values()
+            .position(|x| !x.is_finite() || x.abs() > LARGEST_VALUE)
+            .map(|k| {
+                format!(
+                    "{}: value {k} of level {} is not finite or beyond {LARGEST_VALUE:e}",
+                    bin.display(),
+                    p.level
+                )
+            })
     });
     if let Some(why) = non_finite {
         return stale(why);
@@ -384,6 +421,11 @@ pub fn load(dir: &Path, stem: &str, key: &ReferenceKey) -> Result<CacheLookup, E
         projections,
     })))
 }
+
+/// The largest magnitude a cached value may have: 10¹⁰⁰. The bodies are of unit size, so no
+/// displacement, force or energy of a run comes near it, and the norms sum squares of at most
+/// 2⁴⁰ such values without overflow (a cached 1e300 made every error `inf`).
+pub const LARGEST_VALUE: f64 = 1e100;
 
 /// The environment variable that names the reference cache the commands use when they are not
 /// given `--cache` ([`user_cache`]).
