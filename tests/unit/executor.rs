@@ -297,3 +297,81 @@ fn a_shard_hands_back_its_share_of_every_list_of_a_batch() {
     let indices: Vec<usize> = results.iter().map(|r| r.index).collect();
     assert_eq!(indices, expected);
 }
+
+/// A result that says the level it was measured at.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct LevelSample {
+    level: usize,
+}
+
+impl InRange for LevelSample {
+    fn out_of_range(&self) -> Option<String> {
+        None
+    }
+
+    fn level(&self) -> Option<usize> {
+        Some(self.level)
+    }
+}
+
+/// Three jobs at levels 10, 20 and 40 whose results say the levels `said`.
+struct AtLevels {
+    said: [usize; 3],
+}
+
+impl JobList for AtLevels {
+    type Output = LevelSample;
+
+    fn count(&self) -> usize {
+        3
+    }
+
+    fn size(&self, index: usize) -> usize {
+        index + 1
+    }
+
+    fn run(&self, index: usize) -> Result<LevelSample, Error> {
+        Ok(LevelSample {
+            level: self.said[index],
+        })
+    }
+
+    fn level(&self, index: usize) -> Option<usize> {
+        Some([10, 20, 40][index])
+    }
+}
+
+/// The results of `list` as one shard writes them.
+fn shard_results(list: &AtLevels) -> Vec<String> {
+    let Executed::Share(share) = Executor::Shard(ShardSpec { k: 1, n: 1 })
+        .execute(list)
+        .unwrap()
+    else {
+        panic!("a shard hands back its share");
+    };
+    let mut results = vec![String::new(); 3];
+    for r in share.results {
+        results[r.index] = r.result;
+    }
+    results
+}
+
+/// A merged result whose level is not its job's (a level-10 result saying 20, which the study
+/// tabulated as a second level 20) is refused naming the job (issue 55 item 4).
+#[test]
+fn a_merge_refuses_a_result_of_another_level_than_its_job() {
+    let honest = AtLevels { said: [10, 20, 40] };
+    let merged = Executor::Merge(one_list(shard_results(&honest)))
+        .execute(&honest)
+        .unwrap();
+    assert!(matches!(merged, Executed::Complete(_)));
+    let forged = shard_results(&AtLevels { said: [20, 20, 40] });
+    let e = Executor::Merge(one_list(forged))
+        .execute(&honest)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("job 0") && e.contains("a result of level 20 where the job's level is 10"),
+        "{e}"
+    );
+}

@@ -43,6 +43,12 @@ pub trait JobList: Sync {
 
     /// Runs job `index`.
     fn run(&self, index: usize) -> Result<Self::Output, Error>;
+
+    /// The level job `index` runs at, where the list has levels: a result read back from a
+    /// shard must say the same ([`InRange::level`]).
+    fn level(&self, _index: usize) -> Option<usize> {
+        None
+    }
 }
 
 /// The jobs of a list given as items, their sizes and a function of an item: a [`JobList`]
@@ -187,6 +193,7 @@ impl Batch<'_> {
     ) -> Result<Option<ListResults<L::Output>>, Error> {
         let dealt: usize = self.lists.iter().map(|l| l.jobs).sum();
         let jobs = list.count();
+        let list_jobs = list;
         let clock = Instant::now();
         let (results, wall_seconds) = match self.executor {
             Executor::Local => (
@@ -216,7 +223,10 @@ impl Batch<'_> {
                     }
                     .into());
                 };
-                (Some(decode_all(texts, dealt)?), list.wall_seconds)
+                (
+                    Some(decode_all(list_jobs, texts, dealt)?),
+                    list.wall_seconds,
+                )
             }
         };
         self.lists.push(ListRun { jobs, wall_seconds });
@@ -250,19 +260,26 @@ impl Batch<'_> {
     }
 }
 
-/// The results `texts` of the jobs numbered from `first` in the whole list, decoded and
-/// checked ([`InRange`]).
-fn decode_all<T: DeserializeOwned + InRange>(
+/// The results `texts` of the jobs of `list`, numbered from `first` in the whole batch,
+/// decoded and checked ([`InRange`]: their values, and their level against the job's).
+fn decode_all<L: JobList>(
+    list: &L,
     texts: &[String],
     first: usize,
-) -> Result<Vec<T>, Error> {
+) -> Result<Vec<L::Output>, Error> {
     texts
         .iter()
         .enumerate()
         .map(|(k, text)| {
             let index = first + k;
-            let result: T = codec::decode(index, text)?;
-            match result.out_of_range() {
+            let result: L::Output = codec::decode(index, text)?;
+            let level = match (list.level(k), result.level()) {
+                (Some(job), Some(said)) if job != said => Some(format!(
+                    "a result of level {said} where the job's level is {job}"
+                )),
+                _ => None,
+            };
+            match result.out_of_range().or(level) {
                 Some(why) => Err(ShardError::OutOfRange { index, why }.into()),
                 None => Ok(result),
             }

@@ -509,6 +509,10 @@ impl<K: InRange> InRange for Measured<K> {
             .out_of_range()
             .or_else(|| self.kept.out_of_range())
     }
+
+    fn level(&self) -> Option<usize> {
+        Some(self.outcome.record.nx)
+    }
 }
 
 /// A study as its jobs (one per case × level, [`StudyJobs::list`], each measured by `M`) and
@@ -628,6 +632,10 @@ where
     fn run(&self, index: usize) -> Result<T, Error> {
         let (c, l) = self.jobs[index];
         Ok((self.job)(c, l)?)
+    }
+
+    fn level(&self, index: usize) -> Option<usize> {
+        Some(self.levels[self.jobs[index].1])
     }
 }
 

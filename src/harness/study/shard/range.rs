@@ -11,6 +11,12 @@ use crate::harness::run::norms::Norm;
 pub trait InRange {
     /// The first value out of its range, described; `None` when every value is in range.
     fn out_of_range(&self) -> Option<String>;
+
+    /// The level (elements along the axis) the result says it was measured at, where it says
+    /// one: a merge checks it against its job's ([`crate::harness::study::executor::JobList::level`]).
+    fn level(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// The first of `errors` that is not a finite number ≥ 0 (an error norm is one).
