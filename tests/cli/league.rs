@@ -340,3 +340,41 @@ fn rejudge_refuses_a_study_that_is_not_what_study_wrote() {
         s(&dir),
     ]));
 }
+
+/// An entry whose verify.json was edited after `verify` wrote it (its manifest not updated) is
+/// warned about; an entry as written is not (issue 55 item 4).
+#[test]
+fn an_entry_edited_after_verify_is_warned_about() {
+    let dir = std::env::temp_dir().join(format!("signorini-league-edited-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let entries = dir.join("entries");
+    std::fs::create_dir_all(&entries).unwrap();
+    let entry = entries.join("getfem-1d");
+    std::fs::create_dir_all(&entry).unwrap();
+    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reports/league/getfem-1d");
+    for name in ["verify.json", ".signorini-manifest.json"] {
+        std::fs::copy(source.join(name), entry.join(name)).unwrap();
+    }
+    let league = |out: &str| {
+        let out = dir.join(out);
+        crate::common::signorini(&[
+            "league",
+            &entries.to_string_lossy(),
+            "--out",
+            &out.to_string_lossy(),
+        ])
+    };
+    let as_written = league("a");
+    assert!(as_written.status.success());
+    assert!(!String::from_utf8_lossy(&as_written.stderr).contains("warning"));
+    let text = std::fs::read_to_string(entry.join("verify.json")).unwrap();
+    std::fs::write(entry.join("verify.json"), format!(" {text}")).unwrap();
+    let edited = league("b");
+    assert!(edited.status.success());
+    let stderr = String::from_utf8_lossy(&edited.stderr);
+    assert!(
+        stderr.contains("getfem-1d/verify.json: not as `signorini verify` wrote it"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -8,6 +8,7 @@ use crate::commands::command_error::CommandError;
 use crate::harness::external::ExternalError;
 use crate::harness::files::artifacts::{write_atomic, write_json};
 use crate::harness::files::input::{read_json, Limit};
+use crate::harness::files::manifest::Manifest;
 use crate::harness::files::output_dir::{Replace, StagedDir};
 use crate::studies::elastic_study::external::JudgedVerification;
 use crate::studies::league::{render, League};
@@ -25,7 +26,8 @@ const VERIFY_FILE: Limit = Limit {
 /// or holds none is refused, saying how to write one. An entry whose `verify.json` is not a
 /// regular file, or whose series are not what `verify` wrote ([`Series::inconsistency`]: a rate
 /// that is not the fit of its errors, a negative error, …) is refused, naming the file and the
-/// field.
+/// field; one edited since `verify` wrote it (its directory's manifest holds another SHA-256,
+/// or there is none) is warned about.
 ///
 /// [`Series::inconsistency`]: crate::harness::external::verify::Series::inconsistency
 fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, CommandError> {
@@ -60,6 +62,15 @@ fn read_entries(dir: &Path) -> Result<Vec<(String, JudgedVerification)>, Command
                     let field = format!("series[{k}].{field}");
                     return Err(ExternalError::invalid(&file, field, None, value, allowed).into());
                 }
+            }
+            let entry = file.parent().unwrap_or(dir);
+            if !Manifest::of(entry).owns(entry, VERIFY_JSON) {
+                eprintln!(
+                    "warning: {}: not as `signorini verify` wrote it (its directory's manifest \
+                     does not hold this content): tabulated from its numbers, which are checked \
+                     for consistency, not for where they came from",
+                    file.display()
+                );
             }
             Ok((name, v))
         })
