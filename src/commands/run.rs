@@ -123,7 +123,7 @@ fn run_scene_of(
     let (Some(dir), Some(staged)) = (out, staged) else {
         return Ok(());
     };
-    let (json, histories) = outcome.files(|f| staged.final_path(f))?;
+    let (json, histories) = outcome.files(&run, |f| staged.final_path(f))?;
     write_atomic(&staged.path().join(RUN_JSON), json.as_bytes())?;
     let mut written = vec![dir.join(RUN_JSON)];
     for (name, text) in histories {

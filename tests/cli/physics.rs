@@ -66,6 +66,17 @@ fn moreau_jean_with_a_massless_contact_node_is_flagged_for_penetration_and_energ
         stdout.contains("it does not cover whether that change is physical"),
         "{stdout}"
     );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(
+        (&json["scene"], &json["scheme"], &json["mass"]),
+        (
+            &serde_json::json!("bar1d-dirichlet"),
+            &serde_json::json!("moreau-jean"),
+            &serde_json::json!("redistributed")
+        ),
+        "run.json records what was run"
+    );
     let p = physics(&out);
     let penetration = p["penetration"].as_f64().unwrap();
     assert!((penetration - 0.4767).abs() < 1e-3, "{p}");

@@ -6,6 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
+use serde::Serialize;
+
 use crate::harness::files::error::{self as files, ParameterError};
 use crate::harness::problem::{
     BoxProblem, ContactTreatment, LinearSolver, MassVariant, Problem, Scheme,
@@ -90,6 +92,20 @@ pub struct SceneRun {
     fields_at: Vec<f64>,
     /// Whether the run's files are written.
     writes_files: bool,
+}
+
+/// `run.json`: the scene, scheme and mass that were run, then the result's fields beside them.
+#[derive(Serialize)]
+struct RunFile<'a> {
+    /// The scene's name.
+    scene: &'a str,
+    /// The scheme's name (`signorini list`).
+    scheme: String,
+    /// The mass variant's name.
+    mass: &'static str,
+    /// The result.
+    #[serde(flatten)]
+    result: &'a RunResult,
 }
 
 /// What a run of a scene hands back: its result, whatever the geometry.
@@ -254,10 +270,12 @@ impl RunOutcome {
         lines.join("\n")
     }
 
-    /// The run's files: `run.json`'s text and the histories as CSV (name, text), with a box's
-    /// VTK files named by `final_path` (where they will be once the staging is moved).
+    /// The run's files: `run.json`'s text (what was run, [`RunFile`], then the result) and the
+    /// histories as CSV (name, text), with a box's VTK files named by `final_path` (where they
+    /// will be once the staging is moved).
     pub fn files(
         &mut self,
+        run: &SceneRun,
         final_path: impl Fn(&Path) -> PathBuf,
     ) -> Result<(String, Vec<(String, String)>), Error> {
         let encode = files::Error::encode(Path::new("run.json"));
@@ -269,7 +287,16 @@ impl RunOutcome {
             Observed::Bar(bar) => history_csv(bar),
             Observed::Box(body) => box_history_csv(body),
         };
-        Ok((serde_json::to_string_pretty(r).map_err(encode)?, histories))
+        let file = RunFile {
+            scene: &run.scene,
+            scheme: run.config.scheme.name(),
+            mass: run.config.mass.name(),
+            result: r,
+        };
+        Ok((
+            serde_json::to_string_pretty(&file).map_err(encode)?,
+            histories,
+        ))
     }
 
     /// The VTK files a box run wrote (none for a bar).
