@@ -47,9 +47,14 @@ pub struct CollectionEntry {
 /// The part of a collection read: the body (the harness writes its obstacle as part 1).
 pub const BODY_PART: u32 = 0;
 
-/// The most datasets a collection may list: 2¹⁸ (the finest reference, 2560 steps, written at
-/// every step, lists 2561 of its body).
+/// The most datasets of the body a collection may list: 2¹⁸ (the finest reference, 2560 steps,
+/// written at every step, lists 2561 of its body).
 pub const MAX_DATASETS: usize = 1 << 18;
+
+/// The most parts a collection may list at each time (the harness writes two: the body and the
+/// obstacle): its datasets are counted before the XML is parsed, so that a collection of millions
+/// of datasets is refused before its tree is built.
+pub const MAX_PARTS: usize = 4;
 
 /// Reads the collection `path`: the datasets of part [`BODY_PART`] (a dataset without `part`
 /// is part 0) in increasing time, their files resolved against the collection's directory.
@@ -69,6 +74,15 @@ pub fn read_collection(path: &Path) -> Result<Vec<CollectionEntry>, ExternalErro
         )
     })?;
     check_depth(path, text.as_bytes())?;
+    let listed = text.matches("<DataSet").count();
+    if listed > MAX_DATASETS * MAX_PARTS {
+        return Err(invalid(
+            "Collection",
+            None,
+            format!("{listed} datasets"),
+            &format!("at most {MAX_DATASETS} of the body, of at most {MAX_PARTS} parts"),
+        ));
+    }
     let document = roxmltree::Document::parse(&text).map_err(|e| {
         invalid(
             "file",
