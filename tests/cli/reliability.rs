@@ -667,7 +667,8 @@ type Forgery<'a> =
 
 /// A cached reference forged with a valid checksum (written through the cache's own `save`) but
 /// numbers no run can have is stale, recomputed and said (issue 55 item 4): times that run
-/// backwards made every error 0, a projection of 1e300 made every error `inf`.
+/// backwards made every error 0, a projection of 1e300 made every error `inf`, and histories cut
+/// to three samples were read as the whole run.
 #[test]
 fn a_forged_cache_whose_numbers_cannot_be_a_runs_is_recomputed_and_said() {
     use signorini::harness::reference::fine_mesh::cache::{load, save, CacheLookup};
@@ -699,10 +700,23 @@ fn a_forged_cache_whose_numbers_cannot_be_a_runs_is_recomputed_and_said() {
             edit(&mut cached);
             save((&cached.histories, &cached.projections), &cache, &stem).unwrap();
         };
-    let forgeries: [(&str, Forgery, &str); 2] = [
+    let cut: Forgery = &|c| {
+        let h = &mut c.histories;
+        for series in [
+            &mut h.time,
+            &mut h.energy,
+            &mut h.total_force,
+            &mut h.centre_displacement,
+            &mut h.centre_multiplier,
+        ] {
+            series.truncate(3);
+        }
+    };
+    let forgeries: [(&str, Forgery, &str); 3] = [
+        ("cut to 3 samples", cut, "not from 0 to the horizon"),
         (
             "times backwards",
-            &|c| c.histories.time.reverse(),
+            &|c| c.histories.time.swap(4, 5),
             "does not follow",
         ),
         (

@@ -223,11 +223,29 @@ impl ReferenceHistories {
     }
 
     /// What makes the histories impossible for a run, named; `None` when nothing does: a time
-    /// step that is not positive, times that do not increase, a history whose length is not
-    /// the times', or a value beyond [`LARGEST_VALUE`] in magnitude.
+    /// step that is not positive, steps that do not reach the horizon, samples that do not run
+    /// from 0 to the horizon or do not increase, a history whose length is not the times', or a
+    /// value beyond [`LARGEST_VALUE`] in magnitude.
     fn impossible(&self) -> Option<String> {
         if self.dt <= 0.0 {
             return Some(format!("dt = {} is not positive", self.dt));
+        }
+        let horizon = self.key.horizon;
+        let off = |t: f64| (t - horizon).abs() > 1e-9 * horizon.abs().max(1.0);
+        if off(self.dt * self.steps as f64) {
+            return Some(format!(
+                "dt × steps = {} × {} is not the horizon {horizon}",
+                self.dt, self.steps
+            ));
+        }
+        match (self.time.first(), self.time.last()) {
+            (Some(&first), Some(&last)) if first == 0.0 && !off(last) => {}
+            (Some(first), Some(last)) => {
+                return Some(format!(
+                    "the samples run from {first} to {last}, not from 0 to the horizon {horizon}"
+                ))
+            }
+            _ => return Some("no samples".to_string()),
         }
         if let Some(k) = self.time.windows(2).position(|w| w[1] <= w[0]) {
             return Some(format!(
