@@ -1,6 +1,6 @@
 //! A commit that cannot be left half-done (issue 55 item 2), tried by fault injection at every
 //! file operation of a command's commit (`SIGNORINI_COMMIT_FAULT`, see
-//! `src/harness/files/commit_journal.rs`): the process aborted there as SIGKILL would end it, or
+//! `src/harness/files/fault.rs`): the process aborted there as SIGKILL would end it, or
 //! the operation failed with "no space left on device". Three directories: a per-run one the
 //! harness created (swapped whole), a per-run one the user made (written in place, its old run
 //! files removed), and a shared one holding a file of the user's. After an abort, the directory

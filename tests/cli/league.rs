@@ -247,7 +247,13 @@ fn the_harness_league_entries_have_the_committed_studies_rates() {
             .iter()
             .find(|f| f["code"]["name"] == "signorini" && f["scene"] == format!("bar{d}d"))
             .expect("the harness's findings across its entries");
-        assert_eq!(judged["findings"], study["findings"], "{d}D findings");
+        let mut expected = study["findings"].clone();
+        for finding in expected.as_array_mut().unwrap() {
+            let evidence = finding["evidence"].as_str().unwrap().to_string();
+            let without = evidence.split("; physics: ").next().unwrap().to_string();
+            finding["evidence"] = serde_json::Value::String(without);
+        }
+        assert_eq!(judged["findings"], expected, "{d}D findings");
         let cases = study["study"]["cases"].as_array().unwrap();
         let prefix = format!("signorini-{d}d-");
         let entries = league["entries"].as_array().unwrap();

@@ -13,20 +13,17 @@
 //! directory's lock, before it looks at `DIR`; a commit that fails after its journal calls it at
 //! once.
 //!
-//! Fault injection: `SIGNORINI_COMMIT_FAULT=<n>:kill` aborts the process (as SIGKILL would: no
-//! handler runs) at the `n`-th file operation of the process's commits, and `<n>:enospc` makes it
-//! fail with "no space left on device" instead. The tests of `tests/cli/commit_faults.rs` set
-//! it at every operation in turn; nothing else does.
+//! Each file operation goes through [`crate::harness::files::fault::step`], where the tests of
+//! `tests/cli/commit_faults.rs` cut it.
 
 use std::ffi::OsString;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
 
 use serde::{Deserialize, Serialize};
 
+use crate::harness::files::fault::step;
 use crate::harness::files::manifest::{entries, MANIFEST, NEXT_MANIFEST};
 
 /// The journal's format.
@@ -154,29 +151,4 @@ pub fn complete(parent: &Path, name: &OsString, dir: &Path) -> io::Result<bool> 
 /// Whether `name` is one path component (the journal names entries beside the target only).
 fn plain(name: &str) -> bool {
     !name.is_empty() && !name.contains('/') && name != "." && name != ".."
-}
-
-/// What `SIGNORINI_COMMIT_FAULT` asks for: the operation's number and whether to abort.
-fn fault() -> Option<(usize, bool)> {
-    static FAULT: OnceLock<Option<(usize, bool)>> = OnceLock::new();
-    *FAULT.get_or_init(|| {
-        let spec = std::env::var("SIGNORINI_COMMIT_FAULT").ok()?;
-        let (n, kind) = spec.split_once(':')?;
-        Some((n.parse().ok()?, kind == "kill"))
-    })
-}
-
-/// One file operation of a commit: `op`, unless the fault injection stops the process or fails
-/// the operation here.
-pub fn step<T>(op: impl FnOnce() -> io::Result<T>) -> io::Result<T> {
-    static DONE: AtomicUsize = AtomicUsize::new(0);
-    if let Some((n, kill)) = fault() {
-        if DONE.fetch_add(1, Ordering::SeqCst) + 1 == n {
-            if kill {
-                std::process::abort();
-            }
-            return Err(io::Error::from_raw_os_error(28));
-        }
-    }
-    op()
 }

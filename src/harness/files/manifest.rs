@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::harness::files::commit_journal::step;
+use crate::harness::files::fault::step;
 use crate::harness::files::input::{self, Limit};
 
 /// The manifest's file name, in the directory it describes.
@@ -123,7 +123,7 @@ impl Manifest {
     }
 
     /// Writes the manifest into `dir` as the file `name` (through a temporary file and a
-    /// rename, each a step of a commit: [`crate::harness::files::commit_journal::step`]).
+    /// rename, each a step of a commit: [`crate::harness::files::fault::step`]).
     pub fn write_as(&self, dir: &Path, name: &str) -> io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(io::Error::other)?;
         let tmp = dir.join(format!("{MANIFEST}.tmp-{}", std::process::id()));

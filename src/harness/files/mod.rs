@@ -11,6 +11,7 @@
 //! | [`artifacts`] | [`artifacts::write_atomic`], [`artifacts::write_json`], [`artifacts::csv`]: every write, whole or not at all |
 //! | [`output_dir`] | [`output_dir::StagedDir`]: an output directory staged beside its target and moved into place at the end |
 //! | [`commit_journal`] | [`commit_journal::Journal`], [`commit_journal::complete`]: a commit of several renames recorded first, rolled forward by the next command if it was cut |
+//! | [`fault`] | [`fault::step`]: every file operation of a commit, where the tests inject a fault |
 //! | [`manifest`] | [`manifest::Manifest`]: the files a command wrote into a directory, with their SHA-256 |
 //! | [`command_error`] | [`command_error::CommandError`]: how a command fails below the command line |
 //! | [`error`] | [`error::Error`], the harness's error, and the errors it wraps ([`error::SceneError`], [`error::ShardError`], [`error::BudgetError`], …) |
@@ -18,6 +19,7 @@
 pub mod artifacts;
 pub mod commit_journal;
 pub mod error;
+pub mod fault;
 pub mod input;
 pub mod manifest;
 pub mod output_dir;

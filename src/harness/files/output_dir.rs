@@ -56,8 +56,9 @@ use signal_hook::low_level::emulate_default_handler;
 use thiserror::Error;
 
 use crate::harness::files::artifacts::{hold_writes, stop_writes};
-use crate::harness::files::commit_journal::{self, journal_path, step, Journal};
+use crate::harness::files::commit_journal::{self, journal_path, Journal};
 use crate::harness::files::error::printable;
+use crate::harness::files::fault::step;
 use crate::harness::files::input::Shown;
 use crate::harness::files::manifest::{
     entries, DirIdentity, Manifest, MANIFEST_FORMAT, NEXT_MANIFEST,

@@ -51,8 +51,8 @@ fn levels_of(runs: &[(MassVariant, usize, BarRun)]) -> String {
 /// The caption of a contact figure's redistributed-mass panel: its runs start at `u_h(0, 0) =
 /// u⁰(Δx) = ½ − Δx/2` (0.45 at NX = 10), not at the exact ½, because the redistributed mass
 /// puts no mass on the contact node, whose displacement then follows statically from its
-/// neighbour's.
-const REDISTRIBUTED_START: &str = "starts at u⁰(Δx): massless contact node";
+/// neighbour's (the massless contact node). Short enough to stay inside its panel.
+const REDISTRIBUTED_START: &str = "u_h(0, 0) = u⁰(Δx)";
 
 /// The contact-node and energy figures of one scheme (standard mass left, redistributed right).
 pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
@@ -62,7 +62,7 @@ pub fn scheme_figures(h: &SchemeHistories) -> Result<Vec<Figure>, FigureError> {
         let runs = h.runs.iter().filter(|r| r.0 == mass);
         contact.push(ContactPanel {
             label: if mass == MassVariant::Redistributed {
-                format!("{} ({REDISTRIBUTED_START})", panel_label(mass))
+                format!("{}, {REDISTRIBUTED_START}", panel_label(mass))
             } else {
                 panel_label(mass)
             },
