@@ -449,7 +449,6 @@ mod tests {
 
     use super::*;
     use crate::harness::problem::{MassVariant, Scheme};
-    use crate::harness::run::Timings;
     use crate::harness::study::{Case, LevelRecord};
 
     /// Levels `NX` of the synthetic cases: the work quadruples from one to the next.
@@ -459,15 +458,7 @@ mod tests {
     fn case(scheme: Scheme) -> CaseStudy {
         let levels = LEVELS
             .iter()
-            .map(|&nx| LevelRecord {
-                nx,
-                h: 1.0 / nx as f64,
-                dt: 0.1 / nx as f64,
-                steps: 30 * nx,
-                dofs: nx,
-                timings: Timings::default(),
-                multiplier_variation_ratio: None,
-            })
+            .map(|&nx| LevelRecord::synthetic(nx))
             .collect();
         let errors = LEVELS.iter().map(|&nx| 0.1 * 10.0 / nx as f64).collect();
         CaseStudy::from_levels(

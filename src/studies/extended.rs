@@ -1006,7 +1006,6 @@ mod tests {
     /// `u_Linf_H` errors fall as `h^p` (`p` by scheme) with a fixed wobble of ±`wobble` relative
     /// (so that each fit has a 95 % interval).
     fn treatment(contact: &str, rates: [f64; 2], wobble: f64) -> ExtendedStudy {
-        use crate::harness::run::Timings;
         use crate::harness::study::LevelRecord;
         let config = StudyConfig {
             levels: vec![10, 20, 40, 80, 160],
@@ -1019,15 +1018,7 @@ mod tests {
                 let levels: Vec<LevelRecord> = config
                     .levels
                     .iter()
-                    .map(|&nx| LevelRecord {
-                        nx,
-                        h: 1.0 / nx as f64,
-                        dt: 0.1 / nx as f64,
-                        steps: 30 * nx,
-                        dofs: nx,
-                        timings: Timings::default(),
-                        multiplier_variation_ratio: None,
-                    })
+                    .map(|&nx| LevelRecord::synthetic(nx))
                     .collect();
                 let errors = levels
                     .iter()

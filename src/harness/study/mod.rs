@@ -157,6 +157,23 @@ pub struct LevelRecord {
     pub multiplier_variation_ratio: Option<f64>,
 }
 
+#[cfg(test)]
+impl LevelRecord {
+    /// A level of `nx` elements for the tests of the reports: `h = 1/nx`, `Δt = h/10`,
+    /// `30·nx` steps, `nx` unknowns, no timings.
+    pub(crate) fn synthetic(nx: usize) -> Self {
+        Self {
+            nx,
+            h: 1.0 / nx as f64,
+            dt: 0.1 / nx as f64,
+            steps: 30 * nx,
+            dofs: nx,
+            timings: Timings::default(),
+            multiplier_variation_ratio: None,
+        }
+    }
+}
+
 /// The errors and rates of one norm for one case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NormRates {
