@@ -39,12 +39,14 @@ pub const REPORTS_INDEX: &str = "README.md";
 pub const FIGURE_GALLERY: &str = "gallery.md";
 
 /// One study's part of the index: the report that must exist for it to be listed, its title,
-/// the other files it links, the figure drawn inline and the figure families it owns
+/// the other files it links, the files it writes that are not committed (named, never linked:
+/// a clone does not have them), the figure drawn inline and the figure families it owns
 /// (file-name prefix and what they show).
 struct Section {
     report: &'static str,
     title: &'static str,
     data: &'static [&'static str],
+    uncommitted: &'static [&'static str],
     shown: Option<&'static str>,
     families: &'static [(&'static str, &'static str)],
     headline: fn(&Path) -> Option<String>,
@@ -63,6 +65,7 @@ const SECTIONS: &[Section] = &[
         report: "tables.md",
         title: "Tables 1–2 of the 1D paper (Signorini–Dirichlet)",
         data: &["rates.json", "sensitivity.md", "sensitivity.json"],
+        uncommitted: &[],
         shown: Some("contact-crank-nicolson.svg"),
         families: &[
             ("contact-", "The contact node's displacement and force at NX = 10, 20, 40 against the exact solution, the standard mass left, the redistributed right, one figure per scheme"),
@@ -75,6 +78,7 @@ const SECTIONS: &[Section] = &[
         report: "schemes.md",
         title: "Which scheme to trust: the paper's schemes and their rivals",
         data: &["rates.json", "sensitivity.json"],
+        uncommitted: &[],
         shown: None,
         families: &[],
         headline: schemes_headline,
@@ -83,6 +87,7 @@ const SECTIONS: &[Section] = &[
         report: "gravity.md",
         title: "The bouncing bar under gravity (§4)",
         data: &["gravity/study.json", "gravity/sensitivity.json"],
+        uncommitted: &[],
         shown: Some("gravity-points-redistributed.svg"),
         families: &[
             ("gravity-points-", "The displacement u at x = 0, ½, 1 computed and exact (Figure 2), one figure per mass"),
@@ -95,6 +100,7 @@ const SECTIONS: &[Section] = &[
         report: "work-precision.md",
         title: "What accuracy costs",
         data: &["work-precision.json"],
+        uncommitted: &[],
         shown: Some("work-precision.svg"),
         families: &[
             ("work-precision.svg", "The error in L∞(0,T;H) against wall time for the paper's 14 cases: lower-left is better"),
@@ -106,6 +112,7 @@ const SECTIONS: &[Section] = &[
         report: "stability.md",
         title: "Stability over long horizons",
         data: &["stability.json"],
+        uncommitted: &[],
         shown: Some("stability-standard.svg"),
         families: &[
             ("stability-standard", "The energy ratio E/E₀ over 100 periods of the paper's schemes with the standard mass, one curve per scheme"),
@@ -117,7 +124,8 @@ const SECTIONS: &[Section] = &[
     Section {
         report: "elastic-2d.md",
         title: "The note's 2D bar against a fine-mesh reference",
-        data: &["elastic-2d.json", "data/elastic-2d-histories.json"],
+        data: &["elastic-2d.json"],
+        uncommitted: &["data/elastic-2d-histories.json"],
         shown: Some("elastic-2d-contact-crank-nicolson.svg"),
         families: &[
             ("elastic-2d-contact-", "The centre contact node's displacement and force at the finest level beside the reference (the note's Figures 1, 6), one figure per scheme"),
@@ -130,7 +138,8 @@ const SECTIONS: &[Section] = &[
     Section {
         report: "elastic-3d.md",
         title: "The note's 3D bar against a fine-mesh reference",
-        data: &["elastic-3d.json", "data/elastic-3d-histories.json"],
+        data: &["elastic-3d.json"],
+        uncommitted: &["data/elastic-3d-histories.json"],
         shown: Some("elastic-3d-contact-crank-nicolson.svg"),
         families: &[
             ("elastic-3d-contact-", "The centre contact node against the reference (Figures 1, 6), one figure per scheme"),
@@ -144,6 +153,7 @@ const SECTIONS: &[Section] = &[
         report: "extended.md",
         title: "Every mass variant and contact treatment",
         data: &["extended.json"],
+        uncommitted: &[],
         shown: None,
         families: &[],
         headline: extended_headline,
@@ -152,6 +162,7 @@ const SECTIONS: &[Section] = &[
         report: "league.md",
         title: "Other codes' runs, verified side by side",
         data: &["league.json"],
+        uncommitted: &[],
         shown: None,
         families: &[],
         headline: league_headline,
@@ -160,6 +171,7 @@ const SECTIONS: &[Section] = &[
         report: "defaults-experiment.md",
         title: "How the rates move with the horizon and the levels",
         data: &[],
+        uncommitted: &[],
         shown: None,
         families: &[],
         headline: |_| None,
@@ -299,6 +311,14 @@ pub fn reports_index(reports: &Path, drawn: &[String], pages: &[&str]) -> String
                 .map(|d| link(d)),
         );
         let _ = write!(md, "Report and data: {}.", files.join(", "));
+        let uncommitted: Vec<String> = s.uncommitted.iter().map(|d| format!("`{d}`")).collect();
+        if !uncommitted.is_empty() {
+            let _ = write!(
+                md,
+                " The figures' data, {}, is written beside them by the study and not committed.",
+                uncommitted.join(", ")
+            );
+        }
         let owned: usize = s
             .families
             .iter()

@@ -1,7 +1,7 @@
 //! The documentation: README.md is a first screen, and every relative link of the README, of the
 //! book (`docs/src/`, mdBook) and of the committed reports' pages (`reports/**/*.md`: the index,
 //! its gallery, the league and the finer studies' indexes) leads to a file that exists inside
-//! the clone; so does every file a chapter includes (`{{#include PATH}}`); every chapter is in
+//! the clone and that git does not ignore; so does every file a chapter includes (`{{#include PATH}}`); every chapter is in
 //! the book's table of contents (`docs/src/SUMMARY.md`) and every entry of it is a chapter. The
 //! commands the tutorials show are run by `tutorial.rs`, those of the README by
 //! `readme_commands.rs`.
@@ -118,15 +118,34 @@ fn normalised(path: &Path) -> PathBuf {
     out
 }
 
-/// Every relative link of `text`, the page `file`, that leads nowhere or out of the clone (a
-/// file beside the repository exists on one machine only), as `file:line: target`.
+/// Whether git ignores `path` (`git check-ignore`): such a file is on this machine only, never
+/// in a clone. Panics when git cannot answer, rather than pass a link it could not judge.
+fn ignored_by_git(path: &Path) -> bool {
+    let status = std::process::Command::new("git")
+        .arg("-C")
+        .arg(root())
+        .args(["check-ignore", "-q"])
+        .arg(path)
+        .status()
+        .unwrap_or_else(|e| panic!("git check-ignore {}: {e}", path.display()));
+    match status.code() {
+        Some(0) => true,
+        Some(1) => false,
+        _ => panic!("git check-ignore {} failed: {status}", path.display()),
+    }
+}
+
+/// Every relative link of `text`, the page `file`, that leads nowhere, out of the clone (a
+/// file beside the repository exists on one machine only) or to a file git ignores (written
+/// here, absent from a clone), as `file:line: target`.
 fn broken_links_in(file: &Path, text: &str) -> Vec<String> {
     let shown = file.strip_prefix(root()).unwrap_or(file);
     link_targets(text)
         .into_iter()
         .filter(|(_, target)| {
-            local_target(file, target)
-                .is_some_and(|path| !path.exists() || !normalised(&path).starts_with(root()))
+            local_target(file, target).is_some_and(|path| {
+                !path.exists() || !normalised(&path).starts_with(root()) || ignored_by_git(&path)
+            })
         })
         .map(|(line, target)| format!("{}:{line}: {target}", shown.display()))
         .collect()
