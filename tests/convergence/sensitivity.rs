@@ -1,5 +1,6 @@
 //! The round-off sensitivity study: a chaotic case and a reproducible one are told apart by the
-//! module's fixed rules, the study is bit-reproducible, and bad ensemble input is refused.
+//! module's fixed rules (the reproducible one on its screening members alone), the study is
+//! bit-reproducible, and bad ensemble input is refused.
 
 use crate::{benchmarks, common};
 
@@ -10,7 +11,7 @@ use signorini::engine::fem::MassVariant;
 use signorini::engine::schemes::Scheme;
 use signorini::harness::run::norms::Norm;
 use signorini::harness::study::sensitivity::{
-    run_sensitivity, EnsembleConfig, SensitivityClass, PARTING,
+    run_sensitivity, EnsembleConfig, SensitivityClass, PARTING, SCREEN_MEMBERS,
 };
 use signorini::harness::study::{Case, StudyConfig};
 
@@ -60,8 +61,20 @@ fn crank_nicolson_is_chaotic_with_the_standard_mass_and_reproducible_with_the_re
         .flatten()
         .all(|&g| g > 0.0));
     assert!(standard.predictability_steps.iter().any(Option::is_some));
+    // It parted in the screen, so all six members of each set ran at every level.
+    assert_eq!((standard.members, standard.step_members), (6, 6));
+    assert!(standard.wall_seconds.iter().all(|l| l.len() == 1 + 6));
     let redistributed = s.case("crank-nicolson/redistributed").unwrap();
     assert_eq!(redistributed.class, SensitivityClass::Reproducible);
+    // None of its screening members parted: the other two of each set were not run.
+    assert_eq!(
+        (redistributed.members, redistributed.step_members),
+        (SCREEN_MEMBERS, SCREEN_MEMBERS)
+    );
+    assert!(redistributed
+        .wall_seconds
+        .iter()
+        .all(|l| l.len() == 1 + SCREEN_MEMBERS));
     assert!(redistributed
         .predictability_steps
         .iter()

@@ -22,8 +22,15 @@
 //! - **event-sensitive**: members part, but not in that way (isolated contact-set flips that
 //!   cause a bounded jump).
 //!
-//! Members stream their observers; a (case, level) job holds the unperturbed contact history and
-//! one member's at a time, so memory does not grow with members × steps.
+//! A bar's case is **screened** first ([`SCREEN_MEMBERS`]): at every level, the first
+//! `s = min(SCREEN_MEMBERS, K)` members of each set run; only when one of them parts (by more
+//! than [`PARTING`], at some level) do the other `K − s` of each set run, at every level. A case
+//! none of whose `2s` screening members parts is reproducible on them alone: the rule for
+//! *reproducible* cannot be met by more members once a screening member parts, and a case that
+//! parts keeps the same `2K` members, seed for seed, as without the screen.
+//!
+//! Members stream their observers; a case's job holds the unperturbed contact history and one
+//! member's at a time, so memory does not grow with members × steps.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -40,7 +47,7 @@ use crate::harness::study::executor::{run_local, Executed, Executor, JobList, Li
 use crate::harness::study::rates::{fit_rate, least_squares_slope, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, not_negative};
 use crate::harness::study::shard::InRange;
-use crate::harness::study::{kept_cases, Case, CaseLevels, StudyConfig};
+use crate::harness::study::{Case, StudyConfig};
 
 /// A separation above this is a member that has parted from the unperturbed run.
 pub const PARTING: f64 = 1e-8;
@@ -58,6 +65,10 @@ pub const CHAOTIC_RATE_RANGE: f64 = 0.005;
 /// `ε` of the members perturbed at every step: the unit round-off `u = 2⁻⁵³`, the size of one
 /// rounding (not tuned to any comparison).
 pub const STEP_EPSILON: f64 = UNIT_ROUNDOFF;
+
+/// The members of each set a bar's case is first run with at every level; the rest of its
+/// ensemble runs only when one of them parts (the module's screen).
+pub const SCREEN_MEMBERS: usize = 4;
 
 /// The decade thresholds whose first-crossing times give the separation growth rate.
 const DECADES: [f64; 8] = [1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4];
@@ -101,6 +112,12 @@ impl InitialNoise {
             Self::Velocity => "displacement untouched",
         }
     }
+
+    /// Whether an ensemble with this noise is screened ([`SCREEN_MEMBERS`]): a bar's
+    /// ([`SensitivityJobs`]) is, a box's runs every member.
+    fn screened(self) -> bool {
+        matches!(self, Self::Displacement)
+    }
 }
 
 impl EnsembleConfig {
@@ -111,9 +128,23 @@ impl EnsembleConfig {
 
     /// What its members are with their initial noise on `noise`.
     pub fn describe_on(&self, noise: InitialNoise) -> String {
+        let screen = if noise.screened() && self.screened() < self.members {
+            format!(
+                "; each case runs the first {s} of each set at every level, and the other {rest} \
+                 of each set only when one of those {both} parts from the unperturbed run by \
+                 more than {PARTING:e} (a case none of them parts is reproducible on {both} \
+                 members)",
+                s = self.screened(),
+                rest = self.members - self.screened(),
+                both = 2 * self.screened(),
+            )
+        } else {
+            String::new()
+        };
         format!(
             "{} members whose {} of relative size {:e} ({}) and {} members whose carried state \
-             is perturbed after every step by a relative amount in ±{:.2e} (the unit round-off)",
+             is perturbed after every step by a relative amount in ±{:.2e} (the unit \
+             round-off){screen}",
             self.members,
             noise.describe(),
             self.amplitude,
@@ -121,6 +152,11 @@ impl EnsembleConfig {
             self.members,
             STEP_EPSILON
         )
+    }
+
+    /// The members of each set a bar's case is screened with: [`SCREEN_MEMBERS`], at most `K`.
+    pub fn screened(&self) -> usize {
+        SCREEN_MEMBERS.min(self.members)
     }
 }
 
@@ -184,6 +220,15 @@ impl EnsembleConfig {
     /// A study's members: the initial-data set, then the every-step set (`2K`).
     pub fn members_of_study(&self) -> impl Iterator<Item = Member> {
         self.initial_data_members().chain(self.every_step_members())
+    }
+
+    /// The members of each set with seeds in `seeds`: the initial-data ones, then the
+    /// every-step ones.
+    fn members_seeded(&self, seeds: std::ops::RangeInclusive<u64>) -> Vec<Member> {
+        let initial = seeds.clone().map(|seed| Member::InitialData { seed });
+        initial
+            .chain(seeds.map(|seed| Member::EveryStep { seed }))
+            .collect()
     }
 
     /// At least two members, an amplitude in (0, 1e-3].
@@ -326,11 +371,13 @@ pub struct CaseSensitivity {
     pub class: SensitivityClass,
     /// `class == chaotic`.
     pub chaotic: bool,
-    /// Members perturbed on the initial data per level.
+    /// Members perturbed on the initial data per level: the ensemble's `K`, or for a screened
+    /// case none of whose screening members parted, [`EnsembleConfig::screened`].
     pub members: usize,
     /// The relative amplitude `A`.
     pub amplitude: f64,
-    /// Members perturbed at every step per level (0 in a file written before they were run).
+    /// Members perturbed at every step per level, as many as [`CaseSensitivity::members`] (0 in
+    /// a file written before they were run).
     #[serde(default)]
     pub step_members: usize,
     /// Their relative perturbation `ε` per step.
@@ -576,44 +623,32 @@ impl InRange for LevelEnsemble {
     }
 }
 
+/// One level of a case run as the ensemble of `members` (`initial` initial-data ones first,
+/// then every-step ones) beside the unperturbed run ([`run_members`]).
 fn level_ensemble(
     problem: &Problem1d,
-    case: Case,
-    nx: usize,
-    config: &StudyConfig,
-    norms: &BTreeSet<Norm>,
+    config: &RunConfig,
     ensemble: EnsembleConfig,
+    members: &[Member],
+    initial: usize,
 ) -> Result<TimedEnsemble, Error> {
-    let config = RunConfig {
-        nx,
-        ratio: config.ratio,
-        scheme: case.scheme,
-        mass: case.mass,
-        observables: Observables {
-            norms: norms.clone(),
-            ..Observables::default()
-        },
-        settings: config.settings,
-    };
-    let members: Vec<Member> = ensemble.members_of_study().collect();
     let mut errors = Vec::with_capacity(members.len());
     let mut separations = Vec::with_capacity(members.len());
-    let mut seconds = Vec::with_capacity(members.len() + 1);
+    let mut seconds = Vec::with_capacity(initial + 1);
     let mut stopped = None;
-    let same_work = ensemble.members;
     let observe = &mut |member: BarRun, separation| {
         if let Err(e) = member.status.completed() {
             stopped = Some(member.status);
             return Err(e.into());
         }
-        if errors.len() < same_work {
+        if errors.len() < initial {
             seconds.push(member.timings.total());
         }
         errors.push(member.observed.errors);
         separations.extend(separation);
         Ok(())
     };
-    let outcome = run_members(problem, &config, ensemble.amplitude, &members, observe);
+    let outcome = run_members(problem, config, ensemble.amplitude, members, observe);
     let stopped = match outcome {
         Err(_) if stopped.is_some() => stopped,
         outcome => {
@@ -632,6 +667,58 @@ fn level_ensemble(
     })
 }
 
+/// Every level of `case` as its ensemble, screened (the module's rule): the first
+/// [`EnsembleConfig::screened`] members of each set at every level; when one of them parts, the
+/// others at every level, merged in so that each level holds the members in the order of
+/// [`EnsembleConfig::members_of_study`]. A level that stops ends the case there.
+fn case_ensemble(
+    problem: &Problem1d,
+    case: Case,
+    config: &StudyConfig,
+    norms: &BTreeSet<Norm>,
+    ensemble: EnsembleConfig,
+) -> Result<Vec<TimedEnsemble>, Error> {
+    let run_config = |nx| RunConfig {
+        nx,
+        ratio: config.ratio,
+        scheme: case.scheme,
+        mass: case.mass,
+        observables: Observables {
+            norms: norms.clone(),
+            ..Observables::default()
+        },
+        settings: config.settings,
+    };
+    let screened = ensemble.screened();
+    let screen = ensemble.members_seeded(1..=screened as u64);
+    let mut levels = Vec::with_capacity(config.levels.len());
+    for &nx in &config.levels {
+        let level = level_ensemble(problem, &run_config(nx), ensemble, &screen, screened)?;
+        let stopped = level.ensemble.stopped.is_some();
+        levels.push(level);
+        if stopped {
+            return Ok(levels);
+        }
+    }
+    let parted = levels
+        .iter()
+        .flat_map(|l| &l.ensemble.separations)
+        .any(|s| s.parting_step.is_some());
+    let rest = ensemble.members - screened;
+    if !parted || rest == 0 {
+        return Ok(levels);
+    }
+    let others = ensemble.members_seeded(screened as u64 + 1..=ensemble.members as u64);
+    for (level, &nx) in levels.iter_mut().zip(&config.levels) {
+        let more = level_ensemble(problem, &run_config(nx), ensemble, &others, rest)?;
+        level.absorb(more, screened, rest);
+        if level.ensemble.stopped.is_some() {
+            break;
+        }
+    }
+    Ok(levels)
+}
+
 /// A bar's level ensemble with the wall seconds of its runs that do the study's own work: the
 /// unperturbed run, then the initial-data members ([`CaseSensitivity::wall_seconds`]).
 #[derive(Serialize, Deserialize)]
@@ -642,6 +729,38 @@ pub struct TimedEnsemble {
     seconds: Vec<f64>,
 }
 
+impl TimedEnsemble {
+    /// `self`, the screen of `screened` members of each set, with `more`, the other `rest` of
+    /// each set, merged in: the initial-data members, then the every-step ones, each in seed order;
+    /// the unperturbed run's seconds kept once (`more`'s is the same run again). A stop of
+    /// `more` is the level's.
+    fn absorb(&mut self, more: TimedEnsemble, screened: usize, rest: usize) {
+        let level = &mut self.ensemble;
+        interleave(&mut level.errors, more.ensemble.errors, screened, rest);
+        interleave(
+            &mut level.separations,
+            more.ensemble.separations,
+            screened,
+            rest,
+        );
+        self.seconds.extend(more.seconds.into_iter().skip(1));
+        if more.ensemble.stopped.is_some() {
+            level.stopped = more.ensemble.stopped;
+        }
+    }
+}
+
+/// `mine` (the screen: `screened` initial-data members, then as many every-step ones) with
+/// `theirs` (`rest` initial-data members, then the every-step ones) merged in: every
+/// initial-data member, then every every-step one.
+fn interleave<T>(mine: &mut Vec<T>, theirs: Vec<T>, screened: usize, rest: usize) {
+    let mut theirs = theirs.into_iter();
+    let step = mine.split_off(screened.min(mine.len()));
+    mine.extend(theirs.by_ref().take(rest));
+    mine.extend(step);
+    mine.extend(theirs);
+}
+
 impl InRange for TimedEnsemble {
     fn out_of_range(&self) -> Option<String> {
         self.ensemble.out_of_range().or_else(|| {
@@ -649,6 +768,44 @@ impl InRange for TimedEnsemble {
                 .iter()
                 .find_map(|&s| not_negative("wall seconds", s))
         })
+    }
+}
+
+/// What one case's job measured: its level ensembles, in level order (fewer than the study's
+/// levels when one stopped).
+#[derive(Serialize, Deserialize)]
+pub struct CaseEnsemble {
+    /// The level ensembles.
+    levels: Vec<TimedEnsemble>,
+}
+
+impl InRange for CaseEnsemble {
+    fn out_of_range(&self) -> Option<String> {
+        self.levels.iter().find_map(InRange::out_of_range)
+    }
+}
+
+/// The jobs of a [`SensitivityJobs`]: one per case.
+struct CaseJobs<'s, 'a> {
+    jobs: &'s SensitivityJobs<'a>,
+}
+
+impl JobList for CaseJobs<'_, '_> {
+    type Output = CaseEnsemble;
+
+    fn count(&self) -> usize {
+        self.jobs.cases.len()
+    }
+
+    /// The case's work: `Σ NX²` over the levels (steps and dofs both grow with `NX`).
+    fn size(&self, _index: usize) -> usize {
+        self.jobs.config.levels.iter().map(|nx| nx * nx).sum()
+    }
+
+    fn run(&self, index: usize) -> Result<CaseEnsemble, study::Error> {
+        let j = self.jobs;
+        let levels = case_ensemble(j.problem, j.cases[index], j.config, j.norms, j.ensemble)?;
+        Ok(CaseEnsemble { levels })
     }
 }
 
@@ -724,18 +881,10 @@ impl<'a> SensitivityJobs<'a> {
         })
     }
 
-    /// The jobs: case `c` at level `l` is job `c · levels + l` ([`CaseLevels`]).
-    pub fn list(&self) -> impl JobList<Output = TimedEnsemble> + '_ {
-        CaseLevels::new(self.cases.len(), &self.config.levels, |c, l| {
-            level_ensemble(
-                self.problem,
-                self.cases[c],
-                self.config.levels[l],
-                self.config,
-                self.norms,
-                self.ensemble,
-            )
-        })
+    /// The jobs: case `c` is job `c`, every level of it screened together
+    /// ([`case_ensemble`]: whether the rest of its members run depends on all its levels).
+    pub fn list(&self) -> impl JobList<Output = CaseEnsemble> + '_ {
+        CaseJobs { jobs: self }
     }
 
     /// The cases `kept` classified from every level ensemble of the list (`ran`, in the list's
@@ -744,7 +893,7 @@ impl<'a> SensitivityJobs<'a> {
     /// stopped is the error of the run that stopped it. Its wall time is the list's.
     pub fn reduce(
         &self,
-        ran: ListResults<TimedEnsemble>,
+        ran: ListResults<CaseEnsemble>,
         kept: &[Case],
     ) -> Result<Sensitivity, study::Error> {
         let h: Vec<f64> = self
@@ -753,10 +902,14 @@ impl<'a> SensitivityJobs<'a> {
             .iter()
             .map(|&nx| self.problem.length / nx as f64)
             .collect();
-        let (cases, per_case): (Vec<Case>, Vec<Vec<TimedEnsemble>>) =
-            kept_cases(self.cases, ran.results, self.config.levels.len(), kept)
-                .into_iter()
-                .unzip();
+        let (cases, per_case): (Vec<Case>, Vec<Vec<TimedEnsemble>>) = self
+            .cases
+            .iter()
+            .copied()
+            .zip(ran.results)
+            .filter(|(case, _)| kept.contains(case))
+            .map(|(case, ensemble)| (case, ensemble.levels))
+            .unzip();
         for level in per_case.iter().flatten() {
             if let Some(status) = &level.ensemble.stopped {
                 status.completed()?;
@@ -864,9 +1017,9 @@ fn classify(
         case: case.id(),
         class,
         chaotic: class == SensitivityClass::Chaotic,
-        members: ensemble.members,
+        members: members / 2,
         amplitude: ensemble.amplitude,
-        step_members: members.saturating_sub(ensemble.members),
+        step_members: members - members / 2,
         step_epsilon: STEP_EPSILON,
         levels: config.levels.clone(),
         rates,
@@ -1026,6 +1179,16 @@ mod tests {
             without.rate_interval(norm.key()),
             Some((spread.min, spread.max)),
             "a file written before the intervals were recorded falls back to [min, max]"
+        );
+    }
+
+    #[test]
+    fn the_rest_of_each_set_follows_its_screen() {
+        let mut members = vec!["i1", "i2", "s1", "s2"];
+        interleave(&mut members, vec!["i3", "i4", "i5", "s3", "s4", "s5"], 2, 3);
+        assert_eq!(
+            members,
+            ["i1", "i2", "i3", "i4", "i5", "s1", "s2", "s3", "s4", "s5"]
         );
     }
 }
