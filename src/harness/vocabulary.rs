@@ -199,57 +199,6 @@ pub fn within_alike_gap(difference: &Estimate) -> Decision {
     difference.within(-ALIKE_RATE_GAP, ALIKE_RATE_GAP)
 }
 
-/// "A is faster than B" (`a`, `b`: their rates): A's interval lies wholly above B's
-/// ([`wholly_above`]); fails when B's lies wholly above A's; undecided when they overlap.
-pub fn faster(a: &Interval, b: &Interval) -> Decision {
-    let (ra, rb) = ((a.low, a.high), (b.low, b.high));
-    apart(
-        a,
-        b,
-        "faster than",
-        wholly_above(ra, rb),
-        wholly_above(rb, ra),
-    )
-}
-
-/// "A is cheaper than B" (`a`, `b`: their costs): B's interval lies wholly above A's
-/// ([`wholly_above`]); fails when A's lies wholly above B's; undecided when they overlap.
-pub fn cheaper(a: &Interval, b: &Interval) -> Decision {
-    let (ra, rb) = ((a.low, a.high), (b.low, b.high));
-    apart(
-        a,
-        b,
-        "cheaper than",
-        wholly_above(rb, ra),
-        wholly_above(ra, rb),
-    )
-}
-
-/// "`a` `relation` `b`": holds when `holds`, fails when `fails`, undecided otherwise (the two
-/// intervals overlap).
-fn apart(a: &Interval, b: &Interval, relation: &str, holds: bool, fails: bool) -> Decision {
-    let range = |i: &Interval| format!("{} [{:.3e}, {:.3e}]", i.what, i.low, i.high);
-    let (ra, rb) = (range(a), range(b));
-    if holds {
-        Decision {
-            verdict: Verdict::Holds,
-            reason: format!(
-                "{ra} lies wholly apart from {rb}: {} {relation} {}",
-                a.what, b.what
-            ),
-        }
-    } else if fails {
-        Decision {
-            verdict: Verdict::Fails,
-            reason: format!("{ra} lies wholly apart from {rb} on the other side"),
-        }
-    } else {
-        Decision::undecided(format!(
-            "{ra} overlaps {rb}: narrower intervals (more levels, more repeats) would decide it"
-        ))
-    }
-}
-
 /// "The measured figure is within its target" (`ok`): the interval of the repeats lies at or
 /// below `target`; fails (`missed`) when it lies wholly above; undecided when it straddles.
 pub fn within_target(measured: &Interval, target: f64) -> Decision {
@@ -619,13 +568,6 @@ mod tests {
     fn holds_and_fails_combine_their_decisions() {
         let d = |v: f64| all_of(vec![converges(&rate(v, 0.2)), converges(&rate(1.0, 0.2))]);
         verdicts(d, 0.5, -0.5, 0.1);
-    }
-
-    #[test]
-    fn faster_and_cheaper_by_intervals_wholly_apart() {
-        let b = runs(1.0, 0.9, 1.1);
-        verdicts(|v| faster(&runs(v, v - 0.1, v + 0.1), &b), 1.5, 0.5, 1.1);
-        verdicts(|v| cheaper(&runs(v, v - 0.1, v + 0.1), &b), 0.5, 1.5, 0.9);
     }
 
     #[test]

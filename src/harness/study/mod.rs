@@ -14,7 +14,7 @@
 //! | [`sensitivity`] | round-off ensembles: [`sensitivity::run_sensitivity`], [`sensitivity::Sensitivity`], [`sensitivity::SensitivityClass`] |
 //! | [`class_decision`] | how sure a round-off class is: [`class_decision::class_decision`] |
 //! | [`decision`] | verdicts decided by 95 % intervals widened by a bias bound: [`decision::Estimate`], [`decision::Verdict`], [`decision::Decision`], [`decision::all_of`] |
-//! | [`timing`] | costs with an interval and the orders they decide: [`timing::WallCost`], [`timing::cheaper`], [`timing::cheapest`], [`timing::rank_ranges`], [`timing::level_costs`] |
+//! | [`timing`] | costs with an interval and the orders they decide: [`timing::WallCost`], [`timing::cheapest`], [`timing::rank_ranges`], [`timing::level_costs`] |
 //! | [`verdicts`] | the oscillation thresholds and words: [`verdicts::oscillates`], [`verdicts::oscillation_word`] |
 //! | [`golden`] | the regression gate: [`golden::Golden`], [`golden::compare`], [`golden::gate`], [`golden::Drift`] |
 //! | [`scene`] | scene files typed at load: [`scene::Scene`] |

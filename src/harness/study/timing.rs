@@ -8,7 +8,7 @@
 //!
 //! **What decides an order.** A is *cheaper* than B when A's whole interval lies below B's
 //! (A's max below B's min); B is then *dearer*; overlapping intervals leave the order
-//! *undecided* ([`cheaper`]). The *cheapest* of several is the one whose interval lies below
+//! *undecided*. The *cheapest* of several is the one whose interval lies below
 //! every other's ([`cheapest`]); a rank is the range of places the intervals allow
 //! ([`rank_ranges`]): `1 + ` the number decidedly cheaper, up to the count less the number
 //! decidedly dearer.
@@ -93,33 +93,6 @@ pub fn below(a: &WallCost, b: &WallCost) -> bool {
     match (a.interval(), b.interval()) {
         (Some(a), Some(b)) => wholly_above(b, a),
         _ => false,
-    }
-}
-
-/// "`a` (named `a_name`) is cheaper than `b` (`b_name`)": holds when `a`'s interval lies wholly
-/// below `b`'s, fails when `b`'s lies wholly below `a`'s, undecided otherwise (the intervals
-/// overlap, or one has fewer than [`MIN_RUNS`] runs).
-pub fn cheaper(a_name: &str, a: &WallCost, b_name: &str, b: &WallCost) -> Decision {
-    let head = format!("{a_name} {} against {b_name} {}", a.text(), b.text());
-    if below(a, b) {
-        Decision {
-            verdict: Verdict::Holds,
-            reason: format!("{head}: wholly below"),
-        }
-    } else if below(b, a) {
-        Decision {
-            verdict: Verdict::Fails,
-            reason: format!("{head}: wholly above"),
-        }
-    } else if a.interval().is_none() || b.interval().is_none() {
-        Decision::undecided(format!(
-            "{head}: a cost needs {MIN_RUNS} runs for an interval; more runs would decide it"
-        ))
-    } else {
-        Decision::undecided(format!(
-            "{head}: the intervals overlap; more runs on a quieter machine (narrower \
-             intervals) would decide it"
-        ))
     }
 }
 
@@ -249,17 +222,22 @@ mod tests {
     }
 
     #[test]
-    fn cheaper_holds_fails_or_is_undecided_by_the_intervals() {
+    fn the_cheapest_is_decided_by_intervals_wholly_apart() {
         let a = WallCost::of(&runs(1.0, 0.05, 5)).unwrap();
         let b = WallCost::of(&runs(2.0, 0.05, 5)).unwrap();
         let c = WallCost::of(&runs(1.02, 0.05, 5)).unwrap();
-        assert_eq!(cheaper("a", &a, "b", &b).verdict, Verdict::Holds);
-        assert_eq!(cheaper("b", &b, "a", &a).verdict, Verdict::Fails);
-        let tied = cheaper("a", &a, "c", &c);
+        let (best, decided) = cheapest(&["a", "b"], &[Some(a), Some(b)]).unwrap();
+        assert_eq!((best, decided.verdict), (0, Verdict::Holds));
+        let (_, tied) = cheapest(&["a", "c"], &[Some(a), Some(c)]).unwrap();
         assert_eq!(tied.verdict, Verdict::Undecided);
-        assert!(tied.reason.contains("overlap"), "{}", tied.reason);
+        assert!(
+            tied.reason.contains("does not lie wholly below"),
+            "{}",
+            tied.reason
+        );
         let one = WallCost::of(&[0.1]).unwrap();
-        assert_eq!(cheaper("one", &one, "b", &b).verdict, Verdict::Undecided);
+        let (best, once) = cheapest(&["one", "b"], &[Some(one), Some(b)]).unwrap();
+        assert_eq!((best, once.verdict), (0, Verdict::Undecided));
     }
 
     #[test]
