@@ -9,6 +9,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
+use sha2::{Digest, Sha256};
 use signorini::harness::study::shard::{codec, ShardFile};
 
 use crate::watched::{scratch, watched};
@@ -41,12 +42,14 @@ fn refused(dir: &Path, args: &[&str], peak_kb: u64, code: i32, needles: &[&str])
     let before = contents(dir);
     let out = watched(args, None, SECONDS, peak_kb);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    eprintln!("STDOUT {}", String::from_utf8_lossy(&out.stdout));
     assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
     for needle in needles {
         assert!(stderr.contains(needle), "{needle:?} not in {stderr}");
     }
-    assert!(contents(dir) == before, "{args:?} changed the files under {dir:?}");
+    assert!(
+        contents(dir) == before,
+        "{args:?} changed the files under {dir:?}"
+    );
     stderr
 }
 
@@ -75,7 +78,11 @@ fn a_box_run_file_of_150_mb_is_refused_at_its_limit_in_bounded_memory() {
             &["verify", "scenes/bar2d.json", &arg(&path)],
             768 * 1024,
             2,
-            &["run.json", "more than 16777216 numbers", "the most a run file may hold"],
+            &[
+                "run.json",
+                "more than 16777216 numbers",
+                "the most a run file may hold",
+            ],
         );
     }
     fs::remove_dir_all(dir).unwrap();
@@ -115,18 +122,156 @@ fn without(value: &mut Value, name: &str) {
     }
 }
 
-#[test]
-fn a_forged_shard_without_a_norm_is_refused_naming_it() {
-    let dir = scratch("round4", "shard");
-    let path = one_shard(&dir);
+/// The shard of `dir` with `u_Linf_H` taken out of the results of its first `jobs` jobs, sealed
+/// with a checksum that matches (a forgery the checksum cannot catch).
+fn forge_shard(dir: &Path, jobs: usize) -> PathBuf {
+    let path = one_shard(dir);
     let mut file: ShardFile = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
-    for job in &mut file.results[..1] {
+    let count = file.results.len();
+    for job in &mut file.results[..jobs.min(count)] {
         let mut result: Value = codec::read(&job.result).unwrap();
         without(&mut result, "u_Linf_H");
         job.result = codec::encode(&result).unwrap();
     }
     fs::write(&path, serde_json::to_string(&file.sealed()).unwrap()).unwrap();
-    let stderr = refused(&dir, &["merge", &arg(&path)], 256 * 1024, 2, &["shard-study-1-of-1.json", "u_Linf_H"]);
-    eprintln!("{stderr}");
+    path
+}
+
+/// A shard without `u_Linf_H` in one result panicked in the fit (`rates.rs`); without it in
+/// every result, the merge printed the study with that column gone and exit 0.
+#[test]
+fn a_forged_shard_without_a_norm_is_refused_naming_it() {
+    for (name, jobs) in [("one", 1), ("every", usize::MAX)] {
+        let dir = scratch("round4", &format!("shard-{name}"));
+        let path = forge_shard(&dir, jobs);
+        refused(
+            &dir,
+            &["merge", &arg(&path)],
+            256 * 1024,
+            2,
+            &[
+                "result of crank-nicolson/standard at level 10",
+                "holds errors = [u_L2_H, u_Linf_V",
+                "the norms the study asks for, [u_Linf_H, u_L2_H",
+            ],
+        );
+        fs::remove_dir_all(dir).unwrap();
+    }
+}
+
+/// `rejudge` of the committed 2D study whose oscillation indicators (the finest level's
+/// multiplier variation ratio) were made negative, its manifest forged to match so that the
+/// manifest's check lets it through: refused naming the field and the value (it turned a
+/// finding into "fails" with exit 0), the study and its manifest kept.
+#[test]
+fn rejudge_refuses_a_negative_oscillation_indicator() {
+    let dir = scratch("round4", "rejudge");
+    let mut study: Value =
+        serde_json::from_str(&fs::read_to_string("reports/elastic-2d.json").unwrap()).unwrap();
+    let mut first = None;
+    for case in study["study"]["cases"].as_array_mut().unwrap() {
+        let last = case["levels"].as_array_mut().unwrap().last_mut().unwrap();
+        let ratio = last["multiplier_variation_ratio"].as_f64().unwrap();
+        first.get_or_insert(ratio);
+        last["multiplier_variation_ratio"] = (-ratio).into();
+    }
+    let text = study.to_string();
+    fs::write(dir.join("elastic-2d.json"), &text).unwrap();
+    let manifest = serde_json::json!({
+        "format": "signorini-manifest/1",
+        "files": { "elastic-2d.json": format!("{:x}", Sha256::digest(text.as_bytes())) },
+    });
+    fs::write(dir.join(".signorini-manifest.json"), manifest.to_string()).unwrap();
+    let value = format!("{}", -first.unwrap());
+    refused(
+        &dir,
+        &["rejudge", "scenes/bar2d.json", "--out", &arg(&dir)],
+        256 * 1024,
+        2,
+        &[
+            "elastic-2d.json",
+            "study.cases[0].levels[3].multiplier_variation_ratio",
+            &value,
+            "not negative",
+        ],
+    );
+    fs::remove_dir_all(dir).unwrap();
+}
+
+/// `study` of the 2D bar on levels 1 and 2 against a reference on 8 elements cached in `cache`:
+/// its stdout and stderr.
+fn small_box_study(cache: &Path) -> (String, String) {
+    let out = watched(
+        &[
+            "study",
+            "scenes/bar2d.json",
+            "--levels",
+            "1,2",
+            "--reference-level",
+            "8",
+            "--cache",
+            &arg(cache),
+        ],
+        None,
+        SECONDS,
+        u64::MAX,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{stderr}");
+    (String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
+}
+
+/// A cached reference whose histories were cut to three samples that still run evenly from 0 to
+/// the horizon (the first, the middle and the last), with a valid checksum (written through the
+/// cache's own `save`): stale, recomputed and said. It was read as the whole run, each step of
+/// the study's levels compared with the reference's sample of the same index.
+#[test]
+fn a_cached_history_cut_to_three_samples_spanning_the_horizon_is_stale() {
+    use signorini::harness::reference::fine_mesh::cache::{load, save, CacheLookup};
+    let dir = scratch("round4", "cache");
+    let cache = dir.join("cache");
+    let tables = |s: &str| {
+        s.lines()
+            .filter(|l| l.starts_with('|'))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let (fresh, _) = small_box_study(&cache);
+    let stem = fs::read_dir(&cache)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .and_then(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .unwrap();
+    let json: Value =
+        serde_json::from_str(&fs::read_to_string(cache.join(format!("{stem}.json"))).unwrap())
+            .unwrap();
+    let key = serde_json::from_value(json["key"].clone()).unwrap();
+    let CacheLookup::Hit(mut cached) = load(&cache, &stem, &key).unwrap() else {
+        panic!("the fresh cache is not found");
+    };
+    let h = &mut cached.histories;
+    let n = h.time.len();
+    assert!(n > 3 && n % 2 == 1, "{n} samples");
+    for series in [
+        &mut h.time,
+        &mut h.energy,
+        &mut h.total_force,
+        &mut h.centre_displacement,
+        &mut h.centre_multiplier,
+    ] {
+        *series = vec![series[0], series[n / 2], series[n - 1]];
+    }
+    save((&cached.histories, &cached.projections), &cache, &stem).unwrap();
+    let (again, stderr) = small_box_study(&cache);
+    let said = format!(
+        "time has 3 samples where level 2, the finest projected, has {} steps",
+        n - 1
+    );
+    assert!(
+        stderr.contains("is stale") && stderr.contains(&said),
+        "{stderr}"
+    );
+    assert_eq!(tables(&again), tables(&fresh), "recomputed alike");
     fs::remove_dir_all(dir).unwrap();
 }

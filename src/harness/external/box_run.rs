@@ -1009,7 +1009,9 @@ fn bounded_rows<'de, D: Deserializer<'de>>(
 }
 
 /// `multipliers`, counted in the [`Room`].
-fn bounded_numbers<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<Vec<f64>>, D::Error> {
+fn bounded_numbers<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Option<Vec<f64>>, D::Error> {
     Ok(Option::<Numbers<f64>>::deserialize(deserializer)?.map(|numbers| numbers.0))
 }
 

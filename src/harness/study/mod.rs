@@ -609,7 +609,10 @@ impl<'a, M: LevelMeasure> StudyJobs<'a, M> {
             if found != asked {
                 let key = |norms: &[Norm]| norms.iter().map(|n| n.key().to_string()).collect();
                 return Err(ShardError::Norms {
-                    case: self.cases.get(k / levels.len().max(1)).map_or_else(String::new, Case::id),
+                    case: self
+                        .cases
+                        .get(k / levels.len().max(1))
+                        .map_or_else(String::new, Case::id),
                     level: levels.get(k % levels.len().max(1)).copied().unwrap_or(0),
                     found: key(&found),
                     asked: key(&asked),
