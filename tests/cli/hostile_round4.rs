@@ -159,6 +159,28 @@ fn a_forged_shard_without_a_norm_is_refused_naming_it() {
     }
 }
 
+/// A shard whose level-10 result says `nx = 20` (its checksum matching) was tabulated as level
+/// 20 twice; the merge refuses it naming both levels.
+#[test]
+fn a_forged_shard_result_of_another_level_is_refused() {
+    let dir = scratch("round4", "shard-level");
+    let path = one_shard(&dir);
+    let mut file: ShardFile = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    let mut result: Value = codec::read(&file.results[0].result).unwrap();
+    assert_eq!(result["outcome"]["record"]["nx"], 10);
+    result["outcome"]["record"]["nx"] = 20.into();
+    file.results[0].result = codec::encode(&result).unwrap();
+    fs::write(&path, serde_json::to_string(&file.sealed()).unwrap()).unwrap();
+    refused(
+        &dir,
+        &["merge", &arg(&path)],
+        256 * 1024,
+        2,
+        &["job 0", "a result of level 20 where the job's level is 10"],
+    );
+    fs::remove_dir_all(dir).unwrap();
+}
+
 /// `rejudge` of the committed 2D study whose oscillation indicators (the finest level's
 /// multiplier variation ratio) were made negative, its manifest forged to match so that the
 /// manifest's check lets it through: refused naming the field and the value (it turned a
