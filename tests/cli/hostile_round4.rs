@@ -297,3 +297,69 @@ fn a_cached_history_cut_to_three_samples_spanning_the_horizon_is_stale() {
     assert_eq!(tables(&again), tables(&fresh), "recomputed alike");
     fs::remove_dir_all(dir).unwrap();
 }
+
+/// A displacement of 1e308 at one interior node of a ParaView snapshot, 2D and 3D: every error
+/// was `inf` with exit 0 (NaN was refused, 1e308 is finite); refused naming the file, the
+/// point and the value, beyond the stated largest magnitude.
+#[test]
+fn a_displacement_of_1e308_at_one_node_is_refused_in_2d_and_3d() {
+    use base64::Engine as _;
+    let b64 = base64::engine::general_purpose::STANDARD;
+    for scene in ["bar2d", "bar3d"] {
+        let dir = scratch("round4", &format!("huge-{scene}"));
+        let scene_path =
+            crate::verify_box::scene_at_levels(&dir, &format!("scenes/{scene}.json"), &[5, 10]);
+        let run = dir.join("run");
+        let ran = watched(
+            &[
+                "run",
+                &arg(&scene_path),
+                "--scheme",
+                "crank-nicolson",
+                "--mass",
+                "standard",
+                "--nx",
+                "5",
+                "--out",
+                &arg(&run),
+                "--fields-every-step",
+            ],
+            None,
+            SECONDS,
+            u64::MAX,
+        );
+        assert!(ran.status.success());
+        let field = run.join("field-t0.00.vtu");
+        let text = fs::read_to_string(&field).unwrap();
+        let name = text.find("Name=\"displacement\"").unwrap();
+        let start = name + text[name..].find('>').unwrap() + 1;
+        let end = start + text[start..].find('<').unwrap();
+        let mut bytes = b64.decode(&text[start..end]).unwrap();
+        // The UInt64 header, then Float64 values: value 31 is a component of an interior node.
+        bytes[8 + 31 * 8..8 + 32 * 8].copy_from_slice(&1e308f64.to_le_bytes());
+        let edited = format!("{}{}{}", &text[..start], b64.encode(&bytes), &text[end..]);
+        fs::write(&field, edited).unwrap();
+        refused(
+            &dir,
+            &[
+                "verify",
+                &arg(&scene_path),
+                &arg(&run.join("fields.pvd")),
+                "--code",
+                "hostile",
+                "--code-version",
+                "0",
+                "--cache",
+                &arg(&dir.join("cache")),
+            ],
+            256 * 1024,
+            2,
+            &[
+                "field-t0.00.vtu",
+                "PointData \"displacement\" = 1e308",
+                "magnitude at most 1e100",
+            ],
+        );
+        fs::remove_dir_all(dir).unwrap();
+    }
+}

@@ -169,7 +169,7 @@ impl BoxExternalRun {
 
     /// The arrays of `snapshot` (at `time`) in the scene's node order (`order`: per file node,
     /// the scene's), its points first checked to be those of the collection's first snapshot,
-    /// every value it reads finite ([`first_non_finite`]) and its multipliers on the contact
+    /// every value it reads finite and within [`LARGEST_VALUE`] ([`first_non_finite`]) and its multipliers on the contact
     /// face with the harness's sign ([`check_multipliers`]).
     fn sample_of_snapshot(
         &self,
@@ -280,22 +280,38 @@ fn at_point(snapshot: &NodalSnapshot, k: usize, time: f64) -> String {
     format!("point {k} {:?} at t = {time}", snapshot.points[k])
 }
 
-/// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite, naming the
-/// point: a run that went NaN or infinite is broken, whatever the steps before it.
+/// The largest magnitude a value of a box run may have: 10¹⁰⁰. The bodies are of unit size, so
+/// no displacement, velocity, multiplier or energy of a run comes near it, and the norms sum
+/// squares of such values without overflow (a displacement of 1e308 at one node made every error
+/// `inf`).
+pub const LARGEST_VALUE: f64 = 1e100;
+
+/// What a value of a box run must be ([`LARGEST_VALUE`]).
+const IN_RANGE: &str = "finite numbers of magnitude at most 1e100 (a run that went non-finite or \
+                        diverged is not verified)";
+
+/// Whether `v` is finite and at most [`LARGEST_VALUE`] in magnitude.
+fn in_range(v: f64) -> bool {
+    v.is_finite() && v.abs() <= LARGEST_VALUE
+}
+
+/// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite or is beyond
+/// [`LARGEST_VALUE`], naming the point: a run that went NaN, infinite or that far is broken,
+/// whatever the steps before it.
 fn first_non_finite(
     snapshot: &NodalSnapshot,
     array: &PointArray,
     time: f64,
 ) -> Result<(), ExternalError> {
     let components = array.components.max(1);
-    match array.values.iter().position(|v| !v.is_finite()) {
+    match array.values.iter().position(|v| !in_range(*v)) {
         None => Ok(()),
         Some(i) => Err(ExternalError::invalid(
             &snapshot.path,
             format!("PointData {:?}", array.name),
             Some(at_point(snapshot, i / components, time)),
             array.values[i],
-            "finite numbers (a run that went non-finite is not verified)",
+            IN_RANGE,
         )),
     }
 }
@@ -839,13 +855,8 @@ impl BoxFile {
                 .flatten()
                 .chain(&sample.total_force)
                 .chain(&sample.reported_energy);
-            if let Some(bad) = numbers.clone().find(|v| !v.is_finite()) {
-                return Err(invalid(
-                    "samples",
-                    at(),
-                    bad.to_string(),
-                    "finite numbers".into(),
-                ));
+            if let Some(bad) = numbers.clone().find(|v| !in_range(**v)) {
+                return Err(invalid("samples", at(), bad.to_string(), IN_RANGE.into()));
             }
             if let Some(m) = &sample.multipliers {
                 check_multipliers(m, path, at())?;
