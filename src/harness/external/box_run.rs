@@ -169,8 +169,8 @@ impl BoxExternalRun {
 
     /// The arrays of `snapshot` (at `time`) in the scene's node order (`order`: per file node,
     /// the scene's), its points first checked to be those of the collection's first snapshot,
-    /// every value it reads finite and within [`LARGEST_VALUE`] ([`first_non_finite`]) and its multipliers on the contact
-    /// face with the harness's sign ([`check_multipliers`]).
+    /// every value it reads finite and within [`LARGEST_VALUE`] ([`first_non_finite`]) and its
+    /// multipliers on the contact face with the harness's sign ([`check_multipliers`]).
     fn sample_of_snapshot(
         &self,
         snapshot: &NodalSnapshot,
@@ -507,9 +507,9 @@ impl BoxScene<'_> {
         Ok(run)
     }
 
-    /// Reads the box form of the JSON format `path` as a run of this scene.
-    /// Its numbers and samples are counted as they are read ([`Room`]), so a file of more is
-    /// refused before they are held.
+    /// Reads the box form of the JSON format `path` as a run of this scene, its numbers and
+    /// samples counted as they are read ([`Room`]): a file of more is refused before they are
+    /// held.
     pub fn read_json(&self, path: &Path) -> Result<BoxExternalRun, ExternalError> {
         let samples = self
             .levels
