@@ -363,3 +363,44 @@ fn a_displacement_of_1e308_at_one_node_is_refused_in_2d_and_3d() {
         fs::remove_dir_all(dir).unwrap();
     }
 }
+
+/// The box JSON form holds the same bound: GetFEM's level-10 run of the 2D bar as `getfem-box`
+/// writes it, one sample's energy made 1e300, is refused naming the sample and the value.
+#[test]
+fn a_box_json_value_beyond_1e100_is_refused_naming_the_sample() {
+    let dir = scratch("round4", "huge-json");
+    let converted = dir.join("runs");
+    let ran = watched(
+        &[
+            "getfem-box",
+            "--out",
+            &arg(&converted),
+            "tests/data/getfem2d/getfem2d_crank-nicolson_standard_nx10.json.gz",
+        ],
+        None,
+        SECONDS,
+        u64::MAX,
+    );
+    assert!(ran.status.success());
+    let path = fs::read_dir(&converted)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .unwrap();
+    let mut run: Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    run["samples"][2]["energy"] = 1e300.into();
+    fs::write(&path, run.to_string()).unwrap();
+    refused(
+        &dir,
+        &["verify", "scenes/bar2d.json", &arg(&path)],
+        256 * 1024,
+        2,
+        &[
+            "invalid samples",
+            "samples[2]",
+            "1e300",
+            "magnitude at most 1e100",
+        ],
+    );
+    fs::remove_dir_all(dir).unwrap();
+}
