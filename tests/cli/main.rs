@@ -21,6 +21,7 @@ mod getfem;
 mod getfem_box;
 mod hostile;
 mod hostile_paraview;
+mod hostile_round4;
 mod league;
 mod outputs;
 mod paraview;

@@ -9,10 +9,13 @@
 //! every step `t_n = n Δt` of that level's time grid from 0 to `T` (the first missing step is
 //! named), the clamped face at rest.
 
+use std::cell::Cell;
 use std::collections::HashMap;
+use std::fmt;
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::de::{self, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer};
 
 use super::error::ExternalError;
 use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_FILE};
@@ -166,8 +169,8 @@ impl BoxExternalRun {
 
     /// The arrays of `snapshot` (at `time`) in the scene's node order (`order`: per file node,
     /// the scene's), its points first checked to be those of the collection's first snapshot,
-    /// every value it reads finite ([`first_non_finite`]) and its multipliers on the contact
-    /// face with the harness's sign ([`check_multipliers`]).
+    /// every value it reads finite and within [`LARGEST_VALUE`] ([`first_non_finite`]) and its
+    /// multipliers on the contact face with the harness's sign ([`check_multipliers`]).
     fn sample_of_snapshot(
         &self,
         snapshot: &NodalSnapshot,
@@ -277,22 +280,38 @@ fn at_point(snapshot: &NodalSnapshot, k: usize, time: f64) -> String {
     format!("point {k} {:?} at t = {time}", snapshot.points[k])
 }
 
-/// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite, naming the
-/// point: a run that went NaN or infinite is broken, whatever the steps before it.
+/// The largest magnitude a value of a box run may have: 10¹⁰⁰. The bodies are of unit size, so
+/// no displacement, velocity, multiplier or energy of a run comes near it, and the norms sum
+/// squares of such values without overflow (a displacement of 1e308 at one node made every error
+/// `inf`).
+pub const LARGEST_VALUE: f64 = 1e100;
+
+/// What a value of a box run must be ([`LARGEST_VALUE`]).
+const IN_RANGE: &str = "finite numbers of magnitude at most 1e100 (a run that went non-finite or \
+                        diverged is not verified)";
+
+/// Whether `v` is finite and at most [`LARGEST_VALUE`] in magnitude.
+fn in_range(v: f64) -> bool {
+    v.is_finite() && v.abs() <= LARGEST_VALUE
+}
+
+/// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite or is beyond
+/// [`LARGEST_VALUE`], naming the point: a run that went NaN, infinite or that far is broken,
+/// whatever the steps before it.
 fn first_non_finite(
     snapshot: &NodalSnapshot,
     array: &PointArray,
     time: f64,
 ) -> Result<(), ExternalError> {
     let components = array.components.max(1);
-    match array.values.iter().position(|v| !v.is_finite()) {
+    match array.values.iter().position(|v| !in_range(*v)) {
         None => Ok(()),
         Some(i) => Err(ExternalError::invalid(
             &snapshot.path,
             format!("PointData {:?}", array.name),
             Some(at_point(snapshot, i / components, time)),
             array.values[i],
-            "finite numbers (a run that went non-finite is not verified)",
+            IN_RANGE,
         )),
     }
 }
@@ -488,10 +507,18 @@ impl BoxScene<'_> {
         Ok(run)
     }
 
-    /// Reads the box form of the JSON format `path` as a run of this scene.
+    /// Reads the box form of the JSON format `path` as a run of this scene, its numbers and
+    /// samples counted as they are read ([`Room`]): a file of more is refused before they are
+    /// held.
     pub fn read_json(&self, path: &Path) -> Result<BoxExternalRun, ExternalError> {
-        let file: BoxFile =
-            input::read_json(path, RUN_FILE).map_err(|e| ExternalError::of_json(path, e))?;
+        let samples = self
+            .levels
+            .iter()
+            .map(|&level| self.time_grid(level).len())
+            .max()
+            .unwrap_or(0);
+        let file: BoxFile = Room::within(samples, || input::read_json(path, RUN_FILE))
+            .map_err(|e| ExternalError::of_json(path, e))?;
         file.into_run(self, path)
     }
 }
@@ -646,6 +673,7 @@ pub struct BoxFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy_definition: Option<EnergyDefinition>,
     /// One sample per step.
+    #[serde(deserialize_with = "bounded_samples")]
     pub samples: Vec<BoxFileSample>,
 }
 
@@ -655,8 +683,10 @@ pub struct BoxFile {
 #[serde(deny_unknown_fields)]
 pub struct BoxFileMesh {
     /// The box's lengths, `x_d` (the axis) last.
+    #[serde(deserialize_with = "bounded_list")]
     pub lengths: Vec<f64>,
     /// The elements per direction.
+    #[serde(deserialize_with = "bounded_list")]
     pub elements: Vec<usize>,
     /// [`NODE_ORDER`].
     pub node_order: String,
@@ -669,13 +699,25 @@ pub struct BoxFileSample {
     /// `t_n`.
     pub time: f64,
     /// `d` numbers per node, nodes in [`NODE_ORDER`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "bounded_rows",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub displacement: Option<Vec<Vec<f64>>>,
     /// Like `displacement`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "bounded_rows",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub velocity: Option<Vec<Vec<f64>>>,
     /// `λ_i ≤ 0` per contact node (`x_d = 0`), in [`NODE_ORDER`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "bounded_numbers",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub multipliers: Option<Vec<f64>>,
     /// `Σ_i λ_i`, for a code that reports only the resultant.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -765,25 +807,6 @@ impl BoxFile {
                 ),
             ));
         }
-        let values: usize = self
-            .samples
-            .iter()
-            .map(|s| {
-                let field =
-                    |f: &Option<Vec<Vec<f64>>>| f.as_ref().map_or(0, |v| v.len() * mesh.dim());
-                field(&s.displacement)
-                    + field(&s.velocity)
-                    + s.multipliers.as_ref().map_or(0, Vec::len)
-            })
-            .sum();
-        if values > MAX_VALUES {
-            return Err(invalid(
-                "samples",
-                None,
-                format!("{values} numbers"),
-                format!("at most {MAX_VALUES}"),
-            ));
-        }
         let times: Vec<f64> = self.samples.iter().map(|s| s.time).collect();
         let time = scene.check_times(level, &times, path, "time")?;
         let d = mesh.dim();
@@ -832,13 +855,8 @@ impl BoxFile {
                 .flatten()
                 .chain(&sample.total_force)
                 .chain(&sample.reported_energy);
-            if let Some(bad) = numbers.clone().find(|v| !v.is_finite()) {
-                return Err(invalid(
-                    "samples",
-                    at(),
-                    bad.to_string(),
-                    "finite numbers".into(),
-                ));
+            if let Some(bad) = numbers.clone().find(|v| !in_range(**v)) {
+                return Err(invalid("samples", at(), bad.to_string(), IN_RANGE.into()));
             }
             if let Some(m) = &sample.multipliers {
                 check_multipliers(m, path, at())?;
@@ -872,4 +890,168 @@ impl BoxFile {
             source: Source::Json(samples),
         })
     }
+}
+
+/// What a box file may still hold while [`BoxScene::read_json`] reads it: numbers of the mesh,
+/// `displacement`, `velocity` and `multipliers` (at most [`MAX_VALUES`] in all, a node's row of
+/// fewer than two counted as two) and samples (one per step of the scene's finest study level and
+/// one at `t = 0`). Each is counted before it is kept, so a file of more is refused having held at
+/// most these: 2²⁴ numbers in rows of two, each row its own array, took 585 MiB, whatever the
+/// file's size.
+#[derive(Debug, Clone, Copy)]
+struct Room {
+    /// Numbers left.
+    numbers: usize,
+    /// Samples left.
+    samples: usize,
+    /// The samples allowed in all.
+    max_samples: usize,
+}
+
+thread_local! {
+    /// The [`Room`] of the box file being read on this thread; `None` outside
+    /// [`Room::within`], where nothing is counted.
+    static ROOM: Cell<Option<Room>> = const { Cell::new(None) };
+}
+
+impl Room {
+    /// `read` with the room of a box file of at most `samples` samples.
+    fn within<T>(samples: usize, read: impl FnOnce() -> T) -> T {
+        /// Empties [`ROOM`] when the read ends, even by a panic.
+        struct Leave;
+        impl Drop for Leave {
+            fn drop(&mut self) {
+                ROOM.with(|room| room.set(None));
+            }
+        }
+        ROOM.with(|room| {
+            room.set(Some(Room {
+                numbers: MAX_VALUES,
+                samples,
+                max_samples: samples,
+            }))
+        });
+        let _leave = Leave;
+        read()
+    }
+
+    /// Takes `numbers` numbers and `samples` samples from [`ROOM`], or says which limit they pass.
+    fn take<E: de::Error>(numbers: usize, samples: usize) -> Result<(), E> {
+        ROOM.with(|room| {
+            let Some(mut left) = room.get() else {
+                return Ok(());
+            };
+            if numbers > left.numbers {
+                return Err(E::custom(format_args!(
+                    "more than {MAX_VALUES} numbers (a node's row of fewer than two counted as \
+                     two), the most a run file may hold"
+                )));
+            }
+            if samples > left.samples {
+                return Err(E::custom(format_args!(
+                    "more than {} samples, one per step of the scene's finest study level and \
+                     one at t = 0",
+                    left.max_samples
+                )));
+            }
+            left.numbers -= numbers;
+            left.samples -= samples;
+            room.set(Some(left));
+            Ok(())
+        })
+    }
+}
+
+/// An array of numbers, each counted in the [`Room`] before it is kept.
+struct Numbers<T>(Vec<T>);
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Numbers<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        /// [`Numbers`]' visitor.
+        struct Each<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> Visitor<'de> for Each<T> {
+            type Value = Numbers<T>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers<T>, A::Error> {
+                let mut values = Vec::new();
+                while let Some(value) = seq.next_element::<T>()? {
+                    Room::take(1, 0)?;
+                    values.push(value);
+                }
+                Ok(Numbers(values))
+            }
+        }
+        deserializer.deserialize_seq(Each(std::marker::PhantomData))
+    }
+}
+
+/// An array of [`Numbers`] (one per node), a row of fewer than two counted as two (its place).
+struct Rows(Vec<Vec<f64>>);
+
+impl<'de> Deserialize<'de> for Rows {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        /// [`Rows`]' visitor.
+        struct Each;
+        impl<'de> Visitor<'de> for Each {
+            type Value = Rows;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of arrays of numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Rows, A::Error> {
+                let mut rows = Vec::new();
+                while let Some(Numbers(row)) = seq.next_element()? {
+                    Room::take(2usize.saturating_sub(row.len()), 0)?;
+                    rows.push(row);
+                }
+                Ok(Rows(rows))
+            }
+        }
+        deserializer.deserialize_seq(Each)
+    }
+}
+
+/// `displacement` or `velocity`, its numbers counted in the [`Room`].
+fn bounded_rows<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Option<Vec<Vec<f64>>>, D::Error> {
+    Ok(Option::<Rows>::deserialize(deserializer)?.map(|rows| rows.0))
+}
+
+/// `multipliers`, counted in the [`Room`].
+fn bounded_numbers<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Option<Vec<f64>>, D::Error> {
+    Ok(Option::<Numbers<f64>>::deserialize(deserializer)?.map(|numbers| numbers.0))
+}
+
+/// `mesh.lengths` or `mesh.elements`, counted in the [`Room`].
+fn bounded_list<'de, D: Deserializer<'de>, T: Deserialize<'de>>(
+    deserializer: D,
+) -> Result<Vec<T>, D::Error> {
+    Ok(Numbers::<T>::deserialize(deserializer)?.0)
+}
+
+/// `samples`, each counted in the [`Room`].
+fn bounded_samples<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Vec<BoxFileSample>, D::Error> {
+    /// The samples' visitor.
+    struct Each;
+    impl<'de> Visitor<'de> for Each {
+        type Value = Vec<BoxFileSample>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("an array of samples")
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut samples = Vec::new();
+            while let Some(sample) = seq.next_element()? {
+                Room::take(0, 1)?;
+                samples.push(sample);
+            }
+            Ok(samples)
+        }
+    }
+    deserializer.deserialize_seq(Each)
 }

@@ -53,7 +53,7 @@ use crate::harness::study::error::Error;
 use crate::harness::study::executor::{Executed, Executor, JobList, ListResults};
 use crate::harness::study::rates::{fit_rate, observed_orders, RateFit};
 use crate::harness::study::shard::range::{errors_out_of_range, positive};
-use crate::harness::study::shard::InRange;
+use crate::harness::study::shard::{InRange, ShardError};
 
 /// A row of the tables: a scheme with its parameters and a mass variant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -195,9 +195,10 @@ pub struct NormRates {
 
 /// What the levels and rates of a series read back from a file (a verification's, a study's)
 /// must satisfy, the first violation as `(field, value, what is allowed)`: levels of increasing
-/// `NX` with a finite positive `h`, one error per level in every norm, each finite and not
-/// negative, and every fit the fit of its own errors (its rate and interval within 1e-9 of a
-/// refit).
+/// `NX` with a finite positive `h` and, where given, a finite multiplier variation ratio not
+/// negative (the oscillation indicator, a ratio of total variations), one error per level in
+/// every norm, each finite and not negative, and every fit the fit of its own errors (its rate
+/// and interval within 1e-9 of a refit).
 pub fn rates_inconsistency(
     levels: &[LevelRecord],
     rates: &[NormRates],
@@ -210,6 +211,18 @@ pub fn rates_inconsistency(
             format!("NX {nx:?}"),
             "increasing NX, each with a finite h > 0".into(),
         ));
+    }
+    for (k, level) in levels.iter().enumerate() {
+        if let Some(ratio) = level
+            .multiplier_variation_ratio
+            .filter(|r| !(r.is_finite() && *r >= 0.0))
+        {
+            return Some((
+                format!("levels[{k}].multiplier_variation_ratio"),
+                ratio.to_string(),
+                "a finite ratio of total variations, not negative".into(),
+            ));
+        }
     }
     for r in rates {
         let field = |what: &str| format!("rates[{}].{what}", r.norm.key());
@@ -482,9 +495,10 @@ pub fn run_study_on<M: LevelMeasure>(
     executor: &Executor,
     jobs: &StudyJobs<'_, M>,
 ) -> Result<Executed<Fitted<M::Kept>>, Error> {
-    executor
-        .execute(&jobs.list())?
-        .reduce(|ran| Ok(jobs.reduce_keeping(ran, jobs.cases)))
+    executor.execute(&jobs.list())?.reduce(|ran| {
+        jobs.check_norms(&ran.results)?;
+        Ok(jobs.reduce_keeping(ran, jobs.cases))
+    })
 }
 
 /// A study and what each case it fitted kept of its levels, in level order.
@@ -577,6 +591,35 @@ impl<'a, M: LevelMeasure> StudyJobs<'a, M> {
     /// that study). Its wall time is the list's.
     pub fn reduce(&self, ran: ListResults<Measured<M::Kept>>, kept: &[Case]) -> Study {
         self.reduce_keeping(ran, kept).0
+    }
+
+    /// Refuses `results` (case by case, level by level, as [`CaseLevels`] orders them) where a
+    /// completed run's errors are not of this study's norms or a stopped run has errors: what
+    /// only a forged shard holds, which the fit would take for a level's errors.
+    fn check_norms(&self, results: &[Measured<M::Kept>]) -> Result<(), ShardError> {
+        let levels = &self.config.levels;
+        for (k, measured) in results.iter().enumerate() {
+            let outcome = &measured.outcome;
+            let found: Vec<Norm> = outcome.errors.keys().copied().collect();
+            let mut asked = self.norms.clone();
+            asked.sort();
+            if !outcome.status.is_completed() {
+                asked.clear();
+            }
+            if found != asked {
+                let key = |norms: &[Norm]| norms.iter().map(|n| n.key().to_string()).collect();
+                return Err(ShardError::Norms {
+                    case: self
+                        .cases
+                        .get(k / levels.len().max(1))
+                        .map_or_else(String::new, Case::id),
+                    level: levels.get(k % levels.len().max(1)).copied().unwrap_or(0),
+                    found: key(&found),
+                    asked: key(&asked),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// [`StudyJobs::reduce`], with what each case the study fitted kept of its levels.

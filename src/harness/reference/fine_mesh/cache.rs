@@ -224,8 +224,9 @@ impl ReferenceHistories {
 
     /// What makes the histories impossible for a run, named; `None` when nothing does: a time
     /// step that is not positive, steps that do not reach the horizon, samples that do not run
-    /// from 0 to the horizon or do not increase, a history whose length is not the times', or a
-    /// value beyond [`LARGEST_VALUE`] in magnitude.
+    /// from 0 to the horizon or do not increase, samples that are not one per step of the finest
+    /// projected level (as many as its projections, evenly spaced), a history whose length is
+    /// not the times', or a value beyond [`LARGEST_VALUE`] in magnitude.
     fn impossible(&self) -> Option<String> {
         if self.dt <= 0.0 {
             return Some(format!("dt = {} is not positive", self.dt));
@@ -253,6 +254,25 @@ impl ReferenceHistories {
                 k + 1,
                 self.time[k + 1],
                 self.time[k]
+            ));
+        }
+        let finest = self.projections.iter().max_by_key(|p| p.level);
+        if let Some(p) = finest.filter(|p| p.samples != self.time.len()) {
+            return Some(format!(
+                "time has {} samples where level {}, the finest projected, has {} steps",
+                self.time.len(),
+                p.level,
+                p.samples.saturating_sub(1)
+            ));
+        }
+        let spacing = horizon / (self.time.len() - 1).max(1) as f64;
+        if let Some(k) = (0..self.time.len())
+            .find(|&k| (self.time[k] - k as f64 * spacing).abs() > 1e-9 * horizon.abs().max(1.0))
+        {
+            return Some(format!(
+                "time[{k}] = {} is not step {k} of the finest projected level, {}",
+                self.time[k],
+                k as f64 * spacing
             ));
         }
         let series: [(&str, &[f64]); 4] = [

@@ -169,6 +169,23 @@ pub enum ShardError {
         /// The value and its range.
         why: String,
     },
+    /// A job result whose error norms are not the ones its study asks for (a forged shard).
+    #[error(
+        "the shards' result of {case} at level {level} holds errors = [{}]; allowed: the \
+         errors of the norms the study asks for, [{}]",
+        found.join(", "),
+        asked.join(", ")
+    )]
+    Norms {
+        /// The case's id.
+        case: String,
+        /// The level.
+        level: usize,
+        /// The norms of its errors.
+        found: Vec<String>,
+        /// The norms of the study.
+        asked: Vec<String>,
+    },
     /// A job no shard holds.
     #[error("no shard holds job {index}: the shard files are incomplete")]
     MissingJob {
