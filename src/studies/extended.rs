@@ -132,7 +132,8 @@ pub fn extended_sensitivity(
 /// What the energy error does under refinement, in the words of
 /// [`crate::harness::vocabulary`], decided by the interval of the least-squares rate `r` of
 /// `‖E_h − E‖_{L∞(0,T)}` over all levels (its 95 % interval; for a round-off chaotic row, the
-/// ensemble's `[min, max]`; the exact solution is the reference, so no bias bound widens it:
+/// ensemble's `[min, max]` joined with its members' own 95 % intervals, as the tables' agreement
+/// ([`crate::studies::tables::agreement`]); the exact solution is the reference, so no bias bound widens it:
 /// [`crate::harness::study::decision`]) and its value `e` on the finest level:
 /// * `converges`: the interval lies above [`CONVERGES_ABOVE`] = 0 and `e` is finite;
 /// * `does not converge`: the interval lies at or below 0, or `e` is not finite; then, by the
@@ -269,14 +270,17 @@ impl ExtendedRow {
                 .unwrap_or(f64::NAN),
         };
         let energy_fit = case.norm(Norm::EnergyLinf).and_then(|r| r.fit);
-        let energy_rate = match rate_ranges.get(energy_key) {
-            Some(&spread) => Estimate::of_ensemble(
-                format!("{energy_key} rate (ensemble median, [min, max])"),
+        let ensemble_interval = chaotic.and_then(|s| s.rate_interval(energy_key));
+        let energy_rate = match (rate_ranges.get(energy_key), ensemble_interval) {
+            (Some(spread), Some(interval)) => Estimate::of_ensemble(
+                format!(
+                    "{energy_key} rate (ensemble median, [min, max] ∪ members' 95 % intervals)"
+                ),
                 spread.median,
-                (spread.min, spread.max),
+                interval,
                 energy_fit.map_or(0, |f| f.levels),
             ),
-            None => Estimate::rate(format!("{energy_key} rate"), energy_fit, Some(0.0)),
+            _ => Estimate::rate(format!("{energy_key} rate"), energy_fit, Some(0.0)),
         };
         let (energy_verdict, energy_verdict_reason) =
             EnergyVerdict::decide(&energy_rate, energy_error_finest);
@@ -593,7 +597,7 @@ fn sensitivity_section(
         "\n## Round-off sensitivity\n\nEvery row run as {} (the rules of `sensitivity.md`): {} \
          reproducible, {} event-sensitive, {} round-off chaotic (†: the ensemble median rate, \
          whose [min, max] follows; the energy verdict of such a row is decided by the \
-         `energy_Linf` rate's [min, max]). The \
+         `energy_Linf` rate's [min, max] joined with its members' own 95 % intervals). The \
          ensembles took {wall_seconds:.1} s wall.\n",
         ensemble.describe(),
         count(SensitivityClass::Reproducible),
@@ -683,7 +687,8 @@ pub fn render(studies: &[ExtendedStudy]) -> (String, ExtendedFile) {
          {:?}, Δx/Δt = {}, T = {}; every mass variant × contact treatment. Each rate: the \
          least-squares rate over all levels. Oscillation: `TV(λ_h)/TV(λ)` on the finest level \
          (No < 5 ≤ Small < 100 ≤ Yes < 2000 ≤ Big). Energy verdict from the 95 % interval of the \
-         `energy_Linf` rate (a chaotic row: the ensemble's [min, max]) and the finest-level \
+         `energy_Linf` rate (a chaotic row: the ensemble's [min, max] joined with its members' \
+         own 95 % intervals) and the finest-level \
          energy error e, in the words of docs/src/vocabulary.md: *converges* when it lies above \
          {CONVERGES_ABOVE}, *does not converge* when at or below it (or e not finite), then \
          *bounded* when within ±{BOUNDED_RATE_WITHIN}, printed with e / E₀ (bounded is not \
