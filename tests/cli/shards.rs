@@ -179,7 +179,7 @@ fn the_merge_of_three_stability_shards_writes_the_unsharded_reports() {
 
 /// `signorini report` whole (the gravity benchmark, Tables 1–2 with their sensitivity, the
 /// longer horizon, the implicit start and the histories, the extended table): its merge writes
-/// every file the unsharded command does (25: its own sections' data and pages, not the pages
+/// every file the unsharded command does (26: its own sections' data and pages, not the pages
 /// the render step builds), but for the wall-clock figures and the work–precision data made of
 /// the runs' times. 47 minutes on a shared 2-core machine: `make
 /// test-report-shards`.
@@ -187,7 +187,7 @@ fn the_merge_of_three_stability_shards_writes_the_unsharded_reports() {
 #[ignore = "the whole report, twice: make test-report-shards"]
 fn the_merge_of_three_report_shards_writes_the_unsharded_reports() {
     let dir = scratch("report");
-    assert_eq!(merge_writes_the_unsharded_files(&dir, &["report"]), 25);
+    assert_eq!(merge_writes_the_unsharded_files(&dir, &["report"]), 26);
 }
 
 /// `signorini experiment` (the Tables 1–2 study at three horizons): its merge writes
