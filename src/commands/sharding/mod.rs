@@ -40,7 +40,10 @@ macro_rules! shard_args {
 
 shard_args!(ShardArgs, "the study's case × level runs");
 shard_args!(SuiteShardArgs, "the suite's scheme × mass × hard-case runs");
-shard_args!(EnsembleShardArgs, "the ensembles, one per case × level");
+shard_args!(
+    EnsembleShardArgs,
+    "the ensembles, one per case (a box scene's: one per case × level)"
+);
 shard_args!(
     ReferenceShardArgs,
     "the scenes' references (the largest first)"

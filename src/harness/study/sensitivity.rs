@@ -476,15 +476,9 @@ pub fn run_ensemble(
     run_members(problem, config, ensemble.amplitude, &members, observe)
 }
 
-/// Runs `problem` with `config` as an ensemble: the unperturbed run, then each of `members`
-/// ([`Member::perturb`]: initial-data noise of amplitude `amplitude·max|u⁰|`, `u⁰` the
-/// unperturbed initial displacement, the contact dofs untouched; or the per-step perturbation).
-/// Each member's result is handed to `observe` with its [`Separation`] from the unperturbed run
-/// (`None` for a member that did not complete: its status says why) and dropped, so memory
-/// holds the unperturbed contact history and one member's; an error `observe` returns stops the
-/// ensemble. Returns the unperturbed result; when it did not complete, no member runs. The
-/// contact history is recorded whatever `config` asks; the energy balance, when `config` asks
-/// for it, is evaluated on the unperturbed run only.
+/// Runs `problem` with `config` as an ensemble: the unperturbed run ([`Unperturbed::run`]), then
+/// each of `members` beside it ([`Unperturbed::members`]). Returns the unperturbed result; when
+/// it did not complete, no member runs.
 pub fn run_members(
     problem: &Problem1d,
     config: &RunConfig,
@@ -492,43 +486,85 @@ pub fn run_members(
     members: &[Member],
     observe: &mut dyn FnMut(BarRun, Option<Separation>) -> Result<(), Error>,
 ) -> Result<BarRun, Error> {
-    let mut config = config.clone();
-    config.observables.contact_history = true;
-    let (bar, model) = problem.model(config.nx, config.mass)?;
-    let (u0, _) = problem.initial_dofs(&bar, &model);
-    let scale = u0
-        .iter()
-        .fold(0.0_f64, |m, x| m.max(x.abs()))
-        .max(f64::MIN_POSITIVE);
-    let base = run(problem, &config, &mut [])?;
-    let Some(base_history) = base
-        .observed
-        .contact_history
-        .as_ref()
-        .filter(|_| base.status.is_completed())
-    else {
-        return Ok(base);
-    };
-    config.observables.energy_balance = false;
-    let unperturbed = config.settings;
-    for member in members {
-        config.settings = member.perturb(unperturbed, amplitude * scale);
-        let r = run(problem, &config, &mut [])?;
-        let separation = r
+    let base = Unperturbed::run(problem, config)?;
+    base.members(problem, amplitude, members, observe)?;
+    Ok(base.result)
+}
+
+/// An ensemble's unperturbed run, kept so that members can be run beside it at any time.
+struct Unperturbed {
+    /// Its result, with its contact history.
+    result: BarRun,
+    /// The members' configuration: `config` with the contact history, without the balance.
+    config: RunConfig,
+    /// `max |u⁰|` of the unperturbed initial displacement (at least the smallest positive
+    /// number): the scale of the initial-data noise.
+    scale: f64,
+}
+
+impl Unperturbed {
+    /// Runs `problem` with `config`, the contact history recorded whatever `config` asks; the
+    /// energy balance, when `config` asks for it, is evaluated on this run only.
+    fn run(problem: &Problem1d, config: &RunConfig) -> Result<Self, Error> {
+        let mut config = config.clone();
+        config.observables.contact_history = true;
+        let (bar, model) = problem.model(config.nx, config.mass)?;
+        let (u0, _) = problem.initial_dofs(&bar, &model);
+        let scale = u0
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(x.abs()))
+            .max(f64::MIN_POSITIVE);
+        let result = run(problem, &config, &mut [])?;
+        config.observables.energy_balance = false;
+        Ok(Self {
+            result,
+            config,
+            scale,
+        })
+    }
+
+    /// Runs each of `members` ([`Member::perturb`]: initial-data noise of amplitude
+    /// `amplitude·max|u⁰|`, the contact dofs untouched; or the per-step perturbation) and hands
+    /// its result to `observe` with its [`Separation`] from the unperturbed run (`None` for a
+    /// member that did not complete: its status says why), then drops it, so memory holds the
+    /// unperturbed contact history and one member's; an error `observe` returns stops the
+    /// ensemble. Runs none when the unperturbed run did not complete.
+    fn members(
+        &self,
+        problem: &Problem1d,
+        amplitude: f64,
+        members: &[Member],
+        observe: &mut dyn FnMut(BarRun, Option<Separation>) -> Result<(), Error>,
+    ) -> Result<(), Error> {
+        let Some(base_history) = self
+            .result
             .observed
             .contact_history
             .as_ref()
-            .filter(|_| r.status.is_completed())
-            .map(|h| {
-                Separation::between(
-                    &base_history.time,
-                    &base_history.displacement,
-                    &h.displacement,
-                )
-            });
-        observe(r, separation)?;
+            .filter(|_| self.result.status.is_completed())
+        else {
+            return Ok(());
+        };
+        let mut config = self.config.clone();
+        for member in members {
+            config.settings = member.perturb(self.config.settings, amplitude * self.scale);
+            let r = run(problem, &config, &mut [])?;
+            let separation = r
+                .observed
+                .contact_history
+                .as_ref()
+                .filter(|_| r.status.is_completed())
+                .map(|h| {
+                    Separation::between(
+                        &base_history.time,
+                        &base_history.displacement,
+                        &h.displacement,
+                    )
+                });
+            observe(r, separation)?;
+        }
+        Ok(())
     }
-    Ok(base)
 }
 
 /// Whether some member's separation grows exponentially (a positive fitted growth) to
@@ -623,18 +659,19 @@ impl InRange for LevelEnsemble {
     }
 }
 
-/// One level of a case run as the ensemble of `members` (`initial` initial-data ones first,
-/// then every-step ones) beside the unperturbed run ([`run_members`]).
+/// One level of a case: `members` (`initial` initial-data ones first, then every-step ones) run
+/// beside its unperturbed run `base` ([`Unperturbed::members`]), with the wall seconds of the
+/// initial-data members; stopped with `base` when it did not complete.
 fn level_ensemble(
     problem: &Problem1d,
-    config: &RunConfig,
-    ensemble: EnsembleConfig,
+    base: &Unperturbed,
+    amplitude: f64,
     members: &[Member],
     initial: usize,
 ) -> Result<TimedEnsemble, Error> {
     let mut errors = Vec::with_capacity(members.len());
     let mut separations = Vec::with_capacity(members.len());
-    let mut seconds = Vec::with_capacity(initial + 1);
+    let mut seconds = Vec::with_capacity(initial);
     let mut stopped = None;
     let observe = &mut |member: BarRun, separation| {
         if let Err(e) = member.status.completed() {
@@ -648,13 +685,11 @@ fn level_ensemble(
         separations.extend(separation);
         Ok(())
     };
-    let outcome = run_members(problem, config, ensemble.amplitude, members, observe);
-    let stopped = match outcome {
+    let stopped = match base.members(problem, amplitude, members, observe) {
         Err(_) if stopped.is_some() => stopped,
         outcome => {
-            let base = outcome?;
-            seconds.insert(0, base.timings.total());
-            Some(base.status).filter(|s| !s.is_completed())
+            outcome?;
+            Some(base.result.status.clone()).filter(|s| !s.is_completed())
         }
     };
     Ok(TimedEnsemble {
@@ -667,10 +702,11 @@ fn level_ensemble(
     })
 }
 
-/// Every level of `case` as its ensemble, screened (the module's rule): the first
-/// [`EnsembleConfig::screened`] members of each set at every level; when one of them parts, the
-/// others at every level, merged in so that each level holds the members in the order of
-/// [`EnsembleConfig::members_of_study`]. A level that stops ends the case there.
+/// Every level of `case` as its ensemble, screened (the module's rule): the unperturbed run and
+/// the first [`EnsembleConfig::screened`] members of each set at every level; when one of them
+/// parts, the others beside the same unperturbed runs, appended in one order at every level
+/// (every statistic of an ensemble takes each member level by level, in whatever order). A level
+/// that stops ends the case there.
 fn case_ensemble(
     problem: &Problem1d,
     case: Case,
@@ -689,13 +725,17 @@ fn case_ensemble(
         },
         settings: config.settings,
     };
+    let amplitude = ensemble.amplitude;
     let screened = ensemble.screened();
     let screen = ensemble.members_seeded(1..=screened as u64);
-    let mut levels = Vec::with_capacity(config.levels.len());
+    let (mut bases, mut levels) = (Vec::new(), Vec::new());
     for &nx in &config.levels {
-        let level = level_ensemble(problem, &run_config(nx), ensemble, &screen, screened)?;
+        let base = Unperturbed::run(problem, &run_config(nx))?;
+        let mut level = level_ensemble(problem, &base, amplitude, &screen, screened)?;
+        level.seconds.insert(0, base.result.timings.total());
         let stopped = level.ensemble.stopped.is_some();
         levels.push(level);
+        bases.push(base);
         if stopped {
             return Ok(levels);
         }
@@ -709,9 +749,8 @@ fn case_ensemble(
         return Ok(levels);
     }
     let others = ensemble.members_seeded(screened as u64 + 1..=ensemble.members as u64);
-    for (level, &nx) in levels.iter_mut().zip(&config.levels) {
-        let more = level_ensemble(problem, &run_config(nx), ensemble, &others, rest)?;
-        level.absorb(more, screened, rest);
+    for (level, base) in levels.iter_mut().zip(&bases) {
+        level.absorb(level_ensemble(problem, base, amplitude, &others, rest)?);
         if level.ensemble.stopped.is_some() {
             break;
         }
@@ -730,35 +769,17 @@ pub struct TimedEnsemble {
 }
 
 impl TimedEnsemble {
-    /// `self`, the screen of `screened` members of each set, with `more`, the other `rest` of
-    /// each set, merged in: the initial-data members, then the every-step ones, each in seed order;
-    /// the unperturbed run's seconds kept once (`more`'s is the same run again). A stop of
+    /// `self` with `more`, members run beside the same unperturbed run, appended; a stop of
     /// `more` is the level's.
-    fn absorb(&mut self, more: TimedEnsemble, screened: usize, rest: usize) {
+    fn absorb(&mut self, more: TimedEnsemble) {
         let level = &mut self.ensemble;
-        interleave(&mut level.errors, more.ensemble.errors, screened, rest);
-        interleave(
-            &mut level.separations,
-            more.ensemble.separations,
-            screened,
-            rest,
-        );
-        self.seconds.extend(more.seconds.into_iter().skip(1));
+        level.errors.extend(more.ensemble.errors);
+        level.separations.extend(more.ensemble.separations);
+        self.seconds.extend(more.seconds);
         if more.ensemble.stopped.is_some() {
             level.stopped = more.ensemble.stopped;
         }
     }
-}
-
-/// `mine` (the screen: `screened` initial-data members, then as many every-step ones) with
-/// `theirs` (`rest` initial-data members, then the every-step ones) merged in: every
-/// initial-data member, then every every-step one.
-fn interleave<T>(mine: &mut Vec<T>, theirs: Vec<T>, screened: usize, rest: usize) {
-    let mut theirs = theirs.into_iter();
-    let step = mine.split_off(screened.min(mine.len()));
-    mine.extend(theirs.by_ref().take(rest));
-    mine.extend(step);
-    mine.extend(theirs);
 }
 
 impl InRange for TimedEnsemble {
@@ -1179,16 +1200,6 @@ mod tests {
             without.rate_interval(norm.key()),
             Some((spread.min, spread.max)),
             "a file written before the intervals were recorded falls back to [min, max]"
-        );
-    }
-
-    #[test]
-    fn the_rest_of_each_set_follows_its_screen() {
-        let mut members = vec!["i1", "i2", "s1", "s2"];
-        interleave(&mut members, vec!["i3", "i4", "i5", "s3", "s4", "s5"], 2, 3);
-        assert_eq!(
-            members,
-            ["i1", "i2", "i3", "i4", "i5", "s1", "s2", "s3", "s4", "s5"]
         );
     }
 }
