@@ -23,7 +23,7 @@ use super::nodal_snapshot::{NodalSnapshot, PointArray};
 use super::snapshot_series::SnapshotSeries;
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::{box_mesh, BoxProblem};
-use crate::harness::files::input;
+use crate::harness::files::input::{self, LARGEST_VALUE};
 use crate::harness::problem::{MassVariant, Scheme};
 
 /// The box form's format name, version 2 of the format (the 1D form reads `/1` and `/2`).
@@ -279,12 +279,6 @@ impl BoxExternalRun {
 fn at_point(snapshot: &NodalSnapshot, k: usize, time: f64) -> String {
     format!("point {k} {:?} at t = {time}", snapshot.points[k])
 }
-
-/// The largest magnitude a value of a box run may have: 10¹⁰⁰. The bodies are of unit size, so
-/// no displacement, velocity, multiplier or energy of a run comes near it, and the norms sum
-/// squares of such values without overflow (a displacement of 1e308 at one node made every error
-/// `inf`).
-pub const LARGEST_VALUE: f64 = 1e100;
 
 /// What a value of a box run must be ([`LARGEST_VALUE`]).
 const IN_RANGE: &str = "finite numbers of magnitude at most 1e100 (a run that went non-finite or \

@@ -53,6 +53,13 @@ pub const REPORT_DATA: Limit = Limit {
     max_bytes: 128 * MIB,
 };
 
+/// The largest magnitude a number of a run read back may have (another code's box run, a cached
+/// reference): 10¹⁰⁰. The bodies are of unit size, so no displacement, velocity, force or energy
+/// of a run comes near it, and the norms sum squares of at most 2⁴⁰ such values without overflow
+/// (a displacement of 1e308 at one node, or a cached projection of 1e300, made every error
+/// `inf`).
+pub const LARGEST_VALUE: f64 = 1e100;
+
 /// The buffer [`read_json`] and [`Lines`] read through.
 const BUFFER_BYTES: usize = 64 * 1024;
 

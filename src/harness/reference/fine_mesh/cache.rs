@@ -18,7 +18,7 @@ use sha2::{Digest, Sha256};
 
 use crate::harness::files::artifacts::write_atomic;
 use crate::harness::files::error::Error;
-use crate::harness::files::input::{self, InputError, JsonError, Limit};
+use crate::harness::files::input::{self, InputError, JsonError, Limit, LARGEST_VALUE};
 use crate::harness::files::manifest::hex;
 use crate::harness::problem::{Conventions, MassVariant, Scheme};
 use crate::harness::run::elastic::BoxProblem;
@@ -459,11 +459,6 @@ pub fn load(dir: &Path, stem: &str, key: &ReferenceKey) -> Result<CacheLookup, E
         projections,
     })))
 }
-
-/// The largest magnitude a cached value may have: 10¹⁰⁰. The bodies are of unit size, so no
-/// displacement, force or energy of a run comes near it, and the norms sum squares of at most
-/// 2⁴⁰ such values without overflow (a cached 1e300 made every error `inf`).
-pub const LARGEST_VALUE: f64 = 1e100;
 
 /// The environment variable that names the reference cache the commands use when they are not
 /// given `--cache` ([`user_cache`]).
