@@ -182,6 +182,15 @@ impl Bar1d {
         self.dof_of_node(i).map_or(0.0, |d| u[d])
     }
 
+    /// Fills `out` with the nodal values of the dof vector `u` at every node, the clamped one
+    /// (0) included: [`Bar1d::nodal_value`] node by node, as one copy (node `i < n_dofs` is dof
+    /// `i`, [`Bar1d::dof_of_node`]).
+    pub fn nodal_values(&self, u: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&u[..self.n_dofs()]);
+        out.resize(self.nx + 1, 0.0);
+    }
+
     /// The P1 function with dofs `u` evaluated at `x ∈ [0, L]`.
     pub fn value_at(&self, u: &[f64], x: f64) -> f64 {
         let e = ((x / self.h()) as usize).min(self.nx - 1);

@@ -104,35 +104,42 @@ impl Tridiagonal {
         Some(band)
     }
 
+    /// `y = A x`, row by row as `d_i x_i + l_{i−1} x_{i−1} + l_i x_{i+1}` (the first and last rows
+    /// without their missing neighbour), the interior rows without a branch so that they vectorise.
     fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         let n = x.len();
-        for i in 0..n {
-            let mut acc = self.d[i] * x[i];
-            if i > 0 {
-                acc += self.l[i - 1] * x[i - 1];
+        assert!(self.d.len() == n && y.len() == n);
+        match n {
+            0 => return,
+            1 => {
+                y[0] = self.d[0] * x[0];
+                return;
             }
-            if i + 1 < n {
-                acc += self.l[i] * x[i + 1];
-            }
-            y[i] = acc;
+            _ => {}
         }
+        let (d, l) = (&self.d, &self.l);
+        y[0] = d[0] * x[0] + l[0] * x[1];
+        let interior = y[1..n - 1]
+            .iter_mut()
+            .zip(&d[1..n - 1])
+            .zip(l.windows(2))
+            .zip(x.windows(3));
+        for (((yi, di), lw), xw) in interior {
+            *yi = di * xw[1] + lw[0] * xw[0] + lw[1] * xw[2];
+        }
+        y[n - 1] = d[n - 1] * x[n - 1] + l[n - 2] * x[n - 2];
     }
 
+    /// `xᵀAy` over [`LANES`] independent partial sums ([`Tridiagonal::forms`] without the
+    /// weighted squares).
     fn bilinear_form(&self, x: &[f64], y: &[f64]) -> f64 {
-        let diag: f64 = self
-            .d
-            .iter()
-            .zip(x)
-            .zip(y)
-            .map(|((d, a), b)| d * a * b)
-            .sum();
-        let off: f64 = self
-            .l
-            .iter()
-            .zip(x.windows(2).zip(y.windows(2)))
-            .map(|(l, (xw, yw))| l * (xw[0] * yw[1] + xw[1] * yw[0]))
-            .sum();
-        diag + off
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `forms_avx2` only requires AVX2, which the processor has (checked just
+            // above).
+            return unsafe { self.forms_avx2::<false>(x, y, x) }.value;
+        }
+        self.forms::<false>(x, y, x).value
     }
 
     /// [`SymmetricMatrix::weighted_form`] of a tridiagonal matrix: one pass, each sum over
@@ -143,19 +150,22 @@ impl Tridiagonal {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: `weighted_form_avx2` only requires AVX2, which the processor has
             // (checked just above).
-            return unsafe { self.weighted_form_avx2(x, y, r) };
+            return unsafe { self.forms_avx2::<true>(x, y, r) };
         }
-        self.weighted_form_portable(x, y, r)
+        self.forms::<true>(x, y, r)
     }
 
+    /// [`Tridiagonal::forms`] compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn weighted_form_avx2(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
-        self.weighted_form_portable(x, y, r)
+    fn forms_avx2<const SQUARES: bool>(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+        self.forms::<SQUARES>(x, y, r)
     }
 
+    /// `xᵀAy` and, when `SQUARES`, `Σ r_i x_i²` and `Σ r_i y_i²` (zero otherwise, `r` unread), in
+    /// one pass over [`LANES`] partial sums per sum.
     #[inline(always)]
-    fn weighted_form_portable(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
+    fn forms<const SQUARES: bool>(&self, x: &[f64], y: &[f64], r: &[f64]) -> WeightedForm {
         let n = self.d.len();
         assert!(x.len() == n && y.len() == n && r.len() == n);
         let Some(m) = n.checked_sub(1) else {
@@ -177,18 +187,29 @@ impl Tridiagonal {
             for k in 0..LANES {
                 let off = l[k] * (x0[k] * y1[k] + x1[k] * y0[k]);
                 lanes[0][k] += d[k] * x0[k] * y0[k] + off;
-                lanes[1][k] += w[k] * x0[k] * x0[k];
-                lanes[2][k] += w[k] * y0[k] * y0[k];
+                if SQUARES {
+                    lanes[1][k] += w[k] * x0[k] * x0[k];
+                    lanes[2][k] += w[k] * y0[k] * y0[k];
+                }
             }
         }
         for i in full..m {
             lanes[0][0] += d[i] * x0[i] * y0[i] + l[i] * (x0[i] * y1[i] + x1[i] * y0[i]);
-            lanes[1][0] += w[i] * x0[i] * x0[i];
-            lanes[2][0] += w[i] * y0[i] * y0[i];
+            if SQUARES {
+                lanes[1][0] += w[i] * x0[i] * x0[i];
+                lanes[2][0] += w[i] * y0[i] * y0[i];
+            }
         }
         let [value, x_squares, y_squares] = lanes.map(|l| l.iter().sum::<f64>());
+        let value = value + self.d[m] * x[m] * y[m];
+        if !SQUARES {
+            return WeightedForm {
+                value,
+                ..WeightedForm::default()
+            };
+        }
         WeightedForm {
-            value: value + self.d[m] * x[m] * y[m],
+            value,
             x_squares: x_squares + r[m] * x[m] * x[m],
             y_squares: y_squares + r[m] * y[m] * y[m],
         }

@@ -6,6 +6,7 @@ mod product;
 mod spd;
 mod step;
 mod tridiagonal;
+mod twisted;
 
 pub use condensed::CondensedPlane;
 pub use pcg::{conjugate_gradient, dot, jacobi, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
@@ -17,3 +18,4 @@ pub use step::{
 pub use tridiagonal::{
     solve_interleaved_rows, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
 };
+pub use twisted::TwistedTridiagonal;

@@ -236,9 +236,7 @@ impl SpaceErrorIntegrator {
         self.kinked.sort_unstable();
         self.kinked.dedup();
         exact.eval_many(t, &self.points, &mut self.exact_values);
-        self.nodal.clear();
-        self.nodal
-            .extend((0..=bar.nx()).map(|i| bar.nodal_value(u, i)));
+        bar.nodal_values(u, &mut self.nodal);
         let (mut l2, mut semi) = (0.0, 0.0);
         let mut first = 0;
         for &kinked in self.kinked.iter().chain([&bar.nx()]) {
