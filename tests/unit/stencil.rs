@@ -407,7 +407,10 @@ fn twisted_tridiagonal_solves_equal_the_ldlt_sweeps() {
             assert!((ax - r[i]).abs() <= 64.0 * f64::EPSILON * (1.0 + scale * diag[i]));
         }
     }
-    for (diag, bad) in [(vec![1.0, -1.0, 1.0, 1.0], 1), (vec![1.0, 1.0, 1.0, 0.0], 3)] {
+    for (diag, bad) in [
+        (vec![1.0, -1.0, 1.0, 1.0], 1),
+        (vec![1.0, 1.0, 1.0, 0.0], 3),
+    ] {
         assert_eq!(
             TwistedTridiagonal::factor(&diag, &[0.1, 0.1, 0.1]).err(),
             Some(bad)
