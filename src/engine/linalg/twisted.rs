@@ -20,7 +20,7 @@ pub struct TwistedTridiagonal {
     /// The twist row `k = ⌊(n − 1)/2⌋`.
     twist: usize,
     /// The elimination factor of row `i` towards the twist: `b_{i−1}/p_{i−1}` for `0 < i ≤ k`,
-    /// `b_i/q_{i+1}` for `k ≤ i < n − 1` (row `k` has both: `towards_top` holds its upper one).
+    /// `b_i/q_{i+1}` for `k < i < n − 1` (row `k`'s factor from below is `twist_from_below`).
     towards_twist: Vec<f64>,
     /// `b_k/q_{k+1}`, the twist row's factor from below (0 when `k = n − 1`).
     twist_from_below: f64,
