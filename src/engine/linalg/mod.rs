@@ -1,5 +1,6 @@
 //! Linear solvers for the symmetric positive definite systems of the implicit schemes.
 
+mod banded;
 mod condensed;
 mod pcg;
 mod product;
@@ -7,6 +8,7 @@ mod spd;
 mod step;
 mod tridiagonal;
 
+pub use banded::BandCholesky;
 pub use condensed::CondensedPlane;
 pub use pcg::{conjugate_gradient, dot, jacobi, CgSpace, Pcg, PcgWork, DEFAULT_TOLERANCE};
 pub use product::ProductPreconditioner;
