@@ -137,14 +137,19 @@ mod tests {
             assert!(BandCholesky::width_of(&a) <= width);
             let b: Vec<f64> = (0..n).map(|_| rng.f64() - 0.5).collect();
             let mut sparse = b.clone();
-            SpdSolver::factor(&a, "band").unwrap().solve_in_place(&mut sparse);
+            SpdSolver::factor(&a, "band")
+                .unwrap()
+                .solve_in_place(&mut sparse);
             let mut band = b.clone();
             BandCholesky::factor(&a, BandCholesky::width_of(&a))
                 .unwrap()
                 .solve_in_place(&mut band);
             let scale = sparse.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             for (p, q) in band.iter().zip(&sparse) {
-                assert!((p - q).abs() <= 1e-13 * scale, "n {n}, width {width}: {p} against {q}");
+                assert!(
+                    (p - q).abs() <= 1e-13 * scale,
+                    "n {n}, width {width}: {p} against {q}"
+                );
             }
         }
     }

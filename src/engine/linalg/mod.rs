@@ -17,5 +17,5 @@ pub use step::{
     LinearSolver, SolveCounts, StepSolver, StepSolverKind, AUTO_CG_FROM_DOFS, LINEAR_SOLVER_NAMES,
 };
 pub use tridiagonal::{
-    solve_interleaved_rows, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
+    solve_interleaved_rows, solve_lines, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
 };
