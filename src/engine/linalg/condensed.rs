@@ -15,11 +15,49 @@
 //! y_p = A⁻¹ r_p,   z_i = Ŝ⁻¹ (r_i − Bᵀ y_p),   z_p = A⁻¹ (r_p − B z_i)
 //! ```
 //! `A` is the plane's block of `K` (the stiffness alone: the plane has no mass), a 2D-sized
-//! system factorised once by sparse Cholesky; `B` couples the plane to the next layer only.
+//! system factorised once, in band storage when its band is small ([`BandCholesky`], two
+//! solves per application of `P⁻¹`), by sparse Cholesky otherwise; `B` couples the plane to the
+//! next layer only.
 
-use super::{ProductPreconditioner, SpdSolver};
+use super::{BandCholesky, ProductPreconditioner, SpdSolver};
 use crate::engine::fem::separable::SeparablePart;
 use crate::engine::fem::SymmetricMatrix;
+
+/// The most entries a band factor of the plane may store (2 MiB): beyond, the sparse
+/// Cholesky's fill (about `n log n` for a 2D grid against the band's `n^{3/2}`) is the smaller.
+const BAND_ENTRIES: usize = 1 << 18;
+
+/// The factor of the plane's block `A`.
+#[derive(Debug)]
+enum PlaneFactor {
+    /// In band storage.
+    Band(BandCholesky),
+    /// Sparse Cholesky.
+    Sparse(SpdSolver),
+}
+
+impl PlaneFactor {
+    /// Factorises `a`, in band storage when that stores at most [`BAND_ENTRIES`]; `None` when
+    /// `a` is not positive definite.
+    fn of(a: &SymmetricMatrix) -> Option<Self> {
+        let width = BandCholesky::width_of(a);
+        if a.dim() * (width + 1) <= BAND_ENTRIES {
+            BandCholesky::factor(a, width).map(PlaneFactor::Band)
+        } else {
+            SpdSolver::factor(a, "Γ_Sig plane")
+                .ok()
+                .map(PlaneFactor::Sparse)
+        }
+    }
+
+    /// `b ← A⁻¹ b`.
+    fn solve_in_place(&self, b: &mut [f64]) {
+        match self {
+            PlaneFactor::Band(f) => f.solve_in_place(b),
+            PlaneFactor::Sparse(f) => f.solve_in_place(b),
+        }
+    }
+}
 
 /// `P⁻¹` with the massless plane condensed exactly (module documentation).
 #[derive(Debug)]
@@ -27,7 +65,7 @@ pub struct CondensedPlane {
     /// The plane's dofs, `0..plane_dofs`.
     plane_dofs: usize,
     /// `A`, factorised.
-    plane: SpdSolver,
+    plane: PlaneFactor,
     /// `B` by rows: row `i`'s entries at `coupling_start[i]..coupling_start[i + 1]` of
     /// `coupling_columns` (interior indices, counted from the first interior dof) and
     /// `coupling_values`.
@@ -64,7 +102,7 @@ impl CondensedPlane {
             return None;
         }
         let indices: Vec<usize> = (0..plane_dofs).collect();
-        let plane = SpdSolver::factor(&a.principal_submatrix(&indices), "Γ_Sig plane").ok()?;
+        let plane = PlaneFactor::of(&a.principal_submatrix(&indices))?;
         let mut coupling_start = Vec::with_capacity(plane_dofs + 1);
         let mut coupling_columns = Vec::new();
         let mut coupling_values = Vec::new();

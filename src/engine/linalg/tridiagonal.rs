@@ -67,6 +67,62 @@ pub fn solve_interleaved_rows(factors: &[TridiagonalLdlt], rows: &mut [f64], wid
     }
 }
 
+/// The systems [`solve_lines`] sweeps together.
+const LINES: usize = 4;
+
+/// Solves `A_c X = B` in place for consecutive systems of `n` rows of `D = factors.len()`
+/// interleaved entries each (`n` the factors' size, `lines.len()` a multiple of `n·D`): the
+/// first axis of a node-major grid of `D`-component vectors, one system per line of nodes.
+/// [`LINES`] systems are swept together, so that their chains of dependent operations overlap
+/// instead of waiting on each other; every entry gets the operations of
+/// [`solve_interleaved_rows`] on its system alone, so the result is the same bit for bit.
+pub fn solve_lines(factors: &[TridiagonalLdlt], lines: &mut [f64]) {
+    match factors.len() {
+        1 => solve_lines_of::<1>(factors, lines),
+        2 => solve_lines_of::<2>(factors, lines),
+        3 => solve_lines_of::<3>(factors, lines),
+        _ => panic!("1 to 3 interleaved systems"),
+    }
+}
+
+/// [`solve_lines`] for `D` systems per row.
+fn solve_lines_of<const D: usize>(factors: &[TridiagonalLdlt], lines: &mut [f64]) {
+    let n = factors[0].inv_diag.len();
+    let len = n * D;
+    if len == 0 {
+        return;
+    }
+    let mut groups = lines.chunks_exact_mut(LINES * len);
+    for group in &mut groups {
+        for i in 1..n {
+            for (c, f) in factors.iter().enumerate().take(D) {
+                let l = f.lower[i];
+                for k in 0..LINES {
+                    let e = k * len + i * D + c;
+                    group[e] -= l * group[e - D];
+                }
+            }
+        }
+        for (c, f) in factors.iter().enumerate().take(D) {
+            for k in 0..LINES {
+                group[k * len + (n - 1) * D + c] *= f.inv_diag[n - 1];
+            }
+        }
+        for i in (0..n - 1).rev() {
+            for (c, f) in factors.iter().enumerate().take(D) {
+                let (inv, l) = (f.inv_diag[i], f.lower[i + 1]);
+                for k in 0..LINES {
+                    let e = k * len + i * D + c;
+                    group[e] = group[e] * inv - l * group[e + D];
+                }
+            }
+        }
+    }
+    for line in groups.into_remainder().chunks_exact_mut(len) {
+        solve_line::<D>(factors, line);
+    }
+}
+
 /// The rows of an interleaved system ([`solve_interleaved_rows`]) that one process holds, and
 /// the columns a sweep of them works on: a distributed system is swept block by block, each
 /// block's first (downwards) or last (upwards) row updated with the neighbouring block's row.
@@ -278,6 +334,39 @@ fn solve_line<const D: usize>(factors: &[TridiagonalLdlt], rows: &mut [f64]) {
         for (c, f) in factors.iter().enumerate().take(D) {
             rows[i * D + c] =
                 rows[i * D + c] * f.inv_diag[i] - f.lower[i + 1] * rows[(i + 1) * D + c];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{solve_interleaved_rows, solve_lines, TridiagonalLdlt};
+
+    /// Lines swept together give the bits of each line solved alone, for one to three systems
+    /// per row and numbers of lines with and without a remainder.
+    #[test]
+    fn lines_solved_together_equal_lines_solved_alone() {
+        let n = 9;
+        let mut rng = fastrand::Rng::with_seed(54);
+        for d in 1..=3 {
+            let factors: Vec<TridiagonalLdlt> = (0..d)
+                .map(|c| {
+                    let diag = vec![4.0 + c as f64; n];
+                    let off = vec![-1.0 - 0.5 * c as f64; n - 1];
+                    TridiagonalLdlt::factor(&diag, &off).unwrap()
+                })
+                .collect();
+            for count in [1, 4, 7, 9] {
+                let b: Vec<f64> = (0..count * n * d).map(|_| rng.f64() - 0.5).collect();
+                let mut together = b.clone();
+                solve_lines(&factors, &mut together);
+                let mut alone = b;
+                alone
+                    .chunks_exact_mut(n * d)
+                    .for_each(|line| solve_interleaved_rows(&factors, line, d));
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&together), bits(&alone), "{d} systems, {count} lines");
+            }
         }
     }
 }
