@@ -377,7 +377,9 @@ impl Stencil {
     /// summed column by column into `2·D` independent accumulators (so that the additions do
     /// not wait on each other): `acc[b mod 2][c] += B(o_b)[:, c] · x_{node+o_b, c}` over the
     /// blocks `b` and the columns `c`, each a [`LANES`]-wide multiply and add (entries `D..`
-    /// are zero), then `Σ_c (acc[0][c] + acc[1][c])`.
+    /// are zero), then `Σ_c (acc[0][c] + acc[1][c])`. Two consecutive nodes of one class are
+    /// taken together, sharing the loads of their blocks' columns (the same operations per node,
+    /// so the same result).
     #[inline(always)]
     fn rows<const D: usize>(
         &self,
@@ -386,31 +388,52 @@ impl Stencil {
         nodes: std::ops::Range<usize>,
         mut sink: impl FnMut(usize, [f64; LANES]),
     ) {
-        for node in nodes {
-            let class = &self.classes[usize::from(self.class_of[node])];
-            let mut acc = [[[0.0; LANES]; D]; 2];
-            let x_of = |delta: isize| {
-                let first = (node + halo).wrapping_add_signed(delta) * D;
+        let end = nodes.end;
+        let mut node = nodes.start;
+        while node < end {
+            let class_index = self.class_of[node];
+            let class = &self.classes[usize::from(class_index)];
+            let x_of = |n: usize, delta: isize| {
+                let first = (n + halo).wrapping_add_signed(delta) * D;
                 &x[first..first + D]
             };
+            if node + 1 < end && self.class_of[node + 1] == class_index {
+                let mut acc = [[[0.0; LANES]; D]; 2];
+                let mut bcc = [[[0.0; LANES]; D]; 2];
+                let mut blocks = class
+                    .offsets
+                    .iter()
+                    .zip(class.columns.chunks_exact(D * LANES));
+                while let Some((&even, columns)) = blocks.next() {
+                    add_block(&mut acc[0], x_of(node, even), columns);
+                    add_block(&mut bcc[0], x_of(node + 1, even), columns);
+                    match blocks.next() {
+                        Some((&odd, columns)) => {
+                            add_block(&mut acc[1], x_of(node, odd), columns);
+                            add_block(&mut bcc[1], x_of(node + 1, odd), columns);
+                        }
+                        None => break,
+                    }
+                }
+                sink(node, row_sum(&acc));
+                sink(node + 1, row_sum(&bcc));
+                node += 2;
+                continue;
+            }
+            let mut acc = [[[0.0; LANES]; D]; 2];
             let mut blocks = class
                 .offsets
                 .iter()
                 .zip(class.columns.chunks_exact(D * LANES));
             while let Some((&even, columns)) = blocks.next() {
-                add_block(&mut acc[0], x_of(even), columns);
+                add_block(&mut acc[0], x_of(node, even), columns);
                 match blocks.next() {
-                    Some((&odd, columns)) => add_block(&mut acc[1], x_of(odd), columns),
+                    Some((&odd, columns)) => add_block(&mut acc[1], x_of(node, odd), columns),
                     None => break,
                 }
             }
-            let mut row = [0.0; LANES];
-            for (even, odd) in acc[0].iter().zip(&acc[1]) {
-                for ((r, e), o) in row.iter_mut().zip(even).zip(odd) {
-                    *r += e + o;
-                }
-            }
-            sink(node, row);
+            sink(node, row_sum(&acc));
+            node += 1;
         }
     }
 
@@ -558,6 +581,19 @@ fn row_dot<const D: usize>(row: &[f64; LANES], x: &[f64], node: usize) -> f64 {
         .zip(&x[node * D..])
         .map(|(a, b)| a * b)
         .sum::<f64>()
+}
+
+/// `Σ_c (acc[0][c] + acc[1][c])`: a row block's result from its two sets of column
+/// accumulators ([`Stencil::rows`]).
+#[inline(always)]
+fn row_sum<const D: usize>(acc: &[[[f64; LANES]; D]; 2]) -> [f64; LANES] {
+    let mut row = [0.0; LANES];
+    for (even, odd) in acc[0].iter().zip(&acc[1]) {
+        for ((r, e), o) in row.iter_mut().zip(even).zip(odd) {
+            *r += e + o;
+        }
+    }
+    row
 }
 
 /// `sum[c] += B[:, c] · x_c` for the columns `c` of one block (`columns`, [`LANES`] apart).
