@@ -7,7 +7,6 @@ mod product;
 mod spd;
 mod step;
 mod tridiagonal;
-mod twisted;
 
 pub use banded::BandCholesky;
 pub use condensed::CondensedPlane;
@@ -20,4 +19,3 @@ pub use step::{
 pub use tridiagonal::{
     solve_interleaved_rows, solve_lines, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
 };
-pub use twisted::TwistedTridiagonal;
