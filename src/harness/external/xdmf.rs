@@ -13,7 +13,9 @@
 //!
 //! Both are read the same way: every uniform grid with a `Time` gives its nodal attributes
 //! (`Center="Node"`) to the snapshot of that time; a grid without geometry of its own takes the
-//! document's first (what the inclusions point to). The writers' empty document type
+//! document's first (what the inclusions point to), and so does its topology: its
+//! `TopologyType` is given to every snapshot ([`Topology::Declared`]; the connectivity is not
+//! read). The writers' empty document type
 //! declaration (`<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>`) is allowed; `roxmltree` bounds what a
 //! declaration's entities expand to. Every snapshot must have the same geometry
 //! (a mesh that moves or changes is refused). Heavy data are read by the pure-Rust HDF5 decoder
@@ -27,6 +29,7 @@ use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 
 use super::error::{unquoted, ExternalError};
 use super::format::{MAX_VALUES, RUN_FILE};
+use super::mesh::Topology;
 use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use super::xml_depth::check_depth;
 use crate::harness::files::input::read_bytes;
@@ -88,6 +91,8 @@ struct NodalAttribute {
 pub struct XdmfSeries {
     path: PathBuf,
     geometry: DataItem,
+    /// The `TopologyType` of the document's first topology, if it has one.
+    topology: Option<String>,
     /// Per time (increasing): the time and its attributes.
     times: Vec<(f64, Vec<NodalAttribute>)>,
 }
@@ -123,6 +128,7 @@ impl XdmfSeries {
             path,
             directory,
             geometry: None,
+            topology: None,
             by_time: BTreeMap::new(),
         };
         for grid in domain.children().filter(|n| n.has_tag_name("Grid")) {
@@ -138,6 +144,7 @@ impl XdmfSeries {
         Ok(Self {
             path: path.to_path_buf(),
             geometry,
+            topology: walk.topology,
             times,
         })
     }
@@ -189,7 +196,14 @@ impl XdmfSeries {
                 epsilon: epsilon_of(single),
             });
         }
-        NodalSnapshot::new(&self.path, coordinates, epsilon_of(single), arrays)
+        let topology = self.topology.clone().map(Topology::Declared);
+        NodalSnapshot::new(
+            &self.path,
+            coordinates,
+            epsilon_of(single),
+            arrays,
+            topology,
+        )
     }
 
     /// The values of `item` (`field`, for errors) as `f64`, and whether they were single
@@ -250,6 +264,9 @@ struct Walk<'a> {
     directory: &'a Path,
     /// The document's first geometry: what a grid without one of its own includes.
     geometry: Option<DataItem>,
+    /// The `TopologyType` of the document's first topology (`Type`, XDMF 2's name, when it has
+    /// no `TopologyType`).
+    topology: Option<String>,
     /// Per time (by its bits, so that equal times meet): the time and the nodal attributes its
     /// grids hold.
     by_time: BTreeMap<TimeKey, (f64, Vec<NodalAttribute>)>,
@@ -314,6 +331,15 @@ impl Walk<'_> {
         };
         if self.geometry.is_none() {
             self.geometry.clone_from(&own);
+        }
+        if self.topology.is_none() {
+            self.topology = grid
+                .children()
+                .find(|n| n.has_tag_name("Topology"))
+                .map(|t| {
+                    let kind = t.attribute("TopologyType").or(t.attribute("Type"));
+                    kind.unwrap_or("").to_string()
+                });
         }
         let Some(time) = grid.children().find(|n| n.has_tag_name("Time")) else {
             return Ok(());
