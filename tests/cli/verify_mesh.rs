@@ -6,14 +6,26 @@
 //! type and the allowed ones, a quadrilateral listed out of VTK's order by its points, and an
 //! XDMF file whose `TopologyType` is `Triangle` by that type. The harness's own cells and those
 //! DOLFINx and GetFEM write verify as before (`verify_box`, `real_codes`).
+//!
+//! The distance between a field on its own mesh and a reference on the scene's structured mesh
+//! ([`pair_errors`], not yet called by `verify`: the reference's fine fields are not kept, issue
+//! 57): on the scene's coarser structured mesh it is the structured path's `eᵀMe`, `eᵀSe` to
+//! round-off; on the bars' meshes split into triangles and tetrahedra, with a multilinear field,
+//! the exact errors within the quadrature's stated bound; a mesh that leaves a hole or spans
+//! another box is refused naming what is off.
 
 use std::path::{Path, PathBuf};
 
 use crate::common::expect_error;
 use crate::verify_box::{run_every_step, s, scene_at_levels, scratch, write_collection};
-use signorini::harness::external::mesh::{Cells, Topology};
+use signorini::engine::fem::{BoxMesh, Elasticity, Prolongation};
+use signorini::harness::external::mesh::{
+    check_domain, gauss_legendre, pair_errors, Cell, CellKind, Cells, ElementMesh, Quadrature,
+    Topology,
+};
 use signorini::harness::external::nodal_snapshot::NodalSnapshot;
 use signorini::harness::external::pvd::{read_collection, read_snapshot};
+use signorini::harness::run::nested_comparison::norm_matrices::NormMatrices;
 
 /// `snapshot` written to `path` as an ASCII `.vtu` with the cells `cells`.
 fn write_vtu(path: &Path, snapshot: &NodalSnapshot, cells: &Cells) {
@@ -64,8 +76,11 @@ fn recelled(pvd: &Path, dir: &Path, recell: &dyn Fn(&Cells) -> Cells) -> PathBuf
     write_collection(&dir.join("fields.pvd"), &datasets)
 }
 
+/// The cells (VTK type and points) one cell's points are cut into.
+type Split<'a> = &'a dyn Fn(&[usize]) -> Vec<(u8, Vec<usize>)>;
+
 /// Each cell of `cells` replaced by the cells `split` makes of its points.
-fn each_cell(cells: &Cells, split: &dyn Fn(&[usize]) -> Vec<(u8, Vec<usize>)>) -> Cells {
+fn each_cell(cells: &Cells, split: Split<'_>) -> Cells {
     let mut out = Cells::default();
     for (_, points) in cells.iter() {
         for (vtk, nodes) in split(points) {
@@ -116,7 +131,7 @@ fn a_simplex_mesh_on_the_scenes_nodes_is_refused_by_name_not_read_as_q1() {
         let cache = dir.join("references");
         let three = scene_file.contains("3d");
         let pvd = run_every_step(&scene, nx, &dir.join(format!("run-{three}")));
-        let splits: Vec<(&dyn Fn(&[usize]) -> Vec<(u8, Vec<usize>)>, &str, &str)> = if three {
+        let splits: Vec<(Split<'_>, &str, &str)> = if three {
             vec![(
                 &six_tetrahedra,
                 "a tetrahedron (VTK cell type 10)",
@@ -265,5 +280,286 @@ fn an_xdmf_mesh_of_triangles_is_refused_by_its_topology_type() {
         let xdmf = dir.join(format!("{stem}.xdmf"));
         std::fs::write(&xdmf, edited).unwrap();
         expect_error(&verify_args(&scene, &xdmf, &cache), 2, &needles);
+    }
+}
+
+// The pair tests index components and axes as the formulas write them.
+#[allow(clippy::needless_range_loop)]
+mod pair {
+    use super::*;
+
+    /// The fields of the pair tests: `d` components per node of `points`, from `f`.
+    fn nodal(points: &[[f64; 3]], d: usize, f: &dyn Fn([f64; 3]) -> [f64; 3]) -> Vec<f64> {
+        points.iter().flat_map(|&p| f(p)[..d].to_vec()).collect()
+    }
+
+    /// A smooth field no finite element space reproduces, 0 on the clamped face `x_d = 1` (as the
+    /// harness's unknowns are): its components differ.
+    fn smooth(d: usize, shift: f64) -> impl Fn([f64; 3]) -> [f64; 3] {
+        move |x: [f64; 3]| {
+            let clamp = 1.0 - x[d - 1];
+            let mut u = [0.0; 3];
+            for (c, u) in u.iter_mut().enumerate().take(d) {
+                *u = clamp * (3.0 * x[0] + 2.0 * x[1] + x[2] + c as f64 + shift).sin();
+            }
+            u
+        }
+    }
+
+    /// The bar's box at the level `n` along the axis (`n / 5` rounded up across, as the scenes).
+    fn bar(d: usize, n: usize) -> BoxMesh {
+        let across = n.div_ceil(10).max(1);
+        if d == 2 {
+            BoxMesh::new(&[0.1, 1.0], &[across, n]).unwrap()
+        } else {
+            BoxMesh::new(&[0.1, 0.1, 1.0], &[across, across, n]).unwrap()
+        }
+    }
+
+    /// The nodal values `nodal` of `mesh` on its unknowns (the clamped nodes' left out).
+    fn unknowns(mesh: &BoxMesh, nodal: &[f64]) -> Vec<f64> {
+        let d = mesh.dim();
+        let mut u = vec![0.0; mesh.n_dofs()];
+        for node in 0..mesh.n_nodes() {
+            for c in 0..d {
+                if let Some(dof) = mesh.dof_of(node, c) {
+                    u[dof] = nodal[node * d + c];
+                }
+            }
+        }
+        u
+    }
+
+    #[test]
+    fn the_pair_quadrature_on_the_scenes_nested_mesh_is_the_structured_path_to_round_off() {
+        for d in [2, 3] {
+            let (coarse, fine) = (bar(d, 5), bar(d, 20));
+            let u_h = nodal(&coarse.nodes().collect::<Vec<_>>(), d, &smooth(d, 0.0));
+            let u_ref = nodal(&fine.nodes().collect::<Vec<_>>(), d, &smooth(d, 0.3));
+            // Today's path: the coarse field prolongated exactly, e = P U − u in the fine M and S.
+            let prolongation = Prolongation::new(&coarse, &fine).unwrap();
+            let mut e = vec![0.0; fine.n_dofs()];
+            prolongation.apply_into(
+                &unknowns(&coarse, &u_h)[prolongation.coarse_range()],
+                &mut e,
+            );
+            for (e, u) in e.iter_mut().zip(unknowns(&fine, &u_ref)) {
+                *e -= u;
+            }
+            let matrices = NormMatrices::of(&fine, &Elasticity::NOTE);
+            let (h2, v2) = matrices.squared(&e, &mut vec![0.0; e.len()]);
+            let external = ElementMesh::of_box(&coarse);
+            for quadrature in [
+                Quadrature {
+                    gauss: 2,
+                    subcells: 1,
+                },
+                Quadrature::DEFAULT,
+                Quadrature {
+                    gauss: 2,
+                    subcells: 3,
+                },
+            ] {
+                let pair = pair_errors(
+                    &external,
+                    &u_h,
+                    &fine,
+                    &u_ref,
+                    &Elasticity::NOTE,
+                    quadrature,
+                )
+                .unwrap();
+                let (dh, dv) = ((pair.h() - h2.sqrt()).abs(), (pair.v() - v2.sqrt()).abs());
+                eprintln!(
+                    "{d}D nested, {quadrature:?}: H {:.15e} against {:.15e} ({dh:.1e}), V {:.15e} \
+                 against {:.15e} ({dv:.1e})",
+                    pair.h(),
+                    h2.sqrt(),
+                    pair.v(),
+                    v2.sqrt()
+                );
+                assert!(dh <= 1e-12 * h2.sqrt(), "{d}D {quadrature:?}: H {dh:e}");
+                assert!(dv <= 1e-12 * v2.sqrt(), "{d}D {quadrature:?}: V {dv:e}");
+            }
+        }
+    }
+
+    /// The Gauss–Legendre rule of `n` points on `[0, 1]`.
+    fn unit_gauss(n: usize) -> Vec<(f64, f64)> {
+        let (x, w) = gauss_legendre(n);
+        x.iter()
+            .zip(&w)
+            .map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w))
+            .collect()
+    }
+
+    /// `∫ |e|²` and `∫ |∇e|²` of `e = I f − f` over the simplex mesh `mesh` (`I f` its P1
+    /// interpolant, `nodal`), exactly for a polynomial `f` (its gradient `grad`) of degree at most 3:
+    /// on each simplex by the collapsed (Duffy) tensor rule of 5 Gauss points per axis, exact for
+    /// the integrands' degree (at most 6, 8 in the collapsed coordinate).
+    fn simplex_errors(
+        mesh: &ElementMesh,
+        nodal: &[f64],
+        f: &dyn Fn([f64; 3]) -> [f64; 3],
+        grad: &dyn Fn([f64; 3]) -> [[f64; 3]; 3],
+    ) -> (f64, f64) {
+        let d = mesh.dim();
+        let rule = unit_gauss(5);
+        let (mut l2, mut h1) = (0.0, 0.0);
+        for (k, cell) in mesh.cells().iter().enumerate() {
+            let volume = mesh.measure(k).abs();
+            let factorial = if d == 2 { 2.0 } else { 6.0 };
+            let p = |a: usize| mesh.points()[cell.vertices[a]];
+            let third = if d == 2 {
+                vec![(0.0, 1.0)]
+            } else {
+                rule.clone()
+            };
+            for &(s, ws) in &rule {
+                for &(t, wt) in &rule {
+                    for &(r, wr) in &third {
+                        // λ₁ = s, λ₂ = t(1 − s), λ₃ = r(1 − s)(1 − t): the unit simplex.
+                        let lambda = [s, t * (1.0 - s), r * (1.0 - s) * (1.0 - t)];
+                        let jacobian = if d == 2 {
+                            1.0 - s
+                        } else {
+                            (1.0 - s).powi(2) * (1.0 - t)
+                        };
+                        let w = ws * wt * wr * jacobian * volume * factorial;
+                        let mut x = p(0);
+                        for a in 1..=d {
+                            for c in 0..d {
+                                x[c] += lambda[a - 1] * (p(a)[c] - p(0)[c]);
+                            }
+                        }
+                        let at = mesh.evaluate_in(k, lambda, nodal);
+                        let (exact, exact_grad) = (f(x), grad(x));
+                        for c in 0..d {
+                            l2 += w * (at.value[c] - exact[c]).powi(2);
+                            for j in 0..d {
+                                h1 += w * (at.gradient[c][j] - exact_grad[c][j]).powi(2);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (l2, h1)
+    }
+
+    /// The level-`n` bar's mesh with each element split into simplices: two triangles along the
+    /// diagonal 0–2 in 2D, six tetrahedra around the diagonal 0–6 in 3D (Kuhn's, conforming).
+    fn split_bar(d: usize, n: usize) -> ElementMesh {
+        let mesh = bar(d, n);
+        let mut cells = Vec::new();
+        for nodes in mesh.elements() {
+            let split = if d == 2 {
+                two_triangles(&nodes, 5)
+            } else {
+                six_tetrahedra(&nodes)
+            };
+            for (vtk, vertices) in split {
+                let kind = CellKind::of_vtk(vtk, vertices.len()).unwrap();
+                cells.push(Cell { kind, vertices });
+            }
+        }
+        ElementMesh::new(d, mesh.nodes().collect(), cells).unwrap()
+    }
+
+    #[test]
+    fn a_simplex_mesh_of_the_bars_has_its_closed_form_errors_within_the_quadrature_bound() {
+        // f multilinear: the fine Q1 reference reproduces it exactly, P1 does not; so the pair's
+        // error is ‖I_P1 f − f‖, computed exactly on the simplices.
+        for d in [2, 3] {
+            let f = move |x: [f64; 3]| {
+                let m: f64 = x[..d].iter().product();
+                [
+                    m,
+                    2.0 * m + x[0],
+                    if d == 3 { m - x[1] * x[0] } else { 0.0 },
+                ]
+            };
+            let grad = move |x: [f64; 3]| {
+                let partial =
+                    |j: usize| -> f64 { (0..d).filter(|&i| i != j).map(|i| x[i]).product() };
+                let mut g = [[0.0; 3]; 3];
+                for j in 0..d {
+                    g[0][j] = partial(j);
+                    g[1][j] = 2.0 * partial(j) + if j == 0 { 1.0 } else { 0.0 };
+                    if d == 3 {
+                        g[2][j] = partial(j) - [x[1], x[0], 0.0][j];
+                    }
+                }
+                g
+            };
+            let external = split_bar(d, 5);
+            let u_h = nodal(external.points(), d, &f);
+            let fine = bar(d, 20);
+            let u_ref = nodal(&fine.nodes().collect::<Vec<_>>(), d, &f);
+            let (l2, h1) = simplex_errors(&external, &u_h, &f, &grad);
+            let exact = [l2.sqrt(), h1.sqrt()];
+            let rules: Vec<[f64; 2]> = [1, 2, 4, 8]
+                .iter()
+                .map(|&subcells| {
+                    let quadrature = Quadrature { gauss: 3, subcells };
+                    let pair = pair_errors(
+                        &external,
+                        &u_h,
+                        &fine,
+                        &u_ref,
+                        &Elasticity::NOTE,
+                        quadrature,
+                    )
+                    .unwrap();
+                    let got = [pair.l2_squared.sqrt(), pair.h1_seminorm_squared.sqrt()];
+                    eprintln!(
+                    "{d}D split, {quadrature:?}: L2 {:.6e} (exact {:.6e}, relative {:.1e}), H1 \
+                     seminorm {:.6e} (exact {:.6e}, relative {:.1e})",
+                    got[0],
+                    exact[0],
+                    (got[0] - exact[0]).abs() / exact[0],
+                    got[1],
+                    exact[1],
+                    (got[1] - exact[1]).abs() / exact[1],
+                );
+                    got
+                })
+                .collect();
+            // The stated bound: each rule is within twice its distance to the rule on halved
+            // subcells of the exact value (the error falls by 4 per halving: Richardson's 4/3).
+            for w in rules.windows(2) {
+                for n in 0..2 {
+                    let (off, step) = ((w[0][n] - exact[n]).abs(), (w[0][n] - w[1][n]).abs());
+                    assert!(
+                        off <= 2.0 * step,
+                        "{d}D norm {n}: {off:e} off, {step:e} per halving"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_mesh_that_does_not_cover_the_box_is_refused_naming_what_is_off() {
+        for d in [2, 3] {
+            let lengths: Vec<f64> = bar(d, 5).lengths().to_vec();
+            let whole = split_bar(d, 5);
+            check_domain(&whole, &lengths, 0.0).unwrap();
+            check_domain(&ElementMesh::of_box(&bar(d, 5)), &lengths, 0.0).unwrap();
+            // A hole: the first cell left out (the bounding box is still the box's).
+            let mut cells = whole.cells().to_vec();
+            cells.remove(0);
+            let holed = ElementMesh::new(d, whole.points().to_vec(), cells).unwrap();
+            let why = check_domain(&holed, &lengths, 0.0).unwrap_err();
+            assert!(why.contains("leave a hole or overlap"), "{why}");
+            // A mesh of a longer bar.
+            let mut points = whole.points().to_vec();
+            for p in &mut points {
+                p[d - 1] *= 1.01;
+            }
+            let longer = ElementMesh::new(d, points, whole.cells().to_vec()).unwrap();
+            let why = check_domain(&longer, &lengths, 0.0).unwrap_err();
+            assert!(why.contains(&format!("along x{d}")), "{why}");
+        }
     }
 }

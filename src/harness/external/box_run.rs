@@ -100,6 +100,7 @@ impl BoxSample {
 
 /// Where the samples come from.
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // one per run file, never moved once read
 enum Source {
     /// One snapshot per step (a `.pvd` or an `.xdmf`), read when its step is asked for.
     Snapshots {

@@ -92,6 +92,23 @@ impl CellKind {
         }
     }
 
+    /// Its facets (edges in 2D, faces in 3D), each as its vertices in a cyclic order.
+    pub fn facets(self) -> &'static [&'static [usize]] {
+        match self {
+            Self::Triangle => &[&[0, 1], &[1, 2], &[2, 0]],
+            Self::Quadrilateral => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0]],
+            Self::Tetrahedron => &[&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[0, 2, 3]],
+            Self::Hexahedron => &[
+                &[0, 1, 2, 3],
+                &[4, 5, 6, 7],
+                &[0, 1, 5, 4],
+                &[1, 2, 6, 5],
+                &[2, 3, 7, 6],
+                &[3, 0, 4, 7],
+            ],
+        }
+    }
+
     /// Its name in the plural.
     pub fn plural(self) -> &'static str {
         match self {
