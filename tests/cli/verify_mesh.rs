@@ -466,54 +466,56 @@ mod pair {
         ElementMesh::new(d, mesh.nodes().collect(), cells).unwrap()
     }
 
-    #[test]
-    fn a_simplex_mesh_of_the_bars_has_its_closed_form_errors_within_the_quadrature_bound() {
-        // f multilinear: the fine Q1 reference reproduces it exactly, P1 does not; so the pair's
-        // error is ‖I_P1 f − f‖, computed exactly on the simplices.
-        for d in [2, 3] {
-            let f = move |x: [f64; 3]| {
-                let m: f64 = x[..d].iter().product();
-                [
-                    m,
-                    2.0 * m + x[0],
-                    if d == 3 { m - x[1] * x[0] } else { 0.0 },
-                ]
-            };
-            let grad = move |x: [f64; 3]| {
-                let partial =
-                    |j: usize| -> f64 { (0..d).filter(|&i| i != j).map(|i| x[i]).product() };
-                let mut g = [[0.0; 3]; 3];
-                for j in 0..d {
-                    g[0][j] = partial(j);
-                    g[1][j] = 2.0 * partial(j) + if j == 0 { 1.0 } else { 0.0 };
-                    if d == 3 {
-                        g[2][j] = partial(j) - [x[1], x[0], 0.0][j];
-                    }
+    /// The multilinear `f` of the simplex tests and its gradient (`scripts/mesh_fixtures.py`'s).
+    fn multilinear(d: usize) -> (Field, Gradient) {
+        let f = move |x: [f64; 3]| {
+            let m: f64 = x[..d].iter().product();
+            [
+                m,
+                2.0 * m + x[0],
+                if d == 3 { m - x[1] * x[0] } else { 0.0 },
+            ]
+        };
+        let grad = move |x: [f64; 3]| {
+            let partial = |j: usize| -> f64 { (0..d).filter(|&i| i != j).map(|i| x[i]).product() };
+            let mut g = [[0.0; 3]; 3];
+            for j in 0..d {
+                g[0][j] = partial(j);
+                g[1][j] = 2.0 * partial(j) + if j == 0 { 1.0 } else { 0.0 };
+                if d == 3 {
+                    g[2][j] = partial(j) - [x[1], x[0], 0.0][j];
                 }
-                g
-            };
-            let external = split_bar(d, 5);
-            let u_h = nodal(external.points(), d, &f);
-            let fine = bar(d, 20);
-            let u_ref = nodal(&fine.nodes().collect::<Vec<_>>(), d, &f);
-            let (l2, h1) = simplex_errors(&external, &u_h, &f, &grad);
-            let exact = [l2.sqrt(), h1.sqrt()];
-            let rules: Vec<[f64; 2]> = [1, 2, 4, 8]
-                .iter()
-                .map(|&subcells| {
-                    let quadrature = Quadrature { gauss: 3, subcells };
-                    let pair = pair_errors(
-                        &external,
-                        &u_h,
-                        &fine,
-                        &u_ref,
-                        &Elasticity::NOTE,
-                        quadrature,
-                    )
+            }
+            g
+        };
+        (Box::new(f), Box::new(grad))
+    }
+
+    /// A field and its gradient in closed form.
+    type Field = Box<dyn Fn([f64; 3]) -> [f64; 3]>;
+    type Gradient = Box<dyn Fn([f64; 3]) -> [[f64; 3]; 3]>;
+
+    /// The P1 field `u_h` on the simplex mesh `external` (`what`, for the messages), the
+    /// interpolant of [`multilinear`]: its pair errors against the level-20 bar's Q1 reference
+    /// of `f` (which is `f`) are within the stated bound of the exact ones, with 3 Gauss points
+    /// per axis on 1, 2, 4 and 8 subcells; the relative error of the first rule, largest of L²
+    /// and the H¹ seminorm.
+    fn within_bound(external: &ElementMesh, u_h: &[f64], what: &str) -> f64 {
+        let d = external.dim();
+        let (f, grad) = multilinear(d);
+        let fine = bar(d, 20);
+        let u_ref = nodal(&fine.nodes().collect::<Vec<_>>(), d, &f);
+        let (l2, h1) = simplex_errors(external, u_h, &f, &grad);
+        let exact = [l2.sqrt(), h1.sqrt()];
+        let rules: Vec<[f64; 2]> = [1, 2, 4, 8]
+            .iter()
+            .map(|&subcells| {
+                let quadrature = Quadrature { gauss: 3, subcells };
+                let pair = pair_errors(external, u_h, &fine, &u_ref, &Elasticity::NOTE, quadrature)
                     .unwrap();
-                    let got = [pair.l2_squared.sqrt(), pair.h1_seminorm_squared.sqrt()];
-                    eprintln!(
-                    "{d}D split, {quadrature:?}: L2 {:.6e} (exact {:.6e}, relative {:.1e}), H1 \
+                let got = [pair.l2_squared.sqrt(), pair.h1_seminorm_squared.sqrt()];
+                eprintln!(
+                    "{what}, {quadrature:?}: L2 {:.6e} (exact {:.6e}, relative {:.1e}), H1 \
                      seminorm {:.6e} (exact {:.6e}, relative {:.1e})",
                     got[0],
                     exact[0],
@@ -522,20 +524,55 @@ mod pair {
                     exact[1],
                     (got[1] - exact[1]).abs() / exact[1],
                 );
-                    got
-                })
-                .collect();
-            // The stated bound: each rule is within twice its distance to the rule on halved
-            // subcells of the exact value (the error falls by 4 per halving: Richardson's 4/3).
-            for w in rules.windows(2) {
-                for n in 0..2 {
-                    let (off, step) = ((w[0][n] - exact[n]).abs(), (w[0][n] - w[1][n]).abs());
-                    assert!(
-                        off <= 2.0 * step,
-                        "{d}D norm {n}: {off:e} off, {step:e} per halving"
-                    );
-                }
+                got
+            })
+            .collect();
+        // The stated bound: each rule is within twice its distance to the rule on halved
+        // subcells of the exact value (the error falls by 4 per halving: Richardson's 4/3).
+        for w in rules.windows(2) {
+            for n in 0..2 {
+                let (off, step) = ((w[0][n] - exact[n]).abs(), (w[0][n] - w[1][n]).abs());
+                assert!(
+                    off <= 2.0 * step,
+                    "{what} norm {n}: {off:e} off, {step:e} per halving"
+                );
             }
+        }
+        (0..2)
+            .map(|n| (rules[0][n] - exact[n]).abs() / exact[n])
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn a_simplex_mesh_of_the_bars_has_its_closed_form_errors_within_the_quadrature_bound() {
+        // f multilinear: the fine Q1 reference reproduces it exactly, P1 does not; so the pair's
+        // error is ‖I_P1 f − f‖, computed exactly on the simplices.
+        for d in [2, 3] {
+            let external = split_bar(d, 5);
+            let u_h = nodal(external.points(), d, &multilinear(d).0);
+            within_bound(&external, &u_h, &format!("{d}D split"));
+        }
+    }
+
+    #[test]
+    fn the_scripts_unstructured_simplex_meshes_read_cover_the_box_and_meet_their_bound() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mesh");
+        for (d, file) in [(2, "bar2d-triangles.vtu"), (3, "bar3d-tetrahedra.vtu")] {
+            let snapshot = read_snapshot(&dir.join(file)).unwrap();
+            let Some(Topology::Cells(cells)) = &snapshot.topology else {
+                panic!("{file} has cells")
+            };
+            let external = ElementMesh::of_cells(d, snapshot.points.clone(), cells).unwrap();
+            check_domain(&external, bar(d, 5).lengths(), 0.0).unwrap();
+            let u_h: Vec<f64> = snapshot
+                .array("displacement")
+                .unwrap()
+                .values
+                .chunks(3)
+                .flat_map(|row| row[..d].to_vec())
+                .collect();
+            let off = within_bound(&external, &u_h, file);
+            assert!(off < 0.05, "{file}: {off:e}");
         }
     }
 
