@@ -140,8 +140,9 @@ pub(super) fn read(path: &Path, bytes: &[u8]) -> Result<Grid, ExternalError> {
 
 /// The cells of `piece` (of `points` points), `None` when it declares none
 /// (`NumberOfCells="0"` or no `<Cells>`): its `offsets` and `types` (one per cell) and its
-/// `connectivity` (as many as the last offset says), read as integers in the grid's range; the
-/// field and why, otherwise.
+/// `connectivity` (as many as the last offset says), read as integers in the grid's range, at
+/// most [`MAX_VALUES`] numbers in all (each count checked before its array is read); the field
+/// and why, otherwise.
 fn read_cells(
     piece: roxmltree::Node<'_, '_>,
     layout: &Layout<'_>,
@@ -151,7 +152,7 @@ fn read_cells(
     let count: usize = declared
         .parse()
         .ok()
-        .filter(|&n: &usize| n <= MAX_VALUES)
+        .filter(|&n: &usize| n <= MAX_VALUES / 2)
         .ok_or_else(|| ("Piece.NumberOfCells", format!("{:?}", unquoted(declared))))?;
     let Some(cells) = piece.children().find(|n| n.has_tag_name("Cells")) else {
         return match count {
@@ -191,7 +192,7 @@ fn read_cells(
             })
             .collect::<Result<Vec<usize>, _>>()
     };
-    let offsets = integers("offsets", count, MAX_VALUES + 1)?;
+    let offsets = integers("offsets", count, MAX_VALUES - 2 * count + 1)?;
     if let Some(w) = offsets.windows(2).find(|w| w[1] < w[0]) {
         return Err((
             "Cells offsets",
