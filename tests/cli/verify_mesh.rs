@@ -3,8 +3,8 @@
 //! refusal naming what is off: a triangle or tetrahedron mesh on the scene's nodes (each
 //! element split; DOLFINx's default mesh of the bar is such a mesh) by its element's name, a
 //! cell type the harness does not interpolate (a pixel, a quadratic quadrilateral) by its VTK
-//! type and the allowed ones, a quadrilateral listed out of VTK's order by its points, and an
-//! XDMF file whose `TopologyType` is `Triangle` by that type. The harness's own cells and those
+//! type and the allowed ones, a quadrilateral listed out of VTK's order by its points; likewise
+//! an XDMF file's topology (its connectivity read), and one of another type by that type. The harness's own cells and those
 //! DOLFINx and GetFEM write verify as before (`verify_box`, `real_codes`).
 //!
 //! The distance between a field on its own mesh and a reference on the scene's structured mesh
@@ -25,6 +25,7 @@ use signorini::harness::external::mesh::{
 };
 use signorini::harness::external::nodal_snapshot::NodalSnapshot;
 use signorini::harness::external::pvd::{read_collection, read_snapshot};
+use signorini::harness::external::xdmf::XdmfSeries;
 use signorini::harness::run::nested_comparison::norm_matrices::NormMatrices;
 
 /// `snapshot` written to `path` as an ASCII `.vtu` with the cells `cells`.
@@ -247,7 +248,7 @@ fn a_cell_the_harness_does_not_interpolate_or_out_of_order_is_refused_naming_it(
 }
 
 #[test]
-fn an_xdmf_mesh_of_triangles_is_refused_by_its_topology_type() {
+fn an_xdmf_topology_is_read_and_refused_where_its_cells_are_not_the_scenes() {
     let dir = scratch("mesh-xdmf");
     let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
     let cache = dir.join("references");
@@ -259,24 +260,62 @@ fn an_xdmf_mesh_of_triangles_is_refused_by_its_topology_type() {
     )
     .unwrap();
     let text = std::fs::read_to_string(source.join(format!("{stem}.xdmf"))).unwrap();
-    for (topology, needles) in [
+    // The fixture's quadrilaterals, as the reader reads them from its HDF5 topology.
+    let series = XdmfSeries::read(&source.join(format!("{stem}.xdmf"))).unwrap();
+    let Some(Topology::Cells(quads)) = series.snapshot(0).unwrap().topology else {
+        panic!("the fixture's topology is read")
+    };
+    assert_eq!((quads.len(), quads.types[0]), (10, 9));
+    let (start, end) = (
+        text.find("<Topology").unwrap(),
+        text.find("</Topology>").unwrap() + "</Topology>".len(),
+    );
+    // The fixture's topology replaced by an inline one of `kind` with `cells`.
+    let inline = |kind: &str, cells: &Cells| {
+        let n = cells.cell(0).len();
+        let rows: Vec<String> = cells.connectivity.iter().map(usize::to_string).collect();
+        format!(
+            "{}<Topology TopologyType=\"{kind}\" NumberOfElements=\"{}\"><DataItem \
+             Dimensions=\"{} {n}\" NumberType=\"Int\" Format=\"XML\">{}</DataItem></Topology>{}",
+            &text[..start],
+            cells.len(),
+            cells.len(),
+            rows.join(" "),
+            &text[end..]
+        )
+    };
+    let triangles = each_cell(&quads, &|q| two_triangles(q, 5));
+    let mut twisted = Cells::default();
+    for (k, (vtk, q)) in quads.iter().enumerate() {
+        let q = if k == 3 {
+            vec![q[0], q[1], q[3], q[2]]
+        } else {
+            q.to_vec()
+        };
+        twisted.push(vtk, &q);
+    }
+    let polygon = text.replace("TopologyType=\"Quadrilateral\"", "TopologyType=\"Polygon\"");
+    assert_ne!(polygon, text, "the fixture declares quadrilaterals");
+    for (edited, needles) in [
         (
-            "Triangle",
+            inline("Triangle", &triangles),
             [
-                "TopologyType \"Triangle\"",
+                "a triangle (VTK cell type 5)",
                 "a mesh of triangles is not verified",
             ],
         ),
         (
-            "Polygon",
-            ["Topology.TopologyType", "Tetrahedron, Hexahedron"],
+            inline("Quadrilateral", &twisted),
+            ["Cells connectivity", "cell 3"],
+        ),
+        (
+            polygon,
+            [
+                "Topology.TopologyType = \"Polygon\"",
+                "Tetrahedron, Hexahedron",
+            ],
         ),
     ] {
-        let edited = text.replace(
-            "TopologyType=\"Quadrilateral\"",
-            &format!("TopologyType=\"{topology}\""),
-        );
-        assert_ne!(edited, text, "the fixture declares quadrilaterals");
         let xdmf = dir.join(format!("{stem}.xdmf"));
         std::fs::write(&xdmf, edited).unwrap();
         expect_error(&verify_args(&scene, &xdmf, &cache), 2, &needles);

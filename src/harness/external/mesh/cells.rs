@@ -47,6 +47,16 @@ impl CellKind {
         }
     }
 
+    /// Its linear VTK cell type.
+    pub fn vtk(self) -> u8 {
+        match self {
+            Self::Triangle => 5,
+            Self::Quadrilateral => 9,
+            Self::Tetrahedron => 10,
+            Self::Hexahedron => 12,
+        }
+    }
+
     /// Its dimension.
     pub fn dim(self) -> usize {
         match self {
