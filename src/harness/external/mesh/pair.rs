@@ -48,7 +48,7 @@ pub struct Quadrature {
 }
 
 impl Quadrature {
-    /// The rule `verify` uses: 3 points per axis, no subcell (exact for the nested Q1 case,
+    /// The default rule: 3 points per axis, no subcell (exact for the nested Q1 case,
     /// which needs 2).
     pub const DEFAULT: Quadrature = Quadrature {
         gauss: 3,
