@@ -1,23 +1,30 @@
-//! `signorini verify` reads a box run's cells (issue 57): the harness's own 2D and 3D runs,
-//! their cells rewritten here, are refused when the cells are not the scene's Q1 elements, each
-//! refusal naming what is off: a triangle or tetrahedron mesh on the scene's nodes (each
-//! element split; DOLFINx's default mesh of the bar is such a mesh) by its element's name, a
-//! cell type the harness does not interpolate (a pixel, a quadratic quadrilateral) by its VTK
-//! type and the allowed ones, a quadrilateral listed out of VTK's order by its points; likewise
-//! an XDMF file's topology (its connectivity read), and one of another type by that type. The harness's own cells and those
-//! DOLFINx and GetFEM write verify as before (`verify_box`, `real_codes`).
+//! `signorini verify` reads a box run's cells (issue 57). The harness's own 2D and 3D runs,
+//! their cells rewritten here: a cell type the harness does not interpolate (a pixel, a quadratic
+//! quadrilateral) is refused by its VTK type and the allowed ones, a quadrilateral listed out of
+//! VTK's order by its points; likewise an XDMF file's topology (its connectivity read), and one of
+//! another type by that type. The harness's own cells and those DOLFINx and GetFEM write verify
+//! as before (`verify_box`, `real_codes`).
+//!
+//! A series on its own mesh (each element split into triangles or Kuhn tetrahedra on the same
+//! nodes, a P1 field; an XDMF triangle topology) verifies end to end against the reference's
+//! projection on the finest study level, with its mesh, `h`, `Δt` and bound said; the Q1 runs
+//! forced through that path (`--own-mesh`) give the structured path's errors to round-off; a
+//! mesh with a hole, or a sample off the finest level's time grid, is refused naming it.
 //!
 //! The distance between a field on its own mesh and a reference on the scene's structured mesh
-//! ([`pair_errors`], not yet called by `verify`: the reference's fine fields are not kept, issue
-//! 57): on the scene's coarser structured mesh it is the structured path's `eᵀMe`, `eᵀSe` to
-//! round-off; on the bars' meshes split into triangles and tetrahedra, with a multilinear field,
-//! the exact errors within the quadrature's stated bound; a mesh that leaves a hole or spans
-//! another box is refused naming what is off.
+//! ([`pair_errors`]): on the scene's coarser structured mesh it is the structured path's `eᵀMe`,
+//! `eᵀSe` to round-off; on the bars' meshes split into triangles and tetrahedra, with a
+//! multilinear field, the exact errors within the quadrature's stated bound; a mesh that leaves a
+//! hole or spans another box is refused naming what is off.
 
 use std::path::{Path, PathBuf};
 
-use crate::common::expect_error;
-use crate::verify_box::{run_every_step, s, scene_at_levels, scratch, write_collection};
+use serde_json::Value;
+
+use crate::common::{expect_error, signorini, success_stdout};
+use crate::verify_box::{
+    errors, read_json, run_every_step, s, scene_at_levels, scratch, write_collection,
+};
 use signorini::engine::fem::{BoxMesh, Elasticity, Prolongation};
 use signorini::harness::external::mesh::{
     check_domain, gauss_legendre, pair_errors, Cell, CellKind, Cells, ElementMesh, Quadrature,
@@ -25,6 +32,7 @@ use signorini::harness::external::mesh::{
 };
 use signorini::harness::external::nodal_snapshot::NodalSnapshot;
 use signorini::harness::external::pvd::{read_collection, read_snapshot};
+use signorini::harness::external::verify::own_mesh::QUADRATURE;
 use signorini::harness::external::xdmf::XdmfSeries;
 use signorini::harness::run::nested_comparison::norm_matrices::NormMatrices;
 
@@ -124,48 +132,217 @@ fn verify_args<'a>(scene: &'a Path, file: &'a Path, cache: &'a Path) -> Vec<&'a 
     ]
 }
 
+/// `verify` of the series `files` against `scene` with `extra` arguments, writing verify.json
+/// into `out`: its JSON and what it printed.
+fn verify_series(
+    scene: &Path,
+    files: &[PathBuf],
+    cache: &Path,
+    out: &Path,
+    extra: &[&str],
+) -> (Value, String) {
+    let mut args = vec!["verify", s(scene)];
+    args.extend(files.iter().map(|f| s(f)));
+    args.extend([
+        "--code",
+        "signorini",
+        "--code-version",
+        "test",
+        "--label",
+        "cn-std",
+        "--velocity",
+        "velocity",
+        "--multiplier",
+        "contact_multiplier",
+        "--cache",
+        s(cache),
+        "--out",
+        s(out),
+    ]);
+    args.extend(extra);
+    let printed = success_stdout(&signorini(&args));
+    (read_json(&out.join("verify.json")), printed)
+}
+
+/// The displacement norms' errors of the first series of a verify.json.
+fn displacement_errors(verified: &Value) -> Vec<(String, Vec<f64>)> {
+    errors(&verified["series"][0]["rates"])
+        .into_iter()
+        .filter(|(norm, _)| norm.starts_with("u_"))
+        .collect()
+}
+
+/// The harness's Crank–Nicolson/standard runs of the bar `scene_file` (2D or 3D) at levels 5
+/// and 10 (the scene's study levels, the reference on 40), each as its own `.pvd` and with its
+/// cells split into triangles (two per element) or Kuhn tetrahedra (six): the scene, the
+/// reference cache, the Q1 series and the simplex series.
+fn bar_series(dir: &Path, scene_file: &str) -> (PathBuf, PathBuf, Vec<PathBuf>, Vec<PathBuf>) {
+    std::fs::create_dir_all(dir).unwrap();
+    let scene = scene_at_levels(dir, scene_file, &[5, 10]);
+    let three = scene_file.contains("3d");
+    let q1: Vec<PathBuf> = [5, 10]
+        .iter()
+        .map(|&nx| run_every_step(&scene, nx, &dir.join(format!("run{nx}"))))
+        .collect();
+    let triangles = |q: &[usize]| two_triangles(q, 5);
+    let split: Split<'_> = if three { &six_tetrahedra } else { &triangles };
+    let simplex = q1
+        .iter()
+        .enumerate()
+        .map(|(k, pvd)| {
+            recelled(pvd, &dir.join(format!("split{k}")), &|c| {
+                each_cell(c, split)
+            })
+        })
+        .collect();
+    (scene, dir.join("references"), q1, simplex)
+}
+
+/// A triangle series of the 2D bar and a tetrahedral series of the 3D bar (the harness's own
+/// runs at levels 5 and 10, every element split, the same nodal values: a P1 field on the
+/// nodes of the Q1 one) verify end to end against the reference's projection on level 10: exit
+/// 0, the mesh, h and the bound said in verify.json and printed, the displacement norms
+/// measured, the force and energy norms "not measured on a foreign mesh"; the same Q1 runs
+/// forced through the own-mesh path give the structured path's errors to round-off, and the
+/// simplex series' errors differ from the Q1 series' by no more than their stated bound and the
+/// fields' own distance (each P1 field against its Q1 field, by the same quadrature).
 #[test]
-fn a_simplex_mesh_on_the_scenes_nodes_is_refused_by_name_not_read_as_q1() {
-    let dir = scratch("mesh-simplex");
-    for (scene_file, nx) in [("scenes/bar2d.json", 5), ("scenes/bar3d.json", 5)] {
-        let scene = scene_at_levels(&dir, scene_file, &[nx]);
-        let cache = dir.join("references");
-        let three = scene_file.contains("3d");
-        let pvd = run_every_step(&scene, nx, &dir.join(format!("run-{three}")));
-        let splits: Vec<(Split<'_>, &str, &str)> = if three {
-            vec![(
-                &six_tetrahedra,
-                "a tetrahedron (VTK cell type 10)",
-                "tetrahedra",
-            )]
-        } else {
-            vec![
-                (
-                    &|q| two_triangles(q, 5),
-                    "a triangle (VTK cell type 5)",
-                    "triangles",
-                ),
-                (
-                    &|q| two_triangles(q, 69),
-                    "a triangle (VTK cell type 69)",
-                    "triangles",
-                ),
-            ]
-        };
-        for (k, (split, named, plural)) in splits.into_iter().enumerate() {
-            let split_dir = dir.join(format!("split-{three}-{k}"));
-            let file = recelled(&pvd, &split_dir, &|cells| each_cell(cells, split));
-            expect_error(
-                &verify_args(&scene, &file, &cache),
-                2,
-                &[
-                    "snapshot-0.vtu",
-                    "cell 0",
-                    named,
-                    &format!("a mesh of {plural} is not verified"),
-                ],
+fn a_simplex_series_of_the_bars_verifies_end_to_end_against_the_finest_projection() {
+    let dir = scratch("mesh-own");
+    for (scene_file, kind, cells) in [
+        ("scenes/bar2d.json", "triangles", [10, 20]),
+        ("scenes/bar3d.json", "tetrahedra", [30, 60]),
+    ] {
+        let sub = dir.join(kind);
+        let (scene, cache, q1, simplex) = bar_series(&sub, scene_file);
+        let (structured, _) = verify_series(&scene, &q1, &cache, &sub.join("q1"), &[]);
+        let (forced, _) = verify_series(&scene, &q1, &cache, &sub.join("forced"), &["--own-mesh"]);
+        let (own, printed) = verify_series(&scene, &simplex, &cache, &sub.join("own"), &[]);
+        let expected = displacement_errors(&structured);
+        assert_eq!(expected.len(), 4);
+        for ((norm, e), (forced_norm, f)) in expected.iter().zip(displacement_errors(&forced)) {
+            assert_eq!(norm, &forced_norm);
+            for (a, b) in e.iter().zip(&f) {
+                assert!(
+                    (a - b).abs() <= 1e-12 * a.abs(),
+                    "{kind} {norm}: {a} forced {b}"
+                );
+            }
+        }
+        let series = &own["series"][0];
+        let runs = series["runs"].as_array().unwrap();
+        for (k, run) in runs.iter().enumerate() {
+            let record = &run["own_mesh"];
+            assert_eq!(record["mesh"], format!("own mesh: {} {kind}", cells[k]));
+            assert!(record["longest_edge"].as_f64().unwrap() > 0.0);
+            assert!(printed.contains(&format!("own mesh: {} {kind}", cells[k])));
+            let h = record["longest_edge"].as_f64().unwrap();
+            assert_eq!(series["levels"][k]["h"].as_f64(), Some(h));
+            assert!(
+                printed.contains(&format!("h (longest edge) {h:.4e}")),
+                "{printed}"
             );
         }
+        assert!(printed.contains("projections on the finest study level 10"));
+        for key in ["lambda_L2", "energy_Linf", "energy_L2"] {
+            let reason = series["not_computed"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|n| n["norm"] == key)
+                .unwrap_or_else(|| panic!("{key} not computed"))["reason"]
+                .as_str()
+                .unwrap()
+                .to_string();
+            assert!(
+                reason.contains("not measured on a foreign mesh"),
+                "{reason}"
+            );
+        }
+        let measured = displacement_errors(&own);
+        assert_eq!(measured.len(), 4);
+        for ((norm, q), (_, p)) in expected.iter().zip(&measured) {
+            for k in 0..2 {
+                let record = &runs[k]["own_mesh"];
+                let bound = record["bound"][norm].as_f64().unwrap();
+                let quadrature = record["quadrature_error"][norm].as_f64().unwrap();
+                let d = if kind == "triangles" { 2 } else { 3 };
+                let apart = field_distance(&pair::bar(d, 5 << k), &simplex[k], &q1[k], norm);
+                eprintln!(
+                    "{kind} {norm} level {k}: Q1 {:.6e} own {:.6e} bound {bound:.3e} \
+                     (quadrature {quadrature:.3e}) fields apart {apart:.3e}",
+                    q[k], p[k]
+                );
+                assert!(
+                    bound > quadrature && bound < p[k],
+                    "{kind} {norm}: bound {bound}"
+                );
+                // Both errors are (p² + r)^½ with one r: they differ by at most the fields'
+                // distance and the quadrature's error.
+                assert!(
+                    (p[k] - q[k]).abs() <= quadrature + apart,
+                    "{kind} {norm}: {} against {} beyond {quadrature} + {apart}",
+                    p[k],
+                    q[k]
+                );
+            }
+        }
+    }
+}
+
+/// The time norm `norm` (`u_Linf_H`, …) of the distance between the Q1 field of the series
+/// `q1` on `mesh` (the scene's at its level) and the field of the same nodal values on the
+/// cells of `own`, sample by sample in `H` or `V` by [`pair_errors`] with the own-mesh rule.
+fn field_distance(mesh: &BoxMesh, own: &Path, q1: &Path, norm: &str) -> f64 {
+    let d = mesh.dim();
+    let own_entries = read_collection(own).unwrap();
+    let mut by_time = Vec::new();
+    for (entry, own_entry) in read_collection(q1).unwrap().iter().zip(&own_entries) {
+        let snapshot = read_snapshot(&entry.file).unwrap();
+        let own_snapshot = read_snapshot(&own_entry.file).unwrap();
+        let Some(Topology::Cells(cells)) = &own_snapshot.topology else {
+            panic!("cells")
+        };
+        let external = ElementMesh::of_cells(d, own_snapshot.points.clone(), cells).unwrap();
+        let values = |s: &NodalSnapshot| -> Vec<f64> {
+            let a = s.array("displacement").unwrap();
+            (0..s.points.len())
+                .flat_map(|k| a.row(k)[..d].to_vec())
+                .collect()
+        };
+        // The Q1 field in the box mesh's node order: each node's point found in the file.
+        let u = values(&snapshot);
+        let mut nodal = vec![0.0; mesh.n_nodes() * d];
+        for node in 0..mesh.n_nodes() {
+            let x = mesh.node(node);
+            let k = snapshot
+                .points
+                .iter()
+                .position(|p| (0..d).all(|c| (p[c] - x[c]).abs() < 1e-12))
+                .unwrap();
+            nodal[node * d..(node + 1) * d].copy_from_slice(&u[k * d..(k + 1) * d]);
+        }
+        let e = pair_errors(
+            &external,
+            &values(&own_snapshot),
+            mesh,
+            &nodal,
+            &Elasticity::NOTE,
+            QUADRATURE,
+        )
+        .unwrap();
+        by_time.push((entry.time, if norm.ends_with('H') { e.h() } else { e.v() }));
+    }
+    let linf = by_time.iter().fold(0.0f64, |m, &(_, e)| m.max(e));
+    let l2 = by_time
+        .windows(2)
+        .map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 * w[0].1 + w[1].1 * w[1].1))
+        .sum::<f64>()
+        .sqrt();
+    if norm.contains("Linf") {
+        linf
+    } else {
+        l2
     }
 }
 
@@ -296,14 +473,12 @@ fn an_xdmf_topology_is_read_and_refused_where_its_cells_are_not_the_scenes() {
     }
     let polygon = text.replace("TopologyType=\"Quadrilateral\"", "TopologyType=\"Polygon\"");
     assert_ne!(polygon, text, "the fixture declares quadrilaterals");
+    // Triangles are a mesh of the code's own, measured on its cells.
+    let xdmf = dir.join(format!("{stem}.xdmf"));
+    std::fs::write(&xdmf, inline("Triangle", &triangles)).unwrap();
+    let printed = success_stdout(&signorini(&verify_args(&scene, &xdmf, &cache)));
+    assert!(printed.contains("own mesh: 20 triangles"), "{printed}");
     for (edited, needles) in [
-        (
-            inline("Triangle", &triangles),
-            [
-                "a triangle (VTK cell type 5)",
-                "a mesh of triangles is not verified",
-            ],
-        ),
         (
             inline("Quadrilateral", &twisted),
             ["Cells connectivity", "cell 3"],
@@ -320,6 +495,62 @@ fn an_xdmf_topology_is_read_and_refused_where_its_cells_are_not_the_scenes() {
         std::fs::write(&xdmf, edited).unwrap();
         expect_error(&verify_args(&scene, &xdmf, &cache), 2, &needles);
     }
+}
+
+/// A series on its own mesh is refused before any reference is sought when its triangles do
+/// not cover the box (the last one left out: a hole, named by the measures) or when a sample's
+/// time is not a step of the finest study level (named by its sample).
+#[test]
+fn an_own_mesh_off_the_box_or_off_the_finest_time_grid_is_refused_naming_it() {
+    let dir = scratch("mesh-own-refused");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[5]);
+    let cache = dir.join("references");
+    let pvd = run_every_step(&scene, 5, &dir.join("run"));
+    let holed = recelled(&pvd, &dir.join("holed"), &|cells| {
+        let all = each_cell(cells, &|q| two_triangles(q, 5));
+        let mut out = Cells::default();
+        for k in 0..all.len() - 1 {
+            out.push(all.types[k], all.cell(k));
+        }
+        out
+    });
+    expect_error(
+        &verify_args(&scene, &holed, &cache),
+        2,
+        &[
+            "snapshot-0.vtu",
+            "Cells",
+            "leave a hole or overlap",
+            "a conforming mesh",
+        ],
+    );
+    let triangles = recelled(&pvd, &dir.join("triangles"), &|cells| {
+        each_cell(cells, &|q| two_triangles(q, 5))
+    });
+    let entries = read_collection(&triangles).unwrap();
+    let dt = entries[1].time - entries[0].time;
+    let shifted: Vec<(f64, String)> = entries
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let t = if k == 2 { e.time + dt / 3.0 } else { e.time };
+            (
+                t,
+                e.file.file_name().unwrap().to_string_lossy().into_owned(),
+            )
+        })
+        .collect();
+    let off_grid = write_collection(&dir.join("triangles").join("shifted.pvd"), &shifted);
+    expect_error(
+        &verify_args(&scene, &off_grid, &cache),
+        2,
+        &[
+            "shifted.pvd",
+            "timestep",
+            "sample 2",
+            "finest study level 5",
+        ],
+    );
 }
 
 // The pair tests index components and axes as the formulas write them.
@@ -346,7 +577,7 @@ mod pair {
     }
 
     /// The bar's box at the level `n` along the axis (`n / 5` rounded up across, as the scenes).
-    fn bar(d: usize, n: usize) -> BoxMesh {
+    pub(super) fn bar(d: usize, n: usize) -> BoxMesh {
         let across = n.div_ceil(10).max(1);
         if d == 2 {
             BoxMesh::new(&[0.1, 1.0], &[across, n]).unwrap()

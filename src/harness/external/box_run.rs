@@ -7,7 +7,8 @@
 //! that is the scene's at one of its study levels (every node matched to [`NODE_TOLERANCE`] of
 //! the box's size, in any order; the first node that matches none is named), its cells, when the
 //! file gives them, the scene's elements ([`check_cells`]: a cell the harness does not interpolate
-//! is refused by its type, a triangle or tetrahedron by name), one sample at
+//! is refused by its type, a triangle or tetrahedron by name; `verify` reads a series with one on
+//! its own mesh instead, [`super::verify::own_mesh`]), one sample at
 //! every step `t_n = n Δt` of that level's time grid from 0 to `T` (the first missing step is
 //! named), the clamped face at rest.
 
@@ -71,6 +72,9 @@ pub struct SeriesOptions {
     /// The contact multipliers' point array (one component, `λ_i ≤ 0` on the contact nodes),
     /// if any.
     pub multiplier: Option<String>,
+    /// Measure the series as fields on their own mesh ([`super::verify::own_mesh`]) even when
+    /// its cells are the scene's Q1 elements (a series with a triangle or tetrahedron is always).
+    pub own_mesh: bool,
 }
 
 /// One step of a box run in the harness's order: what the file has of it.
@@ -308,7 +312,7 @@ fn in_range(v: f64) -> bool {
 /// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite or is beyond
 /// [`LARGEST_VALUE`], naming the point: a run that went NaN, infinite or that far is broken,
 /// whatever the steps before it.
-fn first_non_finite(
+pub(crate) fn first_non_finite(
     snapshot: &NodalSnapshot,
     array: &PointArray,
     time: f64,
@@ -404,7 +408,7 @@ impl BoxScene<'_> {
     }
 
     /// `t_n = n Δt` of `level`, `n = 0..N`, as the harness's runs step.
-    fn time_grid(&self, level: usize) -> Vec<f64> {
+    pub(crate) fn time_grid(&self, level: usize) -> Vec<f64> {
         let h = self.problem.lengths[self.problem.lengths.len() - 1] / level as f64;
         let (steps, dt) = crate::harness::run::time_grid(self.problem.horizon, h, self.ratio);
         (0..=steps).map(|n| n as f64 * dt).collect()
@@ -537,7 +541,7 @@ impl BoxScene<'_> {
 
 /// The displacement's array of `snapshot`: the one `options` names, else the only array of `d`
 /// or 3 components, else one named `displacement`.
-fn displacement_array(
+pub(crate) fn displacement_array(
     snapshot: &NodalSnapshot,
     options: &SeriesOptions,
     d: usize,
