@@ -17,5 +17,6 @@ mod pair;
 pub use cells::{CellKind, Cells, Topology, ALLOWED_CELLS};
 pub use function::{q1_shape, Cell, ElementMesh, Evaluation, INSIDE_TOLERANCE, NEWTON_STEPS};
 pub use pair::{
-    check_domain, gauss_legendre, pair_errors, PairErrors, Quadrature, DOMAIN_TOLERANCE,
+    check_domain, gauss_legendre, pair_errors, pair_errors_each, PairErrors, Quadrature,
+    DOMAIN_TOLERANCE,
 };

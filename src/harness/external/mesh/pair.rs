@@ -147,8 +147,8 @@ impl PairErrors {
 }
 
 /// The errors of `u_h` (`external_values`, `d` per point of `external`) against `u_ref`
-/// (`reference_values`, `d` per node of `reference`) by `quadrature` on the reference's
-/// elements (the module's rule); `Err` names a quadrature point no external cell holds.
+/// (`reference_values`, `d` per node of `reference`) by `quadrature` on the reference's elements
+/// (the module's rule); `Err` names a quadrature point no external cell holds.
 pub fn pair_errors(
     external: &ElementMesh,
     external_values: &[f64],
@@ -157,12 +157,32 @@ pub fn pair_errors(
     elasticity: &Elasticity,
     quadrature: Quadrature,
 ) -> Result<PairErrors, String> {
+    let [errors] = pair_errors_each(
+        external,
+        external_values,
+        (reference, [reference_values]),
+        elasticity,
+        quadrature,
+    )?;
+    Ok(errors)
+}
+
+/// [`pair_errors`] of one `u_h` against each of `N` fields on the same reference mesh
+/// (`references`: the mesh and the fields), each quadrature point located in the external mesh
+/// once for all of them.
+pub fn pair_errors_each<const N: usize>(
+    external: &ElementMesh,
+    external_values: &[f64],
+    (reference, fields): (&BoxMesh, [&[f64]; N]),
+    elasticity: &Elasticity,
+    quadrature: Quadrature,
+) -> Result<[PairErrors; N], String> {
     let d = reference.dim();
     let fine = ElementMesh::of_box(reference);
     let (points, weights) = gauss_legendre(quadrature.gauss);
     let s = quadrature.subcells.max(1);
     let q = points.len();
-    let mut errors = PairErrors::default();
+    let mut errors = [PairErrors::default(); N];
     for e in 0..reference.n_elements() {
         let nodes = reference.element(e);
         let (lo, hi) = (
@@ -184,13 +204,15 @@ pub fn pair_errors(
                     x[c] = lo[c] + 0.5 * (local + 1.0) * (hi[c] - lo[c]);
                     w *= weights[p] * 0.5 * (hi[c] - lo[c]) / s as f64;
                 }
-                let at_reference = fine.evaluate_in(e, xi, reference_values);
                 let at_external = external.evaluate(external_values, x).ok_or_else(|| {
                     format!(
                         "the quadrature point {x:?} of the reference's element {e} is in no cell"
                     )
                 })?;
-                errors.add(w, &at_external, &at_reference, d, elasticity);
+                for (error, field) in errors.iter_mut().zip(fields) {
+                    let at_reference = fine.evaluate_in(e, xi, field);
+                    error.add(w, &at_external, &at_reference, d, elasticity);
+                }
             }
         }
     }

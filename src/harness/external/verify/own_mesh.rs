@@ -9,7 +9,7 @@
 //! measured against the projections on the **finest** study level, at that level's steps (each
 //! sample's time must be one of them, within [`STEP_TIME_TOLERANCE`] `Δt`; the first that is not
 //! is refused by name). Per sample, with `p_H = ‖u_h − w_H‖_H` and `p_V = ‖u_h − w_V‖_V` by
-//! [`pair_errors`] on the finest level's elements ([`QUADRATURE`]), the error is
+//! [`pair_errors_each`] on the finest level's elements ([`QUADRATURE`]), the error is
 //! ```text
 //! e_H = (p_H² + r_H)^½,   e_V = (p_V² + r_V)^½,
 //! ```
@@ -46,7 +46,7 @@ use crate::harness::external::box_run::{
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::format::Code;
 use crate::harness::external::mesh::{
-    check_domain, pair_errors, CellKind, ElementMesh, Quadrature, Topology, ALLOWED_CELLS,
+    check_domain, pair_errors_each, CellKind, ElementMesh, Quadrature, Topology, ALLOWED_CELLS,
 };
 use crate::harness::external::nodal_snapshot::NodalSnapshot;
 use crate::harness::external::snapshot_series::SnapshotSeries;
@@ -336,22 +336,22 @@ impl OwnMeshRun {
                 nodal(&projections.h_projection),
                 nodal(&projections.v_projection),
             );
-            let distance = |w: &[f64], rule: Quadrature| {
-                pair_errors(&self.mesh, &u, finest_mesh, w, elasticity, rule).map_err(|why| {
-                    ExternalError::invalid(
-                        &self.path,
-                        "Cells",
-                        Some(format!("t = {t}")),
-                        why,
-                        "a conforming mesh of the scene's box",
-                    )
-                })
+            let distances = |rule: Quadrature| {
+                let fields = (finest_mesh, [w_h.as_slice(), w_v.as_slice()]);
+                pair_errors_each(&self.mesh, &u, fields, elasticity, rule)
+                    .map(|[h, v]| (h.h(), v.v()))
+                    .map_err(|why| {
+                        ExternalError::invalid(
+                            &self.path,
+                            "Cells",
+                            Some(format!("t = {t}")),
+                            why,
+                            "a conforming mesh of the scene's box",
+                        )
+                    })
             };
-            let (p_h, p_v) = (
-                distance(&w_h, QUADRATURE)?.h(),
-                distance(&w_v, QUADRATURE)?.v(),
-            );
-            let (q_h, q_v) = (distance(&w_h, HALVED)?.h(), distance(&w_v, HALVED)?.v());
+            let (p_h, p_v) = distances(QUADRATURE)?;
+            let (q_h, q_v) = distances(HALVED)?;
             let (r_h, r_v) = (projections.h_remainder[k], projections.v_remainder[k]);
             series.push_partial(t, Some((p_h * p_h + r_h, p_v * p_v + r_v)), None, None);
             let values = [r_h, r_v].map(|r| 2f64.sqrt() * r.max(0.0).sqrt());
