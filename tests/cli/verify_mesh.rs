@@ -498,8 +498,9 @@ fn an_xdmf_topology_is_read_and_refused_where_its_cells_are_not_the_scenes() {
 }
 
 /// A series on its own mesh is refused before any reference is sought when its triangles do
-/// not cover the box (the last one left out: a hole, named by the measures) or when a sample's
-/// time is not a step of the finest study level (named by its sample).
+/// not cover the box (the last one left out: a hole, named by the measures), when a sample's
+/// time is not a step of the finest study level (named by its sample), or when its samples stop
+/// before `T`.
 #[test]
 fn an_own_mesh_off_the_box_or_off_the_finest_time_grid_is_refused_naming_it() {
     let dir = scratch("mesh-own-refused");
@@ -541,6 +542,12 @@ fn an_own_mesh_off_the_box_or_off_the_finest_time_grid_is_refused_naming_it() {
         })
         .collect();
     let off_grid = write_collection(&dir.join("triangles").join("shifted.pvd"), &shifted);
+    let short = write_collection(&dir.join("triangles").join("short.pvd"), &shifted[..2]);
+    expect_error(
+        &verify_args(&scene, &short, &cache),
+        2,
+        &["short.pvd", "timestep", "samples from 0 to T = 2"],
+    );
     expect_error(
         &verify_args(&scene, &off_grid, &cache),
         2,

@@ -8,7 +8,7 @@
 //! ([`crate::harness::run::nested_comparison::projection`]). A series on its own mesh is
 //! measured against the projections on the **finest** study level, at that level's steps (each
 //! sample's time must be one of them, within [`STEP_TIME_TOLERANCE`] `Δt`; the first that is not
-//! is refused by name). Per sample, with `p_H = ‖u_h − w_H‖_H` and `p_V = ‖u_h − w_V‖_V` by
+//! is refused by name), the first at 0 and the last at `T`. Per sample, with `p_H = ‖u_h − w_H‖_H` and `p_V = ‖u_h − w_V‖_V` by
 //! [`pair_errors_each`] on the finest level's elements ([`QUADRATURE`]), the error is
 //! ```text
 //! e_H = (p_H² + r_H)^½,   e_V = (p_V² + r_V)^½,
@@ -230,6 +230,20 @@ impl OwnMeshRun {
                 ));
             }
             steps.push(k as usize);
+        }
+        let last = grid.len() - 1;
+        if steps.first() != Some(&0) || steps.last() != Some(&last) {
+            return Err(ExternalError::invalid(
+                path,
+                "timestep",
+                None,
+                format!("samples from {} to {}", time[0], time[time.len() - 1]),
+                format!(
+                    "samples from 0 to T = {} (step {last} of level {finest}): the time norms \
+                     are taken over (0, T)",
+                    scene.problem.horizon
+                ),
+            ));
         }
         let code = options.code.clone().ok_or_else(|| {
             ExternalError::invalid(
