@@ -37,4 +37,5 @@ mod tutorial;
 mod verify;
 mod verify_box;
 mod verify_format2;
+mod verify_mesh;
 mod vocabulary;

@@ -85,6 +85,11 @@ pub struct SeriesArgs {
     /// force norm needs it).
     #[arg(long)]
     pub multiplier: Option<String>,
+    /// Measure the `.pvd`/`.xdmf` fields on their own mesh (its cells located in the reference's
+    /// quadrature, docs/src/external-runs.md "A code's own mesh") even when they are the scene's
+    /// Q1 elements; a series with triangles or tetrahedra is always measured so.
+    #[arg(long)]
+    pub own_mesh: bool,
 }
 
 impl SeriesArgs {
@@ -102,6 +107,7 @@ impl SeriesArgs {
             displacement: self.displacement,
             velocity: self.velocity,
             multiplier: self.multiplier,
+            own_mesh: self.own_mesh,
         }
     }
 }

@@ -5,7 +5,10 @@
 //!
 //! The checks, each refused with the field and what is allowed: the scene's name (JSON), a mesh
 //! that is the scene's at one of its study levels (every node matched to [`NODE_TOLERANCE`] of
-//! the box's size, in any order; the first node that matches none is named), one sample at
+//! the box's size, in any order; the first node that matches none is named), its cells, when the
+//! file gives them, the scene's elements ([`check_cells`]: a cell the harness does not interpolate
+//! is refused by its type, a triangle or tetrahedron by name; `verify` reads a series with one on
+//! its own mesh instead, [`super::verify::own_mesh`]), one sample at
 //! every step `t_n = n Δt` of that level's time grid from 0 to `T` (the first missing step is
 //! named), the clamped face at rest.
 
@@ -19,6 +22,7 @@ use serde::{Deserialize, Deserializer};
 
 use super::error::ExternalError;
 use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_FILE};
+use super::mesh::{CellKind, Topology, ALLOWED_CELLS};
 use super::nodal_snapshot::{NodalSnapshot, PointArray};
 use super::snapshot_series::SnapshotSeries;
 use crate::engine::fem::box_mesh::BoxMesh;
@@ -68,6 +72,9 @@ pub struct SeriesOptions {
     /// The contact multipliers' point array (one component, `λ_i ≤ 0` on the contact nodes),
     /// if any.
     pub multiplier: Option<String>,
+    /// Measure the series as fields on their own mesh ([`super::verify::own_mesh`]) even when
+    /// its cells are the scene's Q1 elements (a series with a triangle or tetrahedron is always).
+    pub own_mesh: bool,
 }
 
 /// One step of a box run in the harness's order: what the file has of it.
@@ -97,6 +104,7 @@ impl BoxSample {
 
 /// Where the samples come from.
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // one per run file, never moved once read
 enum Source {
     /// One snapshot per step (a `.pvd` or an `.xdmf`), read when its step is asked for.
     Snapshots {
@@ -104,6 +112,8 @@ enum Source {
         names: ArrayNames,
         /// Per file node, the scene's node.
         order: Vec<usize>,
+        /// The cells of the first snapshot: every snapshot's.
+        topology: Option<Topology>,
     },
     /// Every sample, read.
     Json(Vec<BoxSample>),
@@ -160,8 +170,18 @@ impl BoxExternalRun {
                 series,
                 names,
                 order,
+                topology,
             } => {
                 let snapshot = series.snapshot(n)?;
+                if snapshot.topology != *topology {
+                    return Err(ExternalError::invalid(
+                        &snapshot.path,
+                        "Cells",
+                        None,
+                        "other cells",
+                        "the cells of the collection's first snapshot: one mesh for every time",
+                    ));
+                }
                 self.sample_of_snapshot(&snapshot, names, order, self.time[n])
             }
         }
@@ -292,7 +312,7 @@ fn in_range(v: f64) -> bool {
 /// Refuses `array` of `snapshot` (at `time`) at its first value that is not finite or is beyond
 /// [`LARGEST_VALUE`], naming the point: a run that went NaN, infinite or that far is broken,
 /// whatever the steps before it.
-fn first_non_finite(
+pub(crate) fn first_non_finite(
     snapshot: &NodalSnapshot,
     array: &PointArray,
     time: f64,
@@ -388,7 +408,7 @@ impl BoxScene<'_> {
     }
 
     /// `t_n = n Δt` of `level`, `n = 0..N`, as the harness's runs step.
-    fn time_grid(&self, level: usize) -> Vec<f64> {
+    pub(crate) fn time_grid(&self, level: usize) -> Vec<f64> {
         let h = self.problem.lengths[self.problem.lengths.len() - 1] / level as f64;
         let (steps, dt) = crate::harness::run::time_grid(self.problem.horizon, h, self.ratio);
         (0..=steps).map(|n| n as f64 * dt).collect()
@@ -450,6 +470,7 @@ impl BoxScene<'_> {
         let first = series.snapshot(0)?;
         let (level, mesh) = self.level_with(first.points.len(), &first.path)?;
         let order = node_order(&mesh, &first)?;
+        check_cells(&mesh, &first, &order)?;
         let time = self.check_times(level, &series.times(), path, "timestep")?;
         let names = ArrayNames {
             displacement: displacement_array(&first, options, mesh.dim())?,
@@ -495,6 +516,7 @@ impl BoxScene<'_> {
                 series,
                 names,
                 order,
+                topology: first.topology.clone(),
             },
         };
         run.sample(0)?;
@@ -519,7 +541,7 @@ impl BoxScene<'_> {
 
 /// The displacement's array of `snapshot`: the one `options` names, else the only array of `d`
 /// or 3 components, else one named `displacement`.
-fn displacement_array(
+pub(crate) fn displacement_array(
     snapshot: &NodalSnapshot,
     options: &SeriesOptions,
     d: usize,
@@ -600,6 +622,140 @@ fn node_order(mesh: &BoxMesh, snapshot: &NodalSnapshot) -> Result<Vec<usize>, Ex
         }
     }
     Ok(order)
+}
+
+/// The cells of `snapshot` (whose point `k` is the scene's node `order[k]`), when its file gives
+/// them, checked to be the scene's Q1 elements, each once: the only elements a box run is
+/// measured on. A cell of a type the harness does not interpolate ([`ALLOWED_CELLS`]) is refused
+/// by its type; a triangle or tetrahedron (on the scene's nodes, DOLFINx's default mesh: a P1
+/// field, which measured as Q1 would be another function) by name; a quadrilateral or
+/// hexahedron whose edges are not edges of the scene's mesh (a cell listed in another order
+/// than VTK's), on nodes that are no element's, or on an element already listed, by its
+/// points. A grid without cells is taken on the scene's elements, as its nodes are.
+fn check_cells(
+    mesh: &BoxMesh,
+    snapshot: &NodalSnapshot,
+    order: &[usize],
+) -> Result<(), ExternalError> {
+    let d = mesh.dim();
+    let q1 = if d == 2 {
+        CellKind::Quadrilateral
+    } else {
+        CellKind::Hexahedron
+    };
+    let path = snapshot.path.as_path();
+    let scene_elements = || {
+        format!(
+            "the {} of the scene's mesh at this level ({:?} elements on {:?}), each once, \
+             its vertices in VTK's order",
+            q1.plural(),
+            mesh.counts(),
+            mesh.lengths()
+        )
+    };
+    let only_q1 = |kind: CellKind, at: Option<String>, value: String| {
+        if kind == q1 {
+            return Ok(());
+        }
+        Err(ExternalError::invalid(
+            path,
+            "Cells",
+            at,
+            value,
+            format!(
+                "{}: a box run is measured against the reference on the scene's own elements \
+                 only, so a mesh of {} is not verified (it is not read as {})",
+                scene_elements(),
+                kind.plural(),
+                q1.plural()
+            ),
+        ))
+    };
+    let cells = match &snapshot.topology {
+        None => return Ok(()),
+        Some(Topology::Declared(name)) => {
+            let kind = CellKind::of_xdmf(name).ok_or_else(|| {
+                ExternalError::invalid(
+                    path,
+                    "Topology.TopologyType",
+                    None,
+                    format!("{name:?}"),
+                    ALLOWED_CELLS,
+                )
+            })?;
+            return only_q1(kind, None, format!("TopologyType {name:?}"));
+        }
+        Some(Topology::Cells(cells)) => cells,
+    };
+    let elements: HashMap<Vec<usize>, usize> = mesh
+        .elements()
+        .enumerate()
+        .map(|(e, nodes)| {
+            let mut nodes = nodes.to_vec();
+            nodes.sort_unstable();
+            (nodes, e)
+        })
+        .collect();
+    let mut listed = vec![false; mesh.n_elements()];
+    for (k, (vtk, points)) in cells.iter().enumerate() {
+        let at = || Some(format!("cell {k}"));
+        let kind = CellKind::of_vtk(vtk, points.len()).ok_or_else(|| {
+            ExternalError::invalid(
+                path,
+                "Cells types",
+                at(),
+                format!("VTK cell type {vtk} of {} points", points.len()),
+                ALLOWED_CELLS,
+            )
+        })?;
+        only_q1(
+            kind,
+            at(),
+            format!("a {} (VTK cell type {vtk})", kind.name()),
+        )?;
+        let nodes: Vec<usize> = points.iter().map(|&p| order[p]).collect();
+        let on_edges = kind.edges().iter().all(|&[a, b]| {
+            let (i, j) = (mesh.node_index(nodes[a]), mesh.node_index(nodes[b]));
+            (0..d).map(|c| i[c].abs_diff(j[c])).sum::<usize>() == 1
+        });
+        let mut sorted = nodes.clone();
+        sorted.sort_unstable();
+        match elements.get(&sorted) {
+            Some(&e) if on_edges && !listed[e] => listed[e] = true,
+            _ => {
+                return Err(ExternalError::invalid(
+                    path,
+                    "Cells connectivity",
+                    at(),
+                    format!(
+                        "the points {points:?} at {:?}",
+                        points
+                            .iter()
+                            .map(|&p| snapshot.points[p])
+                            .collect::<Vec<_>>()
+                    ),
+                    scene_elements(),
+                ))
+            }
+        }
+    }
+    match listed.iter().position(|l| !l) {
+        None => Ok(()),
+        Some(e) => Err(ExternalError::invalid(
+            path,
+            "Cells",
+            None,
+            format!(
+                "{} cells, none on the scene's element {e} (nodes at {:?})",
+                cells.len(),
+                mesh.element(e)
+                    .iter()
+                    .map(|&n| mesh.node(n))
+                    .collect::<Vec<_>>()
+            ),
+            scene_elements(),
+        )),
+    }
 }
 
 /// The clamped face `x_d = L_d` at rest in `sample`: its displacement and velocity within

@@ -10,6 +10,7 @@
 //! | [`json`], [`csv`] | the two forms of a file, each read into an [`ExternalRun`] |
 //! | [`load`] | a file of either form, read and checked |
 //! | [`pvd`], [`box_run`] | a box scene's run: a ParaView collection or the JSON format's box form, matched to the scene's mesh and time grid |
+//! | [`mesh`] | the cells of a snapshot's mesh, and the elements the harness interpolates |
 //! | [`replay`] | the samples as a [`crate::engine::schemes::TimeIntegrator`], through the observers |
 //! | [`rerun`] | the harness's own run of a bar file's declared scheme and mass, compared sample by sample |
 //! | [`verify`] | every file measured against the scene's reference (a bar's replayed against its exact solution, a box's compared with its fine-mesh reference), grouped into series, fitted |
@@ -23,6 +24,7 @@ pub mod format;
 pub mod golden;
 pub mod json;
 pub mod load;
+pub mod mesh;
 pub mod nodal_snapshot;
 pub mod pvd;
 pub mod replay;

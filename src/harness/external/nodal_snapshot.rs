@@ -1,9 +1,11 @@
 //! One time of a box run as a file holds it, whatever the file (a VTK grid, an XDMF grid):
-//! the mesh's points and the nodal arrays, each checked to hold its components at every point.
+//! the mesh's points, what the file says of its cells, and the nodal arrays, each checked to hold
+//! its components at every point.
 
 use std::path::{Path, PathBuf};
 
 use super::error::ExternalError;
+use super::mesh::Topology;
 
 /// A nodal array of a snapshot.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +41,9 @@ pub struct NodalSnapshot {
     pub point_epsilon: f64,
     /// The point data.
     pub arrays: Vec<PointArray>,
+    /// The cells, when the file gives them (a VTK grid with cells, an XDMF grid's topology
+    /// type); `None` for a grid without cells.
+    pub topology: Option<Topology>,
 }
 
 /// The machine epsilon of a points type: single precision's for `Float32`, double's
@@ -53,13 +58,15 @@ pub fn epsilon_of(single: bool) -> f64 {
 
 impl NodalSnapshot {
     /// The snapshot of `path` from its points' coordinates (three per point, of a type whose
-    /// machine epsilon is `point_epsilon`) and its point arrays, each checked to hold
-    /// `NumberOfComponents` values per point.
+    /// machine epsilon is `point_epsilon`), its point arrays, each checked to hold
+    /// `NumberOfComponents` values per point, and its cells (a VTK grid's are checked to name
+    /// its points).
     pub fn new(
         path: &Path,
         coordinates: Vec<f64>,
         point_epsilon: f64,
         arrays: Vec<PointArray>,
+        topology: Option<Topology>,
     ) -> Result<Self, ExternalError> {
         let invalid = |field: &str, value: String, allowed: String| {
             ExternalError::invalid(path, field, None, value, allowed)
@@ -88,11 +95,21 @@ impl NodalSnapshot {
                 ));
             }
         }
+        if let Some(Topology::Cells(cells)) = &topology {
+            if let Some(k) = cells.connectivity.iter().position(|&p| p >= points.len()) {
+                return Err(invalid(
+                    "Cells connectivity",
+                    format!("point {} at entry {k}", cells.connectivity[k]),
+                    format!("a point of the grid's {}", points.len()),
+                ));
+            }
+        }
         Ok(Self {
             path: path.to_path_buf(),
             points,
             point_epsilon,
             arrays,
+            topology,
         })
     }
 

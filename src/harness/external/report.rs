@@ -77,6 +77,21 @@ pub fn render<J>(v: &Verification<J>) -> String {
                  stiffness matrices.\n",
                 v.scene, v.reference, v.horizon
             );
+            let own_mesh = v
+                .series
+                .iter()
+                .flat_map(|s| &s.runs)
+                .any(|r| r.own_mesh.is_some());
+            if own_mesh {
+                let _ = writeln!(
+                    out,
+                    "A file on its own mesh (its notes say which) is measured against the \
+                     reference's projections on the finest study level instead, by a quadrature \
+                     on its cells, with the bound its notes state; its level's `h` is its longest \
+                     edge, its `NX` its number of cells, and its force and energy norms are not \
+                     measured.\n"
+                );
+            }
             "the reference's energy"
         }
     };

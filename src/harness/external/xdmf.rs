@@ -13,7 +13,11 @@
 //!
 //! Both are read the same way: every uniform grid with a `Time` gives its nodal attributes
 //! (`Center="Node"`) to the snapshot of that time; a grid without geometry of its own takes the
-//! document's first (what the inclusions point to). The writers' empty document type
+//! document's first (what the inclusions point to), and so does its topology: a
+//! `Triangle`, `Quadrilateral`, `Tetrahedron` or `Hexahedron` topology's connectivity is read
+//! (integer heavy data, one row of the cell's vertices per cell) and given to every snapshot as
+//! its cells ([`Topology::Cells`], with the VTK type of that element); any other type is given by
+//! its name ([`Topology::Declared`]), for the box run's reader to refuse. The writers' empty document type
 //! declaration (`<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>`) is allowed; `roxmltree` bounds what a
 //! declaration's entities expand to. Every snapshot must have the same geometry
 //! (a mesh that moves or changes is refused). Heavy data are read by the pure-Rust HDF5 decoder
@@ -23,10 +27,13 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use hdf5_reader::dataset::Dataset;
+use hdf5_reader::datatype_api::H5Type;
 use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 
 use super::error::{unquoted, ExternalError};
 use super::format::{MAX_VALUES, RUN_FILE};
+use super::mesh::{CellKind, Cells, Topology};
 use super::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use super::xml_depth::check_depth;
 use crate::harness::files::input::read_bytes;
@@ -88,6 +95,8 @@ struct NodalAttribute {
 pub struct XdmfSeries {
     path: PathBuf,
     geometry: DataItem,
+    /// The `TopologyType` of the document's first topology and its connectivity, if it has one.
+    topology: Option<(String, Option<DataItem>)>,
     /// Per time (increasing): the time and its attributes.
     times: Vec<(f64, Vec<NodalAttribute>)>,
 }
@@ -123,6 +132,7 @@ impl XdmfSeries {
             path,
             directory,
             geometry: None,
+            topology: None,
             by_time: BTreeMap::new(),
         };
         for grid in domain.children().filter(|n| n.has_tag_name("Grid")) {
@@ -138,6 +148,7 @@ impl XdmfSeries {
         Ok(Self {
             path: path.to_path_buf(),
             geometry,
+            topology: walk.topology,
             times,
         })
     }
@@ -189,7 +200,52 @@ impl XdmfSeries {
                 epsilon: epsilon_of(single),
             });
         }
-        NodalSnapshot::new(&self.path, coordinates, epsilon_of(single), arrays)
+        let topology = self.cells()?;
+        NodalSnapshot::new(
+            &self.path,
+            coordinates,
+            epsilon_of(single),
+            arrays,
+            topology,
+        )
+    }
+
+    /// The topology's cells: its connectivity read when its type is an element the harness
+    /// interpolates, one row of that element's vertices per cell; its name otherwise.
+    fn cells(&self) -> Result<Option<Topology>, ExternalError> {
+        let Some((name, item)) = &self.topology else {
+            return Ok(None);
+        };
+        let (Some(kind), Some(item)) = (CellKind::of_xdmf(name), item) else {
+            return Ok(Some(Topology::Declared(name.clone())));
+        };
+        let (values, _) = self.values(item, "Topology")?;
+        let n = kind.vertices();
+        let nodes = self.geometry.nodes();
+        let invalid = |value: String, allowed: String| {
+            ExternalError::invalid(&self.path, "Topology", None, value, allowed)
+        };
+        if item.components() != n || values.len() % n != 0 {
+            return Err(invalid(
+                format!("rows of {} vertices", item.components()),
+                format!("one row of {n} vertices per {}", kind.name()),
+            ));
+        }
+        let mut cells = Cells::default();
+        for row in values.chunks_exact(n) {
+            let vertices = row
+                .iter()
+                .map(|&v| {
+                    (v >= 0.0 && v.fract() == 0.0 && v < nodes as f64)
+                        .then_some(v as usize)
+                        .ok_or_else(|| {
+                            invalid(v.to_string(), format!("a node of the geometry's {nodes}"))
+                        })
+                })
+                .collect::<Result<Vec<usize>, _>>()?;
+            cells.push(kind.vtk(), &vertices);
+        }
+        Ok(Some(Topology::Cells(cells)))
     }
 
     /// The values of `item` (`field`, for errors) as `f64`, and whether they were single
@@ -204,8 +260,8 @@ impl XdmfSeries {
                         format!("{field} dataset {dataset:?}"),
                         None,
                         problem,
-                        "a Float32 or Float64 dataset of the DataItem's Dimensions, at most \
-                         2^24 values",
+                        "a Float32 or Float64 dataset (integers for a topology) of the \
+                         DataItem's Dimensions, at most 2^24 values",
                     )
                 }),
         }
@@ -240,8 +296,30 @@ fn read_dataset(
             .read_array::<f32>()
             .map(|a| (a.iter().map(|&x| f64::from(x)).collect(), true))
             .map_err(|e| format!("unreadable ({})", unquoted(e))),
+        Datatype::FixedPoint { size, signed, .. } => match (size, signed) {
+            (1, true) => integers::<i8>(&data, f64::from),
+            (1, false) => integers::<u8>(&data, f64::from),
+            (2, true) => integers::<i16>(&data, f64::from),
+            (2, false) => integers::<u16>(&data, f64::from),
+            (4, true) => integers::<i32>(&data, f64::from),
+            (4, false) => integers::<u32>(&data, f64::from),
+            (8, true) => integers::<i64>(&data, |x| x as f64),
+            (8, false) => integers::<u64>(&data, |x| x as f64),
+            _ => Err(format!("of integers of {size} bytes")),
+        },
         other => Err(format!("of type {other:?}")),
     }
+}
+
+/// The integers of type `T` of `data`, each as `f64` by `to` (exact below 2⁵³, beyond any
+/// node's number).
+fn integers<T: H5Type + Copy>(
+    data: &Dataset,
+    to: fn(T) -> f64,
+) -> Result<(Vec<f64>, bool), String> {
+    data.read_array::<T>()
+        .map(|a| (a.iter().map(|&x| to(x)).collect(), false))
+        .map_err(|e| format!("unreadable ({})", unquoted(e)))
 }
 
 /// The walk through an XDMF document's grids.
@@ -250,6 +328,9 @@ struct Walk<'a> {
     directory: &'a Path,
     /// The document's first geometry: what a grid without one of its own includes.
     geometry: Option<DataItem>,
+    /// The `TopologyType` of the document's first topology (`Type`, XDMF 2's name, when it has
+    /// no `TopologyType`) and its connectivity, when it has a `DataItem`.
+    topology: Option<(String, Option<DataItem>)>,
     /// Per time (by its bits, so that equal times meet): the time and the nodal attributes its
     /// grids hold.
     by_time: BTreeMap<TimeKey, (f64, Vec<NodalAttribute>)>,
@@ -314,6 +395,18 @@ impl Walk<'_> {
         };
         if self.geometry.is_none() {
             self.geometry.clone_from(&own);
+        }
+        if self.topology.is_none() {
+            if let Some(topology) = grid.children().find(|n| n.has_tag_name("Topology")) {
+                let kind = topology
+                    .attribute("TopologyType")
+                    .or(topology.attribute("Type"));
+                let item = match topology.children().any(|n| n.has_tag_name("DataItem")) {
+                    true => Some(self.data_item(topology, at)?),
+                    false => None,
+                };
+                self.topology = Some((kind.unwrap_or("").to_string(), item));
+            }
         }
         let Some(time) = grid.children().find(|n| n.has_tag_name("Time")) else {
             return Ok(());

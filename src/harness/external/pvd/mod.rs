@@ -25,11 +25,12 @@
 mod array_data;
 mod vtu;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use super::error::{unquoted, ExternalError};
 use super::format::RUN_FILE;
+use super::mesh::{Cells, Topology};
 use super::nodal_snapshot::NodalSnapshot;
 use super::xml_depth::check_depth;
 use crate::harness::files::input::read_bytes;
@@ -182,7 +183,7 @@ const SNAPSHOT: &str = "a VTK XML unstructured grid (.vtu) of one piece, or a pa
 
 /// Reads the snapshot `path`: a VTK XML unstructured grid of one piece, or a parallel grid
 /// whose pieces are in files of their own (joined, [`joined`]); its points and its point data
-/// as `f64` (field data and cell data are not read).
+/// as `f64`, and its cells (field data and cell data are not read).
 pub fn read_snapshot(path: &Path) -> Result<NodalSnapshot, ExternalError> {
     match read_grid(path)? {
         Grid::Inline(snapshot) => Ok(snapshot),
@@ -224,7 +225,9 @@ const BOOKKEEPING: &str = "vtk";
 /// The pieces of the parallel grid `path` as one snapshot: their points in order, a point two
 /// pieces share (the same coordinates, bit for bit: a ghost node) kept once, with the first
 /// piece's values. The pieces must carry the same arrays, and agree on every value at a shared
-/// point but VTK's bookkeeping ([`BOOKKEEPING`]).
+/// point but VTK's bookkeeping ([`BOOKKEEPING`]). Their cells are joined on the joined points, a
+/// cell two pieces list (a ghost cell: the same type on the same points) kept once; a piece
+/// without cells adds none.
 fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, ExternalError> {
     let mut pieces = pieces.into_iter();
     let Some(first) = pieces.next() else {
@@ -242,6 +245,11 @@ fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, Exte
         path: path.to_path_buf(),
         ..first
     };
+    let mut cells = JoinedCells::default();
+    cells.add(
+        whole.topology.take(),
+        &(0..whole.points.len()).collect::<Vec<_>>(),
+    );
     for piece in pieces {
         let names = |s: &NodalSnapshot| -> Vec<(String, usize)> {
             s.arrays
@@ -259,9 +267,11 @@ fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, Exte
             ));
         }
         whole.point_epsilon = whole.point_epsilon.max(piece.point_epsilon);
+        let mut joined_index = Vec::with_capacity(piece.points.len());
         for (k, p) in piece.points.iter().enumerate() {
             match at.get(&p.map(f64::to_bits)) {
                 Some(&shared) => {
+                    joined_index.push(shared);
                     let differing = (0..whole.arrays.len())
                         .filter(|&a| !whole.arrays[a].name.starts_with(BOOKKEEPING))
                         .find(|&a| piece.arrays[a].row(k) != whole.arrays[a].row(shared));
@@ -280,6 +290,7 @@ fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, Exte
                     }
                 }
                 None => {
+                    joined_index.push(whole.points.len());
                     at.insert(p.map(f64::to_bits), whole.points.len());
                     whole.points.push(*p);
                     for (kept, added) in whole.arrays.iter_mut().zip(&piece.arrays) {
@@ -288,6 +299,33 @@ fn joined(path: &Path, pieces: Vec<NodalSnapshot>) -> Result<NodalSnapshot, Exte
                 }
             }
         }
+        cells.add(piece.topology, &joined_index);
     }
+    whole.topology = cells.cells.map(Topology::Cells);
     Ok(whole)
+}
+
+/// The cells of a parallel grid's pieces, joined ([`joined`]).
+#[derive(Default)]
+struct JoinedCells {
+    /// The cells so far, when a piece had some.
+    cells: Option<Cells>,
+    /// Each kept cell's type and joined points.
+    seen: HashSet<(u8, Vec<usize>)>,
+}
+
+impl JoinedCells {
+    /// Adds the cells of a piece (`topology`) whose point `k` is joined point `joined_index[k]`.
+    fn add(&mut self, topology: Option<Topology>, joined_index: &[usize]) {
+        let Some(Topology::Cells(piece)) = topology else {
+            return;
+        };
+        let cells = self.cells.get_or_insert_with(Cells::default);
+        for (vtk, points) in piece.iter() {
+            let points: Vec<usize> = points.iter().map(|&p| joined_index[p]).collect();
+            if self.seen.insert((vtk, points.clone())) {
+                cells.push(vtk, &points);
+            }
+        }
+    }
 }

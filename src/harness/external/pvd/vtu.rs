@@ -2,7 +2,10 @@
 //! points and point arrays decoded by [`super::array_data`], or a parallel grid (`.pvtu`) whose
 //! pieces are files of their own. The XML is parsed after its nesting depth is checked
 //! ([`crate::harness::external::xml_depth`]); an `<AppendedData>` block is set apart first, so
-//! that raw bytes never go through the XML parser. Cells and cell data are not read.
+//! that raw bytes never go through the XML parser. The cells are read, each with its VTK type and
+//! its points ([`Cells`]: `connectivity`, `offsets`, `types`, checked to be consistent and to name
+//! the grid's points; what a cell's type means is for the reader of the box run to judge); cell
+//! data are not read.
 //!
 //! Every array of the point data is read or the file is refused, naming the array and why: an
 //! array that cannot be read is never dropped (which would let another array be taken for it).
@@ -14,6 +17,7 @@ use super::array_data::{Appended, Compressor, HeaderWord, Layout, Scalar};
 use super::{find, Grid, SNAPSHOT};
 use crate::harness::external::error::{unquoted, ExternalError};
 use crate::harness::external::format::MAX_VALUES;
+use crate::harness::external::mesh::{Cells, Topology};
 use crate::harness::external::nodal_snapshot::{epsilon_of, NodalSnapshot, PointArray};
 use crate::harness::external::xml_depth::check_depth;
 
@@ -122,7 +126,86 @@ pub(super) fn read(path: &Path, bytes: &[u8]) -> Result<Grid, ExternalError> {
             arrays.push(read_array(node, &field)?);
         }
     }
-    NodalSnapshot::new(path, coordinates.values, coordinates.epsilon, arrays).map(Grid::Inline)
+    let topology =
+        read_cells(piece, &layout, points).map_err(|(field, why)| invalid(field, why))?;
+    NodalSnapshot::new(
+        path,
+        coordinates.values,
+        coordinates.epsilon,
+        arrays,
+        topology.map(Topology::Cells),
+    )
+    .map(Grid::Inline)
+}
+
+/// The cells of `piece` (of `points` points), `None` when it declares none
+/// (`NumberOfCells="0"` or no `<Cells>`): its `offsets` and `types` (one per cell) and its
+/// `connectivity` (as many as the last offset says), read as integers in the grid's range, at
+/// most [`MAX_VALUES`] numbers in all (each count checked before its array is read); the field
+/// and why, otherwise.
+fn read_cells(
+    piece: roxmltree::Node<'_, '_>,
+    layout: &Layout<'_>,
+    points: usize,
+) -> Result<Option<Cells>, (&'static str, String)> {
+    let declared = piece.attribute("NumberOfCells").unwrap_or("0").trim();
+    let count: usize = declared
+        .parse()
+        .ok()
+        .filter(|&n: &usize| n <= MAX_VALUES / 2)
+        .ok_or_else(|| ("Piece.NumberOfCells", format!("{:?}", unquoted(declared))))?;
+    let Some(cells) = piece.children().find(|n| n.has_tag_name("Cells")) else {
+        return match count {
+            0 => Ok(None),
+            _ => Err(("Cells", format!("missing, where NumberOfCells is {count}"))),
+        };
+    };
+    if count == 0 {
+        return Ok(None);
+    }
+    let integers = |name: &'static str, count: usize, below: usize| {
+        let field = match name {
+            "offsets" => "Cells offsets",
+            "types" => "Cells types",
+            _ => "Cells connectivity",
+        };
+        let node = cells
+            .children()
+            .find(|n| n.has_tag_name("DataArray") && n.attribute("Name") == Some(name))
+            .ok_or((field, "missing".to_string()))?;
+        let scalar =
+            Scalar::of(node.attribute("type").unwrap_or("")).map_err(|why| (field, why))?;
+        let values = layout
+            .values(node, scalar, count)
+            .map_err(|why| (field, why))?;
+        values
+            .iter()
+            .map(|&v| {
+                (v >= 0.0 && v.fract() == 0.0 && v < below as f64)
+                    .then_some(v as usize)
+                    .ok_or_else(|| {
+                        (
+                            field,
+                            format!("{v}, where an integer from 0 to {} is allowed", below - 1),
+                        )
+                    })
+            })
+            .collect::<Result<Vec<usize>, _>>()
+    };
+    let offsets = integers("offsets", count, MAX_VALUES - 2 * count + 1)?;
+    if let Some(w) = offsets.windows(2).find(|w| w[1] < w[0]) {
+        return Err((
+            "Cells offsets",
+            format!("{} after {}: offsets never decrease", w[1], w[0]),
+        ));
+    }
+    let types = integers("types", count, 256)?;
+    let connectivity = integers("connectivity", offsets[count - 1], points.max(1))?;
+    Ok(Some(Cells {
+        types: types.into_iter().map(|t| t as u8).collect(),
+        offsets,
+        connectivity,
+    }))
 }
 
 /// The file's XML (everything before an `<AppendedData>` element, closed) and its appended

@@ -199,6 +199,7 @@ impl AgainstExact<'_> {
                 dt_max,
                 contact_displacement_error: replayed.contact_displacement_error,
                 displacement_at_samples: replayed.displacement_at_samples,
+                own_mesh: None,
             },
             level: LevelRecord {
                 nx: run.nx(),

@@ -18,6 +18,10 @@
 //! ([`compare_with_harness`]): round-off differences say both codes solve the same discrete
 //! problem.
 //!
+//! A series on its own mesh (triangles, tetrahedra, or `--own-mesh`) is measured against the
+//! reference's projections on the finest study level by a quadrature on its elements
+//! ([`super::own_mesh`]).
+//!
 //! Every file is read and checked before the reference is obtained; a reference that is not in
 //! the cache is computed only when its estimated work and memory fit the limits (`--max-*`), as
 //! `signorini reference` checks them.
@@ -26,8 +30,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
+use super::own_mesh::{is_own_mesh, OwnMeshRun};
 use super::{Declared, ReportedEnergy, RunRecord, VerifiedFile};
 use crate::engine::fem::box_mesh::BoxMesh;
+use crate::engine::problem::box_mesh;
 use crate::engine::problem::Discretisation;
 use crate::engine::schemes::Timed;
 use crate::harness::external::box_run::{BoxExternalRun, BoxScene, SeriesOptions};
@@ -52,7 +58,18 @@ pub struct AgainstFineMesh {
     /// The reference and what compares a run with it.
     pub comparator: Comparator,
     /// The files, in the order given.
-    runs: Vec<BoxExternalRun>,
+    runs: Vec<Run>,
+    /// The finest study level's mesh (a run on its own mesh is measured on its elements).
+    finest_mesh: BoxMesh,
+}
+
+/// One file: on the scene's mesh at one of its levels, or on its own mesh.
+#[allow(clippy::large_enum_variant)] // one per run file, never moved once read
+enum Run {
+    /// On the scene's structured mesh.
+    Scene(BoxExternalRun),
+    /// On its own mesh.
+    Own(OwnMeshRun),
 }
 
 /// Where a box scene's reference is read from, and the limits one computed for want of a
@@ -87,8 +104,9 @@ impl AgainstFineMesh {
         };
         let runs = files
             .iter()
-            .map(|path| read_run(&scene, path.as_ref(), options))
+            .map(|path| read_run(&scene, declared.finest, path.as_ref(), options))
             .collect::<Result<Vec<_>, _>>()?;
+        let finest_mesh = box_mesh(problem, declared.finest).map_err(Error::from)?;
         let afford = || -> Result<(), Error> {
             let estimate = config.reference_estimate(problem);
             estimate.check(source.limits).map_err(Error::from)
@@ -99,6 +117,7 @@ impl AgainstFineMesh {
             declared,
             comparator,
             runs,
+            finest_mesh,
         })
     }
 
@@ -133,7 +152,16 @@ impl AgainstFineMesh {
     /// The `k`-th file compared with the reference at every step of its level: its record, its
     /// errors and what it lacks; the code's own energy beside, when it reports one.
     pub fn measure(&self, k: usize) -> Result<VerifiedFile, ExternalError> {
-        let run = &self.runs[k];
+        let run = match &self.runs[k] {
+            Run::Scene(run) => run,
+            Run::Own(run) => {
+                return run.measure(
+                    &self.comparator.reference,
+                    (self.declared.finest, &self.finest_mesh),
+                    &self.declared.problem.elasticity,
+                )
+            }
+        };
         let comparator = &self.comparator;
         let clock = Instant::now();
         let mesh = &run.mesh;
@@ -248,6 +276,7 @@ impl AgainstFineMesh {
                 dt_max,
                 contact_displacement_error: None,
                 displacement_at_samples,
+                own_mesh: None,
             },
             level: LevelRecord {
                 nx: run.level,
@@ -282,6 +311,10 @@ impl AgainstFineMesh {
         let coarsest = self
             .runs
             .iter()
+            .filter_map(|r| match r {
+                Run::Scene(r) => Some(r),
+                Run::Own(_) => None,
+            })
             .filter(|r| r.label == run.label)
             .all(|r| r.level >= run.level);
         let (scheme, discretised) = run.scheme.zip(discretised).filter(|_| coarsest)?;
@@ -323,20 +356,26 @@ fn on_unknowns(mesh: &BoxMesh, nodal: &[f64]) -> Vec<f64> {
 
 /// Reads the run file `path` of `scene`: a `.pvd` collection or an `.xdmf` file (their arrays
 /// as `options` name them), or the JSON format's box form, checked against the scene's mesh and
-/// time grid.
+/// time grid; a series on its own mesh ([`is_own_mesh`]) against the box and the finest level
+/// `finest`'s time grid.
 fn read_run(
     scene: &BoxScene<'_>,
+    finest: usize,
     path: &Path,
     options: &SeriesOptions,
-) -> Result<BoxExternalRun, ExternalError> {
+) -> Result<Run, ExternalError> {
     if let Some(series) = SnapshotSeries::read(path) {
-        return scene.read_series(path, series?, options);
+        let series = series?;
+        if is_own_mesh(&series.snapshot(0)?, options) {
+            return OwnMeshRun::read(scene, finest, path, series, options).map(Run::Own);
+        }
+        return scene.read_series(path, series, options).map(Run::Scene);
     }
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match extension.as_deref() {
-        Some("json") => scene.read_json(path),
+        Some("json") => scene.read_json(path).map(Run::Scene),
         other => Err(ExternalError::invalid(
             path,
             "file name",

@@ -9,6 +9,7 @@
 
 pub mod exact;
 pub mod fine_mesh;
+pub mod own_mesh;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -53,6 +54,10 @@ pub struct RunRecord {
     /// some sample lacks it (its time norms are then not computed).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub displacement_at_samples: Vec<DisplacementError>,
+    /// A box run on its own mesh: its cells, `h`, `Δt`, what it is measured against and the
+    /// bound of each error ([`own_mesh`]); absent on the scene's mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub own_mesh: Option<own_mesh::OwnMeshRecord>,
 }
 
 /// A code's own energy (version 2) beside the harness's: its distance to the reference's
