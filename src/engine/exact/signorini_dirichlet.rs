@@ -33,47 +33,22 @@ impl SignoriniDirichlet {
         (phase, tp - phase as f64)
     }
 
-    /// The table above at phase `phase` and local time `τ`, as `(a, b, c)` with `u = a + b x`,
-    /// `u_x = b`, `u_t = c` in each region, indexed by [`Self::region`].
-    fn regions(phase: usize, tau: f64) -> [(f64, f64, f64); 4] {
-        // Index 2·(x < τ) + (x + τ > 1): I, III, II, IV.
-        match phase {
-            0 => [
-                (0.5, -0.5, 0.0),
-                (0.5, -0.5, 0.0),
-                (0.5 - 0.5 * tau, 0.0, -0.5),
-                (0.5 - 0.5 * tau, 0.0, -0.5),
-            ],
-            1 => [
-                (-0.5 * tau, 0.0, -0.5),
-                (-0.5, 0.5, 0.0),
-                (0.0, -0.5, 0.0),
-                (0.5 * tau - 0.5, 0.0, 0.5),
-            ],
-            _ => [
-                (0.5 * tau, 0.0, 0.5),
-                (0.5, -0.5, 0.0),
-                (0.5 * tau, 0.0, 0.5),
-                (0.5, -0.5, 0.0),
-            ],
-        }
-    }
-
-    /// The region of `x` at local time `τ`, from the characteristics through it:
-    /// `2·(x < τ) + (x + τ > 1)` (`η = x − τ < 0`, `ξ = x + τ > 1`).
+    /// The table above: region from the characteristics through `x`, value from the phase.
     #[inline]
-    fn region(tau: f64, x: f64) -> usize {
-        2 * usize::from(x < tau) + usize::from(x + tau > 1.0)
-    }
-
-    /// The value of the affine piece `(a, b, c)` of [`Self::regions`] at `x`.
-    #[inline]
-    fn affine((a, b, c): (f64, f64, f64), x: f64) -> Pointwise {
-        Pointwise {
-            u: a + b * x,
-            ux: b,
-            ut: c,
-        }
+    fn eval_in_phase(phase: usize, tau: f64, x: f64) -> Pointwise {
+        let left_of_wave = x < tau; // η = x − τ < 0
+        let past_reflection = x + tau > 1.0; // ξ = x + τ > 1
+        let (u, ux, ut) = match (phase, left_of_wave, past_reflection) {
+            (0, false, _) => (0.5 - 0.5 * x, -0.5, 0.0),
+            (0, true, _) => (0.5 - 0.5 * tau, 0.0, -0.5),
+            (1, false, false) => (-0.5 * tau, 0.0, -0.5),
+            (1, true, false) => (-0.5 * x, -0.5, 0.0),
+            (1, false, true) => (0.5 * x - 0.5, 0.5, 0.0),
+            (1, true, true) => (0.5 * tau - 0.5, 0.0, 0.5),
+            (_, _, false) => (0.5 * tau, 0.0, 0.5),
+            (_, _, true) => (0.5 - 0.5 * x, -0.5, 0.0),
+        };
+        Pointwise { u, ux, ut }
     }
 }
 
@@ -84,14 +59,13 @@ impl ExactSolution for SignoriniDirichlet {
 
     fn eval(&self, x: f64, t: f64) -> Pointwise {
         let (phase, tau) = Self::phase(t);
-        Self::affine(Self::regions(phase, tau)[Self::region(tau, x)], x)
+        Self::eval_in_phase(phase, tau, x)
     }
 
     fn eval_many(&self, t: f64, xs: &[f64], out: &mut [Pointwise]) {
         let (phase, tau) = Self::phase(t);
-        let regions = Self::regions(phase, tau);
         for (o, &x) in out.iter_mut().zip(xs) {
-            *o = Self::affine(regions[Self::region(tau, x)], x);
+            *o = Self::eval_in_phase(phase, tau, x);
         }
     }
 

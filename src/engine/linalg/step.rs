@@ -163,6 +163,12 @@ impl StepSolver {
         }
     }
 
+    /// Whether [`StepSolver::solve`] reads its initial guess (an iterative solve); a direct one
+    /// ignores it, so a caller need not form it.
+    pub fn reads_guess(&self) -> bool {
+        matches!(self, StepSolver::Cg { .. })
+    }
+
     /// Solves `K x = b`: `rhs` holds `b` on entry and `x` on exit. `guess` is CG's initial
     /// guess (the direct solver ignores it).
     pub fn solve(&mut self, rhs: &mut [f64], guess: &[f64]) -> Result<(), SolveError> {

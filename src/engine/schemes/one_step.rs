@@ -231,8 +231,10 @@ impl OneStepScheme<'_> {
         if let Some(f) = self.model.load() {
             self.scratch.iter_mut().zip(f).for_each(|(r, fi)| *r += fi);
         }
-        self.coef
-            .warm_start(dt, &self.predictor, acc, &mut self.guess);
+        if self.system.reads_guess() {
+            self.coef
+                .warm_start(dt, &self.predictor, acc, &mut self.guess);
+        }
         self.system.solve(&mut self.scratch, &self.guess)?;
         if let Some(contact) = self.contact.as_mut() {
             contact.enforce(step, &mut self.scratch, shift, lambda)?;
