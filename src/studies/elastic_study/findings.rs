@@ -137,9 +137,19 @@ fn oscillates(c: &CaseStudy) -> bool {
     c.oscillation_indicator().is_some_and(verdicts::oscillates)
 }
 
-/// Whether `c` oscillates as `expected`, decided as measured (an indicator has no interval).
+/// Whether `c` oscillates as `expected`, decided as measured (an indicator has no interval);
+/// undecided without an indicator (a series without the contact force: no multiplier, or a
+/// code's own mesh).
 fn oscillation(c: Labelled<'_>, expected: bool) -> Decision {
-    let indicator = c.case.oscillation_indicator().unwrap_or(f64::NAN);
+    let Some(indicator) = c.case.oscillation_indicator().filter(|i| i.is_finite()) else {
+        return Decision {
+            verdict: Verdict::Undecided,
+            reason: format!(
+                "{}: no oscillation indicator (the contact force is not measured)",
+                c.label
+            ),
+        };
+    };
     let (word, relation) = if oscillates(c.case) {
         ("oscillates", "≥")
     } else {
@@ -175,12 +185,12 @@ fn rates_text(c: Labelled<'_>, norms: &[Norm]) -> String {
     format!("{}: {}", c.label, list.join(", "))
 }
 
+/// `label indicator I`, or `label indicator not measured` without one.
 fn indicator_text(c: Labelled<'_>) -> String {
-    format!(
-        "{} indicator {:.1}",
-        c.label,
-        c.case.oscillation_indicator().unwrap_or(f64::NAN)
-    )
+    match c.case.oscillation_indicator().filter(|i| i.is_finite()) {
+        Some(i) => format!("{} indicator {i:.1}", c.label),
+        None => format!("{} indicator not measured", c.label),
+    }
 }
 
 /// The note's findings for Crank–Nicolson and backward Euler with both masses, every rate
@@ -477,6 +487,25 @@ mod tests {
         assert_eq!(findings[0].verdict, Verdict::Fails, "{:?}", findings[0]);
         assert!(findings[0].reason.contains("no interval"));
         assert!(findings[1..].iter().all(|f| f.verdict == Verdict::Holds));
+    }
+
+    /// A series without the contact force (no multiplier, or a code's own mesh) has no
+    /// oscillation indicator: the first finding is undecided, saying so, never failed as if it
+    /// did not oscillate.
+    #[test]
+    fn a_case_without_an_indicator_leaves_the_oscillation_finding_undecided() {
+        let findings = note_findings(&note_like(f64::NAN), &|_, _| Some(0.0));
+        assert_eq!(findings[0].verdict, Verdict::Undecided, "{:?}", findings[0]);
+        assert!(
+            findings[0].reason.contains("no oscillation indicator"),
+            "{}",
+            findings[0].reason
+        );
+        assert!(
+            findings[0].evidence.contains("MOD indicator not measured"),
+            "{}",
+            findings[0].evidence
+        );
     }
 
     #[test]
