@@ -149,12 +149,13 @@ LEAGUE_MASSES := standard redistributed
 ## they wrote it: GetFEM 5.4.2 (scripts/getfem_bar2d.py: its model bricks, Newmark or θ = 1, its
 ## nodal contact brick; `MeshFem.export_to_vtu` in base64, Float32) and DOLFINx 0.5.2
 ## (scripts/dolfinx_bar2d.py: its Q1 matrices, the harness's one-step schemes, an exact nodal LCP;
-## `dolfinx.io.VTKFile`, .pvd -> .pvtu -> .vtu). Debian's python3-getfem and python3-dolfinx are
+## `dolfinx.io.VTKFile`, .pvd -> .pvtu -> .vtu), and DOLFINx again on its default triangle mesh
+## of the bar (P1, `--cell triangle`), verified on its own mesh. Debian's python3-getfem and python3-dolfinx are
 ## installed if /usr/bin/python3 cannot import them.
 league-codes: build
 	@/usr/bin/python3 -c 'import getfem' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-getfem)
 	@/usr/bin/python3 -c 'import dolfinx' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-dolfinx)
-	rm -rf $(LEAGUE_RUNS)/getfem-vtu $(LEAGUE_RUNS)/dolfinx
+	rm -rf $(LEAGUE_RUNS)/getfem-vtu $(LEAGUE_RUNS)/dolfinx $(LEAGUE_RUNS)/dolfinx-triangles
 	for scheme in $(LEAGUE_SCHEMES); do for mass in $(LEAGUE_MASSES); do \
 	  /usr/bin/python3 scripts/getfem_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
 	    --binary --out $(LEAGUE_RUNS)/getfem-vtu 2>/dev/null >/dev/null || exit 1; \
@@ -170,6 +171,14 @@ league-codes: build
 	    --scheme $$scheme --mass $$mass --contact "exact nodal complementarity (LCP)" \
 	    --velocity velocity --multiplier contact_multiplier \
 	    --out reports/league/dolfinx-2d-$$scheme-$$mass >/dev/null || exit 1; \
+	  /usr/bin/python3 scripts/dolfinx_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
+	    --cell triangle --out $(LEAGUE_RUNS)/dolfinx-triangles >/dev/null || exit 1; \
+	  $(BIN) verify scenes/bar2d.json \
+	    $(LEAGUE_RUNS)/dolfinx-triangles/dolfinx-bar2d-triangle-$$scheme-$$mass-level*.pvd \
+	    --code dolfinx --code-version 0.5.2 --label "DOLFINx $$scheme, $$mass, its triangles (VTKFile)" \
+	    --scheme $$scheme --mass $$mass --contact "exact nodal complementarity (LCP)" \
+	    --velocity velocity --multiplier contact_multiplier \
+	    --out reports/league/dolfinx-triangles-2d-$$scheme-$$mass >/dev/null || exit 1; \
 	done; done
 
 league: build league-codes

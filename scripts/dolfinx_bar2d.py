@@ -34,7 +34,9 @@ force 6.5e-13 (4.5e-15).
 
 - the bar [0, 0.1] × [0, 1], ``dolfinx.mesh.create_rectangle`` with ``CellType.quadrilateral``,
   LEVEL elements along x2 and round(0.1 LEVEL) across; the space Q1 (``VectorFunctionSpace``
-  ("Lagrange", 1)), plane strain σ = 2μ ε(u) + λ tr ε(u) I with λ = 0.25, μ = 0.5, density 1;
+  ("Lagrange", 1)) (with ``--cell triangle``: DOLFINx's default triangles, each square cut along
+  one diagonal, P1 on the same nodes, files named ``dolfinx-bar2d-triangle-…``: another discrete
+  problem than the scene's, verified on its own mesh), plane strain σ = 2μ ε(u) + λ tr ε(u) I with λ = 0.25, μ = 0.5, density 1;
   the forms integrated with 2 × 2 Gauss points (``quadrature_degree`` 2) and assembled by
   ``dolfinx.fem.petsc.assemble_matrix`` without boundary conditions, then read into scipy;
 - the mass ``standard`` (consistent, over every cell) or ``redistributed`` (the paper's M^mod:
@@ -126,6 +128,10 @@ from bar2d_contact import (
 
 QUADRATURE = {"quadrature_degree": 2}
 WRITERS = {"vtk": "pvd", "xdmf": "xdmf"}
+CELLS = {
+    "quadrilateral": dolfinx.mesh.CellType.quadrilateral,
+    "triangle": dolfinx.mesh.CellType.triangle,
+}
 
 
 def to_scipy(form):
@@ -138,13 +144,13 @@ def to_scipy(form):
 class Bar(BarMatrices):
     """The bar at one level: DOLFINx's mesh, spaces and matrices, with the clamped dofs removed."""
 
-    def __init__(self, level, mass):
+    def __init__(self, level, mass, cell="quadrilateral"):
         n1 = round(LENGTHS[0] * level)
         self.mesh = dolfinx.mesh.create_rectangle(
             MPI.COMM_WORLD,
             [np.array([0.0, 0.0]), np.array(LENGTHS)],
             [n1, level],
-            dolfinx.mesh.CellType.quadrilateral,
+            CELLS[cell],
         )
         self.vector_space = dolfinx.fem.VectorFunctionSpace(self.mesh, ("Lagrange", 1))
         self.scalar_space = dolfinx.fem.FunctionSpace(self.mesh, ("Lagrange", 1))
@@ -177,15 +183,15 @@ class Bar(BarMatrices):
 
         nodes = self.scalar_space.tabulate_dof_coordinates()
         if not np.array_equal(self.vector_space.tabulate_dof_coordinates(), nodes):
-            raise RuntimeError("the vector and scalar Q1 spaces number the nodes differently")
+            raise RuntimeError("the vector and scalar spaces number the nodes differently")
         block = self.vector_space.dofmap.index_map_bs
         super().__init__(level, mass_matrix, stiffness, nodes, block)
 
 
-def run(level, scheme, mass, out, getfem, writer):
-    """Steps the bar at LEVEL and writes every t_n with WRITER; returns a summary (and the
-    differences from GetFEM's run in the directory GETFEM unless it is None)."""
-    bar = Bar(level, mass)
+def run(level, scheme, mass, out, getfem, writer, cell):
+    """Steps the bar at LEVEL on CELL elements and writes every t_n with WRITER; returns a
+    summary (and the differences from GetFEM's run in the directory GETFEM unless it is None)."""
+    bar = Bar(level, mass, cell)
     dt, _ = time_step(level)
     u_field = dolfinx.fem.Function(bar.vector_space)
     u_field.name = "displacement"
@@ -196,6 +202,8 @@ def run(level, scheme, mass, out, getfem, writer):
     summary = Summary(bar)
     history = []
     stem = f"dolfinx-bar2d-{scheme}-{mass}-level{level}"
+    if cell != "quadrilateral":
+        stem = f"dolfinx-bar2d-{cell}-{scheme}-{mass}-level{level}"
     path = out / f"{stem}.{WRITERS[writer]}"
     with open_writer(writer, bar.mesh, path) as file:
         for n, displacement, velocity, multipliers in stepped(bar, scheme):
@@ -285,13 +293,25 @@ def main():
         default="vtk",
         help="dolfinx.io.VTKFile (a .pvd series) or dolfinx.io.XDMFFile (.xdmf with .h5)",
     )
+    parser.add_argument(
+        "--cell",
+        choices=sorted(CELLS),
+        default="quadrilateral",
+        help="the cells of create_rectangle: Q1 quadrilaterals (the scene's mesh) or DOLFINx's "
+        "default triangles (each square cut along one diagonal, P1)",
+    )
     args = parser.parse_args()
+    if args.cell != "quadrilateral" and args.getfem is not None:
+        parser.error("--getfem compares with GetFEM's Q1 runs: only with --cell quadrilateral")
     if MPI.COMM_WORLD.size != 1:
         parser.error("runs on one process (the contact solve uses the whole matrices)")
     logging.getLogger().setLevel(logging.WARNING)
     args.out.mkdir(parents=True, exist_ok=True)
     for level in args.level:
-        print(run(level, args.scheme, args.mass, args.out, args.getfem, args.writer), flush=True)
+        print(
+            run(level, args.scheme, args.mass, args.out, args.getfem, args.writer, args.cell),
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

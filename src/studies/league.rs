@@ -12,8 +12,8 @@
 //! says what would decide it. The oscillation verdict is the indicator's word as measured (an
 //! indicator has no interval).
 //!
-//! `league.json` (format `signorini-league/1`): `format`; `findings`, one per code and scene
-//! with a declared case (`scene`, `code`, `entries`, `findings`); `entries`, one per directory, each
+//! `league.json` (format `signorini-league/1`): `format`; `findings`, one per code, scene and
+//! mesh kind with a declared case (`scene`, `code`, `own_mesh`, `entries`, `findings`); `entries`, one per directory, each
 //! with `entry` (the directory's name), `scene`, `reference`, `findings` (as in verify.json) and
 //! `rows`, one per series: `label`, `code`, `declared` (`scheme`, `mass`, `contact`, each
 //! omitted when not declared), `levels` (NX), `rates` (per computed norm: `norm`, `rate`,
@@ -119,6 +119,11 @@ pub struct CodeFindings {
     pub scene: String,
     /// The code and its version.
     pub code: Code,
+    /// Whether these series are on the code's own mesh (`signorini verify`'s own-mesh path:
+    /// triangles, tetrahedra, `--own-mesh`): judged apart from the same code's series on the
+    /// scene's mesh, since their force and energy norms are not measured.
+    #[serde(default)]
+    pub own_mesh: bool,
     /// The entries whose series were judged together.
     pub entries: Vec<String>,
     /// The findings.
@@ -170,22 +175,28 @@ fn entry(name: &str, v: &JudgedVerification) -> LeagueEntry {
     }
 }
 
+/// Whether a series was measured on its own mesh (any of its runs was).
+fn on_own_mesh(s: &Series) -> bool {
+    s.runs.iter().any(|r| r.own_mesh.is_some())
+}
+
 /// The note's findings judged on every series of one code on one scene, across the entries
 /// (the first series of each declared scheme × mass), each rate's interval widened by the bias
 /// bound of the entry its series comes from (that entry's largest over the cases it declares;
-/// the harness's entries declare one case each); codes without a declared case have none.
+/// the harness's entries declare one case each); codes without a declared case have none. A
+/// code's series on its own mesh are judged apart from its series on the scene's mesh.
 fn findings_by_code(files: &[(String, JudgedVerification)]) -> Vec<CodeFindings> {
-    let mut keys: Vec<(String, Code)> = Vec::new();
+    let mut keys: Vec<(String, Code, bool)> = Vec::new();
     for (_, v) in files {
         for s in &v.series {
-            let key = (v.scene.clone(), s.code.clone());
+            let key = (v.scene.clone(), s.code.clone(), on_own_mesh(s));
             if !keys.contains(&key) {
                 keys.push(key);
             }
         }
     }
     keys.into_iter()
-        .filter_map(|(scene, code)| {
+        .filter_map(|(scene, code, own_mesh)| {
             let mut entries = Vec::new();
             let mut series: Vec<Series> = Vec::new();
             let mut holders: Vec<(Vec<Case>, &JudgedVerification)> = Vec::new();
@@ -193,7 +204,7 @@ fn findings_by_code(files: &[(String, JudgedVerification)]) -> Vec<CodeFindings>
                 let own: Vec<Series> = v
                     .series
                     .iter()
-                    .filter(|s| s.code == code)
+                    .filter(|s| s.code == code && on_own_mesh(s) == own_mesh)
                     .cloned()
                     .collect();
                 let declared: Vec<Case> = declared_cases(&own).iter().map(|c| c.case).collect();
@@ -218,6 +229,7 @@ fn findings_by_code(files: &[(String, JudgedVerification)]) -> Vec<CodeFindings>
             Some(CodeFindings {
                 scene,
                 code,
+                own_mesh,
                 entries,
                 findings: findings_of_cases(&cases, &bias),
             })
@@ -359,11 +371,15 @@ pub fn render(league: &League, entries: &str) -> String {
         let entries: Vec<String> = f.entries.iter().map(|e| format!("`{e}`")).collect();
         let _ = writeln!(
             out,
-            "\n## The note's findings: {} {} on `{}`\n\nJudged on the series of {} together \
+            "\n## The note's findings: {} {} on `{}`{}\n\nJudged on the series of {} together \
              (each rate's interval widened by the largest bias bound among them).\n\n{}",
             table_text(&f.code.name),
             table_text(&f.code.version),
             f.scene,
+            match f.own_mesh {
+                true => ", on its own mesh",
+                false => "",
+            },
             entries.join(", "),
             findings_table(&f.findings)
         );
