@@ -398,41 +398,14 @@ impl Stencil {
                 &x[first..first + D]
             };
             if node + 1 < end && self.class_of[node + 1] == class_index {
-                let mut acc = [[[0.0; LANES]; D]; 2];
-                let mut bcc = [[[0.0; LANES]; D]; 2];
-                let mut blocks = class
-                    .offsets
-                    .iter()
-                    .zip(class.columns.chunks_exact(D * LANES));
-                while let Some((&even, columns)) = blocks.next() {
-                    add_block(&mut acc[0], x_of(node, even), columns);
-                    add_block(&mut bcc[0], x_of(node + 1, even), columns);
-                    match blocks.next() {
-                        Some((&odd, columns)) => {
-                            add_block(&mut acc[1], x_of(node, odd), columns);
-                            add_block(&mut bcc[1], x_of(node + 1, odd), columns);
-                        }
-                        None => break,
-                    }
-                }
-                sink(node, row_sum(&acc));
-                sink(node + 1, row_sum(&bcc));
+                let [first, second] = block_rows::<D, 2>(class, [node, node + 1], x_of);
+                sink(node, first);
+                sink(node + 1, second);
                 node += 2;
                 continue;
             }
-            let mut acc = [[[0.0; LANES]; D]; 2];
-            let mut blocks = class
-                .offsets
-                .iter()
-                .zip(class.columns.chunks_exact(D * LANES));
-            while let Some((&even, columns)) = blocks.next() {
-                add_block(&mut acc[0], x_of(node, even), columns);
-                match blocks.next() {
-                    Some((&odd, columns)) => add_block(&mut acc[1], x_of(node, odd), columns),
-                    None => break,
-                }
-            }
-            sink(node, row_sum(&acc));
+            let [row] = block_rows::<D, 1>(class, [node], x_of);
+            sink(node, row);
             node += 1;
         }
     }
@@ -581,6 +554,37 @@ fn row_dot<const D: usize>(row: &[f64; LANES], x: &[f64], node: usize) -> f64 {
         .zip(&x[node * D..])
         .map(|(a, b)| a * b)
         .sum::<f64>()
+}
+
+/// The rows `(A x)_n` of the `N` nodes `nodes`, all of class `class`, through their blocks
+/// together (each block's columns loaded once for the `N` nodes): per node, the block's columns
+/// summed into two sets of accumulators, even blocks into one and odd into the other, then
+/// [`row_sum`] ([`Stencil::rows`]). `x_of(n, o)` is node `n + o`'s entries of `x`.
+#[inline(always)]
+fn block_rows<'x, const D: usize, const N: usize>(
+    class: &NodeClass,
+    nodes: [usize; N],
+    x_of: impl Fn(usize, isize) -> &'x [f64],
+) -> [[f64; LANES]; N] {
+    let mut acc = [[[[0.0; LANES]; D]; 2]; N];
+    let mut blocks = class
+        .offsets
+        .iter()
+        .zip(class.columns.chunks_exact(D * LANES));
+    while let Some((&even, columns)) = blocks.next() {
+        for (acc, &n) in acc.iter_mut().zip(&nodes) {
+            add_block(&mut acc[0], x_of(n, even), columns);
+        }
+        match blocks.next() {
+            Some((&odd, columns)) => {
+                for (acc, &n) in acc.iter_mut().zip(&nodes) {
+                    add_block(&mut acc[1], x_of(n, odd), columns);
+                }
+            }
+            None => break,
+        }
+    }
+    acc.map(|acc| row_sum(&acc))
 }
 
 /// `Σ_c (acc[0][c] + acc[1][c])`: a row block's result from its two sets of column
