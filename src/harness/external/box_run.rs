@@ -77,6 +77,28 @@ pub struct SeriesOptions {
     pub own_mesh: bool,
 }
 
+impl SeriesOptions {
+    /// The code (required: a `.pvd` or `.xdmf` does not say which code wrote it) and the
+    /// series' label (default: the file's stem) of the series read from `path`.
+    pub(crate) fn code_and_label(&self, path: &Path) -> Result<(Code, String), ExternalError> {
+        let code = self.code.clone().ok_or_else(|| {
+            ExternalError::invalid(
+                path,
+                "--code",
+                None,
+                "missing",
+                "the code's name and version (--code NAME --code-version VERSION): a .pvd or .xdmf \
+                 does not say which code wrote it",
+            )
+        })?;
+        let label = self.label.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map_or("pvd".into(), |s| s.to_string_lossy().into_owned())
+        });
+        Ok((code, label))
+    }
+}
+
 /// One step of a box run in the harness's order: what the file has of it.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BoxSample {
@@ -486,20 +508,7 @@ impl BoxScene<'_> {
         .flatten()
         .filter_map(|name| first.array(name))
         .fold(f64::EPSILON, |e, a| e.max(a.epsilon));
-        let code = options.code.clone().ok_or_else(|| {
-            ExternalError::invalid(
-                path,
-                "--code",
-                None,
-                "missing",
-                "the code's name and version (--code NAME --code-version VERSION): a .pvd or .xdmf \
-                 does not say which code wrote it",
-            )
-        })?;
-        let label = options.label.clone().unwrap_or_else(|| {
-            path.file_stem()
-                .map_or("pvd".into(), |s| s.to_string_lossy().into_owned())
-        });
+        let (code, label) = options.code_and_label(path)?;
         let run = BoxExternalRun {
             path: path.to_path_buf(),
             code,

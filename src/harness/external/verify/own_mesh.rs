@@ -245,20 +245,7 @@ impl OwnMeshRun {
                 ),
             ));
         }
-        let code = options.code.clone().ok_or_else(|| {
-            ExternalError::invalid(
-                path,
-                "--code",
-                None,
-                "missing",
-                "the code's name and version (--code NAME --code-version VERSION): a .pvd or \
-                 .xdmf does not say which code wrote it",
-            )
-        })?;
-        let label = options.label.clone().unwrap_or_else(|| {
-            path.file_stem()
-                .map_or("pvd".into(), |s| s.to_string_lossy().into_owned())
-        });
+        let (code, label) = options.code_and_label(path)?;
         let run = Self {
             path: path.to_path_buf(),
             code,
