@@ -27,11 +27,12 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
-use super::elastic_study::external::JudgedVerification;
+use super::elastic_study::external::{caveats_list, JudgedVerification};
 use super::elastic_study::findings::{findings_of_cases, Finding};
 use super::elastic_study::report::findings_table;
 use crate::harness::external::format::Code;
 use crate::harness::external::rerun::StepDifferences;
+use crate::harness::external::verify::own_mesh::own_mesh_caveats;
 use crate::harness::external::verify::{declared_cases, Declared, Series};
 use crate::harness::render::report::table_text;
 use crate::harness::run::norms::Norm;
@@ -121,13 +122,17 @@ pub struct CodeFindings {
     pub code: Code,
     /// Whether these series are on the code's own mesh (`signorini verify`'s own-mesh path:
     /// triangles, tetrahedra, `--own-mesh`): judged apart from the same code's series on the
-    /// scene's mesh, since their force and energy norms are not measured.
+    /// scene's mesh, since their displacement errors carry their own bound.
     #[serde(default)]
     pub own_mesh: bool,
     /// The entries whose series were judged together.
     pub entries: Vec<String>,
     /// The findings.
     pub findings: Vec<Finding>,
+    /// What the findings rest on when the series are on the code's own mesh
+    /// ([`own_mesh_caveats`]); empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub caveats: Vec<String>,
 }
 
 /// `league.json`.
@@ -232,6 +237,7 @@ fn findings_by_code(files: &[(String, JudgedVerification)]) -> Vec<CodeFindings>
                 own_mesh,
                 entries,
                 findings: findings_of_cases(&cases, &bias),
+                caveats: own_mesh_caveats(&series),
             })
         })
         .collect()
@@ -383,6 +389,7 @@ pub fn render(league: &League, entries: &str) -> String {
             entries.join(", "),
             findings_table(&f.findings)
         );
+        out.push_str(&caveats_list(&f.caveats));
     }
     out
 }

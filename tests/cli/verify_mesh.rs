@@ -7,7 +7,9 @@
 //!
 //! A series on its own mesh (each element split into triangles or Kuhn tetrahedra on the same
 //! nodes, a P1 field; an XDMF triangle topology) verifies end to end against the reference's
-//! projection on the finest study level, with its mesh, `h`, `Δt` and bound said; the Q1 runs
+//! projection on the finest study level, with its mesh, `h`, `Δt` and bound said, and its
+//! contact quantities (the resultant over the face, the face centre's pressure and
+//! displacement) beside the reference's; the Q1 runs
 //! forced through that path (`--own-mesh`) give the structured path's errors to round-off; a
 //! mesh with a hole, or a sample off the finest level's time grid, is refused naming it.
 //!
@@ -132,7 +134,8 @@ fn verify_args<'a>(scene: &'a Path, file: &'a Path, cache: &'a Path) -> Vec<&'a 
     ]
 }
 
-/// `verify` of the series `files` against `scene` with `extra` arguments, writing verify.json
+/// `verify` of the series `files` against `scene` with `extra` arguments (the multipliers'
+/// array among them, when it is read), writing verify.json
 /// into `out`: its JSON and what it printed.
 fn verify_series(
     scene: &Path,
@@ -152,8 +155,6 @@ fn verify_series(
         "cn-std",
         "--velocity",
         "velocity",
-        "--multiplier",
-        "contact_multiplier",
         "--cache",
         s(cache),
         "--out",
@@ -202,7 +203,12 @@ fn bar_series(dir: &Path, scene_file: &str) -> (PathBuf, PathBuf, Vec<PathBuf>, 
 /// runs at levels 5 and 10, every element split, the same nodal values: a P1 field on the
 /// nodes of the Q1 one) verify end to end against the reference's projection on level 10: exit
 /// 0, the mesh, h and the bound said in verify.json and printed, the displacement norms
-/// measured, the force and energy norms "not measured on a foreign mesh"; the same Q1 runs
+/// measured; the energy on the scene's cells through the own-mesh path the structured path's to
+/// round-off; the resultant contact force's `lambda_L2` and oscillation indicator those of the
+/// structured path to round-off; the rates' bias widened by the stated bound and the findings'
+/// caveats said; the face
+/// centre's displacement, resultant and pressure recorded at every sample, and `lambda_L2` not
+/// computed without `--multiplier`, saying so; the same Q1 runs
 /// forced through the own-mesh path give the structured path's errors to round-off, and the
 /// simplex series' errors differ from the Q1 series' by no more than their stated bound and the
 /// fields' own distance (each P1 field against its Q1 field, by the same quadrature).
@@ -215,9 +221,38 @@ fn a_simplex_series_of_the_bars_verifies_end_to_end_against_the_finest_projectio
     ] {
         let sub = dir.join(kind);
         let (scene, cache, q1, simplex) = bar_series(&sub, scene_file);
-        let (structured, _) = verify_series(&scene, &q1, &cache, &sub.join("q1"), &[]);
-        let (forced, _) = verify_series(&scene, &q1, &cache, &sub.join("forced"), &["--own-mesh"]);
-        let (own, printed) = verify_series(&scene, &simplex, &cache, &sub.join("own"), &[]);
+        let declared = [
+            "--multiplier",
+            "contact_multiplier",
+            "--scheme",
+            "crank-nicolson",
+            "--mass",
+            "standard",
+        ];
+        let (structured, _) = verify_series(&scene, &q1, &cache, &sub.join("q1"), &declared);
+        let forced_args = [
+            "--own-mesh",
+            "--multiplier",
+            "contact_multiplier",
+            "--mass",
+            "standard",
+        ];
+        let (forced, _) = verify_series(&scene, &q1, &cache, &sub.join("forced"), &forced_args);
+        let (own, printed) = verify_series(&scene, &simplex, &cache, &sub.join("own"), &declared);
+        // The findings on the own-mesh series are widened by its stated bound, and say so.
+        let bias = |v: &Value| v["rate_bias"]["u_Linf_V"].as_f64();
+        let (widened, reference_only) = (bias(&own), bias(&structured).unwrap());
+        assert!(
+            widened.is_none_or(|b| b > reference_only),
+            "{kind}: {widened:?} against {reference_only}"
+        );
+        let caveats = own["caveats"].as_array().unwrap();
+        assert!(caveats[0]
+            .as_str()
+            .unwrap()
+            .starts_with("On their own mesh: `cn-std`"));
+        assert!(structured.get("caveats").is_none());
+        assert!(printed.contains("What these findings rest on"), "{printed}");
         let expected = displacement_errors(&structured);
         assert_eq!(expected.len(), 4);
         for ((norm, e), (forced_norm, f)) in expected.iter().zip(displacement_errors(&forced)) {
@@ -244,21 +279,58 @@ fn a_simplex_series_of_the_bars_verifies_end_to_end_against_the_finest_projectio
             );
         }
         assert!(printed.contains("projections on the finest study level 10"));
-        for key in ["lambda_L2", "energy_Linf", "energy_L2"] {
-            let reason = series["not_computed"]
-                .as_array()
+        // The resultant over the contact face is the structured path's total force: the same
+        // lambda_L2 and oscillation indicator, on the split cells as on the scene's; the energy
+        // on the scene's cells through the own-mesh path is the structured path's.
+        let norm_errors = |verified: &Value, key: &str| -> Vec<f64> {
+            let all = errors(&verified["series"][0]["rates"]);
+            all.into_iter().find(|(n, _)| n == key).unwrap().1
+        };
+        let indicator = |verified: &Value, k: usize| {
+            verified["series"][0]["levels"][k]["multiplier_variation_ratio"]
+                .as_f64()
                 .unwrap()
+        };
+        for (key, other) in [
+            ("lambda_L2", &own),
+            ("energy_Linf", &forced),
+            ("energy_L2", &forced),
+        ] {
+            let expected = norm_errors(&structured, key);
+            for (a, b) in expected.iter().zip(norm_errors(other, key)) {
+                assert!((a - b).abs() <= 1e-12 * a.abs(), "{kind} {key} {a} own {b}");
+            }
+            assert!(norm_errors(&own, key)
                 .iter()
-                .find(|n| n["norm"] == key)
-                .unwrap_or_else(|| panic!("{key} not computed"))["reason"]
-                .as_str()
-                .unwrap()
-                .to_string();
-            assert!(
-                reason.contains("not measured on a foreign mesh"),
-                "{reason}"
-            );
+                .all(|e| e.is_finite() && *e > 0.0));
         }
+        for (k, run) in runs.iter().enumerate() {
+            let (a, b) = (indicator(&structured, k), indicator(&own, k));
+            assert!((a - b).abs() <= 1e-12 * a, "{kind} indicator {a} own {b}");
+            let contact = &run["own_mesh"]["contact"];
+            let samples = contact["time"].as_array().unwrap().len();
+            assert_eq!(Some(samples as u64), run["samples"].as_u64());
+            for q in ["displacement", "force", "pressure"] {
+                assert_eq!(contact[q].as_array().unwrap().len(), samples, "{q}");
+                let linf = contact["errors"][format!("{q}_Linf")].as_f64().unwrap();
+                let scale = contact["errors"][format!("{q}_scale")].as_f64().unwrap();
+                assert!(linf > 0.0 && scale > 0.0 && linf.is_finite(), "{kind} {q}");
+            }
+        }
+        assert!(printed.contains("at the face centre"), "{printed}");
+        let (without, _) = verify_series(&scene, &simplex, &cache, &sub.join("without"), &[]);
+        let reason = without["series"][0]["not_computed"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|n| n["norm"] == "lambda_L2")
+            .map(|n| n["reason"].as_str().unwrap().to_string());
+        assert!(
+            reason
+                .as_deref()
+                .is_some_and(|r| r.contains("--multiplier NAME")),
+            "{reason:?}"
+        );
         let measured = displacement_errors(&own);
         assert_eq!(measured.len(), 4);
         for ((norm, q), (_, p)) in expected.iter().zip(&measured) {

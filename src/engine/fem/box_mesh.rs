@@ -546,6 +546,37 @@ impl BoxMesh {
         (0..layer).collect()
     }
 
+    /// The contact node nearest the centre of `Γ_Sig` (the first in [`Self::contact_nodes`]'s
+    /// order among equals): its index in that list.
+    pub fn face_centre(&self) -> usize {
+        let d = self.dim;
+        let mid: Vec<f64> = self.lengths[..d - 1].iter().map(|l| 0.5 * l).collect();
+        let distance = |k: usize| {
+            let x = self.node(k);
+            mid.iter()
+                .enumerate()
+                .map(|(i, m)| (x[i] - m).powi(2))
+                .sum::<f64>()
+        };
+        (0..self.contact_nodes().len())
+            .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+            .unwrap_or(0)
+    }
+
+    /// `a = ∫_{Γ_Sig} φ` of the shape function of contact node `node`: `Π_{k<d} h_k`, halved
+    /// along each axis where the node is on the face's edge (the lumped face mass that turns a
+    /// nodal force into a pressure, [`crate::harness::external::mesh::ContactFace`]).
+    pub fn face_share(&self, node: usize) -> f64 {
+        let index = self.node_index(node);
+        let sizes = self.element_sizes();
+        (0..self.dim - 1)
+            .map(|k| match index[k] == 0 || index[k] == self.counts[k] {
+                true => 0.5 * sizes[k],
+                false => sizes[k],
+            })
+            .product()
+    }
+
     /// Whether element `e` touches `Γ_Sig` (has a node on `x_d = 0`): its layer along `x_d` is
     /// the first. These are the elements removed from `Ω^mod_{d,h}` (note §2.1).
     pub fn touches_contact_boundary(&self, e: usize) -> bool {

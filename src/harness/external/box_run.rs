@@ -262,49 +262,16 @@ impl BoxExternalRun {
             .multiplier
             .as_deref()
             .map(|name| {
-                let array = snapshot.array(name).filter(|a| a.components == 1);
-                let array = array.ok_or_else(|| {
-                    ExternalError::invalid(
-                        &snapshot.path,
-                        "PointData",
-                        None,
-                        format!("no one-component array {name:?}"),
-                        format!("the arrays {:?}", array_names(snapshot)),
-                    )
-                })?;
-                first_non_finite(snapshot, array, time)?;
+                let on_face = |k: usize| self.mesh.on_contact_boundary(order[k]);
+                let values = point_multipliers(snapshot, name, time, (d, on_face))?;
                 let mut by_node = vec![0.0; self.mesh.n_nodes()];
                 for (file_node, &node) in order.iter().enumerate() {
-                    by_node[node] = array.values[file_node];
+                    by_node[node] = values[file_node];
                 }
-                let scale = multiplier_scale(&array.values);
-                let off_face = order.iter().enumerate().find(|&(k, &node)| {
-                    !self.mesh.on_contact_boundary(node) && array.values[k].abs() > scale
-                });
-                if let Some((k, _)) = off_face {
-                    return Err(ExternalError::invalid(
-                        &snapshot.path,
-                        format!("PointData {name:?}"),
-                        Some(at_point(snapshot, k, time)),
-                        array.values[k],
-                        format!(
-                            "0 within {scale:e} off the contact face x{d} = 0: a multiplier \
-                             acts on a contact node only"
-                        ),
-                    ));
-                }
-                Ok::<Vec<f64>, ExternalError>(
-                    self.mesh
-                        .contact_nodes()
-                        .iter()
-                        .map(|&n| by_node[n])
-                        .collect(),
-                )
+                let contact = self.mesh.contact_nodes();
+                Ok::<Vec<f64>, ExternalError>(contact.iter().map(|&n| by_node[n]).collect())
             })
             .transpose()?;
-        if let Some(m) = &multipliers {
-            check_multipliers(m, &snapshot.path, Some(format!("t = {time}")))?;
-        }
         let sample = BoxSample {
             displacement: Some(nodal(&names.displacement)?),
             velocity: names.velocity.as_deref().map(nodal).transpose()?,
@@ -315,6 +282,48 @@ impl BoxExternalRun {
         check_clamped(&self.mesh, &sample, &snapshot.path, None)?;
         Ok(sample)
     }
+}
+
+/// The one-component multiplier array `name` of `snapshot` (at `time`) of a `d`-dimensional
+/// box, one value per point: every value finite ([`first_non_finite`]), 0 within
+/// [`multiplier_scale`] at each point `on_face` says is off the contact face `x_d = 0`, and of
+/// the harness's sign
+/// ([`check_multipliers`]).
+pub(crate) fn point_multipliers(
+    snapshot: &NodalSnapshot,
+    name: &str,
+    time: f64,
+    (d, on_face): (usize, impl Fn(usize) -> bool),
+) -> Result<Vec<f64>, ExternalError> {
+    let array = snapshot.array(name).filter(|a| a.components == 1);
+    let array = array.ok_or_else(|| {
+        ExternalError::invalid(
+            &snapshot.path,
+            "PointData",
+            None,
+            format!("no one-component array {name:?}"),
+            format!("the arrays {:?}", array_names(snapshot)),
+        )
+    })?;
+    first_non_finite(snapshot, array, time)?;
+    let scale = multiplier_scale(&array.values);
+    let off_face = (0..array.values.len()).find(|&k| !on_face(k) && array.values[k].abs() > scale);
+    if let Some(k) = off_face {
+        return Err(ExternalError::invalid(
+            &snapshot.path,
+            format!("PointData {name:?}"),
+            Some(at_point(snapshot, k, time)),
+            array.values[k],
+            format!(
+                "0 within {scale:e} off the contact face x{d} = 0: a multiplier acts on a \
+                 contact node only"
+            ),
+        ));
+    }
+    check_multipliers(&array.values, &snapshot.path, |k| {
+        at_point(snapshot, k, time)
+    })?;
+    Ok(array.values.clone())
 }
 
 /// Where point `k` of `snapshot` is, at `time`, as the errors say it.
@@ -363,11 +372,12 @@ fn multiplier_scale(values: &[f64]) -> f64 {
 }
 
 /// Refuses contact multipliers of the wrong sign: the harness's convention is `λ_i ≤ 0` (the
-/// obstacle pushes the body, the nodal force is `−λ_i e_d`), within [`multiplier_scale`].
+/// obstacle pushes the body, the nodal force is `−λ_i e_d`), within [`multiplier_scale`];
+/// `place` says where value `i` is.
 fn check_multipliers(
     multipliers: &[f64],
     path: &Path,
-    at: Option<String>,
+    place: impl Fn(usize) -> String,
 ) -> Result<(), ExternalError> {
     let scale = multiplier_scale(multipliers);
     match multipliers.iter().position(|&l| l > scale) {
@@ -375,8 +385,7 @@ fn check_multipliers(
         Some(i) => Err(ExternalError::invalid(
             path,
             "multipliers",
-            at.map(|a| format!("{a}, contact node {i}"))
-                .or(Some(format!("contact node {i}"))),
+            Some(place(i)),
             multipliers[i],
             format!(
                 "λ ≤ 0 within {scale:e}: the obstacle pushes, so a contact force −λ e_d points \
@@ -1018,7 +1027,10 @@ impl BoxFile {
                 return Err(invalid("samples", at(), bad.to_string(), IN_RANGE.into()));
             }
             if let Some(m) = &sample.multipliers {
-                check_multipliers(m, path, at())?;
+                check_multipliers(m, path, |i| match at() {
+                    Some(a) => format!("{a}, contact node {i}"),
+                    None => format!("contact node {i}"),
+                })?;
             }
             check_clamped(&mesh, &sample, path, at())?;
             samples.push(sample);

@@ -88,8 +88,10 @@ pub fn render<J>(v: &Verification<J>) -> String {
                     "A file on its own mesh (its notes say which) is measured against the \
                      reference's projections on the finest study level instead, by a quadrature \
                      on its cells, with the bound its notes state; its level's `h` is its longest \
-                     edge, its `NX` its number of cells, and its force and energy norms are not \
-                     measured.\n"
+                     edge, its `NX` its number of cells; its contact force is the resultant of its \
+                     multipliers over its contact face, its notes give the face centre's \
+                     displacement and pressure beside the reference's, and its energy is \
+                     integrated on its own cells with the mass it declares.\n"
                 );
             }
             "the reference's energy"

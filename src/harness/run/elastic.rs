@@ -103,21 +103,9 @@ struct FaceRecorder {
 impl FaceRecorder {
     /// The recorder of `set` on `mesh`, `centre` the constraint of the node nearest the
     /// face's centre; `None` without an obstacle.
-    fn new(problem: &BoxProblem, mesh: &BoxMesh, set: Option<&ContactSet>) -> Option<Self> {
+    fn new(mesh: &BoxMesh, set: Option<&ContactSet>) -> Option<Self> {
         let set = set?.clone();
-        let d = mesh.dim();
-        let nodes = mesh.contact_nodes();
-        let mid: Vec<f64> = problem.lengths[..d - 1].iter().map(|l| 0.5 * l).collect();
-        let centre = (0..set.len()).min_by(|&a, &b| {
-            let dist = |k: usize| {
-                let x = mesh.node(nodes[k]);
-                mid.iter()
-                    .enumerate()
-                    .map(|(i, m)| (x[i] - m).powi(2))
-                    .sum::<f64>()
-            };
-            dist(a).total_cmp(&dist(b))
-        })?;
+        let centre = mesh.face_centre();
         Some(Self {
             gaps: vec![0.0; set.len()],
             set,
@@ -222,7 +210,7 @@ pub fn run_box<'r>(
     let mesh = &discretisation.mesh;
     let model = &discretisation.model;
     let mut energy = EnergyTrace::default();
-    let mut face = FaceRecorder::new(problem, mesh, model.contact());
+    let mut face = FaceRecorder::new(mesh, model.contact());
     let mut vtk = VtkSnapshots {
         mesh,
         elasticity: &problem.elasticity,

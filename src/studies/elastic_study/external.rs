@@ -12,6 +12,7 @@ use super::findings::{findings_of_cases, Finding};
 use super::report::findings_table;
 use crate::harness::external::report::render as render_tables;
 use crate::harness::external::verify::declared_cases;
+use crate::harness::external::verify::own_mesh::own_mesh_caveats;
 use crate::harness::external::{Measured, Verification};
 
 /// What verify.json adds to the harness's measurements: the note's findings.
@@ -22,6 +23,10 @@ pub struct Judgement {
     /// against an exact solution.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub findings: Option<Vec<Finding>>,
+    /// What the findings on series measured on their own mesh rest on
+    /// ([`own_mesh_caveats`]); empty when none is.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub caveats: Vec<String>,
 }
 
 /// A verification with the note's findings judged on it (`verify.json`).
@@ -38,7 +43,10 @@ pub fn judged(measured: Measured) -> JudgedVerification {
             findings_of_cases(&cases, &bias)
         }
     });
-    measured.verification.judged(Judgement { findings })
+    let caveats = own_mesh_caveats(&measured.verification.series);
+    measured
+        .verification
+        .judged(Judgement { findings, caveats })
 }
 
 /// The markdown of a verification: the harness's tables, then the note's findings when some
@@ -51,6 +59,20 @@ pub fn render(v: &JudgedVerification) -> String {
             "\n## The note's findings, on the series that declare a scheme and a mass\n\n{}",
             findings_table(findings)
         );
+        out.push_str(&caveats_list(&v.judgement.caveats));
     }
     out
+}
+
+/// The caveats of findings judged on series on their own mesh, as a list under its heading;
+/// empty when there are none.
+pub fn caveats_list(caveats: &[String]) -> String {
+    if caveats.is_empty() {
+        return String::new();
+    }
+    let items: Vec<String> = caveats.iter().map(|c| format!("- {c}")).collect();
+    format!(
+        "What these findings rest on, for the series on their own mesh:\n\n{}\n",
+        items.join("\n")
+    )
 }

@@ -332,21 +332,32 @@ impl ElementMesh {
             return determinant(d, jacobian) / factorial;
         }
         let g = 1.0 / 3f64.sqrt();
-        let mut total = 0.0;
-        for s in corners(d) {
-            let xi = [s[0] * g, s[1] * g, s[2] * g];
-            let (_, derivative) = q1_shape(d, xi);
-            let mut jacobian = [[0.0; 3]; 3];
-            for a in 0..cell.vertices.len() {
-                for c in 0..d {
-                    for j in 0..d {
-                        jacobian[c][j] += derivative[a][j] * corner(a)[c];
-                    }
+        corners(d)
+            .iter()
+            .map(|s| self.jacobian_determinant(k, [s[0] * g, s[1] * g, s[2] * g]))
+            .sum()
+    }
+
+    /// `|det J|` of Q1 cell `k`'s map at its local coordinates `xi`: the volume element of its
+    /// quadrature ([`super::energy`]).
+    pub fn volume_element(&self, k: usize, xi: [f64; 3]) -> f64 {
+        self.jacobian_determinant(k, xi).abs()
+    }
+
+    /// `det J` of Q1 cell `k`'s map at `xi`.
+    fn jacobian_determinant(&self, k: usize, xi: [f64; 3]) -> f64 {
+        let cell = &self.cells[k];
+        let d = self.dim;
+        let (_, derivative) = q1_shape(d, xi);
+        let mut jacobian = [[0.0; 3]; 3];
+        for (a, &v) in cell.vertices.iter().enumerate() {
+            for c in 0..d {
+                for j in 0..d {
+                    jacobian[c][j] += derivative[a][j] * self.points[v][c];
                 }
             }
-            total += determinant(d, jacobian);
         }
-        total
+        determinant(d, jacobian)
     }
 }
 

@@ -35,6 +35,7 @@
 
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 
+use super::face::ContactFace;
 use super::function::{ElementMesh, Evaluation};
 
 /// The rule of [`pair_errors`]: `gauss` Gauss–Legendre points per axis (1 to 5) on each of the
@@ -111,7 +112,7 @@ impl PairErrors {
     }
 
     /// The integrand at one point of weight `w`: the errors of `external − reference`.
-    fn add(
+    pub(super) fn add(
         &mut self,
         w: f64,
         external: &Evaluation,
@@ -262,7 +263,7 @@ pub fn check_domain(mesh: &ElementMesh, lengths: &[f64], relative: f64) -> Resul
         ));
     }
     let face: f64 = lengths[..d - 1].iter().product();
-    let on_contact = contact_facets_measure(mesh, tolerance);
+    let on_contact = ContactFace::of(mesh, tolerance).measure();
     if (on_contact - face).abs() > relative * face.max(f64::MIN_POSITIVE) {
         return Err(format!(
             "the cells' facets on the contact face x{d} = 0 measure {on_contact}, where the \
@@ -270,37 +271,4 @@ pub fn check_domain(mesh: &ElementMesh, lengths: &[f64], relative: f64) -> Resul
         ));
     }
     Ok(())
-}
-
-/// The measure of the cells' facets whose vertices are all on `x_d = 0` (within `tolerance`).
-fn contact_facets_measure(mesh: &ElementMesh, tolerance: f64) -> f64 {
-    let d = mesh.dim();
-    let on = |p: &[f64; 3]| p[d - 1].abs() <= tolerance;
-    let mut total = 0.0;
-    for cell in mesh.cells() {
-        for facet in cell.kind.facets() {
-            let corners: Vec<[f64; 3]> = facet
-                .iter()
-                .map(|&a| mesh.points()[cell.vertices[a]])
-                .collect();
-            if !corners.iter().all(on) {
-                continue;
-            }
-            total += if d == 2 {
-                ((corners[1][0] - corners[0][0]).powi(2) + (corners[1][1] - corners[0][1]).powi(2))
-                    .sqrt()
-            } else {
-                // A triangle, or a planar quadrilateral as two triangles (0 1 2, 0 2 3).
-                let area = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-                    0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs()
-                };
-                let mut s = area(corners[0], corners[1], corners[2]);
-                if corners.len() == 4 {
-                    s += area(corners[0], corners[2], corners[3]);
-                }
-                s
-            };
-        }
-    }
-    total
 }

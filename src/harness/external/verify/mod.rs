@@ -255,10 +255,19 @@ pub struct Measured {
 
 impl Measured {
     /// The rate-bias bound a fine-mesh reference puts on a case's rate of a norm
-    /// ([`rate_bias_bound`]); `None` against an exact solution, whose rates carry no bias.
+    /// ([`rate_bias_bound`]), each error off by at most the reference's check distance plus,
+    /// for a series on its own mesh, the largest bound its runs state
+    /// ([`own_mesh::OwnMeshRecord::bound`]); `None` against an exact solution, whose rates carry
+    /// no bias.
     pub fn rate_bias(&self) -> Option<impl Fn(&CaseStudy, Norm) -> Option<f64> + '_> {
         let distance = self.reference_distance.as_ref()?;
-        Some(move |case: &CaseStudy, n: Norm| rate_bias_bound(case, n, distance[n.key()]))
+        let series = &self.verification.series;
+        Some(move |case: &CaseStudy, n: Norm| {
+            let own = declared_series(series)
+                .find(|(_, c)| *c == case.case)
+                .map_or(0.0, |(s, _)| own_mesh_bound(s, n));
+            rate_bias_bound(case, n, distance[n.key()] + own)
+        })
     }
 }
 
@@ -405,34 +414,41 @@ pub fn verify(
 /// series whose files part from the harness's run of what they declare
 /// ([`Series::differs_from_declared`]) is left out: it is not that case.
 pub fn declared_cases(series: &[Series]) -> Vec<CaseStudy> {
-    let mut cases: Vec<CaseStudy> = Vec::new();
-    for s in series
+    declared_series(series)
+        .map(|(s, case)| CaseStudy {
+            case,
+            levels: s.levels.clone(),
+            rates: s.rates.clone(),
+        })
+        .collect()
+}
+
+/// The first series of each case the series `series` declare (a scheme and a mass the harness
+/// names), with its case, leaving out those that part from the harness's run of what they
+/// declare: [`declared_cases`]'s series.
+pub fn declared_series(series: &[Series]) -> impl Iterator<Item = (&Series, Case)> {
+    let mut seen: Vec<Case> = Vec::new();
+    series
         .iter()
         .filter(|s| s.differs_from_declared().is_none())
-    {
-        let scheme = s
-            .declared
-            .scheme
-            .as_deref()
-            .and_then(|n| n.parse::<Scheme>().ok());
-        let mass = s
-            .declared
-            .mass
-            .as_deref()
-            .and_then(|n| n.parse::<MassVariant>().ok());
-        let Some((scheme, mass)) = scheme.zip(mass) else {
-            continue;
-        };
-        let case = Case { scheme, mass };
-        if cases.iter().all(|c| c.case != case) {
-            cases.push(CaseStudy {
-                case,
-                levels: s.levels.clone(),
-                rates: s.rates.clone(),
-            });
-        }
-    }
-    cases
+        .filter_map(move |s| {
+            let scheme = s.declared.scheme.as_deref()?.parse::<Scheme>().ok()?;
+            let mass = s.declared.mass.as_deref()?.parse::<MassVariant>().ok()?;
+            let case = Case { scheme, mass };
+            (!seen.contains(&case)).then(|| {
+                seen.push(case);
+                (s, case)
+            })
+        })
+}
+
+/// The largest bound the runs of `s` on their own mesh state for `norm`'s errors (0 on the
+/// scene's mesh, or for a norm without one).
+pub fn own_mesh_bound(s: &Series, norm: Norm) -> f64 {
+    s.runs
+        .iter()
+        .filter_map(|r| r.own_mesh.as_ref()?.bound.get(norm.key()).copied())
+        .fold(0.0, f64::max)
 }
 
 /// The files `verified` grouped by label into series, in the order the labels first appear,

@@ -28,8 +28,21 @@
 //! reference's own distance to the exact solution is the fine-mesh reference's check distance,
 //! shown with every box verification.
 //!
-//! The contact-force and energy norms are not measured: they are defined through the nodal
-//! multiplier and the scene's mass and stiffness on the scene's nodes.
+//! **The contact quantities** ([`FaceComparison`], docs/src/external-runs.md), compared with the
+//! reference's at the same steps, where the nodal multipliers of two meshes whose contact nodes
+//! differ cannot be:
+//! - the resultant `F = Σ_i λ_i` over the points of the contact face: its `L²(0, T)` distance
+//!   is `lambda_L2`, as on the scene's mesh, and its total variation over the reference's is
+//!   the oscillation indicator the findings read;
+//! - the pressure at the face's centre (the reference's contact node nearest it), `p(x) = Σ_i
+//!   (λ_i / a_i) φ_i(x)` with `a_i = ∫_{Γ_C} φ_i` ([`ContactFace`]), the reference's by the same
+//!   definition on its mesh;
+//! - the axial displacement at that point, `u_d(x)`, the reference's at its node.
+//!
+//!
+//! **The energy** of a sample is [`cell_energy`] on the file's cells with the mass it declares
+//! (the redistributed one as the cells without a vertex on the contact face), compared with the
+//! reference's `E_h` at the same step: `energy_Linf`, `energy_L2`, as on the scene's mesh.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -37,16 +50,17 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Declared, RunRecord, VerifiedFile};
+use super::{declared_series, own_mesh_bound, Declared, RunRecord, Series, VerifiedFile};
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::harness::external::box_run::{
-    displacement_array, first_non_finite, BoxScene, SeriesOptions, NODE_ROUNDINGS,
-    STEP_TIME_TOLERANCE,
+    displacement_array, first_non_finite, point_multipliers, BoxScene, SeriesOptions,
+    NODE_ROUNDINGS, STEP_TIME_TOLERANCE,
 };
 use crate::harness::external::error::ExternalError;
 use crate::harness::external::format::Code;
 use crate::harness::external::mesh::{
-    check_domain, pair_errors_each, CellKind, ElementMesh, Quadrature, Topology, ALLOWED_CELLS,
+    cell_energy, check_domain, pair_errors_each, CellKind, ContactFace, ElementMesh, MassCells,
+    Quadrature, Topology, ALLOWED_CELLS,
 };
 use crate::harness::external::nodal_snapshot::NodalSnapshot;
 use crate::harness::external::snapshot_series::SnapshotSeries;
@@ -70,11 +84,101 @@ pub const HALVED: Quadrature = Quadrature {
     subcells: 2,
 };
 
-/// Why the contact-force and energy norms of such a series are not computed (after "the file
-/// … has no").
-pub const NOT_MEASURED: &str = "norm defined without the nodal multiplier and the scene's \
-     matrices: not measured on a foreign mesh (the contact force is the sum of the nodal \
-     multipliers, the energy uses the scene's mass and stiffness on its nodes)";
+/// Why the energy norms of such a series without a declared mass are not computed.
+pub const NO_MASS: &str = "declared mass matrix (--mass: the energy is computed on the file's \
+     cells with that mass)";
+
+/// Why the energy norms of such a series with another declared mass are not computed.
+pub const OTHER_MASS: &str = "a mass defined on a foreign mesh (--mass standard or \
+     redistributed: the others are defined through the scene's structured nodes)";
+
+/// Why the energy norms of such a series without velocities are not computed.
+pub const NO_VELOCITY: &str = "velocity fields at every sample (--velocity NAME: the energy is \
+     computed from the displacement and the velocity)";
+
+/// Why `lambda_L2` of such a series without multipliers is not computed.
+pub const NO_MULTIPLIER: &str = "contact multipliers (--multiplier NAME: their resultant over \
+     the contact face is compared with the reference's)";
+
+/// A series' contact quantities on its own mesh beside the reference's, per sample, and the
+/// time norms of their differences (the module's definitions).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FaceComparison {
+    /// The named point: the reference's contact node nearest the face's centre.
+    pub point: Vec<f64>,
+    /// The samples' times.
+    pub time: Vec<f64>,
+    /// `u_d` at the point, the file's.
+    pub displacement: Vec<f64>,
+    /// `u_d` at the point, the reference's.
+    pub reference_displacement: Vec<f64>,
+    /// The resultant `Σ_i λ_i` over the contact face, the file's (without multipliers: none).
+    pub force: Option<Vec<f64>>,
+    /// The reference's resultant.
+    pub reference_force: Vec<f64>,
+    /// The pressure at the point, the file's (without multipliers: none).
+    pub pressure: Option<Vec<f64>>,
+    /// The reference's pressure at the point.
+    pub reference_pressure: Vec<f64>,
+    /// `<quantity>_Linf`, `<quantity>_L2` (`quantity` one of `displacement`, `force`,
+    /// `pressure`) → the time norm of the file's value minus the reference's, with
+    /// `<quantity>_scale` the reference's largest magnitude.
+    pub errors: BTreeMap<String, f64>,
+}
+
+impl FaceComparison {
+    /// The time norms of the differences and the reference's scales.
+    fn norms(&mut self) {
+        let quantities = [
+            (
+                "displacement",
+                Some(&self.displacement),
+                &self.reference_displacement,
+            ),
+            ("force", self.force.as_ref(), &self.reference_force),
+            ("pressure", self.pressure.as_ref(), &self.reference_pressure),
+        ];
+        for (name, file, reference) in quantities {
+            let Some(file) = file else { continue };
+            let mut norm = TimeSeriesNorm::default();
+            for ((t, a), b) in self.time.iter().zip(file).zip(reference) {
+                norm.push(*t, a - b);
+            }
+            let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            self.errors.insert(format!("{name}_Linf"), norm.linf());
+            self.errors.insert(format!("{name}_L2"), norm.l2());
+            self.errors.insert(format!("{name}_scale"), scale);
+        }
+    }
+
+    /// `TV(F_h) / TV(F_ref)` over the samples: the oscillation indicator of the scene's mesh
+    /// ([`crate::harness::reference::fine_mesh::comparison::ReferenceComparison::variation_ratio`]).
+    fn variation_ratio(&self) -> Option<f64> {
+        let variation = |v: &[f64]| v.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
+        let force = self.force.as_ref()?;
+        Some(variation(force) / variation(&self.reference_force))
+    }
+
+    /// One line for verify.md's notes.
+    fn summary(&self, file: &str) -> String {
+        let point: Vec<String> = self.point.iter().map(|x| format!("{x}")).collect();
+        let parts: Vec<String> = ["displacement", "force", "pressure"]
+            .into_iter()
+            .filter_map(|q| {
+                let linf = self.errors.get(&format!("{q}_Linf"))?;
+                let scale = self.errors[&format!("{q}_scale")];
+                Some(format!(
+                    "{q} L∞ {linf:.3e} (the reference's largest {scale:.3e})"
+                ))
+            })
+            .collect();
+        format!(
+            "{file}: at the face centre ({}), against the reference's: {}",
+            point.join(", "),
+            parts.join(", ")
+        )
+    }
+}
 
 /// What verify.json says of a file measured on its own mesh.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,6 +201,8 @@ pub struct OwnMeshRecord {
     /// Norm key → how far the reported error may be from the distance to the reference itself:
     /// the sum of the two parts.
     pub bound: BTreeMap<String, f64>,
+    /// The contact quantities beside the reference's.
+    pub contact: FaceComparison,
 }
 
 /// A series' file on its own mesh, its first snapshot read and checked.
@@ -123,9 +229,25 @@ pub struct OwnMeshRun {
     pub time: Vec<f64>,
     /// Per sample, the finest level's step it is at.
     pub steps: Vec<usize>,
+    /// Its contact face.
+    pub face: ContactFace,
+    /// How far from `x_d = 0` a point is on the contact face.
+    face_tolerance: f64,
     series: SnapshotSeries,
     displacement: String,
+    velocity: Option<String>,
+    multiplier: Option<String>,
     first: NodalSnapshot,
+}
+
+/// One sample of a series on its own mesh.
+pub struct OwnSample {
+    /// `d` values per point.
+    pub displacement: Vec<f64>,
+    /// `d` values per point, when the series names its velocity.
+    pub velocity: Option<Vec<f64>>,
+    /// One per point (0 off the contact face), when the series names its multipliers.
+    pub multipliers: Option<Vec<f64>>,
 }
 
 /// Whether the series whose first snapshot is `first` is measured on its own mesh: `--own-mesh`,
@@ -191,7 +313,8 @@ impl OwnMeshRun {
         let mesh = ElementMesh::of_cells(d, first.points.clone(), cells).map_err(|why| {
             ExternalError::invalid(&first.path, "Cells", None, why, ALLOWED_CELLS)
         })?;
-        check_domain(&mesh, lengths, NODE_ROUNDINGS * first.point_epsilon).map_err(|why| {
+        let tolerance = NODE_ROUNDINGS * first.point_epsilon;
+        check_domain(&mesh, lengths, tolerance).map_err(|why| {
             ExternalError::invalid(
                 &first.path,
                 "Cells",
@@ -246,6 +369,7 @@ impl OwnMeshRun {
             ));
         }
         let (code, label) = options.code_and_label(path)?;
+        let face_tolerance = tolerance * lengths.iter().fold(0.0f64, |a, &b| a.max(b));
         let run = Self {
             path: path.to_path_buf(),
             code,
@@ -255,10 +379,14 @@ impl OwnMeshRun {
             contact: options.contact.clone(),
             cells: counted(&mesh),
             longest_edge: longest_edge(&mesh),
+            face: ContactFace::of(&mesh, face_tolerance),
+            face_tolerance,
             mesh,
             time,
             steps,
             displacement: displacement_array(&first, options, d)?,
+            velocity: options.velocity.clone(),
+            multiplier: options.multiplier.clone(),
             series,
             first,
         };
@@ -266,9 +394,10 @@ impl OwnMeshRun {
         Ok(run)
     }
 
-    /// Sample `n`'s displacement, `d` per point of the mesh (its snapshot read now, its points
-    /// and cells checked to be the first snapshot's).
-    pub fn sample(&self, n: usize) -> Result<Vec<f64>, ExternalError> {
+    /// Sample `n`'s displacement and velocity, `d` per point of the mesh, and its multipliers
+    /// (its snapshot read now, its points and cells checked to be the first snapshot's, every
+    /// value finite, the multipliers by [`point_multipliers`] on this mesh's contact face).
+    pub fn sample(&self, n: usize) -> Result<OwnSample, ExternalError> {
         let snapshot = if n == 0 {
             self.first.clone()
         } else {
@@ -284,21 +413,39 @@ impl OwnMeshRun {
             ));
         }
         let d = self.mesh.dim();
-        let name = &self.displacement;
-        let array = snapshot.array(name).filter(|a| a.components >= d);
-        let array = array.ok_or_else(|| {
-            ExternalError::invalid(
-                &snapshot.path,
-                "PointData",
-                None,
-                format!("no array {name:?} of at least {d} components"),
-                "the displacement's point array (--displacement NAME)",
+        let vector = |name: &str, flag: &str| {
+            let array = snapshot.array(name).filter(|a| a.components >= d);
+            let array = array.ok_or_else(|| {
+                ExternalError::invalid(
+                    &snapshot.path,
+                    "PointData",
+                    None,
+                    format!("no array {name:?} of at least {d} components"),
+                    format!("the point array {flag} names"),
+                )
+            })?;
+            first_non_finite(&snapshot, array, self.time[n])?;
+            Ok::<Vec<f64>, ExternalError>(
+                (0..snapshot.points.len())
+                    .flat_map(|k| array.row(k)[..d].iter().copied())
+                    .collect(),
             )
-        })?;
-        first_non_finite(&snapshot, array, self.time[n])?;
-        Ok((0..snapshot.points.len())
-            .flat_map(|k| array.row(k)[..d].iter().copied())
-            .collect())
+        };
+        let on_face = (d, |k: usize| self.face.holds(k));
+        let multipliers = self
+            .multiplier
+            .as_deref()
+            .map(|name| point_multipliers(&snapshot, name, self.time[n], on_face))
+            .transpose()?;
+        Ok(OwnSample {
+            displacement: vector(&self.displacement, "--displacement NAME")?,
+            velocity: self
+                .velocity
+                .as_deref()
+                .map(|name| vector(name, "--velocity NAME"))
+                .transpose()?,
+            multipliers,
+        })
     }
 
     /// The file measured against `reference`'s projections on its finest level `finest` (whose
@@ -315,6 +462,7 @@ impl OwnMeshRun {
             .expect("the reference is projected on every fitted level");
         let n_dofs = projections.dofs;
         let mut series = ErrorSeries::default();
+        let mut contact = self.face_comparison(reference);
         // The projection's and the quadrature's parts, in H and in V.
         let mut parts: [TimeSeriesNorm; 4] = Default::default();
         for (n, &k) in self.steps.iter().enumerate() {
@@ -331,7 +479,17 @@ impl OwnMeshRun {
                     ),
                 ));
             }
-            let u = self.sample(n)?;
+            let OwnSample {
+                displacement: u,
+                velocity,
+                multipliers,
+            } = self.sample(n)?;
+            let cells = self.mass.and_then(MassCells::of);
+            let energy = cells.zip(velocity).map(|(mass, v)| {
+                let e = cell_energy(&self.mesh, (&u, &v), elasticity, mass, self.face_tolerance);
+                e - reference.histories.energy[k]
+            });
+            let force = self.compare_contact(&mut contact, reference, (k, t), (&u, multipliers))?;
             let nodal = |all: &[f64]| on_nodes(finest_mesh, &all[k * n_dofs..(k + 1) * n_dofs]);
             let (w_h, w_v) = (
                 nodal(&projections.h_projection),
@@ -354,7 +512,8 @@ impl OwnMeshRun {
             let (p_h, p_v) = distances(QUADRATURE)?;
             let (q_h, q_v) = distances(HALVED)?;
             let (r_h, r_v) = (projections.h_remainder[k], projections.v_remainder[k]);
-            series.push_partial(t, Some((p_h * p_h + r_h, p_v * p_v + r_v)), None, None);
+            let squared = (p_h * p_h + r_h, p_v * p_v + r_v);
+            series.push_partial(t, Some(squared), force, energy);
             let values = [r_h, r_v].map(|r| 2f64.sqrt() * r.max(0.0).sqrt());
             let quadrature = [(p_h - q_h).abs(), (p_v - q_v).abs()].map(|x| 2.0 * x);
             for (part, value) in parts.iter_mut().zip(values.into_iter().chain(quadrature)) {
@@ -379,6 +538,7 @@ impl OwnMeshRun {
             .iter()
             .map(|(key, p)| (key.clone(), p + quadrature_error[key]))
             .collect();
+        contact.norms();
         let record = OwnMeshRecord {
             mesh: format!("own mesh: {}", self.cells),
             longest_edge: self.longest_edge,
@@ -395,6 +555,7 @@ impl OwnMeshRun {
             projection,
             quadrature_error,
             bound,
+            contact,
         };
         let bounds: Vec<String> = record
             .bound
@@ -413,10 +574,23 @@ impl OwnMeshRun {
             record.quadrature,
             bounds.join(", ")
         );
-        let lacks = [Norm::MultiplierL2, Norm::EnergyLinf, Norm::EnergyL2]
-            .into_iter()
-            .map(|norm| (norm, NOT_MEASURED.to_string()))
-            .collect();
+        let mut lacks: BTreeMap<Norm, String> = BTreeMap::new();
+        let energy_lacks = match (self.mass, &self.velocity) {
+            (None, _) => Some(NO_MASS),
+            (Some(mass), _) if MassCells::of(mass).is_none() => Some(OTHER_MASS),
+            (_, None) => Some(NO_VELOCITY),
+            _ => None,
+        };
+        for norm in [Norm::EnergyLinf, Norm::EnergyL2] {
+            if let Some(why) = energy_lacks {
+                lacks.insert(norm, why.to_string());
+            }
+        }
+        if record.contact.force.is_none() {
+            lacks.insert(Norm::MultiplierL2, NO_MULTIPLIER.to_string());
+        }
+        let contact_note = record.contact.summary(&file);
+        let variation_ratio = record.contact.variation_ratio();
         let cells = self.mesh.cells().len();
         let samples = self.time.len();
         Ok(VerifiedFile {
@@ -443,15 +617,167 @@ impl OwnMeshRun {
                     observe: clock.elapsed().as_secs_f64(),
                     ..Timings::default()
                 },
-                multiplier_variation_ratio: None,
+                multiplier_variation_ratio: variation_ratio,
             },
             errors: series.errors(),
             lacks,
-            notes: vec![note],
+            notes: vec![note, contact_note],
             reported_energy: None,
             step_differences: None,
         })
     }
+}
+
+impl OwnMeshRun {
+    /// An empty comparison at the reference's contact node nearest the face's centre.
+    fn face_comparison(&self, reference: &FineReference) -> FaceComparison {
+        let x = reference.mesh.node(reference.mesh.face_centre());
+        let d = self.mesh.dim();
+        FaceComparison {
+            point: x[..d].to_vec(),
+            time: Vec::new(),
+            displacement: Vec::new(),
+            reference_displacement: Vec::new(),
+            force: self.multiplier.as_ref().map(|_| Vec::new()),
+            reference_force: Vec::new(),
+            pressure: self.multiplier.as_ref().map(|_| Vec::new()),
+            reference_pressure: Vec::new(),
+            errors: BTreeMap::new(),
+        }
+    }
+
+    /// Adds the sample at time `t`, the finest level's step `k` (the reference's history
+    /// sample `k`), of displacement `u` and multipliers `lambda` to `contact`; returns its
+    /// resultant's distance to the reference's (`None` without multipliers).
+    fn compare_contact(
+        &self,
+        contact: &mut FaceComparison,
+        reference: &FineReference,
+        (k, t): (usize, f64),
+        (u, lambda): (&[f64], Option<Vec<f64>>),
+    ) -> Result<Option<f64>, ExternalError> {
+        let d = self.mesh.dim();
+        let h = &reference.histories;
+        let mut x = [0.0; 3];
+        x[..d].copy_from_slice(&contact.point);
+        let outside = || {
+            ExternalError::invalid(
+                &self.path,
+                "Cells",
+                Some(format!("t = {t}")),
+                format!("no cell holds the face's centre {:?}", &contact.point),
+                "a conforming mesh of the scene's box",
+            )
+        };
+        let at = self.mesh.evaluate(u, x).ok_or_else(outside)?;
+        let centre = reference.mesh.face_centre();
+        contact.time.push(t);
+        contact.displacement.push(at.value[d - 1]);
+        contact
+            .reference_displacement
+            .push(h.centre_displacement[k]);
+        contact.reference_force.push(h.total_force[k]);
+        let share = reference.mesh.face_share(centre);
+        contact
+            .reference_pressure
+            .push(h.centre_multiplier[k] / share);
+        let (Some(lambda), Some(force), Some(pressure)) =
+            (lambda, contact.force.as_mut(), contact.pressure.as_mut())
+        else {
+            return Ok(None);
+        };
+        let resultant = self.face.resultant(&lambda);
+        force.push(resultant);
+        let p = self.face.pressure_at(&self.mesh, &lambda, x);
+        pressure.push(p.ok_or_else(outside)?);
+        Ok(Some(resultant - h.total_force[k]))
+    }
+}
+
+/// What the note's findings on the series `series` that are on their own mesh rest on (each
+/// series that declares a case, [`declared_series`]), one sentence per kind naming the series
+/// it concerns: the bound of their displacement errors, by which their rates' intervals are
+/// widened; a redistributed mass that is the code's own; the energy computed on their cells, or
+/// missing; the contact force as the resultant over the face, or missing.
+pub fn own_mesh_caveats(series: &[Series]) -> Vec<String> {
+    let mut own = Vec::new();
+    let (mut redistributed, mut resultant, mut without) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut energy, mut no_energy) = (Vec::new(), Vec::new());
+    let mut bound = 0.0f64;
+    for (s, case) in declared_series(series) {
+        let Some(finest) = s
+            .runs
+            .iter()
+            .filter_map(|r| r.own_mesh.as_ref())
+            .next_back()
+        else {
+            continue;
+        };
+        let cells = finest.mesh.trim_start_matches("own mesh: ");
+        own.push(format!("`{}` ({cells} at its finest level)", s.label));
+        bound = bound.max(own_mesh_bound(s, Norm::DisplacementLinfV));
+        let label = format!("`{}`", s.label);
+        if case.mass == MassVariant::Redistributed {
+            redistributed.push(label.clone());
+        }
+        match s.not_computed(Norm::EnergyLinf) {
+            None => energy.push(label.clone()),
+            Some(_) => no_energy.push(label.clone()),
+        }
+        match s.not_computed(Norm::MultiplierL2) {
+            None => resultant.push(label),
+            Some(_) => without.push(label),
+        }
+    }
+    if own.is_empty() {
+        return Vec::new();
+    }
+    let mut caveats = vec![format!(
+        "On their own mesh: {}. Their displacement errors are measured against the reference's \
+         projections on the finest study level, each within its stated bound (u_Linf_V's up to \
+         {bound:.1e}), by which each rate's interval is widened beside the reference's bias \
+         bound.",
+        own.join(", ")
+    )];
+    if !energy.is_empty() {
+        caveats.push(format!(
+            "The energy of {} is computed on its own cells with the mass it declares (the \
+             redistributed one over the cells without a vertex on Γ_C) and compared with the \
+             reference's at the same steps.",
+            energy.join(", ")
+        ));
+    }
+    if !no_energy.is_empty() {
+        caveats.push(format!(
+            "The energy of {} is not computed (its reason is listed with the norms), so the \
+             findings that rest on it are undecided.",
+            no_energy.join(", ")
+        ));
+    }
+    if !redistributed.is_empty() {
+        caveats.push(format!(
+            "The redistributed mass of {} on its own cells is the code's construction: the note \
+             defines it on the scene's Q1 elements (those that touch Γ_C removed), so the \
+             findings judge the code's mass, not the note's.",
+            redistributed.join(", ")
+        ));
+    }
+    if !resultant.is_empty() {
+        caveats.push(format!(
+            "The contact force of {} is the resultant of its multipliers over its contact face, \
+             compared with the reference's at its samples; the oscillation indicator is that \
+             resultant's, as on the scene's mesh.",
+            resultant.join(", ")
+        ));
+    }
+    if !without.is_empty() {
+        caveats.push(format!(
+            "No multipliers were read for {} (--multiplier NAME), so the findings on the contact \
+             force are undecided.",
+            without.join(", ")
+        ));
+    }
+    caveats
 }
 
 /// The unknowns `unknowns` of `mesh` as nodal values, `d` per node (a clamped node's 0).
