@@ -83,7 +83,9 @@ import json
 import pathlib
 
 import numpy as np
+import scipy.sparse
 import getfem as gf
+from bar2d_contact import BarMatrices, stepped
 
 LENGTHS = (0.1, 1.0)
 LAME_LAMBDA = 0.25
@@ -99,12 +101,21 @@ NEWTON_MAX_ITER = 100
 
 CONTACT, CLAMPED, AWAY = 1, 2, 3
 
+# For each --cell: GetFEM's mesh of the node grid, its element and its integration method.
+CELLS = {
+    'quadrilateral': ('cartesian', 'FEM_QK(2,1)', 'IM_GAUSS_PARALLELEPIPED(2,3)'),
+    'triangle': ('regular simplices', 'FEM_PK(2,1)', 'IM_TRIANGLE(2)'),
+}
+
 
 class Bar:
-    """The 2D bar at one level: GetFEM's mesh, its two Q1 spaces and its model, ready to step."""
+    """The 2D bar at one level: GetFEM's mesh of CELL elements, its vector and scalar spaces
+    (Q1 or P1) and its model, ready to step."""
 
-    def __init__(self, level, scheme, mass):
+    def __init__(self, level, scheme, mass, cell='quadrilateral'):
         self.level = level
+        self.mass = mass
+        mesh_kind, fem_name, integration = CELLS[cell]
         n2 = level
         h = LENGTHS[1] / n2
         n1 = max(1, round(LENGTHS[0] / h))
@@ -113,7 +124,7 @@ class Bar:
         self.steps = int(round(HORIZON / self.dt))
         x1 = [i * LENGTHS[0] / n1 for i in range(n1 + 1)]
         x2 = [i * LENGTHS[1] / n2 for i in range(n2 + 1)]
-        m = gf.Mesh('cartesian', x1, x2)
+        m = gf.Mesh(mesh_kind, x1, x2)
         border = m.outer_faces()
         normals = m.normal_of_faces(border)
         m.set_region(CONTACT, border[:, np.nonzero(normals[1] < -0.5)[0]])
@@ -122,12 +133,13 @@ class Bar:
         m.set_region(AWAY, np.array([away], dtype=np.int32))
         self.mesh = m
 
-        fem = gf.Fem('FEM_QK(2,1)')
+        fem = gf.Fem(fem_name)
         self.mf_u = gf.MeshFem(m, 2)
         self.mf_u.set_fem(fem)
         self.mf_scalar = gf.MeshFem(m, 1)
         self.mf_scalar.set_fem(fem)
-        mim = gf.MeshIm(m, gf.Integ('IM_GAUSS_PARALLELEPIPED(2,3)'))
+        mim = gf.MeshIm(m, gf.Integ(integration))
+        self.mim = mim
 
         md = gf.Model('real')
         md.add_fem_variable('u', self.mf_u)
@@ -170,6 +182,20 @@ class Bar:
         u_points = self.mf_u.basic_dof_nodes()
         self.multiplier_dofs = np.array(
             [scalar_dof[tuple(u_points[:, d])] for d in self.contact_x_dofs], dtype=int)
+
+    def matrices(self):
+        """GetFEM's mass matrix (every cell, or the cells of AWAY for the redistributed mass) and
+        stiffness matrix of ``mf_u`` by ``asm_mass_matrix`` and ``asm_linear_elasticity`` with the
+        model's integration method, as scipy CSR matrices over every dof."""
+        if self.mass == 'standard':
+            mass = gf.asm_mass_matrix(self.mim, self.mf_u)
+        else:
+            mass = gf.asm_mass_matrix(self.mim, self.mf_u, self.mf_u, AWAY)
+        ones = np.ones(self.mf_scalar.nbdof())
+        stiffness = gf.asm_linear_elasticity(self.mim, self.mf_u, self.mf_scalar,
+                                             LAME_LAMBDA * ones, LAME_MU * ones)
+        return (scipy.sparse.csr_matrix(DENSITY * mass.full()),
+                scipy.sparse.csr_matrix(stiffness.full()))
 
     def multiplier_field(self, lam):
         """The contact multipliers as a scalar nodal field: λ_i on the contact nodes, 0 elsewhere."""
@@ -252,22 +278,52 @@ def compare(bar, run, anchor_path):
     }
 
 
+def compare_with_lcp(bar, scheme, run):
+    """The largest differences between this run and the harness's one-step scheme with an exact
+    nodal LCP (``bar2d_contact.stepped``) on GetFEM's own matrices of the same mesh."""
+    mass, stiffness = bar.matrices()
+    nodes = bar.mf_u.basic_dof_nodes()[:, 0::2].T
+    matrices = BarMatrices(bar.level, mass, stiffness, nodes, 2)
+    u_points = bar.mf_u.basic_dof_nodes()
+    order = np.argsort(u_points[0][bar.contact_x_dofs], kind='stable')
+    largest = {'displacement': 0.0, 'velocity': 0.0, 'multipliers': 0.0}
+    for (_, _, u, v, lam), (_, displacement, velocity, multipliers) in zip(
+            run, stepped(matrices, scheme)):
+        largest['displacement'] = max(largest['displacement'],
+                                      np.abs(u[matrices.free] - displacement).max())
+        largest['velocity'] = max(largest['velocity'],
+                                  np.abs(v[matrices.free] - velocity).max())
+        largest['multipliers'] = max(largest['multipliers'],
+                                     np.abs(lam[order] - multipliers).max())
+    largest['massless dofs'] = matrices.free.size - matrices.dofs_with_mass.size
+    return largest
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--level', type=int, nargs='+', required=True)
     parser.add_argument('--scheme', choices=['crank-nicolson', 'backward-euler'], required=True)
     parser.add_argument('--mass', choices=['standard', 'redistributed'], required=True)
+    parser.add_argument('--cell', choices=list(CELLS), default='quadrilateral',
+                        help="GetFEM's mesh of the node grid: Q1 quadrilaterals (the scene's mesh) "
+                        "or its regular simplices (P1 triangles)")
     parser.add_argument('--out', type=pathlib.Path, required=True)
     parser.add_argument('--binary', action='store_true',
                         help="GetFEM's binary (base64) snapshots instead of ASCII")
     parser.add_argument('--check', type=pathlib.Path, metavar='DIR',
                         help="compare with GetFEM's earlier solves in DIR")
+    parser.add_argument('--lcp', action='store_true',
+                        help="compare with the harness's scheme and an exact nodal LCP on "
+                        "GetFEM's own matrices")
     args = parser.parse_args()
+    if args.cell != 'quadrilateral' and args.check is not None:
+        parser.error("--check compares with GetFEM's Q1 runs: only with --cell quadrilateral")
 
     for level in args.level:
-        bar = Bar(level, args.scheme, args.mass)
-        stem = 'getfem-%s-%s-nx%d%s' % (args.scheme, args.mass, level,
-                                        '-binary' if args.binary else '')
+        bar = Bar(level, args.scheme, args.mass, args.cell)
+        code = 'getfem' if args.cell == 'quadrilateral' else 'getfem-%s' % args.cell
+        stem = '%s-%s-%s-nx%d%s' % (code, args.scheme, args.mass, level,
+                                    '-binary' if args.binary else '')
         steps_dir = args.out / stem
         steps_dir.mkdir(parents=True, exist_ok=True)
         entries = []
@@ -283,6 +339,9 @@ def main():
             anchor = args.check / ('getfem2d_%s_%s_nx%d.json.gz' % (args.scheme, args.mass, level))
             for key, value in compare(bar, run, anchor).items():
                 print('  max |this - %s| %s: %.3g' % (anchor.name, key, value))
+        if args.lcp:
+            for key, value in compare_with_lcp(bar, args.scheme, run).items():
+                print('  max |this - exact LCP| %s: %.3g' % (key, value))
 
 
 if __name__ == '__main__':
