@@ -149,13 +149,15 @@ LEAGUE_MASSES := standard redistributed
 ## they wrote it: GetFEM 5.4.2 (scripts/getfem_bar2d.py: its model bricks, Newmark or θ = 1, its
 ## nodal contact brick; `MeshFem.export_to_vtu` in base64, Float32) and DOLFINx 0.5.2
 ## (scripts/dolfinx_bar2d.py: its Q1 matrices, the harness's one-step schemes, an exact nodal LCP;
-## `dolfinx.io.VTKFile`, .pvd -> .pvtu -> .vtu), and DOLFINx again on its default triangle mesh
-## of the bar (P1, `--cell triangle`), verified on its own mesh. Debian's python3-getfem and python3-dolfinx are
-## installed if /usr/bin/python3 cannot import them.
+## `dolfinx.io.VTKFile`, .pvd -> .pvtu -> .vtu); then DOLFINx on its default triangle mesh of the
+## bar and GetFEM on its regular simplices of it (both P1, `--cell triangle`), each verified on
+## its own mesh. Debian's python3-getfem and python3-dolfinx are installed if /usr/bin/python3
+## cannot import them.
 league-codes: build
 	@/usr/bin/python3 -c 'import getfem' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-getfem)
 	@/usr/bin/python3 -c 'import dolfinx' 2>/dev/null || (apt-get update -qq && apt-get install -y -qq python3-dolfinx)
-	rm -rf $(LEAGUE_RUNS)/getfem-vtu $(LEAGUE_RUNS)/dolfinx $(LEAGUE_RUNS)/dolfinx-triangles
+	rm -rf $(LEAGUE_RUNS)/getfem-vtu $(LEAGUE_RUNS)/dolfinx $(LEAGUE_RUNS)/dolfinx-triangles \
+	  $(LEAGUE_RUNS)/getfem-triangles
 	for scheme in $(LEAGUE_SCHEMES); do for mass in $(LEAGUE_MASSES); do \
 	  /usr/bin/python3 scripts/getfem_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
 	    --binary --out $(LEAGUE_RUNS)/getfem-vtu 2>/dev/null >/dev/null || exit 1; \
@@ -179,6 +181,14 @@ league-codes: build
 	    --scheme $$scheme --mass $$mass --contact "exact nodal complementarity (LCP)" \
 	    --velocity velocity --multiplier contact_multiplier \
 	    --out reports/league/dolfinx-triangles-2d-$$scheme-$$mass >/dev/null || exit 1; \
+	  /usr/bin/python3 scripts/getfem_bar2d.py --level $(LEAGUE_2D_LEVELS) --scheme $$scheme --mass $$mass \
+	    --cell triangle --binary --out $(LEAGUE_RUNS)/getfem-triangles 2>/dev/null >/dev/null || exit 1; \
+	  $(BIN) verify scenes/bar2d.json \
+	    $(LEAGUE_RUNS)/getfem-triangles/getfem-triangle-$$scheme-$$mass-nx*-binary.pvd \
+	    --code getfem --code-version 5.4.2 --label "GetFEM $$scheme, $$mass, its triangles (its VTU exporter)" \
+	    --scheme $$scheme --mass $$mass --contact "nodal contact brick, Alart-Curnier (Newton)" \
+	    --velocity velocity --multiplier multiplier \
+	    --out reports/league/getfem-triangles-2d-$$scheme-$$mass >/dev/null || exit 1; \
 	done; done
 
 league: build league-codes

@@ -1,10 +1,13 @@
 #!/usr/bin/python3
 """GetFEM's solve of the note's 2D bar, written at every step with GetFEM's own VTU exporter.
 
-Run with Debian's Python (``apt-get install -y python3-getfem``, GetFEM 5.4.2 with numpy):
+Run with Debian's Python (``apt-get install -y python3-getfem``, GetFEM 5.4.2 with numpy and
+scipy), from the repository (it imports ``scripts/bar2d_contact.py``):
 
     /usr/bin/python3 scripts/getfem_bar2d.py --level 10 20 --scheme crank-nicolson \\
         --mass standard --out target/getfem-vtu --check tests/data/getfem2d
+    /usr/bin/python3 scripts/getfem_bar2d.py --level 10 20 40 80 --scheme crank-nicolson \\
+        --mass standard --cell triangle --binary --lcp --out target/getfem-triangles
 
 For each LEVEL it writes ``getfem-<scheme>-<mass>-nx<LEVEL>.pvd`` in OUT, a ParaView collection
 of the ``4·LEVEL + 1`` snapshots ``getfem-<scheme>-<mass>-nx<LEVEL>/step-<n>.vtu`` (n = 0 … steps,
@@ -15,7 +18,11 @@ multiplier``.
 ends in ``-binary``). ``--check DIR`` compares each run with GetFEM's earlier solve of the same
 problem, ``DIR/getfem2d_<scheme>_<mass>_nx<LEVEL>.json.gz`` (format
 ``signorini-getfem2d-anchor/1``, see that directory's README.md), and prints the largest
-differences.
+differences. ``--lcp`` compares each run with the harness's one-step scheme and an exact nodal
+contact solve on GetFEM's own matrices of the same mesh (below, "Checked"). ``--cell triangle``
+solves on GetFEM's simplex mesh of the bar instead (below); its files are named
+``getfem-triangle-<scheme>-<mass>-nx<LEVEL>…``, and they are verified on their own mesh (the
+same ``verify`` command: the harness detects the triangles from the cells).
 
 **The discrete problem** (that of ``tests/data/getfem2d/README.md``, the harness's
 ``scenes/bar2d.json``):
@@ -41,9 +48,24 @@ differences.
   clamped face and 0 on it, ``Previous_Dot2_u`` = A0 = 0 (A0 solves M_RR A_R = −(S U0)_R,
   which is 0 here; GetFEM's ``perform_init_time_derivative`` is not used).
 
+**With** ``--cell triangle`` (another discrete problem than the scene's, on GetFEM's own mesh;
+everything else above unchanged): ``gf.Mesh('regular simplices', x1, x2)`` on the same node
+grid, each square cut into two triangles along the diagonal joining its two corners whose
+indices i1 + i2 are even, so the diagonals alternate from square to square (DOLFINx's default
+mesh, ``dolfinx_bar2d.py --cell triangle``, cuts every square along the same diagonal); P1
+(``FEM_PK(2,1)``) for both spaces; the integration method ``IM_TRIANGLE(2)`` (3 points, exact for
+polynomials of degree 2), the lowest of GetFEM's triangle rules that is exact for the P1 mass
+(a product of two linear functions; the stiffness's integrand is constant on each cell):
+measured at levels 10 and 80, its mass and stiffness matrices are ``IM_TRIANGLE(6)``'s to
+6.5e-16 and 5.1e-16 of their largest entry, and the mass adds up to ρ·|Ω| = 0.1 to 3e-17. The
+redistributed mass is GetFEM's own construction on its cells, not the harness's M^mod: the mass
+brick over the triangles with no vertex on x2 = 0 (the same test as for Q1), so the massless
+dofs are exactly both components of the contact nodes (checked at levels 20, 40, 80 against
+the rows of the assembled mass; ``--lcp`` prints their number, 2·(n1 + 1)).
+
 Each snapshot holds, as point data on the mesh's nodes: ``displacement`` (``u``),
 ``velocity`` (``Dot_u``, the scheme's velocity; V0 at t_0) and ``multiplier`` (``lambda_n``
-placed on the contact nodes through a scalar Q1 ``MeshFem``, 0 elsewhere; 0 at t_0). The
+placed on the contact nodes through a scalar Q1 (P1) ``MeshFem``, 0 elsewhere; 0 at t_0). The
 multipliers are GetFEM's as its Newton leaves them: on steps without contact, values of order
 1e-17 and below (``-2.77556e-17``) where an exact active set gives 0.
 
@@ -54,7 +76,8 @@ the files this script writes and from ``src/getfem/getfem_export.h`` of GetFEM 5
 - ``<?xml version="1.0"?>``, ``<VTKFile type="UnstructuredGrid" version="0.1"
   byte_order="LittleEndian">``, the comment ``<!--Exported by GetFEM-->``, one ``Piece``;
 - ``Points``: ``Float32``, 3 components (x3 = 0), one point per node in GetFEM's dof order;
-  ``Cells``: ``Int32`` ``connectivity``, ``offsets`` and ``types`` (9, VTK_QUAD);
+  ``Cells``: ``Int32`` ``connectivity``, ``offsets`` and ``types`` (9, VTK_QUAD; with ``--cell
+  triangle`` 5, VTK_TRIANGLE, three nodes each);
 - ``PointData``: ``Float32`` arrays; vectors with ``NumberOfComponents="3"`` (the third 0), the
   scalar without a ``NumberOfComponents`` attribute; no ``CellData``;
 - ``'ascii'`` (the default here): ``format="ascii"``, every value written as a ``float`` by a C++
@@ -75,6 +98,18 @@ multipliers at every step, 1.2e-14 in the displacement fields at t = 0.5, 1, 1.5
 3.5e-13 in the velocity at T (all four at Crank–Nicolson, standard mass, level 20; at most
 7.1e-14 elsewhere). The files themselves hold the fields to Float32, in ASCII to 6 significant
 digits.
+
+**Checked against an exact contact solve** (``--lcp``): ``bar2d_contact.stepped``, the
+harness's one-step scheme ((a, b, c, d) = (¼, ¼, ½, ½) for Newmark β = ¼, γ = ½, (0, 1, 0, 1)
+for θ = 1) with each step's nodal contact solved exactly (Murty's pivoting on the Delassus
+matrix), on the mass and stiffness matrices of the same ``mf_u`` assembled by GetFEM's
+``asm_mass_matrix`` and ``asm_linear_elasticity`` with the same integration method; it checks
+GetFEM's time integration and Alart–Curnier Newton, not its assembly. Largest differences over
+every step, ``--cell triangle``, levels 10, 20, 40, 80: Crank–Nicolson with the standard mass,
+which amplifies round-off with the level, displacement 6.7e-15, 2.7e-13, 1.0e-11, 4.1e-10,
+velocity 1.8e-13, 1.0e-11, 7.4e-10, 5.0e-8, multipliers 7.6e-15, 3.6e-13, 2.5e-11, 7.1e-10 (on
+the Q1 mesh at level 80: 2.2e-11, 4.0e-9, 3.9e-11); the other three configurations at most
+3.4e-13, 1.6e-11 and 4.0e-14 (all at level 80).
 """
 
 import argparse
@@ -83,7 +118,9 @@ import json
 import pathlib
 
 import numpy as np
+import scipy.sparse
 import getfem as gf
+from bar2d_contact import BarMatrices, stepped
 
 LENGTHS = (0.1, 1.0)
 LAME_LAMBDA = 0.25
@@ -99,12 +136,21 @@ NEWTON_MAX_ITER = 100
 
 CONTACT, CLAMPED, AWAY = 1, 2, 3
 
+# For each --cell: GetFEM's mesh of the node grid, its element and its integration method.
+CELLS = {
+    'quadrilateral': ('cartesian', 'FEM_QK(2,1)', 'IM_GAUSS_PARALLELEPIPED(2,3)'),
+    'triangle': ('regular simplices', 'FEM_PK(2,1)', 'IM_TRIANGLE(2)'),
+}
+
 
 class Bar:
-    """The 2D bar at one level: GetFEM's mesh, its two Q1 spaces and its model, ready to step."""
+    """The 2D bar at one level: GetFEM's mesh of CELL elements, its vector and scalar spaces
+    (Q1 or P1) and its model, ready to step."""
 
-    def __init__(self, level, scheme, mass):
+    def __init__(self, level, scheme, mass, cell='quadrilateral'):
         self.level = level
+        self.mass = mass
+        mesh_kind, fem_name, integration = CELLS[cell]
         n2 = level
         h = LENGTHS[1] / n2
         n1 = max(1, round(LENGTHS[0] / h))
@@ -113,7 +159,7 @@ class Bar:
         self.steps = int(round(HORIZON / self.dt))
         x1 = [i * LENGTHS[0] / n1 for i in range(n1 + 1)]
         x2 = [i * LENGTHS[1] / n2 for i in range(n2 + 1)]
-        m = gf.Mesh('cartesian', x1, x2)
+        m = gf.Mesh(mesh_kind, x1, x2)
         border = m.outer_faces()
         normals = m.normal_of_faces(border)
         m.set_region(CONTACT, border[:, np.nonzero(normals[1] < -0.5)[0]])
@@ -122,12 +168,13 @@ class Bar:
         m.set_region(AWAY, np.array([away], dtype=np.int32))
         self.mesh = m
 
-        fem = gf.Fem('FEM_QK(2,1)')
+        fem = gf.Fem(fem_name)
         self.mf_u = gf.MeshFem(m, 2)
         self.mf_u.set_fem(fem)
         self.mf_scalar = gf.MeshFem(m, 1)
         self.mf_scalar.set_fem(fem)
-        mim = gf.MeshIm(m, gf.Integ('IM_GAUSS_PARALLELEPIPED(2,3)'))
+        mim = gf.MeshIm(m, gf.Integ(integration))
+        self.mim = mim
 
         md = gf.Model('real')
         md.add_fem_variable('u', self.mf_u)
@@ -170,6 +217,20 @@ class Bar:
         u_points = self.mf_u.basic_dof_nodes()
         self.multiplier_dofs = np.array(
             [scalar_dof[tuple(u_points[:, d])] for d in self.contact_x_dofs], dtype=int)
+
+    def matrices(self):
+        """GetFEM's mass matrix (every cell, or the cells of AWAY for the redistributed mass) and
+        stiffness matrix of ``mf_u`` by ``asm_mass_matrix`` and ``asm_linear_elasticity`` with the
+        model's integration method, as scipy CSR matrices over every dof."""
+        if self.mass == 'standard':
+            mass = gf.asm_mass_matrix(self.mim, self.mf_u)
+        else:
+            mass = gf.asm_mass_matrix(self.mim, self.mf_u, self.mf_u, AWAY)
+        ones = np.ones(self.mf_scalar.nbdof())
+        stiffness = gf.asm_linear_elasticity(self.mim, self.mf_u, self.mf_scalar,
+                                             LAME_LAMBDA * ones, LAME_MU * ones)
+        return (scipy.sparse.csr_matrix(DENSITY * mass.full()),
+                scipy.sparse.csr_matrix(stiffness.full()))
 
     def multiplier_field(self, lam):
         """The contact multipliers as a scalar nodal field: λ_i on the contact nodes, 0 elsewhere."""
@@ -252,22 +313,52 @@ def compare(bar, run, anchor_path):
     }
 
 
+def compare_with_lcp(bar, scheme, run):
+    """The largest differences between this run and the harness's one-step scheme with an exact
+    nodal LCP (``bar2d_contact.stepped``) on GetFEM's own matrices of the same mesh."""
+    mass, stiffness = bar.matrices()
+    nodes = bar.mf_u.basic_dof_nodes()[:, 0::2].T
+    matrices = BarMatrices(bar.level, mass, stiffness, nodes, 2)
+    u_points = bar.mf_u.basic_dof_nodes()
+    order = np.argsort(u_points[0][bar.contact_x_dofs], kind='stable')
+    largest = {'displacement': 0.0, 'velocity': 0.0, 'multipliers': 0.0}
+    for (_, _, u, v, lam), (_, displacement, velocity, multipliers) in zip(
+            run, stepped(matrices, scheme)):
+        largest['displacement'] = max(largest['displacement'],
+                                      np.abs(u[matrices.free] - displacement).max())
+        largest['velocity'] = max(largest['velocity'],
+                                  np.abs(v[matrices.free] - velocity).max())
+        largest['multipliers'] = max(largest['multipliers'],
+                                     np.abs(lam[order] - multipliers).max())
+    largest['massless dofs'] = matrices.free.size - matrices.dofs_with_mass.size
+    return largest
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--level', type=int, nargs='+', required=True)
     parser.add_argument('--scheme', choices=['crank-nicolson', 'backward-euler'], required=True)
     parser.add_argument('--mass', choices=['standard', 'redistributed'], required=True)
+    parser.add_argument('--cell', choices=list(CELLS), default='quadrilateral',
+                        help="GetFEM's mesh of the node grid: Q1 quadrilaterals (the scene's mesh) "
+                        "or its regular simplices (P1 triangles)")
     parser.add_argument('--out', type=pathlib.Path, required=True)
     parser.add_argument('--binary', action='store_true',
                         help="GetFEM's binary (base64) snapshots instead of ASCII")
     parser.add_argument('--check', type=pathlib.Path, metavar='DIR',
                         help="compare with GetFEM's earlier solves in DIR")
+    parser.add_argument('--lcp', action='store_true',
+                        help="compare with the harness's scheme and an exact nodal LCP on "
+                        "GetFEM's own matrices")
     args = parser.parse_args()
+    if args.cell != 'quadrilateral' and args.check is not None:
+        parser.error("--check compares with GetFEM's Q1 runs: only with --cell quadrilateral")
 
     for level in args.level:
-        bar = Bar(level, args.scheme, args.mass)
-        stem = 'getfem-%s-%s-nx%d%s' % (args.scheme, args.mass, level,
-                                        '-binary' if args.binary else '')
+        bar = Bar(level, args.scheme, args.mass, args.cell)
+        code = 'getfem' if args.cell == 'quadrilateral' else 'getfem-%s' % args.cell
+        stem = '%s-%s-%s-nx%d%s' % (code, args.scheme, args.mass, level,
+                                    '-binary' if args.binary else '')
         steps_dir = args.out / stem
         steps_dir.mkdir(parents=True, exist_ok=True)
         entries = []
@@ -283,6 +374,9 @@ def main():
             anchor = args.check / ('getfem2d_%s_%s_nx%d.json.gz' % (args.scheme, args.mass, level))
             for key, value in compare(bar, run, anchor).items():
                 print('  max |this - %s| %s: %.3g' % (anchor.name, key, value))
+        if args.lcp:
+            for key, value in compare_with_lcp(bar, args.scheme, run).items():
+                print('  max |this - exact LCP| %s: %.3g' % (key, value))
 
 
 if __name__ == '__main__':
