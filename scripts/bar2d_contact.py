@@ -1,10 +1,11 @@
 """The 2D bar's data and its time stepping with an exact nodal contact solve, shared by the
-scripts that solve it with another code's matrices (``dolfinx_bar2d.py``, ``fenics_bar2d.py``):
-numpy and scipy only. Not run by itself.
+scripts that solve it with another code's matrices (``dolfinx_bar2d.py``, ``fenics_bar2d.py``,
+and ``getfem_bar2d.py --lcp``, which checks GetFEM's own steps against it): numpy and scipy only.
+Not run by itself.
 
 The discrete problem and the schemes are described in ``dolfinx_bar2d.py``'s docstring; a code's
-script builds the mass and stiffness matrices of its Q1 space and hands them to
-:class:`BarMatrices`, then steps with :func:`stepped`.
+script builds the mass and stiffness matrices of its space (Q1, or P1 on its triangles) and hands
+them to :class:`BarMatrices`, then steps with :func:`stepped`.
 """
 
 import numpy as np

@@ -10,6 +10,8 @@
 //!   (`tests/data/external/dolfinx-xdmf/`, `fenics-xdmf/`, by `scripts/dolfinx_bar2d.py --writer
 //!   xdmf` and `scripts/fenics_bar2d.py`: XDMF 3 with HDF5 heavy data, the mesh included by
 //!   `xi:include`); a broken one is refused naming the file and what is off.
+//! - The same two codes on their own triangle meshes (`dolfinx-triangles/`, `getfem-triangles/`)
+//!   verify on their own mesh, their contact force the resultant of the multipliers they wrote.
 //! - A series that went NaN or infinite, multipliers of the wrong sign or off the contact face
 //!   are refused naming the file, the array, the point and the time.
 //! - A parallel grid's pieces are joined, a ghost node kept once, and refused where the pieces
@@ -166,6 +168,69 @@ fn dolfinx_and_getfem_files_as_written_verify_with_the_harness_errors() {
             );
             assert!(series["not_computed"].as_array().is_none_or(Vec::is_empty));
         }
+    }
+}
+
+/// DOLFINx's default triangles (one diagonal per square) and GetFEM's regular simplices
+/// (alternating diagonals) of the 2D bar, Crank–Nicolson/standard at level 10, as those codes
+/// wrote them (`tests/data/external/dolfinx-triangles/`, `getfem-triangles/`, by
+/// `scripts/dolfinx_bar2d.py --cell triangle` and `scripts/getfem_bar2d.py --cell triangle
+/// --binary`: VTK cell types 69 and 5), verify on their own mesh: 20 triangles, every norm
+/// computed (the energy on their cells, the contact force as the resultant over the face), and
+/// the resultant at each sample the sum of the multipliers the file holds.
+#[test]
+fn triangle_files_as_written_verify_on_their_own_mesh() {
+    let dir = scratch("real-triangles");
+    let scene = scene_at_levels(&dir, "scenes/bar2d.json", &[10]);
+    let cache = dir.join("references");
+    for (code, file, multiplier) in [
+        (
+            "dolfinx",
+            "dolfinx-triangles/dolfinx-bar2d-triangle-crank-nicolson-standard-level10.pvd",
+            "contact_multiplier",
+        ),
+        (
+            "getfem",
+            "getfem-triangles/getfem-triangle-crank-nicolson-standard-nx10-binary.pvd",
+            "multiplier",
+        ),
+    ] {
+        let pvd = fixtures().join(file);
+        let verified = verify_as(
+            &scene,
+            &pvd,
+            code,
+            ("crank-nicolson", multiplier),
+            &cache,
+            &dir.join(code),
+        );
+        let series = &verified["series"][0];
+        assert!(
+            series["not_computed"].as_array().is_none_or(Vec::is_empty),
+            "{file}: {}",
+            series["not_computed"]
+        );
+        let record = &series["runs"][0]["own_mesh"];
+        assert_eq!(record["mesh"], "own mesh: 20 triangles", "{file}");
+        let forces = record["contact"]["force"].as_array().unwrap();
+        let entries = read_collection(&pvd).unwrap();
+        assert_eq!(forces.len(), entries.len(), "{file}");
+        let mut largest = 0.0f64;
+        for (force, entry) in forces.iter().zip(&entries) {
+            let snapshot = read_snapshot(&entry.file).unwrap();
+            let array = snapshot.array(multiplier).unwrap();
+            let sum: f64 = array.values.iter().sum();
+            let force = force.as_f64().unwrap();
+            assert!(
+                (force - sum).abs() <= 1e-12 * sum.abs().max(1e-3),
+                "{file}: {force} {sum}"
+            );
+            largest = largest.max(sum.abs());
+        }
+        assert!(
+            largest > 1e-2,
+            "{file}: the bar hits the obstacle: {largest}"
+        );
     }
 }
 
