@@ -44,7 +44,8 @@ impl ContactFace {
     }
 
     /// `a_i` of point `i` (0 off the face).
-    pub fn share(&self, i: usize) -> f64 {
+    #[cfg(test)]
+    fn share(&self, i: usize) -> f64 {
         self.shares[i]
     }
 
