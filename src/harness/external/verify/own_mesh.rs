@@ -467,16 +467,14 @@ impl OwnMeshRun {
         let mut parts: [TimeSeriesNorm; 4] = Default::default();
         for (n, &k) in self.steps.iter().enumerate() {
             let t = self.time[n];
-            if k >= projections.samples() {
+            let recorded = projections.samples().min(reference.histories.time.len());
+            if k >= recorded {
                 return Err(ExternalError::invalid(
                     &self.path,
                     "timestep",
                     Some(format!("sample {n}")),
                     t,
-                    format!(
-                        "a time the reference recorded on level {finest} ({} steps)",
-                        projections.samples()
-                    ),
+                    format!("a time the reference recorded on level {finest} ({recorded} steps)"),
                 ));
             }
             let OwnSample {
