@@ -6,8 +6,8 @@ BIN := target/release/signorini
 
 ## Build, run the main studies (1D tables, gravity, round-off sensitivity, 2D and 3D convergence) and write reports/
 ## (tables, data, figures; README.md is the index). Each command writes its own study's data and
-## pages; the last, `figures`, builds from those data the pages that gather several studies
-## (schemes.md, work-precision.md), the figures and the index.
+## pages; the last, `make figures`, builds from those data the pages that gather several studies
+## (schemes.md, work-precision.md), the figures, the index and the one PNG.
 ## Each stage, the release build first, prints its wall time, and the total is printed at the end.
 REPORT_STAGES := "$(CARGO) build --release" \
 	"$(BIN) report --out reports" \
@@ -15,7 +15,7 @@ REPORT_STAGES := "$(CARGO) build --release" \
 	"$(BIN) study scenes/bar2d.json --out reports" \
 	"$(BIN) study scenes/bar3d.json --out reports" \
 	"$(BIN) getfem --out reports" \
-	"$(BIN) figures --out reports"
+	"$(MAKE) --no-print-directory figures"
 report:
 	@started=$$(date +%s.%N); \
 	for stage in $(REPORT_STAGES); do \
