@@ -25,6 +25,7 @@ use super::format::{Code, CLAMPED_TOLERANCE, HORIZON_TOLERANCE, MAX_VALUES, RUN_
 use super::mesh::{CellKind, Topology, ALLOWED_CELLS};
 use super::nodal_snapshot::{NodalSnapshot, PointArray};
 use super::snapshot_series::SnapshotSeries;
+use super::verify::Declared;
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::{box_mesh, BoxProblem};
 use crate::harness::files::input::{self, LARGEST_VALUE};
@@ -77,10 +78,36 @@ pub struct SeriesOptions {
     pub own_mesh: bool,
 }
 
+/// A box run's file with who wrote it and what it declares: what a verification says of it,
+/// whatever the mesh it is measured on.
+#[derive(Debug, Clone)]
+pub struct SeriesFile {
+    /// The file (`.pvd`, `.xdmf` or `.json`).
+    pub path: PathBuf,
+    /// The code and its version.
+    pub code: Code,
+    /// The configuration: files with one label form one refinement series.
+    pub label: String,
+    /// The scheme, when declared.
+    pub scheme: Option<Scheme>,
+    /// The mass matrix, when declared.
+    pub mass: Option<MassVariant>,
+    /// How contact is enforced, when declared.
+    pub contact: Option<String>,
+}
+
+impl SeriesFile {
+    /// What it declares, as verify.json lists it.
+    pub fn declared(&self) -> Declared {
+        Declared::of(self.scheme, self.mass, self.contact.as_deref())
+    }
+}
+
 impl SeriesOptions {
-    /// The code (required: a `.pvd` or `.xdmf` does not say which code wrote it) and the
-    /// series' label (default: the file's stem) of the series read from `path`.
-    pub(crate) fn code_and_label(&self, path: &Path) -> Result<(Code, String), ExternalError> {
+    /// The series file `path` as these options describe it: the code (required: a `.pvd` or
+    /// `.xdmf` does not say which code wrote it), the series' label (default: the file's stem)
+    /// and what it declares.
+    pub(crate) fn file(&self, path: &Path) -> Result<SeriesFile, ExternalError> {
         let code = self.code.clone().ok_or_else(|| {
             ExternalError::invalid(
                 path,
@@ -95,7 +122,14 @@ impl SeriesOptions {
             path.file_stem()
                 .map_or("pvd".into(), |s| s.to_string_lossy().into_owned())
         });
-        Ok((code, label))
+        Ok(SeriesFile {
+            path: path.to_path_buf(),
+            code,
+            label,
+            scheme: self.scheme,
+            mass: self.mass,
+            contact: self.contact.clone(),
+        })
     }
 }
 
@@ -152,18 +186,8 @@ struct ArrayNames {
 /// Another code's run of a box scene, checked against the scene's mesh and time grid.
 #[derive(Debug, Clone)]
 pub struct BoxExternalRun {
-    /// The file (`.pvd` or `.json`).
-    pub path: PathBuf,
-    /// The code and its version.
-    pub code: Code,
-    /// The configuration: files with one label form one refinement series.
-    pub label: String,
-    /// The scheme, when declared.
-    pub scheme: Option<Scheme>,
-    /// The mass matrix, when declared.
-    pub mass: Option<MassVariant>,
-    /// How contact is enforced, when declared.
-    pub contact: Option<String>,
+    /// The file, its code and what it declares.
+    pub file: SeriesFile,
     /// The level: elements along the axis.
     pub level: usize,
     /// The mesh of that level.
@@ -517,14 +541,8 @@ impl BoxScene<'_> {
         .flatten()
         .filter_map(|name| first.array(name))
         .fold(f64::EPSILON, |e, a| e.max(a.epsilon));
-        let (code, label) = options.code_and_label(path)?;
         let run = BoxExternalRun {
-            path: path.to_path_buf(),
-            code,
-            label,
-            scheme: options.scheme,
-            mass: options.mass,
-            contact: options.contact.clone(),
+            file: options.file(path)?,
             level,
             mesh,
             time,
@@ -1047,12 +1065,14 @@ impl BoxFile {
             ));
         }
         Ok(BoxExternalRun {
-            path: path.to_path_buf(),
-            code: self.code,
-            label: self.label,
-            scheme,
-            mass: self.mass,
-            contact: self.contact,
+            file: SeriesFile {
+                path: path.to_path_buf(),
+                code: self.code,
+                label: self.label,
+                scheme,
+                mass: self.mass,
+                contact: self.contact,
+            },
             level,
             mesh,
             time,

@@ -72,7 +72,17 @@ pub fn cell_energy(
         gradient: [[0.0; 3]; 3],
     };
     let simplex = simplex_rule(d);
+    // The 2^d Gauss points (±1/√3 per axis) of a Q1 cell, the first axis the fastest.
     let g = 1.0 / 3f64.sqrt();
+    let gauss: Vec<[f64; 3]> = (0..1usize << d)
+        .map(|s| {
+            let mut xi = [0.0; 3];
+            for (c, x) in xi.iter_mut().enumerate().take(d) {
+                *x = if s >> c & 1 == 1 { g } else { -g };
+            }
+            xi
+        })
+        .collect();
     let mut kinetic = PairErrors::default();
     let mut strain = PairErrors::default();
     for (k, cell) in mesh.cells().iter().enumerate() {
@@ -83,24 +93,19 @@ pub fn cell_energy(
                 .iter()
                 .all(|&p| mesh.points()[p][d - 1].abs() > tolerance),
         };
-        let points: Vec<([f64; 3], f64)> = if cell.kind.is_simplex() {
-            let measure = mesh.measure(k).abs();
-            simplex.iter().map(|&(x, w)| (x, w * measure)).collect()
-        } else {
-            let corners = (0..1usize << d).map(|s| {
-                let mut xi = [0.0; 3];
-                for (c, x) in xi.iter_mut().enumerate().take(d) {
-                    *x = if s >> c & 1 == 1 { g } else { -g };
-                }
-                xi
-            });
-            corners.map(|xi| (xi, mesh.volume_element(k, xi))).collect()
-        };
-        for (xi, w) in points {
+        let mut add = |xi: [f64; 3], w: f64| {
             strain.add(w, &mesh.evaluate_in(k, xi, u), &zero, d, elasticity);
             if in_mass {
                 kinetic.add(w, &mesh.evaluate_in(k, xi, v), &zero, d, elasticity);
             }
+        };
+        if cell.kind.is_simplex() {
+            let measure = mesh.measure(k).abs();
+            simplex.iter().for_each(|&(xi, w)| add(xi, w * measure));
+        } else {
+            gauss
+                .iter()
+                .for_each(|&xi| add(xi, mesh.volume_element(k, xi)));
         }
     }
     0.5 * kinetic.h_squared + 0.5 * strain.energy_squared

@@ -31,7 +31,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::own_mesh::{is_own_mesh, OwnMeshRun};
-use super::{Declared, ReportedEnergy, RunRecord, VerifiedFile};
+use super::{ReportedEnergy, RunRecord, VerifiedFile};
 use crate::engine::fem::box_mesh::BoxMesh;
 use crate::engine::problem::box_mesh;
 use crate::engine::problem::Discretisation;
@@ -167,6 +167,7 @@ impl AgainstFineMesh {
         let mesh = &run.mesh;
         let d = mesh.dim();
         let discretisation = run
+            .file
             .mass
             .map(|mass| {
                 let settings = &self.declared.config.settings;
@@ -222,7 +223,7 @@ impl AgainstFineMesh {
                     "contact multipliers (or total force) at every step ({lacking} of {samples} \
                      steps have none)"
                 ),
-                Quantity::Energy if run.mass.is_none() => {
+                Quantity::Energy if run.file.mass.is_none() => {
                     "declared mass matrix (the energy is computed with the file's mass: --mass, \
                      or `mass` in the file)"
                         .to_string()
@@ -245,7 +246,7 @@ impl AgainstFineMesh {
         let spacing = run.time.windows(2).map(|w| w[1] - w[0]);
         let dt_max = spacing.clone().fold(0.0, f64::max);
         let h = mesh.lengths()[d - 1] / run.level as f64;
-        let file = run.path.display().to_string();
+        let file = run.file.path.display().to_string();
         let rerun = self.rerun_declared(run, discretisation.as_ref(), &file);
         let notes = match &rerun {
             Some(Err(why)) => vec![format!(
@@ -265,9 +266,9 @@ impl AgainstFineMesh {
             })
             .filter(ReportedEnergy::is_finite);
         Ok(VerifiedFile {
-            label: run.label.clone(),
-            code: run.code.clone(),
-            declared: Declared::of(run.scheme, run.mass, run.contact.as_deref()),
+            label: run.file.label.clone(),
+            code: run.file.code.clone(),
+            declared: run.file.declared(),
             record: RunRecord {
                 file,
                 nx: run.level,
@@ -315,9 +316,9 @@ impl AgainstFineMesh {
                 Run::Scene(r) => Some(r),
                 Run::Own(_) => None,
             })
-            .filter(|r| r.label == run.label)
+            .filter(|r| r.file.label == run.file.label)
             .all(|r| r.level >= run.level);
-        let (scheme, discretised) = run.scheme.zip(discretised).filter(|_| coarsest)?;
+        let (scheme, discretised) = run.file.scheme.zip(discretised).filter(|_| coarsest)?;
         let dofs = |nodal: &[f64]| on_unknowns(&run.mesh, nodal);
         let declared = (&discretised.model, scheme, &discretised.conventions);
         let file = (file, run.value_epsilon);

@@ -45,26 +45,25 @@
 //! reference's `E_h` at the same step: `energy_Linf`, `energy_L2`, as on the scene's mesh.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::{declared_series, own_mesh_bound, Declared, RunRecord, Series, VerifiedFile};
+use super::{declared_series, own_mesh_bound, RunRecord, Series, VerifiedFile};
 use crate::engine::fem::box_mesh::{BoxMesh, Elasticity};
 use crate::harness::external::box_run::{
-    displacement_array, first_non_finite, point_multipliers, BoxScene, SeriesOptions,
+    displacement_array, first_non_finite, point_multipliers, BoxScene, SeriesFile, SeriesOptions,
     NODE_ROUNDINGS, STEP_TIME_TOLERANCE,
 };
 use crate::harness::external::error::ExternalError;
-use crate::harness::external::format::Code;
 use crate::harness::external::mesh::{
     cell_energy, check_domain, pair_errors_each, CellKind, ContactFace, ElementMesh, MassCells,
     Quadrature, Topology, ALLOWED_CELLS,
 };
 use crate::harness::external::nodal_snapshot::NodalSnapshot;
 use crate::harness::external::snapshot_series::SnapshotSeries;
-use crate::harness::problem::{MassVariant, Scheme};
+use crate::harness::problem::MassVariant;
 use crate::harness::reference::fine_mesh::fine_run::FineReference;
 use crate::harness::run::nested_comparison::error_series::ErrorSeries;
 use crate::harness::run::norms::{Norm, TimeSeriesNorm};
@@ -207,18 +206,8 @@ pub struct OwnMeshRecord {
 
 /// A series' file on its own mesh, its first snapshot read and checked.
 pub struct OwnMeshRun {
-    /// The file.
-    pub path: PathBuf,
-    /// The code and its version.
-    pub code: Code,
-    /// The series' label.
-    pub label: String,
-    /// The scheme, when declared.
-    pub scheme: Option<Scheme>,
-    /// The mass matrix, when declared.
-    pub mass: Option<MassVariant>,
-    /// How contact is enforced, when declared.
-    pub contact: Option<String>,
+    /// The file, its code and what it declares.
+    pub file: SeriesFile,
     /// The mesh.
     pub mesh: ElementMesh,
     /// Its cells counted by kind, e.g. `400 triangles`.
@@ -368,15 +357,10 @@ impl OwnMeshRun {
                 ),
             ));
         }
-        let (code, label) = options.code_and_label(path)?;
+        let file = options.file(path)?;
         let face_tolerance = tolerance * lengths.iter().fold(0.0f64, |a, &b| a.max(b));
         let run = Self {
-            path: path.to_path_buf(),
-            code,
-            label,
-            scheme: options.scheme,
-            mass: options.mass,
-            contact: options.contact.clone(),
+            file,
             cells: counted(&mesh),
             longest_edge: longest_edge(&mesh),
             face: ContactFace::of(&mesh, face_tolerance),
@@ -470,7 +454,7 @@ impl OwnMeshRun {
             let recorded = projections.samples().min(reference.histories.time.len());
             if k >= recorded {
                 return Err(ExternalError::invalid(
-                    &self.path,
+                    &self.file.path,
                     "timestep",
                     Some(format!("sample {n}")),
                     t,
@@ -482,7 +466,7 @@ impl OwnMeshRun {
                 velocity,
                 multipliers,
             } = self.sample(n)?;
-            let cells = self.mass.and_then(MassCells::of);
+            let cells = self.file.mass.and_then(MassCells::of);
             let energy = cells.zip(velocity).map(|(mass, v)| {
                 let e = cell_energy(&self.mesh, (&u, &v), elasticity, mass, self.face_tolerance);
                 e - reference.histories.energy[k]
@@ -499,7 +483,7 @@ impl OwnMeshRun {
                     .map(|[h, v]| (h.h(), v.v()))
                     .map_err(|why| {
                         ExternalError::invalid(
-                            &self.path,
+                            &self.file.path,
                             "Cells",
                             Some(format!("t = {t}")),
                             why,
@@ -521,7 +505,7 @@ impl OwnMeshRun {
         let spacing = self.time.windows(2).map(|w| w[1] - w[0]);
         let dt_max = spacing.clone().fold(0.0, f64::max);
         let d = self.mesh.dim();
-        let file = self.path.display().to_string();
+        let file = self.file.path.display().to_string();
         let by_norm = |h: &TimeSeriesNorm, v: &TimeSeriesNorm| {
             BTreeMap::from([
                 (Norm::DisplacementLinfH.key().to_string(), h.linf()),
@@ -573,7 +557,7 @@ impl OwnMeshRun {
             bounds.join(", ")
         );
         let mut lacks: BTreeMap<Norm, String> = BTreeMap::new();
-        let energy_lacks = match (self.mass, &self.velocity) {
+        let energy_lacks = match (self.file.mass, &self.velocity) {
             (None, _) => Some(NO_MASS),
             (Some(mass), _) if MassCells::of(mass).is_none() => Some(OTHER_MASS),
             (_, None) => Some(NO_VELOCITY),
@@ -592,9 +576,9 @@ impl OwnMeshRun {
         let cells = self.mesh.cells().len();
         let samples = self.time.len();
         Ok(VerifiedFile {
-            label: self.label.clone(),
-            code: self.code.clone(),
-            declared: Declared::of(self.scheme, self.mass, self.contact.as_deref()),
+            label: self.file.label.clone(),
+            code: self.file.code.clone(),
+            declared: self.file.declared(),
             record: RunRecord {
                 file,
                 nx: cells,
@@ -660,7 +644,7 @@ impl OwnMeshRun {
         x[..d].copy_from_slice(&contact.point);
         let outside = || {
             ExternalError::invalid(
-                &self.path,
+                &self.file.path,
                 "Cells",
                 Some(format!("t = {t}")),
                 format!("no cell holds the face's centre {:?}", &contact.point),
