@@ -45,3 +45,4 @@ mod signorini_dirichlet;
 mod stencil;
 mod step_perturbation;
 mod stepper;
+mod twisted;

@@ -1,7 +1,8 @@
 //! The rivals of the paper's schemes (`engine::schemes::generalised_alpha`, `moreau_jean`):
 //! each reduces to the scheme it generalises where it should (generalised-α with
 //! `α_m = α_f = 0` is Newmark(β, γ) bit for bit; Moreau–Jean without an obstacle is the
-//! θ-method to round-off, though one solves for velocities and the other for displacements),
+//! θ-method to round-off, though one solves for velocities and the other for displacements, on
+//! every displacement and on the velocities that enter the dynamics),
 //! each satisfies its energy balance, (GA-E) or (MJ-E), at every step of a run with contact to
 //! round-off (and a balance with a wrong parameter does not); Laursen–Chawla conserves the
 //! energy exactly; and what is not defined is refused naming the field.
@@ -92,7 +93,13 @@ fn moreau_jean_without_contact_is_the_theta_method() {
                 &u0,
                 &v0,
             );
-            let worst = largest_difference(&theta_method, &moreau_jean);
+            // `V` on a massless dof (`M^mod`'s contact node) is a difference quotient outside
+            // the dynamics (only `M V` enters them): with θ = ½ the round-off of the recovered
+            // acceleration there is not damped, so it is not held to this bound.
+            let with_mass = model.dofs_with_mass();
+            let worst = largest_difference_where(&theta_method, &moreau_jean, |i| {
+                with_mass.binary_search(&i).is_ok()
+            });
             assert!(
                 worst <= scale,
                 "θ = {theta}, {mass}: the two differ by {worst:e} (round-off bound {scale:e})"
@@ -103,10 +110,25 @@ fn moreau_jean_without_contact_is_the_theta_method() {
 
 /// The largest difference of a displacement or velocity dof between two histories.
 pub(crate) fn largest_difference(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> f64 {
+    largest_difference_where(a, b, |_| true)
+}
+
+/// The largest difference between two histories of a displacement dof, or of a velocity dof `i`
+/// with `velocity(i)`.
+fn largest_difference_where(
+    a: &[[Vec<f64>; 3]],
+    b: &[[Vec<f64>; 3]],
+    velocity: impl Fn(usize) -> bool,
+) -> f64 {
+    let velocity = &velocity;
     a.iter()
         .zip(b)
         .flat_map(|(a, b)| {
-            (0..2).flat_map(move |k| a[k].iter().zip(&b[k]).map(|(x, y)| (x - y).abs()))
+            let displacements = a[0].iter().zip(&b[0]).map(|(x, y)| (x - y).abs());
+            let velocities = (a[1].iter().zip(&b[1]).enumerate())
+                .filter(move |(i, _)| velocity(*i))
+                .map(|(_, (x, y))| (x - y).abs());
+            displacements.chain(velocities)
         })
         .fold(0.0_f64, f64::max)
 }

@@ -7,6 +7,7 @@ mod product;
 mod spd;
 mod step;
 mod tridiagonal;
+mod twisted;
 
 pub use banded::BandCholesky;
 pub use condensed::CondensedPlane;
@@ -19,3 +20,4 @@ pub use step::{
 pub use tridiagonal::{
     solve_interleaved_rows, solve_lines, sweep_interleaved_rows, RowBlock, Sweep, TridiagonalLdlt,
 };
+pub use twisted::TwistedTridiagonal;

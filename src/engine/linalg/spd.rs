@@ -1,19 +1,20 @@
-//! One factorisation per run, one solve per step: a tridiagonal LDLᵀ for 1D bars (about three
-//! times faster than a general sparse Cholesky at the same size, DEPENDENCIES.md §1) and faer's
-//! sparse Cholesky (AMD ordering) for everything else.
+//! One factorisation per run, one solve per step: a tridiagonal factorisation for 1D bars, from
+//! both ends at once ([`TwistedTridiagonal`]; the Thomas algorithm was already about three times
+//! faster than a general sparse Cholesky at the same size, DEPENDENCIES.md §1), and faer's sparse
+//! Cholesky (AMD ordering) for everything else.
 
 use faer::sparse::linalg::solvers::Llt;
 use faer::Side;
 
-use super::TridiagonalLdlt;
+use super::TwistedTridiagonal;
 use crate::engine::error::SolveError;
 use crate::engine::fem::SymmetricMatrix;
 
 /// A factorised symmetric positive definite matrix.
 #[derive(Debug)]
 pub enum SpdSolver {
-    /// Bandwidth one: Thomas algorithm.
-    Tridiagonal(TridiagonalLdlt),
+    /// Bandwidth one: the twisted factorisation.
+    Tridiagonal(TwistedTridiagonal),
     /// General sparsity: faer's supernodal/simplicial Cholesky.
     Cholesky(Llt<usize, f64>),
 }
@@ -25,7 +26,7 @@ impl SpdSolver {
             let n = a.dim();
             let diag: Vec<f64> = (0..n).map(|i| a.get(i, i)).collect();
             let off: Vec<f64> = (1..n).map(|i| a.get(i, i - 1)).collect();
-            TridiagonalLdlt::factor(&diag, &off)
+            TwistedTridiagonal::factor(&diag, &off)
                 .map(SpdSolver::Tridiagonal)
                 .map_err(|pivot| SolveError::Factorization {
                     matrix: name,
