@@ -2,7 +2,8 @@
 //! ends"): eliminated from the first row down and from the last row up at once, the two meeting
 //! at a middle row `k`. A solve is then two chains of dependent operations of half the length,
 //! run side by side, where the Thomas algorithm has one chain of the whole length; a chain waits
-//! on the latency of each multiply and subtract, so a 1D step's solve takes about half the time.
+//! on the latency of each multiply and subtract, so the latency of a solve is about halved
+//! (`make bench` measures what the 1D runs gain, against a baseline built beside them).
 //!
 //! With `A` of diagonal `a_i` and off-diagonal `c_i = A_{i+1,i}`:
 //! ```text
@@ -13,9 +14,11 @@
 //! and `A x = b` is solved by `y_i = b_i − l_i y_{i−1}` (i < k), `z_i = b_i − m_i z_{i+1}` (i > k),
 //! `x_k = (b_k − l_k y_{k−1} − m_k z_{k+1}) / γ`, then outwards
 //! `x_i = y_i/d_i − l_{i+1} x_{i+1}` (i < k) and `x_i = z_i/e_i − m_{i−1} x_{i−1}` (i > k).
-//! Every pivot is a Schur complement of `A`, positive for a positive definite `A`, and the
-//! elimination is as stable as the Thomas algorithm's (Meurant, SIAM J. Matrix Anal. Appl. 13,
-//! 1992, §2). It is the Thomas algorithm when `k = n − 1`.
+//! It is the LDLᵀ factorisation of `A` with its rows and columns taken in the order
+//! `0, …, k − 1, n − 1, …, k + 1, k` (eliminating a row of either half updates only the next row
+//! of that half, or row `k`: no fill), so every pivot is a Schur complement of `A`, positive for
+//! a positive definite `A`, and it keeps the backward stability of LDLᵀ on such a matrix, as the
+//! Thomas algorithm does. With `k = n − 1` it is the Thomas algorithm.
 
 /// `A` factored from both ends towards the middle row `k` (see the module documentation). The
 /// pivots are kept as reciprocals, so that a solve divides nowhere.
