@@ -1,6 +1,7 @@
 //! The twisted tridiagonal factorisation (`TwistedTridiagonal`, the 1D step solver) against the
 //! Thomas algorithm it replaced, and its refusal of a matrix that is not positive definite.
 
+use signorini::engine::fem::SymmetricMatrix;
 use signorini::engine::linalg::{TridiagonalLdlt, TwistedTridiagonal};
 
 /// A random symmetric positive definite tridiagonal matrix of size `n` (diagonally dominant)
@@ -17,20 +18,12 @@ fn random_spd(rng: &mut fastrand::Rng, n: usize) -> (Vec<f64>, Vec<f64>) {
     (diag, off)
 }
 
-/// `A x` of a tridiagonal matrix.
-fn product(diag: &[f64], off: &[f64], x: &[f64]) -> Vec<f64> {
-    (0..x.len())
-        .map(|i| {
-            let mut s = diag[i] * x[i];
-            if i > 0 {
-                s += off[i - 1] * x[i - 1];
-            }
-            if i + 1 < x.len() {
-                s += off[i] * x[i + 1];
-            }
-            s
-        })
-        .collect()
+/// The matrix of `diag` and `off` as the harness stores it, for its product.
+fn assembled(diag: &[f64], off: &[f64]) -> SymmetricMatrix {
+    let n = diag.len();
+    let entries = diag.iter().enumerate().map(|(i, &d)| (i * n + i, d));
+    let upper = off.iter().enumerate().map(|(i, &c)| ((i + 1) * n + i, c));
+    SymmetricMatrix::from_upper_contributions(n, entries.chain(upper).collect())
 }
 
 /// Every size from 0 to 12 (the middle row at each parity, either half empty) and two of the
@@ -53,7 +46,8 @@ fn twisted_solves_agree_with_the_thomas_algorithm_to_round_off() {
                 "n = {n}, row {i}: {a} against {r}"
             );
         }
-        let ax = product(&diag, &off, &x);
+        let mut ax = vec![0.0; n];
+        assembled(&diag, &off).mul_into(&x, &mut ax);
         for (i, (lhs, rhs)) in ax.iter().zip(&b).enumerate() {
             assert!(
                 (lhs - rhs).abs() <= 1e-14 * (1.0 + scale * 4.0),

@@ -169,8 +169,12 @@ fn for_each_pair<A: Iterator, B: Iterator>(
         match (a.next(), b.next()) {
             (None, None) => return,
             (x, y) => {
-                x.map(&mut f);
-                y.map(&mut g);
+                if let Some(x) = x {
+                    f(x);
+                }
+                if let Some(y) = y {
+                    g(y);
+                }
             }
         }
     }
